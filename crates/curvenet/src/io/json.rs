@@ -1,0 +1,742 @@
+//! curvenet's JSON curve format (`.json`).
+//!
+//! ```json
+//! {
+//!   "format": "curvenet-curves",
+//!   "version": 1,
+//!   "units": "m",
+//!   "curves": [
+//!     {"label": "ring", "closed": true, "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]}
+//!   ]
+//! }
+//! ```
+//!
+//! `units`, `label` and `closed` are optional; without `closed` the curve is closed when its last
+//! point repeats its first. Unknown fields are errors (a misspelt `"close"` must not pass
+//! silently).
+//!
+//! `serde_json` validates the document and reports syntax and type errors with their line and
+//! column. Its number parsing may be off by one unit in the last place, so a light scan of the
+//! (already validated) text also records where each curve and point is, and reads every
+//! coordinate again with Rust's exact float parser: values written by [`curves_to_json`] come
+//! back bit for bit.
+
+use super::checks::{Closure, RawCurve, finish_curve, push_number, shorten};
+use super::{CurveFile, InputError, Polyline};
+use crate::geom::Vec3;
+use serde::Deserialize;
+use serde::de::IgnoredAny;
+use std::fmt::Write as _;
+
+/// The value of the `format` field.
+const FORMAT: &str = "curvenet-curves";
+/// The only version this module reads and writes.
+const VERSION: u64 = 1;
+
+/// The fields checked before the document proper, so that a file of another kind is told so
+/// rather than drowned in field errors.
+#[derive(Deserialize)]
+#[serde(expecting = "a JSON object with \"format\": \"curvenet-curves\"")]
+struct Header {
+    format: Option<serde_json::Value>,
+    version: Option<serde_json::Value>,
+}
+
+/// The whole document, as `serde_json` checks it.
+#[derive(Deserialize)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a curvenet-curves object with \"format\", \"version\" and \"curves\""
+)]
+struct Document {
+    #[serde(rename = "format")]
+    _format: IgnoredAny,
+    #[serde(rename = "version")]
+    _version: IgnoredAny,
+    #[serde(rename = "units", default)]
+    _units: Option<String>,
+    curves: Vec<JsonCurve>,
+}
+
+/// One curve, as `serde_json` checks it.
+#[derive(Deserialize)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a curve object with \"points\" and optional \"label\" and \"closed\""
+)]
+struct JsonCurve {
+    #[serde(default)]
+    label: Option<String>,
+    points: Vec<[f64; 3]>,
+    #[serde(default)]
+    closed: Option<bool>,
+}
+
+/// Parses curvenet's JSON curve format. `file` names the input in messages.
+///
+/// # Errors
+///
+/// [`InputError::Parse`] for invalid JSON or a wrongly typed or unknown field (`serde_json`'s line
+/// and column in the message), a document that is not an object, a wrong `format`, an unsupported
+/// `version`, an empty `curves` list, and the curve checks shared by all formats (no points,
+/// fewer than 2 distinct points, 3 when closed), which name `curve <index>` and the line of that
+/// curve's opening brace.
+pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError> {
+    let json_error = |e: serde_json::Error| {
+        InputError::parse(file, e.line(), format!("invalid curvenet-curves JSON: {e}"))
+    };
+    let header: Header = serde_json::from_str(text).map_err(json_error)?;
+    // serde also builds structs from arrays; the format wants an object.
+    let body = text.trim_start();
+    if !body.starts_with('{') {
+        let line = 1 + text[..text.len() - body.len()].matches('\n').count();
+        return Err(InputError::parse(
+            file,
+            line,
+            format!("expected a JSON object with \"format\": \"{FORMAT}\""),
+        ));
+    }
+    let located = locate(text).unwrap_or_default();
+    match header.format {
+        Some(serde_json::Value::String(f)) if f == FORMAT => {}
+        Some(other) => {
+            return Err(InputError::parse(
+                file,
+                located.format_line.max(1),
+                format!(
+                    "not a curvenet curves file: \"format\" is {}, expected \"{FORMAT}\"",
+                    shorten(&other.to_string())
+                ),
+            ));
+        }
+        None => {
+            return Err(InputError::parse(
+                file,
+                1,
+                format!("not a curvenet curves file: no \"format\" field (expected \"{FORMAT}\")"),
+            ));
+        }
+    }
+    match header.version {
+        Some(v) if v.as_u64() == Some(VERSION) => {}
+        Some(v) => {
+            return Err(InputError::parse(
+                file,
+                located.version_line.max(1),
+                format!(
+                    "unsupported \"version\" {}; this reader supports version {VERSION}",
+                    shorten(&v.to_string())
+                ),
+            ));
+        }
+        None => {
+            return Err(InputError::parse(
+                file,
+                1,
+                format!("no \"version\" field (expected {VERSION})"),
+            ));
+        }
+    }
+    let document: Document = serde_json::from_str(text).map_err(json_error)?;
+    if document.curves.is_empty() {
+        return Err(InputError::parse(
+            file,
+            located.curves_line.max(1),
+            "no curves: \"curves\" is empty",
+        ));
+    }
+
+    let mut warnings = Vec::new();
+    let mut curves = Vec::with_capacity(document.curves.len());
+    for (index, curve) in document.curves.into_iter().enumerate() {
+        let loc = located.curves.get(index);
+        let curve_line = loc.map_or(0, |c| c.line);
+        let points = curve
+            .points
+            .iter()
+            .enumerate()
+            .map(|(j, &coords)| {
+                let point_loc = loc.and_then(|c| c.points.get(j));
+                let line = point_loc.map_or(curve_line, |p| p.line);
+                let exact = point_loc.and_then(PointLoc::exact);
+                (Vec3::from(exact.unwrap_or(coords)), line)
+            })
+            .collect();
+        let closure = match curve.closed {
+            None => Closure::Detect,
+            Some(true) => Closure::Closed,
+            Some(false) => Closure::Open,
+        };
+        let raw = RawCurve {
+            index,
+            line: curve_line,
+            label: curve.label,
+            closure,
+            points,
+        };
+        curves.push(finish_curve(raw, file, &mut warnings)?);
+    }
+    Ok(CurveFile { curves, warnings })
+}
+
+/// Writes curves in curvenet's JSON format, pretty-printed with one point per line. Every curve
+/// states `closed`; `label` appears when the curve has one. Coordinates use the shortest
+/// round-trip form; a non-finite coordinate (which no reader produces) is written as `null`,
+/// which the reader rejects.
+pub fn curves_to_json(curves: &[Polyline]) -> String {
+    let mut out = String::new();
+    out.push_str("{\n  \"format\": ");
+    push_json_string(&mut out, FORMAT);
+    let _ = write!(out, ",\n  \"version\": {VERSION},\n  \"curves\": [");
+    for (i, curve) in curves.iter().enumerate() {
+        out.push_str(if i == 0 { "\n    {\n" } else { ",\n    {\n" });
+        if let Some(label) = &curve.label {
+            out.push_str("      \"label\": ");
+            push_json_string(&mut out, label);
+            out.push_str(",\n");
+        }
+        let _ = writeln!(out, "      \"closed\": {},", curve.closed);
+        out.push_str("      \"points\": [");
+        for (j, p) in curve.points.iter().enumerate() {
+            out.push_str(if j == 0 {
+                "\n        ["
+            } else {
+                ",\n        ["
+            });
+            for (k, v) in [p.x, p.y, p.z].into_iter().enumerate() {
+                if k > 0 {
+                    out.push_str(", ");
+                }
+                if v.is_finite() {
+                    push_number(&mut out, v);
+                } else {
+                    out.push_str("null");
+                }
+            }
+            out.push(']');
+        }
+        out.push_str(if curve.points.is_empty() {
+            "]\n"
+        } else {
+            "\n      ]\n"
+        });
+        out.push_str("    }");
+    }
+    out.push_str(if curves.is_empty() {
+        "]\n}\n"
+    } else {
+        "\n  ]\n}\n"
+    });
+    out
+}
+
+/// Appends `s` as a JSON string literal.
+fn push_json_string(out: &mut String, s: &str) {
+    out.push('"');
+    for c in s.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            '\n' => out.push_str("\\n"),
+            '\r' => out.push_str("\\r"),
+            '\t' => out.push_str("\\t"),
+            c if u32::from(c) < 0x20 => {
+                let _ = write!(out, "\\u{:04x}", u32::from(c));
+            }
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+}
+
+/// Where things are in a curvenet-curves document (0 = not found).
+#[derive(Default)]
+struct Located<'a> {
+    format_line: usize,
+    version_line: usize,
+    curves_line: usize,
+    curves: Vec<CurveLoc<'a>>,
+}
+
+/// Where one curve is: the line of its opening brace, and its points.
+struct CurveLoc<'a> {
+    line: usize,
+    points: Vec<PointLoc<'a>>,
+}
+
+/// Where one point is, and the text of its coordinates.
+struct PointLoc<'a> {
+    line: usize,
+    numbers: Vec<&'a str>,
+}
+
+impl PointLoc<'_> {
+    /// The coordinates read exactly from their text, if there are three finite ones.
+    fn exact(&self) -> Option<[f64; 3]> {
+        let [x, y, z] = self.numbers.as_slice() else {
+            return None;
+        };
+        let mut out = [0.0; 3];
+        for (slot, text) in out.iter_mut().zip([x, y, z]) {
+            *slot = text.parse::<f64>().ok().filter(|v| v.is_finite())?;
+        }
+        Some(out)
+    }
+}
+
+/// A JSON value with the line it starts on; only what locating needs is kept.
+enum Node<'a> {
+    Object(usize, Vec<(String, Node<'a>)>),
+    Array(usize, Vec<Node<'a>>),
+    Number(usize, &'a str),
+    Other(usize),
+}
+
+impl Node<'_> {
+    fn line(&self) -> usize {
+        match self {
+            Node::Object(l, _) | Node::Array(l, _) | Node::Number(l, _) | Node::Other(l) => *l,
+        }
+    }
+
+    fn member(&self, key: &str) -> Option<&Self> {
+        match self {
+            Node::Object(_, members) => members.iter().find(|(k, _)| k == key).map(|(_, v)| v),
+            _ => None,
+        }
+    }
+
+    fn items(&self) -> &[Self] {
+        match self {
+            Node::Array(_, items) => items,
+            _ => &[],
+        }
+    }
+}
+
+/// Scans a document that `serde_json` accepted and records where its parts are. `None` when the
+/// scan does not understand the text (it then only costs the line numbers).
+fn locate(text: &str) -> Option<Located<'_>> {
+    let mut scanner = Scanner {
+        text,
+        pos: 0,
+        line: 1,
+        depth: 0,
+    };
+    let root = scanner.value()?;
+    let mut located = Located {
+        format_line: root.member("format").map_or(0, Node::line),
+        version_line: root.member("version").map_or(0, Node::line),
+        ..Located::default()
+    };
+    if let Some(curves) = root.member("curves") {
+        located.curves_line = curves.line();
+        located.curves = curves
+            .items()
+            .iter()
+            .map(|curve| CurveLoc {
+                line: curve.line(),
+                points: curve
+                    .member("points")
+                    .map(Node::items)
+                    .unwrap_or_default()
+                    .iter()
+                    .map(|point| PointLoc {
+                        line: point.line(),
+                        numbers: point
+                            .items()
+                            .iter()
+                            .filter_map(|n| match n {
+                                Node::Number(_, t) => Some(*t),
+                                _ => None,
+                            })
+                            .collect(),
+                    })
+                    .collect(),
+            })
+            .collect();
+    }
+    Some(located)
+}
+
+/// A small JSON reader that tracks lines. It trusts `serde_json` to have validated the text and
+/// bails out (`None`) on anything unexpected rather than reporting errors.
+struct Scanner<'a> {
+    text: &'a str,
+    pos: usize,
+    line: usize,
+    depth: usize,
+}
+
+impl<'a> Scanner<'a> {
+    /// Deeper nesting than `serde_json` accepts; a guard against runaway recursion.
+    const MAX_DEPTH: usize = 256;
+
+    fn peek(&self) -> Option<u8> {
+        self.text.as_bytes().get(self.pos).copied()
+    }
+
+    fn skip_ws(&mut self) {
+        while let Some(b) = self.peek() {
+            match b {
+                b'\n' => self.line += 1,
+                b' ' | b'\t' | b'\r' => {}
+                _ => break,
+            }
+            self.pos += 1;
+        }
+    }
+
+    fn expect(&mut self, byte: u8) -> Option<()> {
+        self.skip_ws();
+        (self.peek()? == byte).then(|| self.pos += 1)
+    }
+
+    fn value(&mut self) -> Option<Node<'a>> {
+        self.skip_ws();
+        let line = self.line;
+        match self.peek()? {
+            b'{' => self.nested(|s| s.object(line)),
+            b'[' => self.nested(|s| s.array(line)),
+            b'"' => self.string().map(|_| Node::Other(line)),
+            b'-' | b'0'..=b'9' => {
+                let start = self.pos;
+                while matches!(
+                    self.peek(),
+                    Some(b'-' | b'+' | b'.' | b'e' | b'E' | b'0'..=b'9')
+                ) {
+                    self.pos += 1;
+                }
+                Some(Node::Number(line, self.text.get(start..self.pos)?))
+            }
+            b't' | b'f' | b'n' => {
+                while self.peek().is_some_and(|b| b.is_ascii_alphabetic()) {
+                    self.pos += 1;
+                }
+                Some(Node::Other(line))
+            }
+            _ => None,
+        }
+    }
+
+    fn nested(&mut self, f: impl FnOnce(&mut Self) -> Option<Node<'a>>) -> Option<Node<'a>> {
+        if self.depth >= Self::MAX_DEPTH {
+            return None;
+        }
+        self.depth += 1;
+        let node = f(self);
+        self.depth -= 1;
+        node
+    }
+
+    fn object(&mut self, line: usize) -> Option<Node<'a>> {
+        self.expect(b'{')?;
+        let mut members = Vec::new();
+        self.skip_ws();
+        if self.peek()? == b'}' {
+            self.pos += 1;
+            return Some(Node::Object(line, members));
+        }
+        loop {
+            self.skip_ws();
+            let raw = self.string()?;
+            let key = if raw.contains('\\') {
+                serde_json::from_str::<String>(raw).ok()?
+            } else {
+                raw.get(1..raw.len().saturating_sub(1))?.to_owned()
+            };
+            self.expect(b':')?;
+            members.push((key, self.value()?));
+            self.skip_ws();
+            match self.peek()? {
+                b',' => self.pos += 1,
+                b'}' => {
+                    self.pos += 1;
+                    return Some(Node::Object(line, members));
+                }
+                _ => return None,
+            }
+        }
+    }
+
+    fn array(&mut self, line: usize) -> Option<Node<'a>> {
+        self.expect(b'[')?;
+        let mut items = Vec::new();
+        self.skip_ws();
+        if self.peek()? == b']' {
+            self.pos += 1;
+            return Some(Node::Array(line, items));
+        }
+        loop {
+            items.push(self.value()?);
+            self.skip_ws();
+            match self.peek()? {
+                b',' => self.pos += 1,
+                b']' => {
+                    self.pos += 1;
+                    return Some(Node::Array(line, items));
+                }
+                _ => return None,
+            }
+        }
+    }
+
+    /// Reads a string literal and returns it with its quotes, escapes untouched.
+    fn string(&mut self) -> Option<&'a str> {
+        let start = self.pos;
+        if self.peek()? != b'"' {
+            return None;
+        }
+        self.pos += 1;
+        loop {
+            match self.peek()? {
+                b'\\' => self.pos += 2,
+                b'"' => {
+                    self.pos += 1;
+                    return self.text.get(start..self.pos);
+                }
+                b'\n' => {
+                    self.line += 1;
+                    self.pos += 1;
+                }
+                _ => self.pos += 1,
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::Origin;
+    use super::super::tests::{assert_same_curves, sample_curves};
+    use super::*;
+
+    fn assert_err(text: &str, line: usize, phrase: &str) {
+        let e = parse_json_curves(text, "curves.json").unwrap_err();
+        assert_eq!(e.file(), "curves.json");
+        assert_eq!(e.line(), Some(line), "{e}");
+        assert!(e.to_string().contains(phrase), "`{e}` lacks `{phrase}`");
+        assert!(
+            e.to_string().starts_with(&format!("curves.json:{line}: ")),
+            "{e}"
+        );
+    }
+
+    /// A document around the given curve objects, one per line from line 5 on.
+    fn doc(curves: &[&str]) -> String {
+        format!(
+            "{{\n  \"format\": \"curvenet-curves\",\n  \"version\": 1,\n  \"curves\": [\n{}\n  ]\n}}\n",
+            curves.join(",\n")
+        )
+    }
+
+    const GOOD: &str = r#"{"points": [[0, 0, 0], [1, 0, 0]]}"#;
+
+    #[test]
+    fn parses_a_document() {
+        let text = doc(&[
+            r#"{"label": "a", "points": [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 0, 0]]}"#,
+            r#"{"points": [[0, 0, 0], [1, 0, 0], [1, 1, 0]], "closed": true}"#,
+            r#"{"points": [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 0, 0]], "closed": false}"#,
+            r#"{"label": null, "points": [[0, 0, 0], [1e-3, 2.5E2, -0.0]], "closed": null}"#,
+        ]);
+        let f = parse_json_curves(&text, "c.json").unwrap();
+        assert_eq!(f.curves.len(), 4);
+        assert_eq!(f.curves[0].label.as_deref(), Some("a"));
+        assert!(f.curves[0].closed);
+        assert_eq!(f.curves[0].points.len(), 3);
+        assert_eq!(f.curves[0].origin, Origin::new("c.json", 5));
+        assert!(f.curves[1].closed);
+        assert_eq!(f.curves[1].points.len(), 3);
+        assert!(!f.curves[2].closed);
+        assert_eq!(f.curves[2].points.len(), 4);
+        assert_eq!(f.curves[3].points[1], Vec3::new(1e-3, 250.0, 0.0));
+        assert_eq!(f.curves[3].origin.line, 8);
+    }
+
+    #[test]
+    fn units_are_accepted_and_fields_may_be_escaped() {
+        let text = r#"{"units": "mm", "format": "curvenet-curves", "version": 1,
+            "cur\u0076es": [{"points": [[0, 0, 0], [1, 0, 0]]}]}"#;
+        let f = parse_json_curves(text, "c.json").unwrap();
+        assert_eq!(f.curves[0].origin.line, 2);
+    }
+
+    #[test]
+    fn syntax_errors_carry_serde_line_and_column() {
+        assert_err(
+            "{\n  \"format\": \"curvenet-curves\",\n  oops\n}",
+            3,
+            "column",
+        );
+        assert_err(
+            "{\"format\": \"curvenet-curves\"} trailing",
+            1,
+            "trailing characters",
+        );
+    }
+
+    #[test]
+    fn malformed_number() {
+        let text = doc(&[GOOD, r#"{"points": [[0, 0, 0], [1.0, abc, 3]]}"#]);
+        assert_err(&text, 6, "invalid curvenet-curves JSON");
+        let text = doc(&[GOOD, r#"{"points": [[0, 0, 0], [1.0, "abc", 3]]}"#]);
+        assert_err(&text, 6, "invalid type: string \"abc\"");
+    }
+
+    #[test]
+    fn truncated_point() {
+        let text = doc(&[GOOD, "{\"points\": [[0, 0, 0],\n[1.0, 2.0]]}"]);
+        assert_err(&text, 7, "invalid length 2");
+        let text = doc(&[GOOD, "{\"points\": [[0, 0, 0],\n[1.0, 2.0, 3, 4]]}"]);
+        assert_err(&text, 7, "trailing");
+    }
+
+    #[test]
+    fn nan_and_infinite_coordinates() {
+        let text = doc(&[GOOD, r#"{"points": [[0, 0, 0], [NaN, 0, 0]]}"#]);
+        assert_err(&text, 6, "invalid curvenet-curves JSON");
+        let text = doc(&[GOOD, r#"{"points": [[0, 0, 0], [1e999, 0, 0]]}"#]);
+        assert_err(&text, 6, "number out of range");
+        let text = doc(&[GOOD, r#"{"points": [[0, 0, 0], [null, 0, 0]]}"#]);
+        assert_err(&text, 6, "invalid type: null");
+    }
+
+    #[test]
+    fn empty_file() {
+        assert_err("", 1, "EOF while parsing");
+        assert_err("\n\n  ", 3, "EOF while parsing");
+    }
+
+    #[test]
+    fn no_curves() {
+        assert_err(&doc(&[]), 4, "no curves");
+        assert_err(
+            "{\"format\": \"curvenet-curves\", \"version\": 1}",
+            1,
+            "missing field `curves`",
+        );
+    }
+
+    #[test]
+    fn wrong_format_or_version() {
+        assert_err(
+            "{\"type\": \"FeatureCollection\"}",
+            1,
+            "not a curvenet curves file",
+        );
+        assert_err(
+            "{\n\"format\": \"geojson\", \"version\": 1, \"curves\": []}",
+            2,
+            "\"format\" is \"geojson\"",
+        );
+        assert_err(
+            "{\"format\": \"curvenet-curves\",\n\n \"version\": 2, \"curves\": []}",
+            3,
+            "unsupported \"version\" 2",
+        );
+        assert_err(
+            "{\"format\": \"curvenet-curves\", \"version\": \"1\"}",
+            1,
+            "unsupported \"version\"",
+        );
+        assert_err("{\"format\": \"curvenet-curves\"}", 1, "no \"version\"");
+        let long = format!("{{\"format\": \"{}\"}}", "x".repeat(10_000));
+        let e = parse_json_curves(&long, "c.json").unwrap_err();
+        assert!(e.to_string().len() < 200, "{e}");
+        assert_err("\n[1, 2]", 2, "expected a JSON object");
+        assert_err("[\"curvenet-curves\", 1]", 1, "expected a JSON object");
+    }
+
+    #[test]
+    fn unknown_fields_are_errors() {
+        let text = doc(&[GOOD, r#"{"points": [[0, 0, 0], [1, 0, 0]], "close": true}"#]);
+        assert_err(&text, 6, "unknown field `close`");
+    }
+
+    #[test]
+    fn curve_with_one_point() {
+        let text = doc(&[GOOD, GOOD, r#"{"points": [[5, 5, 5]]}"#]);
+        assert_err(
+            &text,
+            7,
+            "curve 2 has 1 distinct point; a curve needs at least 2",
+        );
+    }
+
+    #[test]
+    fn curve_with_one_repeated_point() {
+        let text = doc(&[GOOD, "{\n\"points\": [[5, 5, 5], [5, 5, 5]]}"]);
+        assert_err(&text, 6, "curve 1 has 1 distinct point");
+    }
+
+    #[test]
+    fn closed_curve_with_two_distinct_points() {
+        let text = doc(&[r#"{"points": [[0, 0, 0], [1, 0, 0]], "closed": true}"#]);
+        assert_err(&text, 5, "closed curve 0 has 2 distinct points");
+    }
+
+    #[test]
+    fn empty_curve() {
+        let text = doc(&[GOOD, r#"{"label": "x", "points": []}"#]);
+        assert_err(&text, 6, "curve 1 has no points");
+    }
+
+    #[test]
+    fn warnings_point_at_the_point_line() {
+        let text = doc(&["{\"points\": [\n[0, 0, 0],\n[0, 0, 0],\n[1, 0, 0]]}"]);
+        let f = parse_json_curves(&text, "c.json").unwrap();
+        assert_eq!(f.warnings.len(), 1);
+        assert_eq!(f.warnings[0].origin.line, 7);
+    }
+
+    #[test]
+    fn round_trip() {
+        let curves = sample_curves();
+        let text = curves_to_json(&curves);
+        let back = parse_json_curves(&text, "rt.json").unwrap();
+        assert!(back.warnings.is_empty(), "{:?}", back.warnings);
+        assert_same_curves(&curves, &back.curves);
+        // The writer's layout: the first curve object opens on line 5.
+        assert_eq!(back.curves[0].origin.line, 5);
+    }
+
+    #[test]
+    fn coordinates_come_back_bit_for_bit() {
+        // serde_json alone reads these one unit in the last place off.
+        let values = [
+            4.520346745820636e-24,
+            9.466426603509888e-32,
+            2.670316890914642e-16,
+        ];
+        let curves = vec![Polyline {
+            points: vec![Vec3::from(values), Vec3::new(1.0, 2.0, 3.0)],
+            closed: false,
+            origin: Origin::new("x", 0),
+            label: Some("tricky \"quotes\" \\ \u{1} é".to_owned()),
+        }];
+        let back = parse_json_curves(&curves_to_json(&curves), "rt.json").unwrap();
+        assert_eq!(back.curves[0].points, curves[0].points);
+        assert_eq!(back.curves[0].label, curves[0].label);
+    }
+
+    #[test]
+    fn writer_output_is_valid_json_even_when_empty() {
+        let v: serde_json::Value = serde_json::from_str(&curves_to_json(&[])).unwrap();
+        assert_eq!(v["format"], FORMAT);
+        let mut curves = sample_curves();
+        curves[0].points.clear();
+        curves[1].points[0].x = f64::NAN;
+        let v: serde_json::Value = serde_json::from_str(&curves_to_json(&curves)).unwrap();
+        assert!(v["curves"][1]["points"][0][0].is_null());
+    }
+
+    #[test]
+    fn the_scanner_gives_up_quietly() {
+        assert!(locate("{\"a\": ").is_none());
+        assert!(locate("{\"a\" 1}").is_none());
+        assert!(locate("\"unterminated").is_none());
+        assert!(locate(&"[".repeat(1000)).is_none());
+        assert!(locate("[1, 2").is_none());
+    }
+}

@@ -1,0 +1,389 @@
+//! Reading and writing curve sketches and triangle meshes.
+//!
+//! Curves come in three formats, chosen by [`read_curves`] from the file extension:
+//!
+//! | extension | format | parser | writer |
+//! |---|---|---|---|
+//! | `.txt` | the reference text format (`CURVE` records followed by `x y z` lines) | [`parse_reference_curves`] | [`curves_to_reference_text`] |
+//! | `.obj` | OBJ polylines (`v` and `l` records, as Rhino exports curves) | [`parse_obj_polylines`] | [`curves_to_obj`] |
+//! | `.json` | curvenet's own JSON format (`"format": "curvenet-curves"`) | [`parse_json_curves`] | [`curves_to_json`] |
+//!
+//! Meshes are read from OBJ `v`/`f` records ([`read_mesh`], [`parse_obj_mesh`]) and written by
+//! [`mesh_to_obj`].
+//!
+//! Every parser checks its input completely: a malformed or non-finite number, a truncated point,
+//! a curve with too few distinct points, an index that points nowhere… each is an [`InputError`]
+//! naming the file and the line, displayed as `file:line: message`. No input makes a parser panic.
+//! Suspicious but usable input (consecutive points closer than `1e-9 ×` the curve's bounding-box
+//! diagonal, degenerate mesh faces, …) is reported as [`InputWarning`]s next to the result.
+//!
+//! All curve readers share one normalisation: exact consecutive duplicates are dropped (with a
+//! warning), a curve whose last point equals its first (exactly, or within `1e-9 ×` its
+//! bounding-box diagonal) is closed and loses the repeated point, and near-duplicate points that
+//! are not exactly equal are kept untouched. Writers emit numbers in Rust's shortest round-trip
+//! form, so writing and reading again gives bit-identical coordinates.
+
+mod checks;
+mod json;
+mod obj_curves;
+mod obj_lexer;
+mod obj_mesh;
+mod reference;
+
+pub use json::{curves_to_json, parse_json_curves};
+pub use obj_curves::{curves_to_obj, parse_obj_polylines};
+pub use obj_mesh::{mesh_to_obj, parse_obj_mesh};
+pub use reference::{curves_to_reference_text, parse_reference_curves};
+
+use crate::geom::Vec3;
+use serde::{Deserialize, Serialize};
+use std::fmt;
+use std::fs;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Where a piece of input came from, for messages.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Origin {
+    /// The file name as given by the caller (or a description such as `<memory>`).
+    pub file: String,
+    /// 1-based line number; 0 when the line is unknown.
+    pub line: usize,
+}
+
+impl Origin {
+    /// Builds an origin from a file name and a 1-based line (0 = unknown).
+    pub fn new(file: impl Into<String>, line: usize) -> Self {
+        Origin {
+            file: file.into(),
+            line,
+        }
+    }
+}
+
+impl fmt::Display for Origin {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}:{}", self.file, self.line)
+    }
+}
+
+/// One input curve.
+///
+/// For a closed curve, `points` does not repeat the first point at the end: the repeated point
+/// is dropped on load, and the writers add it back for the formats that repeat it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Polyline {
+    /// The curve's vertices in order.
+    pub points: Vec<Vec3>,
+    /// True when the last point connects back to the first.
+    pub closed: bool,
+    /// Where the curve was defined (its `CURVE` record, `l` record or JSON object).
+    pub origin: Origin,
+    /// The curve's label from the file, if it had one.
+    pub label: Option<String>,
+}
+
+impl Polyline {
+    /// Total length of the polyline, including the closing segment when the curve is closed.
+    pub fn length(&self) -> f64 {
+        let open: f64 = self.points.windows(2).map(|w| w[0].dist(w[1])).sum();
+        match (self.closed, self.points.first(), self.points.last()) {
+            (true, Some(&first), Some(&last)) if self.points.len() >= 2 => open + last.dist(first),
+            _ => open,
+        }
+    }
+
+    /// Number of segments: `n - 1` for an open curve of `n` points, `n` for a closed one
+    /// (0 for fewer than two points).
+    pub fn segment_count(&self) -> usize {
+        match self.points.len() {
+            0 | 1 => 0,
+            n if self.closed => n,
+            n => n - 1,
+        }
+    }
+}
+
+/// A triangle mesh.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct TriMesh {
+    /// Vertex positions.
+    pub vertices: Vec<Vec3>,
+    /// Triangles as 0-based indices into `vertices`.
+    pub faces: Vec<[u32; 3]>,
+}
+
+/// An input error. Every variant names the file and (where it has one) the line, and displays
+/// as `file:line: message` (line 0 when no line applies).
+#[derive(Debug, thiserror::Error)]
+pub enum InputError {
+    /// The file could not be read.
+    #[error("{file}:0: cannot read the file: {source}")]
+    Io {
+        /// The file name.
+        file: String,
+        /// The underlying error.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The file extension does not name a format this reader knows.
+    #[error("{file}:0: {message}")]
+    UnsupportedFormat {
+        /// The file name.
+        file: String,
+        /// What was expected.
+        message: String,
+    },
+    /// The content is malformed or invalid.
+    #[error("{file}:{line}: {message}")]
+    Parse {
+        /// The file name.
+        file: String,
+        /// 1-based line of the offending token (or of the record of a whole-curve problem);
+        /// 0 when it could not be located.
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+impl InputError {
+    /// Builds a [`InputError::Parse`].
+    pub fn parse(file: &str, line: usize, message: impl Into<String>) -> Self {
+        InputError::Parse {
+            file: file.to_owned(),
+            line,
+            message: message.into(),
+        }
+    }
+
+    /// The file the error is about.
+    pub fn file(&self) -> &str {
+        match self {
+            InputError::Io { file, .. }
+            | InputError::UnsupportedFormat { file, .. }
+            | InputError::Parse { file, .. } => file,
+        }
+    }
+
+    /// The 1-based line the error is about, if known.
+    pub fn line(&self) -> Option<usize> {
+        match self {
+            InputError::Parse { line, .. } if *line > 0 => Some(*line),
+            _ => None,
+        }
+    }
+
+    /// The message without the `file:line:` prefix.
+    pub fn message(&self) -> String {
+        match self {
+            InputError::Io { source, .. } => format!("cannot read the file: {source}"),
+            InputError::UnsupportedFormat { message, .. } | InputError::Parse { message, .. } => {
+                message.clone()
+            }
+        }
+    }
+}
+
+/// A non-fatal finding while reading, such as near-duplicate consecutive points or a degenerate
+/// mesh face. Displays as `file:line: warning: message`.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct InputWarning {
+    /// Where the finding is.
+    pub origin: Origin,
+    /// What was found, and what was done about it.
+    pub message: String,
+}
+
+impl InputWarning {
+    /// Builds a warning at `file:line`.
+    pub fn new(file: &str, line: usize, message: impl Into<String>) -> Self {
+        InputWarning {
+            origin: Origin::new(file, line),
+            message: message.into(),
+        }
+    }
+}
+
+impl fmt::Display for InputWarning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: warning: {}", self.origin, self.message)
+    }
+}
+
+/// The curves of one file, with the warnings found while reading it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CurveFile {
+    /// The curves, in file order.
+    pub curves: Vec<Polyline>,
+    /// Non-fatal findings, in file order.
+    pub warnings: Vec<InputWarning>,
+}
+
+/// The mesh of one file, with the warnings found while reading it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshFile {
+    /// The triangles (degenerate faces left out).
+    pub mesh: TriMesh,
+    /// Non-fatal findings, in file order.
+    pub warnings: Vec<InputWarning>,
+}
+
+/// Reads a curve file, choosing the format from the extension (case-insensitive): `.txt` is the
+/// reference text format, `.obj` OBJ polylines, `.json` curvenet's JSON format.
+///
+/// Messages name the file as `path` displays.
+///
+/// # Errors
+///
+/// [`InputError::UnsupportedFormat`] for any other extension, [`InputError::Io`] when the file
+/// cannot be read, [`InputError::Parse`] for text that is not UTF-8 and for everything the
+/// format's parser rejects.
+pub fn read_curves(path: &Path) -> Result<CurveFile, InputError> {
+    let file = path.display().to_string();
+    let parse: fn(&str, &str) -> Result<CurveFile, InputError> = match extension(path).as_deref() {
+        Some("txt") => parse_reference_curves,
+        Some("obj") => parse_obj_polylines,
+        Some("json") => parse_json_curves,
+        _ => {
+            return Err(InputError::UnsupportedFormat {
+                file,
+                message: "unsupported curve file extension: expected .txt (reference format), \
+                          .obj (polylines) or .json (curvenet-curves)"
+                    .to_owned(),
+            });
+        }
+    };
+    let text = read_text(path, &file)?;
+    parse(&text, &file)
+}
+
+/// Reads an OBJ triangle mesh (`v` and `f` records) with [`parse_obj_mesh`].
+///
+/// # Errors
+///
+/// [`InputError::UnsupportedFormat`] for an extension other than `.obj` (case-insensitive),
+/// [`InputError::Io`] when the file cannot be read, [`InputError::Parse`] for text that is not
+/// UTF-8 and for everything [`parse_obj_mesh`] rejects.
+pub fn read_mesh(path: &Path) -> Result<MeshFile, InputError> {
+    let file = path.display().to_string();
+    if extension(path).as_deref() != Some("obj") {
+        return Err(InputError::UnsupportedFormat {
+            file,
+            message: "unsupported mesh file extension: expected .obj".to_owned(),
+        });
+    }
+    let text = read_text(path, &file)?;
+    parse_obj_mesh(&text, &file)
+}
+
+/// The lower-cased extension of `path`, if it has one.
+fn extension(path: &Path) -> Option<String> {
+    path.extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+}
+
+/// Reads a whole file as UTF-8; invalid UTF-8 is a parse error at the line where it occurs.
+fn read_text(path: &Path, file: &str) -> Result<String, InputError> {
+    let bytes = fs::read(path).map_err(|source| InputError::Io {
+        file: file.to_owned(),
+        source,
+    })?;
+    String::from_utf8(bytes).map_err(|e| {
+        let valid = e.utf8_error().valid_up_to();
+        let bytes = e.as_bytes();
+        let line = 1 + bytes[..valid.min(bytes.len())]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count();
+        InputError::parse(file, line, "the file is not valid UTF-8 text")
+    })
+}
+
+/// Distinguishes the temporary files of one process.
+static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
+
+/// Writes `bytes` to `path` atomically: the data go to a temporary file in the same directory
+/// (named after the target, the process id and a counter), are flushed to disk, and the
+/// temporary file is then renamed over `path`. Readers see either the old or the new content,
+/// never a mix; on failure the temporary file is removed and `path` is left as it was.
+///
+/// When `path` already exists its permissions are carried over to the new file. A symbolic link
+/// at `path` is replaced by a regular file.
+///
+/// # Errors
+///
+/// Any I/O error of creating, writing, syncing or renaming the temporary file, and
+/// [`std::io::ErrorKind::InvalidInput`] when `path` has no file name (such as `/` or `..`).
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let name = path.file_name().ok_or_else(|| {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!("{} does not name a file", path.display()),
+        )
+    })?;
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    // A long target name is cut so that the temporary name stays within file-name limits.
+    let stem: String = name.to_string_lossy().chars().take(100).collect();
+    let (tmp_path, mut tmp) = create_temp(&dir, &stem)?;
+    let result = (|| {
+        tmp.write_all(bytes)?;
+        if let Ok(meta) = fs::metadata(path) {
+            tmp.set_permissions(meta.permissions())?;
+        }
+        tmp.sync_all()?;
+        drop(tmp);
+        fs::rename(&tmp_path, path)
+    })();
+    if result.is_err() {
+        // Best effort: the original error is the one worth reporting.
+        let _ = fs::remove_file(&tmp_path);
+        return result;
+    }
+    sync_dir(&dir);
+    Ok(())
+}
+
+/// Creates a fresh temporary file next to the target, retrying on name clashes (for example
+/// with a file left by a crashed process that had the same id).
+fn create_temp(dir: &Path, name: &str) -> std::io::Result<(PathBuf, fs::File)> {
+    let pid = std::process::id();
+    let mut last_err = None;
+    for _ in 0..64 {
+        let n = TEMP_COUNTER.fetch_add(1, Ordering::Relaxed);
+        let tmp_path = dir.join(format!(".{name}.tmp.{pid}.{n}"));
+        match fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&tmp_path)
+        {
+            Ok(f) => return Ok((tmp_path, f)),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => last_err = Some(e),
+            Err(e) => return Err(e),
+        }
+    }
+    Err(last_err.unwrap_or_else(|| {
+        std::io::Error::new(
+            std::io::ErrorKind::AlreadyExists,
+            "could not find a free temporary file name",
+        )
+    }))
+}
+
+/// Flushes the directory entry of a rename to disk where the platform allows it (best effort:
+/// some file systems and platforms cannot open or sync directories).
+fn sync_dir(dir: &Path) {
+    #[cfg(unix)]
+    if let Ok(d) = fs::File::open(dir) {
+        let _ = d.sync_all();
+    }
+    #[cfg(not(unix))]
+    let _ = dir;
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,19 @@
+//! # curvenet
+//!
+//! Stability-aware simplification of curve networks (Neveu et al., SIGGRAPH 2022), done fast.
+//!
+//! The pipeline, one module per stage, data flowing one way:
+//!
+//! 1. [`io`]: meshes and curves in, results out (atomic writes);
+//! 2. [`network`]: crossings, joints and resampling turn curves into a rod network;
+//! 3. [`rod`]: the elastic energy of the network (stretching, bending, anchors);
+//! 4. [`solve`]: sparse Cholesky, Newton equilibrium, shift-and-invert eigen solver;
+//! 5. [`stability`]: the worst-case stability `λ` of a network or of any sub-structure.
+//!
+//! See `ARCHITECTURE.md` at the repository root for the map and `SPEC.md` for the model.
+
+pub mod geom;
+pub mod io;
+pub mod network;
+pub mod rod;
+pub mod solve;

@@ -1,0 +1,608 @@
+//! The energy of a whole network as a flat list of terms, and its sparse assembly.
+//!
+//! [`EnergyModel`] holds every stretching, bending and anchor term of every rod, grouped by
+//! rod, together with one fixed sparsity pattern for the Hessian (the upper triangle over all
+//! `3·V` coordinates, in compressed columns). Any set of curves can be left out with an
+//! [`ActiveSet`]: their terms are skipped and the vertices that belong to no remaining curve
+//! ("loose" vertices) get a large diagonal entry instead, so the pattern, and hence one
+//! symbolic factorization, serves every structure (SPEC §5). That device is equivalent to
+//! deleting those rows and columns: the loose vertices then form a decoupled block whose
+//! eigenvalues sit far above the structure's low spectrum; [`EnergyModel::explicit_deletion`]
+//! builds the deleted version for tests.
+//!
+//! **Coordinates are displacements** `u` from the locked rest state, not positions: every term
+//! is evaluated from its rest edge vectors plus differences of displacements. Positions of a
+//! few thousand units carry an absolute rounding of ~1e-13 that, times the stiffness of the
+//! shortest edges, floors the gradient near 1e-7 (SPEC §11); displacements are small, so the
+//! gradient can be driven orders of magnitude lower and λ is measured at a truer equilibrium.
+
+use super::{Material, terms};
+use crate::geom::Vec3;
+use crate::network::Network;
+use std::ops::Range;
+
+/// A stretching term (one edge). `e` is the rest edge vector `X1 − X0`.
+#[derive(Clone, Copy, Debug)]
+struct StretchTerm {
+    v: [u32; 2],
+    rest: f64,
+    e: Vec3,
+}
+
+/// A bending term (one interior vertex and its two edges). `a = X0 − X1`, `b = X2 − X1` are the
+/// rest offsets of the outer vertices from the centre.
+#[derive(Clone, Copy, Debug)]
+struct BendTerm {
+    v: [u32; 3],
+    r0: f64,
+    r1: f64,
+    a: Vec3,
+    b: Vec3,
+}
+
+/// An anchor spring on a supported vertex; `offset` is its target minus its rest position
+/// (zero when the anchor holds the vertex where it was drawn).
+#[derive(Clone, Copy, Debug)]
+struct AnchorTerm {
+    v: u32,
+    offset: Vec3,
+}
+
+impl StretchTerm {
+    /// End points relative to `x0`, from displacements `u`.
+    #[inline]
+    fn local(&self, u: &[f64]) -> (Vec3, Vec3) {
+        (
+            Vec3::ZERO,
+            self.e + (vec3(u, self.v[1]) - vec3(u, self.v[0])),
+        )
+    }
+}
+
+impl BendTerm {
+    /// The three vertices relative to the centre, from displacements `u`.
+    #[inline]
+    fn local(&self, u: &[f64]) -> (Vec3, Vec3, Vec3) {
+        let c = vec3(u, self.v[1]);
+        (
+            self.a + (vec3(u, self.v[0]) - c),
+            Vec3::ZERO,
+            self.b + (vec3(u, self.v[2]) - c),
+        )
+    }
+}
+
+/// Index ranges of one rod's terms in the model's term lists.
+#[derive(Clone, Debug, Default)]
+struct RodTerms {
+    stretch: Range<usize>,
+    bend: Range<usize>,
+    anchor: Range<usize>,
+}
+
+/// Which curves make up the structure being evaluated.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct ActiveSet {
+    active: Vec<bool>,
+}
+
+impl ActiveSet {
+    /// Every curve of a network with `n` curves.
+    pub fn all(n: usize) -> Self {
+        ActiveSet {
+            active: vec![true; n],
+        }
+    }
+
+    /// Exactly the listed curves.
+    pub fn from_curves(n: usize, curves: &[usize]) -> Self {
+        let mut active = vec![false; n];
+        for &c in curves {
+            active[c] = true;
+        }
+        ActiveSet { active }
+    }
+
+    /// This set without curve `c`.
+    pub fn without(&self, c: usize) -> Self {
+        let mut s = self.clone();
+        s.active[c] = false;
+        s
+    }
+
+    /// Removes curve `c` in place.
+    pub fn remove(&mut self, c: usize) {
+        self.active[c] = false;
+    }
+
+    /// True when curve `c` is part of the structure.
+    pub fn contains(&self, c: usize) -> bool {
+        self.active[c]
+    }
+
+    /// Number of curves in the network (active or not).
+    pub fn universe(&self) -> usize {
+        self.active.len()
+    }
+
+    /// Active curve ids, ascending.
+    pub fn curves(&self) -> Vec<usize> {
+        (0..self.active.len()).filter(|&c| self.active[c]).collect()
+    }
+
+    /// Number of active curves.
+    pub fn len(&self) -> usize {
+        self.active.iter().filter(|&&a| a).count()
+    }
+
+    /// True when no curve is active.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// Energy, gradient and Hessian values of one assembly.
+#[derive(Clone, Debug, Default)]
+pub struct Assembly {
+    /// Total energy.
+    pub energy: f64,
+    /// Gradient over all `3·V` coordinates (zero on loose vertices).
+    pub grad: Vec<f64>,
+    /// Hessian values in the model's pattern (upper triangle, compressed columns).
+    pub hess: Vec<f64>,
+}
+
+/// Sparse upper-triangular pattern of the Hessian over `3·V` coordinates.
+#[derive(Clone, Debug)]
+pub struct Pattern {
+    /// Number of rows and columns.
+    pub n: usize,
+    /// Column pointers (`n + 1` entries).
+    pub col_ptr: Vec<usize>,
+    /// Row indices, ascending within each column.
+    pub row_idx: Vec<usize>,
+    /// Slot of each diagonal entry.
+    pub diag: Vec<usize>,
+}
+
+impl Pattern {
+    /// Number of stored entries.
+    pub fn nnz(&self) -> usize {
+        self.row_idx.len()
+    }
+
+    /// The pattern as a faer symbolic matrix.
+    pub fn symbolic(&self) -> faer::sparse::SymbolicSparseColMatRef<'_, usize> {
+        faer::sparse::SymbolicSparseColMatRef::new_checked(
+            self.n,
+            self.n,
+            &self.col_ptr,
+            None,
+            &self.row_idx,
+        )
+    }
+
+    /// `y = A x` for the symmetric matrix whose upper triangle `values` holds.
+    pub fn sym_matvec(&self, values: &[f64], x: &[f64], y: &mut [f64]) {
+        y.iter_mut().for_each(|v| *v = 0.0);
+        for j in 0..self.n {
+            let xj = x[j];
+            let mut acc = 0.0;
+            for k in self.col_ptr[j]..self.col_ptr[j + 1] {
+                let i = self.row_idx[k];
+                let a = values[k];
+                if i == j {
+                    acc += a * xj;
+                } else {
+                    acc += a * x[i];
+                    y[i] += a * xj;
+                }
+            }
+            y[j] += acc;
+        }
+    }
+
+    /// The 1-norm of the symmetric matrix (largest absolute column sum).
+    pub fn sym_norm1(&self, values: &[f64]) -> f64 {
+        let mut col = vec![0.0; self.n];
+        for j in 0..self.n {
+            for k in self.col_ptr[j]..self.col_ptr[j + 1] {
+                let i = self.row_idx[k];
+                let a = values[k].abs();
+                col[j] += a;
+                if i != j {
+                    col[i] += a;
+                }
+            }
+        }
+        col.into_iter().fold(0.0, f64::max)
+    }
+}
+
+/// The energy of a network: every term of every rod and the Hessian pattern.
+#[derive(Clone, Debug)]
+pub struct EnergyModel {
+    n_vertices: usize,
+    ks: f64,
+    kb: f64,
+    mu: f64,
+    stretch: Vec<StretchTerm>,
+    bend: Vec<BendTerm>,
+    anchor: Vec<AnchorTerm>,
+    rods: Vec<RodTerms>,
+    /// For every vertex, the curves through it.
+    vertex_curves: Vec<Vec<u32>>,
+    pattern: Pattern,
+    /// Block positions for each term: `pos[p][q]` locates the 3×3 block of local vertices
+    /// `(p, q)` in the column of the larger global vertex.
+    stretch_pos: Vec<[[u32; 2]; 2]>,
+    bend_pos: Vec<[[u32; 3]; 3]>,
+    /// Diagonal entry used for coordinates of loose vertices.
+    loose_diagonal: f64,
+}
+
+impl EnergyModel {
+    /// Collects the terms of `network` with `material` and builds the Hessian pattern.
+    pub fn new(network: &Network, material: &Material) -> Self {
+        let n_vertices = network.positions.len();
+        let mut stretch = Vec::new();
+        let mut bend = Vec::new();
+        let mut anchor = Vec::new();
+        let mut rods = Vec::with_capacity(network.rods.len());
+        for rod in &network.rods {
+            let (s0, b0, a0) = (stretch.len(), bend.len(), anchor.len());
+            let m = rod.vertices.len();
+            let ne = rod.edge_count();
+            for j in 0..ne {
+                let (a, b) = rod.edge(j);
+                let e = network.positions[b as usize] - network.positions[a as usize];
+                stretch.push(StretchTerm {
+                    v: [a, b],
+                    rest: rod.rest_lengths[j],
+                    e,
+                });
+            }
+            // Bending at every interior vertex, and at every vertex of a closed rod.
+            let centers: Box<dyn Iterator<Item = usize>> = if rod.closed {
+                Box::new(0..m)
+            } else {
+                Box::new(1..m.saturating_sub(1))
+            };
+            for i in centers {
+                let (prev, next) = ((i + ne - 1) % ne, i % ne);
+                let v0 = rod.vertices[(i + m - 1) % m];
+                let v1 = rod.vertices[i];
+                let v2 = rod.vertices[(i + 1) % m];
+                let x1 = network.positions[v1 as usize];
+                bend.push(BendTerm {
+                    v: [v0, v1, v2],
+                    r0: rod.rest_lengths[prev],
+                    r1: rod.rest_lengths[next],
+                    a: network.positions[v0 as usize] - x1,
+                    b: network.positions[v2 as usize] - x1,
+                });
+            }
+            for &v in &rod.anchors {
+                anchor.push(AnchorTerm {
+                    v,
+                    offset: Vec3::ZERO,
+                });
+            }
+            rods.push(RodTerms {
+                stretch: s0..stretch.len(),
+                bend: b0..bend.len(),
+                anchor: a0..anchor.len(),
+            });
+        }
+        let vertex_curves = network.vertex_curves();
+
+        // Vertex adjacency: for each vertex j, the vertices i <= j sharing a term with it.
+        let mut lower: Vec<Vec<u32>> = (0..n_vertices as u32).map(|j| vec![j]).collect();
+        let mut link = |a: u32, b: u32| {
+            let (i, j) = if a <= b { (a, b) } else { (b, a) };
+            lower[j as usize].push(i);
+        };
+        for t in &stretch {
+            link(t.v[0], t.v[1]);
+        }
+        for t in &bend {
+            link(t.v[0], t.v[1]);
+            link(t.v[0], t.v[2]);
+            link(t.v[1], t.v[2]);
+        }
+        for l in &mut lower {
+            l.sort_unstable();
+            l.dedup();
+        }
+        let n = 3 * n_vertices;
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::new();
+        let mut diag = Vec::with_capacity(n);
+        col_ptr.push(0);
+        for (j, nbrs) in lower.iter().enumerate() {
+            for b in 0..3 {
+                for &i in nbrs {
+                    let i = i as usize;
+                    let rows = if i == j { 0..b + 1 } else { 0..3 };
+                    for a in rows {
+                        if i == j && a == b {
+                            diag.push(row_idx.len());
+                        }
+                        row_idx.push(3 * i + a);
+                    }
+                }
+                col_ptr.push(row_idx.len());
+            }
+        }
+        let pos = |a: u32, b: u32| -> u32 {
+            let (i, j) = if a <= b { (a, b) } else { (b, a) };
+            lower[j as usize]
+                .binary_search(&i)
+                .expect("pattern holds every term") as u32
+        };
+        let stretch_pos = stretch
+            .iter()
+            .map(|t| {
+                let mut p = [[0u32; 2]; 2];
+                for (x, row) in p.iter_mut().enumerate() {
+                    for (y, slot) in row.iter_mut().enumerate() {
+                        *slot = pos(t.v[x], t.v[y]);
+                    }
+                }
+                p
+            })
+            .collect();
+        let bend_pos = bend
+            .iter()
+            .map(|t| {
+                let mut p = [[0u32; 3]; 3];
+                for (x, row) in p.iter_mut().enumerate() {
+                    for (y, slot) in row.iter_mut().enumerate() {
+                        *slot = pos(t.v[x], t.v[y]);
+                    }
+                }
+                p
+            })
+            .collect();
+
+        let ks = material.ks();
+        let kb = material.kb();
+        let mu = material.anchor_weight;
+        // A loose vertex's diagonal: the stiffest scale in the model, far above the low
+        // spectrum that stability is about.
+        let min_rest = stretch.iter().map(|t| t.rest).fold(f64::INFINITY, f64::min);
+        let loose_diagonal = if min_rest.is_finite() {
+            (ks / min_rest).max(2.0 * mu)
+        } else {
+            1.0
+        };
+        EnergyModel {
+            n_vertices,
+            ks,
+            kb,
+            mu,
+            stretch,
+            bend,
+            anchor,
+            rods,
+            vertex_curves,
+            pattern: Pattern {
+                n,
+                col_ptr,
+                row_idx,
+                diag,
+            },
+            stretch_pos,
+            bend_pos,
+            loose_diagonal,
+        }
+    }
+
+    /// Number of vertices.
+    pub fn vertex_count(&self) -> usize {
+        self.n_vertices
+    }
+
+    /// Number of coordinates (`3·V`).
+    pub fn dofs(&self) -> usize {
+        3 * self.n_vertices
+    }
+
+    /// Number of curves.
+    pub fn curve_count(&self) -> usize {
+        self.rods.len()
+    }
+
+    /// The Hessian's sparsity pattern.
+    pub fn pattern(&self) -> &Pattern {
+        &self.pattern
+    }
+
+    /// The diagonal value placed on loose vertices' coordinates.
+    pub fn loose_diagonal(&self) -> f64 {
+        self.loose_diagonal
+    }
+
+    /// For each vertex, whether it belongs to at least one active curve.
+    pub fn vertex_mask(&self, active: &ActiveSet) -> Vec<bool> {
+        self.vertex_curves
+            .iter()
+            .map(|cs| cs.iter().any(|&c| active.contains(c as usize)))
+            .collect()
+    }
+
+    /// Ids of the terms of the active curves.
+    fn active_terms<'a>(
+        &'a self,
+        active: &'a ActiveSet,
+    ) -> impl Iterator<Item = (usize, &'a RodTerms)> + 'a {
+        self.rods
+            .iter()
+            .enumerate()
+            .filter(move |(c, _)| active.contains(*c))
+    }
+
+    /// Total energy of the active curves at displacements `u`.
+    pub fn energy(&self, u: &[f64], active: &ActiveSet) -> f64 {
+        let mut e = 0.0;
+        for (_, r) in self.active_terms(active) {
+            for t in &self.stretch[r.stretch.clone()] {
+                let (x0, x1) = t.local(u);
+                e += terms::stretch_energy(x0, x1, t.rest, self.ks);
+            }
+            for t in &self.bend[r.bend.clone()] {
+                let (x0, x1, x2) = t.local(u);
+                e += terms::bend_energy(x0, x1, x2, t.r0, t.r1, self.kb);
+            }
+            for t in &self.anchor[r.anchor.clone()] {
+                e += terms::anchor_energy(vec3(u, t.v), t.offset, self.mu);
+            }
+        }
+        e
+    }
+
+    /// Energy and gradient; with `hessian`, also the Hessian values (loose vertices get the
+    /// loose diagonal).
+    pub fn assemble(&self, u: &[f64], active: &ActiveSet, hessian: bool) -> Assembly {
+        let mut out = Assembly {
+            energy: 0.0,
+            grad: vec![0.0; self.dofs()],
+            hess: if hessian {
+                vec![0.0; self.pattern.nnz()]
+            } else {
+                Vec::new()
+            },
+        };
+        self.assemble_into(u, active, hessian, &mut out);
+        out
+    }
+
+    /// [`Self::assemble`] into existing buffers (resized as needed).
+    pub fn assemble_into(&self, u: &[f64], active: &ActiveSet, hessian: bool, out: &mut Assembly) {
+        assert_eq!(
+            u.len(),
+            self.dofs(),
+            "displacement vector of the wrong length"
+        );
+        out.energy = 0.0;
+        out.grad.clear();
+        out.grad.resize(self.dofs(), 0.0);
+        out.hess.clear();
+        if hessian {
+            out.hess.resize(self.pattern.nnz(), 0.0);
+        }
+        for (_, r) in self.active_terms(active) {
+            for k in r.stretch.clone() {
+                let t = &self.stretch[k];
+                let (x0, x1) = t.local(u);
+                let l = terms::stretch(x0, x1, t.rest, self.ks);
+                out.energy += l.energy;
+                scatter_grad(&mut out.grad, &t.v, &l.grad);
+                if hessian {
+                    self.scatter_hess(&mut out.hess, &t.v, &self.stretch_pos[k], &l.hess);
+                }
+            }
+            for k in r.bend.clone() {
+                let t = &self.bend[k];
+                let (x0, x1, x2) = t.local(u);
+                let l = terms::bend(x0, x1, x2, t.r0, t.r1, self.kb);
+                out.energy += l.energy;
+                scatter_grad(&mut out.grad, &t.v, &l.grad);
+                if hessian {
+                    self.scatter_hess(&mut out.hess, &t.v, &self.bend_pos[k], &l.hess);
+                }
+            }
+            for t in &self.anchor[r.anchor.clone()] {
+                let l = terms::anchor(vec3(u, t.v), t.offset, self.mu);
+                out.energy += l.energy;
+                scatter_grad(&mut out.grad, &[t.v], &l.grad);
+                if hessian {
+                    let v = t.v as usize;
+                    for a in 0..3 {
+                        out.hess[self.pattern.diag[3 * v + a]] += l.hess[a][a];
+                    }
+                }
+            }
+        }
+        if hessian {
+            for (v, on) in self.vertex_mask(active).into_iter().enumerate() {
+                if !on {
+                    for a in 0..3 {
+                        out.hess[self.pattern.diag[3 * v + a]] = self.loose_diagonal;
+                    }
+                }
+            }
+        }
+    }
+
+    fn scatter_hess<const K: usize, const D: usize>(
+        &self,
+        hess: &mut [f64],
+        v: &[u32; K],
+        pos: &[[u32; K]; K],
+        local: &[[f64; D]; D],
+    ) {
+        let cp = &self.pattern.col_ptr;
+        for p in 0..K {
+            for q in 0..K {
+                let (vi, vj) = (v[p] as usize, v[q] as usize);
+                if vi > vj {
+                    continue;
+                }
+                let off = 3 * pos[p][q] as usize;
+                for b in 0..3 {
+                    let base = cp[3 * vj + b] + off;
+                    let rows = if vi == vj { b + 1 } else { 3 };
+                    for a in 0..rows {
+                        hess[base + a] += local[3 * p + a][3 * q + b];
+                    }
+                }
+            }
+        }
+    }
+
+    /// The Hessian of the active structure with the rows and columns of loose vertices deleted
+    /// (the normative definition of SPEC §5), as a dense matrix, and the kept vertices.
+    /// For tests and small networks.
+    pub fn explicit_deletion(&self, u: &[f64], active: &ActiveSet) -> (faer::Mat<f64>, Vec<usize>) {
+        let a = self.assemble(u, active, true);
+        let mask = self.vertex_mask(active);
+        let kept: Vec<usize> = (0..self.n_vertices).filter(|&v| mask[v]).collect();
+        let mut index = vec![usize::MAX; self.dofs()];
+        for (k, &v) in kept.iter().enumerate() {
+            for c in 0..3 {
+                index[3 * v + c] = 3 * k + c;
+            }
+        }
+        let m = 3 * kept.len();
+        let mut dense = faer::Mat::<f64>::zeros(m, m);
+        for j in 0..self.pattern.n {
+            for s in self.pattern.col_ptr[j]..self.pattern.col_ptr[j + 1] {
+                let i = self.pattern.row_idx[s];
+                let (ii, jj) = (index[i], index[j]);
+                if ii == usize::MAX || jj == usize::MAX {
+                    continue;
+                }
+                dense[(ii, jj)] = a.hess[s];
+                dense[(jj, ii)] = a.hess[s];
+            }
+        }
+        (dense, kept)
+    }
+}
+
+#[inline]
+fn vec3(x: &[f64], v: u32) -> Vec3 {
+    let i = 3 * v as usize;
+    Vec3::new(x[i], x[i + 1], x[i + 2])
+}
+
+#[inline]
+fn scatter_grad<const K: usize>(grad: &mut [f64], v: &[u32; K], local: &[f64]) {
+    for p in 0..K {
+        let i = 3 * v[p] as usize;
+        for a in 0..3 {
+            grad[i + a] += local[3 * p + a];
+        }
+    }
+}

@@ -1,0 +1,416 @@
+//! The three local energy terms of a discrete elastic rod without twist (SPEC §3), each with its
+//! exact gradient and Hessian.
+//!
+//! Every term acts on a few vertices; the result is a [`Local`] value with the energy, the
+//! gradient over the term's `D = 3·(vertex count)` coordinates (vertex-major: `x0.x, x0.y, x0.z,
+//! x1.x, …`) and the full dense `D×D` Hessian. Nothing is projected to be positive definite: the
+//! stability analysis needs the true Hessian.
+
+use crate::geom::Vec3;
+
+/// Energy, gradient and Hessian of one term over its `D` coordinates.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Local<const D: usize> {
+    /// Energy value.
+    pub energy: f64,
+    /// Gradient, vertex-major.
+    pub grad: [f64; D],
+    /// Hessian, row-major and symmetric.
+    pub hess: [[f64; D]; D],
+}
+
+impl<const D: usize> Local<D> {
+    fn zero() -> Self {
+        Local {
+            energy: 0.0,
+            grad: [0.0; D],
+            hess: [[0.0; D]; D],
+        }
+    }
+}
+
+/// A symmetric 3×3 block helper: `s·I + Σ c_k a_k b_kᵀ` assembled explicitly.
+type M3 = [[f64; 3]; 3];
+
+#[inline]
+fn outer(a: Vec3, b: Vec3) -> M3 {
+    [
+        [a.x * b.x, a.x * b.y, a.x * b.z],
+        [a.y * b.x, a.y * b.y, a.y * b.z],
+        [a.z * b.x, a.z * b.y, a.z * b.z],
+    ]
+}
+
+#[inline]
+fn m3_axpy(acc: &mut M3, s: f64, m: &M3) {
+    for i in 0..3 {
+        for j in 0..3 {
+            acc[i][j] += s * m[i][j];
+        }
+    }
+}
+
+#[inline]
+fn m3_add_identity(acc: &mut M3, s: f64) {
+    for (i, row) in acc.iter_mut().enumerate() {
+        row[i] += s;
+    }
+}
+
+/// Stretching energy of one edge `e = x1 − x0` with rest length `rest` and stretching stiffness
+/// `ks`: `E = ½ k_s (|e|/ē − 1)² ē`.
+#[inline]
+pub fn stretch_energy(x0: Vec3, x1: Vec3, rest: f64, ks: f64) -> f64 {
+    let l = (x1 - x0).norm();
+    let strain = (l - rest) / rest;
+    0.5 * ks * strain * strain * rest
+}
+
+/// [`stretch_energy`] with its gradient and Hessian over `(x0, x1)`.
+pub fn stretch(x0: Vec3, x1: Vec3, rest: f64, ks: f64) -> Local<6> {
+    let e = x1 - x0;
+    let l = e.norm();
+    let strain = (l - rest) / rest;
+    let mut out = Local::<6>::zero();
+    out.energy = 0.5 * ks * strain * strain * rest;
+    if l == 0.0 {
+        // Fully collapsed edge: the direction is undefined. The energy is ½k_s ē and the
+        // gradient vanishes by symmetry; the Hessian's isotropic part is −k_s/l·(…) which
+        // diverges. Report a zero gradient and the axial stiffness in every direction, a
+        // finite stand-in that keeps Newton going (it never happens at an equilibrium).
+        let k = ks / rest;
+        for a in 0..3 {
+            out.hess[a][a] = k;
+            out.hess[a + 3][a + 3] = k;
+            out.hess[a][a + 3] = -k;
+            out.hess[a + 3][a] = -k;
+        }
+        return out;
+    }
+    let t = e / l;
+    let g = t * (ks * strain);
+    for a in 0..3 {
+        out.grad[a] = -g[a];
+        out.grad[a + 3] = g[a];
+    }
+    // d²E/de² = (k_s/ē) t tᵀ + k_s (strain/l) (I − t tᵀ)
+    let iso = ks * strain / l;
+    let mut k = outer(t, t);
+    for row in k.iter_mut() {
+        for v in row.iter_mut() {
+            *v *= ks / rest - iso;
+        }
+    }
+    m3_add_identity(&mut k, iso);
+    for a in 0..3 {
+        for b in 0..3 {
+            out.hess[a][b] = k[a][b];
+            out.hess[a + 3][b + 3] = k[a][b];
+            out.hess[a][b + 3] = -k[a][b];
+            out.hess[a + 3][b] = -k[a][b];
+        }
+    }
+    out
+}
+
+/// Bending energy at the vertex `x1` between edges `u = x1 − x0` and `w = x2 − x1` with rest
+/// lengths `r0`, `r1` and bending stiffness `kb`:
+/// `κb = 2 (u × w) / (ē₀ ē₁ + u·w)`, `E = k_b |κb|² / (ē₀ + ē₁)` (rest curvature 0).
+#[inline]
+pub fn bend_energy(x0: Vec3, x1: Vec3, x2: Vec3, r0: f64, r1: f64, kb: f64) -> f64 {
+    let u = x1 - x0;
+    let w = x2 - x1;
+    let c = 4.0 * kb / (r0 + r1);
+    let g = r0 * r1 + u.dot(w);
+    c * u.cross(w).norm2() / (g * g)
+}
+
+/// [`bend_energy`] with its gradient and Hessian over `(x0, x1, x2)`.
+///
+/// Written as `E = c F / G²` with `F = |u × w|²`, `G = ē₀ē₁ + u·w`, `c = 4k_b/(ē₀+ē₁)`;
+/// the derivatives are taken in `(u, w)` and mapped to the vertices by `u = x1 − x0`,
+/// `w = x2 − x1`. `∂F/∂u = 2 w × (u × w)` and `∂F/∂w = 2 (u × w) × u` avoid the cancellation
+/// of the expanded form near straight configurations.
+pub fn bend(x0: Vec3, x1: Vec3, x2: Vec3, r0: f64, r1: f64, kb: f64) -> Local<9> {
+    let u = x1 - x0;
+    let w = x2 - x1;
+    let c = 4.0 * kb / (r0 + r1);
+    let uw = u.dot(w);
+    let g = r0 * r1 + uw;
+    let cr = u.cross(w);
+    let f = cr.norm2();
+    let ig = 1.0 / g;
+    let ig2 = ig * ig;
+
+    let mut out = Local::<9>::zero();
+    out.energy = c * f * ig2;
+
+    // First derivatives in (u, w).
+    let fu = w.cross(cr) * 2.0;
+    let fw = cr.cross(u) * 2.0;
+    // ∂G/∂u = w, ∂G/∂w = u.
+    // ∂E = c (∂F/G² − 2F ∂G/G³)
+    let eu = (fu * ig2 - w * (2.0 * f * ig2 * ig)) * c;
+    let ew = (fw * ig2 - u * (2.0 * f * ig2 * ig)) * c;
+
+    // Second derivatives in (u, w):
+    // ∂²E = c [ ∂²F/G² − 2/G³ (∂F ⊗ ∂G + ∂G ⊗ ∂F) + 6F/G⁴ ∂G ⊗ ∂G − 2F/G³ ∂²G ]
+    // ∂²F/∂u² = 2|w|² I − 2 w wᵀ,   ∂²F/∂w² = 2|u|² I − 2 u uᵀ,
+    // ∂²F/∂u∂w = 4 u wᵀ − 2 w uᵀ − 2 (u·w) I,   ∂²G/∂u∂w = I.
+    let ig3 = ig2 * ig;
+    let ig4 = ig2 * ig2;
+    let mut huu: M3 = [[0.0; 3]; 3];
+    m3_add_identity(&mut huu, 2.0 * w.norm2() * ig2);
+    m3_axpy(&mut huu, -2.0 * ig2, &outer(w, w));
+    m3_axpy(&mut huu, -2.0 * ig3, &outer(fu, w));
+    m3_axpy(&mut huu, -2.0 * ig3, &outer(w, fu));
+    m3_axpy(&mut huu, 6.0 * f * ig4, &outer(w, w));
+
+    let mut hww: M3 = [[0.0; 3]; 3];
+    m3_add_identity(&mut hww, 2.0 * u.norm2() * ig2);
+    m3_axpy(&mut hww, -2.0 * ig2, &outer(u, u));
+    m3_axpy(&mut hww, -2.0 * ig3, &outer(fw, u));
+    m3_axpy(&mut hww, -2.0 * ig3, &outer(u, fw));
+    m3_axpy(&mut hww, 6.0 * f * ig4, &outer(u, u));
+
+    // huw[i][j] = ∂²E/∂u_i∂w_j
+    let mut huw: M3 = [[0.0; 3]; 3];
+    m3_axpy(&mut huw, 4.0 * ig2, &outer(u, w));
+    m3_axpy(&mut huw, -2.0 * ig2, &outer(w, u));
+    m3_add_identity(&mut huw, -2.0 * uw * ig2 - 2.0 * f * ig3);
+    m3_axpy(&mut huw, -2.0 * ig3, &outer(fu, u));
+    m3_axpy(&mut huw, -2.0 * ig3, &outer(w, fw));
+    m3_axpy(&mut huw, 6.0 * f * ig4, &outer(w, u));
+
+    // Map to vertices: x0 → −u, x1 → +u −w, x2 → +w.
+    // Gradient.
+    for a in 0..3 {
+        out.grad[a] = -eu[a];
+        out.grad[3 + a] = eu[a] - ew[a];
+        out.grad[6 + a] = ew[a];
+    }
+    // Hessian blocks: H_pq = Σ J_p^s J_q^t H_st with J_0 = (−1, 0), J_1 = (1, −1), J_2 = (0, 1)
+    // over s, t ∈ {u, w}.
+    const J: [[f64; 2]; 3] = [[-1.0, 0.0], [1.0, -1.0], [0.0, 1.0]];
+    for p in 0..3 {
+        for q in 0..3 {
+            let (a_uu, a_uw, a_wu, a_ww) = (
+                J[p][0] * J[q][0],
+                J[p][0] * J[q][1],
+                J[p][1] * J[q][0],
+                J[p][1] * J[q][1],
+            );
+            for i in 0..3 {
+                for j in 0..3 {
+                    out.hess[3 * p + i][3 * q + j] = c
+                        * (a_uu * huu[i][j]
+                            + a_uw * huw[i][j]
+                            + a_wu * huw[j][i]
+                            + a_ww * hww[i][j]);
+                }
+            }
+        }
+    }
+    // Floating-point sums above run in different orders for (i, j) and (j, i): symmetrise so
+    // the Hessian is exactly symmetric.
+    for i in 0..9 {
+        for j in 0..i {
+            let m = 0.5 * (out.hess[i][j] + out.hess[j][i]);
+            out.hess[i][j] = m;
+            out.hess[j][i] = m;
+        }
+    }
+    out
+}
+
+/// Anchor spring energy `E = µ |x − x̄|²` pulling a supported vertex to its target.
+#[inline]
+pub fn anchor_energy(x: Vec3, target: Vec3, mu: f64) -> f64 {
+    mu * (x - target).norm2()
+}
+
+/// [`anchor_energy`] with its gradient and Hessian (`2µ I`).
+pub fn anchor(x: Vec3, target: Vec3, mu: f64) -> Local<3> {
+    let d = x - target;
+    let mut out = Local::<3>::zero();
+    out.energy = mu * d.norm2();
+    for a in 0..3 {
+        out.grad[a] = 2.0 * mu * d[a];
+        out.hess[a][a] = 2.0 * mu;
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((self.0 >> 11) as f64) / ((1u64 << 53) as f64) * 2.0 - 1.0
+        }
+        fn vec(&mut self) -> Vec3 {
+            Vec3::new(self.next(), self.next(), self.next())
+        }
+    }
+
+    /// Checks gradient and Hessian of `f` against central differences at `x` (D coordinates).
+    fn check_fd<const D: usize>(
+        x: [f64; D],
+        eval: impl Fn(&[f64; D]) -> Local<D>,
+        energy: impl Fn(&[f64; D]) -> f64,
+    ) {
+        let l = eval(&x);
+        assert!((l.energy - energy(&x)).abs() <= 1e-12 * l.energy.abs().max(1e-300));
+        let scale = x.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1.0);
+        let h = 1e-5 * scale;
+        let gnorm = l.grad.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let hnorm = l.hess.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+        for k in 0..D {
+            let mut xp = x;
+            let mut xm = x;
+            xp[k] += h;
+            xm[k] -= h;
+            let fd_g = (energy(&xp) - energy(&xm)) / (2.0 * h);
+            assert!(
+                (fd_g - l.grad[k]).abs() <= 1e-6 * gnorm.max(1e-12) + 1e-9 * l.energy.abs(),
+                "grad[{k}]: analytic {} fd {}",
+                l.grad[k],
+                fd_g
+            );
+            let gp = eval(&xp).grad;
+            let gm = eval(&xm).grad;
+            for j in 0..D {
+                let fd_h = (gp[j] - gm[j]) / (2.0 * h);
+                assert!(
+                    (fd_h - l.hess[j][k]).abs() <= 1e-6 * hnorm.max(1e-12),
+                    "hess[{j}][{k}]: analytic {} fd {}",
+                    l.hess[j][k],
+                    fd_h
+                );
+            }
+        }
+        for i in 0..D {
+            for j in 0..D {
+                assert_eq!(
+                    l.hess[i][j], l.hess[j][i],
+                    "Hessian not symmetric at ({i},{j})"
+                );
+            }
+        }
+    }
+
+    fn split<const D: usize>(x: &[f64; D], k: usize) -> Vec3 {
+        Vec3::new(x[3 * k], x[3 * k + 1], x[3 * k + 2])
+    }
+
+    #[test]
+    fn stretch_derivatives_match_finite_differences() {
+        let mut rng = Rng(7);
+        for _ in 0..50 {
+            let a = rng.vec();
+            let b = a + rng.vec();
+            let rest = 0.5 + rng.next().abs();
+            let ks = 4.0 * std::f64::consts::PI;
+            let x = [a.x, a.y, a.z, b.x, b.y, b.z];
+            check_fd(
+                x,
+                |x| stretch(split(x, 0), split(x, 1), rest, ks),
+                |x| stretch_energy(split(x, 0), split(x, 1), rest, ks),
+            );
+        }
+    }
+
+    #[test]
+    fn bend_derivatives_match_finite_differences() {
+        let mut rng = Rng(11);
+        for i in 0..100 {
+            let a = rng.vec();
+            // Mix of strongly bent and nearly straight configurations.
+            let d = rng.vec() + Vec3::new(1.5, 0.0, 0.0);
+            let bend_amount = if i % 2 == 0 { 1.0 } else { 1e-3 };
+            let b = a + d;
+            let c = b + d + rng.vec() * bend_amount;
+            let (r0, r1) = (0.7 + rng.next().abs(), 0.7 + rng.next().abs());
+            let kb = 4.0 * std::f64::consts::PI;
+            let x = [a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z];
+            check_fd(
+                x,
+                |x| bend(split(x, 0), split(x, 1), split(x, 2), r0, r1, kb),
+                |x| bend_energy(split(x, 0), split(x, 1), split(x, 2), r0, r1, kb),
+            );
+        }
+    }
+
+    #[test]
+    fn anchor_derivatives_match_finite_differences() {
+        let mut rng = Rng(3);
+        let t = rng.vec();
+        let a = rng.vec();
+        check_fd(
+            [a.x, a.y, a.z],
+            |x| anchor(split(x, 0), t, 500.0),
+            |x| anchor_energy(split(x, 0), t, 500.0),
+        );
+    }
+
+    #[test]
+    fn bend_energy_is_curvature_squared_for_small_angles() {
+        // A circle arc of radius R sampled with step s: turning angle φ = s/R per vertex;
+        // (k_b/2)∫κ² ds over one dual length s gives k_b s / (2R²).
+        let (r, s, kb) = (50.0, 0.5, 3.0);
+        let phi = s / r;
+        let p = |k: f64| Vec3::new(r * (k * phi).cos(), r * (k * phi).sin(), 0.0);
+        let chord = p(0.0).dist(p(1.0));
+        let e = bend_energy(p(0.0), p(1.0), p(2.0), chord, chord, kb);
+        let expected = kb * chord / (2.0 * r * r);
+        assert!((e / expected - 1.0).abs() < 1e-3, "{e} vs {expected}");
+    }
+
+    #[test]
+    fn terms_are_invariant_under_rigid_motion() {
+        let mut rng = Rng(5);
+        let (a, b, c) = (rng.vec(), rng.vec(), rng.vec());
+        let rot = |v: Vec3| {
+            // rotation by 0.7 rad about z then 0.3 rad about x, plus a translation
+            let (s1, c1) = 0.7f64.sin_cos();
+            let (s2, c2) = 0.3f64.sin_cos();
+            let v = Vec3::new(c1 * v.x - s1 * v.y, s1 * v.x + c1 * v.y, v.z);
+            Vec3::new(v.x, c2 * v.y - s2 * v.z, s2 * v.y + c2 * v.z) + Vec3::new(3.0, -2.0, 1.0)
+        };
+        let e0 = bend_energy(a, b, c, 1.1, 0.9, 2.0);
+        let e1 = bend_energy(rot(a), rot(b), rot(c), 1.1, 0.9, 2.0);
+        assert!((e0 - e1).abs() < 1e-12 * e0);
+        let s0 = stretch_energy(a, b, 0.8, 2.0);
+        let s1 = stretch_energy(rot(a), rot(b), 0.8, 2.0);
+        assert!((s0 - s1).abs() < 1e-12 * s0);
+        // The gradient of a translation-invariant term sums to zero.
+        let l = bend(a, b, c, 1.1, 0.9, 2.0);
+        for k in 0..3 {
+            let sum = l.grad[k] + l.grad[3 + k] + l.grad[6 + k];
+            assert!(sum.abs() < 1e-12 * l.grad.iter().fold(0.0f64, |m, v| m.max(v.abs())));
+        }
+    }
+
+    #[test]
+    fn straight_unstretched_rod_has_zero_energy_and_gradient() {
+        let (a, b, c) = (
+            Vec3::ZERO,
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(2.5, 0.0, 0.0),
+        );
+        let l = bend(a, b, c, 1.0, 1.5, 1.0);
+        assert_eq!(l.energy, 0.0);
+        assert!(l.grad.iter().all(|g| *g == 0.0));
+        let s = stretch(a, b, 1.0, 1.0);
+        assert_eq!(s.energy, 0.0);
+        // Axial stiffness k_s/ē along the edge.
+        assert!((s.hess[3][3] - 1.0).abs() < 1e-15);
+        assert!(s.hess[4][4].abs() < 1e-15);
+    }
+}

@@ -1,0 +1,128 @@
+//! Sparse Cholesky factorization of `H + τI` over the model's fixed pattern, on faer.
+//!
+//! The symbolic analysis (fill-reducing ordering, elimination tree, supernodes) depends only
+//! on the pattern, so it is done once per network ([`SymbolicFactor::new`]) and shared by every
+//! Newton step, every eigen solve and every greedy candidate; each of those only redoes the
+//! numeric factorization ([`Cholesky::factorize`]).
+//!
+//! Everything runs with `Par::Seq`: parallelism lives one level up (candidates in parallel),
+//! which keeps every result bit-identical whatever the thread count.
+
+use crate::rod::model::Pattern;
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::sparse::SparseColMatRef;
+use faer::sparse::linalg::cholesky::{
+    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
+    factorize_symbolic_cholesky,
+};
+use faer::{Conj, MatMut, Par, Side};
+use std::sync::Arc;
+
+/// The symbolic Cholesky analysis of a pattern.
+#[derive(Debug)]
+pub struct SymbolicFactor {
+    inner: SymbolicCholesky<usize>,
+}
+
+/// The numeric factorization failed: the matrix is not numerically positive definite.
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+#[error("matrix is not positive definite (non-positive pivot at column {column})")]
+pub struct NotPositiveDefinite {
+    /// Column (in the permuted order) where the pivot failed.
+    pub column: usize,
+}
+
+impl SymbolicFactor {
+    /// Analyses `pattern` (AMD ordering).
+    pub fn new(pattern: &Pattern) -> Arc<Self> {
+        let inner = factorize_symbolic_cholesky(
+            pattern.symbolic(),
+            Side::Upper,
+            SymmetricOrdering::Amd,
+            CholeskySymbolicParams::default(),
+        )
+        .expect("symbolic analysis of a valid pattern");
+        Arc::new(SymbolicFactor { inner })
+    }
+
+    /// Number of stored values in the factor `L`.
+    pub fn factor_nnz(&self) -> usize {
+        self.inner.len_val()
+    }
+}
+
+/// A numeric Cholesky factor `L Lᵀ = P (H + τI) Pᵀ`.
+#[derive(Debug)]
+pub struct Cholesky {
+    symbolic: Arc<SymbolicFactor>,
+    values: Vec<f64>,
+    /// The diagonal shift `τ` that was added.
+    pub shift: f64,
+}
+
+impl Cholesky {
+    /// Factors `H + τI`, `H` given by its upper-triangle `values` in `pattern`.
+    pub fn factorize(
+        symbolic: &Arc<SymbolicFactor>,
+        pattern: &Pattern,
+        values: &[f64],
+        shift: f64,
+    ) -> Result<Cholesky, NotPositiveDefinite> {
+        let shifted;
+        let vals = if shift != 0.0 {
+            let mut v = values.to_vec();
+            for &d in &pattern.diag {
+                v[d] += shift;
+            }
+            shifted = v;
+            &shifted[..]
+        } else {
+            values
+        };
+        let a = SparseColMatRef::new(pattern.symbolic(), vals);
+        let sym = &symbolic.inner;
+        let mut l_values = vec![0.0; sym.len_val()];
+        let par = Par::Seq;
+        let mut mem =
+            MemBuffer::new(sym.factorize_numeric_llt_scratch::<f64>(par, Default::default()));
+        let result = sym.factorize_numeric_llt::<f64>(
+            &mut l_values,
+            a,
+            Side::Upper,
+            LltRegularization::default(),
+            par,
+            MemStack::new(&mut mem),
+            Default::default(),
+        );
+        match result {
+            Ok(_) => Ok(Cholesky {
+                symbolic: symbolic.clone(),
+                values: l_values,
+                shift,
+            }),
+            Err(faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index }) => {
+                Err(NotPositiveDefinite { column: index })
+            }
+        }
+    }
+
+    /// Solves `(H + τI) X = B` in place for the columns of `rhs`.
+    pub fn solve_in_place(&self, rhs: MatMut<'_, f64>) {
+        let sym = &self.symbolic.inner;
+        let mut mem = MemBuffer::new(sym.solve_in_place_scratch::<f64>(rhs.ncols(), Par::Seq));
+        LltRef::new(sym, &self.values).solve_in_place_with_conj(
+            Conj::No,
+            rhs,
+            Par::Seq,
+            MemStack::new(&mut mem),
+        );
+    }
+
+    /// Solves for one right-hand side given as a slice.
+    pub fn solve_vec(&self, rhs: &mut [f64]) {
+        let n = rhs.len();
+        let m = faer::MatMut::from_column_major_slice_mut(rhs, n, 1);
+        self.solve_in_place(m);
+    }
+}

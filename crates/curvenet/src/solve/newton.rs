@@ -1,0 +1,279 @@
+//! Equilibrium by Newton's method (SPEC §4).
+//!
+//! Each step solves `(H + τI) d = ∇E` with the shared symbolic factorization; `τ = 0` unless the
+//! factorization fails or `−d` is not a descent direction, in which case `τ` grows geometrically
+//! from a small multiple of the diagonal's scale. A backtracking (Armijo) line search follows;
+//! once energy differences are below round-off, a step is accepted if it reduces `‖∇E‖`.
+//! Converged when `‖∇E‖ ≤ rel_tol · ‖∇E(x_start)‖`, or when `‖∇E‖` stops decreasing at the
+//! round-off floor; every way of stopping is reported, never hidden.
+
+use super::factor::{Cholesky, SymbolicFactor};
+use crate::rod::{ActiveSet, EnergyModel};
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+
+/// Newton parameters.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct NewtonParams {
+    /// Relative gradient tolerance (SPEC: `1e-10`).
+    pub rel_tol: f64,
+    /// Iteration cap.
+    pub max_iterations: usize,
+    /// Armijo sufficient-decrease constant.
+    pub armijo: f64,
+    /// Largest number of step halvings per line search.
+    pub max_backtracks: usize,
+    /// Iterations in a row without halving `‖∇E‖` (relative to its best value so far) after
+    /// which the solve is declared stuck at the round-off floor.
+    pub stall_iterations: usize,
+    /// A stall at a relative gradient above this is a failure, not a round-off floor.
+    pub floor_max_rel: f64,
+}
+
+impl Default for NewtonParams {
+    fn default() -> Self {
+        NewtonParams {
+            rel_tol: 1e-10,
+            max_iterations: 200,
+            armijo: 1e-4,
+            max_backtracks: 60,
+            stall_iterations: 4,
+            floor_max_rel: 1e-6,
+        }
+    }
+}
+
+impl NewtonParams {
+    /// Checks the parameters.
+    pub fn validate(&self) -> Result<(), String> {
+        if !(self.rel_tol > 0.0 && self.rel_tol < 1.0) {
+            return Err(format!(
+                "Newton tolerance must lie in (0, 1), got {}",
+                self.rel_tol
+            ));
+        }
+        if self.max_iterations == 0 {
+            return Err("Newton needs at least one iteration".into());
+        }
+        if !(self.armijo > 0.0 && self.armijo < 0.5) {
+            return Err(format!(
+                "Armijo constant must lie in (0, 0.5), got {}",
+                self.armijo
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// How a Newton solve stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum NewtonStop {
+    /// `‖∇E‖ ≤ rel_tol · ‖∇E(x_start)‖`.
+    Converged,
+    /// `‖∇E‖` stopped decreasing at the round-off floor before reaching the tolerance.
+    RoundoffFloor,
+    /// The iteration cap was reached.
+    MaxIterations,
+    /// `‖∇E‖` stopped decreasing far above the tolerance.
+    Stalled,
+    /// No step reduced the energy or the gradient: the solve failed.
+    LineSearchFailed,
+    /// The energy or gradient became non-finite.
+    NonFinite,
+}
+
+/// What a Newton solve did.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct NewtonInfo {
+    /// Newton iterations (factorizations of an accepted step).
+    pub iterations: usize,
+    /// True for [`NewtonStop::Converged`] and [`NewtonStop::RoundoffFloor`].
+    pub converged: bool,
+    /// How it stopped.
+    pub stop: NewtonStop,
+    /// `‖∇E‖` at the start.
+    pub grad_start: f64,
+    /// `‖∇E‖` at the end.
+    pub grad_end: f64,
+    /// `‖∇E‖ / ‖∇E(x_start)‖` at the end.
+    pub grad_rel: f64,
+    /// Energy at the end.
+    pub energy: f64,
+    /// Numeric factorizations performed (including failed and shifted ones).
+    pub factorizations: usize,
+    /// Largest diagonal shift `τ` used.
+    pub max_shift: f64,
+}
+
+fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+/// Relaxes the structure `active` of `model` from displacements `x` (updated in place) to
+/// equilibrium.
+///
+/// `grad_reference` overrides `‖∇E(x_start)‖` in the relative test (pass the drawn state's
+/// gradient norm when warm-starting from a previous equilibrium, so the tolerance means the
+/// same thing for every solve).
+pub fn relax(
+    model: &EnergyModel,
+    active: &ActiveSet,
+    symbolic: &Arc<SymbolicFactor>,
+    x: &mut [f64],
+    grad_reference: Option<f64>,
+    params: &NewtonParams,
+) -> NewtonInfo {
+    let pattern = model.pattern();
+    let mut cur = model.assemble(x, active, true);
+    let g_start = norm(&cur.grad);
+    let g_ref = grad_reference.unwrap_or(g_start);
+    let mut info = NewtonInfo {
+        iterations: 0,
+        converged: false,
+        stop: NewtonStop::MaxIterations,
+        grad_start: g_start,
+        grad_end: g_start,
+        grad_rel: if g_ref > 0.0 { g_start / g_ref } else { 0.0 },
+        energy: cur.energy,
+        factorizations: 0,
+        max_shift: 0.0,
+    };
+    if !cur.energy.is_finite() || !g_start.is_finite() {
+        info.stop = NewtonStop::NonFinite;
+        return info;
+    }
+    // Diagonal scale for shifts.
+    let diag_scale = {
+        let d: f64 = pattern.diag.iter().map(|&k| cur.hess[k].abs()).sum();
+        (d / pattern.n.max(1) as f64).max(f64::MIN_POSITIVE)
+    };
+    let mut trial = vec![0.0; x.len()];
+    let mut last_shift = 0.0f64;
+    let mut best_grad = g_start;
+    let mut stalled = 0;
+    let mut last_decrease = f64::INFINITY;
+    loop {
+        let g_norm = norm(&cur.grad);
+        info.grad_end = g_norm;
+        info.grad_rel = if g_ref > 0.0 { g_norm / g_ref } else { 0.0 };
+        info.energy = cur.energy;
+        if g_norm <= params.rel_tol * g_ref || g_norm == 0.0 {
+            info.converged = true;
+            info.stop = NewtonStop::Converged;
+            return info;
+        }
+        if g_norm <= 0.5 * best_grad {
+            best_grad = g_norm;
+            stalled = 0;
+        } else if info.iterations > 0 && last_decrease <= 1e-12 * cur.energy.abs() {
+            // The energy no longer moves and the gradient no longer halves: round-off floor.
+            best_grad = best_grad.min(g_norm);
+            stalled += 1;
+            if stalled >= params.stall_iterations {
+                info.converged = info.grad_rel <= params.floor_max_rel;
+                info.stop = if info.converged {
+                    NewtonStop::RoundoffFloor
+                } else {
+                    NewtonStop::Stalled
+                };
+                return info;
+            }
+        }
+        if info.iterations >= params.max_iterations {
+            info.stop = NewtonStop::MaxIterations;
+            return info;
+        }
+
+        // Direction: (H + τI) d = g with the smallest τ that gives a descent direction.
+        let mut shift = if last_shift > 0.0 {
+            last_shift * 0.1
+        } else {
+            0.0
+        };
+        if shift < 1e-12 * diag_scale {
+            shift = 0.0;
+        }
+        let mut d = vec![0.0; x.len()];
+        let mut tries = 0;
+        loop {
+            tries += 1;
+            info.factorizations += 1;
+            let ok = match Cholesky::factorize(symbolic, pattern, &cur.hess, shift) {
+                Ok(f) => {
+                    d.copy_from_slice(&cur.grad);
+                    f.solve_vec(&mut d);
+                    let gd: f64 = d.iter().zip(&cur.grad).map(|(a, b)| a * b).sum();
+                    gd > 0.0 && gd.is_finite()
+                }
+                Err(_) => false,
+            };
+            if ok {
+                break;
+            }
+            if tries > 60 {
+                info.stop = NewtonStop::LineSearchFailed;
+                return info;
+            }
+            shift = if shift == 0.0 {
+                1e-8 * diag_scale
+            } else {
+                shift * 10.0
+            };
+        }
+        last_shift = shift;
+        info.max_shift = info.max_shift.max(shift);
+        let gd: f64 = d.iter().zip(&cur.grad).map(|(a, b)| a * b).sum();
+
+        // Backtracking line search on x − α d.
+        let e0 = cur.energy;
+        let roundoff = 1e-13 * e0.abs().max(f64::MIN_POSITIVE);
+        let mut alpha = 1.0;
+        let mut accepted = None;
+        for _ in 0..=params.max_backtracks {
+            for ((t, xi), di) in trial.iter_mut().zip(x.iter()).zip(&d) {
+                *t = xi - alpha * di;
+            }
+            let e = model.energy(&trial, active);
+            if e.is_finite() {
+                if e <= e0 - params.armijo * alpha * gd {
+                    accepted = Some(None);
+                    break;
+                }
+                if (e - e0).abs() <= roundoff {
+                    // Energy differences are below round-off: judge the step by the gradient.
+                    let a = model.assemble(&trial, active, true);
+                    if norm(&a.grad) < g_norm {
+                        accepted = Some(Some(a));
+                        break;
+                    }
+                }
+            }
+            alpha *= 0.5;
+        }
+        match accepted {
+            None => {
+                // Nothing reduces energy or gradient: at the round-off floor if already close,
+                // otherwise a genuine failure.
+                info.stop = if info.grad_rel <= params.floor_max_rel {
+                    info.converged = true;
+                    NewtonStop::RoundoffFloor
+                } else {
+                    NewtonStop::LineSearchFailed
+                };
+                return info;
+            }
+            Some(pre) => {
+                x.copy_from_slice(&trial);
+                info.iterations += 1;
+                cur = pre.unwrap_or_else(|| model.assemble(x, active, true));
+                last_decrease = e0 - cur.energy;
+                if !cur.energy.is_finite() || !norm(&cur.grad).is_finite() {
+                    info.stop = NewtonStop::NonFinite;
+                    return info;
+                }
+            }
+        }
+    }
+}
