@@ -1,5 +1,16 @@
-//! The `curvenet` command-line tool.
+//! The `curvenet` command-line tool: a thin layer over the `curvenet` library.
+//!
+//! Exit codes (SPEC §10): 0 success (warnings on stderr and in the output), 2 when no network
+//! can be built or the usage is wrong (the message names the file and line), 1 internal error.
+
+mod args;
+mod cmd;
+mod exit;
+
+use clap::Parser;
+
 fn main() {
-    eprintln!("curvenet: command-line interface under construction");
-    std::process::exit(2);
+    let cli = args::Cli::parse();
+    let result = cmd::run(cli);
+    std::process::exit(exit::report(result));
 }

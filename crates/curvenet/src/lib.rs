@@ -8,12 +8,21 @@
 //! 2. [`network`]: crossings, joints and resampling turn curves into a rod network;
 //! 3. [`rod`]: the elastic energy of the network (stretching, bending, anchors);
 //! 4. [`solve`]: sparse Cholesky, Newton equilibrium, shift-and-invert eigen solver;
-//! 5. [`stability`]: the worst-case stability `λ` of a network or of any sub-structure.
+//! 5. [`stability`]: the worst-case stability `λ` of a network or of any sub-structure;
+//! 6. [`report`]: the JSON objects and text of the command line.
+//!
+//! [`paper`] holds the paper's example set-ups, [`builtin`] scenes made in code, and
+//! [`pipeline`] the glue that runs the stages in order.
 //!
 //! See `ARCHITECTURE.md` at the repository root for the map and `SPEC.md` for the model.
 
+pub mod builtin;
 pub mod geom;
 pub mod io;
 pub mod network;
+pub mod paper;
+pub mod pipeline;
+pub mod report;
 pub mod rod;
 pub mod solve;
+pub mod stability;

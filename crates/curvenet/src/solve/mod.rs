@@ -2,9 +2,14 @@
 //!
 //! - [`factor`]: symbolic analysis once per network, numeric factorization per matrix;
 //! - [`newton`]: equilibrium of any structure (SPEC §4);
+//! - [`lanczos`]: thick-restart block Lanczos for the largest eigenpairs of an operator;
+//! - [`eigen`]: shift-and-invert driver giving the smallest eigenpairs of a Hessian (SPEC §5).
 
+pub mod eigen;
 pub mod factor;
+pub mod lanczos;
 pub mod newton;
 
+pub use eigen::{EigenError, EigenParams, Spectrum, smallest_eigenpairs};
 pub use factor::{Cholesky, NotPositiveDefinite, SymbolicFactor};
 pub use newton::{NewtonInfo, NewtonParams, NewtonStop, relax};

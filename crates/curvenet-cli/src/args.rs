@@ -1,0 +1,100 @@
+//! Command-line arguments (clap derive). Names follow SPEC §10.
+
+use clap::{Args, Parser, Subcommand};
+use curvenet::rod::Supports;
+use std::path::PathBuf;
+
+/// Stability-aware simplification of curve networks.
+#[derive(Debug, Parser)]
+#[command(name = "curvenet", version, about, propagate_version = true)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Build a network from a mesh and curves, relax it and report its worst-case stability.
+    Analyze(AnalyzeArgs),
+    /// Run one of the paper's examples (SPEC §9) from the reference data.
+    Example(ExampleArgs),
+}
+
+/// Material and solver options shared by every command that analyses a network.
+#[derive(Debug, Args, Clone)]
+pub struct PhysicsArgs {
+    /// Supports of open curves.
+    #[arg(long, value_parser = parse_supports)]
+    pub supports: Option<Supports>,
+    /// Rod radius (scene units).
+    #[arg(long)]
+    pub radius: Option<f64>,
+    /// Young's modulus.
+    #[arg(long)]
+    pub young: Option<f64>,
+    /// Anchor weight µ (an anchor is a spring of stiffness 2µ).
+    #[arg(long = "anchor-weight")]
+    pub anchor_weight: Option<f64>,
+    /// Number of smallest eigenvalues to report.
+    #[arg(long = "eigen-count", default_value_t = 4)]
+    pub eigen_count: usize,
+    /// Merge joints closer than this fraction of h (off by default; SPEC §11).
+    #[arg(long = "merge-joints")]
+    pub merge_joints: Option<f64>,
+}
+
+/// `curvenet analyze`.
+#[derive(Debug, Args)]
+pub struct AnalyzeArgs {
+    /// Surface mesh (OBJ); optional, used for reports and pictures.
+    #[arg(long)]
+    pub mesh: Option<PathBuf>,
+    /// Curve files (.txt reference format, .obj polylines, .json); repeat for several files.
+    /// Curve ids follow the loading order.
+    #[arg(long, required = true)]
+    pub curves: Vec<PathBuf>,
+    /// Scale applied to the mesh and the curves.
+    #[arg(long, default_value_t = 1.0)]
+    pub scale: f64,
+    /// Target edge length h (scene units, after scaling). Default: the median input segment.
+    #[arg(long = "edge-length")]
+    pub edge_length: Option<f64>,
+    /// Curves to remove before the analysis (comma-separated ids).
+    #[arg(long, value_delimiter = ',')]
+    pub remove: Vec<usize>,
+    /// Print one JSON object on stdout (SPEC §10).
+    #[arg(long)]
+    pub json: bool,
+    /// Material and solver options.
+    #[command(flatten)]
+    pub physics: PhysicsArgs,
+}
+
+/// `curvenet example`.
+#[derive(Debug, Args)]
+pub struct ExampleArgs {
+    /// Example name: hill, roof, kagome, stadium, tower, shell, bunny, tent, arcshell.
+    pub name: String,
+    /// Folder holding the reference data (`meshes/`, `curves/`). Default: found next to
+    /// the repository (`../shared/reference-data`).
+    #[arg(long)]
+    pub data: Option<PathBuf>,
+    /// Output folder (default `out/NAME`).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Only build and analyse the full network; do not simplify.
+    #[arg(long = "analyze-only")]
+    pub analyze_only: bool,
+    /// Print one JSON object on stdout.
+    #[arg(long)]
+    pub json: bool,
+    /// Material and solver options.
+    #[command(flatten)]
+    pub physics: PhysicsArgs,
+}
+
+fn parse_supports(s: &str) -> Result<Supports, String> {
+    s.parse()
+}

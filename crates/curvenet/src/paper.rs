@@ -1,0 +1,313 @@
+//! The paper's examples with the reference set-ups (SPEC §9): which mesh and curve files, the
+//! scales, the edge length, the budget and the keep list.
+//!
+//! The input files are the reference's, read from a data directory (`../shared/reference-data`
+//! in this repository's layout). Examples whose curves are generated on the mesh (hill,
+//! stadium, bunny, tent) list their generator; [`load`] builds them when the tracer supports
+//! them and says clearly when it does not.
+
+use crate::io::{self, InputError, Polyline, TriMesh};
+use crate::network::build::BuildError;
+use crate::network::{BuildParams, build_network};
+use crate::rod::Supports;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// Random geodesics generated on the mesh, appended after the file curves (SPEC §8).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct GeneratedCurves {
+    /// Number of curves.
+    pub count: usize,
+    /// Seed of the reference's `rand()`.
+    pub seed: u32,
+}
+
+/// One example's set-up.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Setup {
+    /// Example name.
+    pub name: &'static str,
+    /// Mesh file (relative to `meshes/`).
+    pub mesh: &'static str,
+    /// Mesh scale.
+    pub mesh_scale: f64,
+    /// Curve files (relative to `curves/`) and their scales, in loading order.
+    pub curves: Vec<(&'static str, f64)>,
+    /// Curves generated on the mesh, if any.
+    pub generated: Option<GeneratedCurves>,
+    /// When set, curves are first built at this edge length in file units, then scaled by
+    /// the value in the pair ("resampled at 2, then ×s").
+    pub pre_resample: Option<(f64, f64)>,
+    /// Target edge length `h` (scene units).
+    pub edge_length: f64,
+    /// Budget as a fraction of the total rest length.
+    pub budget_fraction: f64,
+    /// Curves the designer keeps.
+    pub keep: Vec<usize>,
+    /// The paper's figures: curves in, curves out, vertices, minutes.
+    pub paper: PaperFigures,
+}
+
+/// Table 1 of the paper for one example.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct PaperFigures {
+    /// Curves in the input network.
+    pub curves_in: usize,
+    /// Curves in the paper's result.
+    pub curves_out: usize,
+    /// Vertices of the input network.
+    pub vertices: usize,
+    /// Minutes the paper's implementation took.
+    pub minutes: f64,
+}
+
+/// Names of all examples, in the order of SPEC §9.
+pub const NAMES: [&str; 9] = [
+    "hill", "roof", "kagome", "stadium", "tower", "shell", "bunny", "tent", "arcshell",
+];
+
+/// The set-up of example `name`, or `None` for an unknown name.
+pub fn setup(name: &str) -> Option<Setup> {
+    let p = |curves_in, curves_out, vertices, minutes| PaperFigures {
+        curves_in,
+        curves_out,
+        vertices,
+        minutes,
+    };
+    let s = match name {
+        "hill" => Setup {
+            name: "hill",
+            mesh: "hill.obj",
+            mesh_scale: 50.0,
+            curves: vec![("hill_3.txt", 50.0)],
+            generated: Some(GeneratedCurves { count: 70, seed: 2 }),
+            pre_resample: None,
+            edge_length: 100.0,
+            budget_fraction: 0.05,
+            keep: vec![0, 1],
+            paper: p(73, 9, 6319, 17.7),
+        },
+        "roof" => Setup {
+            name: "roof",
+            mesh: "roof.obj",
+            mesh_scale: 70.0,
+            curves: vec![("roof_75.txt", 70.0)],
+            generated: None,
+            pre_resample: None,
+            edge_length: 140.0,
+            budget_fraction: 0.05,
+            keep: vec![],
+            paper: p(75, 7, 2813, 4.6),
+        },
+        "kagome" => Setup {
+            name: "kagome",
+            mesh: "kagome.obj",
+            mesh_scale: 60.0,
+            // The curves are not scaled: they do not sit on the scaled mesh (SPEC §9).
+            curves: vec![("kagome_114_regular.txt", 1.0)],
+            generated: None,
+            pre_resample: None,
+            edge_length: 2.0,
+            budget_fraction: 0.05,
+            keep: vec![],
+            paper: p(114, 23, 10224, 53.9),
+        },
+        "stadium" => Setup {
+            name: "stadium",
+            mesh: "stadium.obj",
+            mesh_scale: 30.0,
+            curves: vec![],
+            generated: Some(GeneratedCurves {
+                count: 100,
+                seed: 4,
+            }),
+            pre_resample: None,
+            edge_length: 50.0,
+            budget_fraction: 0.10,
+            keep: vec![],
+            paper: p(100, 25, 6646, 16.9),
+        },
+        "tower" => Setup {
+            name: "tower",
+            mesh: "tower.obj",
+            mesh_scale: 10.0,
+            curves: vec![("tower_top_ring.txt", 10.0), ("tower_32.txt", 10.0)],
+            generated: None,
+            pre_resample: None,
+            edge_length: 20.0,
+            budget_fraction: 0.20,
+            keep: vec![0],
+            paper: p(33, 9, 5699, 2.5),
+        },
+        "shell" => Setup {
+            name: "shell",
+            mesh: "shell.obj",
+            mesh_scale: 50.0,
+            curves: vec![("shell_3.txt", 50.0), ("shell_100.txt", 50.0)],
+            generated: None,
+            pre_resample: None,
+            edge_length: 50.0,
+            budget_fraction: 0.05,
+            keep: vec![],
+            paper: p(63, 5, 5504, 7.1),
+        },
+        "bunny" => Setup {
+            name: "bunny",
+            mesh: "bunny_modified.obj",
+            mesh_scale: 22.222,
+            curves: vec![],
+            generated: Some(GeneratedCurves { count: 75, seed: 9 }),
+            pre_resample: Some((2.0, 22.222)),
+            edge_length: 44.4,
+            budget_fraction: 0.10,
+            keep: vec![60, 65, 67],
+            paper: p(75, 7, 25442, 266.0),
+        },
+        "tent" => Setup {
+            name: "tent",
+            mesh: "tent.obj",
+            mesh_scale: 50.0,
+            curves: vec![("tent_3_regular_curves.txt", 1.0), ("tent_curves.txt", 1.0)],
+            generated: Some(GeneratedCurves { count: 66, seed: 2 }),
+            pre_resample: Some((2.0, 50.0)),
+            edge_length: 100.0,
+            budget_fraction: 0.05,
+            keep: vec![0, 1],
+            paper: p(112, 42, 6107, 24.7),
+        },
+        "arcshell" => Setup {
+            name: "arcshell",
+            mesh: "shell.obj",
+            mesh_scale: 50.0,
+            curves: vec![
+                ("shell_arcs.txt", 1.0),
+                ("shell_elipse.txt", 1.0),
+                ("shell_100_for_arcs.txt", 1.0),
+            ],
+            generated: None,
+            pre_resample: Some((2.0, 50.0)),
+            edge_length: 100.0,
+            budget_fraction: 0.10,
+            keep: (0..7).collect(),
+            paper: p(67, 21, 3514, 2.6),
+        },
+        _ => return None,
+    };
+    Some(s)
+}
+
+/// Why an example could not be loaded.
+#[derive(Debug, thiserror::Error)]
+pub enum ExampleError {
+    /// Unknown example name.
+    #[error("unknown example '{0}' (known: {names})", names = NAMES.join(", "))]
+    Unknown(String),
+    /// A data file could not be read.
+    #[error(transparent)]
+    Input(#[from] InputError),
+    /// The pre-resampling build failed.
+    #[error(transparent)]
+    Build(#[from] BuildError),
+    /// The example needs generated curves that this build cannot make yet.
+    #[error(
+        "example '{name}' needs {count} geodesics traced on {mesh} (SPEC §8); curve tracing is \
+         not available yet, so this example cannot be built"
+    )]
+    NeedsTracing {
+        /// Example name.
+        name: String,
+        /// Number of generated curves.
+        count: usize,
+        /// Mesh they are traced on.
+        mesh: String,
+    },
+}
+
+/// An example ready to build: mesh, curves (scaled, in id order) and build parameters.
+#[derive(Clone, Debug)]
+pub struct LoadedExample {
+    /// The set-up.
+    pub setup: Setup,
+    /// The scaled mesh.
+    pub mesh: TriMesh,
+    /// The scaled curves.
+    pub curves: Vec<Polyline>,
+    /// Parameters of the final build.
+    pub build: BuildParams,
+    /// Non-fatal findings while reading.
+    pub warnings: Vec<io::InputWarning>,
+}
+
+fn scaled(mut curves: Vec<Polyline>, s: f64) -> Vec<Polyline> {
+    for c in &mut curves {
+        for p in &mut c.points {
+            *p = *p * s;
+        }
+    }
+    curves
+}
+
+/// Loads example `name` from `data` (the folder holding `meshes/` and `curves/`).
+pub fn load(name: &str, data: &Path, supports: Supports) -> Result<LoadedExample, ExampleError> {
+    let setup = setup(name).ok_or_else(|| ExampleError::Unknown(name.to_string()))?;
+    let mesh_path: PathBuf = data.join("meshes").join(setup.mesh);
+    let mesh_file = io::read_mesh(&mesh_path)?;
+    let mut warnings = mesh_file.warnings;
+    let mut mesh = mesh_file.mesh;
+    for v in &mut mesh.vertices {
+        *v = *v * setup.mesh_scale;
+    }
+    if let Some(g) = &setup.generated {
+        return Err(ExampleError::NeedsTracing {
+            name: name.to_string(),
+            count: g.count,
+            mesh: setup.mesh.to_string(),
+        });
+    }
+    let mut curves = Vec::new();
+    for (file, scale) in &setup.curves {
+        let f = io::read_curves(&data.join("curves").join(file))?;
+        warnings.extend(f.warnings);
+        curves.extend(scaled(f.curves, *scale));
+    }
+    if let Some((h0, s)) = setup.pre_resample {
+        let pre = BuildParams {
+            edge_length: h0,
+            supports,
+            ..BuildParams::default()
+        };
+        let (net, _) = build_network(&curves, &pre)?;
+        curves = scaled(net.to_polylines(&curves), s);
+    }
+    let build = BuildParams {
+        edge_length: setup.edge_length,
+        supports,
+        ..BuildParams::default()
+    };
+    Ok(LoadedExample {
+        setup,
+        mesh,
+        curves,
+        build,
+        warnings,
+    })
+}
+
+/// The default location of the reference data relative to a checkout: `../shared/reference-data`
+/// next to the repository, found from the current directory upwards.
+pub fn default_data_dir() -> Option<PathBuf> {
+    let mut dir = std::env::current_dir().ok()?;
+    loop {
+        for cand in [
+            dir.join("shared/reference-data"),
+            dir.join("../shared/reference-data"),
+        ] {
+            if cand.join("meshes").is_dir() {
+                return Some(cand);
+            }
+        }
+        if !dir.pop() {
+            return None;
+        }
+    }
+}

@@ -1,0 +1,303 @@
+//! Reports: the JSON objects of SPEC §10 and their text renderings.
+//!
+//! - [`AnalysisReport`]: what `curvenet analyze` and `example --analyze-only` print.
+//! - [`UnitsNote`]: what the material constants mean against the scene's size.
+
+use crate::network::{BuildInfo, EdgeLengthStats, Network};
+use crate::rod::{ActiveSet, Material};
+use crate::solve::NewtonStop;
+use crate::stability::{Analysis, CurveShare, GravityDeflection};
+use serde::{Deserialize, Serialize};
+use std::fmt::Write as _;
+
+/// Summary of a Newton solve for reports.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct NewtonSummary {
+    /// Iterations.
+    pub iterations: usize,
+    /// Converged (to the tolerance or the round-off floor).
+    pub converged: bool,
+    /// `‖∇E‖ / ‖∇E(drawn state)‖` at the end.
+    pub grad_rel: f64,
+    /// How it stopped.
+    pub stop: NewtonStop,
+}
+
+/// The rod radius against the scene: SPEC §3 asks to say what the units imply.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct UnitsNote {
+    /// Rod radius.
+    pub radius: f64,
+    /// Median curve rest length.
+    pub median_curve_length: f64,
+    /// `median_curve_length / radius`.
+    pub slenderness: f64,
+    /// A warning when the ratio is outside what rods of a gridshell look like.
+    pub warning: Option<String>,
+}
+
+impl UnitsNote {
+    /// Compares the material's radius with the curves' lengths.
+    pub fn new(network: &Network, material: &Material) -> Self {
+        let mut lengths = network.rest_lengths();
+        lengths.sort_by(f64::total_cmp);
+        let median = lengths.get(lengths.len() / 2).copied().unwrap_or(0.0);
+        let slenderness = median / material.radius;
+        let warning = if slenderness < 20.0 {
+            Some(format!(
+                "rod radius {} is large against the median curve length {median:.4}: \
+                 slenderness {slenderness:.3} (rods are usually 100–10000× longer than thick); \
+                 check the scene's units or set --radius",
+                material.radius
+            ))
+        } else if slenderness > 1e6 {
+            Some(format!(
+                "rod radius {} is tiny against the median curve length {median:.4}: \
+                 slenderness {slenderness:.3e}; check the scene's units or set --radius",
+                material.radius
+            ))
+        } else {
+            None
+        };
+        UnitsNote {
+            radius: material.radius,
+            median_curve_length: median,
+            slenderness,
+            warning,
+        }
+    }
+}
+
+/// The object printed by `analyze --json` (SPEC §10).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct AnalysisReport {
+    /// Curves in the network (before removal).
+    pub curve_count: usize,
+    /// Vertices.
+    pub vertices: usize,
+    /// Joints.
+    pub joints: usize,
+    /// Degrees of freedom.
+    pub dofs: usize,
+    /// Rest edge lengths.
+    pub edge_length: EdgeLengthStats,
+    /// Supports.
+    pub supports: String,
+    /// The equilibrium solve.
+    pub newton: NewtonSummary,
+    /// `λ_eq` of the analysed structure.
+    pub lambda: f64,
+    /// The smallest eigenvalues, ascending.
+    pub eigenvalues: Vec<f64>,
+    /// Eigenvalues within the zero threshold (mechanisms).
+    pub zero_modes: usize,
+    /// Eigenvalues below it (unstable directions).
+    pub negative_modes: usize,
+    /// `‖Hv − λv‖ / ‖H‖₁` per eigenpair.
+    pub residuals: Vec<f64>,
+    /// The zero threshold `C·ε·‖H‖₁`.
+    pub zero_threshold: f64,
+    /// Curves removed before the analysis.
+    pub removed: Vec<usize>,
+    /// Curves in the analysed structure.
+    pub curves: usize,
+    /// Total rest length of the analysed structure.
+    pub length: f64,
+    /// Curves carrying the worst-case mode (largest shares).
+    pub mode_curves: Vec<CurveShare>,
+    /// Deflection under gravity (absent when the structure is not positive definite).
+    pub gravity: Option<GravityDeflection>,
+    /// What the material constants mean against the scene.
+    pub units: UnitsNote,
+    /// Construction details.
+    pub build: BuildInfo,
+    /// Warnings (also printed on stderr).
+    pub warnings: Vec<String>,
+}
+
+impl AnalysisReport {
+    /// Assembles the report of `analysis` of structure `active` of `network`.
+    pub fn new(
+        network: &Network,
+        build: &BuildInfo,
+        material: &Material,
+        active: &ActiveSet,
+        analysis: &Analysis,
+        mut warnings: Vec<String>,
+    ) -> Self {
+        let curves = active.curves();
+        let removed: Vec<usize> = (0..network.rods.len())
+            .filter(|&c| !active.contains(c))
+            .collect();
+        let units = UnitsNote::new(network, material);
+        if let Some(w) = &units.warning {
+            warnings.push(w.clone());
+        }
+        let sp = &analysis.spectrum;
+        if !analysis.newton.converged {
+            warnings.push(format!(
+                "equilibrium not reached: Newton stopped ({:?}) after {} iterations at relative \
+                 gradient {:.3e}; λ is measured where it stopped",
+                analysis.newton.stop, analysis.newton.iterations, analysis.newton.grad_rel
+            ));
+        }
+        if sp.zero_modes > 0 {
+            let top: Vec<String> = analysis
+                .mode_curves
+                .iter()
+                .take(5)
+                .map(|c| c.curve.to_string())
+                .collect();
+            warnings.push(format!(
+                "the structure has {} zero mode(s) (a mechanism): |λ| ≤ {:.3e}; the mode lives mostly on curves {}",
+                sp.zero_modes,
+                sp.zero_threshold,
+                top.join(", ")
+            ));
+        }
+        if sp.negative_modes > 0 {
+            let top: Vec<String> = analysis
+                .mode_curves
+                .iter()
+                .take(5)
+                .map(|c| c.curve.to_string())
+                .collect();
+            warnings.push(format!(
+                "the equilibrium is unstable: {} negative mode(s), λ = {:.6e}; mostly on curves {}",
+                sp.negative_modes,
+                sp.lambda(),
+                top.join(", ")
+            ));
+        }
+        if !build.isolated_curves.is_empty() {
+            warnings.push(format!(
+                "{} curve(s) cross no other curve and stand on their supports alone: {}",
+                build.isolated_curves.len(),
+                build
+                    .isolated_curves
+                    .iter()
+                    .map(|c| c.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        }
+        AnalysisReport {
+            curve_count: network.rods.len(),
+            vertices: network.vertex_count(),
+            joints: network.joints.len(),
+            dofs: network.dofs(),
+            edge_length: network.edge_length_stats(),
+            supports: network.supports.name().to_string(),
+            newton: NewtonSummary {
+                iterations: analysis.newton.iterations,
+                converged: analysis.newton.converged,
+                grad_rel: analysis.newton.grad_rel,
+                stop: analysis.newton.stop,
+            },
+            lambda: sp.lambda(),
+            eigenvalues: sp.values.clone(),
+            zero_modes: sp.zero_modes,
+            negative_modes: sp.negative_modes,
+            residuals: sp.residuals.clone(),
+            zero_threshold: sp.zero_threshold,
+            length: network.total_length(&curves),
+            curves: curves.len(),
+            removed,
+            mode_curves: analysis.mode_curves.iter().take(8).copied().collect(),
+            gravity: analysis.gravity.clone(),
+            units,
+            build: build.clone(),
+            warnings,
+        }
+    }
+
+    /// A human-readable rendering.
+    pub fn to_text(&self) -> String {
+        let mut s = String::new();
+        let b = &self.build;
+        let _ = writeln!(
+            s,
+            "network: {} curves, {} vertices, {} joints ({} crossings, {} self-crossings, up to {} curves at a joint), {} dofs",
+            self.curve_count,
+            self.vertices,
+            self.joints,
+            b.crossings,
+            b.self_crossings,
+            b.max_curves_at_joint,
+            self.dofs
+        );
+        let e = &self.edge_length;
+        let _ = writeln!(
+            s,
+            "edge lengths: min {:.4} / median {:.4} / max {:.4}   (crossing tolerance {:.3e}..{:.3e})",
+            e.min, e.median, e.max, b.min_tolerance, b.max_tolerance
+        );
+        let _ = writeln!(
+            s,
+            "structure: {} curves, rest length {:.6}{}; supports {}",
+            self.curves,
+            self.length,
+            if self.removed.is_empty() {
+                String::new()
+            } else {
+                format!(" (removed {:?})", self.removed)
+            },
+            self.supports
+        );
+        let n = &self.newton;
+        let _ = writeln!(
+            s,
+            "equilibrium: {} Newton iterations, {:?}, relative gradient {:.3e}",
+            n.iterations, n.stop, n.grad_rel
+        );
+        let _ = writeln!(s, "lambda (λ_eq): {:.6e}", self.lambda);
+        let _ = writeln!(
+            s,
+            "eigenvalues: {}",
+            self.eigenvalues
+                .iter()
+                .map(|v| format!("{v:.6e}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        let _ = writeln!(
+            s,
+            "modes: {} zero, {} negative (threshold {:.3e}); relative residuals ≤ {:.2e}",
+            self.zero_modes,
+            self.negative_modes,
+            self.zero_threshold,
+            self.residuals.iter().copied().fold(0.0, f64::max)
+        );
+        let _ = writeln!(
+            s,
+            "worst-case mode lives on curves: {}",
+            self.mode_curves
+                .iter()
+                .take(5)
+                .map(|c| format!("{} ({:.1}%)", c.curve, 100.0 * c.share))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        match &self.gravity {
+            Some(g) => {
+                let _ = writeln!(
+                    s,
+                    "gravity deflection: max {:.4e} at vertex {}, compliance {:.4e}",
+                    g.max_displacement, g.vertex, g.compliance
+                );
+            }
+            None => {
+                let _ = writeln!(
+                    s,
+                    "gravity deflection: not computed (structure not positive definite)"
+                );
+            }
+        }
+        let _ = writeln!(
+            s,
+            "units: radius {} vs median curve length {:.4} (slenderness {:.1})",
+            self.units.radius, self.units.median_curve_length, self.units.slenderness
+        );
+        s
+    }
+}

@@ -1,0 +1,224 @@
+//! The smallest eigenpairs of a Hessian by shift-and-invert block Lanczos (SPEC §5).
+//!
+//! `H − σI` is factored with the shared symbolic analysis at a shift `σ` just below zero
+//! (`σ = −c·ε·‖H‖₁`); block Lanczos ([`super::lanczos`]) finds the largest eigenvalues `μ` of
+//! `(H − σI)⁻¹` and `λ = σ + 1/μ`. The block finds repeated eigenvalues (symmetric scenes have
+//! exact pairs). If `H − σI` is not positive definite, `H` has eigenvalues below `σ` (negative
+//! modes): `σ` moves down geometrically until the factorization succeeds, and the eigenpairs
+//! nearest above it are the most negative ones.
+//!
+//! Eigenvalues within `±C·ε·‖H‖₁` count as zero modes (mechanisms), below as negative modes
+//! (an unstable equilibrium). Every returned pair comes with its residual `‖Hv − λv‖`.
+
+use super::factor::{Cholesky, SymbolicFactor};
+use super::lanczos::{BlockLanczosParams, largest_eigenpairs};
+use crate::rod::model::Pattern;
+use faer::{Mat, MatRef};
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
+
+/// Eigen-solver parameters.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct EigenParams {
+    /// Number of smallest eigenpairs to compute.
+    pub count: usize,
+    /// Lanczos block size: the largest multiplicity found for sure.
+    pub block_size: usize,
+    /// Largest Krylov basis before a restart.
+    pub max_basis: usize,
+    /// Relative residual tolerance of the inverted operator.
+    pub tol: f64,
+    /// Restart cap.
+    pub max_restarts: usize,
+    /// `C` in the zero-mode threshold `C·ε·‖H‖₁`. SPEC §5 suggests 10–100, but the shell's
+    /// real soft modes sit at 30× (clamped) and 8× (pinned, 1.67e-9, confirmed by an
+    /// independent implementation) above `ε‖H‖₁`, while exact mechanisms come out far below
+    /// `ε‖H‖₁` (tested); 5 keeps both right.
+    pub zero_factor: f64,
+    /// The first shift is `−shift_factor·ε·‖H‖₁`.
+    pub shift_factor: f64,
+    /// Seed of the random start block.
+    pub seed: u64,
+}
+
+impl Default for EigenParams {
+    fn default() -> Self {
+        EigenParams {
+            count: 4,
+            block_size: 3,
+            max_basis: 60,
+            tol: 1e-10,
+            max_restarts: 60,
+            zero_factor: 5.0,
+            shift_factor: 10.0,
+            seed: 0x5eed,
+        }
+    }
+}
+
+impl EigenParams {
+    /// Checks the parameters.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.count == 0 || self.block_size == 0 {
+            return Err("eigen count and block size must be at least 1".into());
+        }
+        if self.max_basis < self.count + 2 * self.block_size {
+            return Err(format!(
+                "eigen basis {} too small for {} pairs with block size {}",
+                self.max_basis, self.count, self.block_size
+            ));
+        }
+        if !(self.tol > 0.0 && self.tol < 1e-2) {
+            return Err(format!(
+                "eigen tolerance must lie in (0, 1e-2), got {}",
+                self.tol
+            ));
+        }
+        if !(self.zero_factor > 0.0 && self.shift_factor > 0.0) {
+            return Err("zero and shift factors must be positive".into());
+        }
+        Ok(())
+    }
+}
+
+/// The smallest eigenpairs of a Hessian.
+#[derive(Clone, Debug)]
+pub struct Spectrum {
+    /// Eigenvalues, ascending.
+    pub values: Vec<f64>,
+    /// Unit eigenvectors (columns), in the order of `values`.
+    pub vectors: Mat<f64>,
+    /// `‖Hv − λv‖ / ‖H‖₁` of each pair.
+    pub residuals: Vec<f64>,
+    /// `‖H‖₁`.
+    pub norm1: f64,
+    /// Zero-mode threshold `C·ε·‖H‖₁`.
+    pub zero_threshold: f64,
+    /// Computed eigenvalues with `|λ| ≤ threshold` (mechanisms).
+    pub zero_modes: usize,
+    /// Computed eigenvalues below `−threshold` (a lower bound when every computed value is
+    /// negative).
+    pub negative_modes: usize,
+    /// The shift `σ` that was used.
+    pub shift: f64,
+    /// Numeric factorizations performed.
+    pub factorizations: usize,
+    /// Operator applications (one per column solve).
+    pub solves: usize,
+    /// Lanczos restarts.
+    pub restarts: usize,
+}
+
+impl Spectrum {
+    /// The smallest eigenvalue `λ`.
+    pub fn lambda(&self) -> f64 {
+        self.values[0]
+    }
+}
+
+/// Why no eigenpairs could be computed.
+#[derive(Debug, thiserror::Error)]
+pub enum EigenError {
+    /// Bad parameters.
+    #[error("invalid eigen parameters: {0}")]
+    InvalidParams(String),
+    /// No shift made `H − σI` positive definite (non-finite matrix entries?).
+    #[error("could not factor H − σI for any shift down to {0:e}")]
+    NoShift(f64),
+    /// Lanczos did not converge.
+    #[error("eigen solver did not converge: {0}")]
+    NotConverged(String),
+}
+
+/// Computes the `params.count` smallest eigenpairs of the symmetric matrix whose upper triangle
+/// is `values` in `pattern`.
+///
+/// `warm_start` (columns of approximate eigenvectors, e.g. of a nearby matrix) speeds up
+/// convergence; the result does not depend on it beyond the solver's tolerance.
+pub fn smallest_eigenpairs(
+    pattern: &Pattern,
+    values: &[f64],
+    symbolic: &Arc<SymbolicFactor>,
+    warm_start: Option<MatRef<'_, f64>>,
+    params: &EigenParams,
+) -> Result<Spectrum, EigenError> {
+    params.validate().map_err(EigenError::InvalidParams)?;
+    let n = pattern.n;
+    let norm1 = pattern.sym_norm1(values);
+    if !norm1.is_finite() {
+        return Err(EigenError::NoShift(f64::NAN));
+    }
+    let eps = f64::EPSILON;
+    let zero_threshold = params.zero_factor * eps * norm1;
+    let mut shift = -(params.shift_factor * eps * norm1).max(f64::MIN_POSITIVE);
+    let mut factorizations = 0;
+    let factor = loop {
+        factorizations += 1;
+        match Cholesky::factorize(symbolic, pattern, values, -shift) {
+            Ok(f) => break f,
+            Err(_) => {
+                if -shift > 2.0 * norm1 + 1.0 {
+                    return Err(EigenError::NoShift(shift));
+                }
+                shift *= 10.0;
+            }
+        }
+    };
+    let lanczos = BlockLanczosParams {
+        nev: params.count.min(n),
+        block_size: params.block_size.min(n),
+        max_basis: params.max_basis.min(n.max(1)),
+        tol: params.tol,
+        max_restarts: params.max_restarts,
+        seed: params.seed,
+    };
+    let pairs = largest_eigenpairs(
+        n,
+        |x, mut y| {
+            y.copy_from(x);
+            factor.solve_in_place(y);
+        },
+        warm_start,
+        &lanczos,
+    )
+    .map_err(|e| EigenError::NotConverged(format!("{e:?}")))?;
+
+    // μ descending → λ = σ + 1/μ ascending.
+    let k = pairs.values.len();
+    let mut vals = Vec::with_capacity(k);
+    let mut vectors = Mat::<f64>::zeros(n, k);
+    let mut residuals = Vec::with_capacity(k);
+    let mut hv = vec![0.0; n];
+    for j in 0..k {
+        let lambda = shift + 1.0 / pairs.values[j];
+        let v: Vec<f64> = (0..n).map(|i| pairs.vectors[(i, j)]).collect();
+        pattern.sym_matvec(values, &v, &mut hv);
+        let r = hv
+            .iter()
+            .zip(&v)
+            .map(|(a, b)| (a - lambda * b).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        vals.push(lambda);
+        residuals.push(r / norm1.max(f64::MIN_POSITIVE));
+        for i in 0..n {
+            vectors[(i, j)] = v[i];
+        }
+    }
+    let zero_modes = vals.iter().filter(|l| l.abs() <= zero_threshold).count();
+    let negative_modes = vals.iter().filter(|&&l| l < -zero_threshold).count();
+    Ok(Spectrum {
+        values: vals,
+        vectors,
+        residuals,
+        norm1,
+        zero_threshold,
+        zero_modes,
+        negative_modes,
+        shift,
+        factorizations,
+        solves: pairs.info.applications,
+        restarts: pairs.info.restarts,
+    })
+}
