@@ -18,6 +18,8 @@ pub struct Cli {
 pub enum Command {
     /// Build a network from a mesh and curves, relax it and report its worst-case stability.
     Analyze(AnalyzeArgs),
+    /// Simplify a network to a material budget with the greedy (paper Algorithm 1).
+    Simplify(SimplifyArgs),
     /// Run one of the paper's examples (SPEC §9) from the reference data.
     Example(ExampleArgs),
 }
@@ -45,9 +47,9 @@ pub struct PhysicsArgs {
     pub merge_joints: Option<f64>,
 }
 
-/// `curvenet analyze`.
-#[derive(Debug, Args)]
-pub struct AnalyzeArgs {
+/// Input files and network construction, shared by `analyze` and `simplify`.
+#[derive(Debug, Args, Clone)]
+pub struct InputArgs {
     /// Surface mesh (OBJ); optional, used for reports and pictures.
     #[arg(long)]
     pub mesh: Option<PathBuf>,
@@ -61,12 +63,54 @@ pub struct AnalyzeArgs {
     /// Target edge length h (scene units, after scaling). Default: the median input segment.
     #[arg(long = "edge-length")]
     pub edge_length: Option<f64>,
+}
+
+/// Budget, keep list and output of a greedy run.
+#[derive(Debug, Args, Clone)]
+pub struct GreedyArgs {
+    /// Budget as a fraction of the total rest length of all curves.
+    #[arg(long, conflicts_with = "budget_length")]
+    pub budget: Option<f64>,
+    /// Budget as an absolute rest length (scene units).
+    #[arg(long = "budget-length")]
+    pub budget_length: Option<f64>,
+    /// Curves never to remove (comma-separated ids).
+    #[arg(long, value_delimiter = ',')]
+    pub keep: Vec<usize>,
+    /// Continue an interrupted run in the output folder.
+    #[arg(long)]
+    pub resume: bool,
+}
+
+/// `curvenet analyze`.
+#[derive(Debug, Args)]
+pub struct AnalyzeArgs {
+    /// Inputs.
+    #[command(flatten)]
+    pub input: InputArgs,
     /// Curves to remove before the analysis (comma-separated ids).
     #[arg(long, value_delimiter = ',')]
     pub remove: Vec<usize>,
     /// Print one JSON object on stdout (SPEC §10).
     #[arg(long)]
     pub json: bool,
+    /// Material and solver options.
+    #[command(flatten)]
+    pub physics: PhysicsArgs,
+}
+
+/// `curvenet simplify`.
+#[derive(Debug, Args)]
+pub struct SimplifyArgs {
+    /// Inputs.
+    #[command(flatten)]
+    pub input: InputArgs,
+    /// Budget and keep list.
+    #[command(flatten)]
+    pub greedy: GreedyArgs,
+    /// Output folder.
+    #[arg(long)]
+    pub out: PathBuf,
     /// Material and solver options.
     #[command(flatten)]
     pub physics: PhysicsArgs,
@@ -87,6 +131,12 @@ pub struct ExampleArgs {
     /// Only build and analyse the full network; do not simplify.
     #[arg(long = "analyze-only")]
     pub analyze_only: bool,
+    /// Budget as a fraction of the total length (default: the example's).
+    #[arg(long)]
+    pub budget: Option<f64>,
+    /// Continue an interrupted run in the output folder.
+    #[arg(long)]
+    pub resume: bool,
     /// Print one JSON object on stdout.
     #[arg(long)]
     pub json: bool,

@@ -24,5 +24,6 @@ pub mod paper;
 pub mod pipeline;
 pub mod report;
 pub mod rod;
+pub mod simplify;
 pub mod solve;
 pub mod stability;

@@ -1,10 +1,14 @@
 //! `curvenet example NAME`: the paper's examples with their reference set-ups.
 
+use super::greedy_run::{GreedyJob, run_greedy};
 use super::{print_warnings, stability_params};
 use crate::args::ExampleArgs;
 use crate::exit::usage;
 use curvenet::network::BuildParams;
+use curvenet::simplify::Budget;
+use curvenet::simplify::result::InputDescription;
 use curvenet::{paper, pipeline};
+use std::path::PathBuf;
 use std::time::Instant;
 
 pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
@@ -25,22 +29,45 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
         ..ex.build.clone()
     };
     let warnings: Vec<String> = ex.warnings.iter().map(|w| w.to_string()).collect();
-    if !a.analyze_only {
-        return Err(usage(
-            "simplification is not available yet in this build; use --analyze-only",
-        ));
+    if a.analyze_only {
+        let out = pipeline::analyze(&ex.curves, &build, &params, &[], warnings)?;
+        print_warnings(&out.report.warnings);
+        if a.json {
+            println!("{}", serde_json::to_string(&out.report)?);
+        } else {
+            println!(
+                "example {} (paper: {} curves, {} vertices)",
+                ex.setup.name, ex.setup.paper.curves_in, ex.setup.paper.vertices
+            );
+            print!("{}", out.report.to_text());
+            println!("time: {:.3} s", start.elapsed().as_secs_f64());
+        }
+        return Ok(());
     }
-    let out = pipeline::analyze(&ex.curves, &build, &params, &[], warnings)?;
-    print_warnings(&out.report.warnings);
-    if a.json {
-        println!("{}", serde_json::to_string(&out.report)?);
-    } else {
-        println!(
-            "example {} (paper: {} curves, {} vertices)",
-            ex.setup.name, ex.setup.paper.curves_in, ex.setup.paper.vertices
-        );
-        print!("{}", out.report.to_text());
-        println!("time: {:.3} s", start.elapsed().as_secs_f64());
-    }
-    Ok(())
+    print_warnings(&warnings);
+    let budget = Budget::Fraction(a.budget.unwrap_or(ex.setup.budget_fraction));
+    budget.validate().map_err(usage)?;
+    run_greedy(GreedyJob {
+        curves: ex.curves,
+        build,
+        stability: params,
+        input: InputDescription {
+            example: Some(ex.setup.name.to_string()),
+            mesh: Some(format!("meshes/{}", ex.setup.mesh)),
+            curve_files: ex
+                .setup
+                .curves
+                .iter()
+                .map(|(f, _)| format!("curves/{f}"))
+                .collect(),
+            scale: ex.setup.mesh_scale,
+        },
+        budget,
+        keep: ex.setup.keep.clone(),
+        out: a
+            .out
+            .clone()
+            .unwrap_or_else(|| PathBuf::from("out").join(&a.name)),
+        resume: a.resume,
+    })
 }

@@ -2,16 +2,23 @@
 
 mod analyze;
 mod example;
+mod greedy_run;
+mod simplify;
 
-use crate::args::{Cli, Command, PhysicsArgs};
+use crate::args::{Cli, Command, InputArgs, PhysicsArgs};
 use crate::exit::usage;
+use curvenet::io::{self, Polyline};
+use curvenet::network::BuildParams;
+use curvenet::pipeline;
 use curvenet::rod::Material;
+use curvenet::simplify::result::InputDescription;
 use curvenet::stability::StabilityParams;
 
 /// Runs the parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Analyze(a) => analyze::run(a),
+        Command::Simplify(a) => simplify::run(a),
         Command::Example(a) => example::run(a),
     }
 }
@@ -32,6 +39,62 @@ pub fn stability_params(p: &PhysicsArgs) -> anyhow::Result<StabilityParams> {
         .max(p.eigen_count + 4 * s.eigen.block_size);
     s.validate().map_err(usage)?;
     Ok(s)
+}
+
+/// Curves and build parameters from the input options.
+pub struct Inputs {
+    /// Scaled curves in id order.
+    pub curves: Vec<Polyline>,
+    /// Network construction.
+    pub build: BuildParams,
+    /// Reading warnings.
+    pub warnings: Vec<String>,
+    /// What was read.
+    pub description: InputDescription,
+}
+
+/// Reads and scales the inputs.
+pub fn load_inputs(a: &InputArgs, p: &PhysicsArgs) -> anyhow::Result<Inputs> {
+    if !(a.scale.is_finite() && a.scale > 0.0) {
+        return Err(usage(format!(
+            "--scale must be a positive number, got {}",
+            a.scale
+        )));
+    }
+    let mut warnings = Vec::new();
+    if let Some(m) = &a.mesh {
+        let mesh = io::read_mesh(m)?;
+        warnings.extend(mesh.warnings.iter().map(|w| w.to_string()));
+    }
+    let mut curves = Vec::new();
+    for path in &a.curves {
+        let f = io::read_curves(path)?;
+        warnings.extend(f.warnings.iter().map(|w| w.to_string()));
+        curves.extend(f.curves);
+    }
+    pipeline::scale_curves(&mut curves, a.scale);
+    let h = a
+        .edge_length
+        .unwrap_or_else(|| pipeline::median_segment_length(&curves));
+    let build = BuildParams {
+        edge_length: h,
+        supports: p.supports.unwrap_or_default(),
+        merge_joints_below: p.merge_joints,
+        ..BuildParams::default()
+    };
+    build.validate().map_err(|e| usage(e.to_string()))?;
+    let description = InputDescription {
+        example: None,
+        mesh: a.mesh.as_ref().map(|m| m.display().to_string()),
+        curve_files: a.curves.iter().map(|c| c.display().to_string()).collect(),
+        scale: a.scale,
+    };
+    Ok(Inputs {
+        curves,
+        build,
+        warnings,
+        description,
+    })
 }
 
 /// Prints warnings on stderr.

@@ -152,6 +152,13 @@ pub struct Assembly {
     pub hess: Vec<f64>,
 }
 
+/// Local Hessians of every stretching and bending term at one state (anchors are constant).
+#[derive(Clone, Debug)]
+pub struct LocalHessians {
+    stretch: Vec<[[f64; 6]; 6]>,
+    bend: Vec<[[f64; 9]; 9]>,
+}
+
 /// Sparse upper-triangular pattern of the Hessian over `3·V` coordinates.
 #[derive(Clone, Debug)]
 pub struct Pattern {
@@ -559,6 +566,78 @@ impl EnergyModel {
                 }
             }
         }
+    }
+
+    /// The local Hessian of every term at displacements `u`, for assembling the Hessians of
+    /// many structures at the same state ([`Self::hessian_from_locals`]).
+    pub fn local_hessians(&self, u: &[f64]) -> LocalHessians {
+        use rayon::prelude::*;
+        assert_eq!(
+            u.len(),
+            self.dofs(),
+            "displacement vector of the wrong length"
+        );
+        let stretch = self
+            .stretch
+            .par_iter()
+            .map(|t| {
+                let (x0, x1) = t.local(u);
+                terms::stretch(x0, x1, t.rest, self.ks).hess
+            })
+            .collect();
+        let bend = self
+            .bend
+            .par_iter()
+            .map(|t| {
+                let (x0, x1, x2) = t.local(u);
+                terms::bend(x0, x1, x2, t.r0, t.r1, self.kb).hess
+            })
+            .collect();
+        LocalHessians { stretch, bend }
+    }
+
+    /// The Hessian of the structure `active` from precomputed local Hessians: bit-identical
+    /// to `assemble(u, active, true).hess` at the `u` the locals were computed at (same terms,
+    /// same order).
+    pub fn hessian_from_locals(
+        &self,
+        locals: &LocalHessians,
+        active: &ActiveSet,
+        hess: &mut Vec<f64>,
+    ) {
+        hess.clear();
+        hess.resize(self.pattern.nnz(), 0.0);
+        for (_, r) in self.active_terms(active) {
+            for k in r.stretch.clone() {
+                self.scatter_hess(
+                    hess,
+                    &self.stretch[k].v,
+                    &self.stretch_pos[k],
+                    &locals.stretch[k],
+                );
+            }
+            for k in r.bend.clone() {
+                self.scatter_hess(hess, &self.bend[k].v, &self.bend_pos[k], &locals.bend[k]);
+            }
+            for t in &self.anchor[r.anchor.clone()] {
+                let v = t.v as usize;
+                for a in 0..3 {
+                    hess[self.pattern.diag[3 * v + a]] += 2.0 * self.mu;
+                }
+            }
+        }
+        for (v, on) in self.vertex_mask(active).into_iter().enumerate() {
+            if !on {
+                for a in 0..3 {
+                    hess[self.pattern.diag[3 * v + a]] = self.loose_diagonal;
+                }
+            }
+        }
+    }
+
+    /// Curves through each vertex.
+    pub fn vertex_curves(&self) -> &[Vec<u32>] {
+        &self.vertex_curves
     }
 
     /// The Hessian of the active structure with the rows and columns of loose vertices deleted

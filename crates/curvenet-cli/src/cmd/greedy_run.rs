@@ -1,0 +1,161 @@
+//! Running the greedy from the command line: output folder, progress bar, Ctrl-C, summary.
+
+use super::print_warnings;
+use crate::args::GreedyArgs;
+use crate::exit::{ExitError, usage};
+use curvenet::io::Polyline;
+use curvenet::network::{BuildParams, build_network};
+use curvenet::simplify::greedy::IterationRecord;
+use curvenet::simplify::result::{InputDescription, OutputWriter, RunSetup, summary};
+use curvenet::simplify::{Budget, GreedyParams, SimplifyError, greedy};
+use curvenet::stability::{Analyzer, StabilityParams};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+/// Set by the Ctrl-C handler.
+static CANCEL: AtomicBool = AtomicBool::new(false);
+
+/// Everything a greedy run needs.
+pub struct GreedyJob {
+    pub curves: Vec<Polyline>,
+    pub build: BuildParams,
+    pub stability: StabilityParams,
+    pub input: InputDescription,
+    pub budget: Budget,
+    pub keep: Vec<usize>,
+    pub out: PathBuf,
+    pub resume: bool,
+}
+
+/// The budget from the options, or `default` (a fraction) when none is given.
+pub fn budget_of(a: &GreedyArgs, default: Option<f64>) -> anyhow::Result<Budget> {
+    let b = match (a.budget, a.budget_length, default) {
+        (Some(f), _, _) => Budget::Fraction(f),
+        (None, Some(l), _) => Budget::Length(l),
+        (None, None, Some(f)) => Budget::Fraction(f),
+        (None, None, None) => {
+            return Err(usage(
+                "give a budget: --budget FRACTION or --budget-length L",
+            ));
+        }
+    };
+    b.validate().map_err(usage)?;
+    Ok(b)
+}
+
+/// Builds the network, runs the greedy into `job.out` and prints a summary.
+pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
+    let start = Instant::now();
+    let (network, info) = build_network(&job.curves, &job.build)?;
+    let n = network.rods.len();
+    let params = GreedyParams {
+        budget: job.budget,
+        keep: job.keep.clone(),
+        tie_tolerance: 1e-7,
+    };
+    params.validate(n).map_err(usage)?;
+    let total = network.total_length(&(0..n).collect::<Vec<_>>());
+    let budget = job.budget.length(total);
+    let mut warnings = Vec::new();
+    if budget >= total {
+        warnings.push(format!(
+            "the budget {budget:.6} is not below the total length {total:.6}: nothing will be removed"
+        ));
+    }
+    let kept_length = network.total_length(&job.keep);
+    if kept_length > budget {
+        warnings.push(format!(
+            "the keep list alone needs {kept_length:.6}, more than the budget {budget:.6}: the budget cannot be met"
+        ));
+    }
+    if !info.isolated_curves.is_empty() {
+        warnings.push(format!(
+            "curves that cross nothing: {:?}",
+            info.isolated_curves
+        ));
+    }
+    print_warnings(&warnings);
+
+    let setup = RunSetup {
+        input: job.input,
+        build: job.build.clone(),
+        stability: job.stability.clone(),
+        greedy: params.clone(),
+        network: info.clone(),
+        total_length: total,
+    };
+    let analyzer = Analyzer::new(network, job.stability).map_err(usage)?;
+    let net = analyzer.network();
+    let (writer, resume_point) = if job.resume && job.out.join("result.json").is_file() {
+        let (w, p) = OutputWriter::resume(&job.out, net, &setup).map_err(usage)?;
+        if p.is_none() && w.result().complete {
+            eprintln!("{}: the run is already complete", job.out.display());
+            print!("{}", summary(w.result()));
+            return Ok(());
+        }
+        (w, p)
+    } else {
+        (
+            OutputWriter::create(&job.out, net, setup, budget).map_err(|e| ExitError {
+                code: 1,
+                message: e,
+            })?,
+            None,
+        )
+    };
+    if let Some(p) = &resume_point {
+        eprintln!(
+            "resuming after iteration {} ({} curves)",
+            p.iterations.len() - 1,
+            p.iterations.last().map_or(0, |i| i.curves.len())
+        );
+    }
+
+    let _ = ctrlc::set_handler(|| CANCEL.store(true, Ordering::Relaxed));
+    let bar = ProgressBar::new(1000);
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:40} {percent}% of the length to remove, ETA {eta} {msg}")
+            .expect("valid template"),
+    );
+    let progress = |r: &IterationRecord| {
+        let done = ((total - r.length) / (total - budget).max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+        bar.set_position((done * 1000.0) as u64);
+        bar.set_message(format!("{} curves, λ {:.4e}", r.curves.len(), r.lambda));
+    };
+    let mut writer = writer.with_cancel(&CANCEL).with_progress(&progress);
+    let outcome = greedy(&analyzer, &params, resume_point, &mut writer);
+    bar.finish_and_clear();
+    let outcome = match outcome {
+        Ok(o) => o,
+        Err(SimplifyError::Cancelled) => {
+            let done = writer.result().iterations.len();
+            return Err(ExitError {
+                code: 130,
+                message: format!(
+                    "cancelled: {done} iteration(s) kept in {}; rerun with --resume to continue",
+                    job.out.display()
+                ),
+            }
+            .into());
+        }
+        Err(e) => return Err(e.into()),
+    };
+    let timings = serde_json::json!({
+        "total_seconds": start.elapsed().as_secs_f64(),
+        "greedy": outcome.timings,
+        "threads": rayon::current_num_threads(),
+    });
+    writer.finish(&outcome, &timings).map_err(|e| ExitError {
+        code: 1,
+        message: e,
+    })?;
+    print!("{}", summary(writer.result()));
+    println!(
+        "wall time: {:.2} s; output in {}",
+        start.elapsed().as_secs_f64(),
+        job.out.display()
+    );
+    Ok(())
+}

@@ -1,0 +1,21 @@
+//! `curvenet simplify`: the greedy on a user's own mesh and curves.
+
+use super::greedy_run::{GreedyJob, run_greedy};
+use super::{load_inputs, print_warnings, stability_params};
+use crate::args::SimplifyArgs;
+
+pub fn run(a: SimplifyArgs) -> anyhow::Result<()> {
+    let inputs = load_inputs(&a.input, &a.physics)?;
+    print_warnings(&inputs.warnings);
+    let params = stability_params(&a.physics)?;
+    run_greedy(GreedyJob {
+        curves: inputs.curves,
+        build: inputs.build,
+        stability: params,
+        input: inputs.description,
+        budget: super::greedy_run::budget_of(&a.greedy, None)?,
+        keep: a.greedy.keep.clone(),
+        out: a.out.clone(),
+        resume: a.greedy.resume,
+    })
+}

@@ -1,0 +1,319 @@
+//! Greedy simplification, the paper's Algorithm 1 (SPEC §6).
+//!
+//! ```text
+//! A := all curves
+//! loop:
+//!     relax A; record A (curves, L(A), λ_eq(A), worst-case mode)
+//!     if L(A) ≤ V: stop
+//!     if every curve of A is kept or A has one curve: stop, budget unmet
+//!     for every c in A not kept: score(c) := λ_fix(A \ {c} | A)      (in parallel)
+//!     remove the c with the largest score (ties within 1e-7 → lowest id)
+//! ```
+//!
+//! Each relaxation starts from the previous equilibrium. Candidate scores use the local
+//! Hessians of `A`'s equilibrium, computed once per iteration, and are warm-started from
+//! `A`'s low modes. Every candidate's computation is deterministic and independent of the
+//! others, so the choice does not depend on the thread count.
+
+use super::{Budget, Evaluation, Scorer, SimplifyError, pick_best};
+use crate::report::NewtonSummary;
+use crate::rod::ActiveSet;
+use crate::stability::Analyzer;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// Parameters of the greedy.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GreedyParams {
+    /// The material budget.
+    pub budget: Budget,
+    /// Curves that are never removed.
+    pub keep: Vec<usize>,
+    /// Relative tolerance under which two scores tie (SPEC: 1e-7).
+    pub tie_tolerance: f64,
+}
+
+impl GreedyParams {
+    /// A greedy with `budget`, no keep list and the SPEC's tie tolerance.
+    pub fn new(budget: Budget) -> Self {
+        GreedyParams {
+            budget,
+            keep: Vec::new(),
+            tie_tolerance: 1e-7,
+        }
+    }
+
+    /// Checks the parameters against a network of `curves` curves.
+    pub fn validate(&self, curves: usize) -> Result<(), String> {
+        self.budget.validate()?;
+        if let Some(&c) = self.keep.iter().find(|&&c| c >= curves) {
+            return Err(format!(
+                "keep list names curve {c}, but the network has {curves} curves (ids 0..{})",
+                curves.saturating_sub(1)
+            ));
+        }
+        if !(self.tie_tolerance >= 0.0 && self.tie_tolerance < 1e-2) {
+            return Err(format!(
+                "tie tolerance must lie in [0, 1e-2), got {}",
+                self.tie_tolerance
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// The score of one candidate removal.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CandidateScore {
+    /// Curve removed.
+    pub curve: usize,
+    /// `λ_fix(A \ {curve} | A)`, or `None` when the eigen solve failed.
+    pub score: Option<f64>,
+    /// The failure, if any.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub error: Option<String>,
+}
+
+/// One iteration of the greedy: the relaxed network after `k` removals.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct IterationRecord {
+    /// Curves of the network, ascending.
+    pub curves: Vec<usize>,
+    /// Total rest length.
+    pub length: f64,
+    /// `λ_eq`.
+    pub lambda: f64,
+    /// Smallest eigenvalues at equilibrium.
+    pub eigenvalues: Vec<f64>,
+    /// Zero modes among them.
+    pub zero_modes: usize,
+    /// Negative modes among them.
+    pub negative_modes: usize,
+    /// The equilibrium solve.
+    pub newton: NewtonSummary,
+    /// The curve removed next (`None` on the last iteration).
+    pub removed: Option<usize>,
+    /// Its score `λ_fix` (`None` on the last iteration).
+    pub score: Option<f64>,
+    /// Every candidate's score, by curve id.
+    pub candidates: Vec<CandidateScore>,
+    /// Side file holding the worst-case mode (relative to the output folder).
+    pub mode_file: String,
+}
+
+/// Why the greedy stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StopReason {
+    /// `L(A) ≤ V`.
+    BudgetMet,
+    /// Only kept curves (or a single curve) remain and `L(A) > V`.
+    BudgetUnmet,
+    /// No candidate could be scored.
+    NoScorableCandidate,
+}
+
+/// Time spent per phase (not part of the result: timings live in `timings.json`).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct GreedyTimings {
+    /// Relaxations and `λ_eq` spectra.
+    pub relax_seconds: f64,
+    /// Local Hessians per iteration.
+    pub locals_seconds: f64,
+    /// Candidate scoring (wall time).
+    pub candidates_seconds: f64,
+    /// Candidate evaluations performed.
+    pub candidate_evaluations: usize,
+    /// Total wall time.
+    pub total_seconds: f64,
+}
+
+/// Everything the greedy produced.
+#[derive(Clone, Debug)]
+pub struct GreedyOutcome {
+    /// Every iteration, first (all curves) to last.
+    pub iterations: Vec<IterationRecord>,
+    /// Why it stopped.
+    pub stop: StopReason,
+    /// The budget as a length.
+    pub budget: f64,
+    /// Timings.
+    pub timings: GreedyTimings,
+}
+
+/// Callbacks of a greedy run: saving progress, cancelling.
+pub trait GreedyHooks: Sync {
+    /// Called once per iteration with its record, its evaluation (mode, equilibrium), and
+    /// the number of iterations done; an error stops the run.
+    fn iteration(&mut self, record: &IterationRecord, eval: &Evaluation) -> Result<(), String>;
+    /// Polled between candidates and iterations (from several threads); `true` stops the run
+    /// cleanly, keeping every recorded iteration.
+    fn cancelled(&self) -> bool {
+        false
+    }
+}
+
+/// Hooks that do nothing.
+#[derive(Debug, Default)]
+pub struct NoHooks;
+
+impl GreedyHooks for NoHooks {
+    fn iteration(&mut self, _: &IterationRecord, _: &Evaluation) -> Result<(), String> {
+        Ok(())
+    }
+}
+
+/// A completed iteration to resume from: the curves of the next network and the equilibrium
+/// of the previous one (the warm start).
+#[derive(Clone, Debug)]
+pub struct ResumePoint {
+    /// Iterations already recorded.
+    pub iterations: Vec<IterationRecord>,
+    /// Equilibrium displacements of the last recorded iteration.
+    pub displacement: Vec<f64>,
+}
+
+/// Runs the greedy on `analyzer`'s network.
+pub fn greedy(
+    analyzer: &Analyzer,
+    params: &GreedyParams,
+    resume: Option<ResumePoint>,
+    hooks: &mut dyn GreedyHooks,
+) -> Result<GreedyOutcome, SimplifyError> {
+    let start = Instant::now();
+    let n = analyzer.network().rods.len();
+    params.validate(n).map_err(SimplifyError::Params)?;
+    let total = analyzer.network().total_length(&(0..n).collect::<Vec<_>>());
+    let budget = params.budget.length(total);
+    let scorer = Scorer::new(analyzer);
+    let mut keep = vec![false; n];
+    for &c in &params.keep {
+        keep[c] = true;
+    }
+    let mut timings = GreedyTimings::default();
+
+    let (mut iterations, mut active, mut warm) = match resume {
+        None => (Vec::new(), ActiveSet::all(n), None),
+        Some(r) => {
+            let last = r
+                .iterations
+                .last()
+                .ok_or_else(|| SimplifyError::Params("nothing to resume".into()))?;
+            let removed = last
+                .removed
+                .ok_or_else(|| SimplifyError::Params("the recorded run already finished".into()))?;
+            let mut a = ActiveSet::from_curves(n, &last.curves);
+            a.remove(removed);
+            (r.iterations, a, Some(r.displacement))
+        }
+    };
+
+    loop {
+        if hooks.cancelled() {
+            return Err(SimplifyError::Cancelled);
+        }
+        let t = Instant::now();
+        let eval = scorer.evaluate(&active, warm.as_deref())?;
+        timings.relax_seconds += t.elapsed().as_secs_f64();
+        let k = iterations.len();
+        let mut record = IterationRecord {
+            curves: eval.curves.clone(),
+            length: eval.length,
+            lambda: eval.lambda(),
+            eigenvalues: eval.spectrum.values.clone(),
+            zero_modes: eval.spectrum.zero_modes,
+            negative_modes: eval.spectrum.negative_modes,
+            newton: eval.newton.clone(),
+            removed: None,
+            score: None,
+            candidates: Vec::new(),
+            mode_file: format!("modes/{k:04}.bin"),
+        };
+        let candidates: Vec<usize> = eval.curves.iter().copied().filter(|&c| !keep[c]).collect();
+        let stop = if eval.length <= budget {
+            Some(StopReason::BudgetMet)
+        } else if candidates.is_empty() || eval.curves.len() <= 1 {
+            Some(StopReason::BudgetUnmet)
+        } else {
+            None
+        };
+        if let Some(stop) = stop {
+            hooks
+                .iteration(&record, &eval)
+                .map_err(SimplifyError::Hook)?;
+            iterations.push(record);
+            timings.total_seconds = start.elapsed().as_secs_f64();
+            return Ok(GreedyOutcome {
+                iterations,
+                stop,
+                budget,
+                timings,
+            });
+        }
+
+        // Score every candidate at A's equilibrium.
+        let t = Instant::now();
+        let locals = analyzer.model().local_hessians(&eval.displacement);
+        timings.locals_seconds += t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let modes = eval.spectrum.vectors.as_ref();
+        let shared: &dyn GreedyHooks = &*hooks;
+        let scores: Vec<CandidateScore> = candidates
+            .par_iter()
+            .map(|&c| {
+                if shared.cancelled() {
+                    return CandidateScore {
+                        curve: c,
+                        score: None,
+                        error: Some("cancelled".into()),
+                    };
+                }
+                match scorer.lambda_fixed(&locals, &active.without(c), Some(modes)) {
+                    Ok(sp) => CandidateScore {
+                        curve: c,
+                        score: Some(sp.lambda()),
+                        error: None,
+                    },
+                    Err(e) => CandidateScore {
+                        curve: c,
+                        score: None,
+                        error: Some(e.to_string()),
+                    },
+                }
+            })
+            .collect();
+        timings.candidates_seconds += t.elapsed().as_secs_f64();
+        timings.candidate_evaluations += scores.len();
+        if hooks.cancelled() {
+            return Err(SimplifyError::Cancelled);
+        }
+        let pairs: Vec<(usize, f64)> = scores
+            .iter()
+            .filter_map(|s| s.score.map(|v| (s.curve, v)))
+            .collect();
+        record.candidates = scores;
+        let Some((chosen, score)) = pick_best(&pairs, params.tie_tolerance) else {
+            hooks
+                .iteration(&record, &eval)
+                .map_err(SimplifyError::Hook)?;
+            iterations.push(record);
+            timings.total_seconds = start.elapsed().as_secs_f64();
+            return Ok(GreedyOutcome {
+                iterations,
+                stop: StopReason::NoScorableCandidate,
+                budget,
+                timings,
+            });
+        };
+        record.removed = Some(chosen);
+        record.score = Some(score);
+        hooks
+            .iteration(&record, &eval)
+            .map_err(SimplifyError::Hook)?;
+        iterations.push(record);
+        active.remove(chosen);
+        warm = Some(eval.displacement);
+    }
+}

@@ -1,0 +1,235 @@
+//! Simplification: pick the subset of curves that fits the budget and is most stable.
+//!
+//! - [`greedy`]: the paper's Algorithm 1 (SPEC §6), every iteration recorded;
+//! - [`exhaustive`]: all feasible subsets, the exact optimum of `λ_eq` for small networks;
+//! - [`random`]: uniformly random feasible subsets, a given number of evaluations;
+//! - [`result`]: the `result.json` schema (SPEC §10), written and read back.
+//!
+//! All searches share [`Scorer`], which evaluates `λ_eq(S)` and `λ_fix(S | A)` the same way
+//! for everyone, so their answers are comparable.
+
+pub mod exhaustive;
+pub mod greedy;
+pub mod random;
+pub mod result;
+
+pub use greedy::{GreedyHooks, GreedyOutcome, GreedyParams, StopReason, greedy};
+
+use crate::report::NewtonSummary;
+use crate::rod::ActiveSet;
+use crate::rod::model::LocalHessians;
+use crate::solve::eigen::{EigenParams, Spectrum, smallest_eigenpairs};
+use crate::stability::{Analyzer, StabilityError};
+use faer::{Mat, MatRef};
+use serde::{Deserialize, Serialize};
+
+/// The material budget `V`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Budget {
+    /// A fraction of the total rest length of all curves, in `(0, 1]`.
+    Fraction(f64),
+    /// An absolute rest length.
+    Length(f64),
+}
+
+impl Budget {
+    /// The budget as a length, for a network of total rest length `total`.
+    pub fn length(self, total: f64) -> f64 {
+        match self {
+            Budget::Fraction(f) => f * total,
+            Budget::Length(l) => l,
+        }
+    }
+
+    /// Checks the value.
+    pub fn validate(self) -> Result<(), String> {
+        match self {
+            Budget::Fraction(f) if !(f > 0.0 && f <= 1.0) => {
+                Err(format!("budget fraction must lie in (0, 1], got {f}"))
+            }
+            Budget::Length(l) if !(l > 0.0 && l.is_finite()) => {
+                Err(format!("budget length must be a positive number, got {l}"))
+            }
+            _ => Ok(()),
+        }
+    }
+}
+
+/// Why a search could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum SimplifyError {
+    /// Bad parameters.
+    #[error("{0}")]
+    Params(String),
+    /// A stability computation failed.
+    #[error(transparent)]
+    Stability(#[from] StabilityError),
+    /// The run was cancelled; everything recorded so far is kept.
+    #[error("cancelled")]
+    Cancelled,
+    /// A hook (e.g. writing progress) failed.
+    #[error("{0}")]
+    Hook(String),
+}
+
+/// `λ_eq` of a structure: its equilibrium and spectrum.
+#[derive(Clone, Debug)]
+pub struct Evaluation {
+    /// Curves of the structure, ascending.
+    pub curves: Vec<usize>,
+    /// Total rest length.
+    pub length: f64,
+    /// The equilibrium solve.
+    pub newton: NewtonSummary,
+    /// Displacements at equilibrium.
+    pub displacement: Vec<f64>,
+    /// Spectrum at equilibrium.
+    pub spectrum: Spectrum,
+}
+
+impl Evaluation {
+    /// `λ_eq`.
+    pub fn lambda(&self) -> f64 {
+        self.spectrum.lambda()
+    }
+}
+
+/// Evaluates structures of one network the same way for every search.
+#[derive(Debug)]
+pub struct Scorer<'a> {
+    analyzer: &'a Analyzer,
+    /// Eigen parameters for candidate scores (only `λ` is needed).
+    candidate_eigen: EigenParams,
+}
+
+impl<'a> Scorer<'a> {
+    /// A scorer over `analyzer`'s network.
+    pub fn new(analyzer: &'a Analyzer) -> Self {
+        let mut candidate_eigen = analyzer.params().eigen.clone();
+        candidate_eigen.count = 2.min(candidate_eigen.count);
+        candidate_eigen.block_size = 2.min(candidate_eigen.block_size);
+        candidate_eigen.max_basis = candidate_eigen.max_basis.min(40);
+        Scorer {
+            analyzer,
+            candidate_eigen,
+        }
+    }
+
+    /// The analyzer.
+    pub fn analyzer(&self) -> &'a Analyzer {
+        self.analyzer
+    }
+
+    /// `λ_eq(active)`: relaxes from `start` (or the drawn state) and computes the spectrum.
+    pub fn evaluate(
+        &self,
+        active: &ActiveSet,
+        start: Option<&[f64]>,
+    ) -> Result<Evaluation, StabilityError> {
+        let a = self.analyzer;
+        if active.is_empty() {
+            return Err(StabilityError::Empty);
+        }
+        let mut u = start.map_or_else(|| vec![0.0; a.model().dofs()], <[f64]>::to_vec);
+        let newton = a.relax(active, &mut u);
+        let spectrum = a.spectrum(active, &u, None)?;
+        let curves = active.curves();
+        Ok(Evaluation {
+            length: a.network().total_length(&curves),
+            curves,
+            newton: NewtonSummary {
+                iterations: newton.iterations,
+                converged: newton.converged,
+                grad_rel: newton.grad_rel,
+                stop: newton.stop,
+            },
+            displacement: u,
+            spectrum,
+        })
+    }
+
+    /// `λ_fix(active | A)` from the local Hessians at `A`'s equilibrium, warm-started from
+    /// `warm` (e.g. `A`'s low modes).
+    pub fn lambda_fixed(
+        &self,
+        locals: &LocalHessians,
+        active: &ActiveSet,
+        warm: Option<MatRef<'_, f64>>,
+    ) -> Result<Spectrum, StabilityError> {
+        if active.is_empty() {
+            return Err(StabilityError::Empty);
+        }
+        let model = self.analyzer.model();
+        let mut h = Vec::new();
+        model.hessian_from_locals(locals, active, &mut h);
+        let warm = warm.map(|w| restrict(w, &model.vertex_mask(active)));
+        Ok(smallest_eigenpairs(
+            model.pattern(),
+            &h,
+            self.analyzer.symbolic(),
+            warm.as_ref().map(|w| w.as_ref()),
+            &self.candidate_eigen,
+        )?)
+    }
+}
+
+/// Zeroes the rows of loose vertices (`mask[v] == false`) in a copy of `v`.
+fn restrict(v: MatRef<'_, f64>, mask: &[bool]) -> Mat<f64> {
+    let mut out = v.to_owned();
+    for (vert, &on) in mask.iter().enumerate() {
+        if !on {
+            for j in 0..out.ncols() {
+                for a in 0..3 {
+                    out[(3 * vert + a, j)] = 0.0;
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Picks the best of `(curve, score)` pairs: the largest score, treating scores within a
+/// relative `tie` of the best as equal and taking the lowest curve id among them (SPEC §6).
+pub fn pick_best(scores: &[(usize, f64)], tie: f64) -> Option<(usize, f64)> {
+    let best = scores
+        .iter()
+        .map(|s| s.1)
+        .filter(|s| s.is_finite())
+        .fold(f64::NEG_INFINITY, f64::max);
+    if !best.is_finite() {
+        return None;
+    }
+    let floor = best - tie * best.abs();
+    scores
+        .iter()
+        .filter(|s| s.1 >= floor)
+        .min_by_key(|s| s.0)
+        .copied()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ties_go_to_the_lowest_id() {
+        let s = [(4, 1.0), (2, 1.0 - 1e-9), (7, 0.5), (1, 0.99)];
+        assert_eq!(pick_best(&s, 1e-7), Some((2, 1.0 - 1e-9)));
+        assert_eq!(pick_best(&s, 0.02), Some((1, 0.99)));
+        assert_eq!(pick_best(&[], 1e-7), None);
+        assert_eq!(pick_best(&[(3, f64::NAN)], 1e-7), None);
+        // Negative scores (unstable structures) rank below positive ones.
+        assert_eq!(pick_best(&[(0, -1e-9), (5, 1e-12)], 1e-7), Some((5, 1e-12)));
+    }
+
+    #[test]
+    fn budgets() {
+        assert_eq!(Budget::Fraction(0.25).length(200.0), 50.0);
+        assert_eq!(Budget::Length(30.0).length(200.0), 30.0);
+        assert!(Budget::Fraction(0.0).validate().is_err());
+        assert!(Budget::Fraction(1.5).validate().is_err());
+        assert!(Budget::Length(-1.0).validate().is_err());
+        assert!(Budget::Length(f64::NAN).validate().is_err());
+    }
+}

@@ -1,0 +1,415 @@
+//! The output folder of a simplification run (SPEC §10), written as the run goes.
+//!
+//! ```text
+//! DIR/result.json         every iteration so far; "complete": true once the run finished
+//! DIR/timings.json        wall times (kept apart so result.json is reproducible)
+//! DIR/network.json        the locked network (rest positions, rods, rest lengths, anchors)
+//! DIR/modes/KKKK.bin      worst-case mode of iteration K: 3·V little-endian f64
+//! DIR/states/KKKK.bin     equilibrium displacements of iteration K: 3·V little-endian f64
+//! DIR/iterations/KKKK.obj the network of iteration K at equilibrium, one polyline per curve
+//! DIR/final.obj           the final network at equilibrium
+//! DIR/summary.txt         a short text summary
+//! ```
+//!
+//! Every file is written atomically (temporary file + rename), and `result.json` is rewritten
+//! after each iteration, so an interrupted run keeps everything it finished and can resume.
+//! `result.json` holds no timings and depends only on the inputs, so it is byte-identical from
+//! run to run on one machine and build, whatever the thread count.
+
+use super::greedy::{GreedyHooks, GreedyOutcome, IterationRecord, ResumePoint, StopReason};
+use super::{Evaluation, GreedyParams};
+use crate::geom::Vec3;
+use crate::io::{self, Origin, Polyline};
+use crate::network::{BuildInfo, BuildParams, Network};
+use crate::stability::StabilityParams;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// The format version of `result.json`.
+pub const VERSION: u32 = 1;
+
+/// Where the curves came from.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct InputDescription {
+    /// Paper example name, if any.
+    pub example: Option<String>,
+    /// Mesh file, if any.
+    pub mesh: Option<String>,
+    /// Curve files in loading order.
+    pub curve_files: Vec<String>,
+    /// Scale applied.
+    pub scale: f64,
+}
+
+/// The set-up of a run: everything needed to rebuild and rerun it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RunSetup {
+    /// Inputs.
+    pub input: InputDescription,
+    /// Network construction.
+    pub build: BuildParams,
+    /// Material and solvers.
+    pub stability: StabilityParams,
+    /// Greedy parameters (budget, keep list).
+    pub greedy: GreedyParams,
+    /// Network counts.
+    pub network: BuildInfo,
+    /// Total rest length of all curves.
+    pub total_length: f64,
+}
+
+/// The final network of a run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FinalRecord {
+    /// Curves kept.
+    pub curves: Vec<usize>,
+    /// Their total rest length.
+    pub length: f64,
+    /// `λ_eq` of the final network.
+    pub lambda: f64,
+}
+
+/// `result.json`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ResultFile {
+    /// Format version ([`VERSION`]).
+    pub version: u32,
+    /// The set-up.
+    pub setup: RunSetup,
+    /// The objective reported per iteration.
+    pub objective: String,
+    /// The budget `V` as a length.
+    pub budget: f64,
+    /// False while the run is in progress (or was interrupted).
+    pub complete: bool,
+    /// Why the run stopped (absent while in progress).
+    pub stop: Option<StopReason>,
+    /// Every recorded iteration.
+    pub iterations: Vec<IterationRecord>,
+    /// The last recorded network.
+    #[serde(rename = "final")]
+    pub final_network: Option<FinalRecord>,
+}
+
+impl ResultFile {
+    /// Reads `DIR/result.json`.
+    pub fn read(dir: &Path) -> Result<ResultFile, String> {
+        let path = dir.join("result.json");
+        let text =
+            std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let r: ResultFile = serde_json::from_str(&text)
+            .map_err(|e| format!("{}:{}: {e}", path.display(), e.line()))?;
+        if r.version != VERSION {
+            return Err(format!(
+                "{}: unsupported version {} (expected {VERSION})",
+                path.display(),
+                r.version
+            ));
+        }
+        Ok(r)
+    }
+}
+
+/// Writes a vector of f64 as little-endian bytes.
+pub fn f64_bytes(v: &[f64]) -> Vec<u8> {
+    v.iter().flat_map(|x| x.to_le_bytes()).collect()
+}
+
+/// Reads a file of little-endian f64.
+pub fn read_f64_file(path: &Path) -> Result<Vec<f64>, String> {
+    let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    if bytes.len() % 8 != 0 {
+        return Err(format!(
+            "{}: truncated file ({} bytes is not a whole number of f64)",
+            path.display(),
+            bytes.len()
+        ));
+    }
+    Ok(bytes
+        .chunks_exact(8)
+        .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
+        .collect())
+}
+
+/// The polylines of `curves` of `network` at displacements `u` (the rest state for `u = 0`).
+pub fn network_polylines(network: &Network, curves: &[usize], u: Option<&[f64]>) -> Vec<Polyline> {
+    let pos = |v: u32| {
+        let p = network.positions[v as usize];
+        match u {
+            Some(u) => {
+                p + Vec3::new(
+                    u[3 * v as usize],
+                    u[3 * v as usize + 1],
+                    u[3 * v as usize + 2],
+                )
+            }
+            None => p,
+        }
+    };
+    curves
+        .iter()
+        .map(|&c| {
+            let r = &network.rods[c];
+            Polyline {
+                points: r.vertices.iter().map(|&v| pos(v)).collect(),
+                closed: r.closed,
+                origin: Origin {
+                    file: "network".into(),
+                    line: 0,
+                },
+                label: Some(format!("curve {c}")),
+            }
+        })
+        .collect()
+}
+
+fn io_err(path: &Path, e: std::io::Error) -> String {
+    format!("{}: {e}", path.display())
+}
+
+/// Writes a run's folder as the greedy goes (a [`GreedyHooks`]).
+pub struct OutputWriter<'a> {
+    dir: PathBuf,
+    network: &'a Network,
+    result: ResultFile,
+    cancel: Option<&'a std::sync::atomic::AtomicBool>,
+    /// Called after each iteration (e.g. to move a progress bar).
+    progress: Option<&'a (dyn Fn(&IterationRecord) + Sync)>,
+}
+
+impl std::fmt::Debug for OutputWriter<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("OutputWriter")
+            .field("dir", &self.dir)
+            .finish_non_exhaustive()
+    }
+}
+
+impl<'a> OutputWriter<'a> {
+    /// Creates the folder and writes `network.json` and an empty `result.json`.
+    pub fn create(
+        dir: &Path,
+        network: &'a Network,
+        setup: RunSetup,
+        budget: f64,
+    ) -> Result<Self, String> {
+        for sub in ["", "modes", "states", "iterations"] {
+            let d = dir.join(sub);
+            std::fs::create_dir_all(&d).map_err(|e| io_err(&d, e))?;
+        }
+        let net_path = dir.join("network.json");
+        let net_json = serde_json::to_vec(network).map_err(|e| e.to_string())?;
+        io::write_atomic(&net_path, &net_json).map_err(|e| io_err(&net_path, e))?;
+        let result = ResultFile {
+            version: VERSION,
+            setup,
+            objective: "lambda_eq".into(),
+            budget,
+            complete: false,
+            stop: None,
+            iterations: Vec::new(),
+            final_network: None,
+        };
+        let w = OutputWriter {
+            dir: dir.to_path_buf(),
+            network,
+            result,
+            cancel: None,
+            progress: None,
+        };
+        w.write_result()?;
+        Ok(w)
+    }
+
+    /// Continues an interrupted run in `dir`: checks that it was made with `setup` and returns
+    /// the writer and the point to resume from (`None` if the run already completed).
+    pub fn resume(
+        dir: &Path,
+        network: &'a Network,
+        setup: &RunSetup,
+    ) -> Result<(Self, Option<ResumePoint>), String> {
+        let result = ResultFile::read(dir)?;
+        if &result.setup != setup {
+            return Err(format!(
+                "{}: the recorded run was made with a different set-up; use another --out or drop --resume",
+                dir.join("result.json").display()
+            ));
+        }
+        let point = match result.iterations.last() {
+            Some(last) if !result.complete && last.removed.is_some() => {
+                let k = result.iterations.len() - 1;
+                let displacement = read_f64_file(&dir.join(format!("states/{k:04}.bin")))?;
+                if displacement.len() != network.dofs() {
+                    return Err(format!("states/{k:04}.bin does not match the network"));
+                }
+                Some(ResumePoint {
+                    iterations: result.iterations.clone(),
+                    displacement,
+                })
+            }
+            _ => None,
+        };
+        let mut result = result;
+        if point.is_none() && !result.complete {
+            // Nothing usable was recorded: start over.
+            result.iterations.clear();
+        }
+        Ok((
+            OutputWriter {
+                dir: dir.to_path_buf(),
+                network,
+                result,
+                cancel: None,
+                progress: None,
+            },
+            point,
+        ))
+    }
+
+    /// Polls `flag` for cancellation.
+    pub fn with_cancel(mut self, flag: &'a std::sync::atomic::AtomicBool) -> Self {
+        self.cancel = Some(flag);
+        self
+    }
+
+    /// Calls `f` after each iteration.
+    pub fn with_progress(mut self, f: &'a (dyn Fn(&IterationRecord) + Sync)) -> Self {
+        self.progress = Some(f);
+        self
+    }
+
+    /// The result so far.
+    pub fn result(&self) -> &ResultFile {
+        &self.result
+    }
+
+    fn write_result(&self) -> Result<(), String> {
+        let path = self.dir.join("result.json");
+        let mut text = serde_json::to_vec_pretty(&self.result).map_err(|e| e.to_string())?;
+        text.push(b'\n');
+        io::write_atomic(&path, &text).map_err(|e| io_err(&path, e))
+    }
+
+    fn write(&self, rel: &str, bytes: &[u8]) -> Result<(), String> {
+        let path = self.dir.join(rel);
+        io::write_atomic(&path, bytes).map_err(|e| io_err(&path, e))
+    }
+
+    /// Finishes the run: final record, `result.json` complete, `final.obj`, `timings.json`,
+    /// `summary.txt`.
+    pub fn finish(
+        &mut self,
+        outcome: &GreedyOutcome,
+        timings: &serde_json::Value,
+    ) -> Result<(), String> {
+        self.result.iterations = outcome.iterations.clone();
+        self.result.complete = true;
+        self.result.stop = Some(outcome.stop);
+        let last = outcome.iterations.last().ok_or("no iteration recorded")?;
+        self.result.final_network = Some(FinalRecord {
+            curves: last.curves.clone(),
+            length: last.length,
+            lambda: last.lambda,
+        });
+        self.write_result()?;
+        let k = outcome.iterations.len() - 1;
+        let u = read_f64_file(&self.dir.join(format!("states/{k:04}.bin")))?;
+        let obj = io::curves_to_obj(&network_polylines(self.network, &last.curves, Some(&u)));
+        self.write("final.obj", obj.as_bytes())?;
+        let mut t = serde_json::to_vec_pretty(timings).map_err(|e| e.to_string())?;
+        t.push(b'\n');
+        self.write("timings.json", &t)?;
+        self.write("summary.txt", summary(&self.result).as_bytes())
+    }
+}
+
+impl GreedyHooks for OutputWriter<'_> {
+    fn iteration(&mut self, record: &IterationRecord, eval: &Evaluation) -> Result<(), String> {
+        let k = self.result.iterations.len();
+        self.write(
+            &format!("modes/{k:04}.bin"),
+            &f64_bytes(
+                &eval
+                    .spectrum
+                    .vectors
+                    .col(0)
+                    .iter()
+                    .copied()
+                    .collect::<Vec<_>>(),
+            ),
+        )?;
+        self.write(
+            &format!("states/{k:04}.bin"),
+            &f64_bytes(&eval.displacement),
+        )?;
+        let obj = io::curves_to_obj(&network_polylines(
+            self.network,
+            &record.curves,
+            Some(&eval.displacement),
+        ));
+        self.write(&format!("iterations/{k:04}.obj"), obj.as_bytes())?;
+        self.result.iterations.push(record.clone());
+        self.write_result()?;
+        if let Some(p) = self.progress {
+            p(record);
+        }
+        Ok(())
+    }
+
+    fn cancelled(&self) -> bool {
+        self.cancel
+            .is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed))
+    }
+}
+
+/// A short text summary of a result.
+pub fn summary(r: &ResultFile) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    let first = r.iterations.first();
+    let last = r.iterations.last();
+    let _ = writeln!(
+        s,
+        "curvenet greedy simplification (objective λ_eq, supports {})",
+        r.setup.build.supports.name()
+    );
+    if let Some(ex) = &r.setup.input.example {
+        let _ = writeln!(s, "example: {ex}");
+    }
+    let n = &r.setup.network;
+    let _ = writeln!(
+        s,
+        "network: {} curves, {} vertices, {} joints",
+        n.curves, n.vertices, n.joints
+    );
+    let _ = writeln!(
+        s,
+        "budget: {:.6} of {:.6} total rest length",
+        r.budget, r.setup.total_length
+    );
+    if let (Some(f), Some(l)) = (first, last) {
+        let _ = writeln!(
+            s,
+            "start: {} curves, length {:.6}, λ_eq {:.6e}",
+            f.curves.len(),
+            f.length,
+            f.lambda
+        );
+        let _ = writeln!(
+            s,
+            "final: {} curves, length {:.6}, λ_eq {:.6e}",
+            l.curves.len(),
+            l.length,
+            l.lambda
+        );
+        let _ = writeln!(s, "kept curves: {:?}", l.curves);
+    }
+    let removed: Vec<String> = r
+        .iterations
+        .iter()
+        .filter_map(|i| i.removed.map(|c| c.to_string()))
+        .collect();
+    let _ = writeln!(s, "removed in order: {}", removed.join(", "));
+    let _ = writeln!(s, "iterations: {}; stop: {:?}", r.iterations.len(), r.stop);
+    s
+}
