@@ -22,6 +22,25 @@ pub enum Command {
     Simplify(SimplifyArgs),
     /// Run one of the paper's examples (SPEC §9) from the reference data.
     Example(ExampleArgs),
+    /// Run the whole pipeline on a built-in scene: no input files needed.
+    Demo(DemoArgs),
+}
+
+/// `curvenet demo`.
+#[derive(Debug, Args)]
+pub struct DemoArgs {
+    /// Built-in scene.
+    #[arg(long, default_value = "dome")]
+    pub scene: String,
+    /// Output folder.
+    #[arg(long, default_value = "out/demo")]
+    pub out: PathBuf,
+    /// Budget as a fraction of the total length.
+    #[arg(long, default_value_t = 0.3)]
+    pub budget: f64,
+    /// Material and solver options.
+    #[command(flatten)]
+    pub physics: PhysicsArgs,
 }
 
 /// Material and solver options shared by every command that analyses a network.

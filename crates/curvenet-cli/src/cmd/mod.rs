@@ -1,6 +1,7 @@
 //! One module per subcommand, plus the option handling they share.
 
 mod analyze;
+mod demo;
 mod example;
 mod greedy_run;
 mod simplify;
@@ -20,6 +21,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Analyze(a) => analyze::run(a),
         Command::Simplify(a) => simplify::run(a),
         Command::Example(a) => example::run(a),
+        Command::Demo(a) => demo::run(a),
     }
 }
 
