@@ -23,6 +23,7 @@ pub mod network;
 pub mod paper;
 pub mod pipeline;
 pub mod report;
+pub mod rng;
 pub mod rod;
 pub mod simplify;
 pub mod solve;

@@ -149,6 +149,26 @@ impl<'a> Scorer<'a> {
         })
     }
 
+    /// `λ_eq(active)` relaxed from the drawn state, the way every search ranks a subset
+    /// (path-independent, so greedy, exhaustive and random results compare).
+    pub fn lambda_eq(&self, active: &ActiveSet) -> Result<f64, StabilityError> {
+        let a = self.analyzer;
+        if active.is_empty() {
+            return Err(StabilityError::Empty);
+        }
+        let mut u = vec![0.0; a.model().dofs()];
+        a.relax(active, &mut u);
+        let h = a.model().assemble(&u, active, true).hess;
+        let sp = smallest_eigenpairs(
+            a.model().pattern(),
+            &h,
+            a.symbolic(),
+            None,
+            &self.candidate_eigen,
+        )?;
+        Ok(sp.lambda())
+    }
+
     /// `λ_fix(active | A)` from the local Hessians at `A`'s equilibrium, warm-started from
     /// `warm` (e.g. `A`'s low modes).
     pub fn lambda_fixed(
