@@ -65,14 +65,14 @@ impl MsvcRand {
     }
 
     /// `rand()`.
-    pub fn next(&mut self) -> u32 {
+    pub fn rand(&mut self) -> u32 {
         self.state = self.state.wrapping_mul(214_013).wrapping_add(2_531_011);
         (self.state >> 16) & 0x7FFF
     }
 
     /// `rand() / RAND_MAX · (b − a) + a`, as the reference draws `U[a, b]`.
     pub fn uniform(&mut self, a: f64, b: f64) -> f64 {
-        self.next() as f64 / Self::MAX as f64 * (b - a) + a
+        self.rand() as f64 / Self::MAX as f64 * (b - a) + a
     }
 }
 
@@ -84,7 +84,7 @@ mod tests {
     fn msvc_rand_matches_the_known_sequence() {
         // srand(1); rand() ×5 on Microsoft's runtime gives 41, 18467, 6334, 26500, 19169.
         let mut r = MsvcRand::new(1);
-        let v: Vec<u32> = (0..5).map(|_| r.next()).collect();
+        let v: Vec<u32> = (0..5).map(|_| r.rand()).collect();
         assert_eq!(v, vec![41, 18467, 6334, 26500, 19169]);
     }
 

@@ -11,7 +11,11 @@ use curvenet::simplify::result::InputDescription;
 
 pub fn run(a: DemoArgs) -> anyhow::Result<()> {
     let scene = builtin::scene(&a.scene).ok_or_else(|| {
-        usage(format!("unknown built-in scene '{}' (known: {})", a.scene, builtin::NAMES.join(", ")))
+        usage(format!(
+            "unknown built-in scene '{}' (known: {})",
+            a.scene,
+            builtin::NAMES.join(", ")
+        ))
     })?;
     let budget = Budget::Fraction(a.budget);
     budget.validate().map_err(usage)?;
