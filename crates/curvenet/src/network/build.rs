@@ -330,6 +330,12 @@ fn cluster_joints(
     (seeds, passes)
 }
 
+/// Fewest edges of a piece between two break points: 2, or 3 for a loop from a joint back to
+/// the same joint (with 2 edges its two edges would be one segment traversed both ways).
+fn min_edges(a: Option<usize>, b: Option<usize>) -> usize {
+    if a.is_some() && a == b { 3 } else { 2 }
+}
+
 /// Number of edges of a piece of arc length `len`.
 fn edges_for(len: f64, h: f64, min: usize) -> usize {
     ((len / h).round() as usize).max(min)
@@ -361,10 +367,9 @@ fn resample(
             } else {
                 let first = breaks[0].0;
                 breaks.push((first + len, breaks[0].1));
-                let single = breaks.len() == 2;
                 for w in breaks.windows(2) {
                     let (a, b) = (w[0].0, w[1].0);
-                    let k = edges_for(b - a, h, if single { 3 } else { 2 });
+                    let k = edges_for(b - a, h, min_edges(w[0].1, w[1].1));
                     vertex_s.push(w[0]);
                     vertex_s.extend((1..k).map(|i| (a + (b - a) * i as f64 / k as f64, None)));
                 }
@@ -378,7 +383,7 @@ fn resample(
             }
             for w in breaks.windows(2) {
                 let (a, b) = (w[0].0, w[1].0);
-                let k = edges_for(b - a, h, 2);
+                let k = edges_for(b - a, h, min_edges(w[0].1, w[1].1));
                 vertex_s.push(w[0]);
                 vertex_s.extend((1..k).map(|i| (a + (b - a) * i as f64 / k as f64, None)));
             }

@@ -1,0 +1,352 @@
+//! Shared helpers of the integration tests: a small deterministic PRNG, hand-made curves and
+//! networks, dense expansions of the sparse Hessian and an independent evaluation of the energy
+//! of SPEC §3.
+//!
+//! Not every test file uses every helper.
+#![allow(dead_code)]
+
+use curvenet::geom::Vec3;
+use curvenet::io::{Origin, Polyline};
+use curvenet::network::{BuildParams, Network, build_network};
+use curvenet::rod::{ActiveSet, EnergyModel, Material, Supports};
+use faer::Mat;
+use std::path::PathBuf;
+
+/// Bound on the relative residuals `‖Hv − λv‖/‖H‖₁` the eigen solver guarantees: its
+/// convergence test is on the inverted operator, relative to the largest inverted eigenvalue,
+/// which bounds the error components along stiff directions by about `tol = 1e-10` (default
+/// `EigenParams::tol`), hence the residual by `tol·‖H‖`. Observed residuals are usually far
+/// smaller (1e-17…1e-14), but depend on the Newton path and the factorization.
+pub const RESIDUAL_BOUND: f64 = 1e-10;
+
+/// SplitMix64: tiny, deterministic, good enough for test inputs.
+#[derive(Clone, Debug)]
+pub struct Rng(u64);
+
+impl Rng {
+    pub fn new(seed: u64) -> Self {
+        Rng(seed ^ 0x9e37_79b9_7f4a_7c15)
+    }
+
+    pub fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in `[0, 1)`.
+    pub fn uniform(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Uniform in `[a, b)`.
+    pub fn range(&mut self, a: f64, b: f64) -> f64 {
+        a + (b - a) * self.uniform()
+    }
+
+    /// Uniform integer in `[a, b)`.
+    pub fn index(&mut self, a: usize, b: usize) -> usize {
+        a + (self.next_u64() % (b - a) as u64) as usize
+    }
+
+    /// Standard normal (Box–Muller).
+    pub fn normal(&mut self) -> f64 {
+        let u1 = self.uniform().max(1e-300);
+        let u2 = self.uniform();
+        (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+    }
+
+    /// A vector with independent standard normal components.
+    pub fn normal3(&mut self) -> Vec3 {
+        Vec3::new(self.normal(), self.normal(), self.normal())
+    }
+}
+
+/// A polyline made in a test.
+pub fn polyline(points: Vec<Vec3>, closed: bool) -> Polyline {
+    Polyline {
+        points,
+        closed,
+        origin: Origin::new("<test>", 0),
+        label: None,
+    }
+}
+
+/// A circle of radius `r` around `center` in the plane spanned by the unit vectors `a`, `b`,
+/// with `n` points (closed, first point not repeated).
+pub fn circle(center: Vec3, a: Vec3, b: Vec3, r: f64, n: usize) -> Polyline {
+    let points = (0..n)
+        .map(|i| {
+            let t = std::f64::consts::TAU * i as f64 / n as f64;
+            center + a * (r * t.cos()) + b * (r * t.sin())
+        })
+        .collect();
+    polyline(points, true)
+}
+
+/// A small random 3D network: a wobbly closed ring of radius ~300 in a tilted plane, and
+/// `n_open` (2–4) wobbly open arches, each passing through two input points of the ring and
+/// every arch after the first also through an input point of the first arch, so the network is
+/// connected and every open curve has joints with the ring and with arch 0.
+pub fn random_curves(seed: u64, n_open: usize) -> Vec<Polyline> {
+    assert!((2..=4).contains(&n_open));
+    let mut rng = Rng::new(seed);
+    // Ring in a slightly tilted plane, radius with noise.
+    let m = 24;
+    let tilt = Vec3::new(rng.range(-0.2, 0.2), rng.range(-0.2, 0.2), 1.0).normalized();
+    let ax = Vec3::new(1.0, 0.0, 0.0);
+    let e1 = (ax - tilt * ax.dot(tilt)).normalized();
+    let e2 = tilt.cross(e1);
+    let ring: Vec<Vec3> = (0..m)
+        .map(|i| {
+            let t = std::f64::consts::TAU * i as f64 / m as f64;
+            let r = 300.0 + rng.range(-25.0, 25.0);
+            e1 * (r * t.cos()) + e2 * (r * t.sin()) + tilt * rng.range(-15.0, 15.0)
+        })
+        .collect();
+    let mut curves = vec![polyline(ring.clone(), true)];
+
+    let mut arch0: Vec<Vec3> = Vec::new();
+    for k in 0..n_open {
+        // Ring points the arch passes through: roughly opposite, distinct per arch.
+        let a = (k * 3 + rng.index(0, 2)) % m;
+        let b = (a + m / 2 + rng.index(0, 3) - 1) % m;
+        let (pa, pb) = (ring[a], ring[b]);
+        let out_a = (pa - (pa + pb) * 0.5).normalized();
+        let out_b = -out_a;
+        let height = rng.range(150.0, 300.0);
+        let mut pts = vec![
+            pa + out_a * rng.range(100.0, 160.0) - tilt * rng.range(20.0, 60.0) + rng.normal3(),
+            pa,
+        ];
+        let inner = 9;
+        for i in 1..inner {
+            let t = i as f64 / inner as f64;
+            let base = pa.lerp(pb, t);
+            let wobble = rng.normal3() * 6.0;
+            pts.push(base + tilt * (height * (std::f64::consts::PI * t).sin()) + wobble);
+        }
+        pts.push(pb);
+        pts.push(
+            pb + out_b * rng.range(100.0, 160.0) - tilt * rng.range(20.0, 60.0) + rng.normal3(),
+        );
+        if k == 0 {
+            arch0 = pts.clone();
+        } else {
+            // Pass through one inner point of arch 0 (a crossing at an input vertex).
+            let j = rng.index(3, 8);
+            let at = rng.index(3, 8);
+            pts[at] = arch0[j];
+        }
+        curves.push(polyline(pts, false));
+    }
+    curves
+}
+
+/// Builds `curves` with edge length `h` and `supports`.
+pub fn build(curves: &[Polyline], h: f64, supports: Supports) -> Network {
+    build_network(
+        curves,
+        &BuildParams {
+            edge_length: h,
+            supports,
+            ..Default::default()
+        },
+    )
+    .expect("test network builds")
+    .0
+}
+
+/// A straight rod from `start` along unit `dir`, length `len`, `n` edges (built by
+/// `build_network` from a two-point polyline).
+pub fn straight_rod(start: Vec3, dir: Vec3, len: f64, n: usize, supports: Supports) -> Network {
+    let curves = vec![polyline(vec![start, start + dir * len], false)];
+    let net = build(&curves, len / n as f64, supports);
+    assert_eq!(net.rods[0].edge_count(), n, "rod has the requested edges");
+    net
+}
+
+/// The network with every anchor removed.
+pub fn without_anchors(mut net: Network) -> Network {
+    for r in &mut net.rods {
+        r.anchors.clear();
+    }
+    net
+}
+
+/// The full symmetric dense Hessian (loose diagonal included) from the model's upper triangle.
+pub fn dense_hessian(model: &EnergyModel, u: &[f64], active: &ActiveSet) -> Mat<f64> {
+    let a = model.assemble(u, active, true);
+    let p = model.pattern();
+    let mut m = Mat::<f64>::zeros(p.n, p.n);
+    for j in 0..p.n {
+        for s in p.col_ptr[j]..p.col_ptr[j + 1] {
+            let i = p.row_idx[s];
+            m[(i, j)] = a.hess[s];
+            m[(j, i)] = a.hess[s];
+        }
+    }
+    m
+}
+
+/// `‖v‖₂`.
+pub fn norm(v: &[f64]) -> f64 {
+    v.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+/// `|a − b| / max(|a|, |b|)` (0 when both are 0).
+pub fn rel_diff(a: f64, b: f64) -> f64 {
+    let s = a.abs().max(b.abs());
+    if s == 0.0 { 0.0 } else { (a - b).abs() / s }
+}
+
+/// The energy of SPEC §3 written out independently of the library, at positions `x` (flat),
+/// for the curves in `active` (all when `None`). Anchor targets are the rest positions.
+pub fn spec_energy(net: &Network, mat: &Material, x: &[f64], active: Option<&[usize]>) -> f64 {
+    let p = |v: u32| {
+        let i = 3 * v as usize;
+        Vec3::new(x[i], x[i + 1], x[i + 2])
+    };
+    let (ks, kb, mu) = (mat.ks(), mat.kb(), mat.anchor_weight);
+    let mut total = 0.0;
+    for (c, rod) in net.rods.iter().enumerate() {
+        if active.is_some_and(|a| !a.contains(&c)) {
+            continue;
+        }
+        let m = rod.vertices.len();
+        let ne = rod.edge_count();
+        let edge = |j: usize| p(rod.vertices[(j + 1) % m]) - p(rod.vertices[j]);
+        for j in 0..ne {
+            let r = rod.rest_lengths[j];
+            let s = edge(j).norm() / r - 1.0;
+            total += 0.5 * ks * s * s * r;
+        }
+        let centers: Vec<usize> = if rod.closed {
+            (0..m).collect()
+        } else {
+            (1..m - 1).collect()
+        };
+        for i in centers {
+            let (jp, jn) = ((i + ne - 1) % ne, i % ne);
+            let (e0, e1) = (edge(jp), edge(jn));
+            let (r0, r1) = (rod.rest_lengths[jp], rod.rest_lengths[jn]);
+            let kappa = e0.cross(e1) * (2.0 / (r0 * r1 + e0.dot(e1)));
+            total += kb * kappa.norm2() / (r0 + r1);
+        }
+        for &v in &rod.anchors {
+            total += mu * (p(v) - net.positions[v as usize]).norm2();
+        }
+    }
+    total
+}
+
+/// Flat positions `rest + u`.
+pub fn positions_of(net: &Network, u: &[f64]) -> Vec<f64> {
+    net.rest_coordinates()
+        .iter()
+        .zip(u)
+        .map(|(x, d)| x + d)
+        .collect()
+}
+
+/// The reference data folder (`/work/shared/reference-data`, or `../../../shared/…` relative
+/// to this crate), or `None` with a message when absent.
+pub fn data_dir() -> Option<PathBuf> {
+    let cands = [
+        PathBuf::from("/work/shared/reference-data"),
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/reference-data"),
+    ];
+    let found = cands.into_iter().find(|p| p.join("meshes").is_dir());
+    if found.is_none() {
+        eprintln!("reference data not found: skipping");
+    }
+    found
+}
+
+/// The six edges of an irregular tetrahedron (~400 across) as straight open curves that meet
+/// at the four corners: a rigid 3D frame whose rods are straight, so the drawn state is
+/// stress-free (energy 0, gradient 0).
+pub fn tetrahedron_curves() -> Vec<Polyline> {
+    let c = [
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(410.0, 15.0, -10.0),
+        Vec3::new(120.0, 360.0, 20.0),
+        Vec3::new(160.0, 110.0, 390.0),
+    ];
+    let mut out = Vec::new();
+    for i in 0..4 {
+        for j in i + 1..4 {
+            out.push(polyline(vec![c[i], c[j]], false));
+        }
+    }
+    out
+}
+
+/// The rigid motions of positions `x` (flat): three unit translations and the three
+/// infinitesimal rotations `e_k × (x − centroid)`, as vectors over `x.len()` coordinates.
+pub fn rigid_motions(x: &[f64]) -> Vec<Vec<f64>> {
+    let nv = x.len() / 3;
+    let mut c = [0.0; 3];
+    for v in 0..nv {
+        for a in 0..3 {
+            c[a] += x[3 * v + a] / nv as f64;
+        }
+    }
+    let mut out = Vec::new();
+    for a in 0..3 {
+        let mut t = vec![0.0; x.len()];
+        for v in 0..nv {
+            t[3 * v + a] = 1.0;
+        }
+        out.push(t);
+    }
+    for k in 0..3 {
+        let mut e = Vec3::ZERO;
+        e[k] = 1.0;
+        let mut r = vec![0.0; x.len()];
+        for v in 0..nv {
+            let p = Vec3::new(x[3 * v] - c[0], x[3 * v + 1] - c[1], x[3 * v + 2] - c[2]);
+            let w = e.cross(p);
+            r[3 * v..3 * v + 3].copy_from_slice(&w.to_array());
+        }
+        out.push(r);
+    }
+    out
+}
+
+/// An orthonormal basis (modified Gram–Schmidt, twice) of the span of `vs`.
+pub fn orthonormalize(vs: &[Vec<f64>]) -> Vec<Vec<f64>> {
+    let mut out: Vec<Vec<f64>> = Vec::new();
+    for v in vs {
+        let mut w = v.clone();
+        for _ in 0..2 {
+            for q in &out {
+                let d: f64 = w.iter().zip(q).map(|(a, b)| a * b).sum();
+                w.iter_mut().zip(q).for_each(|(a, b)| *a -= d * b);
+            }
+        }
+        let n = norm(&w);
+        assert!(n > 1e-12 * norm(v), "vectors are independent");
+        w.iter_mut().for_each(|a| *a /= n);
+        out.push(w);
+    }
+    out
+}
+
+/// An open curve along x through the origin with a circular curl of radius `r` in the xz-plane
+/// that starts and ends at the origin: the curve passes the origin twice (a self-crossing
+/// joint, listed twice in its rod).
+pub fn curl_curve(r: f64) -> Polyline {
+    let mut pts: Vec<Vec3> = (0..20)
+        .map(|i| Vec3::new(-500.0 + 25.0 * i as f64, 0.0, 0.0))
+        .collect();
+    let m = 24;
+    for k in 0..=m {
+        let t = std::f64::consts::TAU * k as f64 / m as f64;
+        pts.push(Vec3::new(r * t.sin(), 0.0, r * (1.0 - t.cos())));
+    }
+    pts.extend((0..20).map(|i| Vec3::new(10.0 + 25.0 * i as f64, 0.0, 0.0)));
+    polyline(pts, false)
+}
