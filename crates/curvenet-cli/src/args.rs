@@ -24,6 +24,38 @@ pub enum Command {
     Example(ExampleArgs),
     /// Run the whole pipeline on a built-in scene: no input files needed.
     Demo(DemoArgs),
+    /// Time the greedy on the paper's examples and print a table (SPEC §10, issue 4).
+    Bench(BenchArgs),
+}
+
+/// `curvenet bench`.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    /// Examples to run (comma-separated).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "tower,arcshell,roof,shell,kagome"
+    )]
+    pub examples: Vec<String>,
+    /// Folder holding the reference data.
+    #[arg(long)]
+    pub data: Option<PathBuf>,
+    /// Switch off candidate pruning.
+    #[arg(long = "no-prune")]
+    pub no_prune: bool,
+    /// Switch off factorization reuse in Newton (chord steps).
+    #[arg(long = "no-chord")]
+    pub no_chord: bool,
+    /// Switch off warm starts between iterations (modes and the winner's factorization).
+    #[arg(long = "no-warm")]
+    pub no_warm: bool,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Print the rows as JSON lines too.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// `curvenet demo`.
@@ -156,6 +188,9 @@ pub struct ExampleArgs {
     /// Continue an interrupted run in the output folder.
     #[arg(long)]
     pub resume: bool,
+    /// Evaluate every candidate (no pruning by bounds); for measurements.
+    #[arg(long = "no-prune")]
+    pub no_prune: bool,
     /// Print one JSON object on stdout.
     #[arg(long)]
     pub json: bool,

@@ -22,6 +22,7 @@ pub mod io;
 pub mod network;
 pub mod paper;
 pub mod pipeline;
+pub mod profile;
 pub mod report;
 pub mod rng;
 pub mod rod;

@@ -44,5 +44,6 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
         keep: Vec::new(),
         out: a.out,
         resume: false,
+        prune: Default::default(),
     })
 }

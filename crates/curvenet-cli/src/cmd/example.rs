@@ -6,6 +6,7 @@ use crate::args::ExampleArgs;
 use crate::exit::usage;
 use curvenet::network::BuildParams;
 use curvenet::simplify::Budget;
+use curvenet::simplify::candidates::PruneParams;
 use curvenet::simplify::result::InputDescription;
 use curvenet::{paper, pipeline};
 use std::path::PathBuf;
@@ -69,5 +70,9 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
             .clone()
             .unwrap_or_else(|| PathBuf::from("out").join(&a.name)),
         resume: a.resume,
+        prune: PruneParams {
+            enabled: !a.no_prune,
+            ..Default::default()
+        },
     })
 }

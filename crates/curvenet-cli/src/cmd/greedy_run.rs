@@ -5,6 +5,7 @@ use crate::args::GreedyArgs;
 use crate::exit::{ExitError, usage};
 use curvenet::io::Polyline;
 use curvenet::network::{BuildParams, build_network};
+use curvenet::simplify::candidates::PruneParams;
 use curvenet::simplify::greedy::IterationRecord;
 use curvenet::simplify::result::{InputDescription, OutputWriter, RunSetup, summary};
 use curvenet::simplify::{Budget, GreedyParams, SimplifyError, greedy};
@@ -27,6 +28,7 @@ pub struct GreedyJob {
     pub keep: Vec<usize>,
     pub out: PathBuf,
     pub resume: bool,
+    pub prune: PruneParams,
 }
 
 /// The budget from the options, or `default` (a fraction) when none is given.
@@ -51,9 +53,9 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     let (network, info) = build_network(&job.curves, &job.build)?;
     let n = network.rods.len();
     let params = GreedyParams {
-        budget: job.budget,
         keep: job.keep.clone(),
-        tie_tolerance: 1e-7,
+        prune: job.prune.clone(),
+        ..GreedyParams::new(job.budget)
     };
     params.validate(n).map_err(usage)?;
     let total = network.total_length(&(0..n).collect::<Vec<_>>());

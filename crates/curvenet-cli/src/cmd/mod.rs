@@ -1,6 +1,7 @@
 //! One module per subcommand, plus the option handling they share.
 
 mod analyze;
+mod bench;
 mod demo;
 mod example;
 mod greedy_run;
@@ -22,6 +23,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Simplify(a) => simplify::run(a),
         Command::Example(a) => example::run(a),
         Command::Demo(a) => demo::run(a),
+        Command::Bench(a) => bench::run(a),
     }
 }
 

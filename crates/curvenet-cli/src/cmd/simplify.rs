@@ -17,5 +17,6 @@ pub fn run(a: SimplifyArgs) -> anyhow::Result<()> {
         keep: a.greedy.keep.clone(),
         out: a.out.clone(),
         resume: a.greedy.resume,
+        prune: Default::default(),
     })
 }

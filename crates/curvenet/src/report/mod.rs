@@ -5,7 +5,7 @@
 
 use crate::network::{BuildInfo, EdgeLengthStats, Network};
 use crate::rod::{ActiveSet, Material};
-use crate::solve::NewtonStop;
+use crate::solve::{NewtonInfo, NewtonStop};
 use crate::stability::{Analysis, CurveShare, GravityDeflection};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
@@ -21,6 +21,25 @@ pub struct NewtonSummary {
     pub grad_rel: f64,
     /// How it stopped.
     pub stop: NewtonStop,
+    /// Numeric factorizations it took.
+    #[serde(default)]
+    pub factorizations: usize,
+    /// Steps that reused an earlier factorization.
+    #[serde(default)]
+    pub chord_steps: usize,
+}
+
+impl From<&NewtonInfo> for NewtonSummary {
+    fn from(n: &NewtonInfo) -> Self {
+        NewtonSummary {
+            iterations: n.iterations,
+            converged: n.converged,
+            grad_rel: n.grad_rel,
+            stop: n.stop,
+            factorizations: n.factorizations,
+            chord_steps: n.chord_steps,
+        }
+    }
 }
 
 /// The rod radius against the scene: SPEC §3 asks to say what the units imply.
@@ -188,12 +207,7 @@ impl AnalysisReport {
             dofs: network.dofs(),
             edge_length: network.edge_length_stats(),
             supports: network.supports.name().to_string(),
-            newton: NewtonSummary {
-                iterations: analysis.newton.iterations,
-                converged: analysis.newton.converged,
-                grad_rel: analysis.newton.grad_rel,
-                stop: analysis.newton.stop,
-            },
+            newton: NewtonSummary::from(&analysis.newton),
             lambda: sp.lambda(),
             eigenvalues: sp.values.clone(),
             zero_modes: sp.zero_modes,

@@ -19,6 +19,7 @@
 use super::{Material, terms};
 use crate::geom::Vec3;
 use crate::network::Network;
+use crate::profile::{Phase, Timer};
 use std::ops::Range;
 
 /// A stretching term (one edge). `e` is the rest edge vector `X1 − X0`.
@@ -239,6 +240,8 @@ pub struct EnergyModel {
     rods: Vec<RodTerms>,
     /// For every vertex, the curves through it.
     vertex_curves: Vec<Vec<u32>>,
+    /// For every curve, its vertices (ascending, no repeats).
+    curve_vertices: Vec<Vec<u32>>,
     pattern: Pattern,
     /// Block positions for each term: `pos[p][q]` locates the 3×3 block of local vertices
     /// `(p, q)` in the column of the larger global vertex.
@@ -302,6 +305,16 @@ impl EnergyModel {
             });
         }
         let vertex_curves = network.vertex_curves();
+        let curve_vertices = network
+            .rods
+            .iter()
+            .map(|r| {
+                let mut v = r.vertices.clone();
+                v.sort_unstable();
+                v.dedup();
+                v
+            })
+            .collect();
 
         // Vertex adjacency: for each vertex j, the vertices i <= j sharing a term with it.
         let mut lower: Vec<Vec<u32>> = (0..n_vertices as u32).map(|j| vec![j]).collect();
@@ -393,6 +406,7 @@ impl EnergyModel {
             anchor,
             rods,
             vertex_curves,
+            curve_vertices,
             pattern: Pattern {
                 n,
                 col_ptr,
@@ -486,6 +500,7 @@ impl EnergyModel {
 
     /// [`Self::assemble`] into existing buffers (resized as needed).
     pub fn assemble_into(&self, u: &[f64], active: &ActiveSet, hessian: bool, out: &mut Assembly) {
+        let _timer = Timer::new(Phase::Assemble);
         assert_eq!(
             u.len(),
             self.dofs(),
@@ -572,6 +587,7 @@ impl EnergyModel {
     /// many structures at the same state ([`Self::hessian_from_locals`]).
     pub fn local_hessians(&self, u: &[f64]) -> LocalHessians {
         use rayon::prelude::*;
+        let _timer = Timer::new(Phase::Assemble);
         assert_eq!(
             u.len(),
             self.dofs(),
@@ -605,6 +621,7 @@ impl EnergyModel {
         active: &ActiveSet,
         hess: &mut Vec<f64>,
     ) {
+        let _timer = Timer::new(Phase::Assemble);
         hess.clear();
         hess.resize(self.pattern.nnz(), 0.0);
         for (_, r) in self.active_terms(active) {
@@ -638,6 +655,58 @@ impl EnergyModel {
     /// Curves through each vertex.
     pub fn vertex_curves(&self) -> &[Vec<u32>] {
         &self.vertex_curves
+    }
+
+    /// Vertices of curve `c`, ascending.
+    pub fn curve_vertices(&self, c: usize) -> &[u32] {
+        &self.curve_vertices[c]
+    }
+
+    /// `H_c X` restricted to curve `c`'s vertices: the Hessian of `c`'s own terms (from
+    /// `locals`) times the columns of `x` (`3V × k`). Row block `i` of the result (3 rows)
+    /// belongs to vertex `curve_vertices(c)[i]`; the result is `3·|vertices| × k`.
+    pub fn curve_hessian_product(
+        &self,
+        locals: &LocalHessians,
+        c: usize,
+        x: faer::MatRef<'_, f64>,
+    ) -> faer::Mat<f64> {
+        let verts = &self.curve_vertices[c];
+        let k = x.ncols();
+        let mut out = faer::Mat::<f64>::zeros(3 * verts.len(), k);
+        let slot = |v: u32| verts.binary_search(&v).expect("vertex of the curve");
+        let r = &self.rods[c];
+        let mut add = |vs: &[u32], h: &dyn Fn(usize, usize) -> f64| {
+            for (p, &vp) in vs.iter().enumerate() {
+                let row = 3 * slot(vp);
+                for (q, &vq) in vs.iter().enumerate() {
+                    let col = 3 * vq as usize;
+                    for a in 0..3 {
+                        for b in 0..3 {
+                            let hv = h(3 * p + a, 3 * q + b);
+                            if hv != 0.0 {
+                                for j in 0..k {
+                                    out[(row + a, j)] += hv * x[(col + b, j)];
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        };
+        for t in r.stretch.clone() {
+            let l = &locals.stretch[t];
+            add(&self.stretch[t].v, &|i, j| l[i][j]);
+        }
+        for t in r.bend.clone() {
+            let l = &locals.bend[t];
+            add(&self.bend[t].v, &|i, j| l[i][j]);
+        }
+        let two_mu = 2.0 * self.mu;
+        for t in &self.anchor[r.anchor.clone()] {
+            add(&[t.v], &|i, j| if i == j { two_mu } else { 0.0 });
+        }
+        out
     }
 
     /// The Hessian of the active structure with the rows and columns of loose vertices deleted

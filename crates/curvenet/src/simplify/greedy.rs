@@ -15,11 +15,12 @@
 //! `A`'s low modes. Every candidate's computation is deterministic and independent of the
 //! others, so the choice does not depend on the thread count.
 
-use super::{Budget, Evaluation, Scorer, SimplifyError, pick_best};
+use super::candidates::{CandidateContext, CandidateScore, PruneParams};
+use super::{Budget, Evaluation, Scorer, SimplifyError, Work, pick_best};
 use crate::report::NewtonSummary;
 use crate::rod::ActiveSet;
 use crate::stability::Analyzer;
-use rayon::prelude::*;
+use faer::Mat;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -33,6 +34,23 @@ pub struct GreedyParams {
     pub keep: Vec<usize>,
     /// Relative tolerance under which two scores tie (SPEC: 1e-7).
     pub tie_tolerance: f64,
+    /// Candidate pruning by Rayleigh–Ritz bounds.
+    #[serde(default)]
+    pub prune: PruneParams,
+    /// Low modes computed per iteration (the bounds' subspace).
+    #[serde(default = "default_modes")]
+    pub modes: usize,
+    /// Start each iteration from the previous one's modes and the winner's factorization.
+    #[serde(default = "default_true")]
+    pub warm_start: bool,
+}
+
+fn default_true() -> bool {
+    true
+}
+
+fn default_modes() -> usize {
+    4
 }
 
 impl GreedyParams {
@@ -42,6 +60,9 @@ impl GreedyParams {
             budget,
             keep: Vec::new(),
             tie_tolerance: 1e-7,
+            prune: PruneParams::default(),
+            modes: default_modes(),
+            warm_start: true,
         }
     }
 
@@ -62,18 +83,6 @@ impl GreedyParams {
         }
         Ok(())
     }
-}
-
-/// The score of one candidate removal.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct CandidateScore {
-    /// Curve removed.
-    pub curve: usize,
-    /// `λ_fix(A \ {curve} | A)`, or `None` when the eigen solve failed.
-    pub score: Option<f64>,
-    /// The failure, if any.
-    #[serde(skip_serializing_if = "Option::is_none", default)]
-    pub error: Option<String>,
 }
 
 /// One iteration of the greedy: the relaxed network after `k` removals.
@@ -120,12 +129,18 @@ pub enum StopReason {
 pub struct GreedyTimings {
     /// Relaxations and `λ_eq` spectra.
     pub relax_seconds: f64,
-    /// Local Hessians per iteration.
+    /// Per-iteration preparation of the candidates (local Hessians, `H·V`).
     pub locals_seconds: f64,
     /// Candidate scoring (wall time).
     pub candidates_seconds: f64,
     /// Candidate evaluations performed.
     pub candidate_evaluations: usize,
+    /// Candidates skipped because their bound showed they could not win.
+    pub candidates_pruned: usize,
+    /// Factorizations and solves of relaxations and `λ_eq` spectra.
+    pub relax_work: Work,
+    /// Factorizations and solves of candidate scores.
+    pub candidate_work: Work,
     /// Total wall time.
     pub total_seconds: f64,
 }
@@ -165,14 +180,16 @@ impl GreedyHooks for NoHooks {
     }
 }
 
-/// A completed iteration to resume from: the curves of the next network and the equilibrium
-/// of the previous one (the warm start).
+/// A completed iteration to resume from: the last recorded network's equilibrium and low
+/// modes, from which the next iteration starts exactly as an uninterrupted run would.
 #[derive(Clone, Debug)]
 pub struct ResumePoint {
     /// Iterations already recorded.
     pub iterations: Vec<IterationRecord>,
     /// Equilibrium displacements of the last recorded iteration.
     pub displacement: Vec<f64>,
+    /// Low modes of the last recorded iteration (columns).
+    pub modes: Mat<f64>,
 }
 
 /// Runs the greedy on `analyzer`'s network.
@@ -187,15 +204,18 @@ pub fn greedy(
     params.validate(n).map_err(SimplifyError::Params)?;
     let total = analyzer.network().total_length(&(0..n).collect::<Vec<_>>());
     let budget = params.budget.length(total);
-    let scorer = Scorer::new(analyzer);
+    let scorer = Scorer::new(analyzer).with_modes(params.modes);
     let mut keep = vec![false; n];
     for &c in &params.keep {
         keep[c] = true;
     }
     let mut timings = GreedyTimings::default();
 
-    let (mut iterations, mut active, mut warm) = match resume {
-        None => (Vec::new(), ActiveSet::all(n), None),
+    // What each iteration hands the next: its equilibrium (Newton's start), its low modes (the
+    // eigen solver's start) and the factorization of the winning candidate's Hessian, which is
+    // the next structure's Hessian at that start (Newton's first matrix).
+    let (mut iterations, mut active, mut warm, mut warm_modes, mut next_factor) = match resume {
+        None => (Vec::new(), ActiveSet::all(n), None, None, None),
         Some(r) => {
             let last = r
                 .iterations
@@ -204,9 +224,17 @@ pub fn greedy(
             let removed = last
                 .removed
                 .ok_or_else(|| SimplifyError::Params("the recorded run already finished".into()))?;
-            let mut a = ActiveSet::from_curves(n, &last.curves);
-            a.remove(removed);
-            (r.iterations, a, Some(r.displacement))
+            let prev = ActiveSet::from_curves(n, &last.curves);
+            // Recompute the winner's factorization: it depends only on the recorded state.
+            let ctx = CandidateContext::new(&scorer, &prev, &r.displacement, r.modes.as_ref());
+            let factor = ctx.score(removed).ok().map(|(_, f)| f);
+            (
+                r.iterations,
+                prev.without(removed),
+                Some(r.displacement),
+                Some(r.modes),
+                factor,
+            )
         }
     };
 
@@ -215,8 +243,17 @@ pub fn greedy(
             return Err(SimplifyError::Cancelled);
         }
         let t = Instant::now();
-        let eval = scorer.evaluate(&active, warm.as_deref())?;
+        let (factor, modes) = if params.warm_start {
+            (
+                next_factor.take(),
+                warm_modes.as_ref().map(|m: &Mat<f64>| m.as_ref()),
+            )
+        } else {
+            (None, None)
+        };
+        let eval = scorer.evaluate_warm(&active, warm.as_deref(), factor, modes)?;
         timings.relax_seconds += t.elapsed().as_secs_f64();
+        timings.relax_work.add(eval.work);
         let k = iterations.len();
         let mut record = IterationRecord {
             curves: eval.curves.clone(),
@@ -255,37 +292,23 @@ pub fn greedy(
 
         // Score every candidate at A's equilibrium.
         let t = Instant::now();
-        let locals = analyzer.model().local_hessians(&eval.displacement);
+        let ctx = CandidateContext::new(
+            &scorer,
+            &active,
+            &eval.displacement,
+            eval.spectrum.vectors.as_ref(),
+        );
         timings.locals_seconds += t.elapsed().as_secs_f64();
         let t = Instant::now();
-        let modes = eval.spectrum.vectors.as_ref();
         let shared: &dyn GreedyHooks = &*hooks;
-        let scores: Vec<CandidateScore> = candidates
-            .par_iter()
-            .map(|&c| {
-                if shared.cancelled() {
-                    return CandidateScore {
-                        curve: c,
-                        score: None,
-                        error: Some("cancelled".into()),
-                    };
-                }
-                match scorer.lambda_fixed(&locals, &active.without(c), Some(modes)) {
-                    Ok(sp) => CandidateScore {
-                        curve: c,
-                        score: Some(sp.lambda()),
-                        error: None,
-                    },
-                    Err(e) => CandidateScore {
-                        curve: c,
-                        score: None,
-                        error: Some(e.to_string()),
-                    },
-                }
-            })
-            .collect();
+        let (scores, mut factors) =
+            ctx.score_all(&candidates, &params.prune, params.tie_tolerance, &|| {
+                shared.cancelled()
+            });
         timings.candidates_seconds += t.elapsed().as_secs_f64();
-        timings.candidate_evaluations += scores.len();
+        timings.candidate_evaluations += scores.iter().filter(|s| !s.pruned).count();
+        timings.candidates_pruned += scores.iter().filter(|s| s.pruned).count();
+        timings.candidate_work.add(ctx.work());
         if hooks.cancelled() {
             return Err(SimplifyError::Cancelled);
         }
@@ -314,6 +337,11 @@ pub fn greedy(
             .map_err(SimplifyError::Hook)?;
         iterations.push(record);
         active.remove(chosen);
+        next_factor = factors
+            .iter()
+            .position(|f| f.0 == chosen)
+            .map(|i| factors.swap_remove(i).1);
+        warm_modes = Some(eval.spectrum.vectors);
         warm = Some(eval.displacement);
     }
 }

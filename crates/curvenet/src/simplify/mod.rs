@@ -8,6 +8,7 @@
 //! All searches share [`Scorer`], which evaluates `λ_eq(S)` and `λ_fix(S | A)` the same way
 //! for everyone, so their answers are comparable.
 
+pub mod candidates;
 pub mod exhaustive;
 pub mod greedy;
 pub mod random;
@@ -18,7 +19,10 @@ pub use greedy::{GreedyHooks, GreedyOutcome, GreedyParams, StopReason, greedy};
 use crate::report::NewtonSummary;
 use crate::rod::ActiveSet;
 use crate::rod::model::LocalHessians;
-use crate::solve::eigen::{EigenParams, Spectrum, smallest_eigenpairs};
+use crate::solve::Cholesky;
+use crate::solve::eigen::{
+    EigenParams, Spectrum, smallest_eigenpairs, smallest_eigenpairs_factored,
+};
 use crate::stability::{Analyzer, StabilityError};
 use faer::{Mat, MatRef};
 use serde::{Deserialize, Serialize};
@@ -86,6 +90,25 @@ pub struct Evaluation {
     pub displacement: Vec<f64>,
     /// Spectrum at equilibrium.
     pub spectrum: Spectrum,
+    /// Factorizations and solves it took.
+    pub work: Work,
+}
+
+/// Counts of the expensive operations, for benchmarks.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Work {
+    /// Sparse numeric factorizations.
+    pub factorizations: usize,
+    /// Solves with a factor (one per right-hand side).
+    pub solves: usize,
+}
+
+impl Work {
+    /// Adds `other` to `self`.
+    pub fn add(&mut self, other: Work) {
+        self.factorizations += other.factorizations;
+        self.solves += other.solves;
+    }
 }
 
 impl Evaluation {
@@ -99,6 +122,8 @@ impl Evaluation {
 #[derive(Debug)]
 pub struct Scorer<'a> {
     analyzer: &'a Analyzer,
+    /// Eigen parameters for `λ_eq` spectra (enough modes for the candidates' bounds).
+    eval_eigen: EigenParams,
     /// Eigen parameters for candidate scores (only `λ` is needed).
     candidate_eigen: EigenParams,
 }
@@ -110,10 +135,26 @@ impl<'a> Scorer<'a> {
         candidate_eigen.count = 2.min(candidate_eigen.count);
         candidate_eigen.block_size = 2.min(candidate_eigen.block_size);
         candidate_eigen.max_basis = candidate_eigen.max_basis.min(40);
+        // Scores need λ to ~1e-12 relative (ties are 1e-7 apart); with the pair captured by the
+        // block, the Ritz value error is about tol²/gap.
+        candidate_eigen.tol = candidate_eigen.tol.max(1e-8);
         Scorer {
             analyzer,
+            eval_eigen: analyzer.params().eigen.clone(),
             candidate_eigen,
         }
+    }
+
+    /// Computes at least `k` modes in every `λ_eq` spectrum (for the candidates' bounds).
+    pub fn with_modes(mut self, k: usize) -> Self {
+        self.eval_eigen.count = self.eval_eigen.count.max(k);
+        // Blocks as wide as the solver's column groups: every solve call is a full group.
+        self.eval_eigen.block_size = crate::solve::factor::SOLVE_GROUP.min(k.max(1));
+        self.eval_eigen.max_basis = self
+            .eval_eigen
+            .max_basis
+            .max(self.eval_eigen.count + 6 * self.eval_eigen.block_size);
+        self
     }
 
     /// The analyzer.
@@ -127,22 +168,43 @@ impl<'a> Scorer<'a> {
         active: &ActiveSet,
         start: Option<&[f64]>,
     ) -> Result<Evaluation, StabilityError> {
+        self.evaluate_warm(active, start, None, None)
+    }
+
+    /// [`Self::evaluate`] with help from a previous step: `factor`, a factorization of a
+    /// nearby Hessian of the same structure (Newton's first steps reuse it), and `modes`,
+    /// approximate low modes (the eigen solver starts from them). Only the work changes.
+    pub fn evaluate_warm(
+        &self,
+        active: &ActiveSet,
+        start: Option<&[f64]>,
+        factor: Option<Cholesky>,
+        modes: Option<MatRef<'_, f64>>,
+    ) -> Result<Evaluation, StabilityError> {
         let a = self.analyzer;
         if active.is_empty() {
             return Err(StabilityError::Empty);
         }
-        let mut u = start.map_or_else(|| vec![0.0; a.model().dofs()], <[f64]>::to_vec);
-        let newton = a.relax(active, &mut u);
-        let spectrum = a.spectrum(active, &u, None)?;
+        let model = a.model();
+        let mut u = start.map_or_else(|| vec![0.0; model.dofs()], <[f64]>::to_vec);
+        let newton = a.relax_with_factor(active, &mut u, factor);
+        let h = model.assemble(&u, active, true).hess;
+        let warm = modes.map(|w| restrict(w, &model.vertex_mask(active)));
+        let spectrum = smallest_eigenpairs(
+            model.pattern(),
+            &h,
+            a.symbolic(),
+            warm.as_ref().map(|w| w.as_ref()),
+            &self.eval_eigen,
+        )?;
         let curves = active.curves();
         Ok(Evaluation {
             length: a.network().total_length(&curves),
             curves,
-            newton: NewtonSummary {
-                iterations: newton.iterations,
-                converged: newton.converged,
-                grad_rel: newton.grad_rel,
-                stop: newton.stop,
+            newton: NewtonSummary::from(&newton),
+            work: Work {
+                factorizations: spectrum.factorizations + newton.factorizations,
+                solves: spectrum.solves,
             },
             displacement: u,
             spectrum,
@@ -170,13 +232,13 @@ impl<'a> Scorer<'a> {
     }
 
     /// `λ_fix(active | A)` from the local Hessians at `A`'s equilibrium, warm-started from
-    /// `warm` (e.g. `A`'s low modes).
+    /// `warm` (approximate low modes), with the factorization it used.
     pub fn lambda_fixed(
         &self,
         locals: &LocalHessians,
         active: &ActiveSet,
         warm: Option<MatRef<'_, f64>>,
-    ) -> Result<Spectrum, StabilityError> {
+    ) -> Result<(Spectrum, Cholesky), StabilityError> {
         if active.is_empty() {
             return Err(StabilityError::Empty);
         }
@@ -184,7 +246,7 @@ impl<'a> Scorer<'a> {
         let mut h = Vec::new();
         model.hessian_from_locals(locals, active, &mut h);
         let warm = warm.map(|w| restrict(w, &model.vertex_mask(active)));
-        Ok(smallest_eigenpairs(
+        Ok(smallest_eigenpairs_factored(
             model.pattern(),
             &h,
             self.analyzer.symbolic(),

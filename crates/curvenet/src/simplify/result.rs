@@ -6,6 +6,7 @@
 //! DIR/network.json        the locked network (rest positions, rods, rest lengths, anchors)
 //! DIR/modes/KKKK.bin      worst-case mode of iteration K: 3·V little-endian f64
 //! DIR/states/KKKK.bin     equilibrium displacements of iteration K: 3·V little-endian f64
+//! DIR/states/KKKK.modes.bin all low modes of iteration K, column after column (resume state)
 //! DIR/iterations/KKKK.obj the network of iteration K at equilibrium, one polyline per curve
 //! DIR/final.obj           the final network at equilibrium
 //! DIR/summary.txt         a short text summary
@@ -238,13 +239,17 @@ impl<'a> OutputWriter<'a> {
         let point = match result.iterations.last() {
             Some(last) if !result.complete && last.removed.is_some() => {
                 let k = result.iterations.len() - 1;
+                let n = network.dofs();
                 let displacement = read_f64_file(&dir.join(format!("states/{k:04}.bin")))?;
-                if displacement.len() != network.dofs() {
+                let modes = read_f64_file(&dir.join(format!("states/{k:04}.modes.bin")))?;
+                if displacement.len() != n || modes.is_empty() || modes.len() % n != 0 {
                     return Err(format!("states/{k:04}.bin does not match the network"));
                 }
+                let modes = faer::Mat::from_fn(n, modes.len() / n, |i, j| modes[j * n + i]);
                 Some(ResumePoint {
                     iterations: result.iterations.clone(),
                     displacement,
+                    modes,
                 })
             }
             _ => None,

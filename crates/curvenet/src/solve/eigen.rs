@@ -143,6 +143,19 @@ pub fn smallest_eigenpairs(
     warm_start: Option<MatRef<'_, f64>>,
     params: &EigenParams,
 ) -> Result<Spectrum, EigenError> {
+    smallest_eigenpairs_factored(pattern, values, symbolic, warm_start, params).map(|(s, _)| s)
+}
+
+/// [`smallest_eigenpairs`], also returning the factorization of `H − σI` it used (a good
+/// Newton matrix for the same structure near this state).
+pub fn smallest_eigenpairs_factored(
+    pattern: &Pattern,
+    values: &[f64],
+    symbolic: &Arc<SymbolicFactor>,
+    warm_start: Option<MatRef<'_, f64>>,
+    params: &EigenParams,
+) -> Result<(Spectrum, Cholesky), EigenError> {
+    let _timer = crate::profile::Timer::new(crate::profile::Phase::Eigen);
     params.validate().map_err(EigenError::InvalidParams)?;
     let n = pattern.n;
     let norm1 = pattern.sym_norm1(values);
@@ -208,17 +221,20 @@ pub fn smallest_eigenpairs(
     }
     let zero_modes = vals.iter().filter(|l| l.abs() <= zero_threshold).count();
     let negative_modes = vals.iter().filter(|&&l| l < -zero_threshold).count();
-    Ok(Spectrum {
-        values: vals,
-        vectors,
-        residuals,
-        norm1,
-        zero_threshold,
-        zero_modes,
-        negative_modes,
-        shift,
-        factorizations,
-        solves: pairs.info.applications,
-        restarts: pairs.info.restarts,
-    })
+    Ok((
+        Spectrum {
+            values: vals,
+            vectors,
+            residuals,
+            norm1,
+            zero_threshold,
+            zero_modes,
+            negative_modes,
+            shift,
+            factorizations,
+            solves: pairs.info.applications,
+            restarts: pairs.info.restarts,
+        },
+        factor,
+    ))
 }

@@ -19,6 +19,9 @@ use faer::sparse::linalg::cholesky::{
 use faer::{Conj, MatMut, Par, Side};
 use std::sync::Arc;
 
+/// Right-hand sides solved together in one call (see [`Cholesky::solve_in_place`]).
+pub const SOLVE_GROUP: usize = 4;
+
 /// The symbolic Cholesky analysis of a pattern.
 #[derive(Debug)]
 pub struct SymbolicFactor {
@@ -69,6 +72,17 @@ impl Cholesky {
         values: &[f64],
         shift: f64,
     ) -> Result<Cholesky, NotPositiveDefinite> {
+        crate::profile::time(crate::profile::Phase::Factor, || {
+            Self::factorize_impl(symbolic, pattern, values, shift)
+        })
+    }
+
+    fn factorize_impl(
+        symbolic: &Arc<SymbolicFactor>,
+        pattern: &Pattern,
+        values: &[f64],
+        shift: f64,
+    ) -> Result<Cholesky, NotPositiveDefinite> {
         let shifted;
         let vals = if shift != 0.0 {
             let mut v = values.to_vec();
@@ -107,8 +121,34 @@ impl Cholesky {
         }
     }
 
-    /// Solves `(H + τI) X = B` in place for the columns of `rhs`.
+    /// Solves `(H + τI) X = B` in place for the columns of `rhs`, in fixed groups of
+    /// [`SOLVE_GROUP`] columns run in parallel.
     pub fn solve_in_place(&self, rhs: MatMut<'_, f64>) {
+        crate::profile::time(crate::profile::Phase::Solve, || self.solve_impl(rhs))
+    }
+
+    fn solve_impl(&self, rhs: MatMut<'_, f64>) {
+        // Columns are solved in fixed groups of `SOLVE_GROUP`, in parallel when threads are
+        // free. faer's result for a column depends on which columns share its call, so the
+        // grouping is fixed (never by thread count) to keep results bit-identical.
+        let k = rhs.ncols();
+        if k <= SOLVE_GROUP {
+            self.solve_group(rhs);
+            return;
+        }
+        let mut groups = Vec::with_capacity(k.div_ceil(SOLVE_GROUP));
+        let mut rest = rhs;
+        while rest.ncols() > SOLVE_GROUP {
+            let (a, b) = rest.split_at_col_mut(SOLVE_GROUP);
+            groups.push(a);
+            rest = b;
+        }
+        groups.push(rest);
+        use rayon::prelude::*;
+        groups.into_par_iter().for_each(|g| self.solve_group(g));
+    }
+
+    fn solve_group(&self, rhs: MatMut<'_, f64>) {
         let sym = &self.symbolic.inner;
         let mut mem = MemBuffer::new(sym.solve_in_place_scratch::<f64>(rhs.ncols(), Par::Seq));
         LltRef::new(sym, &self.values).solve_in_place_with_conj(

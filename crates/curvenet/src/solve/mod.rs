@@ -10,6 +10,8 @@ pub mod factor;
 pub mod lanczos;
 pub mod newton;
 
-pub use eigen::{EigenError, EigenParams, Spectrum, smallest_eigenpairs};
+pub use eigen::{
+    EigenError, EigenParams, Spectrum, smallest_eigenpairs, smallest_eigenpairs_factored,
+};
 pub use factor::{Cholesky, NotPositiveDefinite, SymbolicFactor};
-pub use newton::{NewtonInfo, NewtonParams, NewtonStop, relax};
+pub use newton::{NewtonInfo, NewtonParams, NewtonStop, relax, relax_with_factor};

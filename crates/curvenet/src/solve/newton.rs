@@ -29,6 +29,9 @@ pub struct NewtonParams {
     pub stall_iterations: usize,
     /// A stall at a relative gradient above this is a failure, not a round-off floor.
     pub floor_max_rel: f64,
+    /// Reuse the last factorization for a step ("chord" step) and keep it when the step cuts
+    /// `‖∇E‖` by at least this factor; 0 disables reuse (every step refactors).
+    pub chord_ratio: f64,
 }
 
 impl Default for NewtonParams {
@@ -40,6 +43,7 @@ impl Default for NewtonParams {
             max_backtracks: 60,
             stall_iterations: 4,
             floor_max_rel: 1e-6,
+            chord_ratio: 0.25,
         }
     }
 }
@@ -103,8 +107,18 @@ pub struct NewtonInfo {
     pub energy: f64,
     /// Numeric factorizations performed (including failed and shifted ones).
     pub factorizations: usize,
+    /// Iterations that reused an earlier factorization.
+    pub chord_steps: usize,
     /// Largest diagonal shift `τ` used.
     pub max_shift: f64,
+}
+
+/// The Newton direction `F⁻¹ g` if it is a finite descent direction (`gᵀd > 0`).
+fn descent(f: &Cholesky, g: &[f64]) -> Option<Vec<f64>> {
+    let mut d = g.to_vec();
+    f.solve_vec(&mut d);
+    let gd: f64 = d.iter().zip(g).map(|(a, b)| a * b).sum();
+    (gd > 0.0 && gd.is_finite()).then_some(d)
 }
 
 fn norm(v: &[f64]) -> f64 {
@@ -125,6 +139,22 @@ pub fn relax(
     grad_reference: Option<f64>,
     params: &NewtonParams,
 ) -> NewtonInfo {
+    relax_with_factor(model, active, symbolic, x, grad_reference, params, None)
+}
+
+/// [`relax`] starting with a factorization of a nearby Hessian (e.g. the structure's Hessian
+/// at a previous equilibrium) for the first steps. The result meets the same tolerance; only
+/// the work changes.
+pub fn relax_with_factor(
+    model: &EnergyModel,
+    active: &ActiveSet,
+    symbolic: &Arc<SymbolicFactor>,
+    x: &mut [f64],
+    grad_reference: Option<f64>,
+    params: &NewtonParams,
+    initial: Option<Cholesky>,
+) -> NewtonInfo {
+    let _timer = crate::profile::Timer::new(crate::profile::Phase::Relax);
     let pattern = model.pattern();
     let mut cur = model.assemble(x, active, true);
     let g_start = norm(&cur.grad);
@@ -138,6 +168,7 @@ pub fn relax(
         grad_rel: if g_ref > 0.0 { g_start / g_ref } else { 0.0 },
         energy: cur.energy,
         factorizations: 0,
+        chord_steps: 0,
         max_shift: 0.0,
     };
     if !cur.energy.is_finite() || !g_start.is_finite() {
@@ -154,6 +185,10 @@ pub fn relax(
     let mut best_grad = g_start;
     let mut stalled = 0;
     let mut last_decrease = f64::INFINITY;
+    // `fresh`: a factorization of the Hessian at the current point (the caller's, at the
+    // start); `stale`: the last factorization, for chord steps at later points.
+    let mut fresh: Option<Cholesky> = initial;
+    let mut stale: Option<Cholesky> = None;
     loop {
         let g_norm = norm(&cur.grad);
         info.grad_end = g_norm;
@@ -186,6 +221,30 @@ pub fn relax(
             return info;
         }
 
+        // A chord step with an earlier factorization, kept when it cuts the gradient enough.
+        if let Some(f) = stale.take().filter(|_| fresh.is_none()) {
+            if let Some(d) = descent(&f, &cur.grad) {
+                let gd: f64 = d.iter().zip(&cur.grad).map(|(a, b)| a * b).sum();
+                for ((t, xi), di) in trial.iter_mut().zip(x.iter()).zip(&d) {
+                    *t = xi - di;
+                }
+                let a = model.assemble(&trial, active, true);
+                let roundoff = 1e-13 * cur.energy.abs().max(f64::MIN_POSITIVE);
+                let decreases = a.energy <= cur.energy - params.armijo * gd
+                    || (a.energy - cur.energy).abs() <= roundoff;
+                if a.energy.is_finite() && decreases && norm(&a.grad) <= params.chord_ratio * g_norm
+                {
+                    last_decrease = cur.energy - a.energy;
+                    x.copy_from_slice(&trial);
+                    cur = a;
+                    info.iterations += 1;
+                    info.chord_steps += 1;
+                    stale = Some(f);
+                    continue;
+                }
+            }
+        }
+
         // Direction: (H + τI) d = g with the smallest τ that gives a descent direction.
         let mut shift = if last_shift > 0.0 {
             last_shift * 0.1
@@ -195,33 +254,41 @@ pub fn relax(
         if shift < 1e-12 * diag_scale {
             shift = 0.0;
         }
-        let mut d = vec![0.0; x.len()];
-        let mut tries = 0;
-        loop {
-            tries += 1;
-            info.factorizations += 1;
-            let ok = match Cholesky::factorize(symbolic, pattern, &cur.hess, shift) {
-                Ok(f) => {
-                    d.copy_from_slice(&cur.grad);
-                    f.solve_vec(&mut d);
-                    let gd: f64 = d.iter().zip(&cur.grad).map(|(a, b)| a * b).sum();
-                    gd > 0.0 && gd.is_finite()
+        let reuse = fresh
+            .take()
+            .and_then(|f| descent(&f, &cur.grad).map(|d| (d, f)));
+        let d = match reuse {
+            Some((d, f)) => {
+                if params.chord_ratio > 0.0 {
+                    stale = Some(f);
                 }
-                Err(_) => false,
-            };
-            if ok {
-                break;
+                d
             }
-            if tries > 60 {
-                info.stop = NewtonStop::LineSearchFailed;
-                return info;
+            None => {
+                let mut tries = 0;
+                loop {
+                    tries += 1;
+                    info.factorizations += 1;
+                    if let Ok(f) = Cholesky::factorize(symbolic, pattern, &cur.hess, shift) {
+                        if let Some(d) = descent(&f, &cur.grad) {
+                            if params.chord_ratio > 0.0 {
+                                stale = Some(f);
+                            }
+                            break d;
+                        }
+                    }
+                    if tries > 60 {
+                        info.stop = NewtonStop::LineSearchFailed;
+                        return info;
+                    }
+                    shift = if shift == 0.0 {
+                        1e-8 * diag_scale
+                    } else {
+                        shift * 10.0
+                    };
+                }
             }
-            shift = if shift == 0.0 {
-                1e-8 * diag_scale
-            } else {
-                shift * 10.0
-            };
-        }
+        };
         last_shift = shift;
         info.max_shift = info.max_shift.max(shift);
         let gd: f64 = d.iter().zip(&cur.grad).map(|(a, b)| a * b).sum();

@@ -12,7 +12,7 @@
 use crate::network::Network;
 use crate::rod::{ActiveSet, EnergyModel, Material};
 use crate::solve::eigen::{EigenError, EigenParams, Spectrum, smallest_eigenpairs};
-use crate::solve::{Cholesky, NewtonInfo, NewtonParams, SymbolicFactor, relax};
+use crate::solve::{Cholesky, NewtonInfo, NewtonParams, SymbolicFactor, relax_with_factor};
 use faer::MatRef;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -186,16 +186,28 @@ impl Analyzer {
     /// Relaxes `active` from displacements `u` (updated in place). The relative tolerance is
     /// measured against the structure's gradient in the drawn state, whatever `u` starts at.
     pub fn relax(&self, active: &ActiveSet, u: &mut [f64]) -> NewtonInfo {
+        self.relax_with_factor(active, u, None)
+    }
+
+    /// [`Self::relax`] whose first steps reuse `factor`, a factorization of a nearby Hessian
+    /// of the same structure.
+    pub fn relax_with_factor(
+        &self,
+        active: &ActiveSet,
+        u: &mut [f64],
+        factor: Option<Cholesky>,
+    ) -> NewtonInfo {
         let zero = vec![0.0; self.model.dofs()];
         let g0 = self.model.assemble(&zero, active, false).grad;
         let reference = g0.iter().map(|g| g * g).sum::<f64>().sqrt();
-        relax(
+        relax_with_factor(
             &self.model,
             active,
             &self.symbolic,
             u,
             Some(reference),
             &self.params.newton,
+            factor,
         )
     }
 

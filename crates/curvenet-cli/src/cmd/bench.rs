@@ -1,0 +1,165 @@
+//! `curvenet bench`: the greedy on the paper's examples, timed phase by phase.
+//!
+//! Each example runs in this process with a fresh profile and peak-memory mark; the table
+//! gives counts (curves, degrees of freedom, iterations, candidate solves done and skipped,
+//! factorizations) and times (relax, assemble, factor, eigen; summed over threads) next to the
+//! wall time and the reference implementation's time on this kind of machine.
+
+use crate::args::BenchArgs;
+use crate::exit::usage;
+use curvenet::network::build_network;
+use curvenet::simplify::greedy::NoHooks;
+use curvenet::simplify::{Budget, GreedyParams, greedy};
+use curvenet::stability::{Analyzer, StabilityParams};
+use curvenet::{paper, profile};
+use serde::Serialize;
+use std::time::Instant;
+
+/// The reference implementation's greedy on a 2-core machine like this one (issue 4), seconds.
+fn reference_seconds(name: &str) -> Option<f64> {
+    match name {
+        "tower" => Some(109.0),
+        "arcshell" => Some(136.0),
+        "shell" => Some(153.0),
+        _ => None,
+    }
+}
+
+#[derive(Debug, Serialize)]
+struct Row {
+    example: String,
+    curves: usize,
+    kept: usize,
+    dofs: usize,
+    iterations: usize,
+    evaluated: usize,
+    pruned: usize,
+    factorizations: usize,
+    solves: usize,
+    relax_s: f64,
+    assemble_s: f64,
+    factor_s: f64,
+    eigen_s: f64,
+    bound_s: f64,
+    wall_s: f64,
+    peak_mib: Option<f64>,
+    reference_s: Option<f64>,
+    removed_first: Vec<usize>,
+    final_lambda: f64,
+}
+
+pub fn run(a: BenchArgs) -> anyhow::Result<()> {
+    let data = a
+        .data
+        .clone()
+        .or_else(paper::default_data_dir)
+        .ok_or_else(|| usage("reference data not found; pass --data DIR"))?;
+    let threads = a.threads.unwrap_or_else(rayon::current_num_threads);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()?;
+    println!(
+        "curvenet bench: {threads} thread(s); pruning {}, chord steps {}, warm starts {}",
+        on(!a.no_prune),
+        on(!a.no_chord),
+        on(!a.no_warm)
+    );
+    println!(
+        "{:<9} {:>6} {:>6} {:>5} {:>5} {:>6} {:>6} {:>6} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}",
+        "example",
+        "curves",
+        "dofs",
+        "iters",
+        "evals",
+        "pruned",
+        "facts",
+        "solves",
+        "relax s",
+        "asm s",
+        "factor s",
+        "eigen s",
+        "bound s",
+        "wall s",
+        "peak MiB",
+        "ref/ours"
+    );
+    for name in &a.examples {
+        let ex = paper::load(name, &data, Default::default())?;
+        let mut stability = StabilityParams::default();
+        if a.no_chord {
+            stability.newton.chord_ratio = 0.0;
+        }
+        let mut params = GreedyParams::new(Budget::Fraction(ex.setup.budget_fraction));
+        params.keep = ex.setup.keep.clone();
+        params.prune.enabled = !a.no_prune;
+        params.warm_start = !a.no_warm;
+        profile::reset_peak_memory();
+        profile::reset();
+        let start = Instant::now();
+        let outcome = pool.install(|| -> anyhow::Result<_> {
+            let (network, _) = build_network(&ex.curves, &ex.build)?;
+            let analyzer = Analyzer::new(network, stability).map_err(usage)?;
+            let dofs = analyzer.model().dofs();
+            Ok((greedy(&analyzer, &params, None, &mut NoHooks)?, dofs))
+        })?;
+        let wall = start.elapsed().as_secs_f64();
+        let (o, dofs) = outcome;
+        let p = profile::snapshot();
+        let t = &o.timings;
+        let last = o.iterations.last().expect("at least one iteration");
+        let row = Row {
+            example: name.clone(),
+            curves: ex.curves.len(),
+            kept: last.curves.len(),
+            dofs,
+            iterations: o.iterations.len(),
+            evaluated: t.candidate_evaluations,
+            pruned: t.candidates_pruned,
+            factorizations: t.relax_work.factorizations + t.candidate_work.factorizations,
+            solves: t.relax_work.solves + t.candidate_work.solves,
+            relax_s: p.relax.seconds,
+            assemble_s: p.assemble.seconds,
+            factor_s: p.factor.seconds,
+            eigen_s: p.eigen.seconds,
+            bound_s: p.bound.seconds,
+            wall_s: wall,
+            peak_mib: profile::peak_memory().map(|b| b as f64 / (1024.0 * 1024.0)),
+            reference_s: reference_seconds(name),
+            removed_first: o
+                .iterations
+                .iter()
+                .filter_map(|i| i.removed)
+                .take(3)
+                .collect(),
+            final_lambda: last.lambda,
+        };
+        println!(
+            "{:<9} {:>6} {:>6} {:>5} {:>5} {:>6} {:>6} {:>6} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8} {:>8}",
+            row.example,
+            format!("{}→{}", row.curves, row.kept),
+            row.dofs,
+            row.iterations,
+            row.evaluated,
+            row.pruned,
+            row.factorizations,
+            row.solves,
+            row.relax_s,
+            row.assemble_s,
+            row.factor_s,
+            row.eigen_s,
+            row.bound_s,
+            row.wall_s,
+            row.peak_mib.map_or("?".into(), |m| format!("{m:.0}")),
+            row.reference_s
+                .map_or("-".into(), |r| format!("{:.0}×", r / row.wall_s)),
+        );
+        if a.json {
+            println!("{}", serde_json::to_string(&row)?);
+        }
+    }
+    Ok(())
+}
+
+fn on(b: bool) -> &'static str {
+    if b { "on" } else { "off" }
+}

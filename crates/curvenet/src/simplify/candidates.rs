@@ -1,0 +1,357 @@
+//! Scoring the candidates of one greedy iteration, with pruning by Rayleigh–Ritz bounds.
+//!
+//! The score of candidate `c` is `λ_fix(A \ {c} | A)`, the smallest eigenvalue of
+//! `H' = H_{A∖c}` at `A`'s equilibrium. Computing it takes a sparse factorization; a cheap
+//! upper bound often shows that `c` cannot win:
+//!
+//! **Bound.** Let `V` hold `A`'s `k` lowest modes and `W` be `V` with the rows of `c`'s loose
+//! vertices zeroed. By Courant–Fischer, the smallest Ritz value of `H'` on `span(W)` is at
+//! least `λ_min(H')`. Because `H'` equals `H_A − H_c` on the kept coordinates (`H_c`: the
+//! Hessian of `c`'s own terms), `WᵀH'W = VᵀH_AV − Σ_{v∈L} V_vᵀ(H_AV)_v − Σ_{v∈c∖L} V_vᵀ(H_cV)_v`
+//! and `WᵀW = VᵀV − Σ_{v∈L} V_vᵀV_v`, where `L` are `c`'s loose vertices: with `H_AV` computed
+//! once per iteration, each bound costs `O(|c|·k²)` — nothing next to a factorization.
+//!
+//! **Pruning.** Candidates are evaluated in a fixed order — by decreasing bound, ties by id —
+//! in fixed batches of [`PruneParams::batch`]. After each batch the best score so far is
+//! known; a later candidate whose bound (plus a round-off margin) lies below
+//! `best·(1 − tie)` can neither win nor tie, so it is skipped. Which candidates are skipped
+//! depends only on the scores, never on thread timing, and the choice is the same as without
+//! pruning (tested).
+
+use super::{Scorer, Work};
+use crate::rod::ActiveSet;
+use crate::rod::model::LocalHessians;
+use crate::solve::Cholesky;
+use crate::solve::eigen::Spectrum;
+use crate::stability::StabilityError;
+use faer::{Mat, MatRef};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// Pruning parameters.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct PruneParams {
+    /// Skip candidates whose bound shows they cannot win.
+    pub enabled: bool,
+    /// Candidates evaluated per batch (fixed, so the result does not depend on threads).
+    pub batch: usize,
+}
+
+impl Default for PruneParams {
+    fn default() -> Self {
+        PruneParams {
+            enabled: true,
+            batch: 4,
+        }
+    }
+}
+
+/// The score of one candidate removal.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CandidateScore {
+    /// Curve removed.
+    pub curve: usize,
+    /// `λ_fix(A \ {curve} | A)`; `None` when pruned or when the eigen solve failed.
+    pub score: Option<f64>,
+    /// Rayleigh–Ritz upper bound on the score (`None` when not computed).
+    #[serde(default)]
+    pub bound: Option<f64>,
+    /// True when the bound showed the candidate cannot win and no solve was done.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub pruned: bool,
+    /// The failure, if any.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub error: Option<String>,
+}
+
+/// An upper bound with its round-off margin.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bound {
+    /// Smallest Ritz value (`+∞` when the subspace vanishes on `A \ {c}`).
+    pub value: f64,
+    /// Estimated absolute round-off in `value`.
+    pub margin: f64,
+}
+
+/// Everything shared by the candidates of one iteration.
+#[derive(Debug)]
+pub struct CandidateContext<'s, 'a> {
+    scorer: &'s Scorer<'a>,
+    active: ActiveSet,
+    locals: LocalHessians,
+    modes: Mat<f64>,
+    hv: Mat<f64>,
+    vtv: Mat<f64>,
+    vthv: Mat<f64>,
+    hv_abs: Vec<f64>,
+    factorizations: AtomicUsize,
+    solves: AtomicUsize,
+}
+
+impl<'s, 'a> CandidateContext<'s, 'a> {
+    /// Prepares the iteration of structure `active` at displacements `u`, with its low
+    /// `modes` (columns).
+    pub fn new(
+        scorer: &'s Scorer<'a>,
+        active: &ActiveSet,
+        u: &[f64],
+        modes: MatRef<'_, f64>,
+    ) -> Self {
+        let model = scorer.analyzer().model();
+        let locals = model.local_hessians(u);
+        let mut h = Vec::new();
+        model.hessian_from_locals(&locals, active, &mut h);
+        let (n, k) = (modes.nrows(), modes.ncols());
+        let mut hv = Mat::<f64>::zeros(n, k);
+        let mut col = vec![0.0; n];
+        let mut x = vec![0.0; n];
+        for j in 0..k {
+            for i in 0..n {
+                x[i] = modes[(i, j)];
+            }
+            model.pattern().sym_matvec(&h, &x, &mut col);
+            for i in 0..n {
+                hv[(i, j)] = col[i];
+            }
+        }
+        let vtv = modes.transpose() * modes;
+        let vthv = modes.transpose() * hv.as_ref();
+        let hv_abs = (0..n)
+            .map(|i| (0..k).map(|j| hv[(i, j)].abs()).fold(0.0, f64::max))
+            .collect();
+        CandidateContext {
+            scorer,
+            active: active.clone(),
+            locals,
+            modes: modes.to_owned(),
+            hv,
+            vtv,
+            vthv,
+            hv_abs,
+            factorizations: AtomicUsize::new(0),
+            solves: AtomicUsize::new(0),
+        }
+    }
+
+    /// The Rayleigh–Ritz bound of candidate `c`, the Ritz coefficients (ascending values) and
+    /// the coordinates of `c`'s loose vertices.
+    fn ritz_bound(&self, c: usize) -> (Bound, Mat<f64>, Vec<usize>) {
+        let _timer = crate::profile::Timer::new(crate::profile::Phase::Bound);
+        let model = self.scorer.analyzer().model();
+        let k = self.modes.ncols();
+        let verts = model.curve_vertices(c);
+        let vc = model.vertex_curves();
+        let loose: Vec<bool> = verts
+            .iter()
+            .map(|&v| {
+                !vc[v as usize]
+                    .iter()
+                    .any(|&o| o as usize != c && self.active.contains(o as usize))
+            })
+            .collect();
+        let hcv = model.curve_hessian_product(&self.locals, c, self.modes.as_ref());
+        let mut kk = self.vthv.clone();
+        let mut gg = self.vtv.clone();
+        let mut abs_sum = 0.0;
+        let mut loose_rows = Vec::new();
+        for (s, &v) in verts.iter().enumerate() {
+            if loose[s] {
+                loose_rows.extend((0..3).map(|a| 3 * v as usize + a));
+            }
+            for a in 0..3 {
+                let row = 3 * v as usize + a;
+                let (src, local) = if loose[s] {
+                    (&self.hv, row)
+                } else {
+                    (&hcv, 3 * s + a)
+                };
+                for i in 0..k {
+                    let vi = self.modes[(row, i)];
+                    for j in 0..k {
+                        let p = vi * src[(local, j)];
+                        kk[(i, j)] -= p;
+                        abs_sum += p.abs();
+                    }
+                    if loose[s] {
+                        for j in 0..k {
+                            gg[(i, j)] -= vi * self.modes[(row, j)];
+                        }
+                    }
+                }
+                if loose[s] {
+                    abs_sum += self.hv_abs[row];
+                }
+            }
+        }
+        let (values, coeffs) = ritz(kk.as_ref(), gg.as_ref());
+        let value = values.first().copied().unwrap_or(f64::INFINITY);
+        let bound = Bound {
+            value,
+            margin: 64.0 * f64::EPSILON * abs_sum + 1e-9 * value.abs(),
+        };
+        (bound, coeffs, loose_rows)
+    }
+
+    /// The Rayleigh–Ritz upper bound on candidate `c`'s score.
+    pub fn bound(&self, c: usize) -> Bound {
+        self.ritz_bound(c).0
+    }
+
+    /// Warm start for candidate `c`: its two lowest Ritz vectors (loose rows zeroed).
+    fn ritz_vectors(&self, c: usize) -> Option<Mat<f64>> {
+        let (_, coeffs, loose_rows) = self.ritz_bound(c);
+        if coeffs.ncols() == 0 {
+            return None;
+        }
+        let take = coeffs.ncols().min(2);
+        let mut x = self.modes.as_ref() * coeffs.get(.., ..take);
+        for &r in &loose_rows {
+            for j in 0..take {
+                x[(r, j)] = 0.0;
+            }
+        }
+        Some(x)
+    }
+
+    /// Candidate `c`'s exact score, warm-started from the iteration's modes, with the
+    /// factorization it used.
+    pub fn score(&self, c: usize) -> Result<(Spectrum, Cholesky), StabilityError> {
+        let warm = self.ritz_vectors(c);
+        let warm = warm.as_ref().map_or(self.modes.as_ref(), |w| w.as_ref());
+        let r = self
+            .scorer
+            .lambda_fixed(&self.locals, &self.active.without(c), Some(warm));
+        if let Ok((sp, _)) = &r {
+            self.factorizations
+                .fetch_add(sp.factorizations, Ordering::Relaxed);
+            self.solves.fetch_add(sp.solves, Ordering::Relaxed);
+        }
+        r
+    }
+
+    /// Factorizations and solves spent on scores so far.
+    pub fn work(&self) -> Work {
+        Work {
+            factorizations: self.factorizations.load(Ordering::Relaxed),
+            solves: self.solves.load(Ordering::Relaxed),
+        }
+    }
+
+    /// Scores `candidates`, skipping those that cannot win when pruning is enabled.
+    /// The scores are in the order of `candidates`; the factorizations of the candidates
+    /// scoring within `tie` of the best are returned too (the winner's serves the next
+    /// relaxation).
+    pub fn score_all(
+        &self,
+        candidates: &[usize],
+        prune: &PruneParams,
+        tie: f64,
+        cancelled: &(dyn Fn() -> bool + Sync),
+    ) -> (Vec<CandidateScore>, Vec<(usize, Cholesky)>) {
+        let mut out: Vec<CandidateScore> = candidates
+            .iter()
+            .map(|&c| CandidateScore {
+                curve: c,
+                score: None,
+                bound: None,
+                pruned: false,
+                error: None,
+            })
+            .collect();
+        let evaluate = |c: usize| -> (Option<f64>, Option<String>, Option<Cholesky>) {
+            if cancelled() {
+                return (None, Some("cancelled".into()), None);
+            }
+            match self.score(c) {
+                Ok((sp, f)) => (Some(sp.lambda()), None, Some(f)),
+                Err(e) => (None, Some(e.to_string()), None),
+            }
+        };
+        let bounds: Vec<Option<Bound>> = if prune.enabled {
+            candidates
+                .par_iter()
+                .map(|&c| Some(self.bound(c)))
+                .collect()
+        } else {
+            vec![None; candidates.len()]
+        };
+        let mut order: Vec<usize> = (0..candidates.len()).collect();
+        if prune.enabled {
+            let key = |i: usize| bounds[i].map_or(f64::INFINITY, |b| b.value);
+            order.sort_by(|&a, &b| {
+                key(b)
+                    .total_cmp(&key(a))
+                    .then(candidates[a].cmp(&candidates[b]))
+            });
+        }
+        for (o, b) in out.iter_mut().zip(&bounds) {
+            o.bound = b.map(|b| b.value);
+        }
+        let batch = if prune.enabled {
+            prune.batch.max(1)
+        } else {
+            candidates.len().max(1)
+        };
+        let mut best = f64::NEG_INFINITY;
+        let mut kept: Vec<(usize, f64, Cholesky)> = Vec::new();
+        for chunk in order.chunks(batch) {
+            let floor = best - tie * best.abs();
+            let todo: Vec<usize> = chunk
+                .iter()
+                .copied()
+                .filter(|&i| bounds[i].is_none_or(|b| !(b.value + b.margin < floor)))
+                .collect();
+            for &i in chunk {
+                if !todo.contains(&i) {
+                    out[i].pruned = true;
+                }
+            }
+            let scores: Vec<_> = todo.par_iter().map(|&i| evaluate(candidates[i])).collect();
+            for (&i, (s, e, f)) in todo.iter().zip(scores) {
+                if let Some(v) = s.filter(|v| v.is_finite()) {
+                    best = best.max(v);
+                    if let Some(f) = f {
+                        kept.push((candidates[i], v, f));
+                    }
+                }
+                out[i].score = s;
+                out[i].error = e;
+            }
+            let floor = best - tie * best.abs();
+            kept.retain(|k| k.1 >= floor);
+        }
+        (out, kept.into_iter().map(|(c, _, f)| (c, f)).collect())
+    }
+}
+
+/// The smallest Ritz values of the pencil `(K, G)` over the range of `G`, ascending, with
+/// their coefficient vectors (columns, in the `k`-dimensional space of `K`); empty if `G`
+/// vanishes.
+fn ritz(k: MatRef<'_, f64>, g: MatRef<'_, f64>) -> (Vec<f64>, Mat<f64>) {
+    let n = g.nrows();
+    let none = (Vec::new(), Mat::<f64>::zeros(n, 0));
+    let sym = |m: MatRef<'_, f64>| Mat::<f64>::from_fn(n, n, |i, j| 0.5 * (m[(i, j)] + m[(j, i)]));
+    let Ok(eg) = sym(g).self_adjoint_eigen(faer::Side::Lower) else {
+        return none;
+    };
+    let s = eg.S();
+    let gmax = (0..n).map(|i| s[i]).fold(0.0, f64::max);
+    let keep: Vec<usize> = (0..n)
+        .filter(|&i| s[i] > 1e-8 * gmax.max(1e-300) && s[i] > 0.0)
+        .collect();
+    if keep.is_empty() {
+        return none;
+    }
+    let u = eg.U();
+    let b = Mat::<f64>::from_fn(n, keep.len(), |i, j| u[(i, keep[j])] / s[keep[j]].sqrt());
+    let m = b.transpose() * sym(k).as_ref() * b.as_ref();
+    let r = keep.len();
+    let m = Mat::<f64>::from_fn(r, r, |i, j| 0.5 * (m[(i, j)] + m[(j, i)]));
+    let Ok(em) = m.self_adjoint_eigen(faer::Side::Lower) else {
+        return none;
+    };
+    let values = (0..r).map(|i| em.S()[i]).collect();
+    (values, b * em.U())
+}
