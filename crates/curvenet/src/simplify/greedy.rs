@@ -43,6 +43,9 @@ pub struct GreedyParams {
     /// Start each iteration from the previous one's modes and the winner's factorization.
     #[serde(default = "default_true")]
     pub warm_start: bool,
+    /// Stop after this many removals even if the budget is not met (None: no limit).
+    #[serde(default)]
+    pub max_removals: Option<usize>,
 }
 
 fn default_true() -> bool {
@@ -63,6 +66,7 @@ impl GreedyParams {
             prune: PruneParams::default(),
             modes: default_modes(),
             warm_start: true,
+            max_removals: None,
         }
     }
 
@@ -122,6 +126,8 @@ pub enum StopReason {
     BudgetUnmet,
     /// No candidate could be scored.
     NoScorableCandidate,
+    /// The removal limit was reached.
+    RemovalLimit,
 }
 
 /// Time spent per phase (not part of the result: timings live in `timings.json`).
@@ -273,6 +279,8 @@ pub fn greedy(
             Some(StopReason::BudgetMet)
         } else if candidates.is_empty() || eval.curves.len() <= 1 {
             Some(StopReason::BudgetUnmet)
+        } else if params.max_removals.is_some_and(|m| k >= m) {
+            Some(StopReason::RemovalLimit)
         } else {
             None
         };
