@@ -11,8 +11,9 @@
 //! 5. [`stability`]: the worst-case stability `λ` of a network or of any sub-structure;
 //! 6. [`report`]: the JSON objects and text of the command line.
 //!
-//! [`paper`] holds the paper's example set-ups, [`builtin`] scenes made in code, and
-//! [`pipeline`] the glue that runs the stages in order.
+//! [`trace`] generates curves on a mesh (geodesics, frame-field streamlines) and holds the
+//! built-in surfaces; [`paper`] holds the paper's example set-ups, [`builtin`] scenes made in
+//! code, and [`pipeline`] the glue that runs the stages in order.
 //!
 //! See `ARCHITECTURE.md` at the repository root for the map and `SPEC.md` for the model.
 
@@ -29,3 +30,4 @@ pub mod rod;
 pub mod simplify;
 pub mod solve;
 pub mod stability;
+pub mod trace;

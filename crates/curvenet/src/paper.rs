@@ -3,8 +3,8 @@
 //!
 //! The input files are the reference's, read from a data directory (`../shared/reference-data`
 //! in this repository's layout). Examples whose curves are generated on the mesh (hill,
-//! stadium, bunny, tent) list their generator; [`load`] builds them when the tracer supports
-//! them and says clearly when it does not.
+//! stadium, bunny, tent) trace them with [`crate::trace`] on the mesh in file units, following
+//! the reference's conventions (SPEC §8), and append them after the file curves.
 
 use crate::io::{self, InputError, Polyline, TriMesh};
 use crate::network::build::BuildError;
@@ -35,6 +35,8 @@ pub struct Setup {
     pub curves: Vec<(&'static str, f64)>,
     /// Curves generated on the mesh, if any.
     pub generated: Option<GeneratedCurves>,
+    /// Scale applied to the generated curves (traced in file units).
+    pub generated_scale: f64,
     /// When set, curves are first built at this edge length in file units, then scaled by
     /// the value in the pair ("resampled at 2, then ×s").
     pub pre_resample: Option<(f64, f64)>,
@@ -81,6 +83,7 @@ pub fn setup(name: &str) -> Option<Setup> {
             mesh_scale: 50.0,
             curves: vec![("hill_3.txt", 50.0)],
             generated: Some(GeneratedCurves { count: 70, seed: 2 }),
+            generated_scale: 50.0,
             pre_resample: None,
             edge_length: 100.0,
             budget_fraction: 0.05,
@@ -93,6 +96,7 @@ pub fn setup(name: &str) -> Option<Setup> {
             mesh_scale: 70.0,
             curves: vec![("roof_75.txt", 70.0)],
             generated: None,
+            generated_scale: 1.0,
             pre_resample: None,
             edge_length: 140.0,
             budget_fraction: 0.05,
@@ -106,21 +110,26 @@ pub fn setup(name: &str) -> Option<Setup> {
             // The curves are not scaled: they do not sit on the scaled mesh (SPEC §9).
             curves: vec![("kagome_114_regular.txt", 1.0)],
             generated: None,
+            generated_scale: 1.0,
             pre_resample: None,
             edge_length: 2.0,
             budget_fraction: 0.05,
             keep: vec![],
             paper: p(114, 23, 10224, 53.9),
         },
+        // SPEC §9 lists the stadium at ×30 but calls its set-up unsettled. At ×30 the 100
+        // geodesics give ~178,000 vertices; unscaled (h = 50 in file units) they give 6644
+        // against the paper's 6646, so the paper's run used the mesh as it is.
         "stadium" => Setup {
             name: "stadium",
             mesh: "stadium.obj",
-            mesh_scale: 30.0,
+            mesh_scale: 1.0,
             curves: vec![],
             generated: Some(GeneratedCurves {
                 count: 100,
                 seed: 4,
             }),
+            generated_scale: 1.0,
             pre_resample: None,
             edge_length: 50.0,
             budget_fraction: 0.10,
@@ -133,6 +142,7 @@ pub fn setup(name: &str) -> Option<Setup> {
             mesh_scale: 10.0,
             curves: vec![("tower_top_ring.txt", 10.0), ("tower_32.txt", 10.0)],
             generated: None,
+            generated_scale: 1.0,
             pre_resample: None,
             edge_length: 20.0,
             budget_fraction: 0.20,
@@ -145,6 +155,7 @@ pub fn setup(name: &str) -> Option<Setup> {
             mesh_scale: 50.0,
             curves: vec![("shell_3.txt", 50.0), ("shell_100.txt", 50.0)],
             generated: None,
+            generated_scale: 1.0,
             pre_resample: None,
             edge_length: 50.0,
             budget_fraction: 0.05,
@@ -157,6 +168,7 @@ pub fn setup(name: &str) -> Option<Setup> {
             mesh_scale: 22.222,
             curves: vec![],
             generated: Some(GeneratedCurves { count: 75, seed: 9 }),
+            generated_scale: 1.0,
             pre_resample: Some((2.0, 22.222)),
             edge_length: 44.4,
             budget_fraction: 0.10,
@@ -169,6 +181,7 @@ pub fn setup(name: &str) -> Option<Setup> {
             mesh_scale: 50.0,
             curves: vec![("tent_3_regular_curves.txt", 1.0), ("tent_curves.txt", 1.0)],
             generated: Some(GeneratedCurves { count: 66, seed: 2 }),
+            generated_scale: 1.0,
             pre_resample: Some((2.0, 50.0)),
             edge_length: 100.0,
             budget_fraction: 0.05,
@@ -185,6 +198,7 @@ pub fn setup(name: &str) -> Option<Setup> {
                 ("shell_100_for_arcs.txt", 1.0),
             ],
             generated: None,
+            generated_scale: 1.0,
             pre_resample: Some((2.0, 50.0)),
             edge_length: 100.0,
             budget_fraction: 0.10,
@@ -208,18 +222,13 @@ pub enum ExampleError {
     /// The pre-resampling build failed.
     #[error(transparent)]
     Build(#[from] BuildError),
-    /// The example needs generated curves that this build cannot make yet.
-    #[error(
-        "example '{name}' needs {count} geodesics traced on {mesh} (SPEC §8); curve tracing is \
-         not available yet, so this example cannot be built"
-    )]
-    NeedsTracing {
-        /// Example name.
-        name: String,
-        /// Number of generated curves.
-        count: usize,
-        /// Mesh they are traced on.
+    /// Tracing the example's generated curves failed.
+    #[error("{mesh}: tracing the generated curves failed: {source}")]
+    Trace {
+        /// Mesh the curves are traced on.
         mesh: String,
+        /// The failure.
+        source: crate::trace::TraceError,
     },
 }
 
@@ -253,22 +262,47 @@ pub fn load(name: &str, data: &Path, supports: Supports) -> Result<LoadedExample
     let mesh_path: PathBuf = data.join("meshes").join(setup.mesh);
     let mesh_file = io::read_mesh(&mesh_path)?;
     let mut warnings = mesh_file.warnings;
+    let mesh_file_units = mesh_file.mesh.clone();
     let mut mesh = mesh_file.mesh;
     for v in &mut mesh.vertices {
         *v = *v * setup.mesh_scale;
-    }
-    if let Some(g) = &setup.generated {
-        return Err(ExampleError::NeedsTracing {
-            name: name.to_string(),
-            count: g.count,
-            mesh: setup.mesh.to_string(),
-        });
     }
     let mut curves = Vec::new();
     for (file, scale) in &setup.curves {
         let f = io::read_curves(&data.join("curves").join(file))?;
         warnings.extend(f.warnings);
         curves.extend(scaled(f.curves, *scale));
+    }
+    if let Some(g) = &setup.generated {
+        // Traced on the mesh in file units, appended after the file curves, then scaled like
+        // them (SPEC §8–9).
+        let generator =
+            crate::trace::Generator::paper(name).expect("every generated example has a generator");
+        let generated = crate::trace::generate(&mesh_file_units, &generator).map_err(|source| {
+            ExampleError::Trace {
+                mesh: setup.mesh.to_string(),
+                source,
+            }
+        })?;
+        for f in &generated.failures {
+            warnings.push(io::InputWarning::new(
+                setup.mesh,
+                0,
+                format!("generated curve failed: {f}"),
+            ));
+        }
+        if generated.curves.len() != g.count {
+            warnings.push(io::InputWarning::new(
+                setup.mesh,
+                0,
+                format!(
+                    "generated {} curves instead of {}",
+                    generated.curves.len(),
+                    g.count
+                ),
+            ));
+        }
+        curves.extend(scaled(generated.curves, setup.generated_scale));
     }
     if let Some((h0, s)) = setup.pre_resample {
         let pre = BuildParams {
