@@ -347,6 +347,11 @@ impl GreedyHooks for OutputWriter<'_> {
             &format!("states/{k:04}.bin"),
             &f64_bytes(&eval.displacement),
         )?;
+        let v = &eval.spectrum.vectors;
+        let all: Vec<f64> = (0..v.ncols())
+            .flat_map(|j| v.col(j).iter().copied().collect::<Vec<_>>())
+            .collect();
+        self.write(&format!("states/{k:04}.modes.bin"), &f64_bytes(&all))?;
         let obj = io::curves_to_obj(&network_polylines(
             self.network,
             &record.curves,

@@ -7,7 +7,7 @@
 
 use curvenet::geom::Vec3;
 use curvenet::io::{Origin, Polyline};
-use curvenet::network::{BuildParams, Network, build_network};
+use curvenet::network::{BuildParams, Joint, Network, Rod, build_network};
 use curvenet::rod::{ActiveSet, EnergyModel, Material, Supports};
 use faer::Mat;
 use std::path::PathBuf;
@@ -349,4 +349,121 @@ pub fn curl_curve(r: f64) -> Polyline {
     }
     pts.extend((0..20).map(|i| Vec3::new(10.0 + 25.0 * i as f64, 0.0, 0.0)));
     polyline(pts, false)
+}
+
+/// `n` random open arches over the paraboloid height field `z = 350·(1 − (x² + y²)/1000²)`:
+/// each arch lies above a random chord of the unit-1000 ground circle (ends on the ground,
+/// z = 0, angular spread at least 90°). Every crossing of two chords (seen from above) is
+/// inserted as an input point of both arches, so crossing arches share that point exactly.
+/// A seeded, deterministic test input; pick `h` for the vertex count.
+pub fn random_arches(seed: u64, n: usize) -> Vec<Polyline> {
+    let mut rng = Rng::new(seed);
+    let (r, height) = (1000.0, 350.0);
+    let surface =
+        |x: f64, y: f64| Vec3::new(x, y, (height * (1.0 - (x * x + y * y) / (r * r))).max(0.0));
+    let chords: Vec<([f64; 2], [f64; 2])> = (0..n)
+        .map(|_| {
+            let a = rng.range(0.0, std::f64::consts::TAU);
+            let b = a + rng.range(0.5, 1.5) * std::f64::consts::PI;
+            ([r * a.cos(), r * a.sin()], [r * b.cos(), r * b.sin()])
+        })
+        .collect();
+    // Parameters along each chord: uniform samples, then the crossings.
+    let samples = 24;
+    let mut params: Vec<Vec<f64>> = (0..n)
+        .map(|_| (0..=samples).map(|i| i as f64 / samples as f64).collect())
+        .collect();
+    for i in 0..n {
+        for j in i + 1..n {
+            let (p, q) = chords[i];
+            let (s, t) = chords[j];
+            let d1 = [q[0] - p[0], q[1] - p[1]];
+            let d2 = [t[0] - s[0], t[1] - s[1]];
+            let den = d1[0] * d2[1] - d1[1] * d2[0];
+            if den.abs() < 1e-9 {
+                continue;
+            }
+            let w = [s[0] - p[0], s[1] - p[1]];
+            let a = (w[0] * d2[1] - w[1] * d2[0]) / den;
+            let b = (w[0] * d1[1] - w[1] * d1[0]) / den;
+            if (0.01..=0.99).contains(&a) && (0.01..=0.99).contains(&b) {
+                params[i].push(a);
+                params[j].push(b);
+            }
+        }
+    }
+    chords
+        .iter()
+        .zip(params)
+        .map(|(&(p, q), mut ts)| {
+            ts.sort_by(f64::total_cmp);
+            ts.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
+            let pts = ts
+                .iter()
+                .map(|&t| surface(p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])))
+                .collect();
+            polyline(pts, false)
+        })
+        .collect()
+}
+
+/// The network made of the curves `keep` only (ascending ids), built by hand: vertices
+/// renumbered in order, rest lengths and anchors kept, joints restricted to the kept curves.
+/// Returns it with the old index of every new vertex.
+pub fn sub_network(net: &Network, keep: &[usize]) -> (Network, Vec<usize>) {
+    let mut new_of = vec![u32::MAX; net.vertex_count()];
+    let mut used = vec![false; net.vertex_count()];
+    for &c in keep {
+        for &v in &net.rods[c].vertices {
+            used[v as usize] = true;
+        }
+    }
+    let mut old_of = Vec::new();
+    for v in 0..net.vertex_count() {
+        if used[v] {
+            new_of[v] = old_of.len() as u32;
+            old_of.push(v);
+        }
+    }
+    let map = |vs: &[u32]| -> Vec<u32> { vs.iter().map(|&v| new_of[v as usize]).collect() };
+    let rods = keep
+        .iter()
+        .map(|&c| {
+            let r = &net.rods[c];
+            Rod {
+                vertices: map(&r.vertices),
+                closed: r.closed,
+                rest_lengths: r.rest_lengths.clone(),
+                anchors: map(&r.anchors),
+            }
+        })
+        .collect();
+    let joints = net
+        .joints
+        .iter()
+        .filter_map(|j| {
+            let curves: Vec<u32> = j
+                .curves
+                .iter()
+                .filter_map(|&c| keep.iter().position(|&k| k == c as usize))
+                .map(|i| i as u32)
+                .collect();
+            // A self-crossing joint (one curve) stays with its curve.
+            let keeps = curves.len() >= 2 || (curves.len() == 1 && j.curves.len() == 1);
+            keeps.then(|| Joint {
+                vertex: new_of[j.vertex as usize],
+                curves,
+            })
+        })
+        .collect();
+    let positions = old_of.iter().map(|&v| net.positions[v]).collect();
+    (
+        Network {
+            positions,
+            rods,
+            joints,
+            supports: net.supports,
+        },
+        old_of,
+    )
 }
