@@ -586,6 +586,17 @@ impl EnergyModel {
     /// The local Hessian of every term at displacements `u`, for assembling the Hessians of
     /// many structures at the same state ([`Self::hessian_from_locals`]).
     pub fn local_hessians(&self, u: &[f64]) -> LocalHessians {
+        self.local_hessians_impl(u, false)
+    }
+
+    /// [`Self::local_hessians`] with every local Hessian projected to be positive
+    /// semidefinite ([`terms::project_psd`]): a convex model for Newton's direction far from
+    /// equilibrium, never for the stability analysis.
+    pub fn local_hessians_projected(&self, u: &[f64]) -> LocalHessians {
+        self.local_hessians_impl(u, true)
+    }
+
+    fn local_hessians_impl(&self, u: &[f64], project: bool) -> LocalHessians {
         use rayon::prelude::*;
         let _timer = Timer::new(Phase::Assemble);
         assert_eq!(
@@ -598,7 +609,11 @@ impl EnergyModel {
             .par_iter()
             .map(|t| {
                 let (x0, x1) = t.local(u);
-                terms::stretch(x0, x1, t.rest, self.ks).hess
+                let mut h = terms::stretch(x0, x1, t.rest, self.ks).hess;
+                if project {
+                    terms::project_psd(&mut h);
+                }
+                h
             })
             .collect();
         let bend = self
@@ -606,7 +621,11 @@ impl EnergyModel {
             .par_iter()
             .map(|t| {
                 let (x0, x1, x2) = t.local(u);
-                terms::bend(x0, x1, x2, t.r0, t.r1, self.kb).hess
+                let mut h = terms::bend(x0, x1, x2, t.r0, t.r1, self.kb).hess;
+                if project {
+                    terms::project_psd(&mut h);
+                }
+                h
             })
             .collect();
         LocalHessians { stretch, bend }

@@ -241,6 +241,75 @@ pub fn anchor(x: Vec3, target: Vec3, mu: f64) -> Local<3> {
     out
 }
 
+/// Projects a symmetric matrix onto the positive semidefinite cone in place: eigenvalues
+/// below zero are set to zero (cyclic Jacobi eigen-decomposition, written for these small
+/// fixed sizes). Newton uses projected Hessians for its direction far from equilibrium, where
+/// the exact Hessian is indefinite; the stability analysis always uses the exact one.
+pub fn project_psd<const D: usize>(h: &mut [[f64; D]; D]) {
+    let mut a = *h;
+    let mut v = [[0.0f64; D]; D];
+    for (i, row) in v.iter_mut().enumerate() {
+        row[i] = 1.0;
+    }
+    let scale: f64 = a.iter().flatten().map(|x| x * x).sum::<f64>().sqrt();
+    if scale == 0.0 || !scale.is_finite() {
+        return;
+    }
+    for _sweep in 0..50 {
+        let off: f64 = (0..D)
+            .flat_map(|i| (0..D).filter(move |&j| j != i).map(move |j| (i, j)))
+            .map(|(i, j)| a[i][j] * a[i][j])
+            .sum();
+        if off.sqrt() <= 1e-15 * scale {
+            break;
+        }
+        for p in 0..D {
+            for q in p + 1..D {
+                if a[p][q].abs() <= 1e-300 {
+                    continue;
+                }
+                let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+                let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+                let t = if theta == 0.0 { 1.0 } else { t };
+                let c = 1.0 / (t * t + 1.0).sqrt();
+                let s = t * c;
+                for k in 0..D {
+                    let (akp, akq) = (a[k][p], a[k][q]);
+                    a[k][p] = c * akp - s * akq;
+                    a[k][q] = s * akp + c * akq;
+                }
+                for k in 0..D {
+                    let (apk, aqk) = (a[p][k], a[q][k]);
+                    a[p][k] = c * apk - s * aqk;
+                    a[q][k] = s * apk + c * aqk;
+                }
+                for row in v.iter_mut() {
+                    let (vkp, vkq) = (row[p], row[q]);
+                    row[p] = c * vkp - s * vkq;
+                    row[q] = s * vkp + c * vkq;
+                }
+            }
+        }
+    }
+    if (0..D).all(|i| a[i][i] >= 0.0) {
+        return;
+    }
+    // H = V diag(max(λ, 0)) Vᵀ.
+    for i in 0..D {
+        for j in 0..=i {
+            let mut sum = 0.0;
+            for k in 0..D {
+                let l = a[k][k];
+                if l > 0.0 {
+                    sum += v[i][k] * l * v[j][k];
+                }
+            }
+            h[i][j] = sum;
+            h[j][i] = sum;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -395,6 +464,46 @@ mod tests {
             let sum = l.grad[k] + l.grad[3 + k] + l.grad[6 + k];
             assert!(sum.abs() < 1e-12 * l.grad.iter().fold(0.0f64, |m, v| m.max(v.abs())));
         }
+    }
+
+    #[test]
+    fn psd_projection_clamps_negative_eigenvalues_only() {
+        let mut rng = Rng(21);
+        for _ in 0..50 {
+            let mut m = [[0.0; 9]; 9];
+            for i in 0..9 {
+                for j in 0..=i {
+                    let v = rng.next();
+                    m[i][j] = v;
+                    m[j][i] = v;
+                }
+            }
+            let orig = m;
+            project_psd(&mut m);
+            // PSD: xᵀMx ≥ 0 for random x, and the projection is the nearest PSD matrix, so
+            // M_proj − M is PSD too (it adds back the negative part).
+            for _ in 0..20 {
+                let x: Vec<f64> = (0..9).map(|_| rng.next()).collect();
+                let q: f64 = (0..9)
+                    .flat_map(|i| (0..9).map(move |j| (i, j)))
+                    .map(|(i, j)| x[i] * m[i][j] * x[j])
+                    .sum();
+                let d: f64 = (0..9)
+                    .flat_map(|i| (0..9).map(move |j| (i, j)))
+                    .map(|(i, j)| x[i] * (m[i][j] - orig[i][j]) * x[j])
+                    .sum();
+                assert!(q >= -1e-12 && d >= -1e-12, "q {q} d {d}");
+            }
+        }
+        // A PSD matrix is left as it is.
+        let mut a = [[0.0; 3]; 3];
+        a[0][0] = 2.0;
+        a[1][1] = 1.0;
+        a[0][1] = 0.5;
+        a[1][0] = 0.5;
+        let before = a;
+        project_psd(&mut a);
+        assert_eq!(a, before);
     }
 
     #[test]

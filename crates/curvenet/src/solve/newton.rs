@@ -43,7 +43,10 @@ impl Default for NewtonParams {
             max_backtracks: 60,
             stall_iterations: 4,
             floor_max_rel: 1e-6,
-            chord_ratio: 0.25,
+            chord_ratio: std::env::var("CN_CHORD")
+                .ok()
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(0.25),
         }
     }
 }
@@ -109,6 +112,8 @@ pub struct NewtonInfo {
     pub factorizations: usize,
     /// Iterations that reused an earlier factorization.
     pub chord_steps: usize,
+    /// Iterations whose direction came from the projected (convex) Hessian.
+    pub projected_steps: usize,
     /// Largest diagonal shift `τ` used.
     pub max_shift: f64,
 }
@@ -169,6 +174,7 @@ pub fn relax_with_factor(
         energy: cur.energy,
         factorizations: 0,
         chord_steps: 0,
+        projected_steps: 0,
         max_shift: 0.0,
     };
     if !cur.energy.is_finite() || !g_start.is_finite() {
@@ -181,7 +187,6 @@ pub fn relax_with_factor(
         (d / pattern.n.max(1) as f64).max(f64::MIN_POSITIVE)
     };
     let mut trial = vec![0.0; x.len()];
-    let mut last_shift = 0.0f64;
     let mut best_grad = g_start;
     let mut stalled = 0;
     let mut last_decrease = f64::INFINITY;
@@ -245,54 +250,66 @@ pub fn relax_with_factor(
             }
         }
 
-        // Direction: (H + τI) d = g with the smallest τ that gives a descent direction.
-        let mut shift = if last_shift > 0.0 {
-            last_shift * 0.1
-        } else {
-            0.0
-        };
-        if shift < 1e-12 * diag_scale {
-            shift = 0.0;
-        }
+        // Direction: the exact Hessian if it is positive definite, else the Hessian with every
+        // term's local Hessian projected to be positive semidefinite (a convex model that
+        // always gives a descent direction), shifted only if even that is singular.
         let reuse = fresh
             .take()
             .and_then(|f| descent(&f, &cur.grad).map(|d| (d, f)));
-        let d = match reuse {
-            Some((d, f)) => {
-                if params.chord_ratio > 0.0 {
-                    stale = Some(f);
-                }
-                d
-            }
+        let (d, f) = match reuse {
+            Some(pair) => pair,
             None => {
-                let mut tries = 0;
-                loop {
-                    tries += 1;
-                    info.factorizations += 1;
-                    if let Ok(f) = Cholesky::factorize(symbolic, pattern, &cur.hess, shift) {
-                        if let Some(d) = descent(&f, &cur.grad) {
-                            if params.chord_ratio > 0.0 {
-                                stale = Some(f);
+                info.factorizations += 1;
+                let exact = Cholesky::factorize(symbolic, pattern, &cur.hess, 0.0)
+                    .ok()
+                    .and_then(|f| descent(&f, &cur.grad).map(|d| (d, f)));
+                match exact {
+                    Some(pair) => pair,
+                    None => {
+                        info.projected_steps += 1;
+                        let locals = model.local_hessians_projected(x);
+                        let mut hp = Vec::new();
+                        model.hessian_from_locals(&locals, active, &mut hp);
+                        let mut shift = 0.0;
+                        let mut tries = 0;
+                        loop {
+                            tries += 1;
+                            info.factorizations += 1;
+                            if let Ok(f) = Cholesky::factorize(symbolic, pattern, &hp, shift) {
+                                if let Some(d) = descent(&f, &cur.grad) {
+                                    break (d, f);
+                                }
                             }
-                            break d;
+                            if tries > 40 {
+                                info.stop = NewtonStop::LineSearchFailed;
+                                return info;
+                            }
+                            shift = if shift == 0.0 {
+                                1e-12 * diag_scale
+                            } else {
+                                shift * 10.0
+                            };
+                            info.max_shift = info.max_shift.max(shift);
                         }
                     }
-                    if tries > 60 {
-                        info.stop = NewtonStop::LineSearchFailed;
-                        return info;
-                    }
-                    shift = if shift == 0.0 {
-                        1e-8 * diag_scale
-                    } else {
-                        shift * 10.0
-                    };
                 }
             }
         };
-        last_shift = shift;
-        info.max_shift = info.max_shift.max(shift);
+        if params.chord_ratio > 0.0 {
+            stale = Some(f);
+        }
         let gd: f64 = d.iter().zip(&cur.grad).map(|(a, b)| a * b).sum();
 
+        if std::env::var("CN_DEBUG").is_ok() {
+            eprintln!(
+                "it {} g_rel {:.3e} E {:.10e} proj {} facts {}",
+                info.iterations,
+                g_norm / g_ref,
+                cur.energy,
+                info.projected_steps,
+                info.factorizations
+            );
+        }
         // Backtracking line search on x − α d.
         let e0 = cur.energy;
         let roundoff = 1e-13 * e0.abs().max(f64::MIN_POSITIVE);
@@ -318,6 +335,9 @@ pub fn relax_with_factor(
                 }
             }
             alpha *= 0.5;
+        }
+        if std::env::var("CN_DEBUG").is_ok() {
+            eprintln!("   alpha {alpha}");
         }
         match accepted {
             None => {
