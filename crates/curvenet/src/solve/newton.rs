@@ -43,10 +43,7 @@ impl Default for NewtonParams {
             max_backtracks: 60,
             stall_iterations: 4,
             floor_max_rel: 1e-6,
-            chord_ratio: std::env::var("CN_CHORD")
-                .ok()
-                .and_then(|v| v.parse().ok())
-                .unwrap_or(0.25),
+            chord_ratio: 0.25,
         }
     }
 }
@@ -300,16 +297,6 @@ pub fn relax_with_factor(
         }
         let gd: f64 = d.iter().zip(&cur.grad).map(|(a, b)| a * b).sum();
 
-        if std::env::var("CN_DEBUG").is_ok() {
-            eprintln!(
-                "it {} g_rel {:.3e} E {:.10e} proj {} facts {}",
-                info.iterations,
-                g_norm / g_ref,
-                cur.energy,
-                info.projected_steps,
-                info.factorizations
-            );
-        }
         // Backtracking line search on x − α d.
         let e0 = cur.energy;
         let roundoff = 1e-13 * e0.abs().max(f64::MIN_POSITIVE);
@@ -335,9 +322,6 @@ pub fn relax_with_factor(
                 }
             }
             alpha *= 0.5;
-        }
-        if std::env::var("CN_DEBUG").is_ok() {
-            eprintln!("   alpha {alpha}");
         }
         match accepted {
             None => {
