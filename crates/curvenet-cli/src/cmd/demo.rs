@@ -45,5 +45,6 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
         out: a.out,
         resume: false,
         prune: Default::default(),
+        mesh: Some(scene.mesh),
     })
 }

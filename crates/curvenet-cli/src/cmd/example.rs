@@ -70,6 +70,7 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
             .clone()
             .unwrap_or_else(|| PathBuf::from("out").join(&a.name)),
         resume: a.resume,
+        mesh: Some(ex.mesh),
         prune: PruneParams {
             enabled: !a.no_prune,
             ..Default::default()

@@ -3,7 +3,7 @@
 use super::print_warnings;
 use crate::args::GreedyArgs;
 use crate::exit::{ExitError, usage};
-use curvenet::io::Polyline;
+use curvenet::io::{Polyline, TriMesh};
 use curvenet::network::{BuildParams, build_network};
 use curvenet::simplify::candidates::PruneParams;
 use curvenet::simplify::greedy::IterationRecord;
@@ -29,6 +29,8 @@ pub struct GreedyJob {
     pub out: PathBuf,
     pub resume: bool,
     pub prune: PruneParams,
+    /// The surface, in scene units, written next to the result when known.
+    pub mesh: Option<TriMesh>,
 }
 
 /// The budget from the options, or `default` (a fraction) when none is given.
@@ -126,6 +128,12 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         bar.set_position((done * 1000.0) as u64);
         bar.set_message(format!("{} curves, λ {:.4e}", r.curves.len(), r.lambda));
     };
+    if let Some(mesh) = &job.mesh {
+        writer.write_mesh(mesh).map_err(|e| ExitError {
+            code: 1,
+            message: e,
+        })?;
+    }
     let mut writer = writer.with_cancel(&CANCEL).with_progress(&progress);
     let outcome = greedy(&analyzer, &params, resume_point, &mut writer);
     bar.finish_and_clear();

@@ -55,6 +55,8 @@ pub struct Inputs {
     pub warnings: Vec<String>,
     /// What was read.
     pub description: InputDescription,
+    /// The mesh, scaled, if one was given.
+    pub mesh: Option<curvenet::io::TriMesh>,
 }
 
 /// Reads and scales the inputs.
@@ -66,9 +68,15 @@ pub fn load_inputs(a: &InputArgs, p: &PhysicsArgs) -> anyhow::Result<Inputs> {
         )));
     }
     let mut warnings = Vec::new();
+    let mut mesh = None;
     if let Some(m) = &a.mesh {
-        let mesh = io::read_mesh(m)?;
-        warnings.extend(mesh.warnings.iter().map(|w| w.to_string()));
+        let file = io::read_mesh(m)?;
+        warnings.extend(file.warnings.iter().map(|w| w.to_string()));
+        let mut tri = file.mesh;
+        for v in &mut tri.vertices {
+            *v = *v * a.scale;
+        }
+        mesh = Some(tri);
     }
     let mut curves = Vec::new();
     for path in &a.curves {
@@ -98,6 +106,7 @@ pub fn load_inputs(a: &InputArgs, p: &PhysicsArgs) -> anyhow::Result<Inputs> {
         build,
         warnings,
         description,
+        mesh,
     })
 }
 

@@ -18,5 +18,6 @@ pub fn run(a: SimplifyArgs) -> anyhow::Result<()> {
         out: a.out.clone(),
         resume: a.greedy.resume,
         prune: Default::default(),
+        mesh: inputs.mesh,
     })
 }

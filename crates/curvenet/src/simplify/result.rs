@@ -9,6 +9,7 @@
 //! DIR/states/KKKK.modes.bin all low modes of iteration K, column after column (resume state)
 //! DIR/iterations/KKKK.obj the network of iteration K at equilibrium, one polyline per curve
 //! DIR/final.obj           the final network at equilibrium
+//! DIR/mesh.obj            the surface the curves were drawn on, in scene units (if known)
 //! DIR/summary.txt         a short text summary
 //! ```
 //!
@@ -269,6 +270,11 @@ impl<'a> OutputWriter<'a> {
             },
             point,
         ))
+    }
+
+    /// Writes the surface mesh (scene units) as `mesh.obj`, for viewers and pictures.
+    pub fn write_mesh(&self, mesh: &crate::io::TriMesh) -> Result<(), String> {
+        self.write("mesh.obj", io::mesh_to_obj(mesh).as_bytes())
     }
 
     /// Polls `flag` for cancellation.
