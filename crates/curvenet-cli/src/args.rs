@@ -26,6 +26,39 @@ pub enum Command {
     Demo(DemoArgs),
     /// Time the greedy on the paper's examples and print a table (SPEC §10, issue 4).
     Bench(BenchArgs),
+    /// Generate curves on a mesh: random geodesics or frame-field streamlines (SPEC §8).
+    Trace(TraceArgs),
+}
+
+/// `curvenet trace`.
+#[derive(Debug, Args)]
+pub struct TraceArgs {
+    /// Surface: an OBJ file or a built-in surface name (hill, tent, stadium, shell, dome,
+    /// saddle, wave).
+    #[arg(long)]
+    pub mesh: PathBuf,
+    /// Number of random geodesics (the reference's command-line scenes: loop 0,
+    /// t ~ U[0,1], θ ~ U[π/6, 5π/6]).
+    #[arg(long, conflicts_with = "field")]
+    pub geodesics: Option<usize>,
+    /// Seed of the reference's rand() for the geodesics.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u32,
+    /// Trace streamlines of a smooth 2- or 3-direction field instead of geodesics.
+    #[arg(long, value_parser = clap::value_parser!(u32).range(2..=3))]
+    pub field: Option<u32>,
+    /// Seeds along the boundary for streamlines.
+    #[arg(long, default_value_t = 40)]
+    pub seeds: usize,
+    /// Scale the mesh so its largest extent is this (the reference's scenes: 4000); 0 keeps it.
+    #[arg(long, default_value_t = 4000.0)]
+    pub extent: f64,
+    /// Output curve file (.json, .obj or .txt).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Also write the (scaled) mesh as OBJ.
+    #[arg(long = "mesh-out")]
+    pub mesh_out: Option<PathBuf>,
 }
 
 /// `curvenet bench`.
@@ -61,9 +94,18 @@ pub struct BenchArgs {
 /// `curvenet demo`.
 #[derive(Debug, Args)]
 pub struct DemoArgs {
-    /// Built-in scene.
+    /// Built-in surface to trace curves on (hill, tent, stadium, shell, dome, saddle, wave).
     #[arg(long, default_value = "dome")]
-    pub scene: String,
+    pub surface: String,
+    /// Number of random geodesics traced on it.
+    #[arg(long, default_value_t = 24)]
+    pub geodesics: usize,
+    /// Seed of the geodesics.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u32,
+    /// Target edge length h.
+    #[arg(long = "edge-length", default_value_t = 100.0)]
+    pub edge_length: f64,
     /// Output folder.
     #[arg(long, default_value = "out/demo")]
     pub out: PathBuf,
@@ -101,7 +143,8 @@ pub struct PhysicsArgs {
 /// Input files and network construction, shared by `analyze` and `simplify`.
 #[derive(Debug, Args, Clone)]
 pub struct InputArgs {
-    /// Surface mesh (OBJ); optional, used for reports and pictures.
+    /// Surface mesh: an OBJ file or a built-in surface name (hill, tent, stadium, shell,
+    /// dome, saddle, wave); optional, used for reports and pictures.
     #[arg(long)]
     pub mesh: Option<PathBuf>,
     /// Curve files (.txt reference format, .obj polylines, .json); repeat for several files.

@@ -1,8 +1,9 @@
-//! Built-in scenes made in code, so that the whole pipeline runs with no input files.
+//! Scenes made in code with known geometry, for tests and examples.
 //!
-//! [`dome_arcs`]: a spherical dome and arcs over it in three directions (vertical plane
+//! [`dome_arcs`]: a spherical dome and arcs over it in several directions (vertical plane
 //! sections of the sphere), crossing each other like a gridshell. Scene units match the
-//! paper's examples (a few thousand across) so the default material is sensible.
+//! paper's examples (a few thousand across) so the default material is sensible. (Curves
+//! traced on surfaces live in [`crate::trace`]; `curvenet demo` uses those.)
 
 use crate::geom::Vec3;
 use crate::io::{Origin, Polyline, TriMesh};
@@ -18,17 +19,6 @@ pub struct BuiltinScene {
     pub curves: Vec<Polyline>,
     /// Suggested edge length `h`.
     pub edge_length: f64,
-}
-
-/// Names of the built-in scenes.
-pub const NAMES: [&str; 1] = ["dome"];
-
-/// The built-in scene `name`.
-pub fn scene(name: &str) -> Option<BuiltinScene> {
-    match name {
-        "dome" => Some(dome_arcs(2000.0, 700.0, 3, 5)),
-        _ => None,
-    }
 }
 
 /// A spherical cap of base radius `base` and height `height` (z up, base on z = 0), with
@@ -109,7 +99,7 @@ mod tests {
 
     #[test]
     fn dome_arcs_lie_on_the_dome_and_end_on_the_ground() {
-        let s = scene("dome").expect("dome exists");
+        let s = dome_arcs(2000.0, 700.0, 3, 5);
         assert_eq!(s.curves.len(), 15);
         for c in &s.curves {
             let (a, b) = (c.points[0], *c.points.last().expect("points"));

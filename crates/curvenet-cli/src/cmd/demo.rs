@@ -1,42 +1,60 @@
-//! `curvenet demo`: the whole pipeline on a built-in scene, no files needed.
+//! `curvenet demo`: the whole pipeline with no input files: random geodesics traced on a
+//! built-in surface (as the reference's command-line scenes: largest extent 4000, h = 100),
+//! then the greedy to the budget, with every output a real run writes.
 
 use super::greedy_run::{GreedyJob, run_greedy};
 use super::stability_params;
 use crate::args::DemoArgs;
 use crate::exit::usage;
-use curvenet::builtin;
 use curvenet::network::BuildParams;
 use curvenet::simplify::Budget;
 use curvenet::simplify::result::InputDescription;
+use curvenet::trace::{Generator, SURFACE_NAMES, builtin_surface, generate, scale_to_extent};
 
 pub fn run(a: DemoArgs) -> anyhow::Result<()> {
-    let scene = builtin::scene(&a.scene).ok_or_else(|| {
+    let surface = builtin_surface(&a.surface).ok_or_else(|| {
         usage(format!(
-            "unknown built-in scene '{}' (known: {})",
-            a.scene,
-            builtin::NAMES.join(", ")
+            "unknown built-in surface '{}' (known: {})",
+            a.surface,
+            SURFACE_NAMES.join(", ")
         ))
     })?;
     let budget = Budget::Fraction(a.budget);
     budget.validate().map_err(usage)?;
+    let (mesh, _) = scale_to_extent(&surface, 4000.0);
+    let traced = generate(
+        &mesh,
+        &Generator::Random {
+            count: a.geodesics,
+            seed: a.seed,
+        },
+    )
+    .map_err(|e| usage(format!("builtin:{}: {e}", a.surface)))?;
+    if traced.curves.is_empty() {
+        return Err(usage(format!(
+            "builtin:{}: no geodesic could be traced",
+            a.surface
+        )));
+    }
     println!(
-        "demo: {} built-in curves over the '{}' surface, budget {} of the total length",
-        scene.curves.len(),
-        scene.name,
+        "demo: {} random geodesics (seed {}) on the built-in '{}' surface, budget {} of the total length",
+        traced.curves.len(),
+        a.seed,
+        a.surface,
         a.budget
     );
     run_greedy(GreedyJob {
-        curves: scene.curves,
+        curves: traced.curves,
         build: BuildParams {
-            edge_length: scene.edge_length,
+            edge_length: a.edge_length,
             supports: a.physics.supports.unwrap_or_default(),
             merge_joints_below: a.physics.merge_joints,
             ..BuildParams::default()
         },
         stability: stability_params(&a.physics)?,
         input: InputDescription {
-            example: Some(format!("builtin:{}", scene.name)),
-            mesh: None,
+            example: Some(format!("demo:{}:{}:{}", a.surface, a.geodesics, a.seed)),
+            mesh: Some(format!("builtin:{}", a.surface)),
             curve_files: Vec::new(),
             scale: 1.0,
         },
@@ -45,6 +63,6 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
         out: a.out,
         resume: false,
         prune: Default::default(),
-        mesh: Some(scene.mesh),
+        mesh: Some(mesh),
     })
 }

@@ -6,6 +6,8 @@ mod demo;
 mod example;
 mod greedy_run;
 mod simplify;
+mod surface;
+mod trace;
 
 use crate::args::{Cli, Command, InputArgs, PhysicsArgs};
 use crate::exit::usage;
@@ -23,6 +25,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Simplify(a) => simplify::run(a),
         Command::Example(a) => example::run(a),
         Command::Demo(a) => demo::run(a),
+        Command::Trace(a) => trace::run(a),
         Command::Bench(a) => bench::run(a),
     }
 }
@@ -70,8 +73,8 @@ pub fn load_inputs(a: &InputArgs, p: &PhysicsArgs) -> anyhow::Result<Inputs> {
     let mut warnings = Vec::new();
     let mut mesh = None;
     if let Some(m) = &a.mesh {
-        let file = io::read_mesh(m)?;
-        warnings.extend(file.warnings.iter().map(|w| w.to_string()));
+        let file = surface::read_mesh_arg(m)?;
+        warnings.extend(file.warnings);
         let mut tri = file.mesh;
         for v in &mut tri.vertices {
             *v = *v * a.scale;

@@ -1,0 +1,82 @@
+//! `curvenet trace`: curves generated on a mesh, written to a curve file.
+
+use super::surface::read_mesh_arg;
+use crate::args::TraceArgs;
+use crate::exit::usage;
+use curvenet::io;
+use curvenet::trace::{Generator, generate, scale_to_extent};
+
+pub fn run(a: TraceArgs) -> anyhow::Result<()> {
+    let input = read_mesh_arg(&a.mesh)?;
+    for w in &input.warnings {
+        eprintln!("warning: {w}");
+    }
+    let (mesh, scale) = if a.extent > 0.0 {
+        scale_to_extent(&input.mesh, a.extent)
+    } else if a.extent == 0.0 {
+        (input.mesh.clone(), 1.0)
+    } else {
+        return Err(usage(format!(
+            "--extent must be positive or 0, got {}",
+            a.extent
+        )));
+    };
+    let generator = match (a.geodesics, a.field) {
+        (Some(count), None) => Generator::Random {
+            count,
+            seed: a.seed,
+        },
+        (None, Some(f)) => Generator::Streamlines {
+            degree: 2 * f,
+            seeds: a.seeds,
+        },
+        _ => return Err(usage("give --geodesics N or --field 2|3")),
+    };
+    let out =
+        generate(&mesh, &generator).map_err(|e| usage(format!("{}: {e}", input.description)))?;
+    if out.curves.is_empty() {
+        return Err(usage(format!(
+            "{}: no curve could be traced ({} failed)",
+            input.description, out.failed
+        )));
+    }
+    for f in out.failures.iter().take(5) {
+        eprintln!("warning: {f}");
+    }
+    let text = match a
+        .out
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+    {
+        Some("json") => io::curves_to_json(&out.curves),
+        Some("obj") => io::curves_to_obj(&out.curves),
+        Some("txt") => io::curves_to_reference_text(&out.curves),
+        _ => {
+            return Err(usage(format!(
+                "{}: output must end in .json, .obj or .txt",
+                a.out.display()
+            )));
+        }
+    };
+    io::write_atomic(&a.out, text.as_bytes())
+        .map_err(|e| usage(format!("{}: {e}", a.out.display())))?;
+    if let Some(m) = &a.mesh_out {
+        io::write_atomic(m, io::mesh_to_obj(&mesh).as_bytes())
+            .map_err(|e| usage(format!("{}: {e}", m.display())))?;
+    }
+    let total: f64 = out.curves.iter().map(|c| c.length()).sum();
+    println!(
+        "{}: {} curves ({} attempts, {} rejected, {} failed), total length {:.1} at scale {:.6}; written to {}",
+        input.description,
+        out.curves.len(),
+        out.attempts,
+        out.rejected,
+        out.failed,
+        total,
+        scale,
+        a.out.display()
+    );
+    Ok(())
+}
