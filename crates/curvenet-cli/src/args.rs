@@ -28,6 +28,42 @@ pub enum Command {
     Bench(BenchArgs),
     /// Generate curves on a mesh: random geodesics or frame-field streamlines (SPEC §8).
     Trace(TraceArgs),
+    /// Greedy against exhaustive and random search on random networks (paper Fig. 10).
+    Compare(CompareArgs),
+}
+
+/// `curvenet compare`.
+#[derive(Debug, Args)]
+pub struct CompareArgs {
+    /// Numbers of curves N (comma-separated).
+    #[arg(long, value_delimiter = ',', default_value = "10,12,14,16")]
+    pub sizes: Vec<usize>,
+    /// Random networks per size.
+    #[arg(long, default_value_t = 10)]
+    pub instances: usize,
+    /// Budget fraction.
+    #[arg(long, default_value_t = 0.3)]
+    pub budget: f64,
+    /// Base seed.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u32,
+    /// Surfaces to trace on: mesh files, names of the reference's simple surfaces (1wave,
+    /// 2waves, half_sphere, sine_disk, leaf, from the data folder) or built-in surfaces.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "1wave,2waves,half_sphere,sine_disk,leaf"
+    )]
+    pub surfaces: Vec<String>,
+    /// Folder holding the reference data (for the simple surfaces).
+    #[arg(long)]
+    pub data: Option<PathBuf>,
+    /// Write the full report (every instance) as JSON.
+    #[arg(long)]
+    pub json: Option<PathBuf>,
+    /// Write the summary table as Markdown.
+    #[arg(long)]
+    pub markdown: Option<PathBuf>,
 }
 
 /// `curvenet trace`.

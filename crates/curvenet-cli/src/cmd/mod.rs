@@ -2,6 +2,7 @@
 
 mod analyze;
 mod bench;
+mod compare;
 mod demo;
 mod example;
 mod greedy_run;
@@ -26,6 +27,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Example(a) => example::run(a),
         Command::Demo(a) => demo::run(a),
         Command::Trace(a) => trace::run(a),
+        Command::Compare(a) => compare::run(a),
         Command::Bench(a) => bench::run(a),
     }
 }

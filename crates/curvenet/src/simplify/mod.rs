@@ -9,6 +9,7 @@
 //! for everyone, so their answers are comparable.
 
 pub mod candidates;
+pub mod compare;
 pub mod exhaustive;
 pub mod greedy;
 pub mod random;
@@ -126,6 +127,8 @@ pub struct Scorer<'a> {
     eval_eigen: EigenParams,
     /// Eigen parameters for candidate scores (only `λ` is needed).
     candidate_eigen: EigenParams,
+    /// `λ_eq` of connected structures already evaluated.
+    cache: std::sync::Mutex<std::collections::HashMap<Vec<usize>, f64>>,
 }
 
 impl<'a> Scorer<'a> {
@@ -142,6 +145,7 @@ impl<'a> Scorer<'a> {
             analyzer,
             eval_eigen: analyzer.params().eigen.clone(),
             candidate_eigen,
+            cache: Default::default(),
         }
     }
 
@@ -213,11 +217,63 @@ impl<'a> Scorer<'a> {
 
     /// `λ_eq(active)` relaxed from the drawn state, the way every search ranks a subset
     /// (path-independent, so greedy, exhaustive and random results compare).
+    ///
+    /// Curves that share no vertex are independent structures: the Hessian is block diagonal
+    /// and each part relaxes on its own, so `λ_eq` is the smallest `λ_eq` of the connected
+    /// parts. Each part's value is computed once and remembered (searches over subsets meet
+    /// the same parts again and again).
     pub fn lambda_eq(&self, active: &ActiveSet) -> Result<f64, StabilityError> {
-        let a = self.analyzer;
         if active.is_empty() {
             return Err(StabilityError::Empty);
         }
+        let mut lambda = f64::INFINITY;
+        for part in self.components(active) {
+            let cached = self.cache.lock().expect("cache lock").get(&part).copied();
+            let value = match cached {
+                Some(v) => v,
+                None => {
+                    let v = self
+                        .lambda_eq_connected(&ActiveSet::from_curves(active.universe(), &part))?;
+                    self.cache.lock().expect("cache lock").insert(part, v);
+                    v
+                }
+            };
+            lambda = lambda.min(value);
+        }
+        Ok(lambda)
+    }
+
+    /// The connected parts of `active` (curves joined through shared vertices), each sorted,
+    /// in order of their smallest curve.
+    pub fn components(&self, active: &ActiveSet) -> Vec<Vec<usize>> {
+        let curves = active.curves();
+        let model = self.analyzer.model();
+        let mut uf = crate::network::crossings::UnionFind::new(active.universe());
+        for cs in model.vertex_curves() {
+            let on: Vec<usize> = cs
+                .iter()
+                .map(|&c| c as usize)
+                .filter(|&c| active.contains(c))
+                .collect();
+            for w in on.windows(2) {
+                uf.union(w[0], w[1]);
+            }
+        }
+        let mut parts: Vec<Vec<usize>> = Vec::new();
+        let mut root_part = std::collections::HashMap::new();
+        for c in curves {
+            let r = uf.find(c);
+            let i = *root_part.entry(r).or_insert_with(|| {
+                parts.push(Vec::new());
+                parts.len() - 1
+            });
+            parts[i].push(c);
+        }
+        parts
+    }
+
+    fn lambda_eq_connected(&self, active: &ActiveSet) -> Result<f64, StabilityError> {
+        let a = self.analyzer;
         let mut u = vec![0.0; a.model().dofs()];
         a.relax(active, &mut u);
         let h = a.model().assemble(&u, active, true).hess;
