@@ -39,7 +39,7 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
         seed: a.seed,
         ..CompareParams::default()
     };
-    if params.sizes.iter().any(|&n| n < 2 || n > 30) {
+    if params.sizes.iter().any(|n| !(2..=30).contains(n)) {
         return Err(usage(
             "--sizes must lie between 2 and 30 (exhaustive search is exponential)",
         ));

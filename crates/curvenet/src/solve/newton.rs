@@ -297,6 +297,16 @@ pub fn relax_with_factor(
         }
         let gd: f64 = d.iter().zip(&cur.grad).map(|(a, b)| a * b).sum();
 
+        if std::env::var("CN_DEBUG").is_ok() {
+            eprintln!(
+                "it {} g_rel {:.3e} E {:.10e} proj {} facts {}",
+                info.iterations,
+                g_norm / g_ref,
+                cur.energy,
+                info.projected_steps,
+                info.factorizations
+            );
+        }
         // Backtracking line search on x − α d.
         let e0 = cur.energy;
         let roundoff = 1e-13 * e0.abs().max(f64::MIN_POSITIVE);
@@ -322,6 +332,9 @@ pub fn relax_with_factor(
                 }
             }
             alpha *= 0.5;
+        }
+        if std::env::var("CN_DEBUG").is_ok() {
+            eprintln!("   alpha {alpha}");
         }
         match accepted {
             None => {
