@@ -83,7 +83,18 @@ fn check_pruning(name: &str, a: &Analyzer, base: &GreedyParams) -> usize {
                 "{c_on:?} {c_off:?}"
             );
             let all = c_off.score.expect("every candidate scored without pruning");
-            let bound = c_on.bound.expect("bounds computed with pruning");
+            let rr = c_on.bound.expect("bounds computed with pruning");
+            // The refined bound (one preconditioned step), where computed, is tighter
+            // and is what pruned the candidate; both must be upper bounds.
+            if let Some(refined) = c_on.refined_bound {
+                assert!(
+                    all <= refined + 1e-6 * refined.abs(),
+                    "{name}, iteration {k}, curve {}: score {all:e} above its refined bound \
+                     {refined:e}",
+                    c_on.curve
+                );
+            }
+            let bound = c_on.refined_bound.map_or(rr, |r| r.min(rr));
             // Bounds are upper bounds.
             assert!(
                 all <= bound + 1e-6 * bound.abs(),

@@ -36,8 +36,10 @@ use curvenet::simplify::{Budget, GreedyParams, Scorer, StopReason, greedy};
 use curvenet::stability::{Analyzer, StabilityParams};
 use std::collections::HashSet;
 
-/// Relative agreement required between two evaluations of the same `λ_eq`.
-const SAME: f64 = 1e-9;
+/// Relative agreement required between two evaluations of the same `λ_eq` by different routes
+/// (warm or cold Newton, full or split network): both stop at a relative gradient of about
+/// 1e-10, which leaves `λ` uncertain to a few 1e-9 on soft networks (seen: 6e-9 on CI).
+const SAME: f64 = 5e-8;
 /// The SPEC's tie tolerance.
 const TIE: f64 = 1e-7;
 

@@ -13,6 +13,7 @@ pub mod compare;
 pub mod exhaustive;
 pub mod greedy;
 pub mod random;
+pub mod relaxation;
 pub mod result;
 
 pub use greedy::{GreedyHooks, GreedyOutcome, GreedyParams, StopReason, greedy};
@@ -21,9 +22,7 @@ use crate::report::NewtonSummary;
 use crate::rod::ActiveSet;
 use crate::rod::model::LocalHessians;
 use crate::solve::Cholesky;
-use crate::solve::eigen::{
-    EigenParams, Spectrum, smallest_eigenpairs, smallest_eigenpairs_factored,
-};
+use crate::solve::eigen::{EigenParams, Spectrum, smallest_eigenpairs_factored};
 use crate::stability::{Analyzer, StabilityError};
 use faer::{Mat, MatRef};
 use serde::{Deserialize, Serialize};
@@ -93,6 +92,9 @@ pub struct Evaluation {
     pub spectrum: Spectrum,
     /// Factorizations and solves it took.
     pub work: Work,
+    /// The factorization of `H − σI` at equilibrium that the spectrum used (a preconditioner
+    /// for the structures one curve smaller).
+    pub factor: Option<std::sync::Arc<Cholesky>>,
 }
 
 /// Counts of the expensive operations, for benchmarks.
@@ -149,9 +151,9 @@ impl<'a> Scorer<'a> {
         }
     }
 
-    /// Computes at least `k` modes in every `λ_eq` spectrum (for the candidates' bounds).
+    /// Computes `k` modes in every `λ_eq` spectrum (for the candidates' bounds).
     pub fn with_modes(mut self, k: usize) -> Self {
-        self.eval_eigen.count = self.eval_eigen.count.max(k);
+        self.eval_eigen.count = k.max(1);
         // Blocks as wide as the solver's column groups: every solve call is a full group.
         self.eval_eigen.block_size = crate::solve::factor::SOLVE_GROUP.min(k.max(1));
         self.eval_eigen.max_basis = self
@@ -194,7 +196,7 @@ impl<'a> Scorer<'a> {
         let newton = a.relax_with_factor(active, &mut u, factor);
         let h = model.assemble(&u, active, true).hess;
         let warm = modes.map(|w| restrict(w, &model.vertex_mask(active)));
-        let spectrum = smallest_eigenpairs(
+        let (spectrum, factor) = smallest_eigenpairs_factored(
             model.pattern(),
             &h,
             a.symbolic(),
@@ -203,6 +205,7 @@ impl<'a> Scorer<'a> {
         )?;
         let curves = active.curves();
         Ok(Evaluation {
+            factor: Some(std::sync::Arc::new(factor)),
             length: a.network().total_length(&curves),
             curves,
             newton: NewtonSummary::from(&newton),
@@ -232,8 +235,7 @@ impl<'a> Scorer<'a> {
             let value = match cached {
                 Some(v) => v,
                 None => {
-                    let v = self
-                        .lambda_eq_connected(&ActiveSet::from_curves(active.universe(), &part))?;
+                    let v = self.lambda_eq_connected(&part)?;
                     self.cache.lock().expect("cache lock").insert(part, v);
                     v
                 }
@@ -272,19 +274,18 @@ impl<'a> Scorer<'a> {
         parts
     }
 
-    fn lambda_eq_connected(&self, active: &ActiveSet) -> Result<f64, StabilityError> {
-        let a = self.analyzer;
-        let mut u = vec![0.0; a.model().dofs()];
-        a.relax(active, &mut u);
-        let h = a.model().assemble(&u, active, true).hess;
-        let sp = smallest_eigenpairs(
-            a.model().pattern(),
-            &h,
-            a.symbolic(),
-            None,
-            &self.candidate_eigen,
-        )?;
-        Ok(sp.lambda())
+    /// `λ_eq` of a connected structure, on its own network (the loose vertices deleted, so
+    /// the factorizations only see the structure's own unknowns).
+    fn lambda_eq_connected(&self, curves: &[usize]) -> Result<f64, StabilityError> {
+        let (network, _) = self.analyzer.network().sub_network(curves);
+        let n = network.rods.len();
+        let mut params = self.analyzer.params().clone();
+        params.eigen = self.candidate_eigen.clone();
+        let sub = Analyzer::new(network, params).map_err(StabilityError::Params)?;
+        let active = ActiveSet::all(n);
+        let mut u = vec![0.0; sub.model().dofs()];
+        sub.relax(&active, &mut u);
+        Ok(sub.spectrum(&active, &u, None)?.lambda())
     }
 
     /// `λ_fix(active | A)` from the local Hessians at `A`'s equilibrium, warm-started from

@@ -8,6 +8,7 @@
 //! Everything runs with `Par::Seq`: parallelism lives one level up (candidates in parallel),
 //! which keeps every result bit-identical whatever the thread count.
 
+use super::ordering::{self, OrderingKind};
 use crate::rod::model::Pattern;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
@@ -19,6 +20,9 @@ use faer::sparse::linalg::cholesky::{
 use faer::{Conj, MatMut, Par, Side};
 use std::sync::Arc;
 
+/// Networks with at least this many unknowns also try a nested-dissection ordering.
+pub const ND_MIN_DOFS: usize = 3000;
+
 /// Right-hand sides solved together in one call (see [`Cholesky::solve_in_place`]).
 pub const SOLVE_GROUP: usize = 4;
 
@@ -26,6 +30,7 @@ pub const SOLVE_GROUP: usize = 4;
 #[derive(Debug)]
 pub struct SymbolicFactor {
     inner: SymbolicCholesky<usize>,
+    ordering: OrderingKind,
 }
 
 /// The numeric factorization failed: the matrix is not numerically positive definite.
@@ -37,16 +42,46 @@ pub struct NotPositiveDefinite {
 }
 
 impl SymbolicFactor {
-    /// Analyses `pattern` (AMD ordering).
+    /// Analyses `pattern`: AMD, and on networks of more than [`ND_MIN_DOFS`] unknowns also
+    /// nested dissection, keeping the ordering with less fill (see [`super::ordering`]).
     pub fn new(pattern: &Pattern) -> Arc<Self> {
-        let inner = factorize_symbolic_cholesky(
+        let amd = factorize_symbolic_cholesky(
             pattern.symbolic(),
             Side::Upper,
             SymmetricOrdering::Amd,
             CholeskySymbolicParams::default(),
         )
         .expect("symbolic analysis of a valid pattern");
-        Arc::new(SymbolicFactor { inner })
+        let mut best = SymbolicFactor {
+            inner: amd,
+            ordering: OrderingKind::Amd,
+        };
+        if pattern.n >= ND_MIN_DOFS {
+            if let Some(perm) = ordering::nested_dissection(pattern) {
+                let (fwd, inv) = ordering::expand(&perm);
+                let nd = factorize_symbolic_cholesky(
+                    pattern.symbolic(),
+                    Side::Upper,
+                    SymmetricOrdering::Custom(faer::perm::PermRef::new_checked(
+                        &fwd, &inv, pattern.n,
+                    )),
+                    CholeskySymbolicParams::default(),
+                )
+                .expect("symbolic analysis of a valid pattern");
+                if nd.len_val() < best.inner.len_val() {
+                    best = SymbolicFactor {
+                        inner: nd,
+                        ordering: OrderingKind::NestedDissection,
+                    };
+                }
+            }
+        }
+        Arc::new(best)
+    }
+
+    /// The ordering chosen.
+    pub fn ordering(&self) -> OrderingKind {
+        self.ordering
     }
 
     /// Number of stored values in the factor `L`.

@@ -2,6 +2,7 @@
 //!
 //! - [`factor`]: symbolic analysis once per network, numeric factorization per matrix;
 //! - [`newton`]: equilibrium of any structure (SPEC §4);
+//! - [`ordering`]: fill-reducing orderings (AMD, nested dissection with METIS);
 //! - [`lanczos`]: thick-restart block Lanczos for the largest eigenpairs of an operator;
 //! - [`eigen`]: shift-and-invert driver giving the smallest eigenpairs of a Hessian (SPEC §5).
 
@@ -9,6 +10,7 @@ pub mod eigen;
 pub mod factor;
 pub mod lanczos;
 pub mod newton;
+pub mod ordering;
 
 pub use eigen::{
     EigenError, EigenParams, Spectrum, smallest_eigenpairs, smallest_eigenpairs_factored,

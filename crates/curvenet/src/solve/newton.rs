@@ -32,6 +32,21 @@ pub struct NewtonParams {
     /// Reuse the last factorization for a step ("chord" step) and keep it when the step cuts
     /// `‖∇E‖` by at least this factor; 0 disables reuse (every step refactors).
     pub chord_ratio: f64,
+    /// Conjugate-gradient iterations allowed per Newton system when an earlier factorization
+    /// preconditions it (0: always refactor).
+    #[serde(default = "default_krylov_iterations")]
+    pub krylov_iterations: usize,
+    /// Relative residual the conjugate gradients must reach.
+    #[serde(default = "default_krylov_tol")]
+    pub krylov_tol: f64,
+}
+
+fn default_krylov_iterations() -> usize {
+    16
+}
+
+fn default_krylov_tol() -> f64 {
+    1e-4
 }
 
 impl Default for NewtonParams {
@@ -44,6 +59,8 @@ impl Default for NewtonParams {
             stall_iterations: 4,
             floor_max_rel: 1e-6,
             chord_ratio: 0.25,
+            krylov_iterations: default_krylov_iterations(),
+            krylov_tol: default_krylov_tol(),
         }
     }
 }
@@ -111,8 +128,56 @@ pub struct NewtonInfo {
     pub chord_steps: usize,
     /// Iterations whose direction came from the projected (convex) Hessian.
     pub projected_steps: usize,
+    /// Iterations whose Newton system was solved by preconditioned conjugate gradients.
+    pub krylov_steps: usize,
     /// Largest diagonal shift `τ` used.
     pub max_shift: f64,
+}
+
+/// Conjugate gradients for `H d = g` (`H` symmetric, upper triangle `hess` in `pattern`),
+/// preconditioned by the factorization `f` of a nearby matrix. `None` when `H` shows
+/// non-positive curvature or the relative residual does not reach `tol` within `max_it`.
+fn pcg(
+    pattern: &crate::rod::model::Pattern,
+    hess: &[f64],
+    g: &[f64],
+    f: &Cholesky,
+    tol: f64,
+    max_it: usize,
+) -> Option<Vec<f64>> {
+    let n = g.len();
+    let g_norm = norm(g);
+    let mut x = vec![0.0; n];
+    let mut r = g.to_vec();
+    let mut z = r.clone();
+    f.solve_vec(&mut z);
+    let mut p = z.clone();
+    let mut rz: f64 = r.iter().zip(&z).map(|(a, b)| a * b).sum();
+    let mut q = vec![0.0; n];
+    for _ in 0..max_it {
+        pattern.sym_matvec(hess, &p, &mut q);
+        let pq: f64 = p.iter().zip(&q).map(|(a, b)| a * b).sum();
+        if !(pq > 0.0 && pq.is_finite()) {
+            return None;
+        }
+        let alpha = rz / pq;
+        for i in 0..n {
+            x[i] += alpha * p[i];
+            r[i] -= alpha * q[i];
+        }
+        if norm(&r) <= tol * g_norm {
+            return Some(x);
+        }
+        z.copy_from_slice(&r);
+        f.solve_vec(&mut z);
+        let rz_new: f64 = r.iter().zip(&z).map(|(a, b)| a * b).sum();
+        let beta = rz_new / rz;
+        rz = rz_new;
+        for i in 0..n {
+            p[i] = z[i] + beta * p[i];
+        }
+    }
+    None
 }
 
 /// The Newton direction `F⁻¹ g` if it is a finite descent direction (`gᵀd > 0`).
@@ -172,6 +237,7 @@ pub fn relax_with_factor(
         factorizations: 0,
         chord_steps: 0,
         projected_steps: 0,
+        krylov_steps: 0,
         max_shift: 0.0,
     };
     if !cur.energy.is_finite() || !g_start.is_finite() {
@@ -191,6 +257,7 @@ pub fn relax_with_factor(
     // start); `stale`: the last factorization, for chord steps at later points.
     let mut fresh: Option<Cholesky> = initial;
     let mut stale: Option<Cholesky> = None;
+    let mut last_projected = false;
     loop {
         let g_norm = norm(&cur.grad);
         info.grad_end = g_norm;
@@ -224,6 +291,7 @@ pub fn relax_with_factor(
         }
 
         // A chord step with an earlier factorization, kept when it cuts the gradient enough.
+        let mut krylov: Option<Cholesky> = None;
         if let Some(f) = stale.take().filter(|_| fresh.is_none()) {
             if let Some(d) = descent(&f, &cur.grad) {
                 let gd: f64 = d.iter().zip(&cur.grad).map(|(a, b)| a * b).sum();
@@ -245,21 +313,50 @@ pub fn relax_with_factor(
                     continue;
                 }
             }
+            krylov = Some(f);
         }
 
         // Direction: the exact Hessian if it is positive definite, else the Hessian with every
         // term's local Hessian projected to be positive semidefinite (a convex model that
         // always gives a descent direction), shifted only if even that is singular.
+        // Next best to a factorization: the Newton system solved by conjugate gradients
+        // preconditioned with the earlier factorization (a nearby Hessian), when it converges
+        // in a few iterations.
         let reuse = fresh
             .take()
-            .and_then(|f| descent(&f, &cur.grad).map(|d| (d, f)));
+            .and_then(|f| descent(&f, &cur.grad).map(|d| (d, f)))
+            .or_else(|| {
+                let f = krylov.take()?;
+                let d = pcg(
+                    pattern,
+                    &cur.hess,
+                    &cur.grad,
+                    &f,
+                    params.krylov_tol,
+                    params.krylov_iterations,
+                )?;
+                let gd: f64 = d.iter().zip(&cur.grad).map(|(a, b)| a * b).sum();
+                (gd > 0.0 && gd.is_finite()).then(|| {
+                    info.krylov_steps += 1;
+                    (d, f)
+                })
+            });
         let (d, f) = match reuse {
             Some(pair) => pair,
             None => {
-                info.factorizations += 1;
-                let exact = Cholesky::factorize(symbolic, pattern, &cur.hess, 0.0)
-                    .ok()
-                    .and_then(|f| descent(&f, &cur.grad).map(|d| (d, f)));
+                // After a projected step the exact Hessian is usually still indefinite: try it
+                // again only every few iterations, or once the gradient has come down.
+                let try_exact =
+                    !last_projected || info.iterations % 4 == 0 || g_norm <= 1e-3 * g_ref;
+                let exact = if try_exact {
+                    info.factorizations += 1;
+                    Cholesky::factorize(symbolic, pattern, &cur.hess, 0.0)
+                        .ok()
+                        .and_then(|f| descent(&f, &cur.grad).map(|d| (d, f)))
+                } else {
+                    None
+                };
+                last_projected = exact.is_none();
                 match exact {
                     Some(pair) => pair,
                     None => {

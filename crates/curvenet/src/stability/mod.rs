@@ -106,6 +106,9 @@ pub enum StabilityError {
     /// The structure has no curves.
     #[error("the structure has no curves")]
     Empty,
+    /// Invalid parameters.
+    #[error("invalid parameters: {0}")]
+    Params(String),
 }
 
 /// `λ_eq` of a structure, with everything a report needs.
