@@ -30,6 +30,47 @@ pub enum Command {
     Trace(TraceArgs),
     /// Greedy against exhaustive and random search on random networks (paper Fig. 10).
     Compare(CompareArgs),
+    /// Write the interactive viewer (one self-contained HTML page) and the pictures of a run.
+    View(ViewArgs),
+    /// Export a recorded network of a run (OBJ, JSON, CSV, fabrication table, network file).
+    Export(ExportArgs),
+}
+
+/// `curvenet view`.
+#[derive(Debug, Args)]
+pub struct ViewArgs {
+    /// Output folder of a run (holding result.json).
+    pub dir: PathBuf,
+    /// The HTML file to write (default DIR/viewer.html).
+    #[arg(long)]
+    pub output: Option<PathBuf>,
+    /// Open the page in the default browser (xdg-open).
+    #[arg(long)]
+    pub open: bool,
+    /// Do not compute the gravity deflection of every iteration.
+    #[arg(long = "no-gravity")]
+    pub no_gravity: bool,
+    /// Do not (re)write final.png, mode.png and lambda.png.
+    #[arg(long = "no-pictures")]
+    pub no_pictures: bool,
+}
+
+/// `curvenet export`.
+#[derive(Debug, Args)]
+pub struct ExportArgs {
+    /// Output folder of a run (holding result.json).
+    pub dir: PathBuf,
+    /// Iteration to export (default: the final one).
+    #[arg(long)]
+    pub iteration: Option<usize>,
+    /// obj, json, csv (points and fabrication table), network (reloadable network file) or all.
+    #[arg(long, default_value = "all")]
+    pub format: String,
+    /// Folder for the files (default DIR/export). With one format, a path with an extension
+    /// writes only that format's main file: the OBJ at equilibrium, the JSON at rest, the
+    /// fabrication table, or the network file.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
 }
 
 /// `curvenet compare`.

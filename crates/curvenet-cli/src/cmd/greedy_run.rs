@@ -161,6 +161,12 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         code: 1,
         message: e,
     })?;
+    // Pictures, viewer page and fabrication table: a failure here leaves the run's results
+    // intact, so it is a warning.
+    match curvenet::report::viewer::write_run_outputs(&job.out) {
+        Ok(o) => print_warnings(&o.warnings),
+        Err(e) => print_warnings(&[format!("pictures and viewer not written: {e}")]),
+    }
     print!("{}", summary(writer.result()));
     println!(
         "wall time: {:.2} s; output in {}",

@@ -1,0 +1,53 @@
+//! `curvenet export`: a recorded network of a run as OBJ, JSON, CSV, fabrication table or
+//! network file.
+
+use crate::args::ExportArgs;
+use crate::exit::{ExitError, usage};
+use curvenet::report::export::{ExportFormat, RunFolder, export_files, write_exports};
+use std::path::Path;
+
+pub fn run(a: ExportArgs) -> anyhow::Result<()> {
+    let format: ExportFormat = a.format.parse().map_err(usage)?;
+    let run = RunFolder::open(&a.dir).map_err(usage)?;
+    super::print_warnings(&run.warnings);
+    let k = a.iteration.unwrap_or_else(|| run.last_index());
+    run.record(k).map_err(usage)?;
+    let internal = |message: String| ExitError { code: 1, message };
+    let out = a.out.unwrap_or_else(|| a.dir.join("export"));
+    // One file to a named path: one format and a path with an extension that is not an existing
+    // folder get that format's main file (the first of `export_files`).
+    let single = format != ExportFormat::All && out.extension().is_some() && !out.is_dir();
+    if single {
+        let files = export_files(&run, k, format).map_err(internal)?;
+        let (_, text) = files
+            .into_iter()
+            .next()
+            .ok_or_else(|| internal("nothing to export".into()))?;
+        if let Some(parent) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
+            std::fs::create_dir_all(parent)
+                .map_err(|e| usage(format!("{}: {e}", parent.display())))?;
+        }
+        curvenet::io::write_atomic(&out, text.as_bytes())
+            .map_err(|e| usage(format!("{}: {e}", out.display())))?;
+        println!("{}", out.display());
+        return Ok(());
+    }
+    if out.is_file() {
+        return Err(usage(format!(
+            "{}: is a file; --out names a folder for this format",
+            out.display()
+        )));
+    }
+    let paths = write_exports(&run, k, format, Path::new(&out)).map_err(internal)?;
+    let rec = run.record(k).map_err(usage)?;
+    eprintln!(
+        "iteration {k}: {} curves, length {:.6}, λ_eq {:.6e}",
+        rec.curves.len(),
+        rec.length,
+        rec.lambda
+    );
+    for p in paths {
+        println!("{}", p.display());
+    }
+    Ok(())
+}

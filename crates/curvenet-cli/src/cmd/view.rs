@@ -1,0 +1,37 @@
+//! `curvenet view`: the self-contained viewer page and the pictures of a run folder.
+
+use crate::args::ViewArgs;
+use crate::exit::{ExitError, usage};
+use curvenet::report::export::RunFolder;
+use curvenet::report::viewer::{ViewerOptions, write_pictures, write_viewer};
+
+pub fn run(a: ViewArgs) -> anyhow::Result<()> {
+    let run = RunFolder::open(&a.dir).map_err(usage)?;
+    super::print_warnings(&run.warnings);
+    let internal = |message: String| ExitError { code: 1, message };
+    if !a.no_pictures {
+        for p in write_pictures(&run).map_err(internal)? {
+            eprintln!("wrote {}", p.display());
+        }
+    }
+    let path = a.output.unwrap_or_else(|| a.dir.join("viewer.html"));
+    let options = ViewerOptions {
+        gravity: !a.no_gravity,
+    };
+    write_viewer(&run, &path, &options).map_err(internal)?;
+    println!("{}", path.display());
+    if a.open {
+        match std::process::Command::new("xdg-open").arg(&path).status() {
+            Ok(s) if s.success() => {}
+            Ok(s) => eprintln!(
+                "warning: xdg-open exited with {s}; open {} in a browser",
+                path.display()
+            ),
+            Err(e) => eprintln!(
+                "warning: could not run xdg-open ({e}); open {} in a browser",
+                path.display()
+            ),
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,484 @@
+//! The interactive viewer (`curvenet view`) and the files written next to a run's result.
+//!
+//! [`viewer_html`] makes ONE self-contained HTML page from a run folder: a small hand-written
+//! WebGL viewer (`report/viewer/viewer.js`, no library, no network access) and the run's data
+//! embedded as JSON. The page shows the surface (translucent), the curves (kept and removed in
+//! different colours), a slider over every greedy iteration (network, curve count, total
+//! length, `λ_eq`), the worst-case mode as an animated deformation with an amplitude control,
+//! the gravity deflection, and the equilibrium shape against the designed (rest) one; the
+//! mouse orbits (left), pans (right or shift) and zooms (wheel); a click on a curve shows its
+//! id, rest length, supports and joints.
+//!
+//! The gravity deflection is computed here, per iteration: `H u = f` with `H` the Hessian of
+//! the iteration's structure at its recorded equilibrium and `f` the run's gravity load
+//! (`setup.stability.gravity`: a weight per unit rest length, half of each edge's weight on
+//! each of its ends), solved with the sparse Cholesky factor of [`crate::solve::Cholesky`].
+//! Structures that are not positive definite have none.
+//!
+//! Embedded arrays are compact: rest positions and mesh vertices as base64 little-endian
+//! `f32`, mesh faces as base64 `u32`, and the per-iteration fields (equilibrium displacement,
+//! mode, gravity deflection) as base64 `i16` with one scale per array, over the vertices of
+//! that iteration's curves only (ascending vertex index). A few MB for the paper's tower.
+//!
+//! [`write_run_outputs`] writes everything a finished run gets besides the result files:
+//! `final.png`, `mode.png`, `lambda.png` ([`super::render`], [`super::plot`]), `viewer.html`
+//! and `fabrication.csv` (the final network, [`super::export::fabrication_csv`]).
+
+use super::export::{RunFolder, fabrication_csv, rod_joints, rod_supports};
+use super::plot::lambda_plot;
+use super::render::{mode_picture, network_picture};
+use crate::rod::ActiveSet;
+use crate::solve::Cholesky;
+use crate::stability::Analyzer;
+use rayon::prelude::*;
+use serde_json::{Value, json};
+use std::path::{Path, PathBuf};
+
+const TEMPLATE: &str = include_str!("viewer/viewer.html");
+const SCRIPT: &str = include_str!("viewer/viewer.js");
+const STYLE: &str = include_str!("viewer/viewer.css");
+
+/// Standard base64 (with padding) of `bytes`.
+pub fn base64(bytes: &[u8]) -> String {
+    const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for c in bytes.chunks(3) {
+        let b = [c[0], *c.get(1).unwrap_or(&0), *c.get(2).unwrap_or(&0)];
+        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
+        out.push(A[(n >> 18) as usize & 63] as char);
+        out.push(A[(n >> 12) as usize & 63] as char);
+        out.push(if c.len() > 1 {
+            A[(n >> 6) as usize & 63] as char
+        } else {
+            '='
+        });
+        out.push(if c.len() > 2 {
+            A[n as usize & 63] as char
+        } else {
+            '='
+        });
+    }
+    out
+}
+
+/// Decodes standard base64 (for tests and tools); `None` on a malformed string.
+pub fn base64_decode(s: &str) -> Option<Vec<u8>> {
+    let val = |c: u8| -> Option<u32> {
+        Some(match c {
+            b'A'..=b'Z' => c - b'A',
+            b'a'..=b'z' => c - b'a' + 26,
+            b'0'..=b'9' => c - b'0' + 52,
+            b'+' => 62,
+            b'/' => 63,
+            _ => return None,
+        } as u32)
+    };
+    let s = s.as_bytes();
+    if s.len() % 4 != 0 {
+        return None;
+    }
+    let mut out = Vec::with_capacity(s.len() / 4 * 3);
+    for c in s.chunks(4) {
+        let pad = c.iter().rev().take_while(|&&b| b == b'=').count();
+        if pad > 2 {
+            return None;
+        }
+        let mut n = 0u32;
+        for &b in &c[..4 - pad] {
+            n = (n << 6) | val(b)?;
+        }
+        n <<= 6 * pad as u32;
+        let bytes = [(n >> 16) as u8, (n >> 8) as u8, n as u8];
+        out.extend_from_slice(&bytes[..3 - pad]);
+    }
+    Some(out)
+}
+
+/// `{"f32": base64}` of `values` as little-endian `f32`.
+pub fn encode_f32(values: impl IntoIterator<Item = f64>) -> Value {
+    let bytes: Vec<u8> = values
+        .into_iter()
+        .flat_map(|v| (v as f32).to_le_bytes())
+        .collect();
+    json!({ "f32": base64(&bytes) })
+}
+
+/// `{"i16": base64, "scale": s, "max": m}`: `values[i] ≈ s · q[i]`, `q` little-endian `i16`,
+/// `m` the largest absolute value.
+pub fn encode_i16(values: &[f64]) -> Value {
+    let max = values
+        .iter()
+        .filter(|v| v.is_finite())
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    let scale = if max > 0.0 { max / 32767.0 } else { 1.0 };
+    let bytes: Vec<u8> = values
+        .iter()
+        .flat_map(|&v| {
+            let q = if v.is_finite() {
+                (v / scale).round().clamp(-32767.0, 32767.0) as i16
+            } else {
+                0
+            };
+            q.to_le_bytes()
+        })
+        .collect();
+    json!({ "i16": base64(&bytes), "scale": scale, "max": max })
+}
+
+/// Decodes [`encode_i16`] (for tests).
+pub fn decode_i16(v: &Value) -> Option<Vec<f64>> {
+    let bytes = base64_decode(v.get("i16")?.as_str()?)?;
+    let scale = v.get("scale")?.as_f64()?;
+    Some(
+        bytes
+            .chunks_exact(2)
+            .map(|c| f64::from(i16::from_le_bytes([c[0], c[1]])) * scale)
+            .collect(),
+    )
+}
+
+/// Decodes [`encode_f32`] (for tests).
+pub fn decode_f32(v: &Value) -> Option<Vec<f64>> {
+    let bytes = base64_decode(v.get("f32")?.as_str()?)?;
+    Some(
+        bytes
+            .chunks_exact(4)
+            .map(|c| f64::from(f32::from_le_bytes([c[0], c[1], c[2], c[3]])))
+            .collect(),
+    )
+}
+
+/// Vertices of `curves` in ascending index order (the order of the per-iteration arrays).
+pub fn active_vertices(run: &RunFolder, curves: &[usize]) -> Vec<usize> {
+    let mut on = vec![false; run.network.positions.len()];
+    for &c in curves {
+        for &v in &run.network.rods[c].vertices {
+            on[v as usize] = true;
+        }
+    }
+    (0..on.len()).filter(|&v| on[v]).collect()
+}
+
+fn restrict(values: &[f64], vertices: &[usize]) -> Vec<f64> {
+    vertices
+        .iter()
+        .flat_map(|&v| values[3 * v..3 * v + 3].iter().copied())
+        .collect()
+}
+
+/// The gravity load of `active` (SPEC §5): a weight per unit rest length along the run's
+/// gravity direction, half of each edge's weight on each of its ends.
+pub fn gravity_load(analyzer: &Analyzer, active: &ActiveSet) -> Vec<f64> {
+    let g = &analyzer.params().gravity;
+    let dir = crate::geom::Vec3::from(g.direction).normalized();
+    let net = analyzer.network();
+    let mut f = vec![0.0; net.dofs()];
+    for (c, rod) in net.rods.iter().enumerate() {
+        if !active.contains(c) {
+            continue;
+        }
+        for j in 0..rod.edge_count() {
+            let (a, b) = rod.edge(j);
+            let w = 0.5 * g.weight_per_length * rod.rest_lengths[j];
+            for k in 0..3 {
+                f[3 * a as usize + k] += w * dir[k];
+                f[3 * b as usize + k] += w * dir[k];
+            }
+        }
+    }
+    f
+}
+
+/// The gravity deflection `u = H⁻¹ f` of `curves` at displacements `u0` (`None` when the
+/// Hessian is not positive definite).
+pub fn gravity_deflection(analyzer: &Analyzer, curves: &[usize], u0: &[f64]) -> Option<Vec<f64>> {
+    let active = ActiveSet::from_curves(analyzer.network().rods.len(), curves);
+    let model = analyzer.model();
+    let h = model.assemble(u0, &active, true).hess;
+    let factor = Cholesky::factorize(analyzer.symbolic(), model.pattern(), &h, 0.0).ok()?;
+    let mut u = gravity_load(analyzer, &active);
+    factor.solve_vec(&mut u);
+    u.iter().all(|x| x.is_finite()).then_some(u)
+}
+
+/// Options of the viewer page.
+#[derive(Clone, Debug)]
+pub struct ViewerOptions {
+    /// Compute and embed the gravity deflection of every iteration.
+    pub gravity: bool,
+}
+
+impl Default for ViewerOptions {
+    fn default() -> Self {
+        ViewerOptions { gravity: true }
+    }
+}
+
+/// The data embedded in the viewer page.
+pub fn viewer_data(run: &RunFolder, options: &ViewerOptions) -> Result<Value, String> {
+    let net = &run.network;
+    let r = &run.result;
+    let n = run.iteration_count();
+    let states: Vec<Vec<f64>> = (0..n)
+        .map(|k| run.displacement(k))
+        .collect::<Result<_, _>>()?;
+    let modes: Vec<Vec<f64>> = (0..n).map(|k| run.mode(k)).collect::<Result<_, _>>()?;
+    let gravity: Vec<Option<Vec<f64>>> = if options.gravity {
+        let analyzer = Analyzer::new(net.clone(), r.setup.stability.clone())
+            .map_err(|e| format!("{}: {e}", run.dir.join("result.json").display()))?;
+        (0..n)
+            .into_par_iter()
+            .map(|k| gravity_deflection(&analyzer, &r.iterations[k].curves, &states[k]))
+            .collect()
+    } else {
+        vec![None; n]
+    };
+    let all: Vec<usize> = (0..net.rods.len()).collect();
+    let rods: Vec<Value> = net
+        .rods
+        .iter()
+        .enumerate()
+        .map(|(c, rod)| {
+            let joints: Vec<Value> = rod_joints(net, c, &all)
+                .iter()
+                .map(|j| json!([j.index, round6(j.s), j.vertex, j.meets]))
+                .collect();
+            json!({
+                "v": rod.vertices,
+                "closed": rod.closed,
+                "length": round6(rod.rest_length()),
+                "anchors": rod.anchors,
+                "supports": rod_supports(rod),
+                "joints": joints,
+            })
+        })
+        .collect();
+    // When each curve was removed.
+    let mut removed_at: Vec<Option<usize>> = vec![None; net.rods.len()];
+    for (k, it) in r.iterations.iter().enumerate() {
+        if let Some(c) = it.removed {
+            removed_at[c] = Some(k);
+        }
+    }
+    let iterations: Vec<Value> = r
+        .iterations
+        .iter()
+        .enumerate()
+        .map(|(k, it)| {
+            let verts = active_vertices(run, &it.curves);
+            let g = gravity[k].as_ref().map(|g| {
+                let restricted = restrict(g, &verts);
+                let (mut vmax, mut dmax) = (0usize, 0.0f64);
+                for (i, c) in restricted.chunks(3).enumerate() {
+                    let d = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
+                    if d > dmax {
+                        (vmax, dmax) = (verts[i], d);
+                    }
+                }
+                let mut e = encode_i16(&restricted);
+                e["max_displacement"] = json!(dmax);
+                e["vertex"] = json!(vmax);
+                e
+            });
+            json!({
+                "curves": it.curves,
+                "length": it.length,
+                "lambda": it.lambda,
+                "eigenvalues": it.eigenvalues,
+                "zero_modes": it.zero_modes,
+                "negative_modes": it.negative_modes,
+                "removed": it.removed,
+                "score": it.score,
+                "newton_iterations": it.newton.iterations,
+                "u": encode_i16(&restrict(&states[k], &verts)),
+                "mode": encode_i16(&restrict(&modes[k], &verts)),
+                "gravity": g,
+            })
+        })
+        .collect();
+    let mesh = run.mesh.as_ref().map(|m| {
+        let faces: Vec<u8> = m
+            .faces
+            .iter()
+            .flat_map(|f| f.iter().flat_map(|i| i.to_le_bytes()))
+            .collect();
+        json!({
+            "vertices": encode_f32(m.vertices.iter().flat_map(|p| p.to_array())),
+            "faces": { "u32": base64(&faces) },
+        })
+    });
+    let s = &r.setup;
+    Ok(json!({
+        "format": "curvenet-viewer",
+        "version": 1,
+        "title": title_of(run),
+        "setup": {
+            "example": s.input.example,
+            "mesh": s.input.mesh,
+            "curve_files": s.input.curve_files,
+            "supports": net.supports.name(),
+            "material": s.stability.material,
+            "gravity": s.stability.gravity,
+            "edge_length": s.build.edge_length,
+            "budget": r.budget,
+            "total_length": s.total_length,
+            "complete": r.complete,
+            "stop": r.stop,
+        },
+        "positions": encode_f32(net.positions.iter().flat_map(|p| p.to_array())),
+        "rods": rods,
+        "removed_at": removed_at,
+        "iterations": iterations,
+        "mesh": mesh,
+    }))
+}
+
+fn round6(v: f64) -> f64 {
+    if v == 0.0 || !v.is_finite() {
+        return v;
+    }
+    let e = v.abs().log10().floor() as i32;
+    let f = 10f64.powi(5 - e);
+    (v * f).round() / f
+}
+
+fn title_of(run: &RunFolder) -> String {
+    let s = &run.result.setup.input;
+    let what = s
+        .example
+        .clone()
+        .or_else(|| s.curve_files.first().cloned())
+        .unwrap_or_else(|| "run".into());
+    format!("curvenet: {what}")
+}
+
+fn html_escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// The self-contained viewer page of a run.
+pub fn viewer_html(run: &RunFolder, options: &ViewerOptions) -> Result<String, String> {
+    let data = viewer_data(run, options)?;
+    let json = serde_json::to_string(&data).map_err(|e| e.to_string())?;
+    // Inside <script>, "</" could close the element: JSON allows "\/" for "/".
+    let json = json.replace("</", "<\\/");
+    let title = html_escape(&title_of(run));
+    Ok(fill_template(
+        TEMPLATE,
+        &[
+            ("TITLE", &title),
+            ("STYLE", STYLE),
+            ("SCRIPT", SCRIPT),
+            ("DATA", &json),
+        ],
+    ))
+}
+
+/// Replaces every `{{NAME}}` of `template` (and only of the template: values are not scanned)
+/// by its value.
+fn fill_template(template: &str, values: &[(&str, &str)]) -> String {
+    let mut out =
+        String::with_capacity(template.len() + values.iter().map(|v| v.1.len()).sum::<usize>());
+    let mut rest = template;
+    while let Some(i) = rest.find("{{") {
+        out.push_str(&rest[..i]);
+        let after = &rest[i + 2..];
+        match after.find("}}").and_then(|j| {
+            let name = &after[..j];
+            values.iter().find(|v| v.0 == name).map(|v| (j, v.1))
+        }) {
+            Some((j, value)) => {
+                out.push_str(value);
+                rest = &after[j + 2..];
+            }
+            None => {
+                out.push_str("{{");
+                rest = after;
+            }
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
+/// Writes the viewer page of `run` to `path`.
+pub fn write_viewer(run: &RunFolder, path: &Path, options: &ViewerOptions) -> Result<(), String> {
+    let html = viewer_html(run, options)?;
+    crate::io::write_atomic(path, html.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// Writes `final.png`, `mode.png` (the last iteration) and `lambda.png` into the run folder.
+pub fn write_pictures(run: &RunFolder) -> Result<Vec<PathBuf>, String> {
+    let k = run.last_index();
+    let mut out = Vec::new();
+    let p = run.dir.join("final.png");
+    network_picture(run, k)?.write_png(&p)?;
+    out.push(p);
+    let p = run.dir.join("mode.png");
+    mode_picture(run, k)?.write_png(&p)?;
+    out.push(p);
+    let p = run.dir.join("lambda.png");
+    lambda_plot(&run.result).write_png(&p)?;
+    out.push(p);
+    Ok(out)
+}
+
+/// What [`write_run_outputs`] wrote.
+#[derive(Clone, Debug, Default)]
+pub struct RunOutputs {
+    /// Files written.
+    pub files: Vec<PathBuf>,
+    /// Problems met on the way (the run's own files are untouched by them).
+    pub warnings: Vec<String>,
+}
+
+/// Writes the pictures, `viewer.html` and `fabrication.csv` of the final network into the
+/// run folder `dir`.
+pub fn write_run_outputs(dir: &Path) -> Result<RunOutputs, String> {
+    let run = RunFolder::open(dir)?;
+    let mut out = RunOutputs {
+        warnings: run.warnings.clone(),
+        ..Default::default()
+    };
+    out.files.extend(write_pictures(&run)?);
+    let p = dir.join("viewer.html");
+    write_viewer(&run, &p, &ViewerOptions::default())?;
+    out.files.push(p);
+    let p = dir.join("fabrication.csv");
+    let csv = fabrication_csv(&run, run.last_index())?;
+    crate::io::write_atomic(&p, csv.as_bytes()).map_err(|e| format!("{}: {e}", p.display()))?;
+    out.files.push(p);
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn base64_round_trip() {
+        assert_eq!(base64(b"Man"), "TWFu");
+        assert_eq!(base64(b"Ma"), "TWE=");
+        assert_eq!(base64(b"M"), "TQ==");
+        for n in 0..20u8 {
+            let v: Vec<u8> = (0..n).map(|i| i.wrapping_mul(37)).collect();
+            assert_eq!(base64_decode(&base64(&v)).as_deref(), Some(&v[..]));
+        }
+        assert!(base64_decode("TQ=").is_none());
+    }
+
+    #[test]
+    fn quantized_arrays() {
+        let v = [0.0, -2.5e-9, 1.0e-9, 2.5e-9];
+        let e = encode_i16(&v);
+        let d = decode_i16(&e).unwrap();
+        for (a, b) in v.iter().zip(&d) {
+            assert!((a - b).abs() <= 2.5e-9 / 32767.0);
+        }
+        assert_eq!(round6(1234.56789), 1234.57);
+        assert_eq!(round6(-0.000123456789), -0.000123457);
+    }
+}

@@ -1,0 +1,637 @@
+// curvenet viewer: a small hand-written WebGL viewer for one run's output folder.
+// The data (format "curvenet-viewer", version 1) is embedded in the page by `curvenet view`;
+// nothing is loaded from the network.
+(function () {
+  'use strict';
+
+  const state = {
+    ready: false, error: null, frames: 0, iteration: 0, selected: null,
+    setIteration: null, pick: null,
+  };
+  window.curvenet = state;
+
+  const $ = (id) => document.getElementById(id);
+
+  function fail(msg) {
+    state.error = msg;
+    const box = $('error');
+    box.hidden = false;
+    box.textContent = msg;
+  }
+
+  // ---------- data ----------
+  function bytesOf(b64) {
+    const s = atob(b64);
+    const u = new Uint8Array(s.length);
+    for (let i = 0; i < s.length; i++) u[i] = s.charCodeAt(i);
+    return u.buffer;
+  }
+  const f32 = (o) => new Float32Array(bytesOf(o.f32));
+  const u32 = (o) => new Uint32Array(bytesOf(o.u32));
+  function i16(o) {
+    const q = new Int16Array(bytesOf(o.i16));
+    const out = new Float32Array(q.length);
+    for (let i = 0; i < q.length; i++) out[i] = q[i] * o.scale;
+    return out;
+  }
+
+  const D = JSON.parse($('curvenet-data').textContent);
+  const rest = f32(D.positions);
+  const V = rest.length / 3;
+  const rods = D.rods;
+  const its = D.iterations;
+
+  // Scene centre and size (the rest network and the surface).
+  const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+  function grow(a) {
+    for (let i = 0; i < a.length; i += 3) {
+      for (let k = 0; k < 3; k++) {
+        if (a[i + k] < lo[k]) lo[k] = a[i + k];
+        if (a[i + k] > hi[k]) hi[k] = a[i + k];
+      }
+    }
+  }
+  grow(rest);
+  let meshPos = null, meshFaces = null;
+  if (D.mesh) {
+    meshPos = f32(D.mesh.vertices);
+    meshFaces = u32(D.mesh.faces);
+    grow(meshPos);
+  }
+  const center = [0, 1, 2].map((k) => 0.5 * (lo[k] + hi[k]));
+  const size = Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) || 1;
+  const restC = new Float32Array(rest.length);
+  for (let i = 0; i < rest.length; i++) restC[i] = rest[i] - center[i % 3];
+
+  // Per-iteration fields, decoded on first use, expanded to 3V.
+  const cache = new Map();
+  function fields(k) {
+    if (cache.has(k)) return cache.get(k);
+    const it = its[k];
+    const on = new Uint8Array(V);
+    for (const c of it.curves) for (const v of rods[c].v) on[v] = 1;
+    const expand = (o) => {
+      if (!o) return null;
+      const q = i16(o);
+      const out = new Float32Array(3 * V);
+      let j = 0;
+      for (let v = 0; v < V; v++) {
+        if (!on[v]) continue;
+        out[3 * v] = q[j]; out[3 * v + 1] = q[j + 1]; out[3 * v + 2] = q[j + 2];
+        j += 3;
+      }
+      return out;
+    };
+    const f = {
+      kept: new Set(it.curves), u: expand(it.u), mode: expand(it.mode),
+      gravity: expand(it.gravity), modeMax: maxNorm(it.mode), gravityMax: maxNorm(it.gravity),
+    };
+    cache.set(k, f);
+    return f;
+  }
+  function maxNorm(o) { return o ? o.max || 0 : 0; }
+
+  // ---------- formatting ----------
+  const sci = (x, d) => (x === null || x === undefined) ? '–'
+    : (x === 0 ? '0' : (Math.abs(x) >= 1e-3 && Math.abs(x) < 1e5 ? Number(x.toPrecision(d)).toString() : x.toExponential(d - 1)));
+  const esc = (s) => String(s).replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' }[c]));
+
+  // ---------- WebGL ----------
+  const canvas = $('view');
+  const gl = canvas.getContext('webgl', { antialias: true, preserveDrawingBuffer: true, alpha: false });
+  if (!gl) {
+    fail('WebGL is not available in this browser, so the 3D view cannot be shown. ' +
+      'The pictures final.png, mode.png and lambda.png next to result.json show the result.');
+    return;
+  }
+
+  function shader(type, src) {
+    const s = gl.createShader(type);
+    gl.shaderSource(s, src);
+    gl.compileShader(s);
+    if (!gl.getShaderParameter(s, gl.COMPILE_STATUS)) throw new Error(gl.getShaderInfoLog(s));
+    return s;
+  }
+  function program(vs, fs, attrs) {
+    const p = gl.createProgram();
+    gl.attachShader(p, shader(gl.VERTEX_SHADER, vs));
+    gl.attachShader(p, shader(gl.FRAGMENT_SHADER, fs));
+    gl.linkProgram(p);
+    if (!gl.getProgramParameter(p, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(p));
+    const a = {}, u = {};
+    for (const [name, n] of attrs) a[name] = { loc: gl.getAttribLocation(p, name), n };
+    const nu = gl.getProgramParameter(p, gl.ACTIVE_UNIFORMS);
+    for (let i = 0; i < nu; i++) {
+      const info = gl.getActiveUniform(p, i);
+      u[info.name] = gl.getUniformLocation(p, info.name);
+    }
+    return { p, a, u, stride: attrs.reduce((s, x) => s + x[1], 0) };
+  }
+
+  // Thick lines: every segment is a quad expanded in screen space; endpoints carry a
+  // displacement scaled by u_amp (mode or gravity animation without rebuilding buffers).
+  const lineProg = program(`
+    attribute vec3 a_p0; attribute vec3 a_d0; attribute vec3 a_p1; attribute vec3 a_d1;
+    attribute vec2 a_se; attribute float a_w; attribute vec4 a_c;
+    uniform mat4 u_mvp; uniform vec2 u_half; uniform float u_amp;
+    varying vec4 v_c;
+    void main() {
+      vec4 c0 = u_mvp * vec4(a_p0 + u_amp * a_d0, 1.0);
+      vec4 c1 = u_mvp * vec4(a_p1 + u_amp * a_d1, 1.0);
+      vec2 s0 = c0.xy / c0.w * u_half;
+      vec2 s1 = c1.xy / c1.w * u_half;
+      vec2 d = s1 - s0;
+      float l = length(d);
+      vec2 dir = l > 1e-6 ? d / l : vec2(1.0, 0.0);
+      vec2 n = vec2(-dir.y, dir.x);
+      vec4 c = a_se.y < 0.5 ? c0 : c1;
+      vec2 off = (n * a_se.x + dir * (a_se.y < 0.5 ? -0.5 : 0.5)) * a_w * 0.5;
+      c.xy += off / u_half * c.w;
+      gl_Position = c;
+      v_c = a_c;
+    }`, `
+    precision mediump float;
+    varying vec4 v_c;
+    void main() { gl_FragColor = v_c; }`,
+  [['a_p0', 3], ['a_d0', 3], ['a_p1', 3], ['a_d1', 3], ['a_se', 2], ['a_w', 1], ['a_c', 4]]);
+
+  const meshProg = program(`
+    attribute vec3 a_p; attribute vec3 a_n;
+    uniform mat4 u_mvp; uniform vec3 u_eye;
+    varying float v_s;
+    void main() {
+      gl_Position = u_mvp * vec4(a_p, 1.0);
+      v_s = 0.55 + 0.45 * abs(dot(normalize(a_n), normalize(u_eye - a_p)));
+    }`, `
+    precision mediump float;
+    uniform vec4 u_color;
+    varying float v_s;
+    void main() { gl_FragColor = vec4(u_color.rgb * v_s, u_color.a); }`,
+  [['a_p', 3], ['a_n', 3]]);
+
+  const pointProg = program(`
+    attribute vec3 a_p; attribute vec3 a_d; attribute vec4 a_c; attribute float a_s;
+    uniform mat4 u_mvp; uniform float u_amp;
+    varying vec4 v_c;
+    void main() {
+      gl_Position = u_mvp * vec4(a_p + u_amp * a_d, 1.0);
+      gl_PointSize = a_s;
+      v_c = a_c;
+    }`, `
+    precision mediump float;
+    varying vec4 v_c;
+    void main() { gl_FragColor = v_c; }`,
+  [['a_p', 3], ['a_d', 3], ['a_c', 4], ['a_s', 1]]);
+
+  function makeBuffer(data) {
+    const b = gl.createBuffer();
+    gl.bindBuffer(gl.ARRAY_BUFFER, b);
+    gl.bufferData(gl.ARRAY_BUFFER, data, gl.STATIC_DRAW);
+    return { b, count: 0 };
+  }
+  function bindAttribs(prog, buf) {
+    gl.bindBuffer(gl.ARRAY_BUFFER, buf);
+    let off = 0;
+    for (const name in prog.a) {
+      const a = prog.a[name];
+      if (a.loc >= 0) {
+        gl.enableVertexAttribArray(a.loc);
+        gl.vertexAttribPointer(a.loc, a.n, gl.FLOAT, false, prog.stride * 4, off * 4);
+      }
+      off += a.n;
+    }
+  }
+  function unbindAttribs(prog) {
+    for (const name in prog.a) if (prog.a[name].loc >= 0) gl.disableVertexAttribArray(prog.a[name].loc);
+  }
+
+  // Surface: flat-shaded triangles, centred.
+  let meshBuf = null;
+  if (meshPos && meshFaces) {
+    const nf = meshFaces.length / 3;
+    const data = new Float32Array(nf * 18);
+    let o = 0;
+    for (let f = 0; f < nf; f++) {
+      const ids = [meshFaces[3 * f], meshFaces[3 * f + 1], meshFaces[3 * f + 2]];
+      const p = ids.map((i) => [0, 1, 2].map((k) => meshPos[3 * i + k] - center[k]));
+      const e1 = [0, 1, 2].map((k) => p[1][k] - p[0][k]);
+      const e2 = [0, 1, 2].map((k) => p[2][k] - p[0][k]);
+      const n = [e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]];
+      for (let j = 0; j < 3; j++) {
+        data.set(p[j], o); data.set(n, o + 3); o += 6;
+      }
+    }
+    meshBuf = makeBuffer(data);
+    meshBuf.count = nf * 3;
+  }
+
+  // ---------- colours ----------
+  const hex = (h) => [parseInt(h.slice(1, 3), 16) / 255, parseInt(h.slice(3, 5), 16) / 255, parseInt(h.slice(5, 7), 16) / 255, 1];
+  const C = {
+    bg: hex('#f4f5f7'), kept: hex('#1c56aa'), removed: hex('#e39a8a'), overlay: hex('#9aa0a8'),
+    selected: hex('#f09a00'), support: hex('#202028'), joint: hex('#f09a00'), mesh: [0.80, 0.77, 0.70, 0.38],
+  };
+  const STOPS = [[48, 18, 110], [33, 120, 180], [60, 180, 120], [235, 200, 40], [200, 30, 30]];
+  function colormap(t) {
+    t = Math.min(1, Math.max(0, t || 0)) * (STOPS.length - 1);
+    const i = Math.min(STOPS.length - 2, Math.floor(t)), f = t - i;
+    return [0, 1, 2].map((k) => (STOPS[i][k] + f * (STOPS[i + 1][k] - STOPS[i][k])) / 255).concat([1]);
+  }
+
+  // ---------- UI state ----------
+  const ui = {
+    k: its.length - 1, shape: 'equilibrium', overlay: false, deform: 'mode', amp: 0.25, animate: true,
+    mesh: !!meshBuf, removed: true, supports: true,
+  };
+  const cam = { target: [0, 0, 0], dist: 1.6 * size, yaw: -60 * Math.PI / 180, pitch: 25 * Math.PI / 180 };
+  const camHome = JSON.parse(JSON.stringify(cam));
+
+  // ---------- geometry of the current state ----------
+  let lineBuf = null, pointBuf = null, pickable = [], dispScale = 0;
+  function build() {
+    const f = fields(ui.k);
+    const eq = ui.shape === 'equilibrium';
+    const disp = ui.deform === 'mode' ? f.mode : (ui.deform === 'gravity' ? f.gravity : null);
+    const dmax = ui.deform === 'mode' ? f.modeMax : (ui.deform === 'gravity' ? f.gravityMax : 0);
+    dispScale = disp && dmax > 0 ? 0.25 * size / dmax : 0;
+    const segs = [];
+    pickable = [];
+    const pos = (v, useU) => {
+      const b = [restC[3 * v], restC[3 * v + 1], restC[3 * v + 2]];
+      if (useU && f.u) { b[0] += f.u[3 * v]; b[1] += f.u[3 * v + 1]; b[2] += f.u[3 * v + 2]; }
+      return b;
+    };
+    const zero = [0, 0, 0];
+    const dispOf = (v) => disp ? [disp[3 * v], disp[3 * v + 1], disp[3 * v + 2]] : zero;
+    function addCurve(c, useU, withDisp, width, colorOf, pick) {
+      const vs = rods[c].v;
+      const n = vs.length, m = rods[c].closed ? n : n - 1;
+      const P = vs.map((v) => pos(v, useU));
+      const Dd = vs.map((v) => withDisp ? dispOf(v) : zero);
+      for (let j = 0; j < m; j++) {
+        const a = j, b = (j + 1) % n;
+        segs.push([P[a], Dd[a], P[b], Dd[b], width, colorOf(vs[a], vs[b])]);
+      }
+      if (pick) pickable.push({ c, P, D: Dd, closed: rods[c].closed });
+    }
+    const magColor = (a, b) => {
+      if (!disp || dmax <= 0) return C.kept;
+      const m = (v) => Math.hypot(disp[3 * v], disp[3 * v + 1], disp[3 * v + 2]);
+      return colormap(0.5 * (m(a) + m(b)) / dmax);
+    };
+    for (let c = 0; c < rods.length; c++) {
+      const kept = f.kept.has(c);
+      const sel = state.selected === c;
+      if (kept) {
+        addCurve(c, eq, true, sel ? 5 : 3, sel ? () => C.selected : magColor, true);
+        if (ui.overlay) addCurve(c, !eq, false, 1.5, () => C.overlay, false);
+      } else if (ui.removed || sel) {
+        addCurve(c, false, false, sel ? 4 : 1.5, () => sel ? C.selected : C.removed, true);
+      }
+    }
+    const data = new Float32Array(segs.length * 6 * 19);
+    const corners = [[-1, 0], [1, 0], [1, 1], [-1, 0], [1, 1], [-1, 1]];
+    let o = 0;
+    for (const s of segs) {
+      for (const [side, end] of corners) {
+        data.set(s[0], o); data.set(s[1], o + 3); data.set(s[2], o + 6); data.set(s[3], o + 9);
+        data[o + 12] = side; data[o + 13] = end; data[o + 14] = s[4]; data.set(s[5], o + 15);
+        o += 19;
+      }
+    }
+    if (lineBuf) gl.deleteBuffer(lineBuf.b);
+    lineBuf = makeBuffer(data);
+    lineBuf.count = segs.length * 6;
+    // Points: supports of kept curves, joints of the selected curve.
+    const pts = [];
+    if (ui.supports) {
+      for (const c of f.kept) for (const v of rods[c].anchors) pts.push([pos(v, eq), dispOf(v), C.support, 6]);
+    }
+    if (state.selected !== null) {
+      const sk = f.kept.has(state.selected);
+      for (const j of rods[state.selected].joints) {
+        pts.push([pos(j[2], sk && eq), sk ? dispOf(j[2]) : zero, C.joint, 9]);
+      }
+    }
+    const pd = new Float32Array(pts.length * 11);
+    pts.forEach((p, i) => { pd.set(p[0], 11 * i); pd.set(p[1], 11 * i + 3); pd.set(p[2], 11 * i + 6); pd[11 * i + 10] = p[3]; });
+    if (pointBuf) gl.deleteBuffer(pointBuf.b);
+    pointBuf = makeBuffer(pd);
+    pointBuf.count = pts.length;
+    updateText();
+    requestDraw();
+  }
+
+  // ---------- camera ----------
+  function eye() {
+    const cp = Math.cos(cam.pitch);
+    return [0, 1, 2].map((k) => cam.target[k] + cam.dist * [cp * Math.cos(cam.yaw), cp * Math.sin(cam.yaw), Math.sin(cam.pitch)][k]);
+  }
+  function basis() {
+    const e = eye();
+    const f = [0, 1, 2].map((k) => cam.target[k] - e[k]);
+    const fl = Math.hypot(...f);
+    const fw = f.map((x) => x / fl);
+    let r = [fw[1], -fw[0], 0];
+    const rl = Math.hypot(...r) || 1;
+    r = r.map((x) => x / rl);
+    const up = [r[1] * fw[2] - r[2] * fw[1], r[2] * fw[0] - r[0] * fw[2], r[0] * fw[1] - r[1] * fw[0]];
+    return { e, fw, r, up };
+  }
+  function mvp() {
+    const { e, fw, r, up } = basis();
+    const aspect = canvas.width / Math.max(1, canvas.height);
+    const near = Math.max(cam.dist - size, cam.dist * 0.02), far = cam.dist + 2 * size;
+    const t = 1 / Math.tan(0.5 * 35 * Math.PI / 180);
+    // view matrix rows: r, up, -fw; column-major projection * view.
+    const view = [
+      r[0], up[0], -fw[0], 0, r[1], up[1], -fw[1], 0, r[2], up[2], -fw[2], 0,
+      -(r[0] * e[0] + r[1] * e[1] + r[2] * e[2]), -(up[0] * e[0] + up[1] * e[1] + up[2] * e[2]),
+      (fw[0] * e[0] + fw[1] * e[1] + fw[2] * e[2]), 1,
+    ];
+    const proj = [t / aspect, 0, 0, 0, 0, t, 0, 0, 0, 0, (far + near) / (near - far), -1, 0, 0, 2 * far * near / (near - far), 0];
+    const m = new Float32Array(16);
+    for (let i = 0; i < 4; i++) for (let j = 0; j < 4; j++) {
+      let s = 0;
+      for (let k = 0; k < 4; k++) s += proj[k * 4 + i] * view[j * 4 + k];
+      m[j * 4 + i] = s;
+    }
+    // Centre the scene in the part of the canvas the panel leaves free.
+    const W = canvas.clientWidth;
+    const panel = $('panel'), info = $('info');
+    const left = W > 2 * panel.offsetWidth ? panel.offsetLeft + panel.offsetWidth : 0;
+    const right = !info.hidden && W > 2 * info.offsetWidth ? info.offsetLeft : W;
+    const tx = right > left ? (left + right - W) / W : 0;
+    for (let j = 0; j < 4; j++) m[j * 4] += tx * m[j * 4 + 3];
+    return { m, e };
+  }
+
+  // ---------- drawing ----------
+  let pending = false;
+  const t0 = performance.now();
+  function currentAmp(now) {
+    if (!dispScale) return 0;
+    const a = ui.amp * dispScale;
+    if (!ui.animate) return a;
+    const t = (now - t0) / 1000;
+    return ui.deform === 'mode' ? a * Math.sin(2 * Math.PI * t / 1.6) : a * 0.5 * (1 - Math.cos(2 * Math.PI * t / 2.4));
+  }
+  let lastAmp = 0;
+  function draw(now) {
+    pending = false;
+    const dpr = window.devicePixelRatio || 1;
+    const w = Math.max(1, Math.round(canvas.clientWidth * dpr)), h = Math.max(1, Math.round(canvas.clientHeight * dpr));
+    if (canvas.width !== w || canvas.height !== h) { canvas.width = w; canvas.height = h; }
+    gl.viewport(0, 0, w, h);
+    gl.clearColor(C.bg[0], C.bg[1], C.bg[2], 1);
+    gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
+    gl.enable(gl.DEPTH_TEST);
+    const { m, e } = mvp();
+    const amp = currentAmp(now || performance.now());
+    lastAmp = amp;
+    // Curves (opaque).
+    gl.disable(gl.BLEND);
+    gl.depthMask(true);
+    gl.useProgram(lineProg.p);
+    gl.uniformMatrix4fv(lineProg.u.u_mvp, false, m);
+    gl.uniform2f(lineProg.u.u_half, 0.5 * w, 0.5 * h);
+    gl.uniform1f(lineProg.u.u_amp, amp);
+    bindAttribs(lineProg, lineBuf.b);
+    gl.drawArrays(gl.TRIANGLES, 0, lineBuf.count);
+    unbindAttribs(lineProg);
+    // Points.
+    if (pointBuf.count) {
+      gl.useProgram(pointProg.p);
+      gl.uniformMatrix4fv(pointProg.u.u_mvp, false, m);
+      gl.uniform1f(pointProg.u.u_amp, amp);
+      bindAttribs(pointProg, pointBuf.b);
+      gl.drawArrays(gl.POINTS, 0, pointBuf.count);
+      unbindAttribs(pointProg);
+    }
+    // Surface (translucent, over the curves, no depth writes).
+    if (meshBuf && ui.mesh) {
+      gl.enable(gl.BLEND);
+      gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA);
+      gl.depthMask(false);
+      gl.useProgram(meshProg.p);
+      gl.uniformMatrix4fv(meshProg.u.u_mvp, false, m);
+      gl.uniform3f(meshProg.u.u_eye, e[0], e[1], e[2]);
+      gl.uniform4f(meshProg.u.u_color, C.mesh[0], C.mesh[1], C.mesh[2], C.mesh[3]);
+      bindAttribs(meshProg, meshBuf.b);
+      gl.drawArrays(gl.TRIANGLES, 0, meshBuf.count);
+      unbindAttribs(meshProg);
+      gl.depthMask(true);
+    }
+    state.frames++;
+    if (ui.animate && dispScale) requestDraw();
+  }
+  function requestDraw() {
+    if (!pending) { pending = true; requestAnimationFrame(draw); }
+  }
+
+  // ---------- text ----------
+  function updateText() {
+    const it = its[ui.k];
+    const s = D.setup;
+    $('stat-iter').textContent = `${ui.k} of ${its.length - 1}` + (ui.k === its.length - 1 ? ' (final)' : '');
+    $('stat-curves').textContent = `${it.curves.length} of ${rods.length}`;
+    $('stat-length').textContent = `${sci(it.length, 6)} (${(100 * it.length / s.total_length).toFixed(1)}%; budget ${sci(s.budget, 6)})`;
+    $('stat-lambda').textContent = sci(it.lambda, 5) + (it.negative_modes ? ` (${it.negative_modes} negative)` : '') + (it.zero_modes ? ` (${it.zero_modes} zero)` : '');
+    $('stat-eigen').textContent = it.eigenvalues.map((x) => sci(x, 3)).join(', ');
+    $('stat-removed').textContent = it.removed === null ? 'none (last iteration)' : `curve ${it.removed} (λ_fix ${sci(it.score, 4)})`;
+    state.iteration = ui.k;
+    const f = fields(ui.k);
+    let info = '';
+    if (ui.deform === 'mode') {
+      info = `worst-case mode (unit vector) shown ×${sci(ui.amp * dispScale, 3)}`;
+    } else if (ui.deform === 'gravity') {
+      info = it.gravity
+        ? `gravity (${sci(s.gravity.weight_per_length, 3)} per unit length): largest deflection ${sci(it.gravity.max_displacement, 4)} at vertex ${it.gravity.vertex}, shown ×${sci(ui.amp * dispScale, 3)}`
+        : 'no gravity deflection: the structure is not positive definite (or it was not computed)';
+    } else {
+      info = 'no deformation shown';
+    }
+    if (ui.shape === 'equilibrium' && f.u) {
+      let m = 0;
+      for (let v = 0; v < V; v++) m = Math.max(m, Math.hypot(f.u[3 * v], f.u[3 * v + 1], f.u[3 * v + 2]));
+      info += `; equilibrium moves up to ${sci(m, 3)} from the designed shape`;
+    }
+    $('deform-info').textContent = info;
+    drawChart();
+    showInfo();
+  }
+
+  function drawChart() {
+    const cv = $('chart');
+    const ctx = cv.getContext('2d');
+    const W = cv.width, H = cv.height;
+    ctx.clearRect(0, 0, W, H);
+    const lam = its.map((i) => i.lambda);
+    let a = Math.min(...lam), b = Math.max(...lam);
+    if (!(b > a)) { a -= Math.abs(a) * 0.1 + 1e-30; b += Math.abs(b) * 0.1 + 1e-30; }
+    const X = (k) => 8 + (W - 16) * (its.length > 1 ? k / (its.length - 1) : 0.5);
+    const Y = (y) => H - 14 - (H - 24) * (y - a) / (b - a);
+    ctx.strokeStyle = '#d0d2d8'; ctx.strokeRect(0.5, 0.5, W - 1, H - 1);
+    ctx.strokeStyle = '#1c56aa'; ctx.lineWidth = 1.5; ctx.beginPath();
+    lam.forEach((y, k) => (k ? ctx.lineTo(X(k), Y(y)) : ctx.moveTo(X(k), Y(y))));
+    ctx.stroke();
+    ctx.fillStyle = '#f09a00'; ctx.beginPath(); ctx.arc(X(ui.k), Y(lam[ui.k]), 4, 0, 2 * Math.PI); ctx.fill();
+    ctx.fillStyle = '#60606a'; ctx.font = '10px sans-serif';
+    ctx.fillText(`λ_eq ${sci(b, 3)}`, 4, 10);
+    ctx.fillText(`${sci(a, 3)}   (x: iteration)`, 4, H - 3);
+  }
+
+  function showInfo() {
+    const box = $('info');
+    const c = state.selected;
+    if (c === null) { box.hidden = true; return; }
+    const r = rods[c];
+    const f = fields(ui.k);
+    const kept = f.kept.has(c);
+    const ra = D.removed_at[c];
+    const status = kept ? '<span class="kept">kept</span> at this iteration'
+      : `<span class="gone">removed</span> after iteration ${ra}`;
+    let rows = '';
+    for (const j of r.joints) {
+      const v = j[2];
+      const p = [0, 1, 2].map((k) => sci(rest[3 * v + k], 6)).join(', ');
+      const meets = j[3].map((m) => (f.kept.has(m) ? `<span class="kept">${m}</span>` : `<span class="gone">${m}</span>`)).join(' ');
+      rows += `<tr><td>${sci(j[1], 6)}</td><td>${v}</td><td>${p}</td><td>${meets}</td></tr>`;
+    }
+    box.innerHTML = `<h2>curve ${c}</h2>
+      <div>${status}</div>
+      <div>rest length ${sci(r.length, 6)} · ${r.closed ? 'closed' : 'open'} · supports ${esc(r.supports)} · ${r.v.length} vertices</div>
+      <div>${r.joints.length} joint(s); meeting curves in blue are kept at this iteration</div>
+      <table><tr><th>s</th><th>vertex</th><th>position (rest)</th><th>meets</th></tr>${rows}</table>`;
+    box.hidden = false;
+  }
+
+  // ---------- picking ----------
+  function pick(px, py) {
+    const { m } = mvp();
+    const w = canvas.clientWidth, h = canvas.clientHeight;
+    const amp = lastAmp;
+    let best = null, bestD = 10;
+    const proj = (p, d) => {
+      const x = p[0] + amp * d[0], y = p[1] + amp * d[1], z = p[2] + amp * d[2];
+      const cx = m[0] * x + m[4] * y + m[8] * z + m[12];
+      const cy = m[1] * x + m[5] * y + m[9] * z + m[13];
+      const cw = m[3] * x + m[7] * y + m[11] * z + m[15];
+      return cw > 0 ? [(cx / cw * 0.5 + 0.5) * w, (0.5 - cy / cw * 0.5) * h] : null;
+    };
+    for (const it of pickable) {
+      const S = it.P.map((p, i) => proj(p, it.D[i]));
+      const n = S.length, mm = it.closed ? n : n - 1;
+      for (let j = 0; j < mm; j++) {
+        const a = S[j], b = S[(j + 1) % n];
+        if (!a || !b) continue;
+        const dx = b[0] - a[0], dy = b[1] - a[1];
+        const l2 = dx * dx + dy * dy;
+        const t = l2 > 0 ? Math.max(0, Math.min(1, ((px - a[0]) * dx + (py - a[1]) * dy) / l2)) : 0;
+        const d = Math.hypot(px - a[0] - t * dx, py - a[1] - t * dy);
+        if (d < bestD) { bestD = d; best = it.c; }
+      }
+    }
+    return best;
+  }
+  state.pick = (px, py) => {
+    state.selected = pick(px, py);
+    build();
+    return state.selected;
+  };
+  // Where curve c's middle vertex is drawn (CSS pixels in the canvas), for tests and tools.
+  state.screenPointOf = (c) => {
+    const it = pickable.find((x) => x.c === c);
+    if (!it) return null;
+    const { m } = mvp();
+    const i = Math.floor(it.P.length / 2);
+    const x = it.P[i][0] + lastAmp * it.D[i][0], y = it.P[i][1] + lastAmp * it.D[i][1], z = it.P[i][2] + lastAmp * it.D[i][2];
+    const cw = m[3] * x + m[7] * y + m[11] * z + m[15];
+    if (!(cw > 0)) return null;
+    const cx = (m[0] * x + m[4] * y + m[8] * z + m[12]) / cw, cy = (m[1] * x + m[5] * y + m[9] * z + m[13]) / cw;
+    return [(cx * 0.5 + 0.5) * canvas.clientWidth, (0.5 - cy * 0.5) * canvas.clientHeight];
+  };
+  state.keptCurves = () => its[ui.k].curves.slice();
+
+  // ---------- events ----------
+  const slider = $('iter');
+  slider.max = String(its.length - 1);
+  slider.value = String(ui.k);
+  state.setIteration = (k) => {
+    ui.k = Math.max(0, Math.min(its.length - 1, k | 0));
+    slider.value = String(ui.k);
+    build();
+  };
+  slider.addEventListener('input', () => state.setIteration(parseInt(slider.value, 10)));
+  $('chart').addEventListener('click', (ev) => {
+    const r = ev.target.getBoundingClientRect();
+    const x = (ev.clientX - r.left) / r.width;
+    state.setIteration(Math.round(x * (its.length - 1)));
+  });
+  for (const el of document.querySelectorAll('input[name=shape]')) {
+    el.addEventListener('change', () => { ui.shape = el.value; build(); });
+  }
+  for (const el of document.querySelectorAll('input[name=deform]')) {
+    el.addEventListener('change', () => { ui.deform = el.value; build(); });
+  }
+  $('amp').addEventListener('input', (ev) => { ui.amp = ev.target.value / 100; updateText(); requestDraw(); });
+  $('animate').addEventListener('change', (ev) => { ui.animate = ev.target.checked; requestDraw(); });
+  $('overlay').addEventListener('change', (ev) => { ui.overlay = ev.target.checked; build(); });
+  $('show-mesh').addEventListener('change', (ev) => { ui.mesh = ev.target.checked; requestDraw(); });
+  $('show-removed').addEventListener('change', (ev) => { ui.removed = ev.target.checked; build(); });
+  $('show-supports').addEventListener('change', (ev) => { ui.supports = ev.target.checked; build(); });
+  $('reset').addEventListener('click', () => { Object.assign(cam, JSON.parse(JSON.stringify(camHome))); requestDraw(); });
+  if (!meshBuf) { $('show-mesh').checked = false; $('show-mesh').disabled = true; }
+
+  let drag = null;
+  canvas.addEventListener('contextmenu', (ev) => ev.preventDefault());
+  canvas.addEventListener('pointerdown', (ev) => {
+    drag = { x: ev.clientX, y: ev.clientY, x0: ev.clientX, y0: ev.clientY, pan: ev.button === 2 || ev.shiftKey };
+    canvas.setPointerCapture(ev.pointerId);
+  });
+  canvas.addEventListener('pointermove', (ev) => {
+    if (!drag) return;
+    const dx = ev.clientX - drag.x, dy = ev.clientY - drag.y;
+    drag.x = ev.clientX; drag.y = ev.clientY;
+    if (drag.pan) {
+      const { r, up } = basis();
+      const s = cam.dist * 0.0015;
+      for (let k = 0; k < 3; k++) cam.target[k] += (-dx * r[k] + dy * up[k]) * s;
+    } else {
+      cam.yaw -= dx * 0.008;
+      cam.pitch = Math.max(-1.55, Math.min(1.55, cam.pitch + dy * 0.008));
+    }
+    requestDraw();
+  });
+  canvas.addEventListener('pointerup', (ev) => {
+    if (drag && Math.hypot(ev.clientX - drag.x0, ev.clientY - drag.y0) < 5 && ev.button === 0) {
+      const r = canvas.getBoundingClientRect();
+      state.pick(ev.clientX - r.left, ev.clientY - r.top);
+    }
+    drag = null;
+  });
+  canvas.addEventListener('wheel', (ev) => {
+    ev.preventDefault();
+    cam.dist = Math.max(0.05 * size, Math.min(20 * size, cam.dist * Math.exp(ev.deltaY * 0.001)));
+    requestDraw();
+  }, { passive: false });
+  window.addEventListener('resize', requestDraw);
+  window.addEventListener('keydown', (ev) => {
+    if (ev.target && ev.target.tagName === 'INPUT') return;
+    if (ev.key === 'ArrowRight') state.setIteration(ui.k + 1);
+    if (ev.key === 'ArrowLeft') state.setIteration(ui.k - 1);
+    if (ev.key === 'Escape') { state.selected = null; build(); }
+  });
+
+  const s = D.setup;
+  $('setup').textContent = [
+    s.example || (s.curve_files || []).join(', '),
+    `${rods.length} curves, ${V} vertices`,
+    `supports ${s.supports}`,
+    `r ${s.material.radius}, E ${s.material.young}, µ ${s.material.anchor_weight}`,
+    s.complete ? `stop: ${s.stop}` : 'run not complete',
+  ].filter(Boolean).join(' · ');
+
+  build();
+  state.ready = true;
+})();

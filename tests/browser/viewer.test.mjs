@@ -1,0 +1,145 @@
+// Opens the page written by `curvenet view` in a real browser (Debian's headless Chromium through
+// playwright-core) and checks it works: no console errors, a WebGL canvas that is not blank, the
+// iteration slider changing the displayed curve count and λ, a click on a curve showing its
+// details, the deformation and shape toggles. Saves target/browser-demo/screenshot.png.
+//
+// Run from the repository root or this folder:  npm ci && npm test   (in tests/browser)
+// Environment: CURVENET_BIN = a built `curvenet` binary (default: `cargo run --release -p
+// curvenet-cli --`), CHROMIUM = the browser (default /usr/bin/chromium), BROWSER_DEMO = the
+// output folder (default target/browser-demo).
+
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { execFileSync } from 'node:child_process';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { fileURLToPath, pathToFileURL } from 'node:url';
+import { chromium } from 'playwright-core';
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+const root = path.resolve(here, '..', '..');
+const outDir = path.resolve(root, process.env.BROWSER_DEMO || 'target/browser-demo');
+const browserPath = process.env.CHROMIUM || '/usr/bin/chromium';
+
+function curvenet(args) {
+  const bin = process.env.CURVENET_BIN;
+  const [cmd, full] = bin
+    ? [bin, args]
+    : ['cargo', ['run', '--quiet', '--release', '-p', 'curvenet-cli', '--', ...args]];
+  return execFileSync(cmd, full, { cwd: root, encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
+}
+
+test('the viewer of a demo run works in headless Chromium', { timeout: 600_000 }, async () => {
+  fs.rmSync(outDir, { recursive: true, force: true });
+  curvenet(['demo', '--out', outDir]);
+  const printed = curvenet(['view', outDir]).trim().split('\n').pop();
+  const page_path = path.resolve(root, printed);
+  assert.equal(page_path, path.join(outDir, 'viewer.html'), 'view prints the page path');
+  const html = fs.readFileSync(page_path, 'utf8');
+  assert.ok(!/https?:\/\//.test(html), 'the page references no URL');
+  const result = JSON.parse(fs.readFileSync(path.join(outDir, 'result.json'), 'utf8'));
+  const n = result.iterations.length;
+  assert.ok(n >= 3, `the demo has several iterations (${n})`);
+
+  const userDir = fs.mkdtempSync(path.join(os.tmpdir(), 'curvenet-chromium-'));
+  const context = await chromium.launchPersistentContext(userDir, {
+    executablePath: browserPath,
+    headless: true,
+    viewport: { width: 1280, height: 800 },
+    args: [
+      '--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+      '--disable-background-networking', '--disable-component-update', '--disable-sync',
+      '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+    ],
+  });
+  const problems = [];
+  const requests = [];
+  try {
+    const page = context.pages()[0] || await context.newPage();
+    page.on('console', (m) => { if (m.type() === 'error') problems.push(`console: ${m.text()}`); });
+    page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
+    page.on('request', (r) => { if (!r.url().startsWith('file:') && !r.url().startsWith('data:')) requests.push(r.url()); });
+    await page.goto(pathToFileURL(page_path).href);
+    await page.waitForFunction(() => window.curvenet && (window.curvenet.ready || window.curvenet.error), null, { timeout: 60_000 });
+    const err = await page.evaluate(() => window.curvenet.error);
+    assert.equal(err, null, `viewer error: ${err}`);
+    await page.waitForFunction(() => window.curvenet.frames > 2, null, { timeout: 30_000 });
+
+    // The canvas is not blank: many pixels differ from the background, in several colours.
+    const pixels = await page.evaluate(() => {
+      const src = document.getElementById('view');
+      const c = document.createElement('canvas');
+      c.width = src.width; c.height = src.height;
+      const ctx = c.getContext('2d');
+      ctx.drawImage(src, 0, 0);
+      const d = ctx.getImageData(0, 0, c.width, c.height).data;
+      let drawn = 0;
+      const colours = new Set();
+      for (let i = 0; i < d.length; i += 4) {
+        const diff = Math.abs(d[i] - 244) + Math.abs(d[i + 1] - 245) + Math.abs(d[i + 2] - 247);
+        if (diff > 24) { drawn++; colours.add((d[i] >> 4) * 256 + (d[i + 1] >> 4) * 16 + (d[i + 2] >> 4)); }
+      }
+      return { drawn, total: d.length / 4, colours: colours.size };
+    });
+    assert.ok(pixels.drawn > 0.02 * pixels.total, `canvas mostly blank: ${JSON.stringify(pixels)}`);
+    assert.ok(pixels.colours > 8, `too few colours: ${JSON.stringify(pixels)}`);
+
+    // The slider: the page opens on the final iteration; Home goes to the first one, the
+    // arrow keys step.
+    const read = async () => ({
+      iter: await page.textContent('#stat-iter'),
+      curves: await page.textContent('#stat-curves'),
+      lambda: await page.textContent('#stat-lambda'),
+    });
+    const last = await read();
+    assert.ok(last.curves.startsWith(`${result.iterations[n - 1].curves.length} of `), last.curves);
+    await page.focus('#iter');
+    await page.keyboard.press('Home');
+    const first = await read();
+    assert.ok(first.curves.startsWith(`${result.iterations[0].curves.length} of `), first.curves);
+    assert.notEqual(first.lambda, last.lambda, 'λ changes with the iteration');
+    assert.notEqual(first.curves, last.curves, 'the curve count changes with the iteration');
+    await page.keyboard.press('ArrowRight');
+    const second = await read();
+    assert.ok(second.curves.startsWith(`${result.iterations[1].curves.length} of `), second.curves);
+    assert.notEqual(second.lambda, first.lambda);
+    assert.equal(await page.evaluate(() => window.curvenet.iteration), 1);
+    await page.keyboard.press('End');
+    assert.equal(await page.evaluate(() => window.curvenet.iteration), n - 1);
+
+    // Click a kept curve: its details appear.
+    await page.click('#animate');
+    await page.waitForTimeout(100);
+    const target = await page.evaluate(() => {
+      const c = window.curvenet.keptCurves()[0];
+      return { c, p: window.curvenet.screenPointOf(c) };
+    });
+    assert.ok(target.p, 'the kept curve is on screen');
+    await page.mouse.click(target.p[0], target.p[1]);
+    await page.waitForSelector('#info:not([hidden])', { timeout: 5_000 });
+    const info = await page.textContent('#info');
+    assert.match(info, /curve \d+/);
+    assert.match(info, /rest length/);
+    assert.match(info, /joint/);
+    const picked = await page.evaluate(() => window.curvenet.selected);
+    assert.equal(typeof picked, 'number');
+
+    // Gravity and the designed shape.
+    await page.check('input[name=deform][value=gravity]');
+    assert.match(await page.textContent('#deform-info'), /gravity/);
+    await page.check('input[name=shape][value=rest]');
+    await page.check('input[name=deform][value=mode]');
+    await page.check('input[name=shape][value=equilibrium]');
+    await page.check('#overlay');
+    await page.click('#animate');
+    await page.waitForTimeout(300);
+
+    await page.screenshot({ path: path.join(outDir, 'screenshot.png') });
+    assert.deepEqual(requests, [], 'the page made no network request');
+    assert.deepEqual(problems, [], 'no console errors');
+  } finally {
+    await context.close();
+    fs.rmSync(userDir, { recursive: true, force: true });
+  }
+});
