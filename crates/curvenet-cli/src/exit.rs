@@ -3,6 +3,7 @@
 use curvenet::io::InputError;
 use curvenet::network::build::BuildError;
 use curvenet::paper::ExampleError;
+use curvenet::pipeline::PipelineError;
 
 /// An error that carries its exit code.
 #[derive(Debug)]
@@ -30,19 +31,41 @@ pub fn usage(message: impl Into<String>) -> anyhow::Error {
     .into()
 }
 
+/// The exit code of `err`: its own for an [`ExitError`], 2 for input errors (unreadable or
+/// malformed files, networks that cannot be built, unknown examples, invalid parameters), 1 for
+/// everything else (internal errors).
+pub fn code_of(err: &anyhow::Error) -> i32 {
+    if let Some(e) = err.downcast_ref::<ExitError>() {
+        return e.code;
+    }
+    let input = err.downcast_ref::<InputError>().is_some()
+        || err.downcast_ref::<BuildError>().is_some()
+        || err.downcast_ref::<ExampleError>().is_some()
+        || matches!(
+            err.downcast_ref::<PipelineError>(),
+            Some(PipelineError::Build(_) | PipelineError::Params(_))
+        );
+    if input { 2 } else { 1 }
+}
+
+/// The error and its causes on one line, `outer: cause: …`, leaving out a cause whose text the
+/// line already holds (an [`InputError::Io`] shows its I/O error itself, and also lists it as
+/// its source).
+pub fn message_of(err: &anyhow::Error) -> String {
+    let mut message = err.to_string();
+    for cause in err.chain().skip(1) {
+        let text = cause.to_string();
+        if !message.contains(&text) {
+            message.push_str(": ");
+            message.push_str(&text);
+        }
+    }
+    message
+}
+
 /// Prints the error (if any) and returns the exit code.
 pub fn report(result: anyhow::Result<()>) -> i32 {
     let Err(err) = result else { return 0 };
-    let code = if let Some(e) = err.downcast_ref::<ExitError>() {
-        e.code
-    } else if err.downcast_ref::<InputError>().is_some()
-        || err.downcast_ref::<BuildError>().is_some()
-        || err.downcast_ref::<ExampleError>().is_some()
-    {
-        2
-    } else {
-        1
-    };
-    eprintln!("error: {err:#}");
-    code
+    eprintln!("error: {}", message_of(&err));
+    code_of(&err)
 }

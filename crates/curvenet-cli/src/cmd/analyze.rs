@@ -17,7 +17,11 @@ pub fn run(a: AnalyzeArgs) -> anyhow::Result<()> {
             n.saturating_sub(1)
         )));
     }
-    if a.remove.len() >= n {
+    // A curve named twice is removed once.
+    let mut remove = a.remove.clone();
+    remove.sort_unstable();
+    remove.dedup();
+    if remove.len() >= n {
         return Err(usage(
             "--remove would remove every curve; nothing is left to analyse",
         ));
@@ -26,7 +30,7 @@ pub fn run(a: AnalyzeArgs) -> anyhow::Result<()> {
         &inputs.curves,
         &inputs.build,
         &params,
-        &a.remove,
+        &remove,
         inputs.warnings,
     )?;
     print_warnings(&out.report.warnings);

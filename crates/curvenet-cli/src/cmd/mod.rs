@@ -5,15 +5,17 @@ mod bench;
 mod compare;
 mod demo;
 mod example;
+mod export;
 mod greedy_run;
 mod simplify;
 mod surface;
 mod trace;
+mod view;
 
 use crate::args::{Cli, Command, InputArgs, PhysicsArgs};
 use crate::exit::usage;
-use curvenet::io::{self, Polyline};
-use curvenet::network::BuildParams;
+use curvenet::io::{self, Polyline, TriMesh};
+use curvenet::network::{BuildParams, checks};
 use curvenet::pipeline;
 use curvenet::rod::Material;
 use curvenet::simplify::result::InputDescription;
@@ -28,6 +30,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Demo(a) => demo::run(a),
         Command::Trace(a) => trace::run(a),
         Command::Compare(a) => compare::run(a),
+        Command::View(a) => view::run(a),
+        Command::Export(a) => export::run(a),
         Command::Bench(a) => bench::run(a),
     }
 }
@@ -47,6 +51,19 @@ pub fn stability_params(p: &PhysicsArgs) -> anyhow::Result<StabilityParams> {
         .max_basis
         .max(p.eigen_count + 4 * s.eigen.block_size);
     s.validate().map_err(usage)?;
+    let m = &s.material;
+    for (name, k, formula) in [
+        ("stretching", m.ks(), "E π r²"),
+        ("bending", m.kb(), "E π r⁴ / 4"),
+    ] {
+        if !(k.is_finite() && k > f64::MIN_POSITIVE) {
+            return Err(usage(format!(
+                "--radius {:e} and --young {:e} give a {name} stiffness {formula} = {k:e}, out \
+                 of floating-point range; choose scene units where the radius is nearer 1",
+                m.radius, m.young
+            )));
+        }
+    }
     Ok(s)
 }
 
@@ -90,9 +107,34 @@ pub fn load_inputs(a: &InputArgs, p: &PhysicsArgs) -> anyhow::Result<Inputs> {
         curves.extend(f.curves);
     }
     pipeline::scale_curves(&mut curves, a.scale);
-    let h = a
-        .edge_length
-        .unwrap_or_else(|| pipeline::median_segment_length(&curves));
+    check_scaled(&curves, mesh.as_ref(), a)?;
+    let h = match a.edge_length {
+        Some(h) if !(h.is_finite() && h > 0.0) => {
+            return Err(usage(format!(
+                "--edge-length must be a positive finite number (scene units), got {h}"
+            )));
+        }
+        Some(h) => h,
+        None => {
+            let h = pipeline::median_segment_length(&curves);
+            if !(h.is_finite() && h > 0.0) {
+                return Err(usage(format!(
+                    "cannot choose the edge length: the median input segment is {h:e} long \
+                     (coordinates out of range); give --edge-length or another --scale"
+                )));
+            }
+            h
+        }
+    };
+    if let Some(m) = &mesh {
+        let name = a
+            .mesh
+            .as_ref()
+            .map_or_else(String::new, |p| p.display().to_string());
+        warnings.extend(checks::mesh_warnings(m, &name));
+        let far = checks::curves_far_from_mesh(&curves, m, checks::FAR_FROM_MESH);
+        warnings.extend(checks::far_from_mesh_warning(&far, &name));
+    }
     let build = BuildParams {
         edge_length: h,
         supports: p.supports.unwrap_or_default(),
@@ -115,9 +157,39 @@ pub fn load_inputs(a: &InputArgs, p: &PhysicsArgs) -> anyhow::Result<Inputs> {
     })
 }
 
-/// Prints warnings on stderr.
+/// Rejects a `--scale` that pushes coordinates out of the floating-point range, naming the first
+/// curve (file and line) or the mesh it breaks.
+fn check_scaled(curves: &[Polyline], mesh: Option<&TriMesh>, a: &InputArgs) -> anyhow::Result<()> {
+    if let Some((c, curve)) = curves
+        .iter()
+        .enumerate()
+        .find(|(_, c)| c.points.iter().any(|p| !p.is_finite()))
+    {
+        return Err(usage(format!(
+            "{}: --scale {} makes the coordinates of curve {c} overflow; choose a smaller scale",
+            curve.origin, a.scale
+        )));
+    }
+    if mesh.is_some_and(|m| m.vertices.iter().any(|p| !p.is_finite())) {
+        return Err(usage(format!(
+            "{}: --scale {} makes the mesh's coordinates overflow; choose a smaller scale",
+            a.mesh
+                .as_ref()
+                .map_or_else(String::new, |p| p.display().to_string()),
+            a.scale
+        )));
+    }
+    Ok(())
+}
+
+/// Prints warnings on stderr, one per line: `warning: …`, or as they are when they already read
+/// `file:line: warning: …` (the findings of the readers).
 pub fn print_warnings(warnings: &[String]) {
     for w in warnings {
-        eprintln!("warning: {w}");
+        if w.contains(": warning: ") {
+            eprintln!("{w}");
+        } else {
+            eprintln!("warning: {w}");
+        }
     }
 }

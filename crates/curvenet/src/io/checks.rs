@@ -261,9 +261,20 @@ fn tolerance<'a>(points: impl IntoIterator<Item = &'a Vec3>) -> f64 {
 /// True when the last point repeats the first, exactly or within `tol`.
 fn is_closing(points: &[(Vec3, usize)], tol: f64) -> bool {
     match (points.first(), points.last()) {
-        (Some(&(f, _)), Some(&(l, _))) => f == l || f.dist(l) <= tol,
+        (Some(&(f, _)), Some(&(l, _))) => f == l || scaled_distance(f, l) <= tol,
         _ => false,
     }
+}
+
+/// `|a − b|` without the underflow of squaring tiny differences (or the overflow of squaring
+/// huge ones): two distinct points are never 0 apart.
+fn scaled_distance(a: Vec3, b: Vec3) -> f64 {
+    let d = a - b;
+    let m = d.x.abs().max(d.y.abs()).max(d.z.abs());
+    if m == 0.0 || !m.is_finite() {
+        return m;
+    }
+    m * (d / m).norm()
 }
 
 /// The number of distinct points, counted up to `limit` (the scan stops there).
@@ -484,6 +495,23 @@ mod tests {
         .unwrap();
         assert!(!c.closed);
         assert!(w.is_empty());
+    }
+
+    #[test]
+    fn tiny_coordinates_do_not_close_an_open_curve() {
+        let mut w = Vec::new();
+        let c = finish_curve(
+            raw(&[[0.0, 0.0, 0.0], [1e-300, 0.0, 0.0]], Closure::Detect),
+            "f",
+            &mut w,
+        )
+        .unwrap();
+        assert!(!c.closed);
+        assert_eq!(c.points.len(), 2);
+        assert_eq!(
+            scaled_distance(Vec3::new(3e-300, 0.0, 0.0), Vec3::ZERO),
+            3e-300
+        );
     }
 
     #[test]

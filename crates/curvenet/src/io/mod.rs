@@ -242,6 +242,7 @@ pub struct MeshFile {
 /// format's parser rejects.
 pub fn read_curves(path: &Path) -> Result<CurveFile, InputError> {
     let file = path.display().to_string();
+    reject_directory(path, &file)?;
     let parse: fn(&str, &str) -> Result<CurveFile, InputError> = match extension(path).as_deref() {
         Some("txt") => parse_reference_curves,
         Some("obj") => parse_obj_polylines,
@@ -268,6 +269,7 @@ pub fn read_curves(path: &Path) -> Result<CurveFile, InputError> {
 /// UTF-8 and for everything [`parse_obj_mesh`] rejects.
 pub fn read_mesh(path: &Path) -> Result<MeshFile, InputError> {
     let file = path.display().to_string();
+    reject_directory(path, &file)?;
     if extension(path).as_deref() != Some("obj") {
         return Err(InputError::UnsupportedFormat {
             file,
@@ -276,6 +278,21 @@ pub fn read_mesh(path: &Path) -> Result<MeshFile, InputError> {
     }
     let text = read_text(path, &file)?;
     parse_obj_mesh(&text, &file)
+}
+
+/// A directory where a file is expected is an [`InputError::Io`] that says so (before its
+/// extension, which a directory's name need not have, is looked at).
+fn reject_directory(path: &Path, file: &str) -> Result<(), InputError> {
+    if path.is_dir() {
+        return Err(InputError::Io {
+            file: file.to_owned(),
+            source: std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "it is a directory, not a file",
+            ),
+        });
+    }
+    Ok(())
 }
 
 /// The lower-cased extension of `path`, if it has one.

@@ -164,6 +164,26 @@ fn read_curves_dispatches_on_the_extension() {
 }
 
 #[test]
+fn directories_are_refused_whatever_their_name() {
+    let dir = temp_dir("dirs");
+    for name in ["curves.txt", "noext", "mesh.obj"] {
+        let path = dir.join(name);
+        fs::create_dir_all(&path).unwrap();
+        let e = read_curves(&path).unwrap_err();
+        assert!(matches!(e, InputError::Io { .. }), "{e}");
+        assert!(
+            e.to_string().ends_with(&format!(
+                "{name}:0: cannot read the file: it is a directory, not a file"
+            )),
+            "{e}"
+        );
+        let e = read_mesh(&path).unwrap_err();
+        assert!(e.to_string().contains("it is a directory"), "{e}");
+    }
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn invalid_utf8_is_an_error_at_its_line() {
     let dir = temp_dir("utf8");
     let path = dir.join("bad.txt");

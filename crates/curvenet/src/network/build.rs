@@ -80,6 +80,20 @@ pub enum BuildError {
     /// No curves at all.
     #[error("no curves to build a network from")]
     NoCurves,
+    /// The edge length would cut the curves into more than [`MAX_VERTICES`] vertices.
+    #[error(
+        "the edge length h = {edge_length:e} would cut the curves (total length \
+         {total_length:e}) into about {vertices:.3e} vertices, more than the {MAX_VERTICES} a \
+         network may have; give a larger --edge-length"
+    )]
+    TooManyVertices {
+        /// The target edge length.
+        edge_length: f64,
+        /// Total input length of the curves.
+        total_length: f64,
+        /// Estimated vertex count.
+        vertices: f64,
+    },
     /// A curve that cannot become a rod.
     #[error("{file}:{line}: curve {curve}: {message}")]
     DegenerateCurve {
@@ -117,7 +131,22 @@ pub struct BuildInfo {
     pub min_tolerance: f64,
     /// Largest crossing tolerance used (scene units).
     pub max_tolerance: f64,
+    /// Findings that do not stop the build ([`super::checks::network_warnings`]): curves that
+    /// cross nothing, curves that run together, edges far shorter than `h`.
+    #[serde(default)]
+    pub warnings: Vec<String>,
 }
+
+/// The most vertices a network may have. The paper's largest has 25,442; far more than this
+/// limit only comes from an edge length that is tiny against the curves, which would otherwise
+/// exhaust memory before anything is reported.
+pub const MAX_VERTICES: usize = 5_000_000;
+
+/// The range of curve lengths and coordinate magnitudes (scene units) a network may have. The
+/// bending terms scale like `1/ē³` and their Hessians faster, so far smaller scenes overflow
+/// them; far larger ones lose the anchors' and the stretching terms' precision. Any physical
+/// scene, in any unit, lies well inside.
+pub const LENGTH_RANGE: (f64, f64) = (1e-30, 1e30);
 
 /// One passage of a curve through a joint.
 #[derive(Clone, Copy, Debug)]
@@ -156,11 +185,55 @@ pub fn build_network(
             return Err(bad(format!("non-finite point {p:?}")));
         }
         if !(g.length() > 0.0) || !(g.median_segment > 0.0) {
-            return Err(bad("the curve has zero length".into()));
+            return Err(bad(format!(
+                "the curve has zero length{}",
+                if g.points.iter().any(|p| *p != g.points[0]) {
+                    " (its points differ, but by so little that lengths underflow)"
+                } else {
+                    ""
+                }
+            )));
         }
+        let largest = g
+            .points
+            .iter()
+            .flat_map(|p| p.to_array())
+            .fold(0.0f64, |m, v| m.max(v.abs()));
+        let (lo, hi) = LENGTH_RANGE;
+        if !(g.length() >= lo && g.length() <= hi && largest <= hi) {
+            return Err(bad(format!(
+                "the curve's length {:e} (coordinates up to {largest:e}) is outside \
+                 {lo:e}..{hi:e}, the range of scene sizes the rod model computes with; \
+                 rescale the scene (--scale)",
+                g.length(),
+            )));
+        }
+    }
+    // Each open curve gets at least 2 edges per piece, a closed one at least 3; the estimate
+    // is made in floating point so that a tiny h cannot overflow it.
+    let total_length: f64 = geo.iter().map(CurveGeometry::length).sum();
+    let estimate: f64 = geo
+        .iter()
+        .map(|g| (g.length() / params.edge_length).max(3.0) + 1.0)
+        .sum();
+    if !(estimate <= MAX_VERTICES as f64) {
+        return Err(BuildError::TooManyVertices {
+            edge_length: params.edge_length,
+            total_length,
+            vertices: estimate,
+        });
     }
     let crossings = find_crossings(&geo, params.tolerance);
     let (joints, passes) = cluster_joints(&geo, &crossings, params);
+    // Every pass through a joint splits a piece, which adds at least two edges.
+    let with_joints = estimate + 2.0 * passes.iter().map(Vec::len).sum::<usize>() as f64;
+    if !(with_joints <= MAX_VERTICES as f64) {
+        return Err(BuildError::TooManyVertices {
+            edge_length: params.edge_length,
+            total_length,
+            vertices: with_joints,
+        });
+    }
     let (network, mut info) = resample(&geo, &joints, &passes, params, curves)?;
 
     info.crossings = crossings.iter().filter(|c| c.a.curve != c.b.curve).count();
@@ -174,6 +247,14 @@ pub fn build_network(
     let tols: Vec<f64> = geo.iter().map(|g| g.tolerance(params.tolerance)).collect();
     info.min_tolerance = tols.iter().copied().fold(f64::INFINITY, f64::min);
     info.max_tolerance = tols.iter().copied().fold(0.0, f64::max);
+    info.warnings = super::checks::network_warnings(
+        &network,
+        &info,
+        curves,
+        &geo,
+        params.edge_length,
+        params.tolerance,
+    );
     Ok((network, info))
 }
 
@@ -327,6 +408,15 @@ fn cluster_joints(
         }
         passes[ci].sort_by(|x, y| x.s.total_cmp(&y.s).then(x.joint.cmp(&y.joint)));
     }
+    // A joint needs two passes. Merging (`merge_joints_below` wider than a small loop) can fold
+    // the two passes of a self-crossing into one; that joint is then no joint at all.
+    let mut count = vec![0usize; seeds.len()];
+    for p in passes.iter().flatten() {
+        count[p.joint] += 1;
+    }
+    for list in &mut passes {
+        list.retain(|p| count[p.joint] >= 2);
+    }
     (seeds, passes)
 }
 
@@ -339,6 +429,28 @@ fn min_edges(a: Option<usize>, b: Option<usize>) -> usize {
 /// Number of edges of a piece of arc length `len`.
 fn edges_for(len: f64, h: f64, min: usize) -> usize {
     ((len / h).round() as usize).max(min)
+}
+
+/// Turns closer to 180° than this (`1 + cos φ` below it) make a rod's bending term blow up: the
+/// discrete curvature `2 tan(φ/2)` passes `1e5`, and at exactly 180° it is undefined.
+const FOLD_BACK: f64 = 1e-10;
+
+/// The first vertex of a rod where consecutive edges turn back on themselves (`1 + cos φ ≤`
+/// [`FOLD_BACK`]), with the cosine of the turn.
+fn fold_back(positions: &[Vec3], verts: &[u32], closed: bool) -> Option<(Vec3, f64)> {
+    let m = verts.len();
+    let inner = if closed { 0..m } else { 1..m.saturating_sub(1) };
+    for j in inner {
+        let prev = positions[verts[(j + m - 1) % m] as usize];
+        let here = positions[verts[j] as usize];
+        let next = positions[verts[(j + 1) % m] as usize];
+        let (e0, e1) = (here - prev, next - here);
+        let cos = e0.dot(e1) / (e0.norm() * e1.norm());
+        if !(1.0 + cos > FOLD_BACK) {
+            return Some((here, cos));
+        }
+    }
+    None
 }
 
 /// Splits the curves at their passes, resamples and locks the network.
@@ -409,18 +521,39 @@ fn resample(
         let rest_lengths: Vec<f64> = (0..ne)
             .map(|j| positions[verts[j] as usize].dist(positions[verts[(j + 1) % m] as usize]))
             .collect();
-        let shortest = rest_lengths.iter().copied().fold(f64::INFINITY, f64::min);
-        if !(shortest > 1e-12 * len) {
+        let degenerate = |message: String| {
             let c = &curves[ci];
-            return Err(BuildError::DegenerateCurve {
+            BuildError::DegenerateCurve {
                 file: c.origin.file.clone(),
                 line: c.origin.line,
                 curve: ci,
-                message: format!(
-                    "resampling gives an edge of length {shortest:e} (two joints coincide in \
-                     space but not along the curve)"
-                ),
-            });
+                message,
+            }
+        };
+        // The shortest edge and where it starts (NaN lengths count as shortest).
+        let mut shortest = f64::INFINITY;
+        let mut at = 0;
+        for (j, &l) in rest_lengths.iter().enumerate() {
+            if !(l >= shortest) {
+                shortest = l;
+                at = j;
+            }
+        }
+        if !(shortest > 1e-12 * len) {
+            let p = positions[verts[at] as usize];
+            return Err(degenerate(format!(
+                "resampling gives an edge of length {shortest:e} at ({:e}, {:e}, {:e}): two \
+                 of its vertices coincide in space but not along the curve (two joints meet, or \
+                 the curve folds back on itself)",
+                p.x, p.y, p.z
+            )));
+        }
+        if let Some((p, cos)) = fold_back(&positions, &verts, g.closed) {
+            return Err(degenerate(format!(
+                "the curve folds back on itself at ({:e}, {:e}, {:e}): consecutive edges turn \
+                 by 180° (cosine {cos:.12}), where bending is undefined",
+                p.x, p.y, p.z
+            )));
         }
         let anchors = if g.closed {
             Vec::new()
@@ -485,6 +618,7 @@ fn resample(
         edge_length: network.edge_length_stats(),
         min_tolerance: 0.0,
         max_tolerance: 0.0,
+        warnings: Vec::new(),
     };
     Ok((network, info))
 }

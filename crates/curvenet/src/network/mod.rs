@@ -2,10 +2,14 @@
 //!
 //! - [`build`]: from input polylines to a [`Network`] (crossings, joints, resampling, locking);
 //! - [`crossings`]: closest-approach crossing detection through a spatial grid;
+//! - [`checks`]: input sanity checks (curves far from the mesh, mesh defects, curves that run
+//!   together, tiny edges) whose findings are warnings, not errors;
 //! - [`Network`]: the locked rest state every later stage works from.
 
 pub mod build;
+pub mod checks;
 pub mod crossings;
+pub mod subnet;
 
 pub use build::{BuildInfo, BuildParams, build_network};
 

@@ -2,6 +2,16 @@
 //!
 //! - [`AnalysisReport`]: what `curvenet analyze` and `example --analyze-only` print.
 //! - [`UnitsNote`]: what the material constants mean against the scene's size.
+//! - [`export`]: reading a run folder; OBJ / JSON / CSV / fabrication exports; the reloadable
+//!   network file ([`export::load_network`]).
+//! - [`render`], [`plot`]: software-rasterised pictures (`final.png`, `mode.png`, `lambda.png`).
+//! - [`viewer`]: the self-contained WebGL viewer page (`curvenet view`) and
+//!   [`viewer::write_run_outputs`], called after every greedy run.
+
+pub mod export;
+pub mod plot;
+pub mod render;
+pub mod viewer;
 
 use crate::network::{BuildInfo, EdgeLengthStats, Network};
 use crate::rod::{ActiveSet, Material};
@@ -27,6 +37,10 @@ pub struct NewtonSummary {
     /// Steps that reused an earlier factorization.
     #[serde(default)]
     pub chord_steps: usize,
+    /// Steps whose Newton system was solved by conjugate gradients preconditioned with an
+    /// earlier factorization.
+    #[serde(default)]
+    pub krylov_steps: usize,
 }
 
 impl From<&NewtonInfo> for NewtonSummary {
@@ -38,6 +52,7 @@ impl From<&NewtonInfo> for NewtonSummary {
             stop: n.stop,
             factorizations: n.factorizations,
             chord_steps: n.chord_steps,
+            krylov_steps: n.krylov_steps,
         }
     }
 }
@@ -76,7 +91,22 @@ impl UnitsNote {
                 material.radius
             ))
         } else {
-            None
+            // The median is fine; a single curve may still be a stub against the rod's
+            // thickness.
+            network
+                .rods
+                .iter()
+                .enumerate()
+                .map(|(c, r)| (c, r.rest_length()))
+                .min_by(|x, y| x.1.total_cmp(&y.1))
+                .filter(|&(_, l)| l < 4.0 * material.radius)
+                .map(|(c, l)| {
+                    format!(
+                        "curve {c} is only {l:.4e} long, less than twice the rod's diameter \
+                         {}: a stub, not a rod; check it or set --radius",
+                        2.0 * material.radius
+                    )
+                })
         };
         UnitsNote {
             radius: material.radius,
@@ -85,6 +115,43 @@ impl UnitsNote {
             warning,
         }
     }
+}
+
+/// Where a mode moves most.
+#[derive(Clone, Debug, PartialEq)]
+struct ModePeak {
+    vertex: usize,
+    position: crate::geom::Vec3,
+    curves: Vec<usize>,
+}
+
+/// The vertex where the worst-case mode of `analysis` moves most, with its rest position and
+/// the curves through it; `None` when no mode was computed.
+fn mode_peak(network: &Network, analysis: &Analysis) -> Option<ModePeak> {
+    let vectors = &analysis.spectrum.vectors;
+    if vectors.ncols() == 0 || vectors.nrows() != network.dofs() {
+        return None;
+    }
+    let vertex = (0..network.vertex_count())
+        .map(|v| {
+            let a = (0..3).map(|k| vectors[(3 * v + k, 0)].powi(2)).sum::<f64>();
+            (v, a)
+        })
+        .filter(|(_, a)| a.is_finite())
+        .max_by(|x, y| x.1.total_cmp(&y.1).then(y.0.cmp(&x.0)))?
+        .0;
+    let curves = network
+        .rods
+        .iter()
+        .enumerate()
+        .filter(|(_, r)| r.vertices.contains(&(vertex as u32)))
+        .map(|(c, _)| c)
+        .collect();
+    Some(ModePeak {
+        vertex,
+        position: network.positions[vertex],
+        curves,
+    })
 }
 
 /// The object printed by `analyze --json` (SPEC §10).
@@ -160,46 +227,51 @@ impl AnalysisReport {
                 analysis.newton.stop, analysis.newton.iterations, analysis.newton.grad_rel
             ));
         }
+        let top: Vec<String> = analysis
+            .mode_curves
+            .iter()
+            .take(5)
+            .map(|c| c.curve.to_string())
+            .collect();
+        let unstable = sp.zero_modes > 0 || sp.negative_modes > 0;
+        let peak = if unstable {
+            mode_peak(network, analysis)
+        } else {
+            None
+        };
+        let place = peak.map_or_else(String::new, |p| {
+            format!(
+                "; it moves most at vertex {} ({:.4e}, {:.4e}, {:.4e}) on curve(s) {}",
+                p.vertex,
+                p.position.x,
+                p.position.y,
+                p.position.z,
+                p.curves
+                    .iter()
+                    .map(|c| c.to_string())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        });
         if sp.zero_modes > 0 {
-            let top: Vec<String> = analysis
-                .mode_curves
-                .iter()
-                .take(5)
-                .map(|c| c.curve.to_string())
-                .collect();
             warnings.push(format!(
-                "the structure has {} zero mode(s) (a mechanism): |λ| ≤ {:.3e}; the mode lives mostly on curves {}",
+                "the structure has {} zero mode(s) (a mechanism): |λ| ≤ {:.3e}; the mode lives \
+                 mostly on curves {}{place}",
                 sp.zero_modes,
                 sp.zero_threshold,
                 top.join(", ")
             ));
         }
         if sp.negative_modes > 0 {
-            let top: Vec<String> = analysis
-                .mode_curves
-                .iter()
-                .take(5)
-                .map(|c| c.curve.to_string())
-                .collect();
             warnings.push(format!(
-                "the equilibrium is unstable: {} negative mode(s), λ = {:.6e}; mostly on curves {}",
+                "the equilibrium is unstable: {} negative mode(s), λ = {:.6e}; mostly on curves \
+                 {}{place}",
                 sp.negative_modes,
                 sp.lambda(),
                 top.join(", ")
             ));
         }
-        if !build.isolated_curves.is_empty() {
-            warnings.push(format!(
-                "{} curve(s) cross no other curve and stand on their supports alone: {}",
-                build.isolated_curves.len(),
-                build
-                    .isolated_curves
-                    .iter()
-                    .map(|c| c.to_string())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ));
-        }
+        warnings.extend(build.warnings.iter().cloned());
         AnalysisReport {
             curve_count: network.rods.len(),
             vertices: network.vertex_count(),

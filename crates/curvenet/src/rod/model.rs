@@ -671,6 +671,67 @@ impl EnergyModel {
         }
     }
 
+    /// `Σ_c weights[c]·H_c` from precomputed local Hessians, where `H_c` holds every term of
+    /// curve `c` (stretching, bending, anchors): the Hessian of the structure in which curve
+    /// `c`'s stiffness is scaled by `weights[c]` (the relaxation of SPEC §7). Vertices whose
+    /// curves all have weight 0 get the loose diagonal, as in [`Self::hessian_from_locals`];
+    /// with 0/1 weights the two agree bit for bit.
+    pub fn hessian_weighted(&self, locals: &LocalHessians, weights: &[f64], hess: &mut Vec<f64>) {
+        assert_eq!(weights.len(), self.rods.len(), "one weight per curve");
+        let _timer = Timer::new(Phase::Assemble);
+        hess.clear();
+        hess.resize(self.pattern.nnz(), 0.0);
+        let mut scaled9 = [[0.0; 9]; 9];
+        let mut scaled6 = [[0.0; 6]; 6];
+        for (c, r) in self.rods.iter().enumerate() {
+            let w = weights[c];
+            if w == 0.0 {
+                continue;
+            }
+            for k in r.stretch.clone() {
+                let l = &locals.stretch[k];
+                let src = if w == 1.0 {
+                    l
+                } else {
+                    for (d, s) in scaled6.iter_mut().zip(l) {
+                        for (x, y) in d.iter_mut().zip(s) {
+                            *x = w * y;
+                        }
+                    }
+                    &scaled6
+                };
+                self.scatter_hess(hess, &self.stretch[k].v, &self.stretch_pos[k], src);
+            }
+            for k in r.bend.clone() {
+                let l = &locals.bend[k];
+                let src = if w == 1.0 {
+                    l
+                } else {
+                    for (d, s) in scaled9.iter_mut().zip(l) {
+                        for (x, y) in d.iter_mut().zip(s) {
+                            *x = w * y;
+                        }
+                    }
+                    &scaled9
+                };
+                self.scatter_hess(hess, &self.bend[k].v, &self.bend_pos[k], src);
+            }
+            for t in &self.anchor[r.anchor.clone()] {
+                let v = t.v as usize;
+                for a in 0..3 {
+                    hess[self.pattern.diag[3 * v + a]] += w * (2.0 * self.mu);
+                }
+            }
+        }
+        for (v, cs) in self.vertex_curves.iter().enumerate() {
+            if cs.iter().all(|&c| weights[c as usize] == 0.0) {
+                for a in 0..3 {
+                    hess[self.pattern.diag[3 * v + a]] = self.loose_diagonal;
+                }
+            }
+        }
+    }
+
     /// Curves through each vertex.
     pub fn vertex_curves(&self) -> &[Vec<u32>] {
         &self.vertex_curves

@@ -152,8 +152,9 @@ impl CompareReport {
 }
 
 /// Builds instance `i` of size `n`: traces on surfaces in rotation until a network builds
-/// with `n` curves (a surface whose traces fail is skipped to the next seed).
-fn instance_network(
+/// with `n` curves (a surface whose traces fail is skipped to the next seed). `surfaces` are
+/// already scaled to extent 4000. Returns the surface's name, the seed and the network.
+pub fn instance_network(
     surfaces: &[(String, TriMesh)],
     n: usize,
     i: usize,

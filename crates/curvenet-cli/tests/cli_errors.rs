@@ -1,0 +1,833 @@
+//! Bad input on the command line (SPEC §10): the real `curvenet` binary on tiny broken files and
+//! nonsensical options.
+//!
+//! Every error case asserts exit code 2 (no network can be built, or the request makes no
+//! sense) and the key parts of the message: the file, the line, what was wrong. Every warning
+//! case asserts exit code 0 and the warning both on stderr and in the output (`--json`'s
+//! `warnings`, or `result.json` for `simplify`). Each case runs in a fresh temporary folder with
+//! its input files written there, so messages name short relative paths.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// The binary under test.
+const BIN: &str = env!("CARGO_BIN_EXE_curvenet");
+
+/// A flat 2 × 2 grid of straight curves crossing at four points (reference text format).
+const GRID: &str = "CURVE 0\n-1 -0.5 0\n0 -0.5 0\n1 -0.5 0\n\
+                    CURVE 1\n-1 0.5 0\n0 0.5 0\n1 0.5 0\n\
+                    CURVE 2\n-0.5 -1 0\n-0.5 0 0\n-0.5 1 0\n\
+                    CURVE 3\n0.5 -1 0\n0.5 0 0\n0.5 1 0\n";
+
+/// A square mesh under [`GRID`]: [-1, 1]² at z = 0.
+const SQUARE: &str = "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 4\n";
+
+/// Options that keep the grid's analysis quiet and fast: a rod radius fit for curves of length
+/// 2 and a short edge length.
+const QUIET: &[&str] = &["--radius", "0.01", "--edge-length", "0.25"];
+
+/// What one run of the binary gave.
+struct Run {
+    code: i32,
+    stdout: String,
+    stderr: String,
+    dir: PathBuf,
+}
+
+impl Drop for Run {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.dir);
+    }
+}
+
+/// A fresh folder for one case.
+fn case_dir() -> PathBuf {
+    static COUNTER: AtomicUsize = AtomicUsize::new(0);
+    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("curvenet-cli-errors-{}-{n}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temporary folder");
+    dir
+}
+
+/// Writes `files` into a fresh folder and runs the binary there with `args`.
+fn run(files: &[(&str, &[u8])], args: &[&str]) -> Run {
+    let dir = case_dir();
+    for (name, content) in files {
+        let path = dir.join(name);
+        if let Some(parent) = path.parent() {
+            std::fs::create_dir_all(parent).unwrap();
+        }
+        std::fs::write(&path, content).unwrap();
+    }
+    let out = Command::new(BIN)
+        .args(args)
+        .current_dir(&dir)
+        .output()
+        .expect("the curvenet binary runs");
+    Run {
+        code: out.status.code().unwrap_or(-1),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+        dir,
+    }
+}
+
+/// Runs and checks exit code 2 with every part of `parts` in the message on stderr; no panic and
+/// nothing on stdout.
+fn expect_error(files: &[(&str, &[u8])], args: &[&str], parts: &[&str]) {
+    let r = run(files, args);
+    let context = format!(
+        "args {args:?}\n--- stderr:\n{}\n--- stdout:\n{}",
+        r.stderr, r.stdout
+    );
+    assert_eq!(r.code, 2, "exit code, {context}");
+    for part in parts {
+        assert!(r.stderr.contains(part), "stderr lacks `{part}`, {context}");
+    }
+    assert!(!r.stderr.contains("panicked"), "{context}");
+    assert!(r.stdout.is_empty(), "stdout not empty, {context}");
+}
+
+/// `analyze` on one curve file named `name` holding `text`, plus `extra` options.
+fn analyze_error(name: &str, text: &str, extra: &[&str], parts: &[&str]) {
+    let mut args = vec!["analyze", "--curves", name];
+    args.extend_from_slice(extra);
+    expect_error(&[(name, text.as_bytes())], &args, parts);
+}
+
+/// Runs `analyze --json` and checks exit code 0 and that every part of `parts` appears in a
+/// warning on stderr (a line `warning: …`, or `file:line: warning: …` for a finding with a
+/// place) and in the JSON `warnings`; returns the report.
+fn expect_warnings(files: &[(&str, &[u8])], args: &[&str], parts: &[&str]) -> serde_json::Value {
+    let mut all = vec!["analyze", "--json"];
+    all.extend_from_slice(args);
+    let r = run(files, &all);
+    let context = format!("args {all:?}\n--- stderr:\n{}", r.stderr);
+    assert_eq!(r.code, 0, "exit code, {context}");
+    let report: serde_json::Value = serde_json::from_str(&r.stdout)
+        .unwrap_or_else(|e| panic!("stdout is not one JSON object ({e}): {}", r.stdout));
+    let warnings: Vec<String> = report["warnings"]
+        .as_array()
+        .expect("a warnings array")
+        .iter()
+        .map(|w| w.as_str().expect("warnings are strings").to_owned())
+        .collect();
+    for part in parts {
+        assert!(
+            r.stderr
+                .lines()
+                .any(|l| l.contains("warning: ") && l.contains(part)),
+            "no warning on stderr with `{part}`, {context}"
+        );
+        assert!(
+            warnings.iter().any(|w| w.contains(part)),
+            "no JSON warning with `{part}`: {warnings:#?}"
+        );
+    }
+    report
+}
+
+// ---------------------------------------------------------------------------------------------
+// Curve files
+
+#[test]
+fn reference_format_errors_name_file_and_line() {
+    analyze_error(
+        "bad.txt",
+        "CURVE 0\n0 0 0\n1 x 0\n",
+        &[],
+        &["bad.txt:3:", "malformed number `x`"],
+    );
+    analyze_error(
+        "trunc.txt",
+        "CURVE 0\n0 0 0\n1 0\n",
+        &[],
+        &["trunc.txt:3:", "truncated point", "expected 3 coordinates"],
+    );
+    analyze_error(
+        "nan.txt",
+        "CURVE 0\n0 0 0\n1 nan 0\n",
+        &[],
+        &["nan.txt:3:", "`nan` is not a finite number"],
+    );
+    analyze_error(
+        "inf.txt",
+        "CURVE 0\n0 0 0\n1 0 0\nCURVE 1\n0 0 0\n-inf 1 1\n",
+        &[],
+        &["inf.txt:6:", "`-inf` is not a finite number"],
+    );
+    analyze_error(
+        "overflow.txt",
+        "CURVE 0\n0 0 0\n1e999 0 0\n",
+        &[],
+        &["overflow.txt:3:", "`1e999` is not a finite number"],
+    );
+    analyze_error(
+        "one.txt",
+        "CURVE 0\n1 2 3\n1 2 3\n1 2 3\n",
+        &[],
+        &["one.txt:1:", "curve 0 has 1 distinct point", "at least 2"],
+    );
+    analyze_error(
+        "closed2.txt",
+        "CURVE 0\n0 0 0\n1 0 0\nCURVE 1\n0 0 0\n0 1 0\n0 0 0\n",
+        &[],
+        &["closed2.txt:4:", "closed curve 1 has 2 distinct points"],
+    );
+    analyze_error(
+        "nopoints.txt",
+        "CURVE 0\n0 0 0\n1 0 0\nCURVE 1\n",
+        &[],
+        &["nopoints.txt:4:", "curve 1 has no points"],
+    );
+    analyze_error(
+        "orphan.txt",
+        "0 0 0\nCURVE 0\n",
+        &[],
+        &["orphan.txt:1:", "before the first `CURVE` line"],
+    );
+    analyze_error(
+        "extra.txt",
+        "CURVE 0\n0 0 0\n1 0 0 7\n",
+        &[],
+        &["extra.txt:3:", "too many coordinates"],
+    );
+}
+
+#[test]
+fn empty_missing_binary_and_misnamed_files() {
+    analyze_error("empty.txt", "", &[], &["empty.txt:1:", "no curves"]);
+    analyze_error(
+        "blank.obj",
+        "\n\n# nothing\n",
+        &[],
+        &["blank.obj:1:", "no `l` (polyline) records"],
+    );
+    analyze_error(
+        "empty.json",
+        "",
+        &[],
+        &["empty.json:1:", "invalid curvenet-curves JSON"],
+    );
+    let garbage: Vec<u8> = (0..=255u8).cycle().skip(128).take(600).collect();
+    expect_error(
+        &[("garbage.txt", &garbage)],
+        &["analyze", "--curves", "garbage.txt"],
+        &["garbage.txt:1:", "not valid UTF-8"],
+    );
+    expect_error(
+        &[],
+        &["analyze", "--curves", "missing.txt"],
+        &["missing.txt:0:", "cannot read the file", "No such file"],
+    );
+    // The I/O error is named once, not repeated as its own cause.
+    let r = run(&[], &["analyze", "--curves", "missing.txt"]);
+    assert_eq!(r.stderr.matches("No such file").count(), 1, "{}", r.stderr);
+    expect_error(
+        &[("folder.txt/x", b"")],
+        &["analyze", "--curves", "folder.txt"],
+        &["folder.txt:0:", "it is a directory, not a file"],
+    );
+    expect_error(
+        &[("folder/x", b"")],
+        &["analyze", "--curves", "folder"],
+        &["folder:0:", "it is a directory"],
+    );
+    analyze_error(
+        "curves.csv",
+        "0,0,0\n",
+        &[],
+        &[
+            "curves.csv:0:",
+            "unsupported curve file extension",
+            ".txt",
+            ".obj",
+            ".json",
+        ],
+    );
+}
+
+#[test]
+fn obj_and_json_curve_errors_name_file_and_line() {
+    analyze_error(
+        "c.obj",
+        "v 0 0 0\nv 1 0 0\nl 1 2 3\n",
+        &[],
+        &["c.obj:3:", "vertex index 3 refers to a missing vertex"],
+    );
+    analyze_error(
+        "zero.obj",
+        "v 0 0 0\nv 1 0 0\nl 0 1\n",
+        &[],
+        &["zero.obj:3:", "vertex index 0 is invalid"],
+    );
+    analyze_error(
+        "mesh.obj",
+        SQUARE,
+        &[],
+        &["mesh.obj:1:", "no curves", "it is a mesh"],
+    );
+    analyze_error(
+        "short.obj",
+        "v 0 0\nv 1 0 0\nl 1 2\n",
+        &[],
+        &["short.obj:1:", "truncated vertex"],
+    );
+    analyze_error(
+        "nurbs.obj",
+        "v 0 0 0\ncstype bspline\n",
+        &[],
+        &["nurbs.obj:2:", "free-form curves are not supported"],
+    );
+    analyze_error(
+        "syntax.json",
+        "{\"format\": \"curvenet-curves\",\n \"version\": 1,\n \"curves\": [\n",
+        &[],
+        &["syntax.json:4:", "invalid curvenet-curves JSON"],
+    );
+    analyze_error(
+        "other.json",
+        "{\"format\": \"geojson\", \"version\": 1, \"curves\": []}",
+        &[],
+        &["other.json:1:", "not a curvenet curves file"],
+    );
+    analyze_error(
+        "typo.json",
+        "{\"format\": \"curvenet-curves\", \"version\": 1,\n \"curves\": [{\"points\": [[0,0,0],[1,0,0]],\n \"close\": true}]}",
+        &[],
+        &["typo.json:3:", "unknown field `close`"],
+    );
+    analyze_error(
+        "none.json",
+        "{\"format\": \"curvenet-curves\", \"version\": 1, \"curves\": []}",
+        &[],
+        &["none.json:1:", "\"curves\" is empty"],
+    );
+    analyze_error(
+        "null.json",
+        "{\"format\": \"curvenet-curves\", \"version\": 1,\n \"curves\": [{\"points\": [[0,0,0],\n [null,0,0]]}]}",
+        &[],
+        &["null.json:3:", "invalid type: null"],
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Curves that cannot become rods
+
+#[test]
+fn degenerate_geometry_is_refused_with_the_curve_named() {
+    // A curve that retraces itself: bending is undefined at the turn.
+    analyze_error(
+        "hairpin.txt",
+        "CURVE 0\n0 0 0\n1 0 0\n0.35 0 0\n",
+        &["--edge-length", "0.1"],
+        &["hairpin.txt:1: curve 0:", "folds back on itself"],
+    );
+    expect_error(
+        &[("hairpin.txt", b"CURVE 0\n0 0 0\n1 0 0\n0.35 0 0\n")],
+        &[
+            "simplify",
+            "--curves",
+            "hairpin.txt",
+            "--edge-length",
+            "0.1",
+            "--budget",
+            "0.5",
+            "--out",
+            "out",
+        ],
+        &["hairpin.txt:1: curve 0:", "folds back on itself"],
+    );
+    // Coordinates so small that the rod model cannot compute with them.
+    analyze_error(
+        "atoms.txt",
+        "CURVE 0\n0 0 0\n1e-40 0 0\n",
+        &["--edge-length", "1e-41"],
+        &["atoms.txt:1: curve 0:", "outside", "--scale"],
+    );
+    // No default edge length can be chosen from overflowing segments.
+    analyze_error(
+        "huge.txt",
+        "CURVE 0\n-1e308 0 0\n1e308 0 0\n",
+        &[],
+        &["cannot choose the edge length", "--edge-length"],
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Meshes
+
+#[test]
+fn mesh_errors_name_file_and_line() {
+    let grid = ("grid.txt", GRID.as_bytes());
+    expect_error(
+        &[grid, ("m.obj", b"v 0 0 0\nv 1 0 0\nv 0 1\nf 1 2 3\n")],
+        &["analyze", "--mesh", "m.obj", "--curves", "grid.txt"],
+        &["m.obj:3:", "truncated vertex"],
+    );
+    expect_error(
+        &[grid, ("m.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")],
+        &["analyze", "--mesh", "m.obj", "--curves", "grid.txt"],
+        &["m.obj:4:", "vertex index 9 refers to a missing vertex"],
+    );
+    expect_error(
+        &[grid, ("m.obj", b"v 0 0 0\nv 1 0 0\n")],
+        &["analyze", "--mesh", "m.obj", "--curves", "grid.txt"],
+        &["m.obj:1:", "no faces"],
+    );
+    expect_error(
+        &[grid, ("m.obj", b"v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n")],
+        &["analyze", "--mesh", "m.obj", "--curves", "grid.txt"],
+        &["m.obj:4:", "no usable faces", "degenerate"],
+    );
+    expect_error(
+        &[grid],
+        &["analyze", "--mesh", "nowhere.obj", "--curves", "grid.txt"],
+        &["nowhere.obj", "no such file"],
+    );
+    expect_error(
+        &[grid, ("meshdir.obj/x", b"")],
+        &["analyze", "--mesh", "meshdir.obj", "--curves", "grid.txt"],
+        &["meshdir.obj:0:", "it is a directory"],
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Options that make no sense
+
+#[test]
+fn nonsensical_numbers_are_usage_errors() {
+    let grid = [("grid.txt", GRID.as_bytes())];
+    let with = |extra: &[&str], parts: &[&str]| {
+        let mut args = vec!["analyze", "--curves", "grid.txt"];
+        args.extend_from_slice(extra);
+        expect_error(&grid, &args, parts);
+    };
+    with(
+        &["--scale", "0"],
+        &["--scale must be a positive number, got 0"],
+    );
+    with(
+        &["--scale=-2"],
+        &["--scale must be a positive number, got -2"],
+    );
+    with(
+        &["--scale", "NaN"],
+        &["--scale must be a positive number, got NaN"],
+    );
+    with(
+        &["--scale", "inf"],
+        &["--scale must be a positive number, got inf"],
+    );
+    with(
+        &["--scale", "1e300", "--edge-length", "1e299"],
+        &["grid.txt:1: curve 0:", "outside", "rescale the scene"],
+    );
+    with(
+        &["--scale", "1e-300"],
+        &["cannot choose the edge length", "--edge-length"],
+    );
+    with(
+        &["--edge-length", "0"],
+        &["--edge-length must be a positive finite number", "got 0"],
+    );
+    with(
+        &["--edge-length=-1"],
+        &["--edge-length must be a positive finite number", "got -1"],
+    );
+    with(
+        &["--edge-length", "nan"],
+        &["--edge-length must be a positive finite number", "got NaN"],
+    );
+    with(
+        &["--edge-length", "1e-9"],
+        &[
+            "the edge length h = 1e-9",
+            "vertices, more than",
+            "larger --edge-length",
+        ],
+    );
+    with(
+        &["--radius", "0"],
+        &["material radius must be a positive finite number"],
+    );
+    with(
+        &["--young", "nan"],
+        &["material young must be a positive finite number"],
+    );
+    with(
+        &["--radius", "1e100"],
+        &[
+            "--radius 1e100",
+            "bending stiffness E π r⁴ / 4 = inf",
+            "out of floating-point range",
+        ],
+    );
+    with(
+        &["--radius", "1e-100"],
+        &[
+            "bending stiffness E π r⁴ / 4 = 0e0",
+            "out of floating-point range",
+        ],
+    );
+    with(
+        &["--anchor-weight=-5"],
+        &["material anchor weight must be a positive finite number"],
+    );
+    with(
+        &["--merge-joints", "1.5"],
+        &["joint merging fraction must lie in (0, 1)"],
+    );
+    with(
+        &["--supports", "glued"],
+        &["invalid value 'glued'", "pinned or clamped"],
+    );
+    with(
+        &["--remove", "7"],
+        &[
+            "--remove names curve 7",
+            "the input has 4 curves (ids 0..3)",
+        ],
+    );
+    with(
+        &["--remove", "0,1,2,3"],
+        &["--remove would remove every curve"],
+    );
+    with(&["--remove", "x"], &["invalid value 'x'"]);
+    expect_error(&[], &["analyze"], &["--curves"]);
+    expect_error(
+        &[],
+        &["analyse", "--curves", "x.txt"],
+        &["unrecognized subcommand"],
+    );
+}
+
+#[test]
+fn simplify_budgets_and_keep_lists_are_checked() {
+    let grid = [("grid.txt", GRID.as_bytes())];
+    let with = |extra: &[&str], parts: &[&str]| {
+        let mut args = vec!["simplify", "--curves", "grid.txt", "--out", "out"];
+        args.extend_from_slice(QUIET);
+        args.extend_from_slice(extra);
+        expect_error(&grid, &args, parts);
+    };
+    with(
+        &[],
+        &["give a budget: --budget FRACTION or --budget-length L"],
+    );
+    with(
+        &["--budget", "0"],
+        &["budget fraction must lie in (0, 1], got 0"],
+    );
+    with(
+        &["--budget=-0.5"],
+        &["budget fraction must lie in (0, 1], got -0.5"],
+    );
+    with(
+        &["--budget", "1.5"],
+        &["budget fraction must lie in (0, 1], got 1.5"],
+    );
+    with(
+        &["--budget", "NaN"],
+        &["budget fraction must lie in (0, 1], got NaN"],
+    );
+    with(
+        &["--budget-length", "0"],
+        &["budget length must be a positive number, got 0"],
+    );
+    with(
+        &["--budget-length", "inf"],
+        &["budget length must be a positive number, got inf"],
+    );
+    with(
+        &["--budget", "0.5", "--keep", "1,9"],
+        &["keep list names curve 9", "4 curves (ids 0..3)"],
+    );
+    with(
+        &["--budget", "0.5", "--budget-length", "3"],
+        &["cannot be used with"],
+    );
+}
+
+#[test]
+fn unknown_examples_and_missing_data_are_usage_errors() {
+    expect_error(
+        &[],
+        &["example", "nosuch", "--data", "."],
+        &["unknown example 'nosuch'", "tower", "kagome"],
+    );
+    expect_error(
+        &[],
+        &["example", "tower", "--data", "nodata", "--analyze-only"],
+        &["nodata/meshes/tower.obj:0:", "cannot read the file"],
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Warnings: the run goes on (exit 0), and the warning is on stderr and in the output
+
+#[test]
+fn a_clean_grid_has_no_warnings() {
+    let mut args = vec!["--curves", "grid.txt"];
+    args.extend_from_slice(QUIET);
+    let report = expect_warnings(&[("grid.txt", GRID.as_bytes())], &args, &[]);
+    assert_eq!(report["warnings"].as_array().unwrap().len(), 0, "{report}");
+    assert_eq!(report["joints"], 4);
+}
+
+#[test]
+fn a_curve_removed_twice_is_removed_once() {
+    let mut args = vec!["--curves", "grid.txt", "--remove", "2,2,2,2"];
+    args.extend_from_slice(QUIET);
+    let report = expect_warnings(&[("grid.txt", GRID.as_bytes())], &args, &[]);
+    assert_eq!(report["removed"], serde_json::json!([2]), "{report}");
+    assert_eq!(report["curves"], 3, "{report}");
+}
+
+#[test]
+fn duplicate_points_are_warned_about() {
+    let text = format!("{GRID}CURVE 4\n-1 0 0\n-1 0 0\n0 0 0\n1e-12 0 0\n1 0 0\n");
+    let mut args = vec!["--curves", "dups.txt"];
+    args.extend_from_slice(QUIET);
+    expect_warnings(
+        &[("dups.txt", text.as_bytes())],
+        &args,
+        &[
+            "dups.txt:19: warning: curve 4: point repeats the previous point exactly; dropped",
+            "dups.txt:21: warning: curve 4: consecutive points are only",
+            "kept",
+        ],
+    );
+}
+
+#[test]
+fn curves_that_cross_nothing_are_named() {
+    let text = format!("{GRID}CURVE lonely\n-1 0 1\n1 0 1\n");
+    let mut args = vec!["--curves", "lonely.txt"];
+    args.extend_from_slice(QUIET);
+    let report = expect_warnings(
+        &[("lonely.txt", text.as_bytes())],
+        &args,
+        &["1 curve(s) cross no other curve", "4 (lonely.txt:17)"],
+    );
+    assert_eq!(report["build"]["isolated_curves"], serde_json::json!([4]));
+}
+
+#[test]
+fn mechanisms_say_where_they_are() {
+    let text = format!("{GRID}CURVE ring\n0 0 3\n0.5 0 3\n0 0.5 3\n0 0 3\n");
+    let mut args = vec!["--curves", "ring.txt"];
+    args.extend_from_slice(QUIET);
+    let report = expect_warnings(
+        &[("ring.txt", text.as_bytes())],
+        &args,
+        &[
+            "zero mode(s) (a mechanism)",
+            "it moves most at vertex",
+            "on curve(s) 4",
+            "float free",
+            "4 (ring.txt:17)",
+        ],
+    );
+    assert!(report["zero_modes"].as_u64().unwrap() > 0, "{report}");
+}
+
+#[test]
+fn unstable_or_unfinished_equilibria_are_reported_with_their_place() {
+    // A free square loop with rods as thick as it is wide: today Newton stops at its iteration
+    // limit with negative modes. Whatever the solver does with it, what it reports must come
+    // with a warning, and a mode warning must say where the mode moves.
+    let text = "CURVE loop\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 0\n";
+    let report = expect_warnings(
+        &[("loop.txt", text.as_bytes())],
+        &["--curves", "loop.txt", "--edge-length", "0.1"],
+        &["float free", "0 (loop.txt:1)"],
+    );
+    let warnings = report["warnings"].to_string();
+    if report["negative_modes"].as_u64().unwrap() > 0 {
+        assert!(
+            warnings.contains("the equilibrium is unstable")
+                && warnings.contains("negative mode(s)")
+                && warnings.contains("it moves most at vertex")
+                && warnings.contains("on curve(s) 0"),
+            "{warnings}"
+        );
+    }
+    if report["newton"]["converged"] == false {
+        assert!(warnings.contains("equilibrium not reached"), "{warnings}");
+    }
+    assert!(
+        report["negative_modes"].as_u64().unwrap() > 0
+            || report["zero_modes"].as_u64().unwrap() > 0,
+        "a free loop has zero modes at least: {report}"
+    );
+}
+
+#[test]
+fn curves_lying_on_each_other_are_warned_about() {
+    let text = format!("{GRID}CURVE copy\n-1 -0.5 0\n0 -0.5 0\n1 -0.5 0\n");
+    let mut args = vec!["--curves", "copy.txt"];
+    args.extend_from_slice(QUIET);
+    expect_warnings(
+        &[("copy.txt", text.as_bytes())],
+        &args,
+        &[
+            "pair(s) of curves run together",
+            "curves 0 and 4 over 2.0000e0",
+        ],
+    );
+}
+
+#[test]
+fn nearly_coincident_joints_are_warned_about() {
+    // Curves 2 and 2b cross curve 0 2e-3 apart: a piece of two 1e-3 edges, far below h.
+    let text = format!("{GRID}CURVE 2b\n-0.498 -1 0.0\n-0.498 0 0\n-0.498 1 0\n");
+    let mut args = vec!["--curves", "close.txt"];
+    args.extend_from_slice(QUIET);
+    expect_warnings(
+        &[("close.txt", text.as_bytes())],
+        &args,
+        &[
+            "the shortest rest edge",
+            "two joints nearly coincide",
+            "--merge-joints",
+        ],
+    );
+}
+
+#[test]
+fn units_that_make_the_radius_absurd_are_warned_about() {
+    let grid = [("grid.txt", GRID.as_bytes())];
+    // The default radius 2 against curves of length 2.
+    let report = expect_warnings(
+        &grid,
+        &["--curves", "grid.txt", "--edge-length", "0.25"],
+        &[
+            "rod radius 2 is large against the median curve length",
+            "--radius",
+        ],
+    );
+    assert!(report["units"]["warning"].is_string(), "{report}");
+    // A radius far too thin for the curves.
+    expect_warnings(
+        &grid,
+        &[
+            "--curves",
+            "grid.txt",
+            "--edge-length",
+            "0.25",
+            "--radius",
+            "1e-9",
+        ],
+        &["rod radius 0.000000001 is tiny"],
+    );
+    // A fine median, but one stub curve.
+    let text = format!("{GRID}CURVE stub\n0 -0.52 0\n0 -0.48 0\n");
+    expect_warnings(
+        &[("stub.txt", text.as_bytes())],
+        &[
+            "--curves",
+            "stub.txt",
+            "--edge-length",
+            "0.01",
+            "--radius",
+            "0.015",
+        ],
+        &["curve 4 is only", "a stub"],
+    );
+}
+
+#[test]
+fn meshes_far_from_the_curves_and_broken_meshes_are_warned_about() {
+    // The grid on the square, plus one curve lifted far above it.
+    let text = format!("{GRID}CURVE high\n-1 0 0.5\n0 0 0.6\n1 0 0.5\n");
+    let mut args = vec!["--mesh", "square.obj", "--curves", "high.txt"];
+    args.extend_from_slice(QUIET);
+    expect_warnings(
+        &[
+            ("high.txt", text.as_bytes()),
+            ("square.obj", SQUARE.as_bytes()),
+        ],
+        &args,
+        &[
+            "1 curve(s) far from the mesh square.obj",
+            "curve 4 (high.txt:17: 3 of 3 points, up to 6.0000e-1 away)",
+        ],
+    );
+    // Curves in other units than the mesh: every curve is far.
+    let mut args = vec!["--mesh", "big.obj", "--curves", "grid.txt"];
+    args.extend_from_slice(QUIET);
+    let big = "v 1000 1000 0\nv 3000 1000 0\nv 3000 3000 0\nv 1000 3000 0\nf 1 2 3\nf 1 3 4\n";
+    expect_warnings(
+        &[("grid.txt", GRID.as_bytes()), ("big.obj", big.as_bytes())],
+        &args,
+        &[
+            "4 curve(s) far from the mesh big.obj",
+            "same units and position",
+        ],
+    );
+    // A third face on an edge, an orientation flip and a degenerate face.
+    let broken = format!("{SQUARE}v 0 0 1\nf 1 3 5\nf 1 2 4\nf 1 2 1\n");
+    let mut args = vec!["--mesh", "broken.obj", "--curves", "grid.txt"];
+    args.extend_from_slice(QUIET);
+    expect_warnings(
+        &[
+            ("grid.txt", GRID.as_bytes()),
+            ("broken.obj", broken.as_bytes()),
+        ],
+        &args,
+        &[
+            "broken.obj:10: warning: degenerate face (repeated vertex",
+            "mesh broken.obj: 1 non-manifold edge(s) shared by more than two faces: vertices 1–3 (3 faces)",
+            "disagree on orientation",
+        ],
+    );
+}
+
+#[test]
+fn simplify_warnings_reach_stderr_and_result_json() {
+    // A budget above the total, and a curve that crosses nothing: the run goes on.
+    let text = format!("{GRID}CURVE lonely\n-1 0 1\n1 0 1\n");
+    let mut args = vec![
+        "simplify",
+        "--curves",
+        "lonely.txt",
+        "--out",
+        "out",
+        "--budget",
+        "1",
+    ];
+    args.extend_from_slice(QUIET);
+    let r = run(&[("lonely.txt", text.as_bytes())], &args);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert!(
+        r.stderr.contains("warning: the budget") && r.stderr.contains("nothing will be removed"),
+        "{}",
+        r.stderr
+    );
+    assert!(r.stderr.contains("cross nothing"), "{}", r.stderr);
+    let result = std::fs::read_to_string(r.dir.join("out/result.json")).unwrap();
+    let result: serde_json::Value = serde_json::from_str(&result).unwrap();
+    let warnings = result["setup"]["network"]["warnings"].as_array().unwrap();
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.as_str().unwrap().contains("4 (lonely.txt:17)")),
+        "{warnings:?}"
+    );
+    // A keep list that alone exceeds the budget.
+    let mut args = vec![
+        "simplify", "--curves", "grid.txt", "--out", "out", "--budget", "0.2", "--keep", "0,1",
+    ];
+    args.extend_from_slice(QUIET);
+    let r = run(&[("grid.txt", GRID.as_bytes())], &args);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert!(
+        r.stderr.contains("the keep list alone needs") && r.stderr.contains("cannot be met"),
+        "{}",
+        r.stderr
+    );
+    assert!(Path::new(&r.dir.join("out/result.json")).is_file());
+}
