@@ -160,6 +160,14 @@ pub struct BenchArgs {
     /// Switch off warm starts between iterations (modes and the winner's factorization).
     #[arg(long = "no-warm")]
     pub no_warm: bool,
+    /// Switch off the inertia test (one factorization at the best score so far) for
+    /// candidates the bounds could not prune.
+    #[arg(long = "no-inertia")]
+    pub no_inertia: bool,
+    /// Switch off Krylov Newton steps (conjugate gradients preconditioned by the last
+    /// factorization) in the relaxations.
+    #[arg(long = "no-krylov")]
+    pub no_krylov: bool,
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,

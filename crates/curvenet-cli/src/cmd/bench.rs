@@ -59,9 +59,12 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         .num_threads(threads)
         .build()?;
     println!(
-        "curvenet bench: {threads} thread(s); pruning {}, chord steps {}, warm starts {}",
+        "curvenet bench: {threads} thread(s); pruning {}, inertia test {}, chord steps {}, \
+         Krylov steps {}, warm starts {}",
         on(!a.no_prune),
+        on(!a.no_prune && !a.no_inertia),
         on(!a.no_chord),
+        on(!a.no_krylov),
         on(!a.no_warm)
     );
     println!(
@@ -89,9 +92,13 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         if a.no_chord {
             stability.newton.chord_ratio = 0.0;
         }
+        if a.no_krylov {
+            stability.newton.krylov_iterations = 0;
+        }
         let mut params = GreedyParams::new(Budget::Fraction(ex.setup.budget_fraction));
         params.keep = ex.setup.keep.clone();
         params.prune.enabled = !a.no_prune;
+        params.prune.inertia = !a.no_inertia;
         params.warm_start = !a.no_warm;
         profile::reset_peak_memory();
         profile::reset();

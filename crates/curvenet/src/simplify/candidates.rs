@@ -38,6 +38,11 @@ pub struct PruneParams {
     pub enabled: bool,
     /// Candidates evaluated per batch (fixed, so the result does not depend on threads).
     pub batch: usize,
+    /// Once a score is known, factor each further candidate's `H − σI` with `σ` the best
+    /// score minus the tie tolerance: a failed factorization proves the candidate cannot win
+    /// (Sylvester's inertia) without any eigen solve, and a successful one is the
+    /// shift-and-invert operator of its eigen solve, close to `λ` (faster convergence).
+    pub inertia: bool,
 }
 
 impl Default for PruneParams {
@@ -45,6 +50,7 @@ impl Default for PruneParams {
         PruneParams {
             enabled: true,
             batch: 2,
+            inertia: true,
         }
     }
 }
@@ -62,9 +68,18 @@ pub struct CandidateScore {
     /// The refined bound (one preconditioned step), when one was computed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub refined_bound: Option<f64>,
-    /// True when the bound showed the candidate cannot win and no solve was done.
+    /// True when the bound (or the inertia test, see `below`) showed the candidate cannot win
+    /// and no eigen solve was done.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub pruned: bool,
+    /// When the inertia test pruned the candidate: the shift `σ` below which one failed
+    /// Cholesky factorization of `H − σI` proved its score lies.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub below: Option<f64>,
+    /// When the score was computed by shift-and-invert about a positive shift (the inertia
+    /// test's `σ`, see [`PruneParams::inertia`]) rather than about zero: that shift.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shift: Option<f64>,
     /// The failure, if any.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub error: Option<String>,
@@ -337,6 +352,35 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
         r
     }
 
+    /// [`Self::score`] about the shift `sigma > 0`: `Ok(None)` when one factorization proves
+    /// the score below `sigma`. The factorization returned is of `H − σI`.
+    pub fn score_above(
+        &self,
+        c: usize,
+        sigma: f64,
+    ) -> Result<Option<(Spectrum, Cholesky)>, StabilityError> {
+        let warm = self.ritz_vectors(c);
+        let warm = warm.as_ref().map_or(self.modes.as_ref(), |w| w.as_ref());
+        let r = self.scorer.lambda_fixed_above(
+            &self.locals,
+            &self.active.without(c),
+            Some(warm),
+            sigma,
+        );
+        match &r {
+            Ok(Some((sp, _))) => {
+                self.factorizations
+                    .fetch_add(sp.factorizations, Ordering::Relaxed);
+                self.solves.fetch_add(sp.solves, Ordering::Relaxed);
+            }
+            Ok(None) => {
+                self.factorizations.fetch_add(1, Ordering::Relaxed);
+            }
+            Err(_) => {}
+        }
+        r
+    }
+
     /// Factorizations and solves spent on scores so far.
     pub fn work(&self) -> Work {
         Work {
@@ -364,16 +408,28 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
                 bound: None,
                 refined_bound: None,
                 pruned: false,
+                below: None,
+                shift: None,
                 error: None,
             })
             .collect();
-        let evaluate = |c: usize| -> (Option<f64>, Option<String>, Option<Cholesky>) {
+        // A candidate's outcome: its score, or the shift it was proved below, or an error;
+        // the factorization of H − σI with σ ≤ 0 (a Newton matrix for the next relaxation).
+        type Outcome = (Option<f64>, Option<f64>, Option<String>, Option<Cholesky>);
+        let evaluate = |c: usize, sigma: Option<f64>| -> Outcome {
             if cancelled() {
-                return (None, Some("cancelled".into()), None);
+                return (None, None, Some("cancelled".into()), None);
             }
-            match self.score(c) {
-                Ok((sp, f)) => (Some(sp.lambda()), None, Some(f)),
-                Err(e) => (None, Some(e.to_string()), None),
+            match sigma {
+                Some(sigma) => match self.score_above(c, sigma) {
+                    Ok(Some((sp, _))) => (Some(sp.lambda()), None, None, None),
+                    Ok(None) => (None, Some(sigma), None, None),
+                    Err(e) => (None, None, Some(e.to_string()), None),
+                },
+                None => match self.score(c) {
+                    Ok((sp, f)) => (Some(sp.lambda()), None, None, Some(f)),
+                    Err(e) => (None, None, Some(e.to_string()), None),
+                },
             }
         };
         let bounds: Vec<Option<Bound>> = if prune.enabled {
@@ -439,8 +495,19 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
                     out[i].pruned = true;
                 }
             }
-            let scores: Vec<_> = todo.par_iter().map(|&i| evaluate(candidates[i])).collect();
-            for (&i, (s, e, f)) in todo.iter().zip(scores) {
+            let sigma = (prune.enabled && prune.inertia && floor > 0.0 && floor.is_finite())
+                .then_some(floor);
+            let scores: Vec<_> = todo
+                .par_iter()
+                .map(|&i| evaluate(candidates[i], sigma))
+                .collect();
+            for (&i, (s, below, e, f)) in todo.iter().zip(scores) {
+                if below.is_some() {
+                    out[i].pruned = true;
+                    out[i].below = below;
+                } else if s.is_some() {
+                    out[i].shift = sigma;
+                }
                 if let Some(v) = s.filter(|v| v.is_finite()) {
                     best = best.max(v);
                     if let Some(f) = f {

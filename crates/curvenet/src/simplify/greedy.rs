@@ -232,9 +232,19 @@ pub fn greedy(
                 .removed
                 .ok_or_else(|| SimplifyError::Params("the recorded run already finished".into()))?;
             let prev = ActiveSet::from_curves(n, &last.curves);
-            // Recompute the winner's factorization: it depends only on the recorded state.
-            let ctx = CandidateContext::new(&scorer, &prev, &r.displacement, r.modes.as_ref());
-            let factor = ctx.score(removed).ok().map(|(_, f)| f);
+            // Recompute the winner's factorization: it depends only on the recorded state. A
+            // winner scored about a positive shift (the inertia test) passed none on.
+            let scored_about_zero = last
+                .candidates
+                .iter()
+                .find(|c| c.curve == removed)
+                .is_none_or(|c| c.shift.is_none());
+            let factor = if scored_about_zero {
+                let ctx = CandidateContext::new(&scorer, &prev, &r.displacement, r.modes.as_ref());
+                ctx.score(removed).ok().map(|(_, f)| f)
+            } else {
+                None
+            };
             (
                 r.iterations,
                 prev.without(removed),

@@ -22,7 +22,9 @@ use crate::report::NewtonSummary;
 use crate::rod::ActiveSet;
 use crate::rod::model::LocalHessians;
 use crate::solve::Cholesky;
-use crate::solve::eigen::{EigenParams, Spectrum, smallest_eigenpairs_factored};
+use crate::solve::eigen::{
+    EigenParams, Spectrum, smallest_eigenpairs_above, smallest_eigenpairs_factored,
+};
 use crate::stability::{Analyzer, StabilityError};
 use faer::{Mat, MatRef};
 use serde::{Deserialize, Serialize};
@@ -309,6 +311,34 @@ impl<'a> Scorer<'a> {
             self.analyzer.symbolic(),
             warm.as_ref().map(|w| w.as_ref()),
             &self.candidate_eigen,
+        )?)
+    }
+}
+
+impl Scorer<'_> {
+    /// [`Self::lambda_fixed`] shifted about `sigma > 0`: `Ok(None)` when one factorization
+    /// proves `λ_fix(active | A) < sigma` (see [`smallest_eigenpairs_above`]).
+    pub fn lambda_fixed_above(
+        &self,
+        locals: &LocalHessians,
+        active: &ActiveSet,
+        warm: Option<MatRef<'_, f64>>,
+        sigma: f64,
+    ) -> Result<Option<(Spectrum, Cholesky)>, StabilityError> {
+        if active.is_empty() {
+            return Err(StabilityError::Empty);
+        }
+        let model = self.analyzer.model();
+        let mut h = Vec::new();
+        model.hessian_from_locals(locals, active, &mut h);
+        let warm = warm.map(|w| restrict(w, &model.vertex_mask(active)));
+        Ok(smallest_eigenpairs_above(
+            model.pattern(),
+            &h,
+            self.analyzer.symbolic(),
+            warm.as_ref().map(|w| w.as_ref()),
+            &self.candidate_eigen,
+            sigma,
         )?)
     }
 }

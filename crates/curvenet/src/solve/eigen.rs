@@ -157,7 +157,6 @@ pub fn smallest_eigenpairs_factored(
 ) -> Result<(Spectrum, Cholesky), EigenError> {
     let _timer = crate::profile::Timer::new(crate::profile::Phase::Eigen);
     params.validate().map_err(EigenError::InvalidParams)?;
-    let n = pattern.n;
     let norm1 = pattern.sym_norm1(values);
     if !norm1.is_finite() {
         return Err(EigenError::NoShift(f64::NAN));
@@ -178,6 +177,90 @@ pub fn smallest_eigenpairs_factored(
             }
         }
     };
+    finish(
+        pattern,
+        values,
+        factor,
+        Shifted {
+            shift,
+            factorizations,
+            norm1,
+            zero_threshold,
+        },
+        warm_start,
+        params,
+    )
+}
+
+/// Like [`smallest_eigenpairs_factored`], but with the shift `σ = sigma > 0` given: when
+/// `H − σI` is not positive definite, its Cholesky factorization fails and that proves
+/// `λ < σ` (Sylvester's law of inertia) at the cost of one factorization and no solve:
+/// `Ok(None)`. Otherwise the pairs are computed by shift-and-invert about `σ`, which converges
+/// faster than about zero when `σ` lies just below `λ`. The greedy uses it with `σ` the best
+/// score so far (minus the tie tolerance): a candidate below it cannot win.
+pub fn smallest_eigenpairs_above(
+    pattern: &Pattern,
+    values: &[f64],
+    symbolic: &Arc<SymbolicFactor>,
+    warm_start: Option<MatRef<'_, f64>>,
+    params: &EigenParams,
+    sigma: f64,
+) -> Result<Option<(Spectrum, Cholesky)>, EigenError> {
+    let _timer = crate::profile::Timer::new(crate::profile::Phase::Eigen);
+    params.validate().map_err(EigenError::InvalidParams)?;
+    if !(sigma > 0.0 && sigma.is_finite()) {
+        return Err(EigenError::InvalidParams(format!(
+            "the shift must be positive and finite, got {sigma:e}"
+        )));
+    }
+    let norm1 = pattern.sym_norm1(values);
+    if !norm1.is_finite() {
+        return Err(EigenError::NoShift(f64::NAN));
+    }
+    let zero_threshold = params.zero_factor * f64::EPSILON * norm1;
+    let Ok(factor) = Cholesky::factorize(symbolic, pattern, values, -sigma) else {
+        return Ok(None);
+    };
+    finish(
+        pattern,
+        values,
+        factor,
+        Shifted {
+            shift: sigma,
+            factorizations: 1,
+            norm1,
+            zero_threshold,
+        },
+        warm_start,
+        params,
+    )
+    .map(Some)
+}
+
+/// What the factorization step of a shift-and-invert solve found.
+struct Shifted {
+    shift: f64,
+    factorizations: usize,
+    norm1: f64,
+    zero_threshold: f64,
+}
+
+/// Block Lanczos on `(H − σI)⁻¹` given its factorization, and the pairs of `H` it gives.
+fn finish(
+    pattern: &Pattern,
+    values: &[f64],
+    factor: Cholesky,
+    shifted: Shifted,
+    warm_start: Option<MatRef<'_, f64>>,
+    params: &EigenParams,
+) -> Result<(Spectrum, Cholesky), EigenError> {
+    let Shifted {
+        shift,
+        factorizations,
+        norm1,
+        zero_threshold,
+    } = shifted;
+    let n = pattern.n;
     let lanczos = BlockLanczosParams {
         nev: params.count.min(n),
         block_size: params.block_size.min(n),

@@ -145,6 +145,9 @@ fn pcg(
     tol: f64,
     max_it: usize,
 ) -> Option<Vec<f64>> {
+    if max_it == 0 {
+        return None;
+    }
     let n = g.len();
     let g_norm = norm(g);
     let mut x = vec![0.0; n];
@@ -394,16 +397,6 @@ pub fn relax_with_factor(
         }
         let gd: f64 = d.iter().zip(&cur.grad).map(|(a, b)| a * b).sum();
 
-        if std::env::var("CN_DEBUG").is_ok() {
-            eprintln!(
-                "it {} g_rel {:.3e} E {:.10e} proj {} facts {}",
-                info.iterations,
-                g_norm / g_ref,
-                cur.energy,
-                info.projected_steps,
-                info.factorizations
-            );
-        }
         // Backtracking line search on x − α d.
         let e0 = cur.energy;
         let roundoff = 1e-13 * e0.abs().max(f64::MIN_POSITIVE);
@@ -429,9 +422,6 @@ pub fn relax_with_factor(
                 }
             }
             alpha *= 0.5;
-        }
-        if std::env::var("CN_DEBUG").is_ok() {
-            eprintln!("   alpha {alpha}");
         }
         match accepted {
             None => {
