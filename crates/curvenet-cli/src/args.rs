@@ -154,9 +154,9 @@ pub struct BenchArgs {
     /// Switch off candidate pruning.
     #[arg(long = "no-prune")]
     pub no_prune: bool,
-    /// Switch off factorization reuse in Newton (chord steps).
-    #[arg(long = "no-chord")]
-    pub no_chord: bool,
+    /// Switch on factorization reuse in Newton (chord steps; off by default).
+    #[arg(long)]
+    pub chord: bool,
     /// Switch off warm starts between iterations (modes and the winner's factorization).
     #[arg(long = "no-warm")]
     pub no_warm: bool,
@@ -164,10 +164,10 @@ pub struct BenchArgs {
     /// candidates the bounds could not prune.
     #[arg(long = "no-inertia")]
     pub no_inertia: bool,
-    /// Switch off Krylov Newton steps (conjugate gradients preconditioned by the last
-    /// factorization) in the relaxations.
-    #[arg(long = "no-krylov")]
-    pub no_krylov: bool,
+    /// Switch on Krylov Newton steps (conjugate gradients preconditioned by the last
+    /// factorization; off by default) in the relaxations.
+    #[arg(long)]
+    pub krylov: bool,
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,

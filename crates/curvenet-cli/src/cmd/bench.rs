@@ -63,8 +63,8 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
          Krylov steps {}, warm starts {}",
         on(!a.no_prune),
         on(!a.no_prune && !a.no_inertia),
-        on(!a.no_chord),
-        on(!a.no_krylov),
+        on(a.chord),
+        on(a.krylov),
         on(!a.no_warm)
     );
     println!(
@@ -89,11 +89,11 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
     for name in &a.examples {
         let ex = paper::load(name, &data, Default::default())?;
         let mut stability = StabilityParams::default();
-        if a.no_chord {
-            stability.newton.chord_ratio = 0.0;
+        if a.chord {
+            stability.newton.chord_ratio = 0.25;
         }
-        if a.no_krylov {
-            stability.newton.krylov_iterations = 0;
+        if a.krylov {
+            stability.newton.krylov_iterations = 16;
         }
         let mut params = GreedyParams::new(Budget::Fraction(ex.setup.budget_fraction));
         params.keep = ex.setup.keep.clone();

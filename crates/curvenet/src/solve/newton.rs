@@ -30,10 +30,13 @@ pub struct NewtonParams {
     /// A stall at a relative gradient above this is a failure, not a round-off floor.
     pub floor_max_rel: f64,
     /// Reuse the last factorization for a step ("chord" step) and keep it when the step cuts
-    /// `‖∇E‖` by at least this factor; 0 disables reuse (every step refactors).
+    /// `‖∇E‖` by at least this factor; 0 (the default) disables reuse. On the paper's
+    /// examples a fresh factorization per step is faster: a rejected chord step costs an
+    /// assembly, and warm-started solves need few steps (docs/benchmarks.md).
     pub chord_ratio: f64,
     /// Conjugate-gradient iterations allowed per Newton system when an earlier factorization
-    /// preconditions it (0: always refactor).
+    /// preconditions it; 0 (the default) always refactors. Off by default for the same
+    /// reason: sixteen preconditioned iterations cost about as much as a factorization.
     #[serde(default = "default_krylov_iterations")]
     pub krylov_iterations: usize,
     /// Relative residual the conjugate gradients must reach.
@@ -42,7 +45,7 @@ pub struct NewtonParams {
 }
 
 fn default_krylov_iterations() -> usize {
-    16
+    0
 }
 
 fn default_krylov_tol() -> f64 {
@@ -58,7 +61,7 @@ impl Default for NewtonParams {
             max_backtracks: 60,
             stall_iterations: 4,
             floor_max_rel: 1e-6,
-            chord_ratio: 0.25,
+            chord_ratio: 0.0,
             krylov_iterations: default_krylov_iterations(),
             krylov_tol: default_krylov_tol(),
         }
@@ -296,7 +299,9 @@ pub fn relax_with_factor(
         // A chord step with an earlier factorization, kept when it cuts the gradient enough.
         let mut krylov: Option<Cholesky> = None;
         if let Some(f) = stale.take().filter(|_| fresh.is_none()) {
-            if let Some(d) = descent(&f, &cur.grad) {
+            if params.chord_ratio > 0.0
+                && let Some(d) = descent(&f, &cur.grad)
+            {
                 let gd: f64 = d.iter().zip(&cur.grad).map(|(a, b)| a * b).sum();
                 for ((t, xi), di) in trial.iter_mut().zip(x.iter()).zip(&d) {
                     *t = xi - di;
@@ -392,7 +397,7 @@ pub fn relax_with_factor(
                 }
             }
         };
-        if params.chord_ratio > 0.0 {
+        if params.chord_ratio > 0.0 || params.krylov_iterations > 0 {
             stale = Some(f);
         }
         let gd: f64 = d.iter().zip(&cur.grad).map(|(a, b)| a * b).sum();
