@@ -189,6 +189,10 @@ pub struct DemoArgs {
     /// Budget as a fraction of the total length.
     #[arg(long, default_value_t = 0.3)]
     pub budget: f64,
+    /// Skip the certificate (λ_fix of the result against a certified upper bound on any
+    /// feasible subset) computed after the greedy.
+    #[arg(long = "no-certificate")]
+    pub no_certificate: bool,
     /// Material and solver options.
     #[command(flatten)]
     pub physics: PhysicsArgs,
@@ -251,6 +255,10 @@ pub struct GreedyArgs {
     /// Continue an interrupted run in the output folder.
     #[arg(long)]
     pub resume: bool,
+    /// Skip the certificate (λ_fix of the result against a certified upper bound on any
+    /// feasible subset) computed after the greedy.
+    #[arg(long = "no-certificate")]
+    pub no_certificate: bool,
 }
 
 /// `curvenet analyze`.
@@ -311,6 +319,10 @@ pub struct ExampleArgs {
     /// Evaluate every candidate (no pruning by bounds); for measurements.
     #[arg(long = "no-prune")]
     pub no_prune: bool,
+    /// Skip the certificate (λ_fix of the result against a certified upper bound on any
+    /// feasible subset) computed after the greedy.
+    #[arg(long = "no-certificate")]
+    pub no_certificate: bool,
     /// Print one JSON object on stdout.
     #[arg(long)]
     pub json: bool,

@@ -61,6 +61,7 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
         budget,
         keep: Vec::new(),
         out: a.out,
+        certificate: !a.no_certificate,
         resume: false,
         prune: Default::default(),
         mesh: Some(mesh),

@@ -69,6 +69,7 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
             .out
             .clone()
             .unwrap_or_else(|| PathBuf::from("out").join(&a.name)),
+        certificate: !a.no_certificate,
         resume: a.resume,
         mesh: Some(ex.mesh),
         prune: PruneParams {
