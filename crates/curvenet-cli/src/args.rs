@@ -105,6 +105,9 @@ pub struct CompareArgs {
     /// Write the summary table as Markdown.
     #[arg(long)]
     pub markdown: Option<PathBuf>,
+    /// Time limit of the exact λ_fix solver per network, seconds.
+    #[arg(long = "exact-time-limit", default_value_t = 60.0)]
+    pub exact_time_limit: f64,
 }
 
 /// `curvenet trace`.

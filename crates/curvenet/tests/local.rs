@@ -1,7 +1,7 @@
 //! Local search after the greedy (`simplify::local`) on small random networks: never worse
 //! than its start, feasible, respects the keep list, every move strictly improves `λ_eq`,
 //! bounded by the exhaustive optimum, improves a deliberately poor start, and does not depend
-//! on the thread count.
+//! on the thread count; the multi-start variant is at least the run from the greedy's set.
 
 mod common;
 
@@ -10,7 +10,7 @@ use curvenet::network::Network;
 use curvenet::rod::Supports;
 use curvenet::simplify::exhaustive::{ExhaustiveParams, exhaustive};
 use curvenet::simplify::greedy::NoHooks;
-use curvenet::simplify::local::{LocalParams, local_search};
+use curvenet::simplify::local::{LocalParams, local_search, local_search_multi};
 use curvenet::simplify::{Budget, GreedyParams, Scorer, greedy};
 use curvenet::stability::{Analyzer, StabilityParams};
 
@@ -98,6 +98,16 @@ fn local_search_improves_feasibly_and_deterministically() {
                     .install(|| run(&an, &params, from));
                 assert_eq!(one, o);
             }
+            // Multi-start: at least the run from the greedy's set, never above the optimum,
+            // and infeasible starts are skipped.
+            let mut starts = vec![start.clone(), (0..n).collect()];
+            starts.extend((0..n).map(|c| vec![c]));
+            let sc = Scorer::new(&an);
+            let m = local_search_multi(&sc, &params, &starts).expect("multi");
+            let from_greedy = run(&an, &params, &start);
+            assert!(m.best.lambda >= from_greedy.best.lambda);
+            assert!(m.best.lambda <= ex.best.lambda * (1.0 + 5e-8) + 1e-300);
+            assert!(keep.iter().all(|k| m.best.curves.contains(k)));
         }
     }
 }

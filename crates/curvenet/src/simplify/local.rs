@@ -189,6 +189,38 @@ pub fn local_search(
     })
 }
 
+/// Local search from several starts (e.g. the greedy's answer, then every curve alone, which
+/// reaches the small sets of short curves a greedy started from the full network misses): the
+/// best outcome, ties to the earliest start. Starts that are not feasible are skipped.
+pub fn local_search_multi(
+    scorer: &Scorer<'_>,
+    params: &LocalParams,
+    starts: &[Vec<usize>],
+) -> Result<LocalOutcome, SimplifyError> {
+    let net = scorer.analyzer().network();
+    let lengths = net.rest_lengths();
+    let budget = params.budget.length(lengths.iter().sum());
+    let n = lengths.len();
+    let mut best: Option<LocalOutcome> = None;
+    for s in starts {
+        let feasible = !s.is_empty()
+            && s.iter().all(|&c| c < n)
+            && s.iter().map(|&c| lengths[c]).sum::<f64>() <= budget
+            && params.keep.iter().all(|k| s.contains(k));
+        if !feasible {
+            continue;
+        }
+        let o = local_search(scorer, params, s)?;
+        let better = best.as_ref().is_none_or(|b| {
+            o.best.lambda > b.best.lambda || (b.best.lambda.is_nan() && !o.best.lambda.is_nan())
+        });
+        if better {
+            best = Some(o);
+        }
+    }
+    best.ok_or_else(|| SimplifyError::Params("local search: no feasible start".into()))
+}
+
 /// The moves from `cur` that stay feasible, in the documented order.
 fn neighbourhood(cur: &[usize], lengths: &[f64], budget: f64, params: &LocalParams) -> Vec<Move> {
     let n = lengths.len();
