@@ -287,6 +287,9 @@ pub struct RelaxParams {
     pub max_evals: usize,
     /// Stop when `(upper − value) ≤ tolerance·|upper|`.
     pub tolerance: f64,
+    /// Stop after this many consecutive rounds without an accepted step (each round tries up
+    /// to three step lengths).
+    pub max_stalled: usize,
 }
 
 impl Default for RelaxParams {
@@ -294,6 +297,7 @@ impl Default for RelaxParams {
         RelaxParams {
             max_evals: 24,
             tolerance: 1e-3,
+            max_stalled: 8,
         }
     }
 }
@@ -334,6 +338,7 @@ impl Default for CertifyParams {
             relax: RelaxParams {
                 max_evals: 150,
                 tolerance: 1e-2,
+                max_stalled: 8,
             },
             rounding: true,
         }
@@ -998,6 +1003,7 @@ impl<'a> FixedProblem<'a> {
         let first = self.eval_relaxed(&alpha, None)?;
         let mut evals = 1;
         let mut steps = 0;
+        let mut stalled = 0usize;
         let mut value = first.mu;
         let mut warm = first.y.clone();
         // The model certificate at the current point (the mixture when repeated).
@@ -1080,7 +1086,12 @@ impl<'a> FixedProblem<'a> {
                 }
                 gamma *= 0.5;
             }
-            if !accepted && evals >= params.max_evals {
+            if accepted {
+                stalled = 0;
+            } else {
+                stalled += 1;
+            }
+            if !accepted && (evals >= params.max_evals || stalled >= params.max_stalled) {
                 break;
             }
         }
