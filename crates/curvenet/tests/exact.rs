@@ -308,3 +308,44 @@ fn certificate_on_a_paper_example() {
     }
     assert!(r.upper >= r.lower);
 }
+
+#[test]
+fn a_certificate_tightened_by_branch_and_bound() {
+    use curvenet::simplify::exact::tighten_certificate;
+    let case = &cases()[1];
+    let an = Analyzer::new(case.network.clone(), StabilityParams::default()).expect("an");
+    let p = FixedProblem::new(&an, Budget::Fraction(case.fraction), &case.keep).expect("p");
+    let ex = exhaustive_fixed(&p, 1_000_000).expect("exhaustive");
+    // Some feasible subset that is not the optimum: the worst one.
+    let worst = ex
+        .all
+        .iter()
+        .min_by(|a, b| a.lambda.total_cmp(&b.lambda))
+        .expect("subsets")
+        .curves
+        .clone();
+    let light = CertifyParams {
+        relax: RelaxParams {
+            max_evals: 8,
+            ..RelaxParams::default()
+        },
+        ..CertifyParams::default()
+    };
+    let mut c = p.certificate(&worst, &light).expect("certificate");
+    assert_eq!(c.curves, worst);
+    assert!(c.upper_bound >= ex.best.lambda && !c.proven_optimum);
+    let loose = c.upper_bound;
+    // A node budget too small to finish: a valid bound, not proven.
+    let mut partial = c.clone();
+    tighten_certificate(&p, &mut partial, 2).expect("tighten");
+    assert!(!partial.proven_optimum && partial.branch_and_bound_nodes <= 2);
+    assert!(partial.upper_bound >= ex.best.lambda && partial.upper_bound <= loose);
+    // Enough nodes: the optimum, proven.
+    tighten_certificate(&p, &mut c, 100_000).expect("tighten");
+    assert!(c.proven_optimum);
+    assert!(c.best_found >= ex.best.lambda * (1.0 - 1e-7) && c.best_found <= ex.best.lambda);
+    assert!(c.upper_bound >= ex.best.lambda && c.upper_bound <= loose);
+    if let Some(r) = c.ratio {
+        assert_eq!(r, c.lambda_fix / c.upper_bound);
+    }
+}

@@ -62,6 +62,7 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
         keep: Vec::new(),
         out: a.out,
         certificate: !a.no_certificate,
+        certificate_nodes: a.certificate_nodes,
         resume: false,
         prune: Default::default(),
         mesh: Some(mesh),

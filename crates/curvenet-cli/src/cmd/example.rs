@@ -70,6 +70,7 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
             .clone()
             .unwrap_or_else(|| PathBuf::from("out").join(&a.name)),
         certificate: !a.no_certificate,
+        certificate_nodes: a.certificate_nodes,
         resume: a.resume,
         mesh: Some(ex.mesh),
         prune: PruneParams {

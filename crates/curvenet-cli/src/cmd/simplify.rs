@@ -17,6 +17,7 @@ pub fn run(a: SimplifyArgs) -> anyhow::Result<()> {
         keep: a.greedy.keep.clone(),
         out: a.out.clone(),
         certificate: !a.greedy.no_certificate,
+        certificate_nodes: a.greedy.certificate_nodes,
         resume: a.greedy.resume,
         prune: Default::default(),
         mesh: inputs.mesh,

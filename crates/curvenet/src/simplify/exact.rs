@@ -36,7 +36,7 @@
 //! so the search (and its answer) does not depend on the thread count. Only the time limit,
 //! when it is hit, makes the run timing-dependent; the outcome says so.
 
-use super::relaxation::{FixedProblem, Node, Rayleigh, RelaxParams, round_relaxed};
+use super::relaxation::{Certificate, FixedProblem, Node, Rayleigh, RelaxParams, round_relaxed};
 use super::{Scorer, SimplifyError};
 use crate::rod::ActiveSet;
 use crate::stability::StabilityError;
@@ -461,4 +461,41 @@ fn open_node(
         bounds,
         relaxed,
     })
+}
+
+/// Tightens a [`Certificate`] with at most `max_nodes` nodes of the exact branch and bound
+/// (deterministic: no time limit), seeded with the certified subset and the best one found:
+/// the bound becomes the smaller of the relaxation's and the search's (the largest bound of
+/// the nodes left open, or the optimum when the search finished), and the best subset found
+/// is updated.
+pub fn tighten_certificate(
+    problem: &FixedProblem<'_>,
+    certificate: &mut Certificate,
+    max_nodes: usize,
+) -> Result<(), SimplifyError> {
+    if max_nodes == 0 {
+        return Ok(());
+    }
+    let params = ExactParams {
+        time_limit: None,
+        max_nodes,
+        ..ExactParams::default()
+    };
+    let seeds = [
+        certificate.curves.clone(),
+        certificate.best_found_curves.clone(),
+    ];
+    let o = exact(problem, &params, &seeds)?;
+    certificate.branch_and_bound_nodes = o.info.nodes;
+    if o.lambda_fix > certificate.best_found {
+        certificate.best_found = o.lambda_fix;
+        certificate.best_found_curves = o.curves.clone();
+    }
+    if o.upper < certificate.upper_bound {
+        certificate.upper_bound = o.upper.max(certificate.lambda_fix);
+    }
+    certificate.proven_optimum = o.proven();
+    let (l, u) = (certificate.lambda_fix, certificate.upper_bound);
+    certificate.ratio = (l > 0.0 && u > 0.0).then(|| l / u);
+    Ok(())
 }

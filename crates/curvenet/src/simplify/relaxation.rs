@@ -1344,6 +1344,13 @@ pub struct Certificate {
     pub best_found: f64,
     /// That subset.
     pub best_found_curves: Vec<usize>,
+    /// Nodes of the exact branch and bound run to tighten the bound (0 when none was run).
+    #[serde(default)]
+    pub branch_and_bound_nodes: usize,
+    /// True when that branch and bound finished: `best_found` is then the optimum of
+    /// `λ_fix` (within 1e-7 relative) and `upper_bound` is that optimum plus the tolerance.
+    #[serde(default)]
+    pub proven_optimum: bool,
 }
 
 impl Certificate {
@@ -1355,8 +1362,16 @@ impl Certificate {
         format!(
             "certificate (fixed geometry, λ_fix at the full network's equilibrium): λ_fix {:.6e}, \
              certified upper bound on any feasible subset {:.6e}, guaranteed ratio {ratio}; best \
-             λ_fix found while bounding {:.6e} {:?}",
-            self.lambda_fix, self.upper_bound, self.best_found, self.best_found_curves
+             λ_fix found while bounding {:.6e} {:?}{}",
+            self.lambda_fix,
+            self.upper_bound,
+            self.best_found,
+            self.best_found_curves,
+            if self.proven_optimum {
+                " (proven optimal by branch and bound)"
+            } else {
+                ""
+            }
         )
     }
 }
@@ -1384,6 +1399,8 @@ impl FixedProblem<'_> {
             ratio,
             best_found: report.lower,
             best_found_curves: report.lower_curves,
+            branch_and_bound_nodes: 0,
+            proven_optimum: false,
         })
     }
 }
