@@ -105,6 +105,9 @@ pub struct CompareArgs {
     /// Write the summary table as Markdown.
     #[arg(long)]
     pub markdown: Option<PathBuf>,
+    /// Time limit of the exact λ_fix solver per network, seconds.
+    #[arg(long = "exact-time-limit", default_value_t = 60.0)]
+    pub exact_time_limit: f64,
 }
 
 /// `curvenet trace`.
@@ -197,6 +200,14 @@ pub struct DemoArgs {
     /// Budget as a fraction of the total length.
     #[arg(long, default_value_t = 0.3)]
     pub budget: f64,
+    /// Skip the certificate (λ_fix of the result against a certified upper bound on any
+    /// feasible subset) computed after the greedy.
+    #[arg(long = "no-certificate")]
+    pub no_certificate: bool,
+    /// Branch and bound nodes spent tightening the certificate's bound (default: about
+    /// 1e6 / unknowns, e.g. 220 on the demo, 60 on the tower; 0: the relaxation's bound only).
+    #[arg(long = "certificate-nodes")]
+    pub certificate_nodes: Option<usize>,
     /// Material and solver options.
     #[command(flatten)]
     pub physics: PhysicsArgs,
@@ -259,6 +270,14 @@ pub struct GreedyArgs {
     /// Continue an interrupted run in the output folder.
     #[arg(long)]
     pub resume: bool,
+    /// Skip the certificate (λ_fix of the result against a certified upper bound on any
+    /// feasible subset) computed after the greedy.
+    #[arg(long = "no-certificate")]
+    pub no_certificate: bool,
+    /// Branch and bound nodes spent tightening the certificate's bound (default: about
+    /// 1e6 / unknowns, e.g. 220 on the demo, 60 on the tower; 0: the relaxation's bound only).
+    #[arg(long = "certificate-nodes")]
+    pub certificate_nodes: Option<usize>,
 }
 
 /// `curvenet analyze`.
@@ -319,6 +338,14 @@ pub struct ExampleArgs {
     /// Evaluate every candidate (no pruning by bounds); for measurements.
     #[arg(long = "no-prune")]
     pub no_prune: bool,
+    /// Skip the certificate (λ_fix of the result against a certified upper bound on any
+    /// feasible subset) computed after the greedy.
+    #[arg(long = "no-certificate")]
+    pub no_certificate: bool,
+    /// Branch and bound nodes spent tightening the certificate's bound (default: about
+    /// 1e6 / unknowns, e.g. 220 on the demo, 60 on the tower; 0: the relaxation's bound only).
+    #[arg(long = "certificate-nodes")]
+    pub certificate_nodes: Option<usize>,
     /// Print one JSON object on stdout.
     #[arg(long)]
     pub json: bool,

@@ -831,3 +831,35 @@ fn simplify_warnings_reach_stderr_and_result_json() {
     );
     assert!(Path::new(&r.dir.join("out/result.json")).is_file());
 }
+
+#[test]
+fn simplify_writes_a_fixed_geometry_certificate_unless_told_not_to() {
+    let mut args = vec![
+        "simplify", "--curves", "grid.txt", "--out", "out", "--budget", "0.6",
+    ];
+    args.extend_from_slice(QUIET);
+    let r = run(&[("grid.txt", GRID.as_bytes())], &args);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert!(r.stdout.contains("guaranteed ratio"), "{}", r.stdout);
+    let result = std::fs::read_to_string(r.dir.join("out/result.json")).unwrap();
+    let result: serde_json::Value = serde_json::from_str(&result).unwrap();
+    let c = &result["certificate"];
+    assert_eq!(c["objective"], "lambda_fix", "{c}");
+    assert_eq!(c["curves"], result["final"]["curves"]);
+    let lam = c["lambda_fix"].as_f64().unwrap();
+    let up = c["upper_bound"].as_f64().unwrap();
+    let best = c["best_found"].as_f64().unwrap();
+    assert!(up >= best && best >= lam, "{c}");
+    if let Some(ratio) = c["ratio"].as_f64() {
+        assert!((ratio - lam / up).abs() <= 1e-12 && ratio <= 1.0, "{c}");
+    }
+    let timings = std::fs::read_to_string(r.dir.join("out/timings.json")).unwrap();
+    assert!(timings.contains("certificate_seconds"));
+
+    args.push("--no-certificate");
+    let r = run(&[("grid.txt", GRID.as_bytes())], &args);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert!(!r.stdout.contains("guaranteed ratio"), "{}", r.stdout);
+    let result = std::fs::read_to_string(r.dir.join("out/result.json")).unwrap();
+    assert!(!result.contains("certificate"), "{result}");
+}

@@ -37,6 +37,7 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
         instances: a.instances,
         budget: a.budget,
         seed: a.seed,
+        exact_time_limit: a.exact_time_limit,
         ..CompareParams::default()
     };
     if params.sizes.iter().any(|n| !(2..=30).contains(n)) {
@@ -54,7 +55,8 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
     let report = compare(&params, &surfaces, &|done, _| bar.set_position(done as u64))?;
     bar.finish_and_clear();
     println!(
-        "greedy vs exhaustive vs random search, budget {}, {} networks per size, surfaces {}",
+        "greedy, greedy + local search, rounded relaxation, exact λ_fix, exhaustive and random \
+         search, budget {}, {} networks per size, surfaces {}",
         params.budget,
         params.instances,
         report.surfaces.join(", ")

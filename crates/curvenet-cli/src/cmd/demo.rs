@@ -61,6 +61,8 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
         budget,
         keep: Vec::new(),
         out: a.out,
+        certificate: !a.no_certificate,
+        certificate_nodes: a.certificate_nodes,
         resume: false,
         prune: Default::default(),
         mesh: Some(mesh),

@@ -69,6 +69,8 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
             .out
             .clone()
             .unwrap_or_else(|| PathBuf::from("out").join(&a.name)),
+        certificate: !a.no_certificate,
+        certificate_nodes: a.certificate_nodes,
         resume: a.resume,
         mesh: Some(ex.mesh),
         prune: PruneParams {

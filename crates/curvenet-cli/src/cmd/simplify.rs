@@ -16,6 +16,8 @@ pub fn run(a: SimplifyArgs) -> anyhow::Result<()> {
         budget: super::greedy_run::budget_of(&a.greedy, None)?,
         keep: a.greedy.keep.clone(),
         out: a.out.clone(),
+        certificate: !a.greedy.no_certificate,
+        certificate_nodes: a.greedy.certificate_nodes,
         resume: a.greedy.resume,
         prune: Default::default(),
         mesh: inputs.mesh,

@@ -7,13 +7,28 @@
 //! - the greedy (its final set re-evaluated with [`Scorer::lambda_eq`], like every other set),
 //! - exhaustive search (every feasible subset: the optimum and the greedy's percentile),
 //! - random search with as many evaluations as the greedy spent (every candidate of every
-//!   iteration, as the paper's greedy evaluates them, plus one per iteration).
+//!   iteration, as the paper's greedy evaluates them, plus one per iteration),
+//! - the greedy followed by the local search of [`super::local`] (first improvement, add-back
+//!   and drop moves),
+//! - the multi-start local search: the same from the greedy's set and from every curve alone,
+//!   the best outcome,
+//! - the rounded relaxation: the best `λ_fix` among the roundings of the relaxed faces'
+//!   solutions (and the faces' first curves) of [`FixedProblem::certify`], re-evaluated on
+//!   `λ_eq`; the same run gives the certified upper bound on `λ_fix`,
+//! - the exact optimum of `λ_fix` ([`super::exact`]), checked against exhaustive search over
+//!   `λ_fix`, and the `λ_eq` of its answer.
+//!
+//! Every `λ_eq` ratio is against the exhaustive optimum of `λ_eq`; the `λ_fix` figures are at
+//! the full network's equilibrium.
 //!
 //! Everything is seeded; the report depends only on the parameters.
 
-use super::exhaustive::{ExhaustiveParams, exhaustive};
+use super::exact::{ExactParams, exact};
+use super::exhaustive::{ExhaustiveParams, exhaustive, exhaustive_fixed};
 use super::greedy::{GreedyParams, NoHooks, greedy};
+use super::local::{LocalParams, local_search, local_search_multi};
 use super::random::{RandomParams, random_search};
+use super::relaxation::{CertifyParams, FixedProblem};
 use super::{Budget, Scorer, SimplifyError};
 use crate::io::TriMesh;
 use crate::network::{BuildParams, build_network};
@@ -38,6 +53,13 @@ pub struct CompareParams {
     pub edge_length: f64,
     /// Largest number of feasible subsets exhaustive search may evaluate.
     pub max_subsets: usize,
+    /// Time limit of the exact solver per instance, seconds.
+    #[serde(default = "default_exact_time")]
+    pub exact_time_limit: f64,
+}
+
+fn default_exact_time() -> f64 {
+    60.0
 }
 
 impl Default for CompareParams {
@@ -49,6 +71,7 @@ impl Default for CompareParams {
             seed: 1,
             edge_length: 100.0,
             max_subsets: 200_000,
+            exact_time_limit: default_exact_time(),
         }
     }
 }
@@ -89,6 +112,38 @@ pub struct InstanceResult {
     pub percentile: f64,
     /// Best `λ_eq` found by random search.
     pub random: f64,
+    /// `λ_eq` after the local search from the greedy's final set.
+    pub local: f64,
+    /// Its curves.
+    pub local_curves: Vec<usize>,
+    /// Moves the local search took.
+    pub local_moves: usize,
+    /// `λ_eq` of the multi-start local search (from the greedy's set and every curve alone).
+    pub multi: f64,
+    /// Its curves.
+    pub multi_curves: Vec<usize>,
+    /// `λ_eq` of the rounded relaxation's subset.
+    pub rounded: f64,
+    /// Its curves (the best `λ_fix` among the roundings and the faces' first curves).
+    pub rounded_curves: Vec<usize>,
+    /// `λ_fix` of the greedy's final set (full network's equilibrium).
+    pub greedy_fix: f64,
+    /// Certified upper bound on `λ_fix` of any feasible subset (relaxation).
+    pub bound_fix: f64,
+    /// The exact solver's `λ_fix` (optimal when `exact_proven`).
+    pub exact_fix: f64,
+    /// Its curves.
+    pub exact_curves: Vec<usize>,
+    /// Whether it proved optimality within its time limit.
+    pub exact_proven: bool,
+    /// Nodes it opened.
+    pub exact_nodes: usize,
+    /// Its wall time (seconds).
+    pub exact_seconds: f64,
+    /// `λ_eq` of its answer.
+    pub exact_eq: f64,
+    /// Exhaustive search's optimum of `λ_fix`.
+    pub exhaustive_fix: f64,
 }
 
 /// Figures of one size `N` over its instances.
@@ -110,6 +165,30 @@ pub struct SizeSummary {
     pub random_ratio_mean: f64,
     /// Mean number of feasible subsets.
     pub feasible_mean: f64,
+    /// Mean of (greedy + local search) / optimum (`λ_eq`).
+    pub local_ratio_mean: f64,
+    /// Smallest (greedy + local search) / optimum.
+    pub local_ratio_min: f64,
+    /// Mean of multi-start local search / optimum (`λ_eq`).
+    pub multi_ratio_mean: f64,
+    /// Smallest multi-start local search / optimum.
+    pub multi_ratio_min: f64,
+    /// Mean of rounded relaxation / optimum (`λ_eq`).
+    pub rounded_ratio_mean: f64,
+    /// Mean of (the exact `λ_fix` optimum's `λ_eq`) / optimum (`λ_eq`).
+    pub exact_eq_ratio_mean: f64,
+    /// Mean of random search / optimum (`λ_eq`).
+    pub random_opt_ratio_mean: f64,
+    /// Mean of greedy `λ_fix` / optimum `λ_fix`.
+    pub greedy_fix_ratio_mean: f64,
+    /// Mean of greedy `λ_fix` / certified bound, over instances where both are positive.
+    pub certified_ratio_mean: f64,
+    /// Mean of optimum `λ_fix` / certified bound (how tight the bound is), same instances.
+    pub bound_tightness_mean: f64,
+    /// Instances where the exact solver proved an optimum equal to exhaustive search's.
+    pub exact_matches: usize,
+    /// Largest exact solver time (seconds).
+    pub exact_seconds_max: f64,
     /// Wall time for this size.
     pub seconds: f64,
 }
@@ -128,23 +207,50 @@ pub struct CompareReport {
 }
 
 impl CompareReport {
-    /// The summary as a Markdown table.
+    /// The summary as Markdown tables: `λ_eq` against the exhaustive optimum, then the
+    /// fixed-geometry objective `λ_fix`.
     pub fn markdown(&self) -> String {
         let mut s = String::from(
-            "| N | instances | greedy/optimum mean | min | greedy percentile mean | min | greedy/random mean | feasible subsets | seconds |\n|---|---|---|---|---|---|---|---|---|\n",
+            "λ_eq, as a percentage of the exhaustive optimum (mean over instances; min in brackets):\n\n\
+             | N | instances | feasible subsets | greedy | greedy + local search | multi-start local search | rounded relaxation | exact λ_fix optimum | random search | greedy percentile | greedy/random | seconds |\n\
+             |---|---|---|---|---|---|---|---|---|---|---|---|\n",
         );
         for r in &self.summary {
             s.push_str(&format!(
-                "| {} | {} | {:.1}% | {:.1}% | {:.1} | {:.1} | {:.2} | {:.0} | {:.1} |\n",
+                "| {} | {} | {:.0} | {:.1}% ({:.1}%) | {:.1}% ({:.1}%) | {:.1}% ({:.1}%) | {:.1}% | {:.1}% | {:.1}% | {:.1} ({:.1}) | {:.2} | {:.1} |\n",
                 r.n,
                 r.instances,
+                r.feasible_mean,
                 100.0 * r.ratio_mean,
                 100.0 * r.ratio_min,
+                100.0 * r.local_ratio_mean,
+                100.0 * r.local_ratio_min,
+                100.0 * r.multi_ratio_mean,
+                100.0 * r.multi_ratio_min,
+                100.0 * r.rounded_ratio_mean,
+                100.0 * r.exact_eq_ratio_mean,
+                100.0 * r.random_opt_ratio_mean,
                 r.percentile_mean,
                 r.percentile_min,
                 r.random_ratio_mean,
-                r.feasible_mean,
                 r.seconds
+            ));
+        }
+        s.push_str(
+            "\nλ_fix (fixed geometry at the full network's equilibrium, SPEC §5):\n\n\
+             | N | greedy / optimum | greedy / certified bound | optimum / certified bound | exact = exhaustive | exact seconds (max) |\n\
+             |---|---|---|---|---|---|\n",
+        );
+        for r in &self.summary {
+            s.push_str(&format!(
+                "| {} | {:.1}% | {:.1}% | {:.1}% | {}/{} | {:.2} |\n",
+                r.n,
+                100.0 * r.greedy_fix_ratio_mean,
+                100.0 * r.certified_ratio_mean,
+                100.0 * r.bound_tightness_mean,
+                r.exact_matches,
+                r.instances,
+                r.exact_seconds_max
             ));
         }
         s
@@ -249,6 +355,24 @@ pub fn compare(
                     time_limit: None,
                 },
             )?;
+            let local = local_search(&scorer, &LocalParams::new(budget), &last.curves)?;
+            let mut starts = vec![last.curves.clone()];
+            starts.extend((0..n).map(|c| vec![c]));
+            let multi = local_search_multi(&scorer, &LocalParams::new(budget), &starts)?;
+            let problem = FixedProblem::new(&analyzer, budget, &[])?;
+            let greedy_fix = problem.lambda_fix(&last.curves)?;
+            let report = problem.certify(&CertifyParams::default(), &[])?;
+            let rounded = scorer.lambda_eq(&ActiveSet::from_curves(n, &report.lower_curves))?;
+            let ex_fix = exact(
+                &problem,
+                &ExactParams {
+                    time_limit: Some(params.exact_time_limit),
+                    ..ExactParams::default()
+                },
+                &[last.curves.clone(), report.lower_curves.clone()],
+            )?;
+            let exact_eq = ex_fix.lambda_eq(&scorer)?;
+            let exh_fix = exhaustive_fixed(&problem, params.max_subsets)?;
             rows.push(InstanceResult {
                 n,
                 surface,
@@ -262,6 +386,22 @@ pub fn compare(
                 feasible: ex.all.len(),
                 percentile: 100.0 * below as f64 / ex.all.len() as f64,
                 random: rnd.best.lambda,
+                local: local.best.lambda,
+                local_curves: local.best.curves.clone(),
+                local_moves: local.steps.len(),
+                multi: multi.best.lambda,
+                multi_curves: multi.best.curves.clone(),
+                rounded,
+                rounded_curves: report.lower_curves.clone(),
+                greedy_fix,
+                bound_fix: report.upper,
+                exact_fix: ex_fix.lambda_fix,
+                exact_curves: ex_fix.curves.clone(),
+                exact_proven: ex_fix.proven(),
+                exact_nodes: ex_fix.info.nodes,
+                exact_seconds: ex_fix.info.seconds,
+                exact_eq,
+                exhaustive_fix: exh_fix.best.lambda,
             });
             done += 1;
             progress(done, total);
@@ -280,6 +420,36 @@ pub fn compare(
                 .fold(f64::INFINITY, f64::min),
             random_ratio_mean: rows.iter().map(|r| r.greedy / r.random).sum::<f64>() / k,
             feasible_mean: rows.iter().map(|r| r.feasible as f64).sum::<f64>() / k,
+            local_ratio_mean: rows.iter().map(|r| r.local / r.optimum).sum::<f64>() / k,
+            local_ratio_min: rows
+                .iter()
+                .map(|r| r.local / r.optimum)
+                .fold(f64::INFINITY, f64::min),
+            multi_ratio_mean: rows.iter().map(|r| r.multi / r.optimum).sum::<f64>() / k,
+            multi_ratio_min: rows
+                .iter()
+                .map(|r| r.multi / r.optimum)
+                .fold(f64::INFINITY, f64::min),
+            rounded_ratio_mean: rows.iter().map(|r| r.rounded / r.optimum).sum::<f64>() / k,
+            exact_eq_ratio_mean: rows.iter().map(|r| r.exact_eq / r.optimum).sum::<f64>() / k,
+            random_opt_ratio_mean: rows.iter().map(|r| r.random / r.optimum).sum::<f64>() / k,
+            greedy_fix_ratio_mean: rows
+                .iter()
+                .map(|r| r.greedy_fix / r.exhaustive_fix)
+                .sum::<f64>()
+                / k,
+            certified_ratio_mean: mean_positive(rows.iter().map(|r| (r.greedy_fix, r.bound_fix))),
+            bound_tightness_mean: mean_positive(
+                rows.iter().map(|r| (r.exhaustive_fix, r.bound_fix)),
+            ),
+            exact_matches: rows
+                .iter()
+                .filter(|r| {
+                    r.exact_proven
+                        && (r.exhaustive_fix - r.exact_fix).abs() <= 1e-7 * r.exhaustive_fix.abs()
+                })
+                .count(),
+            exact_seconds_max: rows.iter().map(|r| r.exact_seconds).fold(0.0, f64::max),
             seconds: start.elapsed().as_secs_f64(),
         });
         instances.extend(rows);
@@ -290,4 +460,13 @@ pub fn compare(
         instances,
         summary,
     })
+}
+
+/// Mean of `a / b` over the pairs where both are positive (NaN when there is none).
+fn mean_positive(pairs: impl Iterator<Item = (f64, f64)>) -> f64 {
+    let v: Vec<f64> = pairs
+        .filter(|(a, b)| *a > 0.0 && *b > 0.0)
+        .map(|(a, b)| a / b)
+        .collect();
+    v.iter().sum::<f64>() / v.len() as f64
 }

@@ -3,8 +3,10 @@
 //! A subset is feasible when it holds the keep list, at least one curve, and its total rest
 //! length is within the budget. Subsets are enumerated depth-first over curve ids (a branch
 //! stops as soon as its length exceeds the budget) and evaluated in parallel with
-//! [`Scorer::lambda_eq`], the same evaluation the other searches use.
+//! [`Scorer::lambda_eq`], the same evaluation the other searches use; [`exhaustive_fixed`]
+//! does the same on `λ_fix` at the full network's equilibrium (the exact solver's objective).
 
+use super::relaxation::FixedProblem;
 use super::{Budget, Scorer, SimplifyError};
 use crate::rod::ActiveSet;
 use rayon::prelude::*;
@@ -132,12 +134,49 @@ pub fn feasible_subsets(
     Ok(out)
 }
 
-/// Runs the exhaustive search.
+/// Runs the exhaustive search on `λ_eq` (each subset relaxed to its own equilibrium).
 pub fn exhaustive(
     scorer: &Scorer<'_>,
     params: &ExhaustiveParams,
 ) -> Result<ExhaustiveOutcome, SimplifyError> {
-    let net = scorer.analyzer().network();
+    let n = scorer.analyzer().network().rods.len();
+    score_all(
+        scorer.analyzer().network(),
+        params,
+        &|curves: &[usize]| {
+            scorer
+                .lambda_eq(&ActiveSet::from_curves(n, curves))
+                .unwrap_or(f64::NAN)
+        },
+    )
+}
+
+/// Exhaustive search on the fixed-geometry objective `λ_fix(S | full network)` (SPEC §5, the
+/// objective of [`super::exact`] and of the relaxation's bounds), with the problem's budget
+/// and keep list: every feasible subset is scored by [`FixedProblem::lambda_fix`], the same
+/// evaluation the exact solver uses. The outcome's `lambda` fields hold `λ_fix`.
+pub fn exhaustive_fixed(
+    problem: &FixedProblem<'_>,
+    max_subsets: usize,
+) -> Result<ExhaustiveOutcome, SimplifyError> {
+    let params = ExhaustiveParams {
+        budget: Budget::Length(problem.budget()),
+        keep: problem.keep().to_vec(),
+        max_subsets,
+    };
+    score_all(
+        problem.analyzer().network(),
+        &params,
+        &|curves: &[usize]| problem.lambda_fix(curves).unwrap_or(f64::NAN),
+    )
+}
+
+/// Enumerates the feasible subsets and scores each with `score` (in parallel).
+fn score_all(
+    net: &crate::network::Network,
+    params: &ExhaustiveParams,
+    score: &(dyn Fn(&[usize]) -> f64 + Sync),
+) -> Result<ExhaustiveOutcome, SimplifyError> {
     let n = net.rods.len();
     params.budget.validate().map_err(SimplifyError::Params)?;
     if let Some(&k) = params.keep.iter().find(|&&k| k >= n) {
@@ -156,15 +195,10 @@ pub fn exhaustive(
     }
     let all: Vec<SubsetScore> = subsets
         .into_par_iter()
-        .map(|curves| {
-            let lambda = scorer
-                .lambda_eq(&ActiveSet::from_curves(n, &curves))
-                .unwrap_or(f64::NAN);
-            SubsetScore {
-                length: net.total_length(&curves),
-                curves,
-                lambda,
-            }
+        .map(|curves| SubsetScore {
+            length: net.total_length(&curves),
+            lambda: score(&curves),
+            curves,
         })
         .collect();
     let best = best_of(&all).expect("at least one subset");

@@ -1,7 +1,11 @@
 //! Simplification: pick the subset of curves that fits the budget and is most stable.
 //!
 //! - [`greedy`]: the paper's Algorithm 1 (SPEC §6), every iteration recorded;
-//! - [`exhaustive`]: all feasible subsets, the exact optimum of `λ_eq` for small networks;
+//! - [`exhaustive`]: all feasible subsets, the exact optimum of `λ_eq` (or `λ_fix`) for small
+//!   networks;
+//! - [`relaxation`]: certified upper bounds on the best `λ_fix` (SPEC §7 relaxed);
+//! - [`exact`]: branch and bound for the optimum of `λ_fix`, with a proof;
+//! - [`local`]: local search (add, drop, swap) from a feasible subset, e.g. the greedy's;
 //! - [`random`]: uniformly random feasible subsets, a given number of evaluations;
 //! - [`result`]: the `result.json` schema (SPEC §10), written and read back.
 //!
@@ -10,8 +14,10 @@
 
 pub mod candidates;
 pub mod compare;
+pub mod exact;
 pub mod exhaustive;
 pub mod greedy;
+pub mod local;
 pub mod random;
 pub mod relaxation;
 pub mod result;

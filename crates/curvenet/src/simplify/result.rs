@@ -19,6 +19,7 @@
 //! run to run on one machine and build, whatever the thread count.
 
 use super::greedy::{GreedyHooks, GreedyOutcome, IterationRecord, ResumePoint, StopReason};
+use super::relaxation::Certificate;
 use super::{Evaluation, GreedyParams};
 use crate::geom::Vec3;
 use crate::io::{self, Origin, Polyline};
@@ -91,6 +92,10 @@ pub struct ResultFile {
     /// The last recorded network.
     #[serde(rename = "final")]
     pub final_network: Option<FinalRecord>,
+    /// How far the final network can be from the best feasible subset on the fixed-geometry
+    /// objective `λ_fix` (absent when skipped or not computable).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub certificate: Option<Certificate>,
 }
 
 impl ResultFile {
@@ -211,6 +216,7 @@ impl<'a> OutputWriter<'a> {
             stop: None,
             iterations: Vec::new(),
             final_network: None,
+            certificate: None,
         };
         let w = OutputWriter {
             dir: dir.to_path_buf(),
@@ -304,6 +310,11 @@ impl<'a> OutputWriter<'a> {
     fn write(&self, rel: &str, bytes: &[u8]) -> Result<(), String> {
         let path = self.dir.join(rel);
         io::write_atomic(&path, bytes).map_err(|e| io_err(&path, e))
+    }
+
+    /// Sets the certificate of the final network (written by [`Self::finish`]).
+    pub fn set_certificate(&mut self, certificate: Option<Certificate>) {
+        self.result.certificate = certificate;
     }
 
     /// Finishes the run: final record, `result.json` complete, `final.obj`, `timings.json`,
@@ -427,5 +438,8 @@ pub fn summary(r: &ResultFile) -> String {
         .collect();
     let _ = writeln!(s, "removed in order: {}", removed.join(", "));
     let _ = writeln!(s, "iterations: {}; stop: {:?}", r.iterations.len(), r.stop);
+    if let Some(c) = &r.certificate {
+        let _ = writeln!(s, "{}", c.describe());
+    }
     s
 }
