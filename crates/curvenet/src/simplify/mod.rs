@@ -304,13 +304,8 @@ impl<'a> Scorer<'a> {
         active: &ActiveSet,
         warm: Option<MatRef<'_, f64>>,
     ) -> Result<(Spectrum, Cholesky), StabilityError> {
-        if active.is_empty() {
-            return Err(StabilityError::Empty);
-        }
+        let (h, warm) = self.fixed_problem(locals, active, warm)?;
         let model = self.analyzer.model();
-        let mut h = Vec::new();
-        model.hessian_from_locals(locals, active, &mut h);
-        let warm = warm.map(|w| restrict(w, &model.vertex_mask(active)));
         Ok(smallest_eigenpairs_factored(
             model.pattern(),
             &h,
@@ -319,9 +314,7 @@ impl<'a> Scorer<'a> {
             &self.candidate_eigen,
         )?)
     }
-}
 
-impl Scorer<'_> {
     /// [`Self::lambda_fixed`] shifted about `sigma > 0`: `Ok(None)` when one factorization
     /// proves `λ_fix(active | A) < sigma` (see [`smallest_eigenpairs_above`]).
     pub fn lambda_fixed_above(
@@ -331,13 +324,8 @@ impl Scorer<'_> {
         warm: Option<MatRef<'_, f64>>,
         sigma: f64,
     ) -> Result<Option<(Spectrum, Cholesky)>, StabilityError> {
-        if active.is_empty() {
-            return Err(StabilityError::Empty);
-        }
+        let (h, warm) = self.fixed_problem(locals, active, warm)?;
         let model = self.analyzer.model();
-        let mut h = Vec::new();
-        model.hessian_from_locals(locals, active, &mut h);
-        let warm = warm.map(|w| restrict(w, &model.vertex_mask(active)));
         Ok(smallest_eigenpairs_above(
             model.pattern(),
             &h,
@@ -346,6 +334,24 @@ impl Scorer<'_> {
             &self.candidate_eigen,
             sigma,
         )?)
+    }
+
+    /// The Hessian of `active` from the local Hessians at `A`'s equilibrium, and `warm`
+    /// restricted to its vertices.
+    fn fixed_problem(
+        &self,
+        locals: &LocalHessians,
+        active: &ActiveSet,
+        warm: Option<MatRef<'_, f64>>,
+    ) -> Result<(Vec<f64>, Option<Mat<f64>>), StabilityError> {
+        if active.is_empty() {
+            return Err(StabilityError::Empty);
+        }
+        let model = self.analyzer.model();
+        let mut h = Vec::new();
+        model.hessian_from_locals(locals, active, &mut h);
+        let warm = warm.map(|w| restrict(w, &model.vertex_mask(active)));
+        Ok((h, warm))
     }
 }
 
