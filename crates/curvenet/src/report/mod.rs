@@ -227,6 +227,14 @@ impl AnalysisReport {
                 analysis.newton.stop, analysis.newton.iterations, analysis.newton.grad_rel
             ));
         }
+        if sp.unconverged > 0 {
+            warnings.push(format!(
+                "the eigen solver converged only {} of the {} requested eigenpairs within its \
+                 restarts; λ and the eigenvalues listed are the converged ones",
+                sp.values.len(),
+                sp.values.len() + sp.unconverged
+            ));
+        }
         let top: Vec<String> = analysis
             .mode_curves
             .iter()

@@ -11,7 +11,7 @@
 //! (an unstable equilibrium). Every returned pair comes with its residual `‖Hv − λv‖`.
 
 use super::factor::{Cholesky, SymbolicFactor};
-use super::lanczos::{BlockLanczosParams, largest_eigenpairs};
+use super::lanczos::{BlockLanczosParams, EigenPairs, LanczosError, largest_eigenpairs};
 use crate::rod::model::Pattern;
 use faer::{Mat, MatRef};
 use serde::{Deserialize, Serialize};
@@ -108,6 +108,10 @@ pub struct Spectrum {
     pub solves: usize,
     /// Lanczos restarts.
     pub restarts: usize,
+    /// Requested pairs the solver could not converge within its restarts (normally 0). When
+    /// positive, `values` holds only the leading pairs that did converge (at least one:
+    /// otherwise the solve is an error), and callers report it.
+    pub unconverged: usize,
 }
 
 impl Spectrum {
@@ -277,8 +281,21 @@ fn finish(
         },
         warm_start,
         &lanczos,
-    )
-    .map_err(|e| EigenError::NotConverged(format!("{e:?}")))?;
+    );
+    let (pairs, unconverged) = match pairs {
+        Ok(p) => (p, 0),
+        Err(LanczosError::NotConverged(partial)) => {
+            let requested = partial.values.len();
+            let message = LanczosError::NotConverged(partial.clone()).to_string();
+            let p = converged_prefix(*partial, params.tol);
+            if p.values.is_empty() {
+                return Err(EigenError::NotConverged(message));
+            }
+            let kept = p.values.len();
+            (p, requested - kept)
+        }
+        Err(e) => return Err(EigenError::NotConverged(e.to_string())),
+    };
 
     // μ descending → λ = σ + 1/μ ascending.
     let k = pairs.values.len();
@@ -317,7 +334,57 @@ fn finish(
             factorizations,
             solves: pairs.info.applications,
             restarts: pairs.info.restarts,
+            unconverged,
         },
         factor,
     ))
+}
+
+/// The leading pairs of a run that did not converge whose residuals meet the tolerance
+/// (`tol` times the largest `|μ|`, the solver's own test); the rest are dropped.
+fn converged_prefix(mut pairs: EigenPairs, tol: f64) -> EigenPairs {
+    let scale = pairs
+        .values
+        .iter()
+        .fold(f64::MIN_POSITIVE, |acc, v| acc.max(v.abs()));
+    let k = pairs
+        .info
+        .residuals
+        .iter()
+        .take_while(|&&r| r <= tol * scale)
+        .count()
+        .min(pairs.values.len());
+    pairs.values.truncate(k);
+    pairs.vectors = pairs.vectors.subcols(0, k).to_owned();
+    pairs
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solve::lanczos::BlockLanczosInfo;
+
+    #[test]
+    fn unconverged_runs_keep_only_their_converged_leading_pairs() {
+        let n = 5;
+        let pairs = |residuals: Vec<f64>| EigenPairs {
+            values: vec![4.0, 3.0, 2.0, 1.0],
+            vectors: Mat::from_fn(n, 4, |i, j| if i == j { 1.0 } else { 0.0 }),
+            info: BlockLanczosInfo {
+                restarts: 50,
+                applications: 400,
+                converged: residuals.iter().filter(|&&r| r <= 4e-10).count(),
+                residuals,
+            },
+        };
+        // The third pair misses the tolerance (1e-10 × 4): the fourth, though converged,
+        // is not kept, since a missing pair before it may hide a smaller λ.
+        let p = converged_prefix(pairs(vec![1e-14, 3e-10, 1e-6, 1e-14]), 1e-10);
+        assert_eq!(p.values, vec![4.0, 3.0]);
+        assert_eq!((p.vectors.nrows(), p.vectors.ncols()), (n, 2));
+        assert_eq!(p.vectors[(1, 1)], 1.0);
+        // Nothing converged: nothing kept (the caller reports an error).
+        let p = converged_prefix(pairs(vec![1e-6, 1e-14, 1e-14, 1e-14]), 1e-10);
+        assert!(p.values.is_empty() && p.vectors.ncols() == 0);
+    }
 }
