@@ -67,6 +67,43 @@ impl Network {
     }
 }
 
+/// The connected parts of `curves` (ids below `curve_count`), where each item of `links` lists
+/// curves that share a vertex: each part ascending, the parts in order of their smallest
+/// curve. Curves outside `curves` never connect anything.
+pub fn curve_components<L, I>(curve_count: usize, curves: &[usize], links: L) -> Vec<Vec<usize>>
+where
+    L: IntoIterator<Item = I>,
+    I: IntoIterator<Item = usize>,
+{
+    let mut on = vec![false; curve_count];
+    for &c in curves {
+        on[c] = true;
+    }
+    let mut uf = super::crossings::UnionFind::new(curve_count);
+    for link in links {
+        let mut first = None;
+        for c in link.into_iter().filter(|&c| on[c]) {
+            match first {
+                None => first = Some(c),
+                Some(f) => uf.union(f, c),
+            }
+        }
+    }
+    let mut sorted: Vec<usize> = curves.to_vec();
+    sorted.sort_unstable();
+    sorted.dedup();
+    let mut parts: Vec<Vec<usize>> = Vec::new();
+    let mut root_part = std::collections::HashMap::new();
+    for c in sorted {
+        let i = *root_part.entry(uf.find(c)).or_insert_with(|| {
+            parts.push(Vec::new());
+            parts.len() - 1
+        });
+        parts[i].push(c);
+    }
+    parts
+}
+
 #[cfg(test)]
 mod tests {
     use crate::geom::Vec3;

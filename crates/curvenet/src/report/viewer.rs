@@ -166,29 +166,6 @@ fn restrict(values: &[f64], vertices: &[usize]) -> Vec<f64> {
         .collect()
 }
 
-/// The gravity load of `active` (SPEC §5): a weight per unit rest length along the run's
-/// gravity direction, half of each edge's weight on each of its ends.
-pub fn gravity_load(analyzer: &Analyzer, active: &ActiveSet) -> Vec<f64> {
-    let g = &analyzer.params().gravity;
-    let dir = crate::geom::Vec3::from(g.direction).normalized();
-    let net = analyzer.network();
-    let mut f = vec![0.0; net.dofs()];
-    for (c, rod) in net.rods.iter().enumerate() {
-        if !active.contains(c) {
-            continue;
-        }
-        for j in 0..rod.edge_count() {
-            let (a, b) = rod.edge(j);
-            let w = 0.5 * g.weight_per_length * rod.rest_lengths[j];
-            for k in 0..3 {
-                f[3 * a as usize + k] += w * dir[k];
-                f[3 * b as usize + k] += w * dir[k];
-            }
-        }
-    }
-    f
-}
-
 /// The gravity deflection `u = H⁻¹ f` of `curves` at displacements `u0` (`None` when the
 /// Hessian is not positive definite).
 pub fn gravity_deflection(analyzer: &Analyzer, curves: &[usize], u0: &[f64]) -> Option<Vec<f64>> {
@@ -196,7 +173,7 @@ pub fn gravity_deflection(analyzer: &Analyzer, curves: &[usize], u0: &[f64]) -> 
     let model = analyzer.model();
     let h = model.assemble(u0, &active, true).hess;
     let factor = Cholesky::factorize(analyzer.symbolic(), model.pattern(), &h, 0.0).ok()?;
-    let mut u = gravity_load(analyzer, &active);
+    let mut u = analyzer.gravity_load(&active);
     factor.solve_vec(&mut u);
     u.iter().all(|x| x.is_finite()).then_some(u)
 }

@@ -256,30 +256,13 @@ impl<'a> Scorer<'a> {
     /// The connected parts of `active` (curves joined through shared vertices), each sorted,
     /// in order of their smallest curve.
     pub fn components(&self, active: &ActiveSet) -> Vec<Vec<usize>> {
-        let curves = active.curves();
-        let model = self.analyzer.model();
-        let mut uf = crate::network::crossings::UnionFind::new(active.universe());
-        for cs in model.vertex_curves() {
-            let on: Vec<usize> = cs
-                .iter()
-                .map(|&c| c as usize)
-                .filter(|&c| active.contains(c))
-                .collect();
-            for w in on.windows(2) {
-                uf.union(w[0], w[1]);
-            }
-        }
-        let mut parts: Vec<Vec<usize>> = Vec::new();
-        let mut root_part = std::collections::HashMap::new();
-        for c in curves {
-            let r = uf.find(c);
-            let i = *root_part.entry(r).or_insert_with(|| {
-                parts.push(Vec::new());
-                parts.len() - 1
-            });
-            parts[i].push(c);
-        }
-        parts
+        let links = self
+            .analyzer
+            .model()
+            .vertex_curves()
+            .iter()
+            .map(|cs| cs.iter().map(|&c| c as usize));
+        crate::network::subnet::curve_components(active.universe(), &active.curves(), links)
     }
 
     /// `λ_eq` of a connected structure, on its own network (the loose vertices deleted, so

@@ -677,37 +677,8 @@ impl<'a> FixedProblem<'a> {
     /// The connected parts of `curves` (joined through shared vertices), each ascending, in
     /// order of their smallest curve.
     pub fn components(&self, curves: &[usize]) -> Vec<Vec<usize>> {
-        let n = self.curve_count();
-        let mut on = vec![false; n];
-        for &c in curves {
-            on[c] = true;
-        }
-        let mut uf = crate::network::crossings::UnionFind::new(n);
-        for g in &self.groups {
-            let mut first = None;
-            for &c in &g.curves {
-                if on[c] {
-                    match first {
-                        None => first = Some(c),
-                        Some(f) => uf.union(f, c),
-                    }
-                }
-            }
-        }
-        let mut sorted: Vec<usize> = curves.to_vec();
-        sorted.sort_unstable();
-        sorted.dedup();
-        let mut parts: Vec<Vec<usize>> = Vec::new();
-        let mut root_part: HashMap<usize, usize> = HashMap::new();
-        for c in sorted {
-            let r = uf.find(c);
-            let i = *root_part.entry(r).or_insert_with(|| {
-                parts.push(Vec::new());
-                parts.len() - 1
-            });
-            parts[i].push(c);
-        }
-        parts
+        let links = self.groups.iter().map(|g| g.curves.iter().copied());
+        crate::network::subnet::curve_components(self.curve_count(), curves, links)
     }
 
     /// `λ_fix` of `curves` (any set, feasible or not): the smallest over its components.

@@ -298,13 +298,12 @@ impl Analyzer {
         out
     }
 
-    /// Deflection under the gravity load with Hessian values `h` (None if not positive
-    /// definite).
-    pub fn gravity(&self, active: &ActiveSet, h: &[f64]) -> Option<GravityDeflection> {
+    /// The gravity load on the curves of `active`: `weight_per_length` along the gravity
+    /// direction, half of each edge's weight on each of its ends.
+    pub fn gravity_load(&self, active: &ActiveSet) -> Vec<f64> {
         let g = &self.params.gravity;
         let dir = crate::geom::Vec3::from(g.direction).normalized();
-        let n = self.model.dofs();
-        let mut f = vec![0.0; n];
+        let mut f = vec![0.0; self.model.dofs()];
         for (c, rod) in self.network.rods.iter().enumerate() {
             if !active.contains(c) {
                 continue;
@@ -318,6 +317,14 @@ impl Analyzer {
                 }
             }
         }
+        f
+    }
+
+    /// Deflection under the gravity load with Hessian values `h` (None if not positive
+    /// definite).
+    pub fn gravity(&self, active: &ActiveSet, h: &[f64]) -> Option<GravityDeflection> {
+        let n = self.model.dofs();
+        let f = self.gravity_load(active);
         let factor = Cholesky::factorize(&self.symbolic, self.model.pattern(), h, 0.0).ok()?;
         let mut u = f.clone();
         factor.solve_vec(&mut u);
