@@ -210,6 +210,44 @@ impl Pattern {
         }
     }
 
+    /// The principal sub-pattern of the coordinates `keep` selects (`keep.len() == n`): the
+    /// pattern itself, for each of its stored entries the slot of the same entry in `self`,
+    /// and for each of its coordinates the coordinate in `self`.
+    pub fn principal(&self, keep: &[bool]) -> (Pattern, Vec<usize>, Vec<usize>) {
+        assert_eq!(keep.len(), self.n, "one flag per coordinate");
+        let dofs: Vec<usize> = (0..self.n).filter(|&j| keep[j]).collect();
+        let mut new_of = vec![usize::MAX; self.n];
+        for (i, &d) in dofs.iter().enumerate() {
+            new_of[d] = i;
+        }
+        let mut col_ptr = Vec::with_capacity(dofs.len() + 1);
+        let mut row_idx = Vec::new();
+        let mut slots = Vec::new();
+        let mut diag = Vec::with_capacity(dofs.len());
+        col_ptr.push(0);
+        for &j in &dofs {
+            for k in self.col_ptr[j]..self.col_ptr[j + 1] {
+                let i = self.row_idx[k];
+                if keep[i] {
+                    if i == j {
+                        diag.push(row_idx.len());
+                    }
+                    // Rows stay ascending: `new_of` is increasing.
+                    row_idx.push(new_of[i]);
+                    slots.push(k);
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        let sub = Pattern {
+            n: dofs.len(),
+            col_ptr,
+            row_idx,
+            diag,
+        };
+        (sub, slots, dofs)
+    }
+
     /// The 1-norm of the symmetric matrix (largest absolute column sum).
     pub fn sym_norm1(&self, values: &[f64]) -> f64 {
         let mut col = vec![0.0; self.n];

@@ -93,7 +93,7 @@ use super::{Budget, SimplifyError};
 use crate::report::NewtonSummary;
 use crate::rod::ActiveSet;
 use crate::rod::model::LocalHessians;
-use crate::solve::eigen::{EigenParams, Spectrum, smallest_eigenpairs};
+use crate::solve::eigen::{EigenParams, Spectrum, smallest_eigenpairs_restricted};
 use crate::stability::{Analyzer, StabilityError};
 use faer::{Mat, MatRef};
 use rayon::prelude::*;
@@ -726,10 +726,11 @@ impl<'a> FixedProblem<'a> {
         let mut h = Vec::new();
         model.hessian_from_locals(&self.locals, &active, &mut h);
         self.eigen_solves.fetch_add(1, Ordering::Relaxed);
-        Ok(smallest_eigenpairs(
+        Ok(smallest_eigenpairs_restricted(
             model.pattern(),
             &h,
             self.analyzer.symbolic(),
+            &coordinates(&model.vertex_mask(&active)),
             None,
             &self.eval_eigen,
         )?)
@@ -742,14 +743,15 @@ impl<'a> FixedProblem<'a> {
         let mut h = Vec::new();
         model.hessian_from_locals(&self.locals, &active, &mut h);
         self.eigen_solves.fetch_add(1, Ordering::Relaxed);
-        let sp = smallest_eigenpairs(
+        let mask = model.vertex_mask(&active);
+        let sp = smallest_eigenpairs_restricted(
             model.pattern(),
             &h,
             self.analyzer.symbolic(),
+            &coordinates(&mask),
             None,
             &self.eval_eigen,
         )?;
-        let mask = model.vertex_mask(&active);
         let mut x = sp.vectors.clone();
         zero_rows(&mut x, &mask);
         let certificates = self.certificates_of(x.as_ref(), &sp.values);
@@ -907,10 +909,12 @@ impl<'a> FixedProblem<'a> {
             }
         }
         self.relax_solves.fetch_add(1, Ordering::Relaxed);
-        let sp = smallest_eigenpairs(
+        let held: Vec<bool> = p.iter().map(|&pv| pv > 0.0).collect();
+        let sp = smallest_eigenpairs_restricted(
             pattern,
             &h,
             self.analyzer.symbolic(),
+            &coordinates(&held),
             warm,
             &self.relax_eigen,
         )?;
@@ -1153,10 +1157,18 @@ impl<'a> FixedProblem<'a> {
             }
         }
         self.relax_solves.fetch_add(1, Ordering::Relaxed);
-        let sp = smallest_eigenpairs(
+        // Coordinates of clamped vertices and of vertices no weighted curve holds are decoupled.
+        let held: Vec<bool> = model
+            .vertex_curves()
+            .iter()
+            .enumerate()
+            .map(|(v, cs)| !clamp[v] && cs.iter().any(|&c| weights[c as usize] != 0.0))
+            .collect();
+        let sp = smallest_eigenpairs_restricted(
             pattern,
             &h,
             self.analyzer.symbolic(),
+            &coordinates(&held),
             None,
             &self.relax_eigen,
         )?;
@@ -1411,6 +1423,11 @@ pub fn round_relaxed(
         out.push(t);
     }
     out
+}
+
+/// Per-coordinate flags (three per vertex) from per-vertex flags.
+fn coordinates(vertices: &[bool]) -> Vec<bool> {
+    vertices.iter().flat_map(|&v| [v; 3]).collect()
 }
 
 /// Zeroes the rows of vertices with `mask[v] == false`.

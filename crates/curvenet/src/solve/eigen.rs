@@ -150,6 +150,51 @@ pub fn smallest_eigenpairs(
     smallest_eigenpairs_factored(pattern, values, symbolic, warm_start, params).map(|(s, _)| s)
 }
 
+/// Above this share of kept coordinates, [`smallest_eigenpairs_restricted`] works on the
+/// whole pattern (a symbolic analysis of the submatrix would cost more than it saves).
+pub const RESTRICT_MAX_SHARE: f64 = 0.75;
+
+/// [`smallest_eigenpairs`] of a matrix whose coordinates outside `keep` are decoupled from the
+/// rest (no stored off-diagonal entry links them to a kept coordinate; e.g. loose vertices,
+/// which carry only a diagonal): the smallest eigenpairs of the principal submatrix on
+/// `keep`, the eigenvalues of the decoupled coordinates being left out. When `keep` selects
+/// few coordinates, the factorizations only see those (with a symbolic analysis of their
+/// own); otherwise the whole matrix is solved with `symbolic`, which then must leave the
+/// decoupled diagonals above the pairs sought. Vectors come back at full size, zero outside
+/// `keep`; `warm_start` is given at full size too.
+pub fn smallest_eigenpairs_restricted(
+    pattern: &Pattern,
+    values: &[f64],
+    symbolic: &Arc<SymbolicFactor>,
+    keep: &[bool],
+    warm_start: Option<MatRef<'_, f64>>,
+    params: &EigenParams,
+) -> Result<Spectrum, EigenError> {
+    let kept = keep.iter().filter(|&&k| k).count();
+    if kept == 0 || kept as f64 > RESTRICT_MAX_SHARE * pattern.n as f64 {
+        return smallest_eigenpairs(pattern, values, symbolic, warm_start, params);
+    }
+    let (sub, slots, dofs) = pattern.principal(keep);
+    let sub_values: Vec<f64> = slots.iter().map(|&k| values[k]).collect();
+    let sub_symbolic = SymbolicFactor::new(&sub);
+    let warm = warm_start.map(|w| Mat::from_fn(dofs.len(), w.ncols(), |i, j| w[(dofs[i], j)]));
+    let mut sp = smallest_eigenpairs(
+        &sub,
+        &sub_values,
+        &sub_symbolic,
+        warm.as_ref().map(|w| w.as_ref()),
+        params,
+    )?;
+    let mut full = Mat::<f64>::zeros(pattern.n, sp.vectors.ncols());
+    for (i, &d) in dofs.iter().enumerate() {
+        for j in 0..full.ncols() {
+            full[(d, j)] = sp.vectors[(i, j)];
+        }
+    }
+    sp.vectors = full;
+    Ok(sp)
+}
+
 /// [`smallest_eigenpairs`], also returning the factorization of `H − σI` it used (a good
 /// Newton matrix for the same structure near this state).
 pub fn smallest_eigenpairs_factored(

@@ -1,0 +1,97 @@
+//! Solver plumbing: the numeric factorization reuses buffers of dropped factors
+//! (`solve::factor`), which must never change its values; eigenpairs of a structure with loose
+//! vertices computed on the principal submatrix (`solve::eigen::smallest_eigenpairs_restricted`)
+//! agree with those of the whole matrix.
+
+mod common;
+
+use common::{build, random_curves};
+use curvenet::rod::{ActiveSet, Supports};
+use curvenet::solve::Cholesky;
+use curvenet::solve::eigen::{smallest_eigenpairs, smallest_eigenpairs_restricted};
+use curvenet::stability::{Analyzer, StabilityParams};
+
+fn solve_bits(f: &Cholesky, n: usize) -> Vec<u64> {
+    let mut rhs: Vec<f64> = (0..n).map(|i| ((i * 7919) % 101) as f64 - 50.0).collect();
+    f.solve_vec(&mut rhs);
+    rhs.iter().map(|v| v.to_bits()).collect()
+}
+
+#[test]
+fn reused_buffers_give_bit_identical_factors() {
+    let net = build(&random_curves(3, 4), 20.0, Supports::Clamped);
+    let a = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
+    let model = a.model();
+    let n = model.dofs();
+    let u = vec![0.0; n];
+    let h = model.assemble(&u, &a.all(), true).hess;
+    let sym = a.symbolic();
+    let pattern = model.pattern();
+    // The drawn state's Hessian need not be definite: shift it by its 1-norm (Gershgorin).
+    let s = pattern.sym_norm1(&h);
+
+    let first = Cholesky::factorize(sym, pattern, &h, s).expect("positive definite");
+    let reference = solve_bits(&first, n);
+    drop(first);
+    // A failed factorization (far below the smallest eigenvalue) hands its buffer back too.
+    assert!(Cholesky::factorize(sym, pattern, &h, -10.0 * s).is_err());
+    // Several factors alive at once, some on reused buffers, some on fresh ones.
+    let alive: Vec<Cholesky> = (0..6)
+        .map(|_| Cholesky::factorize(sym, pattern, &h, s).expect("positive definite"))
+        .collect();
+    for f in &alive {
+        assert_eq!(solve_bits(f, n), reference);
+    }
+    drop(alive);
+    // A differently shifted matrix in between must not leak into the next factor.
+    let shifted = Cholesky::factorize(sym, pattern, &h, 2.0 * s).expect("positive definite");
+    assert_ne!(solve_bits(&shifted, n), reference);
+    drop(shifted);
+    let again = Cholesky::factorize(sym, pattern, &h, s).expect("positive definite");
+    assert_eq!(solve_bits(&again, n), reference);
+}
+
+#[test]
+fn eigenpairs_on_the_principal_submatrix_match_the_whole_matrix() {
+    let net = build(&random_curves(5, 4), 20.0, Supports::Clamped);
+    let a = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
+    let model = a.model();
+    let n = model.dofs();
+    let mut u = vec![0.0; n];
+    a.relax(&a.all(), &mut u);
+    let curves = a.network().rods.len();
+    let params = a.params().eigen.clone();
+    // The ring and one arch: the other arches' own vertices are loose.
+    let active = ActiveSet::from_curves(curves, &[0, 1]);
+    let h = model.assemble(&u, &active, true).hess;
+    let vertex_mask = model.vertex_mask(&active);
+    let keep: Vec<bool> = vertex_mask.iter().flat_map(|&v| [v; 3]).collect();
+    let kept = keep.iter().filter(|&&k| k).count();
+    assert!(
+        kept < n * 3 / 4,
+        "the test needs the restricted path ({kept} of {n} kept)"
+    );
+    let whole = smallest_eigenpairs(model.pattern(), &h, a.symbolic(), None, &params).unwrap();
+    let part =
+        smallest_eigenpairs_restricted(model.pattern(), &h, a.symbolic(), &keep, None, &params)
+            .unwrap();
+    assert_eq!(part.vectors.nrows(), n);
+    for (k, (w, p)) in whole.values.iter().zip(&part.values).enumerate() {
+        let rel = (w - p).abs() / w.abs();
+        assert!(rel < 1e-9, "λ{k}: whole {w:e}, principal {p:e}");
+    }
+    // Vectors vanish on loose coordinates and are eigenvectors of the whole matrix.
+    let mut hv = vec![0.0; n];
+    for j in 0..part.values.len() {
+        let v: Vec<f64> = (0..n).map(|i| part.vectors[(i, j)]).collect();
+        assert!(keep.iter().zip(&v).all(|(&k, &x)| k || x == 0.0));
+        model.pattern().sym_matvec(&h, &v, &mut hv);
+        let r: f64 = hv
+            .iter()
+            .zip(&v)
+            .map(|(a, b)| (a - part.values[j] * b).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        assert!(r <= 1e-8 * part.norm1, "residual {r:e} of pair {j}");
+    }
+}
