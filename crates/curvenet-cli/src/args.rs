@@ -163,6 +163,9 @@ pub struct BenchArgs {
     /// Switch off warm starts between iterations (modes and the winner's factorization).
     #[arg(long = "no-warm")]
     pub no_warm: bool,
+    /// Factor every structure on the whole network's pattern, never on its own vertices only.
+    #[arg(long = "no-restrict")]
+    pub no_restrict: bool,
     /// Switch off the inertia test (one factorization at the best score so far) for
     /// candidates the bounds could not prune.
     #[arg(long = "no-inertia")]

@@ -95,3 +95,55 @@ fn eigenpairs_on_the_principal_submatrix_match_the_whole_matrix() {
         assert!(r <= 1e-8 * part.norm1, "residual {r:e} of pair {j}");
     }
 }
+
+#[test]
+fn restricted_analysis_factors_the_whole_matrix() {
+    let net = build(&random_curves(7, 4), 20.0, Supports::Clamped);
+    let a = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
+    let model = a.model();
+    let n = model.dofs();
+    let u = vec![0.0; n];
+    let curves = a.network().rods.len();
+    let active = ActiveSet::from_curves(curves, &[0, 2]);
+    let restricted = a.symbolic_for(&active);
+    assert!(
+        restricted.kept_dofs() < n,
+        "the structure leaves loose vertices ({} of {n} kept)",
+        restricted.kept_dofs()
+    );
+    let h = model.assemble(&u, &active, true).hess;
+    let s = model.pattern().sym_norm1(&h);
+    let b: Vec<f64> = (0..n).map(|i| ((i * 31) % 17) as f64 - 8.0).collect();
+    let residual = |f: &Cholesky, values: &[f64], shift: f64| {
+        let mut x = b.clone();
+        f.solve_vec(&mut x);
+        let mut hx = vec![0.0; n];
+        model.pattern().sym_matvec(values, &x, &mut hx);
+        let r: f64 = hx
+            .iter()
+            .zip(&x)
+            .zip(&b)
+            .map(|((hx, x), b)| (hx + shift * x - b).powi(2))
+            .sum::<f64>()
+            .sqrt();
+        r / b.iter().map(|v| v * v).sum::<f64>().sqrt()
+    };
+    // The structure's matrix (loose vertices decoupled): the restricted factor solves the
+    // whole system as accurately as the full one.
+    let fr = Cholesky::factorize(&restricted, model.pattern(), &h, s).expect("definite");
+    let ff = Cholesky::factorize(a.symbolic(), model.pattern(), &h, s).expect("definite");
+    let (rr, rf) = (residual(&fr, &h, s), residual(&ff, &h, s));
+    assert!(
+        rr < 1e-12 && rf < 1e-12,
+        "residuals {rr:e} (restricted), {rf:e} (full)"
+    );
+    // A matrix coupling the left-out vertices (the whole network's) is factored exactly too:
+    // the analysis falls back to the full pattern.
+    let h_all = model.assemble(&u, &a.all(), true).hess;
+    let s_all = model.pattern().sym_norm1(&h_all);
+    let fc = Cholesky::factorize(&restricted, model.pattern(), &h_all, s_all).expect("definite");
+    let rc = residual(&fc, &h_all, s_all);
+    assert!(rc < 1e-12, "residual {rc:e} of a coupled matrix");
+    // A non-positive diagonal on a left-out coordinate is reported, not hidden.
+    assert!(Cholesky::factorize(&restricted, model.pattern(), &h, -10.0 * s).is_err());
+}

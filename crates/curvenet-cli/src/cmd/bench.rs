@@ -60,12 +60,13 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         .build()?;
     println!(
         "curvenet bench: {threads} thread(s); pruning {}, inertia test {}, chord steps {}, \
-         Krylov steps {}, warm starts {}",
+         Krylov steps {}, warm starts {}, restricted factorizations {}",
         on(!a.no_prune),
         on(!a.no_prune && !a.no_inertia),
         on(a.chord),
         on(a.krylov),
-        on(!a.no_warm)
+        on(!a.no_warm),
+        on(!a.no_restrict)
     );
     println!(
         "{:<9} {:>6} {:>6} {:>5} {:>5} {:>6} {:>6} {:>6} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}",
@@ -91,6 +92,9 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         let mut stability = StabilityParams::default();
         if a.chord {
             stability.newton.chord_ratio = 0.25;
+        }
+        if a.no_restrict {
+            stability.restrict_share = 0.0;
         }
         if a.krylov {
             stability.newton.krylov_iterations = 16;

@@ -21,8 +21,8 @@
 use super::{Scorer, Work};
 use crate::rod::ActiveSet;
 use crate::rod::model::LocalHessians;
-use crate::solve::Cholesky;
 use crate::solve::eigen::Spectrum;
+use crate::solve::{Cholesky, SymbolicFactor};
 use crate::stability::StabilityError;
 use faer::{Mat, MatRef};
 use rayon::prelude::*;
@@ -109,17 +109,23 @@ pub struct CandidateContext<'s, 'a> {
     solves: AtomicUsize,
     /// A factorization of `H_A − σI`, for refined bounds.
     preconditioner: Option<Arc<Cholesky>>,
+    /// The symbolic analysis for `A`'s matrices (and its candidates').
+    symbolic: Arc<SymbolicFactor>,
 }
 
 impl<'s, 'a> CandidateContext<'s, 'a> {
     /// Prepares the iteration of structure `active` at displacements `u`, with its low
-    /// `modes` (columns).
+    /// `modes` (columns). `symbolic`: the analysis for `active`'s matrices when the caller has
+    /// it ([`crate::simplify::Evaluation::symbolic`]), else computed
+    /// ([`crate::stability::Analyzer::symbolic_for`], the same analysis).
     pub fn new(
         scorer: &'s Scorer<'a>,
         active: &ActiveSet,
         u: &[f64],
         modes: MatRef<'_, f64>,
+        symbolic: Option<Arc<SymbolicFactor>>,
     ) -> Self {
+        let symbolic = symbolic.unwrap_or_else(|| scorer.analyzer().symbolic_for(active));
         let model = scorer.analyzer().model();
         let locals = model.local_hessians(u);
         let mut h = Vec::new();
@@ -154,6 +160,7 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
             factorizations: AtomicUsize::new(0),
             solves: AtomicUsize::new(0),
             preconditioner: None,
+            symbolic,
         }
     }
 
@@ -341,9 +348,12 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
     pub fn score(&self, c: usize) -> Result<(Spectrum, Cholesky), StabilityError> {
         let warm = self.ritz_vectors(c);
         let warm = warm.as_ref().map_or(self.modes.as_ref(), |w| w.as_ref());
-        let r = self
-            .scorer
-            .lambda_fixed(&self.locals, &self.active.without(c), Some(warm));
+        let r = self.scorer.lambda_fixed(
+            &self.locals,
+            &self.active.without(c),
+            Some(warm),
+            &self.symbolic,
+        );
         if let Ok((sp, _)) = &r {
             self.factorizations
                 .fetch_add(sp.factorizations, Ordering::Relaxed);
@@ -366,6 +376,7 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
             &self.active.without(c),
             Some(warm),
             sigma,
+            &self.symbolic,
         );
         match &r {
             Ok(Some((sp, _))) => {

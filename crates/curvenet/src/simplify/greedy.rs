@@ -240,7 +240,8 @@ pub fn greedy(
                 .find(|c| c.curve == removed)
                 .is_none_or(|c| c.shift.is_none());
             let factor = if scored_about_zero {
-                let ctx = CandidateContext::new(&scorer, &prev, &r.displacement, r.modes.as_ref());
+                let ctx =
+                    CandidateContext::new(&scorer, &prev, &r.displacement, r.modes.as_ref(), None);
                 ctx.score(removed).ok().map(|(_, f)| f)
             } else {
                 None
@@ -316,6 +317,7 @@ pub fn greedy(
             &active,
             &eval.displacement,
             eval.spectrum.vectors.as_ref(),
+            Some(eval.symbolic.clone()),
         )
         .with_preconditioner(eval.factor.clone());
         timings.locals_seconds += t.elapsed().as_secs_f64();

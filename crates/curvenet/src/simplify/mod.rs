@@ -103,6 +103,9 @@ pub struct Evaluation {
     /// The factorization of `H − σI` at equilibrium that the spectrum used (a preconditioner
     /// for the structures one curve smaller).
     pub factor: Option<std::sync::Arc<Cholesky>>,
+    /// The symbolic analysis its factorizations used ([`Analyzer::symbolic_for`] the
+    /// structure), good for every structure inside it.
+    pub symbolic: std::sync::Arc<crate::solve::SymbolicFactor>,
 }
 
 /// Counts of the expensive operations, for benchmarks.
@@ -201,13 +204,14 @@ impl<'a> Scorer<'a> {
         }
         let model = a.model();
         let mut u = start.map_or_else(|| vec![0.0; model.dofs()], <[f64]>::to_vec);
-        let newton = a.relax_with_factor(active, &mut u, factor);
+        let symbolic = a.symbolic_for(active);
+        let newton = a.relax_with(active, &mut u, factor, &symbolic);
         let h = model.assemble(&u, active, true).hess;
         let warm = modes.map(|w| restrict(w, &model.vertex_mask(active)));
         let (spectrum, factor) = smallest_eigenpairs_factored(
             model.pattern(),
             &h,
-            a.symbolic(),
+            &symbolic,
             warm.as_ref().map(|w| w.as_ref()),
             &self.eval_eigen,
         )?;
@@ -223,6 +227,7 @@ impl<'a> Scorer<'a> {
             },
             displacement: u,
             spectrum,
+            symbolic,
         })
     }
 
@@ -281,18 +286,22 @@ impl<'a> Scorer<'a> {
 
     /// `λ_fix(active | A)` from the local Hessians at `A`'s equilibrium, warm-started from
     /// `warm` (approximate low modes), with the factorization it used.
+    ///
+    /// `symbolic` is the analysis to factor with: [`Analyzer::symbolic_for`] `active` or a
+    /// structure containing it.
     pub fn lambda_fixed(
         &self,
         locals: &LocalHessians,
         active: &ActiveSet,
         warm: Option<MatRef<'_, f64>>,
+        symbolic: &std::sync::Arc<crate::solve::SymbolicFactor>,
     ) -> Result<(Spectrum, Cholesky), StabilityError> {
         let (h, warm) = self.fixed_problem(locals, active, warm)?;
         let model = self.analyzer.model();
         Ok(smallest_eigenpairs_factored(
             model.pattern(),
             &h,
-            self.analyzer.symbolic(),
+            symbolic,
             warm.as_ref().map(|w| w.as_ref()),
             &self.candidate_eigen,
         )?)
@@ -306,13 +315,14 @@ impl<'a> Scorer<'a> {
         active: &ActiveSet,
         warm: Option<MatRef<'_, f64>>,
         sigma: f64,
+        symbolic: &std::sync::Arc<crate::solve::SymbolicFactor>,
     ) -> Result<Option<(Spectrum, Cholesky)>, StabilityError> {
         let (h, warm) = self.fixed_problem(locals, active, warm)?;
         let model = self.analyzer.model();
         Ok(smallest_eigenpairs_above(
             model.pattern(),
             &h,
-            self.analyzer.symbolic(),
+            symbolic,
             warm.as_ref().map(|w| w.as_ref()),
             &self.candidate_eigen,
             sigma,

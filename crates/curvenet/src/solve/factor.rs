@@ -17,7 +17,7 @@ use faer::sparse::linalg::cholesky::{
     CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
     factorize_symbolic_cholesky,
 };
-use faer::{Conj, MatMut, Par, Side};
+use faer::{Conj, Mat, MatMut, Par, Side};
 use std::sync::Arc;
 
 /// Networks with at least this many unknowns also try a nested-dissection ordering.
@@ -40,6 +40,28 @@ pub struct SymbolicFactor {
     /// factorization (≈ 8% of a factorization on the tower). Which buffer a factorization
     /// gets never affects its values (faer zeroes `L` and overwrites the scratch).
     pool: std::sync::Mutex<Pool>,
+    /// When this analysis covers only some coordinates of a larger pattern (see
+    /// [`SymbolicFactor::restricted`]): how they sit in it.
+    restriction: Option<Restriction>,
+}
+
+/// The coordinates a restricted analysis covers, inside the full pattern.
+#[derive(Debug)]
+struct Restriction {
+    /// The full pattern's analysis, used when a matrix couples a left-out coordinate.
+    full: Arc<SymbolicFactor>,
+    /// Size of the full pattern.
+    n_full: usize,
+    /// Kept coordinates of the full pattern, ascending.
+    dofs: Vec<usize>,
+    /// For each stored entry of the sub-pattern, its slot in the full pattern.
+    slots: Vec<usize>,
+    /// The pattern of the kept coordinates.
+    sub: Pattern,
+    /// Left-out coordinates and the full-pattern slot of their diagonal entry.
+    rest: Vec<(usize, usize)>,
+    /// Full-pattern slots of off-diagonal entries touching a left-out coordinate.
+    coupling: Vec<usize>,
 }
 
 #[derive(Default)]
@@ -105,6 +127,51 @@ impl SymbolicFactor {
     /// Analyses `pattern`: AMD, and on networks of more than [`ND_MIN_DOFS`] unknowns also
     /// nested dissection, keeping the ordering with less fill (see [`super::ordering`]).
     pub fn new(pattern: &Pattern) -> Arc<Self> {
+        Arc::new(Self::analyse(pattern))
+    }
+
+    /// An analysis of the coordinates `keep` selects (`keep.len() == pattern.n`) for matrices
+    /// on `pattern` whose other coordinates are decoupled (no stored off-diagonal entry of the
+    /// matrix touches them: loose vertices, which only carry a diagonal). Factorizations with
+    /// it take values on the whole `pattern` and give a factor of the whole matrix — the
+    /// principal submatrix on `keep` factored sparsely, the rest a diagonal — at the cost of
+    /// the kept coordinates only. A matrix that does couple a left-out coordinate is factored
+    /// with `full` (the whole pattern's analysis) instead: the result is always exact.
+    pub fn restricted(full: &Arc<SymbolicFactor>, pattern: &Pattern, keep: &[bool]) -> Arc<Self> {
+        let (sub, slots, dofs) = pattern.principal(keep);
+        let mut rest = Vec::new();
+        let mut coupling = Vec::new();
+        for j in 0..pattern.n {
+            for k in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
+                let i = pattern.row_idx[k];
+                if i == j {
+                    if !keep[j] {
+                        rest.push((j, k));
+                    }
+                } else if !keep[i] || !keep[j] {
+                    coupling.push(k);
+                }
+            }
+        }
+        let mut analysis = Self::analyse(&sub);
+        analysis.restriction = Some(Restriction {
+            full: full.clone(),
+            n_full: pattern.n,
+            dofs,
+            slots,
+            sub,
+            rest,
+            coupling,
+        });
+        Arc::new(analysis)
+    }
+
+    /// Coordinates the factorizations work on (all of the pattern's unless restricted).
+    pub fn kept_dofs(&self) -> usize {
+        self.inner.nrows()
+    }
+
+    fn analyse(pattern: &Pattern) -> Self {
         let amd = factorize_symbolic_cholesky(
             pattern.symbolic(),
             Side::Upper,
@@ -116,6 +183,7 @@ impl SymbolicFactor {
             inner: amd,
             ordering: OrderingKind::Amd,
             pool: Default::default(),
+            restriction: None,
         };
         if pattern.n >= ND_MIN_DOFS {
             if let Some(perm) = ordering::nested_dissection(pattern) {
@@ -134,11 +202,12 @@ impl SymbolicFactor {
                         inner: nd,
                         ordering: OrderingKind::NestedDissection,
                         pool: Default::default(),
+                        restriction: None,
                     };
                 }
             }
         }
-        Arc::new(best)
+        best
     }
 
     /// The ordering chosen.
@@ -157,6 +226,8 @@ impl SymbolicFactor {
 pub struct Cholesky {
     symbolic: Arc<SymbolicFactor>,
     values: Vec<f64>,
+    /// With a restricted analysis: the diagonal (shift included) of each left-out coordinate.
+    rest: Vec<f64>,
     /// The diagonal shift `τ` that was added.
     pub shift: f64,
 }
@@ -186,6 +257,27 @@ impl Cholesky {
         values: &[f64],
         shift: f64,
     ) -> Result<Cholesky, NotPositiveDefinite> {
+        if let Some(r) = &symbolic.restriction {
+            if r.coupling.iter().any(|&k| values[k] != 0.0) {
+                return Self::factorize_impl(&r.full, pattern, values, shift);
+            }
+            let mut rest = Vec::with_capacity(r.rest.len());
+            for &(j, k) in &r.rest {
+                let d = values[k] + shift;
+                if !(d > 0.0 && d.is_finite()) {
+                    return Err(NotPositiveDefinite { column: j });
+                }
+                rest.push(d);
+            }
+            let mut sub: Vec<f64> = r.slots.iter().map(|&k| values[k]).collect();
+            for &d in &r.sub.diag {
+                sub[d] += shift;
+            }
+            let mut f = Self::factorize_sub(symbolic, &r.sub, &sub)?;
+            f.rest = rest;
+            f.shift = shift;
+            return Ok(f);
+        }
         let shifted;
         let vals = if shift != 0.0 {
             let mut v = values.to_vec();
@@ -197,8 +289,20 @@ impl Cholesky {
         } else {
             values
         };
-        let a = SparseColMatRef::new(pattern.symbolic(), vals);
+        let mut f = Self::factorize_sub(symbolic, pattern, vals)?;
+        f.shift = shift;
+        Ok(f)
+    }
+
+    /// Factors the matrix with upper-triangle `vals` on `pattern`, the pattern `symbolic`
+    /// analysed (the whole pattern, or the kept coordinates of a restricted analysis).
+    fn factorize_sub(
+        symbolic: &Arc<SymbolicFactor>,
+        pattern: &Pattern,
+        vals: &[f64],
+    ) -> Result<Cholesky, NotPositiveDefinite> {
         let sym = &symbolic.inner;
+        let a = SparseColMatRef::new(pattern.symbolic(), vals);
         let mut l_values = symbolic.take_values();
         let par = Par::Seq;
         let mut mem = symbolic.take_scratch();
@@ -217,7 +321,8 @@ impl Cholesky {
             Ok(()) => Ok(Cholesky {
                 symbolic: symbolic.clone(),
                 values: l_values,
-                shift,
+                rest: Vec::new(),
+                shift: 0.0,
             }),
             Err(faer::linalg::cholesky::llt::factor::LltError::NonPositivePivot { index }) => {
                 symbolic.give_values(l_values);
@@ -233,6 +338,26 @@ impl Cholesky {
     }
 
     fn solve_impl(&self, rhs: MatMut<'_, f64>) {
+        let Some(r) = &self.symbolic.restriction else {
+            self.solve_kept(rhs);
+            return;
+        };
+        assert_eq!(rhs.nrows(), r.n_full, "right-hand side of the full size");
+        let mut rhs = rhs;
+        let mut sub = Mat::<f64>::from_fn(r.dofs.len(), rhs.ncols(), |i, j| rhs[(r.dofs[i], j)]);
+        self.solve_kept(sub.as_mut());
+        for j in 0..rhs.ncols() {
+            for (i, &d) in r.dofs.iter().enumerate() {
+                rhs[(d, j)] = sub[(i, j)];
+            }
+            for (&(d, _), &diag) in r.rest.iter().zip(&self.rest) {
+                rhs[(d, j)] /= diag;
+            }
+        }
+    }
+
+    /// Solves on the coordinates the factor covers.
+    fn solve_kept(&self, rhs: MatMut<'_, f64>) {
         // Columns are solved in fixed groups of `SOLVE_GROUP`, in parallel when threads are
         // free. faer's result for a column depends on which columns share its call, so the
         // grouping is fixed (never by thread count) to keep results bit-identical.

@@ -18,7 +18,7 @@ use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
 /// Parameters of every stability computation.
-#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct StabilityParams {
     /// Material constants.
@@ -29,11 +29,33 @@ pub struct StabilityParams {
     pub eigen: EigenParams,
     /// Gravity load for the deflection report.
     pub gravity: GravityParams,
+    /// A structure holding at most this share of the network's vertices is factored on its
+    /// own vertices only (see [`Analyzer::symbolic_for`]); 0 factors every structure on the
+    /// whole pattern. Only the work changes, not the results (beyond round-off).
+    pub restrict_share: f64,
+}
+
+impl Default for StabilityParams {
+    fn default() -> Self {
+        StabilityParams {
+            material: Material::default(),
+            newton: NewtonParams::default(),
+            eigen: EigenParams::default(),
+            gravity: GravityParams::default(),
+            restrict_share: 0.85,
+        }
+    }
 }
 
 impl StabilityParams {
     /// Checks every part.
     pub fn validate(&self) -> Result<(), String> {
+        if !(0.0..=1.0).contains(&self.restrict_share) {
+            return Err(format!(
+                "restrict_share must lie in [0, 1], got {}",
+                self.restrict_share
+            ));
+        }
         self.material.validate()?;
         self.newton.validate()?;
         self.eigen.validate()?;
@@ -176,6 +198,22 @@ impl Analyzer {
         &self.symbolic
     }
 
+    /// The symbolic analysis for the matrices of structure `active` (and of its
+    /// sub-structures): the whole pattern's while `active` holds more than
+    /// [`StabilityParams::restrict_share`] of the vertices, otherwise one restricted to `active`'s vertices
+    /// (see [`SymbolicFactor::restricted`]) — the other vertices are loose, decoupled, so the
+    /// factorizations only need to see `active`'s. A pure function of `active`: which analysis
+    /// a computation uses never depends on what ran before it.
+    pub fn symbolic_for(&self, active: &ActiveSet) -> Arc<SymbolicFactor> {
+        let mask = self.model.vertex_mask(active);
+        let held = mask.iter().filter(|&&m| m).count();
+        if held as f64 > self.params.restrict_share * mask.len() as f64 {
+            return self.symbolic.clone();
+        }
+        let keep: Vec<bool> = mask.iter().flat_map(|&m| [m; 3]).collect();
+        SymbolicFactor::restricted(&self.symbolic, self.model.pattern(), &keep)
+    }
+
     /// The parameters.
     pub fn params(&self) -> &StabilityParams {
         &self.params
@@ -200,13 +238,25 @@ impl Analyzer {
         u: &mut [f64],
         factor: Option<Cholesky>,
     ) -> NewtonInfo {
+        self.relax_with(active, u, factor, &self.symbolic_for(active))
+    }
+
+    /// [`Self::relax_with_factor`] with the symbolic analysis given (one of
+    /// [`Self::symbolic_for`] `active` or a superset of it).
+    pub fn relax_with(
+        &self,
+        active: &ActiveSet,
+        u: &mut [f64],
+        factor: Option<Cholesky>,
+        symbolic: &Arc<SymbolicFactor>,
+    ) -> NewtonInfo {
         let zero = vec![0.0; self.model.dofs()];
         let g0 = self.model.assemble(&zero, active, false).grad;
         let reference = g0.iter().map(|g| g * g).sum::<f64>().sqrt();
         relax_with_factor(
             &self.model,
             active,
-            &self.symbolic,
+            symbolic,
             u,
             Some(reference),
             &self.params.newton,
@@ -229,7 +279,7 @@ impl Analyzer {
         Ok(smallest_eigenpairs(
             self.model.pattern(),
             &h,
-            &self.symbolic,
+            &self.symbolic_for(active),
             warm_start,
             &self.params.eigen,
         )?)
@@ -245,12 +295,13 @@ impl Analyzer {
             return Err(StabilityError::Empty);
         }
         let mut u = start.map_or_else(|| vec![0.0; self.model.dofs()], <[f64]>::to_vec);
-        let newton = self.relax(active, &mut u);
+        let symbolic = self.symbolic_for(active);
+        let newton = self.relax_with(active, &mut u, None, &symbolic);
         let h = self.model.assemble(&u, active, true).hess;
         let spectrum = smallest_eigenpairs(
             self.model.pattern(),
             &h,
-            &self.symbolic,
+            &symbolic,
             None,
             &self.params.eigen,
         )?;
