@@ -211,6 +211,11 @@ pub struct DemoArgs {
     /// 1e6 / unknowns, e.g. 220 on the demo, 60 on the tower; 0: the relaxation's bound only).
     #[arg(long = "certificate-nodes")]
     pub certificate_nodes: Option<usize>,
+    /// After the greedy, run the local search from its final network (add / drop / swap
+    /// moves with part steps, then variable-depth chains; `λ_eq` relaxed from the drawn state)
+    /// and record its answer in result.json next to the greedy's (`local_search`).
+    #[arg(long = "local-search")]
+    pub local_search: bool,
     /// Material and solver options.
     #[command(flatten)]
     pub physics: PhysicsArgs,
@@ -281,6 +286,11 @@ pub struct GreedyArgs {
     /// 1e6 / unknowns, e.g. 220 on the demo, 60 on the tower; 0: the relaxation's bound only).
     #[arg(long = "certificate-nodes")]
     pub certificate_nodes: Option<usize>,
+    /// After the greedy, run the local search from its final network (add / drop / swap
+    /// moves with part steps, then variable-depth chains; `λ_eq` relaxed from the drawn state)
+    /// and record its answer in result.json next to the greedy's (`local_search`).
+    #[arg(long = "local-search")]
+    pub local_search: bool,
 }
 
 /// `curvenet analyze`.
@@ -349,6 +359,11 @@ pub struct ExampleArgs {
     /// 1e6 / unknowns, e.g. 220 on the demo, 60 on the tower; 0: the relaxation's bound only).
     #[arg(long = "certificate-nodes")]
     pub certificate_nodes: Option<usize>,
+    /// After the greedy, run the local search from its final network (add / drop / swap
+    /// moves with part steps, then variable-depth chains; `λ_eq` relaxed from the drawn state)
+    /// and record its answer in result.json next to the greedy's (`local_search`).
+    #[arg(long = "local-search")]
+    pub local_search: bool,
     /// Print one JSON object on stdout.
     #[arg(long)]
     pub json: bool,

@@ -863,3 +863,51 @@ fn simplify_writes_a_fixed_geometry_certificate_unless_told_not_to() {
     let result = std::fs::read_to_string(r.dir.join("out/result.json")).unwrap();
     assert!(!result.contains("certificate"), "{result}");
 }
+
+#[test]
+fn simplify_records_the_local_search_when_asked() {
+    let mut args = vec![
+        "simplify",
+        "--curves",
+        "grid.txt",
+        "--out",
+        "out",
+        "--budget",
+        "0.6",
+        "--no-certificate",
+    ];
+    args.extend_from_slice(QUIET);
+    args.push("--local-search");
+    let r = run(&[("grid.txt", GRID.as_bytes())], &args);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert!(
+        r.stdout.contains("local search from the greedy"),
+        "{}",
+        r.stdout
+    );
+    let result = std::fs::read_to_string(r.dir.join("out/result.json")).unwrap();
+    let result: serde_json::Value = serde_json::from_str(&result).unwrap();
+    let l = &result["local_search"];
+    assert_eq!(l["objective"], "lambda_eq", "{l}");
+    assert_eq!(l["strategy"], "variable_depth", "{l}");
+    assert_eq!(l["start_curves"], result["final"]["curves"]);
+    let (start, end) = (
+        l["start_lambda"].as_f64().unwrap(),
+        l["lambda"].as_f64().unwrap(),
+    );
+    assert!(end >= start, "{l}");
+    assert!(l["length"].as_f64().unwrap() <= result["budget"].as_f64().unwrap());
+    let moves = l["moves"].as_array().unwrap();
+    assert_eq!(moves.is_empty(), l["curves"] == l["start_curves"], "{l}");
+    for key in ["rounds", "chains", "evaluations", "structures"] {
+        assert!(l[key].as_u64().is_some(), "{key}: {l}");
+    }
+    let timings = std::fs::read_to_string(r.dir.join("out/timings.json")).unwrap();
+    assert!(timings.contains("local_search_seconds"));
+
+    args.pop();
+    let r = run(&[("grid.txt", GRID.as_bytes())], &args);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    let result = std::fs::read_to_string(r.dir.join("out/result.json")).unwrap();
+    assert!(!result.contains("local_search"), "{result}");
+}

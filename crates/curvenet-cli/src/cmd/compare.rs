@@ -55,7 +55,7 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
     let report = compare(&params, &surfaces, &|done, _| bar.set_position(done as u64))?;
     bar.finish_and_clear();
     println!(
-        "greedy, greedy + local search, rounded relaxation, exact λ_fix, exhaustive and random \
+        "greedy, greedy + local search (and single moves), rounded relaxation, exact λ_fix, exhaustive and random \
          search, budget {}, {} networks per size, surfaces {}",
         params.budget,
         params.instances,

@@ -63,6 +63,7 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
         out: a.out,
         certificate: !a.no_certificate,
         certificate_nodes: a.certificate_nodes,
+        local_search: a.local_search,
         resume: false,
         prune: Default::default(),
         mesh: Some(mesh),

@@ -71,6 +71,7 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
             .unwrap_or_else(|| PathBuf::from("out").join(&a.name)),
         certificate: !a.no_certificate,
         certificate_nodes: a.certificate_nodes,
+        local_search: a.local_search,
         resume: a.resume,
         mesh: Some(ex.mesh),
         prune: PruneParams {

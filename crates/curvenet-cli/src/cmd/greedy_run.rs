@@ -7,11 +7,12 @@ use curvenet::io::{Polyline, TriMesh};
 use curvenet::network::{BuildParams, build_network};
 use curvenet::simplify::candidates::PruneParams;
 use curvenet::simplify::greedy::IterationRecord;
+use curvenet::simplify::local::{LocalParams, local_search};
 use curvenet::simplify::relaxation::{Certificate, CertifyParams, FixedProblem};
 use curvenet::simplify::result::{
-    InputDescription, OutputWriter, RunSetup, read_f64_file, summary,
+    InputDescription, LocalSearchRecord, OutputWriter, RunSetup, read_f64_file, summary,
 };
-use curvenet::simplify::{Budget, GreedyParams, SimplifyError, greedy};
+use curvenet::simplify::{Budget, GreedyParams, Scorer, SimplifyError, StopReason, greedy};
 use curvenet::stability::{Analyzer, StabilityParams};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
@@ -35,6 +36,8 @@ pub struct GreedyJob {
     pub certificate: bool,
     /// Branch and bound nodes spent tightening the certificate (None: by network size).
     pub certificate_nodes: Option<usize>,
+    /// Run the local search from the greedy's final network and record its answer.
+    pub local_search: bool,
     pub prune: PruneParams,
     /// The surface, in scene units, written next to the result when known.
     pub mesh: Option<TriMesh>,
@@ -159,6 +162,20 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         }
         Err(e) => return Err(e.into()),
     };
+    let local_start = Instant::now();
+    let local = if job.local_search {
+        match local_search_of(&analyzer, &params, &outcome) {
+            Ok(r) => Some(r),
+            Err(e) => {
+                print_warnings(&[format!("no local search: {e}")]);
+                None
+            }
+        }
+    } else {
+        None
+    };
+    let local_seconds = local_start.elapsed().as_secs_f64();
+    writer.set_local_search(local);
     let cert_start = Instant::now();
     let certificate = if job.certificate {
         match certificate_of(
@@ -183,6 +200,7 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         "total_seconds": start.elapsed().as_secs_f64(),
         "greedy": outcome.timings,
         "certificate_seconds": job.certificate.then_some(certificate_seconds),
+        "local_search_seconds": job.local_search.then_some(local_seconds),
         "threads": rayon::current_num_threads(),
     });
     writer.finish(&outcome, &timings).map_err(|e| ExitError {
@@ -196,6 +214,9 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         Err(e) => print_warnings(&[format!("pictures and viewer not written: {e}")]),
     }
     print!("{}", summary(writer.result()));
+    if job.local_search {
+        println!("local search time: {local_seconds:.2} s");
+    }
     if job.certificate {
         println!("certificate time: {certificate_seconds:.2} s");
     }
@@ -205,6 +226,31 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         job.out.display()
     );
     Ok(())
+}
+
+/// The local search (its default: descent with part steps, then variable-depth chains) from
+/// the greedy's final network, with the run's budget and keep list.
+fn local_search_of(
+    analyzer: &Analyzer,
+    params: &GreedyParams,
+    outcome: &curvenet::simplify::GreedyOutcome,
+) -> anyhow::Result<LocalSearchRecord> {
+    let last = outcome
+        .iterations
+        .last()
+        .ok_or_else(|| anyhow::anyhow!("no iteration"))?;
+    if outcome.stop != StopReason::BudgetMet {
+        anyhow::bail!(
+            "the greedy's final network does not meet the budget (stop: {:?})",
+            outcome.stop
+        );
+    }
+    let local = LocalParams {
+        keep: params.keep.clone(),
+        ..LocalParams::new(params.budget)
+    };
+    let o = local_search(&Scorer::new(analyzer), &local, &last.curves)?;
+    LocalSearchRecord::new(&local, &o).ok_or_else(|| anyhow::anyhow!("λ_eq could not be evaluated"))
 }
 
 /// The fixed-geometry certificate of the greedy's final network: `λ_fix` at the full

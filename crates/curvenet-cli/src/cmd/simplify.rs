@@ -18,6 +18,7 @@ pub fn run(a: SimplifyArgs) -> anyhow::Result<()> {
         out: a.out.clone(),
         certificate: !a.greedy.no_certificate,
         certificate_nodes: a.greedy.certificate_nodes,
+        local_search: a.greedy.local_search,
         resume: a.greedy.resume,
         prune: Default::default(),
         mesh: inputs.mesh,

@@ -8,10 +8,13 @@
 //! - exhaustive search (every feasible subset: the optimum and the greedy's percentile),
 //! - random search with as many evaluations as the greedy spent (every candidate of every
 //!   iteration, as the paper's greedy evaluates them, plus one per iteration),
-//! - the greedy followed by the local search of [`super::local`] (first improvement, add-back
-//!   and drop moves),
-//! - the multi-start local search: the same from the greedy's set and from every curve alone,
-//!   the best outcome,
+//! - the greedy followed by the local search of [`super::local`]: its default (first-improvement
+//!   descent with part steps, then variable-depth chains) and, for comparison, the former
+//!   single improving moves (first improvement, no part steps), each from the greedy's final
+//!   set alone, each with a scorer of its own so its time and the structures it relaxed are
+//!   its own (no help from the other searches' cache),
+//! - the multi-start local search: single moves from the greedy's set and from every curve
+//!   alone, the best outcome,
 //! - the rounded relaxation: the best `λ_fix` among the roundings of the relaxed faces'
 //!   solutions (and the faces' first curves) of [`FixedProblem::certify`], re-evaluated on
 //!   `λ_eq`; the same run gives the certified upper bound on `λ_fix`,
@@ -26,7 +29,7 @@
 use super::exact::{ExactParams, exact};
 use super::exhaustive::{ExhaustiveParams, exhaustive, exhaustive_fixed};
 use super::greedy::{GreedyParams, NoHooks, greedy};
-use super::local::{LocalParams, local_search, local_search_multi};
+use super::local::{LocalOutcome, LocalParams, local_search, local_search_multi};
 use super::random::{RandomParams, random_search};
 use super::relaxation::{CertifyParams, FixedProblem};
 use super::{Budget, Scorer, SimplifyError};
@@ -112,12 +115,50 @@ pub struct InstanceResult {
     pub percentile: f64,
     /// Best `λ_eq` found by random search.
     pub random: f64,
-    /// `λ_eq` after the local search from the greedy's final set.
+    /// Wall time of the greedy (seconds).
+    #[serde(default)]
+    pub greedy_seconds: f64,
+    /// `λ_eq` after the local search (its default: descent, part steps, chains) from the
+    /// greedy's final set.
     pub local: f64,
     /// Its curves.
     pub local_curves: Vec<usize>,
-    /// Moves the local search took.
+    /// Moves it kept.
     pub local_moves: usize,
+    /// Chains it built (the last one, which found nothing, included).
+    #[serde(default)]
+    pub local_chains: usize,
+    /// Distinct subsets it evaluated.
+    #[serde(default)]
+    pub local_evaluations: usize,
+    /// Connected structures it relaxed (its own scorer: nothing cached beforehand).
+    #[serde(default)]
+    pub local_structures: usize,
+    /// Its wall time (seconds).
+    #[serde(default)]
+    pub local_seconds: f64,
+    /// `λ_eq` after single improving moves (first improvement, no part steps) from the
+    /// greedy's final set.
+    #[serde(default)]
+    pub single: f64,
+    /// Its curves.
+    #[serde(default)]
+    pub single_curves: Vec<usize>,
+    /// Moves it took.
+    #[serde(default)]
+    pub single_moves: usize,
+    /// Distinct subsets it evaluated.
+    #[serde(default)]
+    pub single_evaluations: usize,
+    /// Its wall time (seconds, its own scorer).
+    #[serde(default)]
+    pub single_seconds: f64,
+    /// Wall time of exhaustive search over `λ_eq` (seconds).
+    #[serde(default)]
+    pub exhaustive_seconds: f64,
+    /// Connected structures exhaustive search relaxed.
+    #[serde(default)]
+    pub exhaustive_structures: usize,
     /// `λ_eq` of the multi-start local search (from the greedy's set and every curve alone).
     pub multi: f64,
     /// Its curves.
@@ -169,6 +210,52 @@ pub struct SizeSummary {
     pub local_ratio_mean: f64,
     /// Smallest (greedy + local search) / optimum.
     pub local_ratio_min: f64,
+    /// Instances where it reached the optimum (within the relative tie tolerance 1e-7).
+    #[serde(default)]
+    pub local_optimal: usize,
+    /// Mean of (greedy + single improving moves) / optimum (`λ_eq`).
+    #[serde(default)]
+    pub single_ratio_mean: f64,
+    /// Smallest (greedy + single improving moves) / optimum.
+    #[serde(default)]
+    pub single_ratio_min: f64,
+    /// Mean wall time of the greedy (seconds per network).
+    #[serde(default)]
+    pub greedy_seconds_mean: f64,
+    /// Mean number of the greedy's evaluations (candidates scored on `λ_fix`, plus one
+    /// `λ_eq` per iteration).
+    #[serde(default)]
+    pub greedy_evaluations_mean: f64,
+    /// Mean distinct subsets the local search evaluated.
+    #[serde(default)]
+    pub local_evaluations_mean: f64,
+    /// Mean connected structures it relaxed.
+    #[serde(default)]
+    pub local_structures_mean: f64,
+    /// Mean moves it kept.
+    #[serde(default)]
+    pub local_moves_mean: f64,
+    /// Mean chains it built.
+    #[serde(default)]
+    pub local_chains_mean: f64,
+    /// Mean wall time (seconds per network).
+    #[serde(default)]
+    pub local_seconds_mean: f64,
+    /// Largest wall time (seconds).
+    #[serde(default)]
+    pub local_seconds_max: f64,
+    /// Mean distinct subsets single improving moves evaluated.
+    #[serde(default)]
+    pub single_evaluations_mean: f64,
+    /// Mean wall time of single improving moves (seconds per network).
+    #[serde(default)]
+    pub single_seconds_mean: f64,
+    /// Mean connected structures exhaustive search relaxed.
+    #[serde(default)]
+    pub exhaustive_structures_mean: f64,
+    /// Mean wall time of exhaustive search (seconds per network).
+    #[serde(default)]
+    pub exhaustive_seconds_mean: f64,
     /// Mean of multi-start local search / optimum (`λ_eq`).
     pub multi_ratio_mean: f64,
     /// Smallest multi-start local search / optimum.
@@ -207,17 +294,18 @@ pub struct CompareReport {
 }
 
 impl CompareReport {
-    /// The summary as Markdown tables: `λ_eq` against the exhaustive optimum, then the
-    /// fixed-geometry objective `λ_fix`.
+    /// The summary as Markdown tables: `λ_eq` against the exhaustive optimum, what the
+    /// greedy, the local searches and exhaustive search cost, then the fixed-geometry
+    /// objective `λ_fix`.
     pub fn markdown(&self) -> String {
         let mut s = String::from(
             "λ_eq, as a percentage of the exhaustive optimum (mean over instances; min in brackets):\n\n\
-             | N | instances | feasible subsets | greedy | greedy + local search | multi-start local search | rounded relaxation | exact λ_fix optimum | random search | greedy percentile | greedy/random | seconds |\n\
-             |---|---|---|---|---|---|---|---|---|---|---|---|\n",
+             | N | instances | feasible subsets | greedy | greedy + local search | greedy + single moves | multi-start single moves | rounded relaxation | exact λ_fix optimum | random search | greedy percentile | greedy/random | seconds |\n\
+             |---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
         );
         for r in &self.summary {
             s.push_str(&format!(
-                "| {} | {} | {:.0} | {:.1}% ({:.1}%) | {:.1}% ({:.1}%) | {:.1}% ({:.1}%) | {:.1}% | {:.1}% | {:.1}% | {:.1} ({:.1}) | {:.2} | {:.1} |\n",
+                "| {} | {} | {:.0} | {:.1}% ({:.1}%) | {:.1}% ({:.1}%) | {:.1}% ({:.1}%) | {:.1}% ({:.1}%) | {:.1}% | {:.1}% | {:.1}% | {:.1} ({:.1}) | {:.2} | {:.1} |\n",
                 r.n,
                 r.instances,
                 r.feasible_mean,
@@ -225,6 +313,8 @@ impl CompareReport {
                 100.0 * r.ratio_min,
                 100.0 * r.local_ratio_mean,
                 100.0 * r.local_ratio_min,
+                100.0 * r.single_ratio_mean,
+                100.0 * r.single_ratio_min,
                 100.0 * r.multi_ratio_mean,
                 100.0 * r.multi_ratio_min,
                 100.0 * r.rounded_ratio_mean,
@@ -234,6 +324,31 @@ impl CompareReport {
                 r.percentile_min,
                 r.random_ratio_mean,
                 r.seconds
+            ));
+        }
+        s.push_str(
+            "\nCost per network (mean; each local search from the greedy's set with a scorer of its own):\n\n\
+             | N | greedy seconds | greedy evaluations | local search: optimum reached | moves (chains) | subsets evaluated | structures relaxed | seconds (max) | single moves: subsets | seconds | exhaustive: structures relaxed | seconds |\n\
+             |---|---|---|---|---|---|---|---|---|---|---|---|\n",
+        );
+        for r in &self.summary {
+            s.push_str(&format!(
+                "| {} | {:.2} | {:.0} | {}/{} | {:.1} ({:.1}) | {:.0} | {:.0} | {:.2} ({:.2}) | {:.0} | {:.2} | {:.0} | {:.2} |\n",
+                r.n,
+                r.greedy_seconds_mean,
+                r.greedy_evaluations_mean,
+                r.local_optimal,
+                r.instances,
+                r.local_moves_mean,
+                r.local_chains_mean,
+                r.local_evaluations_mean,
+                r.local_structures_mean,
+                r.local_seconds_mean,
+                r.local_seconds_max,
+                r.single_evaluations_mean,
+                r.single_seconds_mean,
+                r.exhaustive_structures_mean,
+                r.exhaustive_seconds_mean
             ));
         }
         s.push_str(
@@ -323,7 +438,9 @@ pub fn compare(
                 .map_err(SimplifyError::Params)?;
             let scorer = Scorer::new(&analyzer);
             let budget = Budget::Fraction(params.budget);
+            let t = Instant::now();
             let g = greedy(&analyzer, &GreedyParams::new(budget), None, &mut NoHooks)?;
+            let greedy_seconds = t.elapsed().as_secs_f64();
             let last = g.iterations.last().expect("one iteration at least");
             let greedy_lambda = scorer.lambda_eq(&ActiveSet::from_curves(n, &last.curves))?;
             let greedy_evaluations = g
@@ -332,6 +449,17 @@ pub fn compare(
                 .map(|it| it.candidates.len())
                 .sum::<usize>()
                 + g.iterations.len();
+            // The local searches first, each with a scorer of its own (timed alone).
+            let timed = |p: &LocalParams| -> Result<(LocalOutcome, f64), SimplifyError> {
+                let own = Scorer::new(&analyzer);
+                let t = Instant::now();
+                let o = local_search(&own, p, &last.curves)?;
+                Ok((o, t.elapsed().as_secs_f64()))
+            };
+            let (local, local_seconds) = timed(&LocalParams::new(budget))?;
+            let (single, single_seconds) = timed(&LocalParams::single_moves(budget))?;
+            let cached = scorer.cached_structures();
+            let t = Instant::now();
             let ex = exhaustive(
                 &scorer,
                 &ExhaustiveParams {
@@ -340,6 +468,8 @@ pub fn compare(
                     max_subsets: params.max_subsets,
                 },
             )?;
+            let exhaustive_seconds = t.elapsed().as_secs_f64();
+            let exhaustive_structures = scorer.cached_structures() - cached;
             let below = ex
                 .all
                 .iter()
@@ -355,10 +485,9 @@ pub fn compare(
                     time_limit: None,
                 },
             )?;
-            let local = local_search(&scorer, &LocalParams::new(budget), &last.curves)?;
             let mut starts = vec![last.curves.clone()];
             starts.extend((0..n).map(|c| vec![c]));
-            let multi = local_search_multi(&scorer, &LocalParams::new(budget), &starts)?;
+            let multi = local_search_multi(&scorer, &LocalParams::single_moves(budget), &starts)?;
             let problem = FixedProblem::new(&analyzer, budget, &[])?;
             let greedy_fix = problem.lambda_fix(&last.curves)?;
             let report = problem.certify(&CertifyParams::default(), &[])?;
@@ -386,9 +515,21 @@ pub fn compare(
                 feasible: ex.all.len(),
                 percentile: 100.0 * below as f64 / ex.all.len() as f64,
                 random: rnd.best.lambda,
+                greedy_seconds,
                 local: local.best.lambda,
                 local_curves: local.best.curves.clone(),
                 local_moves: local.steps.len(),
+                local_chains: local.chains,
+                local_evaluations: local.evaluations,
+                local_structures: local.structures,
+                local_seconds,
+                single: single.best.lambda,
+                single_curves: single.best.curves.clone(),
+                single_moves: single.steps.len(),
+                single_evaluations: single.evaluations,
+                single_seconds,
+                exhaustive_seconds,
+                exhaustive_structures,
                 multi: multi.best.lambda,
                 multi_curves: multi.best.curves.clone(),
                 rounded,
@@ -425,6 +566,27 @@ pub fn compare(
                 .iter()
                 .map(|r| r.local / r.optimum)
                 .fold(f64::INFINITY, f64::min),
+            local_optimal: rows
+                .iter()
+                .filter(|r| r.local >= r.optimum - 1e-7 * r.optimum.abs())
+                .count(),
+            single_ratio_mean: rows.iter().map(|r| r.single / r.optimum).sum::<f64>() / k,
+            single_ratio_min: rows
+                .iter()
+                .map(|r| r.single / r.optimum)
+                .fold(f64::INFINITY, f64::min),
+            greedy_seconds_mean: mean(rows.iter().map(|r| r.greedy_seconds)),
+            greedy_evaluations_mean: mean(rows.iter().map(|r| r.greedy_evaluations as f64)),
+            local_evaluations_mean: mean(rows.iter().map(|r| r.local_evaluations as f64)),
+            local_structures_mean: mean(rows.iter().map(|r| r.local_structures as f64)),
+            local_moves_mean: mean(rows.iter().map(|r| r.local_moves as f64)),
+            local_chains_mean: mean(rows.iter().map(|r| r.local_chains as f64)),
+            local_seconds_mean: mean(rows.iter().map(|r| r.local_seconds)),
+            local_seconds_max: rows.iter().map(|r| r.local_seconds).fold(0.0, f64::max),
+            single_evaluations_mean: mean(rows.iter().map(|r| r.single_evaluations as f64)),
+            single_seconds_mean: mean(rows.iter().map(|r| r.single_seconds)),
+            exhaustive_structures_mean: mean(rows.iter().map(|r| r.exhaustive_structures as f64)),
+            exhaustive_seconds_mean: mean(rows.iter().map(|r| r.exhaustive_seconds)),
             multi_ratio_mean: rows.iter().map(|r| r.multi / r.optimum).sum::<f64>() / k,
             multi_ratio_min: rows
                 .iter()
@@ -460,6 +622,12 @@ pub fn compare(
         instances,
         summary,
     })
+}
+
+/// Mean of the values (NaN when there is none).
+fn mean(values: impl Iterator<Item = f64>) -> f64 {
+    let (sum, count) = values.fold((0.0, 0usize), |(s, c), v| (s + v, c + 1));
+    sum / count as f64
 }
 
 /// Mean of `a / b` over the pairs where both are positive (NaN when there is none).

@@ -239,23 +239,45 @@ impl<'a> Scorer<'a> {
     /// parts. Each part's value is computed once and remembered (searches over subsets meet
     /// the same parts again and again).
     pub fn lambda_eq(&self, active: &ActiveSet) -> Result<f64, StabilityError> {
+        Ok(self
+            .lambda_eq_parts(active)?
+            .iter()
+            .map(|p| p.1)
+            .fold(f64::INFINITY, f64::min))
+    }
+
+    /// The connected parts of `active` (as [`Self::components`]) with the `λ_eq` of each,
+    /// relaxed on its own (cached); [`Self::lambda_eq`] is the smallest of them.
+    pub fn lambda_eq_parts(
+        &self,
+        active: &ActiveSet,
+    ) -> Result<Vec<(Vec<usize>, f64)>, StabilityError> {
         if active.is_empty() {
             return Err(StabilityError::Empty);
         }
-        let mut lambda = f64::INFINITY;
+        let mut parts = Vec::new();
         for part in self.components(active) {
             let cached = self.cache.lock().expect("cache lock").get(&part).copied();
             let value = match cached {
                 Some(v) => v,
                 None => {
                     let v = self.lambda_eq_connected(&part)?;
-                    self.cache.lock().expect("cache lock").insert(part, v);
+                    self.cache
+                        .lock()
+                        .expect("cache lock")
+                        .insert(part.clone(), v);
                     v
                 }
             };
-            lambda = lambda.min(value);
+            parts.push((part, value));
         }
-        Ok(lambda)
+        Ok(parts)
+    }
+
+    /// Connected structures whose `λ_eq` the scorer has computed and remembers (each one
+    /// relaxation and one eigen solve; see [`Self::lambda_eq`]).
+    pub fn cached_structures(&self) -> usize {
+        self.cache.lock().expect("cache lock").len()
     }
 
     /// The connected parts of `active` (curves joined through shared vertices), each sorted,

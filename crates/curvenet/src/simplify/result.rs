@@ -19,6 +19,7 @@
 //! run to run on one machine and build, whatever the thread count.
 
 use super::greedy::{GreedyHooks, GreedyOutcome, IterationRecord, ResumePoint, StopReason};
+use super::local::{LocalOutcome, LocalParams, Step, Strategy};
 use super::relaxation::Certificate;
 use super::{Evaluation, GreedyParams};
 use crate::geom::Vec3;
@@ -72,6 +73,87 @@ pub struct FinalRecord {
     pub lambda: f64,
 }
 
+/// The local search run after the greedy (`--local-search`), from the greedy's final network.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LocalSearchRecord {
+    /// The objective: always `lambda_eq`, every subset relaxed from the drawn state (the
+    /// evaluation of exhaustive search and `curvenet compare`; the greedy's own `λ_eq` is
+    /// relaxed along its path, so it can differ slightly).
+    pub objective: String,
+    /// How moves were chosen.
+    pub strategy: Strategy,
+    /// Whether moves were followed by part steps.
+    pub parts: bool,
+    /// The greedy's final curves (the start).
+    pub start_curves: Vec<usize>,
+    /// Their `λ_eq`, relaxed from the drawn state.
+    pub start_lambda: f64,
+    /// The curves the search ended with (the start when nothing improved it).
+    pub curves: Vec<usize>,
+    /// Their total rest length (within the budget; the keep list is held).
+    pub length: f64,
+    /// Their `λ_eq`, relaxed from the drawn state.
+    pub lambda: f64,
+    /// `lambda / start_lambda` (`null` unless both are positive).
+    pub ratio: Option<f64>,
+    /// The moves taken, in order, with the `λ_eq` after each.
+    pub moves: Vec<Step>,
+    /// Rounds run (scans of single moves, each followed by a chain when it found nothing).
+    pub rounds: usize,
+    /// Variable-depth chains built.
+    pub chains: usize,
+    /// Distinct subsets evaluated.
+    pub evaluations: usize,
+    /// Connected structures relaxed (the expensive evaluations).
+    pub structures: usize,
+}
+
+impl LocalSearchRecord {
+    /// The record of `outcome`, run with `params`; `None` when a `λ_eq` is not finite (a
+    /// failed evaluation: nothing worth recording).
+    pub fn new(params: &LocalParams, outcome: &LocalOutcome) -> Option<Self> {
+        let (s, b) = (&outcome.start, &outcome.best);
+        if !(s.lambda.is_finite() && b.lambda.is_finite()) {
+            return None;
+        }
+        Some(LocalSearchRecord {
+            objective: "lambda_eq".into(),
+            strategy: params.strategy,
+            parts: params.parts,
+            start_curves: s.curves.clone(),
+            start_lambda: s.lambda,
+            curves: b.curves.clone(),
+            length: b.length,
+            lambda: b.lambda,
+            ratio: (s.lambda > 0.0 && b.lambda > 0.0).then(|| b.lambda / s.lambda),
+            moves: outcome.steps.clone(),
+            rounds: outcome.rounds,
+            chains: outcome.chains,
+            evaluations: outcome.evaluations,
+            structures: outcome.structures,
+        })
+    }
+
+    /// One line for summaries.
+    pub fn describe(&self) -> String {
+        let gain = self
+            .ratio
+            .map_or_else(String::new, |r| format!(", {r:.3}× the greedy's"));
+        format!(
+            "local search from the greedy's final network: {} move(s); curves {:?}, length {:.6}, \
+             λ_eq {:.6e} (greedy's set {:.6e} relaxed from the drawn state{gain}); {} subsets \
+             evaluated, {} structures relaxed",
+            self.moves.len(),
+            self.curves,
+            self.length,
+            self.lambda,
+            self.start_lambda,
+            self.evaluations,
+            self.structures
+        )
+    }
+}
+
 /// `result.json`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ResultFile {
@@ -96,6 +178,10 @@ pub struct ResultFile {
     /// objective `λ_fix` (absent when skipped or not computable).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub certificate: Option<Certificate>,
+    /// The local search from the final network (absent unless asked for, or when it could
+    /// not run).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub local_search: Option<LocalSearchRecord>,
 }
 
 impl ResultFile {
@@ -217,6 +303,7 @@ impl<'a> OutputWriter<'a> {
             iterations: Vec::new(),
             final_network: None,
             certificate: None,
+            local_search: None,
         };
         let w = OutputWriter {
             dir: dir.to_path_buf(),
@@ -315,6 +402,11 @@ impl<'a> OutputWriter<'a> {
     /// Sets the certificate of the final network (written by [`Self::finish`]).
     pub fn set_certificate(&mut self, certificate: Option<Certificate>) {
         self.result.certificate = certificate;
+    }
+
+    /// Sets the local search's record (written by [`Self::finish`]).
+    pub fn set_local_search(&mut self, record: Option<LocalSearchRecord>) {
+        self.result.local_search = record;
     }
 
     /// Finishes the run: final record, `result.json` complete, `final.obj`, `timings.json`,
@@ -438,6 +530,9 @@ pub fn summary(r: &ResultFile) -> String {
         .collect();
     let _ = writeln!(s, "removed in order: {}", removed.join(", "));
     let _ = writeln!(s, "iterations: {}; stop: {:?}", r.iterations.len(), r.stop);
+    if let Some(l) = &r.local_search {
+        let _ = writeln!(s, "{}", l.describe());
+    }
     if let Some(c) = &r.certificate {
         let _ = writeln!(s, "{}", c.describe());
     }
