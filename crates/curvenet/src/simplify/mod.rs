@@ -1,6 +1,6 @@
 //! Simplification: pick the subset of curves that fits the budget and is most stable.
 //!
-//! - [`greedy`]: the paper's Algorithm 1 (SPEC §6), every iteration recorded;
+//! - [`greedy()`]: the paper's Algorithm 1 (SPEC §6), every iteration recorded;
 //! - [`exhaustive`]: all feasible subsets, the exact optimum of `λ_eq` (or `λ_fix`) for small
 //!   networks;
 //! - [`relaxation`]: certified upper bounds on the best `λ_fix` (SPEC §7 relaxed);

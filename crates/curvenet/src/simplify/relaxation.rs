@@ -942,7 +942,7 @@ impl<'a> FixedProblem<'a> {
     /// (default: the node's `In` curves), with the certificates of `pool` counted too.
     ///
     /// A cutting-plane (Frank–Wolfe-like) method: the best certificate so far — a mixture of
-    /// the certificates of every eigen solve, improved by [`best_mixture`] as they come — is an
+    /// the certificates of every eigen solve, improved by `best_mixture` as they come — is an
     /// upper model of `μ`; its maximizer over the polytope (the exact linear step) is the next
     /// vertex `s`; `μ` is evaluated at `α + γ(s − α)` for `γ = 1, ½, ¼` (quasi-concave, so
     /// unimodal along the segment) and the step is taken at the first improvement. Every eigen
