@@ -1179,8 +1179,10 @@ impl<'a> FixedProblem<'a> {
 
     /// Certified bracket of the best `λ_fix` over all feasible subsets: the faces are bounded
     /// (their first curve's certificates, clamping, then the relaxation when those do not
-    /// reach the best known value), in parallel, deterministically. `incumbents` are feasible
-    /// subsets known beforehand (e.g. the greedy's answer).
+    /// reach the best known value), in parallel, deterministically. Faces are relaxed highest
+    /// cheap bound first and only while their cheap bound exceeds every relaxed face's bound:
+    /// the others could not change the maximum (their rounded subsets are then not tried).
+    /// `incumbents` are feasible subsets known beforehand (e.g. the greedy's answer).
     pub fn certify(
         &self,
         params: &CertifyParams,
@@ -1246,35 +1248,77 @@ impl<'a> FixedProblem<'a> {
         }
         let floor = lower.0;
         let tol = params.relax.tolerance;
-        // Phase 2: relax the faces the cheap bounds leave above the best known value.
-        let phase2: Vec<Result<FaceOutcome, StabilityError>> = roots
-            .par_iter()
-            .zip(&phase1_ok)
-            .map(|((curve, node), (certs, up))| {
-                let mut fb = FaceBound {
-                    curve: *curve,
-                    upper: *up,
-                    relaxed: f64::NAN,
-                    evals: 0,
-                };
-                if !(*up > floor + tol * floor.abs()) || node.curves(Status::Free).is_empty() {
-                    return Ok((fb, Vec::new()));
-                }
-                let r = self.relax_node(node, &params.relax, None, certs)?;
-                fb.upper = fb.upper.min(r.upper);
-                fb.relaxed = r.value;
-                fb.evals = r.evals;
-                let rounded = if params.rounding {
-                    round_relaxed(
-                        &r.alpha,
-                        &self.lengths,
-                        self.budget,
-                        &node.curves(Status::In),
+        // Phase 2: relax the faces the cheap bounds leave above the best known value, highest
+        // cheap bound first, in fixed batches. The bound is the maximum over the faces, and
+        // relaxing a face can only lower its own: once a relaxed face's bound is at least every
+        // remaining face's cheap bound, relaxing those cannot change the maximum, so they are
+        // left with their cheap bounds (the same certified bound for less work). Which faces
+        // are relaxed depends only on the values, never on threads.
+        let relax_face = |i: usize| -> Result<FaceOutcome, StabilityError> {
+            let ((curve, node), (certs, up)) = (&roots[i], &phase1_ok[i]);
+            let mut fb = FaceBound {
+                curve: *curve,
+                upper: *up,
+                relaxed: f64::NAN,
+                evals: 0,
+            };
+            let r = self.relax_node(node, &params.relax, None, certs)?;
+            fb.upper = fb.upper.min(r.upper);
+            fb.relaxed = r.value;
+            fb.evals = r.evals;
+            let rounded = if params.rounding {
+                round_relaxed(
+                    &r.alpha,
+                    &self.lengths,
+                    self.budget,
+                    &node.curves(Status::In),
+                )
+            } else {
+                Vec::new()
+            };
+            Ok((fb, rounded))
+        };
+        let mut outcomes: Vec<Option<FaceOutcome>> = vec![None; roots.len()];
+        let mut order: Vec<usize> = (0..roots.len())
+            .filter(|&i| {
+                let up = phase1_ok[i].1;
+                up > floor + tol * floor.abs() && !roots[i].1.curves(Status::Free).is_empty()
+            })
+            .collect();
+        order.sort_by(|&a, &b| phase1_ok[b].1.total_cmp(&phase1_ok[a].1).then(a.cmp(&b)));
+        let mut relaxed_max = f64::NEG_INFINITY;
+        for batch in order.chunks(FACE_BATCH) {
+            let todo: Vec<usize> = batch
+                .iter()
+                .copied()
+                .filter(|&i| phase1_ok[i].1 > relaxed_max)
+                .collect();
+            if todo.is_empty() {
+                break;
+            }
+            let done: Vec<Result<FaceOutcome, StabilityError>> =
+                todo.par_iter().map(|&i| relax_face(i)).collect();
+            for (&i, r) in todo.iter().zip(done) {
+                let outcome = r?;
+                relaxed_max = relaxed_max.max(outcome.0.upper);
+                outcomes[i] = Some(outcome);
+            }
+        }
+        let phase2: Vec<Result<FaceOutcome, StabilityError>> = outcomes
+            .into_iter()
+            .enumerate()
+            .map(|(i, o)| {
+                Ok(o.unwrap_or_else(|| {
+                    (
+                        FaceBound {
+                            curve: roots[i].0,
+                            upper: phase1_ok[i].1,
+                            relaxed: f64::NAN,
+                            evals: 0,
+                        },
+                        Vec::new(),
                     )
-                } else {
-                    Vec::new()
-                };
-                Ok((fb, rounded))
+                }))
             })
             .collect();
         let mut faces = Vec::with_capacity(roots.len());
@@ -1387,6 +1431,10 @@ impl FixedProblem<'_> {
         })
     }
 }
+
+/// Faces relaxed together (in parallel) before the next look at the bounds; fixed, so which
+/// faces get relaxed never depends on the thread count.
+const FACE_BATCH: usize = 2;
 
 /// A root's `λ_fix`, its cheap certificates and the bound they give.
 type RootBound = (f64, Vec<Arc<Rayleigh>>, f64);
