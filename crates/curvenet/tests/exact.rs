@@ -207,28 +207,14 @@ fn limits_return_the_best_found_with_a_gap() {
 #[ignore]
 fn exact_scaling() {
     use curvenet::simplify::compare::{CompareParams, instance_network};
-    use curvenet::trace::scale_to_extent;
     let Some(data) = common::data_dir() else {
         return;
     };
-    let surf: Vec<_> = ["1wave", "2waves", "half_sphere", "sine_disk", "leaf"]
-        .iter()
-        .map(|n| {
-            let m = curvenet::io::read_mesh(&data.join("meshes").join(format!("{n}.obj")))
-                .expect("mesh");
-            (n.to_string(), scale_to_extent(&m.mesh, 4000.0).0)
-        })
-        .collect();
-    let env = |k: &str, d: usize| {
-        std::env::var(k)
-            .ok()
-            .and_then(|s| s.parse().ok())
-            .unwrap_or(d)
-    };
-    let n = env("N", 14);
+    let surf = common::compare_surfaces(&data);
+    let n = common::env_usize("N", 14);
     let relax = std::env::var("RELAX").ok().and_then(|s| s.parse().ok());
     let exhaustive = std::env::var("EX").is_ok();
-    for i in 0..env("I", 3) {
+    for i in 0..common::env_usize("I", 3) {
         let (name, seed, net) =
             instance_network(&surf, n, i, &CompareParams::default()).expect("net");
         let vertices = net.vertex_count();

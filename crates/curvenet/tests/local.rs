@@ -243,27 +243,13 @@ fn default_search_reaches_the_optimum() {
 #[ignore]
 fn explore() {
     use curvenet::simplify::compare::{CompareParams, instance_network};
-    use curvenet::trace::scale_to_extent;
     let Some(data) = common::data_dir() else {
         return;
     };
-    let surf: Vec<_> = ["1wave", "2waves", "half_sphere", "sine_disk", "leaf"]
-        .iter()
-        .map(|n| {
-            let m = curvenet::io::read_mesh(&data.join("meshes").join(format!("{n}.obj")))
-                .expect("mesh");
-            (n.to_string(), scale_to_extent(&m.mesh, 4000.0).0)
-        })
-        .collect();
-    let env = |k: &str, d: usize| {
-        std::env::var(k)
-            .ok()
-            .and_then(|s| s.parse().ok())
-            .unwrap_or(d)
-    };
-    let n = env("N", 10);
+    let surf = common::compare_surfaces(&data);
+    let n = common::env_usize("N", 10);
     let budget = Budget::Fraction(0.3);
-    for i in 0..env("I", 10) {
+    for i in 0..common::env_usize("I", 10) {
         let (name, _, net) = instance_network(&surf, n, i, &CompareParams::default()).expect("net");
         let an = Analyzer::new(net, StabilityParams::default()).expect("an");
         let lengths = an.network().rest_lengths();

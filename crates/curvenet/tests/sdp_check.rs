@@ -679,51 +679,16 @@ fn sdp_subset(d: &Dense, p: &FixedProblem<'_>, curves: &[usize], guess: f64) -> 
 /// ground circle (as `common::random_arches`, but coarse: the chord's ends, its midpoint
 /// and its crossings with the other chords, shared exactly), so the SDP stays small.
 fn tiny_arches(seed: u64, n: usize) -> Vec<curvenet::io::Polyline> {
-    let mut rng = common::Rng::new(seed);
-    let (r, height) = (1000.0, 350.0);
-    let surface = |x: f64, y: f64| {
-        curvenet::geom::Vec3::new(x, y, (height * (1.0 - (x * x + y * y) / (r * r))).max(0.0))
-    };
-    let chords: Vec<([f64; 2], [f64; 2])> = (0..n)
-        .map(|_| {
-            let a = rng.range(0.0, std::f64::consts::TAU);
-            let b = a + rng.range(0.6, 1.4) * std::f64::consts::PI;
-            ([r * a.cos(), r * a.sin()], [r * b.cos(), r * b.sin()])
-        })
-        .collect();
-    let mut params: Vec<Vec<f64>> = vec![vec![0.0, 0.5, 1.0]; n];
-    for i in 0..n {
-        for j in i + 1..n {
-            let (p, q) = chords[i];
-            let (s, t) = chords[j];
-            let d1 = [q[0] - p[0], q[1] - p[1]];
-            let d2 = [t[0] - s[0], t[1] - s[1]];
-            let den = d1[0] * d2[1] - d1[1] * d2[0];
-            if den.abs() < 1e-9 {
-                continue;
-            }
-            let w = [s[0] - p[0], s[1] - p[1]];
-            let a = (w[0] * d2[1] - w[1] * d2[0]) / den;
-            let b = (w[0] * d1[1] - w[1] * d1[0]) / den;
-            if (0.05..=0.95).contains(&a) && (0.05..=0.95).contains(&b) {
-                params[i].push(a);
-                params[j].push(b);
-            }
-        }
-    }
-    chords
-        .iter()
-        .zip(params)
-        .map(|(&(p, q), mut ts)| {
-            ts.sort_by(f64::total_cmp);
-            ts.dedup_by(|a, b| (*a - *b).abs() < 0.04);
-            let pts = ts
-                .iter()
-                .map(|&t| surface(p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])))
-                .collect();
-            common::polyline(pts, false)
-        })
-        .collect()
+    common::arches_over_chords(
+        seed,
+        n,
+        &common::ArchLayout {
+            spread: (0.6, 1.4),
+            samples: &[0.0, 0.5, 1.0],
+            crossings: (0.05, 0.95),
+            merge: 0.04,
+        },
+    )
 }
 
 struct Case {

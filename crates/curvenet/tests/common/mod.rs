@@ -251,6 +251,30 @@ pub fn positions_of(net: &Network, u: &[f64]) -> Vec<f64> {
         .collect()
 }
 
+/// The simple surfaces `curvenet compare` traces on (from the reference data in `data`),
+/// scaled to a largest extent of 4000, as `simplify::compare::instance_network` takes them.
+pub fn compare_surfaces(data: &std::path::Path) -> Vec<(String, curvenet::io::TriMesh)> {
+    ["1wave", "2waves", "half_sphere", "sine_disk", "leaf"]
+        .iter()
+        .map(|n| {
+            let m = curvenet::io::read_mesh(&data.join("meshes").join(format!("{n}.obj")))
+                .expect("mesh");
+            (
+                n.to_string(),
+                curvenet::trace::scale_to_extent(&m.mesh, 4000.0).0,
+            )
+        })
+        .collect()
+}
+
+/// A count from the environment variable `key` (for ignored measuring tests), or `default`.
+pub fn env_usize(key: &str, default: usize) -> usize {
+    std::env::var(key)
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(default)
+}
+
 /// The reference data folder (`/work/shared/reference-data`, or `../../../shared/…` relative
 /// to this crate), or `None` with a message when absent.
 pub fn data_dir() -> Option<PathBuf> {
@@ -357,6 +381,35 @@ pub fn curl_curve(r: f64) -> Polyline {
 /// inserted as an input point of both arches, so crossing arches share that point exactly.
 /// A seeded, deterministic test input; pick `h` for the vertex count.
 pub fn random_arches(seed: u64, n: usize) -> Vec<Polyline> {
+    let samples = 24;
+    let uniform: Vec<f64> = (0..=samples).map(|i| i as f64 / samples as f64).collect();
+    arches_over_chords(
+        seed,
+        n,
+        &ArchLayout {
+            spread: (0.5, 1.5),
+            samples: &uniform,
+            crossings: (0.01, 0.99),
+            merge: 1e-12,
+        },
+    )
+}
+
+/// How [`arches_over_chords`] lays its arches out.
+pub struct ArchLayout<'a> {
+    /// Angular spread of a chord's ends, in units of π (drawn uniformly in this range).
+    pub spread: (f64, f64),
+    /// Parameters along each chord (0 to 1) of its input points besides the crossings.
+    pub samples: &'a [f64],
+    /// Crossings are inserted when they lie in this parameter range on both chords.
+    pub crossings: (f64, f64),
+    /// Parameters closer than this are merged.
+    pub merge: f64,
+}
+
+/// Arches over the paraboloid of [`random_arches`] above `n` random chords of the ground
+/// circle, with the input points `layout` asks for and every crossing of two chords shared.
+pub fn arches_over_chords(seed: u64, n: usize, layout: &ArchLayout<'_>) -> Vec<Polyline> {
     let mut rng = Rng::new(seed);
     let (r, height) = (1000.0, 350.0);
     let surface =
@@ -364,15 +417,12 @@ pub fn random_arches(seed: u64, n: usize) -> Vec<Polyline> {
     let chords: Vec<([f64; 2], [f64; 2])> = (0..n)
         .map(|_| {
             let a = rng.range(0.0, std::f64::consts::TAU);
-            let b = a + rng.range(0.5, 1.5) * std::f64::consts::PI;
+            let b = a + rng.range(layout.spread.0, layout.spread.1) * std::f64::consts::PI;
             ([r * a.cos(), r * a.sin()], [r * b.cos(), r * b.sin()])
         })
         .collect();
-    // Parameters along each chord: uniform samples, then the crossings.
-    let samples = 24;
-    let mut params: Vec<Vec<f64>> = (0..n)
-        .map(|_| (0..=samples).map(|i| i as f64 / samples as f64).collect())
-        .collect();
+    let mut params: Vec<Vec<f64>> = vec![layout.samples.to_vec(); n];
+    let inside = |t: f64| (layout.crossings.0..=layout.crossings.1).contains(&t);
     for i in 0..n {
         for j in i + 1..n {
             let (p, q) = chords[i];
@@ -386,7 +436,7 @@ pub fn random_arches(seed: u64, n: usize) -> Vec<Polyline> {
             let w = [s[0] - p[0], s[1] - p[1]];
             let a = (w[0] * d2[1] - w[1] * d2[0]) / den;
             let b = (w[0] * d1[1] - w[1] * d1[0]) / den;
-            if (0.01..=0.99).contains(&a) && (0.01..=0.99).contains(&b) {
+            if inside(a) && inside(b) {
                 params[i].push(a);
                 params[j].push(b);
             }
@@ -397,7 +447,7 @@ pub fn random_arches(seed: u64, n: usize) -> Vec<Polyline> {
         .zip(params)
         .map(|(&(p, q), mut ts)| {
             ts.sort_by(f64::total_cmp);
-            ts.dedup_by(|a, b| (*a - *b).abs() < 1e-12);
+            ts.dedup_by(|a, b| (*a - *b).abs() < layout.merge);
             let pts = ts
                 .iter()
                 .map(|&t| surface(p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])))
