@@ -555,3 +555,22 @@ fn compressed_rod_beyond_euler_load_has_negative_modes() {
     assert_eq!(s0.negative_modes, 0);
     assert!(s0.values[0] > 0.0);
 }
+
+#[test]
+fn restrict_share_outside_the_unit_interval_is_an_error() {
+    for bad in [-0.1, 1.5, f64::NAN, f64::INFINITY] {
+        let p = StabilityParams {
+            restrict_share: bad,
+            ..StabilityParams::default()
+        };
+        let e = p.validate().expect_err("rejected");
+        assert!(e.contains("restrict_share"), "{e}");
+    }
+    for good in [0.0, 0.85, 1.0] {
+        let p = StabilityParams {
+            restrict_share: good,
+            ..StabilityParams::default()
+        };
+        assert!(p.validate().is_ok());
+    }
+}
