@@ -203,19 +203,9 @@ pub struct DemoArgs {
     /// Budget as a fraction of the total length.
     #[arg(long, default_value_t = 0.3)]
     pub budget: f64,
-    /// Skip the certificate (λ_fix of the result against a certified upper bound on any
-    /// feasible subset) computed after the greedy.
-    #[arg(long = "no-certificate")]
-    pub no_certificate: bool,
-    /// Branch and bound nodes spent tightening the certificate's bound (default: about
-    /// 1e6 / unknowns, e.g. 220 on the demo, 60 on the tower; 0: the relaxation's bound only).
-    #[arg(long = "certificate-nodes")]
-    pub certificate_nodes: Option<usize>,
-    /// After the greedy, run the local search from its final network (add / drop / swap
-    /// moves with part steps, then variable-depth chains; `λ_eq` relaxed from the drawn state)
-    /// and record its answer in result.json next to the greedy's (`local_search`).
-    #[arg(long = "local-search")]
-    pub local_search: bool,
+    /// What runs after the greedy.
+    #[command(flatten)]
+    pub after: AfterGreedyArgs,
     /// Material and solver options.
     #[command(flatten)]
     pub physics: PhysicsArgs,
@@ -278,6 +268,15 @@ pub struct GreedyArgs {
     /// Continue an interrupted run in the output folder.
     #[arg(long)]
     pub resume: bool,
+    /// What runs after the greedy.
+    #[command(flatten)]
+    pub after: AfterGreedyArgs,
+}
+
+/// What `demo`, `example` and `simplify` do after the greedy: the certificate and the local
+/// search.
+#[derive(Debug, Args, Clone)]
+pub struct AfterGreedyArgs {
     /// Skip the certificate (λ_fix of the result against a certified upper bound on any
     /// feasible subset) computed after the greedy.
     #[arg(long = "no-certificate")]
@@ -351,19 +350,9 @@ pub struct ExampleArgs {
     /// Evaluate every candidate (no pruning by bounds); for measurements.
     #[arg(long = "no-prune")]
     pub no_prune: bool,
-    /// Skip the certificate (λ_fix of the result against a certified upper bound on any
-    /// feasible subset) computed after the greedy.
-    #[arg(long = "no-certificate")]
-    pub no_certificate: bool,
-    /// Branch and bound nodes spent tightening the certificate's bound (default: about
-    /// 1e6 / unknowns, e.g. 220 on the demo, 60 on the tower; 0: the relaxation's bound only).
-    #[arg(long = "certificate-nodes")]
-    pub certificate_nodes: Option<usize>,
-    /// After the greedy, run the local search from its final network (add / drop / swap
-    /// moves with part steps, then variable-depth chains; `λ_eq` relaxed from the drawn state)
-    /// and record its answer in result.json next to the greedy's (`local_search`).
-    #[arg(long = "local-search")]
-    pub local_search: bool,
+    /// What runs after the greedy.
+    #[command(flatten)]
+    pub after: AfterGreedyArgs,
     /// Print one JSON object on stdout.
     #[arg(long)]
     pub json: bool,

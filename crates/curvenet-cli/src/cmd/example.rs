@@ -69,9 +69,9 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
             .out
             .clone()
             .unwrap_or_else(|| PathBuf::from("out").join(&a.name)),
-        certificate: !a.no_certificate,
-        certificate_nodes: a.certificate_nodes,
-        local_search: a.local_search,
+        certificate: !a.after.no_certificate,
+        certificate_nodes: a.after.certificate_nodes,
+        local_search: a.after.local_search,
         resume: a.resume,
         mesh: Some(ex.mesh),
         prune: PruneParams {
