@@ -162,39 +162,19 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         }
         Err(e) => return Err(e.into()),
     };
-    let local_start = Instant::now();
-    let local = if job.local_search {
-        match local_search_of(&analyzer, &params, &outcome) {
-            Ok(r) => Some(r),
-            Err(e) => {
-                print_warnings(&[format!("no local search: {e}")]);
-                None
-            }
-        }
-    } else {
-        None
-    };
-    let local_seconds = local_start.elapsed().as_secs_f64();
+    let (local, local_seconds) = optional_step(job.local_search, "local search", || {
+        local_search_of(&analyzer, &params, &outcome)
+    });
     writer.set_local_search(local);
-    let cert_start = Instant::now();
-    let certificate = if job.certificate {
-        match certificate_of(
+    let (certificate, certificate_seconds) = optional_step(job.certificate, "certificate", || {
+        certificate_of(
             &analyzer,
             &job.out,
             &params,
             &outcome,
             job.certificate_nodes,
-        ) {
-            Ok(c) => Some(c),
-            Err(e) => {
-                print_warnings(&[format!("no certificate: {e}")]);
-                None
-            }
-        }
-    } else {
-        None
-    };
-    let certificate_seconds = cert_start.elapsed().as_secs_f64();
+        )
+    });
     writer.set_certificate(certificate);
     let timings = serde_json::json!({
         "total_seconds": start.elapsed().as_secs_f64(),
@@ -251,6 +231,24 @@ fn local_search_of(
     };
     let o = local_search(&Scorer::new(analyzer), &local, &last.curves)?;
     LocalSearchRecord::new(&local, &o).ok_or_else(|| anyhow::anyhow!("λ_eq could not be evaluated"))
+}
+
+/// Runs an optional step after the greedy when `on`: its result, or `None` with a warning
+/// when it fails (the greedy's results stand either way), and the seconds it took.
+fn optional_step<T>(
+    on: bool,
+    what: &str,
+    run: impl FnOnce() -> anyhow::Result<T>,
+) -> (Option<T>, f64) {
+    let start = Instant::now();
+    let result = if on {
+        run()
+            .map_err(|e| print_warnings(&[format!("no {what}: {e}")]))
+            .ok()
+    } else {
+        None
+    };
+    (result, start.elapsed().as_secs_f64())
 }
 
 /// The fixed-geometry certificate of the greedy's final network: `λ_fix` at the full
