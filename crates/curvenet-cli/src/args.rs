@@ -166,6 +166,9 @@ pub struct BenchArgs {
     /// Factor every structure on the whole network's pattern, never on its own vertices only.
     #[arg(long = "no-restrict")]
     pub no_restrict: bool,
+    /// Factor with faer's sequential numeric factorization instead of the subtree-parallel one.
+    #[arg(long = "no-subtrees")]
+    pub no_subtrees: bool,
     /// Switch off the inertia test (one factorization at the best score so far) for
     /// candidates the bounds could not prune.
     #[arg(long = "no-inertia")]

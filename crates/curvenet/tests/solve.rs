@@ -147,3 +147,54 @@ fn restricted_analysis_factors_the_whole_matrix() {
     // A non-positive diagonal on a left-out coordinate is reported, not hidden.
     assert!(Cholesky::factorize(&restricted, model.pattern(), &h, -10.0 * s).is_err());
 }
+
+#[test]
+fn subtree_parallel_factor_matches_faer() {
+    // Big enough for nested dissection, supernodes and a parallel schedule.
+    let net = build(&random_curves(11, 4), 0.5, Supports::Clamped);
+    let a = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
+    let model = a.model();
+    let n = model.dofs();
+    assert!(n > 3000, "{n} unknowns");
+    let u = vec![0.0; n];
+    let h = model.assemble(&u, &a.all(), true).hess;
+    let sym = a.symbolic();
+    assert!(
+        sym.parallel_subtrees() >= 4,
+        "{} subtrees",
+        sym.parallel_subtrees()
+    );
+    let pattern = model.pattern();
+    let s = pattern.sym_norm1(&h);
+    let x_of = |f: &Cholesky| {
+        let mut rhs: Vec<f64> = (0..n).map(|i| ((i * 7919) % 101) as f64 - 50.0).collect();
+        f.solve_vec(&mut rhs);
+        rhs
+    };
+    let fast = Cholesky::factorize(sym, pattern, &h, s).expect("positive definite");
+    let reference = Cholesky::factorize_reference(sym, pattern, &h, s).expect("positive definite");
+    let (x, y) = (x_of(&fast), x_of(&reference));
+    let err = x
+        .iter()
+        .zip(&y)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    let scale = y.iter().map(|v| v.abs()).fold(0.0, f64::max);
+    assert!(
+        err <= 1e-12 * scale,
+        "solutions differ by {err:e} (scale {scale:e})"
+    );
+    // Bit-identical in pools of one and two threads.
+    let in_pool = |t: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(t)
+            .build()
+            .expect("pool")
+            .install(|| solve_bits(&Cholesky::factorize(sym, pattern, &h, s).expect("pd"), n))
+    };
+    assert_eq!(in_pool(1), in_pool(2));
+    assert_eq!(in_pool(2), solve_bits(&fast, n));
+    // Indefinite: both fail.
+    assert!(Cholesky::factorize(sym, pattern, &h, -10.0 * s).is_err());
+    assert!(Cholesky::factorize_reference(sym, pattern, &h, -10.0 * s).is_err());
+}

@@ -60,14 +60,17 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         .build()?;
     println!(
         "curvenet bench: {threads} thread(s); pruning {}, inertia test {}, chord steps {}, \
-         Krylov steps {}, warm starts {}, restricted factorizations {}",
+         Krylov steps {}, warm starts {}, restricted factorizations {}, subtree-parallel \
+         factorizations {}",
         on(!a.no_prune),
         on(!a.no_prune && !a.no_inertia),
         on(a.chord),
         on(a.krylov),
         on(!a.no_warm),
-        on(!a.no_restrict)
+        on(!a.no_restrict),
+        on(!a.no_subtrees)
     );
+    curvenet::solve::factor::set_subtree_parallel(!a.no_subtrees);
     println!(
         "{:<9} {:>6} {:>6} {:>5} {:>5} {:>6} {:>6} {:>6} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}",
         "example",

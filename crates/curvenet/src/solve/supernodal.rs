@@ -1,0 +1,647 @@
+//! Numeric supernodal Cholesky on faer's symbolic analysis, with independent subtrees of the
+//! elimination tree factored in parallel.
+//!
+//! faer's own numeric factorization visits the supernodes one after the other (left-looking)
+//! and can parallelize only inside a supernode's dense blocks; on our matrices these blocks are
+//! small, and its parallel mode is slower than the sequential one (docs/benchmarks.md). But
+//! supernodes in disjoint subtrees of the elimination tree never touch each other: a
+//! supernode reads only the finished columns of its own descendants. [`Plan`] splits the tree
+//! into such subtrees once per symbolic analysis; [`Plan::factorize`] runs them as rayon
+//! tasks, then the supernodes above them in order.
+//!
+//! The factor has faer's storage layout (faer solves with it), and each supernode is computed
+//! by the same sequence of dense operations (faer's kernels, `Par::Seq`) whatever the thread
+//! count or the schedule, so the values are bit-identical on one and on many threads.
+//!
+//! The input is scattered straight from the model's upper-triangle values into `L` through a
+//! map computed once (faer permutes the matrix into a lower-triangle copy first).
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::{
+    LltError, LltRegularization, cholesky_in_place, cholesky_in_place_scratch,
+};
+use faer::linalg::matmul::matmul;
+use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
+use faer::reborrow::{Reborrow, ReborrowMut};
+use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
+use faer::{Accum, MatMut, MatRef, Par};
+use std::ops::Range;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// Subtrees lighter than `1 / GRAIN_PARTS` of the whole factorization's work are not split.
+const GRAIN_PARTS: f64 = 48.0;
+
+/// Factorizations estimated below this many flops run as one sequential task.
+const MIN_PARALLEL_FLOPS: f64 = 2.0e6;
+
+/// Tasks nested deeper than this are not split further.
+const MAX_DEPTH: usize = 48;
+
+/// How the supernodes are scheduled: a sequential range, or independent subtrees (run in
+/// parallel) followed by the supernodes above them.
+#[derive(Debug)]
+enum Task {
+    /// Supernodes `range`, in order.
+    Seq(Range<usize>),
+    /// `parts` cover consecutive ranges of supernodes, independent of each other; `tail`
+    /// follows them and depends on all of them.
+    Fork {
+        parts: Vec<Task>,
+        tail: Range<usize>,
+    },
+}
+
+impl Task {
+    /// The supernodes the task covers (a contiguous range in postorder).
+    fn range(&self) -> Range<usize> {
+        match self {
+            Task::Seq(r) => r.clone(),
+            Task::Fork { parts, tail } => {
+                let start = parts.first().map_or(tail.start, |p| p.range().start);
+                start..tail.end
+            }
+        }
+    }
+}
+
+/// The numeric factorization plan of one supernodal symbolic analysis.
+#[derive(Debug)]
+pub(crate) struct Plan {
+    /// Dimension.
+    n: usize,
+    /// First column of each supernode (`n_super + 1` entries).
+    begin: Vec<usize>,
+    /// Offset of each supernode's block in the factor values (`n_super + 1` entries).
+    val_ptr: Vec<usize>,
+    /// Each supernode's off-diagonal row pattern: `rows[pat_ptr[s]..pat_ptr[s + 1]]`.
+    pat_ptr: Vec<usize>,
+    rows: Vec<usize>,
+    /// Supernodes whose columns update supernode `s`, ascending: `upd[upd_ptr[s]..]`.
+    upd_ptr: Vec<usize>,
+    upd: Vec<usize>,
+    /// Input entries of supernode `s`: slot in the model's values and offset in the block.
+    a_ptr: Vec<usize>,
+    a_src: Vec<usize>,
+    a_dst: Vec<usize>,
+    /// Widest supernode (columns), for the dense Cholesky's scratch.
+    max_cols: usize,
+    /// The schedule.
+    root: Task,
+}
+
+/// Supernode `s`'s geometry.
+struct Node<'a> {
+    start: usize,
+    ncols: usize,
+    pattern: &'a [usize],
+}
+
+impl Node<'_> {
+    fn nrows(&self) -> usize {
+        self.ncols + self.pattern.len()
+    }
+}
+
+impl Plan {
+    /// A plan for `sym` (supernodal analysis of a matrix of dimension `n` permuted by
+    /// `perm_inv`: new index of each original one), for input values stored as the upper
+    /// triangle `col_ptr`/`row_idx` in the original order. `None` if the supernodes are not in
+    /// a postorder of their elimination tree (the layout this schedule relies on).
+    pub(crate) fn new(
+        sym: &SymbolicSupernodalCholesky<usize>,
+        perm_inv: Option<&[usize]>,
+        col_ptr: &[usize],
+        row_idx: &[usize],
+    ) -> Option<Plan> {
+        let n = sym.nrows();
+        let ns = sym.n_supernodes();
+        let mut begin: Vec<usize> = sym.supernode_begin().to_vec();
+        begin.push(n);
+        let val_ptr = sym.col_ptr_for_val().to_vec();
+        let mut pat_ptr = Vec::with_capacity(ns + 1);
+        let mut rows = Vec::new();
+        pat_ptr.push(0);
+        for s in 0..ns {
+            rows.extend_from_slice(sym.supernode(s).pattern());
+            pat_ptr.push(rows.len());
+        }
+        let mut super_of = vec![0usize; n];
+        for s in 0..ns {
+            super_of[begin[s]..begin[s + 1]].fill(s);
+        }
+        // Elimination tree of the supernodes and its postorder property.
+        let mut parent = vec![usize::MAX; ns];
+        let mut children: Vec<Vec<usize>> = vec![Vec::new(); ns];
+        for s in 0..ns {
+            if let Some(&r) = rows[pat_ptr[s]..pat_ptr[s + 1]].first() {
+                let p = super_of[r];
+                if p <= s {
+                    return None;
+                }
+                parent[s] = p;
+                children[p].push(s);
+            }
+        }
+        let mut first: Vec<usize> = (0..ns).collect();
+        let mut size = vec![1usize; ns];
+        for s in 0..ns {
+            if parent[s] != usize::MAX {
+                let p = parent[s];
+                first[p] = first[p].min(first[s]);
+                size[p] += size[s];
+            }
+        }
+        if (0..ns).any(|s| s + 1 - first[s] != size[s]) {
+            return None;
+        }
+        // Updates: d updates every supernode its pattern reaches.
+        let mut pairs: Vec<(usize, usize)> = Vec::new();
+        for d in 0..ns {
+            let mut last = usize::MAX;
+            for &r in &rows[pat_ptr[d]..pat_ptr[d + 1]] {
+                let s = super_of[r];
+                if s != last {
+                    pairs.push((s, d));
+                    last = s;
+                }
+            }
+        }
+        let (upd_ptr, upd) = bucket(ns, pairs);
+        // Input scatter map.
+        let mut entries: Vec<(usize, (usize, usize))> = Vec::new();
+        for j in 0..n {
+            for (k, &i) in row_idx
+                .iter()
+                .enumerate()
+                .take(col_ptr[j + 1])
+                .skip(col_ptr[j])
+            {
+                let (pi, pj) = match perm_inv {
+                    Some(p) => (p[i], p[j]),
+                    None => (i, j),
+                };
+                let (row, col) = (pi.max(pj), pi.min(pj));
+                let s = super_of[col];
+                let ncols = begin[s + 1] - begin[s];
+                let pattern = &rows[pat_ptr[s]..pat_ptr[s + 1]];
+                let local_row = if row < begin[s + 1] {
+                    row - begin[s]
+                } else {
+                    ncols + pattern.binary_search(&row).ok()?
+                };
+                let dst = (col - begin[s]) * (ncols + pattern.len()) + local_row;
+                entries.push((s, (k, dst)));
+            }
+        }
+        let (a_ptr, a) = bucket(ns, entries);
+        let (a_src, a_dst) = a.into_iter().unzip();
+        // Work estimate per supernode: its columns' updates to everything below them.
+        let work: Vec<f64> = (0..ns)
+            .map(|s| {
+                let c = (begin[s + 1] - begin[s]) as f64;
+                let r = c + (pat_ptr[s + 1] - pat_ptr[s]) as f64;
+                c * r * r
+            })
+            .collect();
+        let mut subtree = work.clone();
+        for s in 0..ns {
+            if parent[s] != usize::MAX {
+                let w = subtree[s];
+                subtree[parent[s]] += w;
+            }
+        }
+        let total: f64 = (0..ns)
+            .filter(|&s| parent[s] == usize::MAX)
+            .map(|s| subtree[s])
+            .sum();
+        let roots: Vec<usize> = (0..ns).filter(|&s| parent[s] == usize::MAX).collect();
+        let tree = Tree {
+            children: &children,
+            first: &first,
+            subtree: &subtree,
+            grain: if total < MIN_PARALLEL_FLOPS {
+                f64::INFINITY
+            } else {
+                total / GRAIN_PARTS
+            },
+        };
+        let root = tree.fork(&roots, 0..0, 0);
+        let max_cols = (0..ns).map(|s| begin[s + 1] - begin[s]).max().unwrap_or(0);
+        Some(Plan {
+            n,
+            begin,
+            val_ptr,
+            pat_ptr,
+            rows,
+            upd_ptr,
+            upd,
+            a_ptr,
+            a_src,
+            a_dst,
+            max_cols,
+            root,
+        })
+    }
+
+    /// Number of tasks that may run in parallel (sequential parts of forks), 1 if none.
+    pub(crate) fn parallel_tasks(&self) -> usize {
+        fn count(t: &Task) -> usize {
+            match t {
+                Task::Seq(_) => 1,
+                Task::Fork { parts, .. } => parts.iter().map(count).sum(),
+            }
+        }
+        count(&self.root)
+    }
+
+    /// Number of stored factor values.
+    pub(crate) fn len_val(&self) -> usize {
+        *self.val_ptr.last().unwrap_or(&0)
+    }
+
+    /// Factors the matrix whose upper-triangle values (in the pattern and order given to
+    /// [`Plan::new`]) are `a` into `l` (of [`Plan::len_val`] values, faer's layout). On a
+    /// non-positive pivot returns `Err(column)` (permuted order): one failing column — with
+    /// several failing subtrees, which one is reported depends on the schedule.
+    pub(crate) fn factorize(&self, a: &[f64], l: &mut [f64]) -> Result<(), usize> {
+        assert_eq!(l.len(), self.len_val(), "factor storage of the plan's size");
+        let abort = AtomicBool::new(false);
+        self.run(&self.root, a, l, &abort)
+    }
+
+    fn node(&self, s: usize) -> Node<'_> {
+        Node {
+            start: self.begin[s],
+            ncols: self.begin[s + 1] - self.begin[s],
+            pattern: &self.rows[self.pat_ptr[s]..self.pat_ptr[s + 1]],
+        }
+    }
+
+    /// Runs `task` on `l`, the values of the task's supernodes (starting at its first).
+    fn run(&self, task: &Task, a: &[f64], l: &mut [f64], abort: &AtomicBool) -> Result<(), usize> {
+        match task {
+            Task::Seq(range) => self.run_seq(range.clone(), range.start, a, l, abort),
+            Task::Fork { parts, tail } => {
+                let lo = task.range().start;
+                let mut jobs = Vec::with_capacity(parts.len());
+                let mut rest = &mut *l;
+                for p in parts {
+                    let r = p.range();
+                    let (head, tail_vals) =
+                        rest.split_at_mut(self.val_ptr[r.end] - self.val_ptr[r.start]);
+                    jobs.push((p, head));
+                    rest = tail_vals;
+                }
+                use rayon::prelude::*;
+                let results: Vec<Result<(), usize>> = jobs
+                    .into_par_iter()
+                    .map(|(p, vals)| self.run(p, a, vals, abort))
+                    .collect();
+                results.into_iter().collect::<Result<(), usize>>()?;
+                self.run_seq(tail.clone(), lo, a, l, abort)
+            }
+        }
+    }
+
+    /// Factors supernodes `range` in order; `l` holds the values from supernode `lo` on, and
+    /// every descendant of the range lies in `lo..`.
+    fn run_seq(
+        &self,
+        range: Range<usize>,
+        lo: usize,
+        a: &[f64],
+        l: &mut [f64],
+        abort: &AtomicBool,
+    ) -> Result<(), usize> {
+        if range.is_empty() {
+            return Ok(());
+        }
+        let mut g2l = vec![0usize; self.n];
+        let mut tmp: Vec<f64> = Vec::new();
+        let mut mem = MemBuffer::new(cholesky_in_place_scratch::<f64>(
+            self.max_cols,
+            Par::Seq,
+            Default::default(),
+        ));
+        let base = self.val_ptr[lo];
+        for s in range {
+            if abort.load(Ordering::Relaxed) {
+                return Err(self.begin[s]);
+            }
+            let (head, rest) = l.split_at_mut(self.val_ptr[s] - base);
+            let block = &mut rest[..self.val_ptr[s + 1] - self.val_ptr[s]];
+            if let Err(col) =
+                self.factor_node(s, base, head, block, a, &mut g2l, &mut tmp, &mut mem)
+            {
+                abort.store(true, Ordering::Relaxed);
+                return Err(col);
+            }
+        }
+        Ok(())
+    }
+
+    /// Factors supernode `s` into `block`; `head` holds the values of the supernodes from the
+    /// one at offset `base` up to `s` (all of `s`'s descendants).
+    #[allow(clippy::too_many_arguments)]
+    fn factor_node(
+        &self,
+        s: usize,
+        base: usize,
+        head: &[f64],
+        block: &mut [f64],
+        a: &[f64],
+        g2l: &mut [usize],
+        tmp: &mut Vec<f64>,
+        mem: &mut MemBuffer,
+    ) -> Result<(), usize> {
+        let node = self.node(s);
+        let (ncols, nrows) = (node.ncols, node.nrows());
+        block.fill(0.0);
+        for k in self.a_ptr[s]..self.a_ptr[s + 1] {
+            block[self.a_dst[k]] += a[self.a_src[k]];
+        }
+        for (i, &r) in node.pattern.iter().enumerate() {
+            g2l[r] = ncols + i;
+        }
+        let upd = &self.upd[self.upd_ptr[s]..self.upd_ptr[s + 1]];
+        let ctx = Update {
+            plan: self,
+            node: &node,
+            base,
+            head,
+            g2l,
+        };
+        if ncols >= SPLIT_MIN_COLS && upd.len() >= SPLIT_MIN_UPDATES {
+            // Columns left of `split` and right of it take their updates independently; the
+            // split is a function of the node only (never of the threads), and balances the
+            // lower trapezoid's area.
+            let split = balanced_split(ncols, nrows);
+            let (left, right) = block.split_at_mut(split * nrows);
+            rayon::join(
+                || ctx.apply(upd, left, 0..split, &mut Vec::new()),
+                || ctx.apply(upd, right, split..ncols, &mut Vec::new()),
+            );
+        } else {
+            ctx.apply(upd, block, 0..ncols, tmp);
+        }
+        let ls = MatMut::from_column_major_slice_mut(block, nrows, ncols);
+        let (mut top, mut bot) = ls.split_at_row_mut(ncols);
+        match cholesky_in_place(
+            top.rb_mut(),
+            LltRegularization::default(),
+            Par::Seq,
+            MemStack::new(mem),
+            Default::default(),
+        ) {
+            Ok(_) => {}
+            Err(LltError::NonPositivePivot { index }) => return Err(index + node.start),
+        }
+        solve_lower_triangular_in_place(top.rb(), bot.rb_mut().transpose_mut(), Par::Seq);
+        Ok(())
+    }
+}
+
+/// Nodes at least this wide, updated by at least this many descendants, take their updates in
+/// two column halves run in parallel.
+const SPLIT_MIN_COLS: usize = 48;
+const SPLIT_MIN_UPDATES: usize = 32;
+
+/// The column splitting an `nrows × ncols` lower trapezoid into two parts of equal area.
+fn balanced_split(ncols: usize, nrows: usize) -> usize {
+    let area = |x: usize| {
+        // Entries on or below the diagonal in columns `0..x`.
+        (x * nrows) as f64 - (x * x.saturating_sub(1)) as f64 / 2.0
+    };
+    let half = area(ncols) / 2.0;
+    let mut split = (1..ncols).find(|&x| area(x) >= half).unwrap_or(ncols / 2);
+    split = split.clamp(1, ncols - 1);
+    split
+}
+
+/// What a supernode's updates read: its geometry, its descendants' values and the position
+/// of its pattern's rows.
+struct Update<'a> {
+    plan: &'a Plan,
+    node: &'a Node<'a>,
+    base: usize,
+    head: &'a [f64],
+    g2l: &'a [usize],
+}
+
+impl Update<'_> {
+    /// Subtracts from `cols` (the node's columns `range`, column-major) the contributions of
+    /// the descendants `upd`, in order.
+    fn apply(&self, upd: &[usize], cols: &mut [f64], range: Range<usize>, tmp: &mut Vec<f64>) {
+        let plan = self.plan;
+        let node = self.node;
+        let nrows = node.nrows();
+        let (c_lo, c_hi) = (node.start + range.start, node.start + range.end);
+        let s_end = node.start + node.ncols;
+        for &d in upd {
+            let dn = plan.node(d);
+            let off = plan.val_ptr[d] - self.base;
+            let ld = MatRef::from_column_major_slice(
+                &self.head[off..off + (plan.val_ptr[d + 1] - plan.val_ptr[d])],
+                dn.nrows(),
+                dn.ncols,
+            );
+            let start = dn.pattern.partition_point(|&r| r < c_lo);
+            let rows = &dn.pattern[start..];
+            let width = rows.partition_point(|&r| r < c_hi);
+            if width == 0 {
+                continue;
+            }
+            let mid = rows.partition_point(|&r| r < s_end);
+            let m = rows.len();
+            let below = ld.subrows(dn.ncols + start, m);
+            let at = ld.subrows(dn.ncols + start, width);
+            // `matmul` overwrites the product: grow the buffer, never clear it.
+            if tmp.len() < m * width {
+                tmp.resize(m * width, 0.0);
+            }
+            let mut t = MatMut::from_column_major_slice_mut(&mut tmp[..m * width], m, width);
+            matmul(
+                t.rb_mut(),
+                Accum::Replace,
+                below,
+                at.transpose(),
+                1.0,
+                Par::Seq,
+            );
+            for c in 0..width {
+                let col = rows[c] - c_lo;
+                let dst = &mut cols[col * nrows..(col + 1) * nrows];
+                let src = t.rb().col(c);
+                for r in c..mid {
+                    dst[rows[r] - node.start] -= src[r];
+                }
+                for r in mid..m {
+                    dst[self.g2l[rows[r]]] -= src[r];
+                }
+            }
+        }
+    }
+}
+
+/// The ordering `perm_fwd` (original index of each new one; identity if `None`) with the
+/// supernodes of `sym` (its analysis) renumbered in a postorder of their elimination tree,
+/// children in ascending order: the same factor up to a symmetric permutation, with the same
+/// fill, but every subtree's supernodes consecutive, as [`Plan`] needs. `None` if they
+/// already are.
+pub(crate) fn postordered(
+    sym: &SymbolicSupernodalCholesky<usize>,
+    perm_fwd: Option<&[usize]>,
+) -> Option<Vec<usize>> {
+    let n = sym.nrows();
+    let ns = sym.n_supernodes();
+    let begin = sym.supernode_begin();
+    let end = sym.supernode_end();
+    let mut super_of = vec![0usize; n];
+    for s in 0..ns {
+        super_of[begin[s]..end[s]].fill(s);
+    }
+    let mut children: Vec<Vec<usize>> = vec![Vec::new(); ns];
+    let mut roots = Vec::new();
+    for s in 0..ns {
+        match sym.supernode(s).pattern().first() {
+            Some(&r) => children[super_of[r]].push(s),
+            None => roots.push(s),
+        }
+    }
+    // Iterative depth-first postorder.
+    let mut order = Vec::with_capacity(ns);
+    let mut stack: Vec<(usize, usize)> = Vec::new();
+    for &r in &roots {
+        stack.push((r, 0));
+        while let Some((s, next)) = stack.pop() {
+            if let Some(&c) = children[s].get(next) {
+                stack.push((s, next + 1));
+                stack.push((c, 0));
+            } else {
+                order.push(s);
+            }
+        }
+    }
+    if order.iter().enumerate().all(|(i, &s)| i == s) {
+        return None;
+    }
+    let mut fwd = Vec::with_capacity(n);
+    for &s in &order {
+        for col in begin[s]..end[s] {
+            fwd.push(perm_fwd.map_or(col, |p| p[col]));
+        }
+    }
+    Some(fwd)
+}
+
+/// Groups `(key, value)` pairs by key (`0..n`), keeping their order within a key.
+fn bucket<T: Copy>(n: usize, pairs: Vec<(usize, T)>) -> (Vec<usize>, Vec<T>) {
+    let mut ptr = vec![0usize; n + 1];
+    for &(k, _) in &pairs {
+        ptr[k + 1] += 1;
+    }
+    for k in 0..n {
+        ptr[k + 1] += ptr[k];
+    }
+    let mut next = ptr.clone();
+    let mut out: Vec<Option<T>> = vec![None; pairs.len()];
+    for (k, v) in pairs {
+        out[next[k]] = Some(v);
+        next[k] += 1;
+    }
+    (
+        ptr,
+        out.into_iter()
+            .map(|v| v.expect("every slot filled"))
+            .collect(),
+    )
+}
+
+/// The elimination tree, for building the schedule.
+struct Tree<'a> {
+    children: &'a [Vec<usize>],
+    first: &'a [usize],
+    subtree: &'a [f64],
+    grain: f64,
+}
+
+impl Tree<'_> {
+    /// The task for the subtree rooted at `r`.
+    fn task(&self, r: usize, depth: usize) -> Task {
+        let whole = self.first[r]..r + 1;
+        if self.subtree[r] < self.grain || depth >= MAX_DEPTH {
+            return Task::Seq(whole);
+        }
+        // Walk down the chain of single children: those supernodes run after the fork.
+        let mut b = r;
+        while self.children[b].len() == 1 {
+            b = self.children[b][0];
+        }
+        if self.children[b].is_empty() {
+            return Task::Seq(whole);
+        }
+        self.fork(&self.children[b], b..r + 1, depth + 1)
+    }
+
+    /// Independent subtrees `roots` (consecutive in postorder) followed by `tail`; runs of
+    /// light subtrees are merged into one sequential part.
+    fn fork(&self, roots: &[usize], tail: Range<usize>, depth: usize) -> Task {
+        let mut parts: Vec<Task> = Vec::new();
+        let mut light: Option<Range<usize>> = None;
+        for &c in roots {
+            let range = self.first[c]..c + 1;
+            if self.subtree[c] < self.grain {
+                light = Some(match light {
+                    Some(l) => l.start..range.end,
+                    None => range,
+                });
+                continue;
+            }
+            if let Some(l) = light.take() {
+                parts.push(Task::Seq(l));
+            }
+            parts.push(self.task(c, depth));
+        }
+        if let Some(l) = light {
+            parts.push(Task::Seq(l));
+        }
+        if parts.len() == 1 && tail.is_empty() {
+            return parts.pop().expect("one part");
+        }
+        Task::Fork { parts, tail }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn balanced_split_halves_the_trapezoid() {
+        for (ncols, nrows) in [
+            (2, 2),
+            (3, 10),
+            (48, 48),
+            (100, 100),
+            (100, 400),
+            (423, 423),
+        ] {
+            let split = balanced_split(ncols, nrows);
+            assert!((1..ncols).contains(&split), "{ncols}×{nrows}: {split}");
+            let area = |a: usize, b: usize| (a..b).map(|c| nrows - c).sum::<usize>();
+            let (left, right) = (area(0, split), area(split, ncols));
+            // Within one column of an even split.
+            assert!(
+                left.abs_diff(right) <= 2 * nrows,
+                "{ncols}×{nrows}: {left} vs {right}"
+            );
+        }
+    }
+
+    #[test]
+    fn bucket_groups_by_key_keeping_order() {
+        let (ptr, vals) = bucket(3, vec![(2, 'a'), (0, 'b'), (2, 'c'), (0, 'd')]);
+        assert_eq!(ptr, vec![0, 2, 2, 4]);
+        assert_eq!(vals, vec!['b', 'd', 'a', 'c']);
+    }
+}
