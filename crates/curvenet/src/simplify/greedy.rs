@@ -217,10 +217,13 @@ pub fn greedy(
         keep[c] = true;
     }
     let mut timings = GreedyTimings::default();
+    let mut superset = None;
 
     // What each iteration hands the next: its equilibrium (Newton's start), its low modes (the
     // eigen solver's start) and the factorization of the winning candidate's Hessian, which is
     // the next structure's Hessian at that start (Newton's first matrix).
+    // The previous structure's symbolic analysis serves the next relaxation (see
+    // `Scorer::evaluate_warm`); a pure function of that structure, recomputed on resume.
     let (mut iterations, mut active, mut warm, mut warm_modes, mut next_factor) = match resume {
         None => (Vec::new(), ActiveSet::all(n), None, None, None),
         Some(r) => {
@@ -246,6 +249,7 @@ pub fn greedy(
             } else {
                 None
             };
+            superset = Some(analyzer.symbolic_for(&prev));
             (
                 r.iterations,
                 prev.without(removed),
@@ -261,15 +265,22 @@ pub fn greedy(
             return Err(SimplifyError::Cancelled);
         }
         let t = Instant::now();
-        let (factor, modes) = if params.warm_start {
+        let (factor, modes, relax_symbolic) = if params.warm_start {
             (
                 next_factor.take(),
                 warm_modes.as_ref().map(|m: &Mat<f64>| m.as_ref()),
+                superset.take(),
             )
         } else {
-            (None, None)
+            (None, None, None)
         };
-        let eval = scorer.evaluate_warm(&active, warm.as_deref(), factor, modes)?;
+        let eval = scorer.evaluate_warm(
+            &active,
+            warm.as_deref(),
+            factor,
+            modes,
+            relax_symbolic.as_ref(),
+        )?;
         timings.relax_seconds += t.elapsed().as_secs_f64();
         timings.relax_work.add(eval.work);
         let k = iterations.len();
@@ -365,5 +376,6 @@ pub fn greedy(
             .map(|i| factors.swap_remove(i).1);
         warm_modes = Some(eval.spectrum.vectors);
         warm = Some(eval.displacement);
+        superset = Some(eval.symbolic);
     }
 }

@@ -185,18 +185,23 @@ impl<'a> Scorer<'a> {
         active: &ActiveSet,
         start: Option<&[f64]>,
     ) -> Result<Evaluation, StabilityError> {
-        self.evaluate_warm(active, start, None, None)
+        self.evaluate_warm(active, start, None, None, None)
     }
 
     /// [`Self::evaluate`] with help from a previous step: `factor`, a factorization of a
-    /// nearby Hessian of the same structure (Newton's first steps reuse it), and `modes`,
-    /// approximate low modes (the eigen solver starts from them). Only the work changes.
+    /// nearby Hessian of the same structure (Newton's first steps reuse it), `modes`,
+    /// approximate low modes (the eigen solver starts from them), and `superset`, the
+    /// symbolic analysis of a structure containing `active` (the previous step's): Newton
+    /// factors with it while `active`'s own analysis, which the spectrum uses, is computed on
+    /// another thread. Only the work changes (and round-off: pass the same `superset` to get
+    /// the same result).
     pub fn evaluate_warm(
         &self,
         active: &ActiveSet,
         start: Option<&[f64]>,
         factor: Option<Cholesky>,
         modes: Option<MatRef<'_, f64>>,
+        superset: Option<&std::sync::Arc<crate::solve::SymbolicFactor>>,
     ) -> Result<Evaluation, StabilityError> {
         let a = self.analyzer;
         if active.is_empty() {
@@ -204,8 +209,17 @@ impl<'a> Scorer<'a> {
         }
         let model = a.model();
         let mut u = start.map_or_else(|| vec![0.0; model.dofs()], <[f64]>::to_vec);
-        let symbolic = a.symbolic_for(active);
-        let newton = a.relax_with(active, &mut u, factor, &symbolic);
+        let (symbolic, newton) = match superset {
+            Some(superset) => rayon::join(
+                || a.symbolic_for(active),
+                || a.relax_with(active, &mut u, factor, superset),
+            ),
+            None => {
+                let symbolic = a.symbolic_for(active);
+                let newton = a.relax_with(active, &mut u, factor, &symbolic);
+                (symbolic, newton)
+            }
+        };
         let h = model.assemble(&u, active, true).hess;
         let warm = modes.map(|w| restrict(w, &model.vertex_mask(active)));
         let (spectrum, factor) = smallest_eigenpairs_factored(
