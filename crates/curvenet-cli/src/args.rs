@@ -166,6 +166,10 @@ pub struct BenchArgs {
     /// Factor every structure on the whole network's pattern, never on its own vertices only.
     #[arg(long = "no-restrict")]
     pub no_restrict: bool,
+    /// Stop Newton at the round-off floor only after several stalled iterations, also near
+    /// the tolerance (`floor_near` = 1).
+    #[arg(long = "no-floor-near")]
+    pub no_floor_near: bool,
     /// Factor with faer's sequential numeric factorization instead of the subtree-parallel one.
     #[arg(long = "no-subtrees")]
     pub no_subtrees: bool,

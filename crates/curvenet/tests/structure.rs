@@ -574,3 +574,16 @@ fn restrict_share_outside_the_unit_interval_is_an_error() {
         assert!(p.validate().is_ok());
     }
 }
+
+#[test]
+fn newton_floor_near_below_one_is_an_error() {
+    for bad in [0.5, -1.0, f64::NAN, f64::INFINITY] {
+        let mut p = StabilityParams::default();
+        p.newton.floor_near = bad;
+        let e = p.validate().expect_err("rejected");
+        assert!(e.contains("floor_near"), "{e}");
+    }
+    let mut p = StabilityParams::default();
+    p.newton.floor_near = 1.0;
+    assert!(p.validate().is_ok());
+}

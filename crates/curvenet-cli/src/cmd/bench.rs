@@ -61,14 +61,15 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
     println!(
         "curvenet bench: {threads} thread(s); pruning {}, inertia test {}, chord steps {}, \
          Krylov steps {}, warm starts {}, restricted factorizations {}, subtree-parallel \
-         factorizations {}",
+         factorizations {}, early round-off floor {}",
         on(!a.no_prune),
         on(!a.no_prune && !a.no_inertia),
         on(a.chord),
         on(a.krylov),
         on(!a.no_warm),
         on(!a.no_restrict),
-        on(!a.no_subtrees)
+        on(!a.no_subtrees),
+        on(!a.no_floor_near)
     );
     curvenet::solve::factor::set_subtree_parallel(!a.no_subtrees);
     println!(
@@ -101,6 +102,9 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         }
         if a.krylov {
             stability.newton.krylov_iterations = 16;
+        }
+        if a.no_floor_near {
+            stability.newton.floor_near = 1.0;
         }
         let mut params = GreedyParams::new(Budget::Fraction(ex.setup.budget_fraction));
         params.keep = ex.setup.keep.clone();

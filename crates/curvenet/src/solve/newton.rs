@@ -29,6 +29,12 @@ pub struct NewtonParams {
     pub stall_iterations: usize,
     /// A stall at a relative gradient above this is a failure, not a round-off floor.
     pub floor_max_rel: f64,
+    /// Within this factor of the tolerance, one iteration that neither halves `‖∇E‖` nor
+    /// moves the energy beyond round-off ends the solve at the round-off floor (Newton's
+    /// quadratic convergence would have passed the tolerance); farther away it takes
+    /// `stall_iterations` of them.
+    #[serde(default = "default_floor_near")]
+    pub floor_near: f64,
     /// Reuse the last factorization for a step ("chord" step) and keep it when the step cuts
     /// `‖∇E‖` by at least this factor; 0 (the default) disables reuse. On the paper's
     /// examples a fresh factorization per step is faster: a rejected chord step costs an
@@ -42,6 +48,10 @@ pub struct NewtonParams {
     /// Relative residual the conjugate gradients must reach.
     #[serde(default = "default_krylov_tol")]
     pub krylov_tol: f64,
+}
+
+fn default_floor_near() -> f64 {
+    100.0
 }
 
 fn default_krylov_iterations() -> usize {
@@ -61,6 +71,7 @@ impl Default for NewtonParams {
             max_backtracks: 60,
             stall_iterations: 4,
             floor_max_rel: 1e-6,
+            floor_near: default_floor_near(),
             chord_ratio: 0.0,
             krylov_iterations: default_krylov_iterations(),
             krylov_tol: default_krylov_tol(),
@@ -75,6 +86,12 @@ impl NewtonParams {
             return Err(format!(
                 "Newton tolerance must lie in (0, 1), got {}",
                 self.rel_tol
+            ));
+        }
+        if !(self.floor_near >= 1.0 && self.floor_near.is_finite()) {
+            return Err(format!(
+                "Newton's floor_near must be a finite factor of at least 1, got {}",
+                self.floor_near
             ));
         }
         if self.max_iterations == 0 {
@@ -281,7 +298,8 @@ pub fn relax_with_factor(
             // The energy no longer moves and the gradient no longer halves: round-off floor.
             best_grad = best_grad.min(g_norm);
             stalled += 1;
-            if stalled >= params.stall_iterations {
+            let near = g_norm <= params.floor_near * params.rel_tol * g_ref;
+            if stalled >= params.stall_iterations || near {
                 info.converged = info.grad_rel <= params.floor_max_rel;
                 info.stop = if info.converged {
                     NewtonStop::RoundoffFloor
