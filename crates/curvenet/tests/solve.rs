@@ -11,10 +11,15 @@ use curvenet::solve::Cholesky;
 use curvenet::solve::eigen::{smallest_eigenpairs, smallest_eigenpairs_restricted};
 use curvenet::stability::{Analyzer, StabilityParams};
 
-fn solve_bits(f: &Cholesky, n: usize) -> Vec<u64> {
+/// The solution of `F x = b` for a fixed right-hand side `b`.
+fn solve_fixed(f: &Cholesky, n: usize) -> Vec<f64> {
     let mut rhs: Vec<f64> = (0..n).map(|i| ((i * 7919) % 101) as f64 - 50.0).collect();
     f.solve_vec(&mut rhs);
-    rhs.iter().map(|v| v.to_bits()).collect()
+    rhs
+}
+
+fn solve_bits(f: &Cholesky, n: usize) -> Vec<u64> {
+    solve_fixed(f, n).iter().map(|v| v.to_bits()).collect()
 }
 
 #[test]
@@ -166,14 +171,9 @@ fn subtree_parallel_factor_matches_faer() {
     );
     let pattern = model.pattern();
     let s = pattern.sym_norm1(&h);
-    let x_of = |f: &Cholesky| {
-        let mut rhs: Vec<f64> = (0..n).map(|i| ((i * 7919) % 101) as f64 - 50.0).collect();
-        f.solve_vec(&mut rhs);
-        rhs
-    };
     let fast = Cholesky::factorize(sym, pattern, &h, s).expect("positive definite");
     let reference = Cholesky::factorize_reference(sym, pattern, &h, s).expect("positive definite");
-    let (x, y) = (x_of(&fast), x_of(&reference));
+    let (x, y) = (solve_fixed(&fast, n), solve_fixed(&reference, n));
     let err = x
         .iter()
         .zip(&y)
