@@ -571,3 +571,39 @@ fn removing_curves_equals_rebuilding_the_network_without_them() {
         worst[0], worst[1]
     );
 }
+
+#[test]
+fn a_lambda_hint_changes_only_the_work() {
+    use curvenet::simplify::Warm;
+    let an = Analyzer::new(arches(7, 6, 30.0), StabilityParams::default()).expect("analyzer");
+    let sc = Scorer::new(&an);
+    let all = an.all();
+    let plain = sc.evaluate(&all, None).expect("evaluate");
+    let lambda = plain.lambda();
+    assert!(lambda > 0.0, "a stable test network ({lambda:e})");
+    assert!(plain.spectrum.shift <= 0.0, "about zero without a hint");
+    for (hint, shifted) in [
+        (lambda, true),
+        (1.05 * lambda, true),
+        (10.0 * lambda, false),
+        (-1.0, false),
+        (f64::NAN, false),
+    ] {
+        let warm = Warm {
+            lambda: Some(hint),
+            ..Warm::default()
+        };
+        let e = sc.evaluate_warm(&all, None, warm).expect("evaluate");
+        assert_eq!(
+            e.spectrum.shift > 0.0,
+            shifted,
+            "hint {hint:e}: shift {:e}",
+            e.spectrum.shift
+        );
+        for (a, b) in e.spectrum.values.iter().zip(&plain.spectrum.values) {
+            assert!(rel_diff(*a, *b) < 1e-8, "hint {hint:e}: {a:e} vs {b:e}");
+        }
+        assert_eq!(e.spectrum.zero_modes, plain.spectrum.zero_modes);
+        assert_eq!(e.spectrum.negative_modes, plain.spectrum.negative_modes);
+    }
+}

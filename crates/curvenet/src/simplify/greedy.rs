@@ -16,7 +16,7 @@
 //! others, so the choice does not depend on the thread count.
 
 use super::candidates::{CandidateContext, CandidateScore, PruneParams};
-use super::{Budget, Evaluation, Scorer, SimplifyError, Work, pick_best};
+use super::{Budget, Evaluation, Scorer, SimplifyError, Warm, Work, pick_best};
 use crate::report::NewtonSummary;
 use crate::rod::ActiveSet;
 use crate::stability::Analyzer;
@@ -218,6 +218,8 @@ pub fn greedy(
     }
     let mut timings = GreedyTimings::default();
     let mut superset = None;
+    // The last winner's score, an estimate of the next `λ_eq` (see `Warm::lambda`).
+    let mut lambda_hint = None;
 
     // What each iteration hands the next: its equilibrium (Newton's start), its low modes (the
     // eigen solver's start) and the factorization of the winning candidate's Hessian, which is
@@ -250,6 +252,7 @@ pub fn greedy(
                 None
             };
             superset = Some(analyzer.symbolic_for(&prev));
+            lambda_hint = last.score;
             (
                 r.iterations,
                 prev.without(removed),
@@ -265,22 +268,18 @@ pub fn greedy(
             return Err(SimplifyError::Cancelled);
         }
         let t = Instant::now();
-        let (factor, modes, relax_symbolic) = if params.warm_start {
-            (
-                next_factor.take(),
-                warm_modes.as_ref().map(|m: &Mat<f64>| m.as_ref()),
-                superset.take(),
-            )
+        let relax_symbolic = superset.take();
+        let hints = if params.warm_start {
+            Warm {
+                factor: next_factor.take(),
+                modes: warm_modes.as_ref().map(|m: &Mat<f64>| m.as_ref()),
+                superset: relax_symbolic.as_ref(),
+                lambda: lambda_hint.take(),
+            }
         } else {
-            (None, None, None)
+            Warm::default()
         };
-        let eval = scorer.evaluate_warm(
-            &active,
-            warm.as_deref(),
-            factor,
-            modes,
-            relax_symbolic.as_ref(),
-        )?;
+        let eval = scorer.evaluate_warm(&active, warm.as_deref(), hints)?;
         timings.relax_seconds += t.elapsed().as_secs_f64();
         timings.relax_work.add(eval.work);
         let k = iterations.len();
@@ -377,5 +376,6 @@ pub fn greedy(
         warm_modes = Some(eval.spectrum.vectors);
         warm = Some(eval.displacement);
         superset = Some(eval.symbolic);
+        lambda_hint = Some(score);
     }
 }

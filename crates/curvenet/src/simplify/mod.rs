@@ -108,6 +108,27 @@ pub struct Evaluation {
     pub symbolic: std::sync::Arc<crate::solve::SymbolicFactor>,
 }
 
+/// What a previous step of a search hands [`Scorer::evaluate_warm`]; every field only changes
+/// the work (and round-off).
+#[derive(Debug, Default)]
+pub struct Warm<'a> {
+    /// A factorization of a nearby Hessian of the same structure: Newton's first steps reuse
+    /// it.
+    pub factor: Option<Cholesky>,
+    /// Approximate low modes (columns): the eigen solver starts from them.
+    pub modes: Option<MatRef<'a, f64>>,
+    /// The symbolic analysis of a structure containing this one (the previous step's):
+    /// Newton factors with it while the structure's own analysis, which the spectrum uses, is
+    /// computed on another thread.
+    pub superset: Option<&'a std::sync::Arc<crate::solve::SymbolicFactor>>,
+    /// An estimate of `λ_eq` (the removed candidate's score): the spectrum is computed about
+    /// a shift just below it when that shift proves to lie below every eigenvalue.
+    pub lambda: Option<f64>,
+}
+
+/// The spectrum's shift, as a fraction of [`Warm::lambda`].
+const SPECTRUM_SHIFT: f64 = 0.9;
+
 /// Counts of the expensive operations, for benchmarks.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Work {
@@ -185,23 +206,16 @@ impl<'a> Scorer<'a> {
         active: &ActiveSet,
         start: Option<&[f64]>,
     ) -> Result<Evaluation, StabilityError> {
-        self.evaluate_warm(active, start, None, None, None)
+        self.evaluate_warm(active, start, Warm::default())
     }
 
-    /// [`Self::evaluate`] with help from a previous step: `factor`, a factorization of a
-    /// nearby Hessian of the same structure (Newton's first steps reuse it), `modes`,
-    /// approximate low modes (the eigen solver starts from them), and `superset`, the
-    /// symbolic analysis of a structure containing `active` (the previous step's): Newton
-    /// factors with it while `active`'s own analysis, which the spectrum uses, is computed on
-    /// another thread. Only the work changes (and round-off: pass the same `superset` to get
-    /// the same result).
+    /// [`Self::evaluate`] with help from a previous step (see [`Warm`]): only the work
+    /// changes, and round-off (the same `warm` gives the same result).
     pub fn evaluate_warm(
         &self,
         active: &ActiveSet,
         start: Option<&[f64]>,
-        factor: Option<Cholesky>,
-        modes: Option<MatRef<'_, f64>>,
-        superset: Option<&std::sync::Arc<crate::solve::SymbolicFactor>>,
+        warm: Warm<'_>,
     ) -> Result<Evaluation, StabilityError> {
         let a = self.analyzer;
         if active.is_empty() {
@@ -209,7 +223,8 @@ impl<'a> Scorer<'a> {
         }
         let model = a.model();
         let mut u = start.map_or_else(|| vec![0.0; model.dofs()], <[f64]>::to_vec);
-        let (symbolic, newton) = match superset {
+        let factor = warm.factor;
+        let (symbolic, newton) = match warm.superset {
             Some(superset) => rayon::join(
                 || a.symbolic_for(active),
                 || a.relax_with(active, &mut u, factor, superset),
@@ -221,14 +236,33 @@ impl<'a> Scorer<'a> {
             }
         };
         let h = model.assemble(&u, active, true).hess;
-        let warm = modes.map(|w| restrict(w, &model.vertex_mask(active)));
-        let (spectrum, factor) = smallest_eigenpairs_factored(
-            model.pattern(),
-            &h,
-            &symbolic,
-            warm.as_ref().map(|w| w.as_ref()),
-            &self.eval_eigen,
-        )?;
+        let modes = warm.modes.map(|w| restrict(w, &model.vertex_mask(active)));
+        let modes = modes.as_ref().map(|w| w.as_ref());
+        // About a shift right below the expected λ when one is known: a successful Cholesky
+        // of `H − σI` proves no eigenvalue lies below σ, and shift-and-invert separates the
+        // clustered smallest eigenvalues far better there than about zero (roof: 51 solves
+        // per spectrum about zero). Otherwise, or if λ turns out below σ, about zero.
+        let shifted = match warm.lambda.map(|l| SPECTRUM_SHIFT * l) {
+            Some(sigma) if sigma > 0.0 && sigma.is_finite() => smallest_eigenpairs_above(
+                model.pattern(),
+                &h,
+                &symbolic,
+                modes,
+                &self.eval_eigen,
+                sigma,
+            )?,
+            _ => None,
+        };
+        let (spectrum, factor) = match shifted {
+            Some(pair) => pair,
+            None => smallest_eigenpairs_factored(
+                model.pattern(),
+                &h,
+                &symbolic,
+                modes,
+                &self.eval_eigen,
+            )?,
+        };
         let curves = active.curves();
         Ok(Evaluation {
             factor: Some(std::sync::Arc::new(factor)),
