@@ -22,14 +22,21 @@ fn solve_bits(f: &Cholesky, n: usize) -> Vec<u64> {
     solve_fixed(f, n).iter().map(|v| v.to_bits()).collect()
 }
 
+/// The analyzer of random curves (`seed`, four open ones) at edge length `h`, and the whole
+/// network's Hessian in the drawn state.
+fn drawn_hessian(seed: u64, h: f64) -> (Analyzer, Vec<f64>) {
+    let net = build(&random_curves(seed, 4), h, Supports::Clamped);
+    let a = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
+    let u = vec![0.0; a.model().dofs()];
+    let hess = a.model().assemble(&u, &a.all(), true).hess;
+    (a, hess)
+}
+
 #[test]
 fn reused_buffers_give_bit_identical_factors() {
-    let net = build(&random_curves(3, 4), 20.0, Supports::Clamped);
-    let a = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
+    let (a, h) = drawn_hessian(3, 20.0);
     let model = a.model();
     let n = model.dofs();
-    let u = vec![0.0; n];
-    let h = model.assemble(&u, &a.all(), true).hess;
     let sym = a.symbolic();
     let pattern = model.pattern();
     // The drawn state's Hessian need not be definite: shift it by its 1-norm (Gershgorin).
@@ -156,13 +163,10 @@ fn restricted_analysis_factors_the_whole_matrix() {
 #[test]
 fn subtree_parallel_factor_matches_faer() {
     // Big enough for nested dissection, supernodes and a parallel schedule.
-    let net = build(&random_curves(11, 4), 0.5, Supports::Clamped);
-    let a = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
+    let (a, h) = drawn_hessian(11, 0.5);
     let model = a.model();
     let n = model.dofs();
     assert!(n > 3000, "{n} unknowns");
-    let u = vec![0.0; n];
-    let h = model.assemble(&u, &a.all(), true).hess;
     let sym = a.symbolic();
     assert!(
         sym.parallel_subtrees() >= 4,
