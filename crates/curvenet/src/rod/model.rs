@@ -827,6 +827,29 @@ impl EnergyModel {
         out
     }
 
+    /// `Σ ‖H_t‖_F` over the terms `t` of curve `c` (local Hessians in `locals`): an upper bound
+    /// on the spectral norm of `|H_c|`, the entrywise absolute value of the curve's Hessian.
+    pub fn curve_hessian_norm(&self, locals: &LocalHessians, c: usize) -> f64 {
+        let r = &self.rods[c];
+        let frob = |rows: &[&[f64]]| {
+            rows.iter()
+                .flat_map(|row| row.iter())
+                .map(|v| v * v)
+                .sum::<f64>()
+                .sqrt()
+        };
+        let mut sum = 0.0;
+        for t in r.stretch.clone() {
+            let l = &locals.stretch[t];
+            sum += frob(&l.iter().map(|row| &row[..]).collect::<Vec<_>>());
+        }
+        for t in r.bend.clone() {
+            let l = &locals.bend[t];
+            sum += frob(&l.iter().map(|row| &row[..]).collect::<Vec<_>>());
+        }
+        sum + (r.anchor.end - r.anchor.start) as f64 * 2.0 * self.mu * 3f64.sqrt()
+    }
+
     /// The Hessian of the active structure with the rows and columns of loose vertices deleted
     /// (the normative definition of SPEC §5), as a dense matrix, and the kept vertices.
     /// For tests and small networks.

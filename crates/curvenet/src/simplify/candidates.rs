@@ -105,6 +105,10 @@ pub struct CandidateContext<'s, 'a> {
     vtv: Mat<f64>,
     vthv: Mat<f64>,
     hv_abs: Vec<f64>,
+    /// `H_A` (upper triangle in the model's pattern) and its entrywise absolute value: every
+    /// candidate's Hessian is `H_A` minus its curve's terms.
+    h: Vec<f64>,
+    h_abs: Vec<f64>,
     factorizations: AtomicUsize,
     solves: AtomicUsize,
     /// A factorization of `H_A − σI`, for refined bounds.
@@ -148,6 +152,7 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
         let hv_abs = (0..n)
             .map(|i| (0..k).map(|j| hv[(i, j)].abs()).fold(0.0, f64::max))
             .collect();
+        let h_abs = h.iter().map(|v| v.abs()).collect();
         CandidateContext {
             scorer,
             active: active.clone(),
@@ -157,6 +162,8 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
             vtv,
             vthv,
             hv_abs,
+            h,
+            h_abs,
             factorizations: AtomicUsize::new(0),
             solves: AtomicUsize::new(0),
             preconditioner: None,
@@ -278,16 +285,26 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
         };
         let mut x = self.modes.as_ref() * coeffs.get(.., ..r);
         zero_loose(&mut x);
-        let mut h = Vec::new();
-        model.hessian_from_locals(&self.locals, &self.active.without(c), &mut h);
+        // `H' m = H_A m − H_c m` for `m` zero on the loose rows (whose only terms are `c`'s):
+        // one product with the iteration's `H_A` and the curve's few terms, instead of
+        // assembling `H'`.
+        let verts = model.curve_vertices(c);
         let matvec = |m: MatRef<'_, f64>| {
             let mut out = Mat::<f64>::zeros(n, m.ncols());
             let mut col = vec![0.0; n];
             for j in 0..m.ncols() {
                 let xj: Vec<f64> = m.col(j).iter().copied().collect();
-                model.pattern().sym_matvec(&h, &xj, &mut col);
+                model.pattern().sym_matvec(&self.h, &xj, &mut col);
                 for i in 0..n {
                     out[(i, j)] = col[i];
+                }
+            }
+            let hc = model.curve_hessian_product(&self.locals, c, m);
+            for (s, &v) in verts.iter().enumerate() {
+                for a in 0..3 {
+                    for j in 0..m.ncols() {
+                        out[(3 * v as usize + a, j)] -= hc[(3 * s + a, j)];
+                    }
                 }
             }
             out
@@ -320,15 +337,21 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
         let g = basis.transpose() * basis.as_ref();
         let (values, coefficients) = ritz(k.as_ref(), g.as_ref());
         let value = values.first().copied().unwrap_or(f64::INFINITY);
-        // Round-off of the Rayleigh quotient of the minimising vector y: |y|ᵀ|H'||y| ε.
+        // Round-off of the Rayleigh quotient of the minimising vector y: |y|ᵀ|H'||y| ε, with
+        // |H'| ≤ |H_A| + |H_c| and |y|ᵀ|H_c||y| ≤ (Σ_t ‖H_t‖_F) ‖y_c‖² over c's terms t.
         let y = basis.as_ref() * coefficients.get(.., ..1);
-        let abs_h: Vec<f64> = h.iter().map(|v| v.abs()).collect();
         let ya: Vec<f64> = y.col(0).iter().map(|v| v.abs()).collect();
         let mut hy = vec![0.0; n];
-        model.pattern().sym_matvec(&abs_h, &ya, &mut hy);
+        model.pattern().sym_matvec(&self.h_abs, &ya, &mut hy);
         let yy: f64 = y.col(0).iter().map(|v| v * v).sum();
-        let spread: f64 =
-            ya.iter().zip(&hy).map(|(a, b)| a * b).sum::<f64>() / yy.max(f64::MIN_POSITIVE);
+        let yc: f64 = verts
+            .iter()
+            .flat_map(|&v| (0..3).map(move |a| 3 * v as usize + a))
+            .map(|i| y[(i, 0)] * y[(i, 0)])
+            .sum();
+        let curve = model.curve_hessian_norm(&self.locals, c) * yc;
+        let spread: f64 = (ya.iter().zip(&hy).map(|(a, b)| a * b).sum::<f64>() + curve)
+            / yy.max(f64::MIN_POSITIVE);
         let refined = Bound {
             value,
             margin: 64.0 * f64::EPSILON * spread + 1e-9 * value.abs(),
