@@ -831,23 +831,16 @@ impl EnergyModel {
     /// on the spectral norm of `|H_c|`, the entrywise absolute value of the curve's Hessian.
     pub fn curve_hessian_norm(&self, locals: &LocalHessians, c: usize) -> f64 {
         let r = &self.rods[c];
-        let frob = |rows: &[&[f64]]| {
-            rows.iter()
-                .flat_map(|row| row.iter())
-                .map(|v| v * v)
-                .sum::<f64>()
-                .sqrt()
-        };
-        let mut sum = 0.0;
-        for t in r.stretch.clone() {
-            let l = &locals.stretch[t];
-            sum += frob(&l.iter().map(|row| &row[..]).collect::<Vec<_>>());
-        }
-        for t in r.bend.clone() {
-            let l = &locals.bend[t];
-            sum += frob(&l.iter().map(|row| &row[..]).collect::<Vec<_>>());
-        }
-        sum + (r.anchor.end - r.anchor.start) as f64 * 2.0 * self.mu * 3f64.sqrt()
+        let frob = |h: &mut dyn Iterator<Item = &f64>| h.map(|v| v * v).sum::<f64>().sqrt();
+        let stretch: f64 = locals.stretch[r.stretch.clone()]
+            .iter()
+            .map(|l| frob(&mut l.iter().flatten()))
+            .sum();
+        let bend: f64 = locals.bend[r.bend.clone()]
+            .iter()
+            .map(|l| frob(&mut l.iter().flatten()))
+            .sum();
+        stretch + bend + r.anchor.len() as f64 * 2.0 * self.mu * 3f64.sqrt()
     }
 
     /// The Hessian of the active structure with the rows and columns of loose vertices deleted

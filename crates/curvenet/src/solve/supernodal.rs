@@ -125,28 +125,21 @@ impl Plan {
             rows.extend_from_slice(sym.supernode(s).pattern());
             pat_ptr.push(rows.len());
         }
-        let mut super_of = vec![0usize; n];
-        for s in 0..ns {
-            super_of[begin[s]..begin[s + 1]].fill(s);
-        }
         // Elimination tree of the supernodes and its postorder property.
-        let mut parent = vec![usize::MAX; ns];
+        let (super_of, parent) = supernode_tree(sym);
         let mut children: Vec<Vec<usize>> = vec![Vec::new(); ns];
-        for s in 0..ns {
-            if let Some(&r) = rows[pat_ptr[s]..pat_ptr[s + 1]].first() {
-                let p = super_of[r];
+        for (s, p) in parent.iter().enumerate() {
+            if let &Some(p) = p {
                 if p <= s {
                     return None;
                 }
-                parent[s] = p;
                 children[p].push(s);
             }
         }
         let mut first: Vec<usize> = (0..ns).collect();
         let mut size = vec![1usize; ns];
         for s in 0..ns {
-            if parent[s] != usize::MAX {
-                let p = parent[s];
+            if let Some(p) = parent[s] {
                 first[p] = first[p].min(first[s]);
                 size[p] += size[s];
             }
@@ -195,26 +188,25 @@ impl Plan {
         }
         let (a_ptr, a) = bucket(ns, entries);
         let (a_src, a_dst) = a.into_iter().unzip();
-        // Work estimate per supernode: its columns' updates to everything below them.
-        let work: Vec<f64> = (0..ns)
+        // Work per subtree: each supernode's columns update everything below them.
+        let mut subtree: Vec<f64> = (0..ns)
             .map(|s| {
                 let c = (begin[s + 1] - begin[s]) as f64;
                 let r = c + (pat_ptr[s + 1] - pat_ptr[s]) as f64;
                 c * r * r
             })
             .collect();
-        let mut subtree = work.clone();
         for s in 0..ns {
-            if parent[s] != usize::MAX {
+            if let Some(p) = parent[s] {
                 let w = subtree[s];
-                subtree[parent[s]] += w;
+                subtree[p] += w;
             }
         }
         let total: f64 = (0..ns)
-            .filter(|&s| parent[s] == usize::MAX)
+            .filter(|&s| parent[s].is_none())
             .map(|s| subtree[s])
             .sum();
-        let roots: Vec<usize> = (0..ns).filter(|&s| parent[s] == usize::MAX).collect();
+        let roots: Vec<usize> = (0..ns).filter(|&s| parent[s].is_none()).collect();
         let tree = Tree {
             children: &children,
             first: &first,
@@ -496,15 +488,12 @@ pub(crate) fn postordered(
     let ns = sym.n_supernodes();
     let begin = sym.supernode_begin();
     let end = sym.supernode_end();
-    let mut super_of = vec![0usize; n];
-    for s in 0..ns {
-        super_of[begin[s]..end[s]].fill(s);
-    }
+    let (_, parent) = supernode_tree(sym);
     let mut children: Vec<Vec<usize>> = vec![Vec::new(); ns];
     let mut roots = Vec::new();
-    for s in 0..ns {
-        match sym.supernode(s).pattern().first() {
-            Some(&r) => children[super_of[r]].push(s),
+    for (s, p) in parent.into_iter().enumerate() {
+        match p {
+            Some(p) => children[p].push(s),
             None => roots.push(s),
         }
     }
@@ -532,6 +521,20 @@ pub(crate) fn postordered(
         }
     }
     Some(fwd)
+}
+
+/// The elimination tree of `sym`'s supernodes: the supernode of each column, and each
+/// supernode's parent (the supernode of its first off-diagonal row; `None` for roots).
+fn supernode_tree(sym: &SymbolicSupernodalCholesky<usize>) -> (Vec<usize>, Vec<Option<usize>>) {
+    let (begin, end) = (sym.supernode_begin(), sym.supernode_end());
+    let mut super_of = vec![0usize; sym.nrows()];
+    for s in 0..sym.n_supernodes() {
+        super_of[begin[s]..end[s]].fill(s);
+    }
+    let parent = (0..sym.n_supernodes())
+        .map(|s| sym.supernode(s).pattern().first().map(|&r| super_of[r]))
+        .collect();
+    (super_of, parent)
 }
 
 /// Groups `(key, value)` pairs by key (`0..n`), keeping their order within a key.
