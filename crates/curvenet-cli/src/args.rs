@@ -173,6 +173,9 @@ pub struct BenchArgs {
     /// Factor with faer's sequential numeric factorization instead of the subtree-parallel one.
     #[arg(long = "no-subtrees")]
     pub no_subtrees: bool,
+    /// Low modes per iteration (the candidates' bound subspace; default: the greedy's).
+    #[arg(long)]
+    pub modes: Option<usize>,
     /// Switch off the inertia test (one factorization at the best score so far) for
     /// candidates the bounds could not prune.
     #[arg(long = "no-inertia")]

@@ -39,6 +39,7 @@ struct Row {
     relax_s: f64,
     assemble_s: f64,
     factor_s: f64,
+    solve_s: f64,
     eigen_s: f64,
     bound_s: f64,
     wall_s: f64,
@@ -73,7 +74,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
     );
     curvenet::solve::factor::set_subtree_parallel(!a.no_subtrees);
     println!(
-        "{:<9} {:>6} {:>6} {:>5} {:>5} {:>6} {:>6} {:>6} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}",
+        "{:<9} {:>6} {:>6} {:>5} {:>5} {:>6} {:>6} {:>6} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}",
         "example",
         "curves",
         "dofs",
@@ -85,6 +86,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         "relax s",
         "asm s",
         "factor s",
+        "solve s",
         "eigen s",
         "bound s",
         "wall s",
@@ -111,6 +113,9 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         params.prune.enabled = !a.no_prune;
         params.prune.inertia = !a.no_inertia;
         params.warm_start = !a.no_warm;
+        if let Some(m) = a.modes {
+            params.modes = m;
+        }
         profile::reset_peak_memory();
         profile::reset();
         let start = Instant::now();
@@ -138,6 +143,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
             relax_s: p.relax.seconds,
             assemble_s: p.assemble.seconds,
             factor_s: p.factor.seconds,
+            solve_s: p.solve.seconds,
             eigen_s: p.eigen.seconds,
             bound_s: p.bound.seconds,
             wall_s: wall,
@@ -152,7 +158,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
             final_lambda: last.lambda,
         };
         println!(
-            "{:<9} {:>6} {:>6} {:>5} {:>5} {:>6} {:>6} {:>6} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8} {:>8}",
+            "{:<9} {:>6} {:>6} {:>5} {:>5} {:>6} {:>6} {:>6} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8} {:>8}",
             row.example,
             format!("{}→{}", row.curves, row.kept),
             row.dofs,
@@ -164,6 +170,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
             row.relax_s,
             row.assemble_s,
             row.factor_s,
+            row.solve_s,
             row.eigen_s,
             row.bound_s,
             row.wall_s,
