@@ -466,76 +466,15 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
                 },
             }
         };
-        let bounds: Vec<Option<Bound>> = if prune.enabled {
-            candidates
-                .par_iter()
-                .map(|&c| Some(self.bound(c)))
-                .collect()
-        } else {
-            vec![None; candidates.len()]
-        };
-        let mut order: Vec<usize> = (0..candidates.len()).collect();
-        if prune.enabled {
-            let key = |i: usize| bounds[i].map_or(f64::INFINITY, |b| b.value);
-            order.sort_by(|&a, &b| {
-                key(b)
-                    .total_cmp(&key(a))
-                    .then(candidates[a].cmp(&candidates[b]))
-            });
-        }
-        for (o, b) in out.iter_mut().zip(&bounds) {
-            o.bound = b.map(|b| b.value);
-        }
-        let batch = if prune.enabled {
-            prune.batch.max(1)
-        } else {
-            candidates.len().max(1)
-        };
         let mut best = f64::NEG_INFINITY;
         let mut kept: Vec<(usize, f64, Cholesky)> = Vec::new();
-        // The first batch holds only the most promising candidate: its exact score makes the
-        // best known at once, and the refined bounds of the rest can be compared with it.
-        let first = if prune.enabled { 1.min(order.len()) } else { 0 };
-        let chunks = std::iter::once(&order[..first]).chain(order[first..].chunks(batch));
-        for chunk in chunks {
-            let floor = best - tie * best.abs();
-            let beaten = |b: &Bound| b.value + b.margin < floor;
-            let mut todo: Vec<usize> = chunk
-                .iter()
-                .copied()
-                .filter(|&i| bounds[i].is_none_or(|b| !beaten(&b)))
-                .collect();
-            if best.is_finite() && self.preconditioner.is_some() {
-                let refined: Vec<Option<Bound>> = todo
-                    .par_iter()
-                    .map(|&i| self.refined_bound(candidates[i]))
-                    .collect();
-                todo = todo
-                    .into_iter()
-                    .zip(refined)
-                    .filter_map(|(i, r)| {
-                        if let Some(r) = r {
-                            out[i].refined_bound = Some(r.value);
-                            if beaten(&r) {
-                                return None;
-                            }
-                        }
-                        Some(i)
-                    })
-                    .collect();
-            }
-            for &i in chunk {
-                if !todo.contains(&i) {
-                    out[i].pruned = true;
-                }
-            }
-            let sigma = (prune.enabled && prune.inertia && floor > 0.0 && floor.is_finite())
-                .then_some(floor);
-            let scores: Vec<_> = todo
-                .par_iter()
-                .map(|&i| evaluate(candidates[i], sigma))
-                .collect();
-            for (&i, (s, below, e, f)) in todo.iter().zip(scores) {
+        // Records one evaluated group (scored about `sigma`, or about zero when `None`).
+        let mut record = |group: &[usize],
+                          sigma: Option<f64>,
+                          results: Vec<Outcome>,
+                          out: &mut Vec<CandidateScore>,
+                          best: &mut f64| {
+            for (&i, (s, below, e, f)) in group.iter().zip(results) {
                 if below.is_some() {
                     out[i].pruned = true;
                     out[i].below = below;
@@ -543,7 +482,7 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
                     out[i].shift = sigma;
                 }
                 if let Some(v) = s.filter(|v| v.is_finite()) {
-                    best = best.max(v);
+                    *best = best.max(v);
                     if let Some(f) = f {
                         kept.push((candidates[i], v, f));
                     }
@@ -551,8 +490,112 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
                 out[i].score = s;
                 out[i].error = e;
             }
-            let floor = best - tie * best.abs();
+            let floor = *best - tie * best.abs();
             kept.retain(|k| k.1 >= floor);
+        };
+        if !prune.enabled {
+            let all: Vec<usize> = (0..candidates.len()).collect();
+            let results = all
+                .par_iter()
+                .map(|&i| evaluate(candidates[i], None))
+                .collect();
+            record(&all, None, results, &mut out, &mut best);
+            return (out, kept.into_iter().map(|(c, _, f)| (c, f)).collect());
+        }
+        // Best first: candidates are taken by decreasing bound (the refined bound once known,
+        // else the plain one; ties by curve id) and skipped once their bound falls below the
+        // best score. A candidate is evaluated only after its refined bound, so the first
+        // exact score goes to the most promising candidate by the tighter bound and later
+        // candidates are mostly settled by their bound or the inertia test. Every decision
+        // depends only on the values, never on thread timing.
+        let plain: Vec<Bound> = candidates.par_iter().map(|&c| self.bound(c)).collect();
+        for (o, b) in out.iter_mut().zip(&plain) {
+            o.bound = Some(b.value);
+        }
+        let refinable = self.preconditioner.is_some();
+        let mut refined: Vec<Option<Bound>> = vec![None; candidates.len()];
+        let key = |refined: &[Option<Bound>], i: usize| refined[i].unwrap_or(plain[i]);
+        let batch = prune.batch.max(1);
+        let mut alive: Vec<usize> = (0..candidates.len()).collect();
+        loop {
+            if cancelled() {
+                for &i in &alive {
+                    out[i].error = Some("cancelled".into());
+                }
+                break;
+            }
+            let floor = best - tie * best.abs();
+            let beaten = |b: &Bound| b.value + b.margin < floor;
+            alive.retain(|&i| {
+                let prune = beaten(&key(&refined, i));
+                if prune {
+                    out[i].pruned = true;
+                }
+                !prune
+            });
+            if alive.is_empty() {
+                break;
+            }
+            alive.sort_by(|&a, &b| {
+                key(&refined, b)
+                    .value
+                    .total_cmp(&key(&refined, a).value)
+                    .then(candidates[a].cmp(&candidates[b]))
+            });
+            let top = &alive[..batch.min(alive.len())];
+            let unrefined: Vec<usize> = top
+                .iter()
+                .copied()
+                .filter(|&i| refinable && refined[i].is_none())
+                .collect();
+            if !unrefined.is_empty() {
+                let values: Vec<Option<Bound>> = unrefined
+                    .par_iter()
+                    .map(|&i| self.refined_bound(candidates[i]))
+                    .collect();
+                for (&i, r) in unrefined.iter().zip(values) {
+                    // `None` only without a preconditioner: keep the plain bound.
+                    refined[i] = Some(r.unwrap_or(plain[i]));
+                    out[i].refined_bound = r.map(|r| r.value);
+                }
+                continue;
+            }
+            // The first score (about zero) alone: it sets the best at once. Meanwhile the
+            // other thread refines the bounds of the next candidates (pure values: the
+            // decisions above do not depend on when they were computed).
+            let take = if best.is_finite() { top.len() } else { 1 };
+            let group: Vec<usize> = top[..take].to_vec();
+            let sigma = (prune.inertia && floor > 0.0 && floor.is_finite()).then_some(floor);
+            let ahead: Vec<usize> = if !best.is_finite() {
+                alive[take..]
+                    .iter()
+                    .copied()
+                    .filter(|&i| refinable && refined[i].is_none())
+                    .take(batch)
+                    .collect()
+            } else {
+                Vec::new()
+            };
+            let (results, values): (Vec<Outcome>, Vec<Option<Bound>>) = rayon::join(
+                || {
+                    group
+                        .par_iter()
+                        .map(|&i| evaluate(candidates[i], sigma))
+                        .collect()
+                },
+                || {
+                    ahead
+                        .par_iter()
+                        .map(|&i| self.refined_bound(candidates[i]))
+                        .collect()
+                },
+            );
+            for (&i, r) in ahead.iter().zip(values) {
+                refined[i] = Some(r.unwrap_or(plain[i]));
+                out[i].refined_bound = r.map(|r| r.value);
+            }
+            record(&group, sigma, results, &mut out, &mut best);
+            alive.retain(|i| !group.contains(i));
         }
         (out, kept.into_iter().map(|(c, _, f)| (c, f)).collect())
     }
