@@ -264,52 +264,106 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
     /// are preconditioned by `(H_A − σI)⁻¹` (the factorization `A`'s spectrum used; `H'`
     /// differs from `H_A` only around `c`), and Rayleigh–Ritz on `[X, Z]` gives the bound.
     /// Everything lives on `A \ {c}`'s coordinates (loose rows zero), so by Courant–Fischer
-    /// the smallest Ritz value is at least `λ_min(H')`. Costs one assembly, a few sparse
-    /// products and one grouped solve — no factorization.
+    /// the smallest Ritz value is at least `λ_min(H')`. Costs a few sparse products and one
+    /// solve — no factorization. [`Self::refined_bounds`] does several candidates with one
+    /// solve call.
     pub fn refined_bound(&self, c: usize) -> Option<Bound> {
-        let f = self.preconditioner.as_ref()?;
+        self.refined_bounds(&[c]).pop().flatten()
+    }
+
+    /// [`Self::refined_bound`] of each of `cs`, their residuals solved together: the solves
+    /// are bound by memory traffic (reading `L`), so four columns in one call cost little
+    /// more than one (roof: 1.1 ms against 0.65 ms), and one call for two candidates halves
+    /// the cost of the step. The result for a candidate depends on which candidates share
+    /// its call (the solver's rounding does); callers group candidates deterministically.
+    pub fn refined_bounds(&self, cs: &[usize]) -> Vec<Option<Bound>> {
+        let Some(f) = self.preconditioner.as_ref() else {
+            return vec![None; cs.len()];
+        };
         let _timer = crate::profile::Timer::new(crate::profile::Phase::Bound);
+        let steps: Vec<RefineStep> = cs.par_iter().map(|&c| self.refine_start(c)).collect();
+        let widths: Vec<usize> = steps
+            .iter()
+            .map(|s| match s {
+                RefineStep::Done(_) => 0,
+                RefineStep::Step { z, .. } => z.ncols(),
+            })
+            .collect();
+        let n = self.modes.nrows();
+        let mut rhs = Mat::<f64>::zeros(n, widths.iter().sum());
+        let mut at = 0;
+        for s in &steps {
+            if let RefineStep::Step { z, .. } = s {
+                rhs.get_mut(.., at..at + z.ncols()).copy_from(z);
+                at += z.ncols();
+            }
+        }
+        if rhs.ncols() > 0 {
+            f.solve_in_place(rhs.as_mut());
+        }
+        let mut offsets = Vec::with_capacity(cs.len());
+        let mut at = 0;
+        for w in &widths {
+            offsets.push(at);
+            at += w;
+        }
+        steps
+            .into_par_iter()
+            .zip(cs.par_iter().zip(offsets.par_iter()))
+            .map(|(step, (&c, &at))| match step {
+                RefineStep::Done(b) => Some(b),
+                RefineStep::Step {
+                    bound,
+                    x,
+                    hx,
+                    z,
+                    loose_rows,
+                } => {
+                    let z = rhs.get(.., at..at + z.ncols()).to_owned();
+                    Some(self.refine_finish(c, bound, x, hx, z, &loose_rows))
+                }
+            })
+            .collect()
+    }
+
+    /// `H' m = H_A m − H_c m` for `m` zero on `c`'s loose rows (whose only terms are `c`'s):
+    /// one product with the iteration's `H_A` and the curve's few terms, instead of
+    /// assembling `H'`.
+    fn candidate_matvec(&self, c: usize, m: MatRef<'_, f64>) -> Mat<f64> {
         let model = self.scorer.analyzer().model();
+        let n = m.nrows();
+        let mut out = Mat::<f64>::zeros(n, m.ncols());
+        let mut col = vec![0.0; n];
+        for j in 0..m.ncols() {
+            let xj: Vec<f64> = m.col(j).iter().copied().collect();
+            model.pattern().sym_matvec(&self.h, &xj, &mut col);
+            for i in 0..n {
+                out[(i, j)] = col[i];
+            }
+        }
+        let hc = model.curve_hessian_product(&self.locals, c, m);
+        for (s, &v) in model.curve_vertices(c).iter().enumerate() {
+            for a in 0..3 {
+                for j in 0..m.ncols() {
+                    out[(3 * v as usize + a, j)] -= hc[(3 * s + a, j)];
+                }
+            }
+        }
+        out
+    }
+
+    /// The refined bound's first half: the Ritz vectors `X` of the plain bound, `H'X`, and
+    /// the residuals to precondition (loose rows zero).
+    fn refine_start(&self, c: usize) -> RefineStep {
         let (bound, coeffs, loose_rows) = self.ritz_bound(c);
         if coeffs.ncols() == 0 {
-            return Some(bound);
+            return RefineStep::Done(bound);
         }
         let r = coeffs.ncols().min(2);
         let n = self.modes.nrows();
-        let zero_loose = |m: &mut Mat<f64>| {
-            for &row in &loose_rows {
-                for j in 0..m.ncols() {
-                    m[(row, j)] = 0.0;
-                }
-            }
-        };
         let mut x = self.modes.as_ref() * coeffs.get(.., ..r);
-        zero_loose(&mut x);
-        // `H' m = H_A m − H_c m` for `m` zero on the loose rows (whose only terms are `c`'s):
-        // one product with the iteration's `H_A` and the curve's few terms, instead of
-        // assembling `H'`.
-        let verts = model.curve_vertices(c);
-        let matvec = |m: MatRef<'_, f64>| {
-            let mut out = Mat::<f64>::zeros(n, m.ncols());
-            let mut col = vec![0.0; n];
-            for j in 0..m.ncols() {
-                let xj: Vec<f64> = m.col(j).iter().copied().collect();
-                model.pattern().sym_matvec(&self.h, &xj, &mut col);
-                for i in 0..n {
-                    out[(i, j)] = col[i];
-                }
-            }
-            let hc = model.curve_hessian_product(&self.locals, c, m);
-            for (s, &v) in verts.iter().enumerate() {
-                for a in 0..3 {
-                    for j in 0..m.ncols() {
-                        out[(3 * v as usize + a, j)] -= hc[(3 * s + a, j)];
-                    }
-                }
-            }
-            out
-        };
-        let hx = matvec(x.as_ref());
+        zero_rows(&mut x, &loose_rows);
+        let hx = self.candidate_matvec(c, x.as_ref());
         // Rayleigh quotients of X (not exactly θ: X is only orthogonal in exact arithmetic).
         let mut z = hx.clone();
         for j in 0..r {
@@ -319,20 +373,38 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
                 z[(i, j)] -= q * x[(i, j)];
             }
         }
-        zero_loose(&mut z);
-        f.solve_in_place(z.as_mut());
-        zero_loose(&mut z);
-        let hz = matvec(z.as_ref());
+        zero_rows(&mut z, &loose_rows);
+        RefineStep::Step {
+            bound,
+            x,
+            hx,
+            z,
+            loose_rows,
+        }
+    }
+
+    /// The refined bound's second half, from the preconditioned residuals `z`: Rayleigh–Ritz
+    /// on `[X, Z]` and its round-off margin; the lower of it and the plain `bound`.
+    fn refine_finish(
+        &self,
+        c: usize,
+        bound: Bound,
+        x: Mat<f64>,
+        hx: Mat<f64>,
+        mut z: Mat<f64>,
+        loose_rows: &[usize],
+    ) -> Bound {
+        let model = self.scorer.analyzer().model();
+        let n = x.nrows();
+        let r = x.ncols();
+        zero_rows(&mut z, loose_rows);
+        let hz = self.candidate_matvec(c, z.as_ref());
         let mut basis = Mat::<f64>::zeros(n, 2 * r);
         let mut hbasis = Mat::<f64>::zeros(n, 2 * r);
-        for j in 0..r {
-            for i in 0..n {
-                basis[(i, j)] = x[(i, j)];
-                basis[(i, r + j)] = z[(i, j)];
-                hbasis[(i, j)] = hx[(i, j)];
-                hbasis[(i, r + j)] = hz[(i, j)];
-            }
-        }
+        basis.get_mut(.., ..r).copy_from(&x);
+        basis.get_mut(.., r..).copy_from(&z);
+        hbasis.get_mut(.., ..r).copy_from(&hx);
+        hbasis.get_mut(.., r..).copy_from(&hz);
         let k = basis.transpose() * hbasis.as_ref();
         let g = basis.transpose() * basis.as_ref();
         let (values, coefficients) = ritz(k.as_ref(), g.as_ref());
@@ -344,7 +416,8 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
         let mut hy = vec![0.0; n];
         model.pattern().sym_matvec(&self.h_abs, &ya, &mut hy);
         let yy: f64 = y.col(0).iter().map(|v| v * v).sum();
-        let yc: f64 = verts
+        let yc: f64 = model
+            .curve_vertices(c)
             .iter()
             .flat_map(|&v| (0..3).map(move |a| 3 * v as usize + a))
             .map(|i| y[(i, 0)] * y[(i, 0)])
@@ -357,13 +430,11 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
             margin: 64.0 * f64::EPSILON * spread + 1e-9 * value.abs(),
         };
         // Keep whichever bound is lower once margins are counted.
-        Some(
-            if refined.value + refined.margin < bound.value + bound.margin {
-                refined
-            } else {
-                bound
-            },
-        )
+        if refined.value + refined.margin < bound.value + bound.margin {
+            refined
+        } else {
+            bound
+        }
     }
 
     /// Candidate `c`'s exact score, warm-started from the iteration's modes, with the
@@ -434,170 +505,290 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
         tie: f64,
         cancelled: &(dyn Fn() -> bool + Sync),
     ) -> (Vec<CandidateScore>, Vec<(usize, Cholesky)>) {
-        let mut out: Vec<CandidateScore> = candidates
-            .iter()
-            .map(|&c| CandidateScore {
-                curve: c,
-                score: None,
-                bound: None,
-                refined_bound: None,
-                pruned: false,
-                below: None,
-                shift: None,
-                error: None,
-            })
-            .collect();
-        // A candidate's outcome: its score, or the shift it was proved below, or an error;
-        // the factorization of H − σI with σ ≤ 0 (a Newton matrix for the next relaxation).
-        type Outcome = (Option<f64>, Option<f64>, Option<String>, Option<Cholesky>);
-        let evaluate = |c: usize, sigma: Option<f64>| -> Outcome {
-            if cancelled() {
-                return (None, None, Some("cancelled".into()), None);
-            }
-            match sigma {
-                Some(sigma) => match self.score_above(c, sigma) {
-                    Ok(Some((sp, _))) => (Some(sp.lambda()), None, None, None),
-                    Ok(None) => (None, Some(sigma), None, None),
-                    Err(e) => (None, None, Some(e.to_string()), None),
-                },
-                None => match self.score(c) {
-                    Ok((sp, f)) => (Some(sp.lambda()), None, None, Some(f)),
-                    Err(e) => (None, None, Some(e.to_string()), None),
-                },
-            }
-        };
-        let mut best = f64::NEG_INFINITY;
-        let mut kept: Vec<(usize, f64, Cholesky)> = Vec::new();
-        // Records one evaluated group (scored about `sigma`, or about zero when `None`).
-        let mut record = |group: &[usize],
-                          sigma: Option<f64>,
-                          results: Vec<Outcome>,
-                          out: &mut Vec<CandidateScore>,
-                          best: &mut f64| {
-            for (&i, (s, below, e, f)) in group.iter().zip(results) {
-                if below.is_some() {
-                    out[i].pruned = true;
-                    out[i].below = below;
-                } else if s.is_some() {
-                    out[i].shift = sigma;
-                }
-                if let Some(v) = s.filter(|v| v.is_finite()) {
-                    *best = best.max(v);
-                    if let Some(f) = f {
-                        kept.push((candidates[i], v, f));
-                    }
-                }
-                out[i].score = s;
-                out[i].error = e;
-            }
-            let floor = *best - tie * best.abs();
-            kept.retain(|k| k.1 >= floor);
+        let none: Option<fn(usize, f64, Cholesky)> = None;
+        let (scores, factors, _) =
+            self.score_all_speculating(candidates, prune, tie, cancelled, none);
+        (scores, factors)
+    }
+
+    /// [`Self::score_all`], running `speculate` on the first candidate scored (the most
+    /// promising by its bound, scored about zero) while the others are settled: with its
+    /// curve, score and factorization (then not among the factorizations returned). The
+    /// greedy relaxes that candidate's structure there, which is the next iteration's work
+    /// when it wins. The scores do not depend on it; `speculate` runs only when candidates
+    /// remain to be settled after the first score.
+    pub fn score_all_speculating<T: Send>(
+        &self,
+        candidates: &[usize],
+        prune: &PruneParams,
+        tie: f64,
+        cancelled: &(dyn Fn() -> bool + Sync),
+        speculate: Option<impl FnOnce(usize, f64, Cholesky) -> T + Send>,
+    ) -> (
+        Vec<CandidateScore>,
+        Vec<(usize, Cholesky)>,
+        Option<(usize, T)>,
+    ) {
+        let mut search = Search {
+            ctx: self,
+            candidates,
+            tie,
+            batch: prune.batch.max(1),
+            inertia: prune.inertia,
+            cancelled,
+            out: candidates
+                .iter()
+                .map(|&c| CandidateScore {
+                    curve: c,
+                    score: None,
+                    bound: None,
+                    refined_bound: None,
+                    pruned: false,
+                    below: None,
+                    shift: None,
+                    error: None,
+                })
+                .collect(),
+            best: f64::NEG_INFINITY,
+            kept: Vec::new(),
+            plain: Vec::new(),
+            refined: vec![None; candidates.len()],
+            alive: (0..candidates.len()).collect(),
         };
         if !prune.enabled {
             let all: Vec<usize> = (0..candidates.len()).collect();
             let results = all
                 .par_iter()
-                .map(|&i| evaluate(candidates[i], None))
+                .map(|&i| search.evaluate(candidates[i], None))
                 .collect();
-            record(&all, None, results, &mut out, &mut best);
-            return (out, kept.into_iter().map(|(c, _, f)| (c, f)).collect());
+            search.record(&all, None, results);
+            let (out, factors) = search.finish();
+            return (out, factors, None);
         }
-        // Best first: candidates are taken by decreasing bound (the refined bound once known,
-        // else the plain one; ties by curve id) and skipped once their bound falls below the
-        // best score. A candidate is evaluated only after its refined bound, so the first
-        // exact score goes to the most promising candidate by the tighter bound and later
-        // candidates are mostly settled by their bound or the inertia test. Every decision
-        // depends only on the values, never on thread timing.
-        let plain: Vec<Bound> = candidates.par_iter().map(|&c| self.bound(c)).collect();
-        for (o, b) in out.iter_mut().zip(&plain) {
+        search.plain = candidates.par_iter().map(|&c| self.bound(c)).collect();
+        for (o, b) in search.out.iter_mut().zip(&search.plain) {
             o.bound = Some(b.value);
         }
-        let refinable = self.preconditioner.is_some();
-        let mut refined: Vec<Option<Bound>> = vec![None; candidates.len()];
-        let key = |refined: &[Option<Bound>], i: usize| refined[i].unwrap_or(plain[i]);
-        let batch = prune.batch.max(1);
-        let mut alive: Vec<usize> = (0..candidates.len()).collect();
-        loop {
-            if cancelled() {
-                for &i in &alive {
-                    out[i].error = Some("cancelled".into());
-                }
-                break;
+        while !search.best.is_finite() && search.step() {}
+        let mut speculated = None;
+        if let Some(speculate) = speculate
+            && !search.alive.is_empty()
+            && let Some(first) = search.kept.pop()
+        {
+            let (c, v, f) = first;
+            let (t, ()) = rayon::join(|| speculate(c, v, f), || while search.step() {});
+            speculated = Some((c, t));
+        }
+        while search.step() {}
+        let (out, factors) = search.finish();
+        (out, factors, speculated)
+    }
+}
+
+/// The state of [`CandidateContext::score_all_speculating`]'s best-first search.
+///
+/// Best first: candidates are taken by decreasing bound (the refined bound once known, else
+/// the plain one; ties by curve id) and skipped once their bound falls below the best score.
+/// A candidate is evaluated only after its refined bound, so the first exact score goes to the
+/// most promising candidate by the tighter bound and later candidates are mostly settled by
+/// their bound or the inertia test. Every decision depends only on the values, never on
+/// thread timing.
+struct Search<'c, 's, 'a> {
+    ctx: &'c CandidateContext<'s, 'a>,
+    candidates: &'c [usize],
+    tie: f64,
+    batch: usize,
+    inertia: bool,
+    cancelled: &'c (dyn Fn() -> bool + Sync),
+    out: Vec<CandidateScore>,
+    best: f64,
+    /// Candidates scored about zero within `tie` of the best, with their factorizations.
+    kept: Vec<(usize, f64, Cholesky)>,
+    plain: Vec<Bound>,
+    /// Refined bounds computed so far (the plain bound when there is no preconditioner).
+    refined: Vec<Option<Bound>>,
+    /// Candidates (indices into `candidates`) neither evaluated nor pruned.
+    alive: Vec<usize>,
+}
+
+/// A candidate's outcome: its score, or the shift it was proved below, or an error; the
+/// factorization of `H − σI` with `σ ≤ 0` (a Newton matrix for the next relaxation).
+type Outcome = (Option<f64>, Option<f64>, Option<String>, Option<Cholesky>);
+
+impl Search<'_, '_, '_> {
+    /// The scores and the kept factorizations.
+    fn finish(self) -> (Vec<CandidateScore>, Vec<(usize, Cholesky)>) {
+        let factors = self.kept.into_iter().map(|(c, _, f)| (c, f)).collect();
+        (self.out, factors)
+    }
+
+    fn evaluate(&self, c: usize, sigma: Option<f64>) -> Outcome {
+        if (self.cancelled)() {
+            return (None, None, Some("cancelled".into()), None);
+        }
+        match sigma {
+            Some(sigma) => match self.ctx.score_above(c, sigma) {
+                Ok(Some((sp, _))) => (Some(sp.lambda()), None, None, None),
+                Ok(None) => (None, Some(sigma), None, None),
+                Err(e) => (None, None, Some(e.to_string()), None),
+            },
+            None => match self.ctx.score(c) {
+                Ok((sp, f)) => (Some(sp.lambda()), None, None, Some(f)),
+                Err(e) => (None, None, Some(e.to_string()), None),
+            },
+        }
+    }
+
+    /// Records one evaluated group (scored about `sigma`, or about zero when `None`).
+    fn record(&mut self, group: &[usize], sigma: Option<f64>, results: Vec<Outcome>) {
+        for (&i, (s, below, e, f)) in group.iter().zip(results) {
+            let o = &mut self.out[i];
+            if below.is_some() {
+                o.pruned = true;
+                o.below = below;
+            } else if s.is_some() {
+                o.shift = sigma;
             }
-            let floor = best - tie * best.abs();
-            let beaten = |b: &Bound| b.value + b.margin < floor;
-            alive.retain(|&i| {
-                let prune = beaten(&key(&refined, i));
-                if prune {
-                    out[i].pruned = true;
+            if let Some(v) = s.filter(|v| v.is_finite()) {
+                self.best = self.best.max(v);
+                if let Some(f) = f {
+                    self.kept.push((self.candidates[i], v, f));
                 }
-                !prune
-            });
-            if alive.is_empty() {
-                break;
             }
-            alive.sort_by(|&a, &b| {
-                key(&refined, b)
-                    .value
-                    .total_cmp(&key(&refined, a).value)
-                    .then(candidates[a].cmp(&candidates[b]))
-            });
-            let top = &alive[..batch.min(alive.len())];
-            let unrefined: Vec<usize> = top
+            o.score = s;
+            o.error = e;
+        }
+        let floor = self.floor();
+        self.kept.retain(|k| k.1 >= floor);
+    }
+
+    fn floor(&self) -> f64 {
+        self.best - self.tie * self.best.abs()
+    }
+
+    fn key(&self, i: usize) -> Bound {
+        self.refined[i].unwrap_or(self.plain[i])
+    }
+
+    fn refine(&mut self, group: &[usize]) {
+        let cs: Vec<usize> = group.iter().map(|&i| self.candidates[i]).collect();
+        let values = self.ctx.refined_bounds(&cs);
+        self.store_refined(group, values);
+    }
+
+    fn store_refined(&mut self, group: &[usize], values: Vec<Option<Bound>>) {
+        for (&i, r) in group.iter().zip(values) {
+            // `None` only without a preconditioner: keep the plain bound.
+            self.refined[i] = Some(r.unwrap_or(self.plain[i]));
+            self.out[i].refined_bound = r.map(|r| r.value);
+        }
+    }
+
+    /// One step: prune, then refine the best candidates' bounds or evaluate the best ones.
+    /// False when every candidate is settled.
+    fn step(&mut self) -> bool {
+        if (self.cancelled)() {
+            for &i in &self.alive {
+                self.out[i].error = Some("cancelled".into());
+            }
+            self.alive.clear();
+            return false;
+        }
+        let floor = self.floor();
+        let mut alive = std::mem::take(&mut self.alive);
+        alive.retain(|&i| {
+            let b = self.key(i);
+            let prune = b.value + b.margin < floor;
+            if prune {
+                self.out[i].pruned = true;
+            }
+            !prune
+        });
+        if alive.is_empty() {
+            return false;
+        }
+        alive.sort_by(|&a, &b| {
+            self.key(b)
+                .value
+                .total_cmp(&self.key(a).value)
+                .then(self.candidates[a].cmp(&self.candidates[b]))
+        });
+        self.alive = alive;
+        let refinable = self.ctx.preconditioner.is_some();
+        let top = self.batch.min(self.alive.len());
+        if refinable && self.alive[..top].iter().any(|&i| self.refined[i].is_none()) {
+            let group: Vec<usize> = self
+                .alive
                 .iter()
                 .copied()
-                .filter(|&i| refinable && refined[i].is_none())
+                .take(REFINE_AHEAD * self.batch)
+                .filter(|&i| self.refined[i].is_none())
                 .collect();
-            if !unrefined.is_empty() {
-                let values: Vec<Option<Bound>> = unrefined
-                    .par_iter()
-                    .map(|&i| self.refined_bound(candidates[i]))
-                    .collect();
-                for (&i, r) in unrefined.iter().zip(values) {
-                    // `None` only without a preconditioner: keep the plain bound.
-                    refined[i] = Some(r.unwrap_or(plain[i]));
-                    out[i].refined_bound = r.map(|r| r.value);
-                }
-                continue;
-            }
-            // The first score (about zero) alone: it sets the best at once. Meanwhile the
-            // other thread refines the bounds of the next candidates (pure values: the
-            // decisions above do not depend on when they were computed).
-            let take = if best.is_finite() { top.len() } else { 1 };
-            let group: Vec<usize> = top[..take].to_vec();
-            let sigma = (prune.inertia && floor > 0.0 && floor.is_finite()).then_some(floor);
-            let ahead: Vec<usize> = if !best.is_finite() {
-                alive[take..]
-                    .iter()
-                    .copied()
-                    .filter(|&i| refinable && refined[i].is_none())
-                    .take(batch)
-                    .collect()
-            } else {
-                Vec::new()
-            };
-            let (results, values): (Vec<Outcome>, Vec<Option<Bound>>) = rayon::join(
-                || {
-                    group
-                        .par_iter()
-                        .map(|&i| evaluate(candidates[i], sigma))
-                        .collect()
-                },
-                || {
-                    ahead
-                        .par_iter()
-                        .map(|&i| self.refined_bound(candidates[i]))
-                        .collect()
-                },
-            );
-            for (&i, r) in ahead.iter().zip(values) {
-                refined[i] = Some(r.unwrap_or(plain[i]));
-                out[i].refined_bound = r.map(|r| r.value);
-            }
-            record(&group, sigma, results, &mut out, &mut best);
-            alive.retain(|i| !group.contains(i));
+            self.refine(&group);
+            return true;
         }
-        (out, kept.into_iter().map(|(c, _, f)| (c, f)).collect())
+        // The first score (about zero) alone: it sets the best at once. Meanwhile the other
+        // thread refines the bounds of the next candidates (pure values: the decisions above
+        // do not depend on when they were computed).
+        let take = if self.best.is_finite() { top } else { 1 };
+        let group: Vec<usize> = self.alive[..take].to_vec();
+        let sigma = (self.inertia && floor > 0.0 && floor.is_finite()).then_some(floor);
+        let ahead: Vec<usize> = if !self.best.is_finite() && refinable {
+            self.alive[take..]
+                .iter()
+                .copied()
+                .filter(|&i| self.refined[i].is_none())
+                .take(self.batch)
+                .collect()
+        } else {
+            Vec::new()
+        };
+        let ctx = self.ctx;
+        let candidates = self.candidates;
+        let (results, values): (Vec<Outcome>, Vec<Option<Bound>>) = rayon::join(
+            || {
+                group
+                    .par_iter()
+                    .map(|&i| self.evaluate(candidates[i], sigma))
+                    .collect()
+            },
+            || {
+                let cs: Vec<usize> = ahead.iter().map(|&i| candidates[i]).collect();
+                ctx.refined_bounds(&cs)
+            },
+        );
+        self.store_refined(&ahead, values);
+        self.record(&group, sigma, results);
+        self.alive.retain(|i| !group.contains(i));
+        true
+    }
+}
+
+/// When the next candidates to evaluate lack a refined bound, the refined bounds of this many
+/// batches of the best candidates are computed together (one solve call of four columns per
+/// two candidates, the calls in parallel).
+const REFINE_AHEAD: usize = 2;
+
+/// A refined bound between its two halves (see [`CandidateContext::refined_bounds`]).
+enum RefineStep {
+    /// Nothing to refine (the modes vanish on `A \ {c}`): the plain bound.
+    Done(Bound),
+    /// Ritz vectors `x`, their product `hx` with `H'`, residuals `z` to precondition.
+    Step {
+        bound: Bound,
+        x: Mat<f64>,
+        hx: Mat<f64>,
+        z: Mat<f64>,
+        loose_rows: Vec<usize>,
+    },
+}
+
+/// Zeroes `rows` of `m`.
+fn zero_rows(m: &mut Mat<f64>, rows: &[usize]) {
+    for &row in rows {
+        for j in 0..m.ncols() {
+            m[(row, j)] = 0.0;
+        }
     }
 }
 
