@@ -505,30 +505,6 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
         tie: f64,
         cancelled: &(dyn Fn() -> bool + Sync),
     ) -> (Vec<CandidateScore>, Vec<(usize, Cholesky)>) {
-        let none: Option<fn(usize, f64, Cholesky)> = None;
-        let (scores, factors, _) =
-            self.score_all_speculating(candidates, prune, tie, cancelled, none);
-        (scores, factors)
-    }
-
-    /// [`Self::score_all`], running `speculate` on the first candidate scored (the most
-    /// promising by its bound, scored about zero) while the others are settled: with its
-    /// curve, score and factorization (then not among the factorizations returned). The
-    /// greedy relaxes that candidate's structure there, which is the next iteration's work
-    /// when it wins. The scores do not depend on it; `speculate` runs only when candidates
-    /// remain to be settled after the first score.
-    pub fn score_all_speculating<T: Send>(
-        &self,
-        candidates: &[usize],
-        prune: &PruneParams,
-        tie: f64,
-        cancelled: &(dyn Fn() -> bool + Sync),
-        speculate: Option<impl FnOnce(usize, f64, Cholesky) -> T + Send>,
-    ) -> (
-        Vec<CandidateScore>,
-        Vec<(usize, Cholesky)>,
-        Option<(usize, T)>,
-    ) {
         let mut search = Search {
             ctx: self,
             candidates,
@@ -562,30 +538,18 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
                 .map(|&i| search.evaluate(candidates[i], None))
                 .collect();
             search.record(&all, None, results);
-            let (out, factors) = search.finish();
-            return (out, factors, None);
+            return search.finish();
         }
         search.plain = candidates.par_iter().map(|&c| self.bound(c)).collect();
         for (o, b) in search.out.iter_mut().zip(&search.plain) {
             o.bound = Some(b.value);
         }
-        while !search.best.is_finite() && search.step() {}
-        let mut speculated = None;
-        if let Some(speculate) = speculate
-            && !search.alive.is_empty()
-            && let Some(first) = search.kept.pop()
-        {
-            let (c, v, f) = first;
-            let (t, ()) = rayon::join(|| speculate(c, v, f), || while search.step() {});
-            speculated = Some((c, t));
-        }
         while search.step() {}
-        let (out, factors) = search.finish();
-        (out, factors, speculated)
+        search.finish()
     }
 }
 
-/// The state of [`CandidateContext::score_all_speculating`]'s best-first search.
+/// The state of [`CandidateContext::score_all`]'s best-first search.
 ///
 /// Best first: candidates are taken by decreasing bound (the refined bound once known, else
 /// the plain one; ties by curve id) and skipped once their bound falls below the best score.
