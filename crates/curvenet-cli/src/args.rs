@@ -173,6 +173,9 @@ pub struct BenchArgs {
     /// Factor with faer's sequential numeric factorization instead of the subtree-parallel one.
     #[arg(long = "no-subtrees")]
     pub no_subtrees: bool,
+    /// Score each iteration's first candidate about zero (not about a shift below its bound).
+    #[arg(long = "no-first-shift")]
+    pub no_first_shift: bool,
     /// Low modes per iteration (the candidates' bound subspace; default: the greedy's).
     #[arg(long)]
     pub modes: Option<usize>,

@@ -12,7 +12,9 @@
 //! - pruning does skip candidates (on the domes and the tower).
 //!
 //! And `warm_start = false` gives the same removals as `warm_start = true` (with `λ_eq` equal
-//! to the Newton and eigen solvers' accuracy, 1e-7 relative).
+//! to the Newton and eigen solvers' accuracy, 1e-7 relative), and scoring each iteration's
+//! first candidate about a shift below its refined bound (`PruneParams::first_shift`) gives the
+//! same removals and scores as scoring it about zero.
 
 mod common;
 
@@ -216,4 +218,49 @@ fn warm_starts_do_not_change_the_choices() {
         let a = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
         check_warm_start(name, &a, &GreedyParams::new(Budget::Fraction(fraction)));
     }
+}
+
+#[test]
+fn a_first_shift_does_not_change_the_choices() {
+    let mut shifted_firsts = 0;
+    for (name, net, fraction) in small_cases() {
+        let a = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
+        let shifted = GreedyParams::new(Budget::Fraction(fraction));
+        assert!(shifted.prune.first_shift > 0.0, "on by default");
+        let mut zero = shifted.clone();
+        zero.prune.first_shift = 0.0;
+        let (g_s, g_z) = (run(&a, &shifted), run(&a, &zero));
+        assert_eq!(removals(&g_s), removals(&g_z), "{name}: removals");
+        for (k, (s, z)) in g_s.iterations.iter().zip(&g_z.iterations).enumerate() {
+            assert!(
+                rel_diff(s.lambda, z.lambda) < SAME,
+                "{name}, iteration {k}: λ_eq"
+            );
+            if let (Some(a), Some(b)) = (s.score, z.score) {
+                assert!(
+                    rel_diff(a, b) < SAME,
+                    "{name}, iteration {k}: {a:e} vs {b:e}"
+                );
+            }
+            // The first score about 0.8 × its refined bound (recorded as its shift).
+            shifted_firsts += s
+                .candidates
+                .iter()
+                .filter(|c| {
+                    c.shift.is_some()
+                        && c.shift == c.refined_bound.map(|r| shifted.prune.first_shift * r)
+                })
+                .count();
+            assert!(
+                z.candidates
+                    .iter()
+                    .all(|c| c.shift.is_none() || c.shift != c.refined_bound.map(|r| 0.8 * r)),
+                "{name}: no first shift when it is off"
+            );
+        }
+    }
+    assert!(
+        shifted_firsts > 0,
+        "no first score was computed about a shift"
+    );
 }

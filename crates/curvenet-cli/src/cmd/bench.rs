@@ -62,7 +62,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
     println!(
         "curvenet bench: {threads} thread(s); pruning {}, inertia test {}, chord steps {}, \
          Krylov steps {}, warm starts {}, restricted factorizations {}, subtree-parallel \
-         factorizations {}, early round-off floor {}",
+         factorizations {}, early round-off floor {}, first score about a shift {}",
         on(!a.no_prune),
         on(!a.no_prune && !a.no_inertia),
         on(a.chord),
@@ -70,7 +70,8 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         on(!a.no_warm),
         on(!a.no_restrict),
         on(!a.no_subtrees),
-        on(!a.no_floor_near)
+        on(!a.no_floor_near),
+        on(!a.no_prune && !a.no_first_shift)
     );
     curvenet::solve::factor::set_subtree_parallel(!a.no_subtrees);
     println!(
@@ -112,6 +113,9 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         params.keep = ex.setup.keep.clone();
         params.prune.enabled = !a.no_prune;
         params.prune.inertia = !a.no_inertia;
+        if a.no_first_shift {
+            params.prune.first_shift = 0.0;
+        }
         params.warm_start = !a.no_warm;
         if let Some(m) = a.modes {
             params.modes = m;

@@ -80,6 +80,7 @@ impl GreedyParams {
                 curves.saturating_sub(1)
             ));
         }
+        self.prune.validate()?;
         if !(self.tie_tolerance >= 0.0 && self.tie_tolerance < 1e-2) {
             return Err(format!(
                 "tie tolerance must lie in [0, 1e-2), got {}",
