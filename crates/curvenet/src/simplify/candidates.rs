@@ -623,14 +623,14 @@ impl Search<'_, '_, '_> {
         if (self.cancelled)() {
             return (None, None, Some("cancelled".into()), None, None);
         }
-        match sigma.or(guess) {
-            Some(shift) => match self.ctx.score_above(c, shift) {
+        if let Some(shift) = sigma.or(guess) {
+            match self.ctx.score_above(c, shift) {
                 Ok(Some((sp, _))) => return (Some(sp.lambda()), None, None, None, Some(shift)),
                 Ok(None) if sigma.is_some() => return (None, Some(shift), None, None, None),
+                // Below the guess: about zero.
                 Ok(None) => {}
                 Err(e) => return (None, None, Some(e.to_string()), None, None),
-            },
-            None => {}
+            }
         }
         match self.ctx.score(c) {
             Ok((sp, f)) => (Some(sp.lambda()), None, None, Some(f), None),
