@@ -553,6 +553,7 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
             plain: Vec::new(),
             refined: vec![None; candidates.len()],
             alive: (0..candidates.len()).collect(),
+            guesses: vec![0; candidates.len()],
         };
         if !prune.enabled {
             let all: Vec<usize> = (0..candidates.len()).collect();
@@ -597,18 +598,30 @@ struct Search<'c, 's, 'a> {
     refined: Vec<Option<Bound>>,
     /// Candidates (indices into `candidates`) neither evaluated nor pruned.
     alive: Vec<usize>,
+    /// Failed first-shift guesses per candidate.
+    guesses: Vec<u8>,
 }
 
-/// A candidate's outcome: its score, or the shift it was proved below, or an error; the
-/// factorization of `H − σI` with `σ ≤ 0` (a Newton matrix for the next relaxation); the
-/// positive shift the score was computed about, if any.
-type Outcome = (
-    Option<f64>,
-    Option<f64>,
-    Option<String>,
-    Option<Cholesky>,
-    Option<f64>,
-);
+/// What evaluating one candidate gave.
+enum Outcome {
+    /// Its score, about `shift` (`None`: about zero, with the factorization of `H − σI`,
+    /// `σ ≤ 0`: a Newton matrix for the next relaxation).
+    Scored {
+        score: f64,
+        shift: Option<f64>,
+        factor: Option<Cholesky>,
+    },
+    /// The inertia test at the best score's floor proved the score below it: pruned.
+    Below(f64),
+    /// The first-shift guess failed: the score lies below it (a new upper bound; the
+    /// candidate stays in the search).
+    BelowGuess(f64),
+    /// The eigen solve failed (or the search was cancelled).
+    Failed(String),
+}
+
+/// Failed first-shift guesses after which a candidate is scored about zero.
+const MAX_GUESSES: u8 = 2;
 
 impl Search<'_, '_, '_> {
     /// The scores and the kept factorizations.
@@ -621,42 +634,70 @@ impl Search<'_, '_, '_> {
     /// `guess` when given and below the score, else about zero.
     fn evaluate(&self, c: usize, sigma: Option<f64>, guess: Option<f64>) -> Outcome {
         if (self.cancelled)() {
-            return (None, None, Some("cancelled".into()), None, None);
+            return Outcome::Failed("cancelled".into());
         }
         if let Some(shift) = sigma.or(guess) {
-            match self.ctx.score_above(c, shift) {
-                Ok(Some((sp, _))) => return (Some(sp.lambda()), None, None, None, Some(shift)),
-                Ok(None) if sigma.is_some() => return (None, Some(shift), None, None, None),
-                // Below the guess: about zero.
-                Ok(None) => {}
-                Err(e) => return (None, None, Some(e.to_string()), None, None),
-            }
+            return match self.ctx.score_above(c, shift) {
+                Ok(Some((sp, _))) => Outcome::Scored {
+                    score: sp.lambda(),
+                    shift: Some(shift),
+                    factor: None,
+                },
+                Ok(None) if sigma.is_some() => Outcome::Below(shift),
+                Ok(None) => Outcome::BelowGuess(shift),
+                Err(e) => Outcome::Failed(e.to_string()),
+            };
         }
         match self.ctx.score(c) {
-            Ok((sp, f)) => (Some(sp.lambda()), None, None, Some(f), None),
-            Err(e) => (None, None, Some(e.to_string()), None, None),
+            Ok((sp, f)) => Outcome::Scored {
+                score: sp.lambda(),
+                shift: None,
+                factor: Some(f),
+            },
+            Err(e) => Outcome::Failed(e.to_string()),
         }
     }
 
-    /// Records one evaluated group (scored about `sigma`, or about zero when `None`).
+    /// Records one evaluated group; the candidates whose guess failed stay in the search.
     fn record(&mut self, group: &[usize], results: Vec<Outcome>) {
-        for (&i, (s, below, e, f, shift)) in group.iter().zip(results) {
+        let mut settled = Vec::with_capacity(group.len());
+        for (&i, outcome) in group.iter().zip(results) {
             let o = &mut self.out[i];
-            if below.is_some() {
-                o.pruned = true;
-                o.below = below;
-            } else if s.is_some() {
-                o.shift = shift;
-            }
-            if let Some(v) = s.filter(|v| v.is_finite()) {
-                self.best = self.best.max(v);
-                if let Some(f) = f {
-                    self.kept.push((self.candidates[i], v, f));
+            match outcome {
+                Outcome::Scored {
+                    score,
+                    shift,
+                    factor,
+                } => {
+                    o.score = Some(score);
+                    o.shift = shift;
+                    o.below = None;
+                    if score.is_finite() {
+                        self.best = self.best.max(score);
+                        if let Some(f) = factor {
+                            self.kept.push((self.candidates[i], score, f));
+                        }
+                    }
                 }
+                Outcome::Below(sigma) => {
+                    o.pruned = true;
+                    o.below = Some(sigma);
+                }
+                Outcome::BelowGuess(g) => {
+                    // Proved: λ < g. Recorded as `below` if that is what prunes it.
+                    o.below = Some(g);
+                    self.guesses[i] += 1;
+                    self.refined[i] = Some(Bound {
+                        value: g,
+                        margin: 0.0,
+                    });
+                    continue;
+                }
+                Outcome::Failed(e) => o.error = Some(e),
             }
-            o.score = s;
-            o.error = e;
+            settled.push(i);
         }
+        self.alive.retain(|i| !settled.contains(i));
         let floor = self.floor();
         self.kept.retain(|k| k.1 >= floor);
     }
@@ -747,7 +788,8 @@ impl Search<'_, '_, '_> {
         let first = self.first_shift;
         let guess = |i: usize| {
             let r = self.key(i).value;
-            (first > 0.0 && r.is_finite() && r > 0.0).then_some(first * r)
+            (first > 0.0 && self.guesses[i] < MAX_GUESSES && r.is_finite() && r > 0.0)
+                .then_some(first * r)
         };
         let (results, values): (Vec<Outcome>, Vec<Option<Bound>>) = rayon::join(
             || {
@@ -763,7 +805,6 @@ impl Search<'_, '_, '_> {
         );
         self.store_refined(&ahead, values);
         self.record(&group, results);
-        self.alive.retain(|i| !group.contains(i));
         true
     }
 }
