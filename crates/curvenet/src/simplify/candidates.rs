@@ -98,7 +98,7 @@ pub struct CandidateScore {
     /// Cholesky factorization of `H − σI` proved its score lies.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub below: Option<f64>,
-    /// When the score was computed by shift-and-invert about a positive shift (the inertia
+    /// When the score was computed by shift-and-invert about a shift (the inertia
     /// test's `σ`, see [`PruneParams::inertia`]) rather than about zero: that shift.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shift: Option<f64>,
@@ -478,7 +478,7 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
         r
     }
 
-    /// [`Self::score`] about the shift `sigma > 0`: `Ok(None)` when one factorization proves
+    /// [`Self::score`] about the shift `sigma`: `Ok(None)` when one factorization proves
     /// the score below `sigma`. The factorization returned is of `H − σI`.
     pub fn score_above(
         &self,
@@ -554,6 +554,7 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
             refined: vec![None; candidates.len()],
             alive: (0..candidates.len()).collect(),
             guesses: vec![0; candidates.len()],
+            best_threshold: f64::INFINITY,
         };
         if !prune.enabled {
             let all: Vec<usize> = (0..candidates.len()).collect();
@@ -600,6 +601,8 @@ struct Search<'c, 's, 'a> {
     alive: Vec<usize>,
     /// Failed first-shift guesses per candidate.
     guesses: Vec<u8>,
+    /// The zero-mode threshold of the best score's spectrum.
+    best_threshold: f64,
 }
 
 /// What evaluating one candidate gave.
@@ -610,6 +613,8 @@ enum Outcome {
         score: f64,
         shift: Option<f64>,
         factor: Option<Cholesky>,
+        /// The spectrum's zero-mode threshold `C·ε·‖H‖₁`.
+        threshold: f64,
     },
     /// The inertia test at the best score's floor proved the score below it: pruned.
     Below(f64),
@@ -619,6 +624,10 @@ enum Outcome {
     /// The eigen solve failed (or the search was cancelled).
     Failed(String),
 }
+
+/// A negative best score serves as the inertia test's floor only beyond this many times its
+/// spectrum's zero-mode threshold.
+const NEGATIVE_FLOOR: f64 = 10.0;
 
 /// Failed first-shift guesses after which a candidate is scored about zero.
 const MAX_GUESSES: u8 = 2;
@@ -642,6 +651,7 @@ impl Search<'_, '_, '_> {
                     score: sp.lambda(),
                     shift: Some(shift),
                     factor: None,
+                    threshold: sp.zero_threshold,
                 },
                 Ok(None) if sigma.is_some() => Outcome::Below(shift),
                 Ok(None) => Outcome::BelowGuess(shift),
@@ -653,6 +663,7 @@ impl Search<'_, '_, '_> {
                 score: sp.lambda(),
                 shift: None,
                 factor: Some(f),
+                threshold: sp.zero_threshold,
             },
             Err(e) => Outcome::Failed(e.to_string()),
         }
@@ -668,11 +679,15 @@ impl Search<'_, '_, '_> {
                     score,
                     shift,
                     factor,
+                    threshold,
                 } => {
                     o.score = Some(score);
                     o.shift = shift;
                     o.below = None;
                     if score.is_finite() {
+                        if score > self.best {
+                            self.best_threshold = threshold;
+                        }
                         self.best = self.best.max(score);
                         if let Some(f) = factor {
                             self.kept.push((self.candidates[i], score, f));
@@ -772,7 +787,11 @@ impl Search<'_, '_, '_> {
         // do not depend on when they were computed).
         let take = if self.best.is_finite() { top } else { 1 };
         let group: Vec<usize> = self.alive[..take].to_vec();
-        let sigma = (self.inertia && floor > 0.0 && floor.is_finite()).then_some(floor);
+        // The inertia test needs a floor clear of the zero-mode band (round-off): positive,
+        // or negative beyond ten times the best score's zero-mode threshold (a structure
+        // every removal makes unstable: the bunny's last thirty iterations).
+        let clear = floor > 0.0 || floor < -NEGATIVE_FLOOR * self.best_threshold;
+        let sigma = (self.inertia && clear && floor.is_finite()).then_some(floor);
         let ahead: Vec<usize> = if !self.best.is_finite() && refinable {
             self.alive[take..]
                 .iter()

@@ -380,7 +380,7 @@ impl<'a> Scorer<'a> {
         )?)
     }
 
-    /// [`Self::lambda_fixed`] shifted about `sigma > 0`: `Ok(None)` when one factorization
+    /// [`Self::lambda_fixed`] shifted about `sigma`: `Ok(None)` when one factorization
     /// proves `λ_fix(active | A) < sigma` (see [`smallest_eigenpairs_above`]).
     pub fn lambda_fixed_above(
         &self,

@@ -241,7 +241,7 @@ pub fn smallest_eigenpairs_factored(
     )
 }
 
-/// Like [`smallest_eigenpairs_factored`], but with the shift `σ = sigma > 0` given: when
+/// Like [`smallest_eigenpairs_factored`], but with the shift `σ = sigma` given: when
 /// `H − σI` is not positive definite, its Cholesky factorization fails and that proves
 /// `λ < σ` (Sylvester's law of inertia) at the cost of one factorization and no solve:
 /// `Ok(None)`. Otherwise the pairs are computed by shift-and-invert about `σ`, which converges
@@ -257,9 +257,9 @@ pub fn smallest_eigenpairs_above(
 ) -> Result<Option<(Spectrum, Cholesky)>, EigenError> {
     let _timer = crate::profile::Timer::new(crate::profile::Phase::Eigen);
     params.validate().map_err(EigenError::InvalidParams)?;
-    if !(sigma > 0.0 && sigma.is_finite()) {
+    if !sigma.is_finite() {
         return Err(EigenError::InvalidParams(format!(
-            "the shift must be positive and finite, got {sigma:e}"
+            "the shift must be finite, got {sigma:e}"
         )));
     }
     let norm1 = pattern.sym_norm1(values);
@@ -431,5 +431,63 @@ mod tests {
         // Nothing converged: nothing kept (the caller reports an error).
         let p = converged_prefix(pairs(vec![1e-6, 1e-14, 1e-14, 1e-14]), 1e-10);
         assert!(p.values.is_empty() && p.vectors.ncols() == 0);
+    }
+
+    /// The tridiagonal matrix `tridiag(−1, 2, −1) − 2.5 I` of size `n` (upper triangle) and
+    /// its eigenvalues `2 − 2 cos(kπ/(n+1)) − 2.5`, ascending.
+    fn shifted_laplacian(n: usize) -> (Pattern, Vec<f64>, Vec<f64>) {
+        let mut col_ptr = vec![0];
+        let (mut row_idx, mut diag, mut values) = (Vec::new(), Vec::new(), Vec::new());
+        for j in 0..n {
+            if j > 0 {
+                row_idx.push(j - 1);
+                values.push(-1.0);
+            }
+            diag.push(row_idx.len());
+            row_idx.push(j);
+            values.push(2.0 - 2.5);
+            col_ptr.push(row_idx.len());
+        }
+        let pattern = Pattern {
+            n,
+            col_ptr,
+            row_idx,
+            diag,
+        };
+        let exact = (1..=n)
+            .map(|k| 2.0 - 2.0 * (k as f64 * std::f64::consts::PI / (n as f64 + 1.0)).cos() - 2.5)
+            .collect();
+        (pattern, values, exact)
+    }
+
+    #[test]
+    fn a_negative_shift_proves_or_finds_negative_eigenvalues() {
+        let (pattern, values, exact) = shifted_laplacian(40);
+        let symbolic = SymbolicFactor::new(&pattern);
+        let params = EigenParams {
+            count: 2,
+            ..Default::default()
+        };
+        assert!(exact[0] < -0.4 && exact[1] < exact[0] + 0.1);
+        // Below the shift: one failed factorization says so.
+        let above = |sigma: f64| {
+            smallest_eigenpairs_above(&pattern, &values, &symbolic, None, &params, sigma)
+                .expect("valid")
+        };
+        assert!(above(exact[0] + 1e-3).is_none());
+        // Just below λ₁ (negative): the pairs, to the solver's accuracy.
+        let (sp, _) = above(exact[0] - 1e-3).expect("H − σI is positive definite");
+        assert!(
+            (sp.lambda() - exact[0]).abs() < 1e-9,
+            "{} {}",
+            sp.lambda(),
+            exact[0]
+        );
+        assert!((sp.values[1] - exact[1]).abs() < 1e-9);
+        assert_eq!(sp.negative_modes, 2);
+        assert!(
+            smallest_eigenpairs_above(&pattern, &values, &symbolic, None, &params, f64::NAN)
+                .is_err()
+        );
     }
 }
