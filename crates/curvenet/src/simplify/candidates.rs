@@ -45,7 +45,9 @@ pub struct PruneParams {
     pub inertia: bool,
     /// The first candidate of an iteration (nothing known yet to shift about) is scored
     /// about `first_shift` × its refined bound when the Cholesky of `H − σI` there succeeds
-    /// (proof that its score lies above), else about zero; 0 always scores it about zero.
+    /// (proof that its score lies above). A failed factorization proves the score below that
+    /// shift, which becomes the candidate's bound: it stays in the best-first search (after
+    /// two failed guesses it is scored about zero). 0 always scores it about zero.
     /// Shift-and-invert near `λ` converges in fewer solves (roof: 38 → about 15 for these
     /// scores; scores sit at 0.84–1 of their refined bound for three quarters of them), but
     /// only a score about zero passes its factorization on as the next relaxation's first
