@@ -887,3 +887,21 @@ fn ritz(k: MatRef<'_, f64>, g: MatRef<'_, f64>) -> (Vec<f64>, Mat<f64>) {
     let values = (0..r).map(|i| em.S()[i]).collect();
     (values, b * em.U())
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::simplify::{Budget, GreedyParams};
+
+    #[test]
+    fn first_shifts_outside_zero_to_one_are_rejected() {
+        let mut p = GreedyParams::new(Budget::Fraction(0.5));
+        assert!(p.validate(3).is_ok());
+        for bad in [1.0, 1.5, -0.1, f64::NAN, f64::INFINITY] {
+            p.prune.first_shift = bad;
+            let e = p.validate(3).expect_err("rejected");
+            assert!(e.contains("first shift must lie in [0, 1)"), "{e}");
+        }
+        p.prune.first_shift = 0.0;
+        assert!(p.validate(3).is_ok(), "0 switches it off");
+    }
+}
