@@ -196,7 +196,7 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
     }
 
     /// Uses `factor`, a factorization of `H_A − σI` (the one `A`'s spectrum was computed
-    /// with), to refine bounds ([`Self::refined_bound`]).
+    /// with), to refine bounds ([`Self::refined_bounds`]).
     pub fn with_preconditioner(mut self, factor: Option<Arc<Cholesky>>) -> Self {
         self.preconditioner = factor;
         self
@@ -282,24 +282,20 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
         Some(x)
     }
 
-    /// A tighter upper bound for candidate `c` (`None` without a preconditioner): one
-    /// preconditioned (LOBPCG-like) step from the Ritz vectors of the plain bound. With `X`
+    /// Tighter upper bounds for candidates `cs` (`None` without a preconditioner): one
+    /// preconditioned (LOBPCG-like) step from the Ritz vectors of each plain bound. With `X`
     /// those vectors and `θ` their values in `H' = H_{A∖c}`, the residuals `R = H'X − Xθ`
     /// are preconditioned by `(H_A − σI)⁻¹` (the factorization `A`'s spectrum used; `H'`
     /// differs from `H_A` only around `c`), and Rayleigh–Ritz on `[X, Z]` gives the bound.
     /// Everything lives on `A \ {c}`'s coordinates (loose rows zero), so by Courant–Fischer
-    /// the smallest Ritz value is at least `λ_min(H')`. Costs a few sparse products and one
-    /// solve — no factorization. [`Self::refined_bounds`] does several candidates with one
-    /// solve call.
-    pub fn refined_bound(&self, c: usize) -> Option<Bound> {
-        self.refined_bounds(&[c]).pop().flatten()
-    }
-
-    /// [`Self::refined_bound`] of each of `cs`, their residuals solved together: the solves
-    /// are bound by memory traffic (reading `L`), so four columns in one call cost little
-    /// more than one (roof: 1.1 ms against 0.65 ms), and one call for two candidates halves
-    /// the cost of the step. The result for a candidate depends on which candidates share
-    /// its call (the solver's rounding does); callers group candidates deterministically.
+    /// the smallest Ritz value is at least `λ_min(H')`. Costs a few sparse products and a
+    /// share of one solve call — no factorization.
+    ///
+    /// The candidates' residuals are solved together: the solves are bound by memory traffic
+    /// (reading `L`), so four columns in one call cost little more than one (roof: 1.1 ms
+    /// against 0.65 ms), and one call for two candidates halves the cost of the step. The
+    /// result for a candidate depends on which candidates share its call (the solver's
+    /// rounding does); callers group candidates deterministically.
     pub fn refined_bounds(&self, cs: &[usize]) -> Vec<Option<Bound>> {
         let Some(f) = self.preconditioner.as_ref() else {
             return vec![None; cs.len()];

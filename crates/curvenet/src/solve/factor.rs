@@ -7,7 +7,7 @@
 //!
 //! Orderings are renumbered in a postorder of the elimination tree, and every analysis is
 //! supernodal. The numeric factorization runs independent subtrees of the elimination tree in
-//! parallel ([`super::supernodal`]); each supernode is computed the same way whatever the
+//! parallel (`solve::supernodal`); each supernode is computed the same way whatever the
 //! schedule, so every result is bit-identical whatever the thread count.
 
 use super::ordering::{self, OrderingKind};
@@ -47,7 +47,7 @@ pub struct SymbolicFactor {
     /// [`SymbolicFactor::restricted`]): how they sit in it.
     restriction: Option<Restriction>,
     /// The subtree-parallel numeric factorization of a supernodal analysis (see
-    /// [`super::supernodal`]); `None` for simplicial analyses, which faer factors.
+    /// `solve::supernodal`); `None` for simplicial analyses, which faer factors.
     plan: Option<Plan>,
 }
 
@@ -123,7 +123,7 @@ impl SymbolicFactor {
 
 static SUBTREE_PARALLEL: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(true);
 
-/// Switches the subtree-parallel numeric factorization ([`super::supernodal`]) on (the
+/// Switches the subtree-parallel numeric factorization (`solve::supernodal`) on (the
 /// default) or off (faer's sequential supernodal factorization), for the whole process: a
 /// benchmark switch. Both give the same factor up to round-off; each is deterministic.
 pub fn set_subtree_parallel(on: bool) {
@@ -344,7 +344,7 @@ impl Cholesky {
     }
 
     /// [`Cholesky::factorize`] with faer's own sequential numeric factorization: the
-    /// reference the subtree-parallel one ([`super::supernodal`]) is tested against.
+    /// reference the subtree-parallel one (`solve::supernodal`) is tested against.
     pub fn factorize_reference(
         symbolic: &Arc<SymbolicFactor>,
         pattern: &Pattern,
