@@ -202,3 +202,86 @@ fn subtree_parallel_factor_matches_faer() {
     assert!(Cholesky::factorize(sym, pattern, &h, -10.0 * s).is_err());
     assert!(Cholesky::factorize_reference(sym, pattern, &h, -10.0 * s).is_err());
 }
+
+/// A factorization copying the supernodes a curve's removal cannot reach from a factorization
+/// of the whole structure (`Cholesky::factorize_reusing`) is bit-identical to a whole
+/// factorization, on the whole pattern's analysis and on a restricted one, in pools of one and
+/// two threads; a reference of another shift is ignored.
+#[test]
+fn reusing_a_reference_factor_is_bit_identical() {
+    let (a, _) = drawn_hessian(11, 0.5);
+    let model = a.model();
+    let n = model.dofs();
+    let curves = a.network().rods.len();
+    let u = vec![0.0; n];
+    let locals = model.local_hessians(&u);
+    // The whole structure, and one without curve 0 (its analysis restricted to its vertices).
+    for active in [a.all(), a.all().without(0)] {
+        let sym = a.symbolic_for(&active);
+        let mut h = Vec::new();
+        model.hessian_from_locals(&locals, &active, &mut h);
+        let s = model.pattern().sym_norm1(&h);
+        let reference = Cholesky::factorize(&sym, model.pattern(), &h, s).expect("pd");
+        let mut shares = Vec::new();
+        for c in active.curves() {
+            let mut hc = Vec::new();
+            model.hessian_from_locals(&locals, &active.without(c), &mut hc);
+            let changed: Vec<usize> = model
+                .curve_vertices(c)
+                .iter()
+                .flat_map(|&v| (0..3).map(move |k| 3 * v as usize + k))
+                .collect();
+            shares.push(sym.changed_work_share(&changed));
+            let whole = solve_bits(
+                &Cholesky::factorize(&sym, model.pattern(), &hc, s).expect("pd"),
+                n,
+            );
+            for t in [1, 2] {
+                let reused = rayon::ThreadPoolBuilder::new()
+                    .num_threads(t)
+                    .build()
+                    .expect("pool")
+                    .install(|| {
+                        Cholesky::factorize_reusing(
+                            &sym,
+                            model.pattern(),
+                            &hc,
+                            s,
+                            &reference,
+                            &changed,
+                        )
+                        .expect("pd")
+                    });
+                assert_eq!(solve_bits(&reused, n), whole, "curve {c}, {t} thread(s)");
+            }
+            // A reference of another shift is not used: still the same factor.
+            let other = Cholesky::factorize_reusing(
+                &sym,
+                model.pattern(),
+                &hc,
+                s,
+                &Cholesky::factorize(&sym, model.pattern(), &h, 2.0 * s).expect("pd"),
+                &changed,
+            )
+            .expect("pd");
+            assert_eq!(solve_bits(&other, n), whole, "curve {c}, other shift");
+        }
+        // Some work is saved for every curve, none for no change.
+        assert!(shares.iter().all(|&w| w < 1.0), "{shares:?} of {curves}");
+        // One changed diagonal entry: its supernode and every ancestor change, nothing else.
+        for d in [0, n / 3, n / 2, n - 1] {
+            let mut h2 = h.clone();
+            h2[model.pattern().diag[d]] += 0.5 * s;
+            let whole = solve_bits(
+                &Cholesky::factorize(&sym, model.pattern(), &h2, s).expect("pd"),
+                n,
+            );
+            let reused =
+                Cholesky::factorize_reusing(&sym, model.pattern(), &h2, s, &reference, &[d])
+                    .expect("pd");
+            assert_eq!(solve_bits(&reused, n), whole, "coordinate {d}");
+            assert!(sym.changed_work_share(&[d]) < 1.0);
+        }
+        assert_eq!(sym.changed_work_share(&[]), 0.0);
+    }
+}

@@ -22,7 +22,7 @@ use super::{Scorer, Work};
 use crate::rod::ActiveSet;
 use crate::rod::model::LocalHessians;
 use crate::solve::eigen::Spectrum;
-use crate::solve::{Cholesky, SymbolicFactor};
+use crate::solve::{Cholesky, Reuse, SymbolicFactor};
 use crate::stability::StabilityError;
 use faer::{Mat, MatRef};
 use rayon::prelude::*;
@@ -513,20 +513,29 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
     }
 
     /// [`Self::score`] about the shift `sigma`: `Ok(None)` when one factorization proves
-    /// the score below `sigma`. The factorization returned is of `H − σI`.
+    /// the score below `sigma`. The factorization returned is of `H − σI`. With `reference`,
+    /// a factorization of `H_A − σI` ([`Self::reference`]), that factorization copies the
+    /// supernodes `c`'s removal cannot reach (the same factor, less work).
     pub fn score_above(
         &self,
         c: usize,
         sigma: f64,
+        reference: Option<&Cholesky>,
     ) -> Result<Option<(Spectrum, Cholesky)>, StabilityError> {
         let warm = self.ritz_vectors(c);
         let warm = warm.as_ref().map_or(self.modes.as_ref(), |w| w.as_ref());
+        let changed = reference.map(|_| self.curve_coordinates(c));
+        let reuse = reference.zip(changed.as_deref()).map(|(f, changed)| Reuse {
+            reference: f,
+            changed,
+        });
         let r = self.scorer.lambda_fixed_above(
             &self.locals,
             &self.active.without(c),
             Some(warm),
             sigma,
             &self.symbolic,
+            reuse,
         );
         match &r {
             Ok(Some((sp, _))) => {
@@ -540,6 +549,31 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
             Err(_) => {}
         }
         r
+    }
+
+    /// The coordinates of curve `c`'s vertices: `H_{A∖c}` differs from `H_A` only in entries
+    /// whose row and column both lie among them (its own terms, its loose vertices).
+    fn curve_coordinates(&self, c: usize) -> Vec<usize> {
+        let model = self.scorer.analyzer().model();
+        model
+            .curve_vertices(c)
+            .iter()
+            .flat_map(|&v| (0..3).map(move |a| 3 * v as usize + a))
+            .collect()
+    }
+
+    /// The share of a factorization's work that a factorization reusing one of `H_A − σI`
+    /// still does for candidate `c` ([`Cholesky::factorize_reusing`]).
+    fn changed_share(&self, c: usize) -> f64 {
+        self.symbolic.changed_work_share(&self.curve_coordinates(c))
+    }
+
+    /// A factorization of `H_A − σI` for the candidates' factorizations about `σ` to copy
+    /// from; `None` when `H_A − σI` is not positive definite.
+    pub fn reference(&self, sigma: f64) -> Option<Cholesky> {
+        let model = self.scorer.analyzer().model();
+        self.factorizations.fetch_add(1, Ordering::Relaxed);
+        Cholesky::factorize(&self.symbolic, model.pattern(), &self.h, -sigma).ok()
     }
 
     /// Factorizations and solves spent on scores so far.
@@ -589,6 +623,8 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
             alive: (0..candidates.len()).collect(),
             guesses: vec![0; candidates.len()],
             best_threshold: f64::INFINITY,
+            reference: None,
+            shares: vec![None; candidates.len()],
         };
         if !prune.enabled {
             let all: Vec<usize> = (0..candidates.len()).collect();
@@ -637,6 +673,12 @@ struct Search<'c, 's, 'a> {
     guesses: Vec<u8>,
     /// The zero-mode threshold of the best score's spectrum.
     best_threshold: f64,
+    /// The inertia tests' shift `σ` and a factorization of `H_A − σI` they copy from (`None`
+    /// when not worth it or not positive definite).
+    reference: Option<(f64, Option<Arc<Cholesky>>)>,
+    /// Per candidate: the share of a factorization's work left when copying from the
+    /// reference.
+    shares: Vec<Option<f64>>,
 }
 
 /// What evaluating one candidate gave.
@@ -663,6 +705,10 @@ enum Outcome {
 /// spectrum's zero-mode threshold.
 const NEGATIVE_FLOOR: f64 = 10.0;
 
+/// The inertia tests about one shift copy from a factorization of `H_A − σI` when that saves
+/// at least this many factorizations' work (it costs one).
+const REUSE_MIN_SAVING: f64 = 5.0;
+
 /// Failed first-shift guesses after which a candidate is scored about zero.
 const MAX_GUESSES: u8 = 2;
 
@@ -680,7 +726,11 @@ impl Search<'_, '_, '_> {
             return Outcome::Failed("cancelled".into());
         }
         if let Some(shift) = sigma.or(guess) {
-            return match self.ctx.score_above(c, shift) {
+            let reference = match (&self.reference, sigma) {
+                (Some((s, Some(f))), Some(sigma)) if s.to_bits() == sigma.to_bits() => Some(&**f),
+                _ => None,
+            };
+            return match self.ctx.score_above(c, shift, reference) {
                 Ok(Some((sp, _))) => Outcome::Scored {
                     score: sp.lambda(),
                     shift: Some(shift),
@@ -749,6 +799,31 @@ impl Search<'_, '_, '_> {
         self.alive.retain(|i| !settled.contains(i));
         let floor = self.floor();
         self.kept.retain(|k| k.1 >= floor);
+    }
+
+    /// Factors `H_A − σI` for the inertia tests about `σ` to copy from, when the alive
+    /// candidates' factorizations would save more than it costs: the saving is estimated from
+    /// the share of each one's factorization its curve reaches ([`Cholesky::factorize_reusing`]).
+    /// A pure function of the values, like every decision of the search.
+    fn prepare_reference(&mut self, sigma: f64) {
+        if self
+            .reference
+            .as_ref()
+            .is_some_and(|(s, _)| s.to_bits() == sigma.to_bits())
+        {
+            return;
+        }
+        let mut saving = 0.0;
+        for &i in &self.alive {
+            let share =
+                *self.shares[i].get_or_insert_with(|| self.ctx.changed_share(self.candidates[i]));
+            saving += 1.0 - share;
+        }
+        let factor = (saving >= REUSE_MIN_SAVING)
+            .then(|| self.ctx.reference(sigma))
+            .flatten()
+            .map(Arc::new);
+        self.reference = Some((sigma, factor));
     }
 
     fn floor(&self) -> f64 {
@@ -826,6 +901,9 @@ impl Search<'_, '_, '_> {
         // every removal makes unstable: the bunny's last thirty iterations).
         let clear = floor > 0.0 || floor < -NEGATIVE_FLOOR * self.best_threshold;
         let sigma = (self.inertia && clear && floor.is_finite()).then_some(floor);
+        if let Some(sigma) = sigma {
+            self.prepare_reference(sigma);
+        }
         let ahead: Vec<usize> = if !self.best.is_finite() && refinable {
             self.alive[take..]
                 .iter()

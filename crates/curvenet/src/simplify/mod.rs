@@ -253,6 +253,7 @@ impl<'a> Scorer<'a> {
                 modes,
                 &self.eval_eigen,
                 sigma,
+                None,
             )?,
             _ => None,
         };
@@ -381,7 +382,8 @@ impl<'a> Scorer<'a> {
     }
 
     /// [`Self::lambda_fixed`] shifted about `sigma`: `Ok(None)` when one factorization
-    /// proves `λ_fix(active | A) < sigma` (see [`smallest_eigenpairs_above`]).
+    /// proves `λ_fix(active | A) < sigma` (see [`smallest_eigenpairs_above`], also for
+    /// `reuse`).
     pub fn lambda_fixed_above(
         &self,
         locals: &LocalHessians,
@@ -389,6 +391,7 @@ impl<'a> Scorer<'a> {
         warm: Option<MatRef<'_, f64>>,
         sigma: f64,
         symbolic: &std::sync::Arc<crate::solve::SymbolicFactor>,
+        reuse: Option<crate::solve::Reuse<'_>>,
     ) -> Result<Option<(Spectrum, Cholesky)>, StabilityError> {
         let (h, warm) = self.fixed_problem(locals, active, warm)?;
         let model = self.analyzer.model();
@@ -399,6 +402,7 @@ impl<'a> Scorer<'a> {
             warm.as_ref().map(|w| w.as_ref()),
             &self.candidate_eigen,
             sigma,
+            reuse,
         )?)
     }
 

@@ -10,7 +10,7 @@
 //! Eigenvalues within `±C·ε·‖H‖₁` count as zero modes (mechanisms), below as negative modes
 //! (an unstable equilibrium). Every returned pair comes with its residual `‖Hv − λv‖`.
 
-use super::factor::{Cholesky, SymbolicFactor};
+use super::factor::{Cholesky, Reuse, SymbolicFactor};
 use super::lanczos::{BlockLanczosParams, EigenPairs, LanczosError, largest_eigenpairs};
 use crate::rod::model::Pattern;
 use faer::{Mat, MatRef};
@@ -247,6 +247,10 @@ pub fn smallest_eigenpairs_factored(
 /// `Ok(None)`. Otherwise the pairs are computed by shift-and-invert about `σ`, which converges
 /// faster than about zero when `σ` lies just below `λ`. The greedy uses it with `σ` the best
 /// score so far (minus the tie tolerance): a candidate below it cannot win.
+///
+/// With `reuse`, the factorization of `H − σI` copies what it can from a factorization of a
+/// matrix that differs only in a few rows and columns ([`Cholesky::factorize_reusing`]; the
+/// factor, hence the result, is the same).
 pub fn smallest_eigenpairs_above(
     pattern: &Pattern,
     values: &[f64],
@@ -254,6 +258,7 @@ pub fn smallest_eigenpairs_above(
     warm_start: Option<MatRef<'_, f64>>,
     params: &EigenParams,
     sigma: f64,
+    reuse: Option<Reuse<'_>>,
 ) -> Result<Option<(Spectrum, Cholesky)>, EigenError> {
     let _timer = crate::profile::Timer::new(crate::profile::Phase::Eigen);
     params.validate().map_err(EigenError::InvalidParams)?;
@@ -267,7 +272,13 @@ pub fn smallest_eigenpairs_above(
         return Err(EigenError::NoShift(f64::NAN));
     }
     let zero_threshold = params.zero_factor * f64::EPSILON * norm1;
-    let Ok(factor) = Cholesky::factorize(symbolic, pattern, values, -sigma) else {
+    let factor = match reuse {
+        Some(r) => {
+            Cholesky::factorize_reusing(symbolic, pattern, values, -sigma, r.reference, r.changed)
+        }
+        None => Cholesky::factorize(symbolic, pattern, values, -sigma),
+    };
+    let Ok(factor) = factor else {
         return Ok(None);
     };
     finish(
@@ -471,7 +482,7 @@ mod tests {
         assert!(exact[0] < -0.4 && exact[1] < exact[0] + 0.1);
         // Below the shift: one failed factorization says so.
         let above = |sigma: f64| {
-            smallest_eigenpairs_above(&pattern, &values, &symbolic, None, &params, sigma)
+            smallest_eigenpairs_above(&pattern, &values, &symbolic, None, &params, sigma, None)
                 .expect("valid")
         };
         assert!(above(exact[0] + 1e-3).is_none());
@@ -486,7 +497,7 @@ mod tests {
         assert!((sp.values[1] - exact[1]).abs() < 1e-9);
         assert_eq!(sp.negative_modes, 2);
         assert!(
-            smallest_eigenpairs_above(&pattern, &values, &symbolic, None, &params, f64::NAN)
+            smallest_eigenpairs_above(&pattern, &values, &symbolic, None, &params, f64::NAN, None)
                 .is_err()
         );
     }

@@ -296,6 +296,32 @@ impl SymbolicFactor {
         }
     }
 
+    /// The supernodes (of the subtree-parallel plan) whose factor values can change when
+    /// the matrix changes only in entries whose row and column both lie in `coords`
+    /// (coordinates of the whole pattern); `None` without a plan.
+    fn changed_supernodes(&self, coords: &[usize]) -> Option<Vec<bool>> {
+        let plan = self.plan.as_ref()?;
+        let inv = self.inner.perm().map(|p| p.arrays().1);
+        let cols: Vec<usize> = coords
+            .iter()
+            .filter_map(|&d| match &self.restriction {
+                Some(r) => r.dofs.binary_search(&d).ok(),
+                None => Some(d),
+            })
+            .map(|i| inv.map_or(i, |p| p[i]))
+            .collect();
+        Some(plan.changed_supernodes(&cols))
+    }
+
+    /// The share of a factorization's work that [`Cholesky::factorize_reusing`] redoes when
+    /// the matrix changes only in rows and columns `coords` (1 without a plan).
+    pub fn changed_work_share(&self, coords: &[usize]) -> f64 {
+        match (self.plan.as_ref(), self.changed_supernodes(coords)) {
+            (Some(plan), Some(changed)) => plan.work_share(&changed),
+            _ => 1.0,
+        }
+    }
+
     /// The ordering chosen.
     pub fn ordering(&self) -> OrderingKind {
         self.ordering
@@ -330,6 +356,17 @@ impl Drop for Cholesky {
     }
 }
 
+/// A factorization to copy values from: [`Cholesky::factorize_reusing`]'s reference, and the
+/// coordinates (of the whole pattern) whose rows and columns hold every entry in which the
+/// new matrix differs from the reference's.
+#[derive(Clone, Copy, Debug)]
+pub struct Reuse<'a> {
+    /// A factorization with the same analysis and shift.
+    pub reference: &'a Cholesky,
+    /// Coordinates of the entries that may differ (both row and column among them).
+    pub changed: &'a [usize],
+}
+
 impl Cholesky {
     /// Factors `H + τI`, `H` given by its upper-triangle `values` in `pattern`.
     pub fn factorize(
@@ -354,12 +391,56 @@ impl Cholesky {
         Self::factorize_impl(symbolic, pattern, values, shift, false)
     }
 
+    /// [`Cholesky::factorize`] of a matrix that differs from the one `reference` factors
+    /// only in entries whose row and column both lie in `changed` (coordinates of the whole
+    /// pattern), with the same analysis and shift: the supernodes the difference cannot
+    /// reach are copied from `reference`, the others factored. The factor is bit-identical
+    /// to [`Cholesky::factorize`]'s (same values, same operations). Falls back to a whole
+    /// factorization when the reference does not fit (another analysis or shift, no
+    /// subtree-parallel plan).
+    pub fn factorize_reusing(
+        symbolic: &Arc<SymbolicFactor>,
+        pattern: &Pattern,
+        values: &[f64],
+        shift: f64,
+        reference: &Cholesky,
+        changed: &[usize],
+    ) -> Result<Cholesky, NotPositiveDefinite> {
+        crate::profile::time(crate::profile::Phase::Factor, || {
+            let fits = Arc::ptr_eq(symbolic, &reference.symbolic)
+                && reference.shift.to_bits() == shift.to_bits()
+                && subtree_parallel();
+            let Some(changed) = fits.then(|| symbolic.changed_supernodes(changed)).flatten() else {
+                return Self::factorize_impl(symbolic, pattern, values, shift, subtree_parallel());
+            };
+            Self::factorize_with(
+                symbolic,
+                pattern,
+                values,
+                shift,
+                true,
+                Some((reference, &changed)),
+            )
+        })
+    }
+
     fn factorize_impl(
         symbolic: &Arc<SymbolicFactor>,
         pattern: &Pattern,
         values: &[f64],
         shift: f64,
         tree: bool,
+    ) -> Result<Cholesky, NotPositiveDefinite> {
+        Self::factorize_with(symbolic, pattern, values, shift, tree, None)
+    }
+
+    fn factorize_with(
+        symbolic: &Arc<SymbolicFactor>,
+        pattern: &Pattern,
+        values: &[f64],
+        shift: f64,
+        tree: bool,
+        reuse: Option<(&Cholesky, &[bool])>,
     ) -> Result<Cholesky, NotPositiveDefinite> {
         if let Some(r) = &symbolic.restriction {
             if r.coupling.iter().any(|&k| values[k] != 0.0) {
@@ -377,7 +458,7 @@ impl Cholesky {
             for &d in &r.sub.diag {
                 sub[d] += shift;
             }
-            let mut f = Self::factorize_sub(symbolic, &r.sub, &sub, tree)?;
+            let mut f = Self::factorize_sub(symbolic, &r.sub, &sub, tree, reuse)?;
             f.rest = rest;
             f.shift = shift;
             return Ok(f);
@@ -393,7 +474,7 @@ impl Cholesky {
         } else {
             values
         };
-        let mut f = Self::factorize_sub(symbolic, pattern, vals, tree)?;
+        let mut f = Self::factorize_sub(symbolic, pattern, vals, tree, reuse)?;
         f.shift = shift;
         Ok(f)
     }
@@ -405,11 +486,18 @@ impl Cholesky {
         pattern: &Pattern,
         vals: &[f64],
         tree: bool,
+        reuse: Option<(&Cholesky, &[bool])>,
     ) -> Result<Cholesky, NotPositiveDefinite> {
         let sym = &symbolic.inner;
         let mut l_values = symbolic.take_values();
         if let Some(plan) = symbolic.plan.as_ref().filter(|_| tree) {
-            return match plan.factorize(vals, &mut l_values) {
+            let result = match reuse {
+                Some((reference, changed)) => {
+                    plan.factorize_partial(vals, &mut l_values, &reference.values, changed)
+                }
+                None => plan.factorize(vals, &mut l_values),
+            };
+            return match result {
                 Ok(()) => Ok(Cholesky {
                     symbolic: symbolic.clone(),
                     values: l_values,

@@ -18,5 +18,5 @@ mod supernodal;
 pub use eigen::{
     EigenError, EigenParams, Spectrum, smallest_eigenpairs, smallest_eigenpairs_factored,
 };
-pub use factor::{Cholesky, NotPositiveDefinite, SymbolicFactor};
+pub use factor::{Cholesky, NotPositiveDefinite, Reuse, SymbolicFactor};
 pub use newton::{NewtonInfo, NewtonParams, NewtonStop, relax, relax_with_factor};

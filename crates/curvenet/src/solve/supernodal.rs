@@ -58,7 +58,13 @@ impl Task {
             Task::Seq(r) => r.clone(),
             Task::Fork { parts, tail } => {
                 let start = parts.first().map_or(tail.start, |p| p.range().start);
-                start..tail.end
+                // The root's fork has an empty tail (`0..0`): it ends with its last part.
+                let end = if tail.is_empty() {
+                    parts.last().map_or(tail.end, |p| p.range().end)
+                } else {
+                    tail.end
+                };
+                start..end
             }
         }
     }
@@ -76,6 +82,11 @@ pub(crate) struct Plan {
     /// Each supernode's off-diagonal row pattern: `rows[pat_ptr[s]..pat_ptr[s + 1]]`.
     pat_ptr: Vec<usize>,
     rows: Vec<usize>,
+    /// Parent of each supernode in the elimination tree.
+    parent: Vec<Option<usize>>,
+    /// Estimated work of each supernode's factorization (`c·r²`: its columns update
+    /// everything below them).
+    work: Vec<f64>,
     /// Supernodes whose columns update supernode `s`, ascending: `upd[upd_ptr[s]..]`.
     upd_ptr: Vec<usize>,
     upd: Vec<usize>,
@@ -189,13 +200,14 @@ impl Plan {
         let (a_ptr, a) = bucket(ns, entries);
         let (a_src, a_dst) = a.into_iter().unzip();
         // Work per subtree: each supernode's columns update everything below them.
-        let mut subtree: Vec<f64> = (0..ns)
+        let work: Vec<f64> = (0..ns)
             .map(|s| {
                 let c = (begin[s + 1] - begin[s]) as f64;
                 let r = c + (pat_ptr[s + 1] - pat_ptr[s]) as f64;
                 c * r * r
             })
             .collect();
+        let mut subtree = work.clone();
         for s in 0..ns {
             if let Some(p) = parent[s] {
                 let w = subtree[s];
@@ -221,6 +233,8 @@ impl Plan {
         let max_cols = (0..ns).map(|s| begin[s + 1] - begin[s]).max().unwrap_or(0);
         Some(Plan {
             n,
+            parent,
+            work,
             begin,
             val_ptr,
             pat_ptr,
@@ -246,6 +260,39 @@ impl Plan {
         count(&self.root)
     }
 
+    /// The supernodes whose values change when the matrix changes only in entries whose row
+    /// and column both lie in `cols` (permuted order): those holding one of `cols`, and their
+    /// ancestors (every supernode reads its descendants' values). The others keep their
+    /// values, which [`Plan::factorize_partial`] copies.
+    pub(crate) fn changed_supernodes(&self, cols: &[usize]) -> Vec<bool> {
+        let ns = self.begin.len() - 1;
+        let mut changed = vec![false; ns];
+        for &c in cols {
+            let mut s = Some(self.begin.partition_point(|&b| b <= c) - 1);
+            while let Some(x) = s {
+                if changed[x] {
+                    break;
+                }
+                changed[x] = true;
+                s = self.parent[x];
+            }
+        }
+        changed
+    }
+
+    /// The share of a factorization's work in supernodes `changed`.
+    pub(crate) fn work_share(&self, changed: &[bool]) -> f64 {
+        let total: f64 = self.work.iter().sum();
+        let part: f64 = self
+            .work
+            .iter()
+            .zip(changed)
+            .filter(|(_, c)| **c)
+            .map(|(w, _)| w)
+            .sum();
+        part / total.max(f64::MIN_POSITIVE)
+    }
+
     /// Number of stored factor values.
     pub(crate) fn len_val(&self) -> usize {
         *self.val_ptr.last().unwrap_or(&0)
@@ -258,7 +305,28 @@ impl Plan {
     pub(crate) fn factorize(&self, a: &[f64], l: &mut [f64]) -> Result<(), usize> {
         assert_eq!(l.len(), self.len_val(), "factor storage of the plan's size");
         let abort = AtomicBool::new(false);
-        self.run(&self.root, a, l, &abort)
+        self.run(&self.root, a, l, None, &abort)
+    }
+
+    /// [`Plan::factorize`] of a matrix that differs from the one `reference` holds the factor
+    /// of only in the supernodes `changed` ([`Plan::changed_supernodes`]): the other
+    /// supernodes' values are copied from `reference`, the changed ones computed as
+    /// [`Plan::factorize`] would, so the factor is bit-identical to a whole factorization.
+    pub(crate) fn factorize_partial(
+        &self,
+        a: &[f64],
+        l: &mut [f64],
+        reference: &[f64],
+        changed: &[bool],
+    ) -> Result<(), usize> {
+        assert_eq!(l.len(), self.len_val(), "factor storage of the plan's size");
+        assert_eq!(
+            reference.len(),
+            self.len_val(),
+            "reference of the plan's size"
+        );
+        let abort = AtomicBool::new(false);
+        self.run(&self.root, a, l, Some((reference, changed)), &abort)
     }
 
     fn node(&self, s: usize) -> Node<'_> {
@@ -269,10 +337,25 @@ impl Plan {
         }
     }
 
-    /// Runs `task` on `l`, the values of the task's supernodes (starting at its first).
-    fn run(&self, task: &Task, a: &[f64], l: &mut [f64], abort: &AtomicBool) -> Result<(), usize> {
+    /// Runs `task` on `l`, the values of the task's supernodes (starting at its first);
+    /// with `reuse`, unchanged supernodes are copied from the reference factor.
+    fn run(
+        &self,
+        task: &Task,
+        a: &[f64],
+        l: &mut [f64],
+        reuse: Reuse<'_>,
+        abort: &AtomicBool,
+    ) -> Result<(), usize> {
+        if let Some((reference, changed)) = reuse {
+            let r = task.range();
+            if !changed[r.clone()].iter().any(|&c| c) {
+                l.copy_from_slice(&reference[self.val_ptr[r.start]..self.val_ptr[r.end]]);
+                return Ok(());
+            }
+        }
         match task {
-            Task::Seq(range) => self.run_seq(range.clone(), range.start, a, l, abort),
+            Task::Seq(range) => self.run_seq(range.clone(), range.start, a, l, reuse, abort),
             Task::Fork { parts, tail } => {
                 let lo = task.range().start;
                 let mut jobs = Vec::with_capacity(parts.len());
@@ -287,10 +370,10 @@ impl Plan {
                 use rayon::prelude::*;
                 let results: Vec<Result<(), usize>> = jobs
                     .into_par_iter()
-                    .map(|(p, vals)| self.run(p, a, vals, abort))
+                    .map(|(p, vals)| self.run(p, a, vals, reuse, abort))
                     .collect();
                 results.into_iter().collect::<Result<(), usize>>()?;
-                self.run_seq(tail.clone(), lo, a, l, abort)
+                self.run_seq(tail.clone(), lo, a, l, reuse, abort)
             }
         }
     }
@@ -303,6 +386,7 @@ impl Plan {
         lo: usize,
         a: &[f64],
         l: &mut [f64],
+        reuse: Reuse<'_>,
         abort: &AtomicBool,
     ) -> Result<(), usize> {
         if range.is_empty() {
@@ -322,6 +406,12 @@ impl Plan {
             }
             let (head, rest) = l.split_at_mut(self.val_ptr[s] - base);
             let block = &mut rest[..self.val_ptr[s + 1] - self.val_ptr[s]];
+            if let Some((reference, changed)) = reuse
+                && !changed[s]
+            {
+                block.copy_from_slice(&reference[self.val_ptr[s]..self.val_ptr[s + 1]]);
+                continue;
+            }
             if let Err(col) =
                 self.factor_node(s, base, head, block, a, &mut g2l, &mut tmp, &mut mem)
             {
@@ -392,6 +482,9 @@ impl Plan {
         Ok(())
     }
 }
+
+/// A reference factor's values and the supernodes whose values differ from it.
+type Reuse<'a> = Option<(&'a [f64], &'a [bool])>;
 
 /// Nodes at least this wide, updated by at least this many descendants, take their updates in
 /// two column halves run in parallel.
