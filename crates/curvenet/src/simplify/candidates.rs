@@ -47,7 +47,10 @@ pub struct PruneParams {
     /// about `first_shift` × its refined bound when the Cholesky of `H − σI` there succeeds
     /// (proof that its score lies above). A failed factorization proves the score below that
     /// shift, which becomes the candidate's bound: it stays in the best-first search (after
-    /// two failed guesses it is scored about zero). 0 always scores it about zero.
+    /// two failed guesses it is scored about zero). When the preconditioner's shift (0.9 ×
+    /// the last winner's score, see [`crate::simplify::Warm::lambda`]) lies between that
+    /// guess and 0.95 × the bound, the first guess is that shift instead: nearer the score,
+    /// and its factorization copies from the preconditioner's. 0 always scores it about zero.
     /// Shift-and-invert near `λ` converges in fewer solves (roof: 38 → about 15 for these
     /// scores; scores sit at 0.84–1 of their refined bound for three quarters of them), but
     /// only a score about zero passes its factorization on as the next relaxation's first
@@ -709,6 +712,11 @@ const NEGATIVE_FLOOR: f64 = 10.0;
 /// at least this many factorizations' work (it costs one).
 const REUSE_MIN_SAVING: f64 = 5.0;
 
+/// The preconditioner's shift serves as a candidate's first guess only below this share of
+/// its bound (closer, the guess would fail too often: refined bounds lie a few percent above
+/// the scores).
+const PRECONDITIONER_GUESS: f64 = 0.95;
+
 /// Failed first-shift guesses after which a candidate is scored about zero.
 const MAX_GUESSES: u8 = 2;
 
@@ -726,9 +734,16 @@ impl Search<'_, '_, '_> {
             return Outcome::Failed("cancelled".into());
         }
         if let Some(shift) = sigma.or(guess) {
+            // A factorization of `H_A − σI` about the same shift to copy from: the inertia
+            // tests' reference, or the preconditioner for a first guess at its shift.
             let reference = match (&self.reference, sigma) {
                 (Some((s, Some(f))), Some(sigma)) if s.to_bits() == sigma.to_bits() => Some(&**f),
-                _ => None,
+                (_, Some(_)) => None,
+                (_, None) => self
+                    .ctx
+                    .preconditioner
+                    .as_deref()
+                    .filter(|f| (-f.shift).to_bits() == shift.to_bits()),
             };
             return match self.ctx.score_above(c, shift, reference) {
                 Ok(Some((sp, _))) => Outcome::Scored {
@@ -917,10 +932,25 @@ impl Search<'_, '_, '_> {
         let ctx = self.ctx;
         let candidates = self.candidates;
         let first = self.first_shift;
+        // The first guess: `first_shift` × the bound, or the preconditioner's shift when it
+        // lies between that and `PRECONDITIONER_GUESS` × the bound (nearer the score, and the
+        // preconditioner, a factorization of `H_A − σI`, is a reference to copy from).
+        let pre_shift = self
+            .ctx
+            .preconditioner
+            .as_ref()
+            .map(|f| -f.shift)
+            .filter(|s| s.is_finite() && *s > 0.0);
         let guess = |i: usize| {
             let r = self.key(i).value;
-            (first > 0.0 && self.guesses[i] < MAX_GUESSES && r.is_finite() && r > 0.0)
-                .then_some(first * r)
+            if !(first > 0.0 && self.guesses[i] < MAX_GUESSES && r.is_finite() && r > 0.0) {
+                return None;
+            }
+            let g = first * r;
+            Some(match pre_shift {
+                Some(s) if self.guesses[i] == 0 && s > g && s <= PRECONDITIONER_GUESS * r => s,
+                _ => g,
+            })
         };
         let (results, values): (Vec<Outcome>, Vec<Option<Bound>>) = rayon::join(
             || {
