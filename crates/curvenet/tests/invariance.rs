@@ -370,6 +370,18 @@ fn hessian_is_symmetric() {
         let d: f64 = (0..net.dofs()).map(|j| h[(i, j)] * v[j]).sum();
         assert!((d - hv[i]).abs() <= 1e-12 * norm(&hv));
     }
+    // Several vectors in one pass: each result bit-identical to its own product.
+    let w = random_u(net.dofs(), &mut rng, 1.0);
+    let mut hw = vec![0.0; net.dofs()];
+    let hess = model.assemble(&u, &all, true).hess;
+    p.sym_matvec(&hess, &w, &mut hw);
+    let x: Vec<[f64; 2]> = v.iter().zip(&w).map(|(a, b)| [*a, *b]).collect();
+    let mut y = vec![[0.0; 2]; net.dofs()];
+    p.sym_matvec_many(&hess, &x, &mut y);
+    for i in 0..net.dofs() {
+        assert_eq!(y[i][0].to_bits(), hv[i].to_bits(), "first vector, row {i}");
+        assert_eq!(y[i][1].to_bits(), hw[i].to_bits(), "second vector, row {i}");
+    }
     // The Jacobian of the gradient, by central differences column by column, is not symmetric
     // by construction: it is when the gradient is a true gradient field.
     let n = net.dofs();

@@ -210,6 +210,41 @@ impl Pattern {
         }
     }
 
+    /// [`Pattern::sym_matvec`] for `K` vectors at once, stored interleaved (`x[i][c]`:
+    /// coordinate `i` of vector `c`): one pass over the matrix instead of `K`. Each vector's
+    /// result is the same, bit for bit, as `sym_matvec`'s.
+    pub fn sym_matvec_many<const K: usize>(
+        &self,
+        values: &[f64],
+        x: &[[f64; K]],
+        y: &mut [[f64; K]],
+    ) {
+        y.iter_mut().for_each(|v| *v = [0.0; K]);
+        for j in 0..self.n {
+            let xj = x[j];
+            let mut acc = [0.0; K];
+            for k in self.col_ptr[j]..self.col_ptr[j + 1] {
+                let i = self.row_idx[k];
+                let a = values[k];
+                if i == j {
+                    for c in 0..K {
+                        acc[c] += a * xj[c];
+                    }
+                } else {
+                    let xi = x[i];
+                    let yi = &mut y[i];
+                    for c in 0..K {
+                        acc[c] += a * xi[c];
+                        yi[c] += a * xj[c];
+                    }
+                }
+            }
+            for c in 0..K {
+                y[j][c] += acc[c];
+            }
+        }
+    }
+
     /// The principal sub-pattern of the coordinates `keep` selects (`keep.len() == n`): the
     /// pattern itself, for each of its stored entries the slot of the same entry in `self`,
     /// and for each of its coordinates the coordinate in `self`.

@@ -368,12 +368,24 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
         let model = self.scorer.analyzer().model();
         let n = m.nrows();
         let mut out = Mat::<f64>::zeros(n, m.ncols());
-        let mut col = vec![0.0; n];
-        for j in 0..m.ncols() {
-            let xj: Vec<f64> = m.col(j).iter().copied().collect();
-            model.pattern().sym_matvec(&self.h, &xj, &mut col);
-            for i in 0..n {
-                out[(i, j)] = col[i];
+        if m.ncols() == 2 {
+            // Both columns in one pass over `H_A` (the refined bounds' two Ritz vectors; the
+            // same values as two products).
+            let x: Vec<[f64; 2]> = (0..n).map(|i| [m[(i, 0)], m[(i, 1)]]).collect();
+            let mut y = vec![[0.0; 2]; n];
+            model.pattern().sym_matvec_many(&self.h, &x, &mut y);
+            for (i, v) in y.iter().enumerate() {
+                out[(i, 0)] = v[0];
+                out[(i, 1)] = v[1];
+            }
+        } else {
+            let mut col = vec![0.0; n];
+            for j in 0..m.ncols() {
+                let xj: Vec<f64> = m.col(j).iter().copied().collect();
+                model.pattern().sym_matvec(&self.h, &xj, &mut col);
+                for i in 0..n {
+                    out[(i, j)] = col[i];
+                }
             }
         }
         let hc = model.curve_hessian_product(&self.locals, c, m);
