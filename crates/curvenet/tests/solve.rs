@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{build, random_curves};
+use common::{build, data_dir, random_curves};
 use curvenet::rod::{ActiveSet, Supports};
 use curvenet::solve::Cholesky;
 use curvenet::solve::eigen::{smallest_eigenpairs, smallest_eigenpairs_restricted};
@@ -284,4 +284,52 @@ fn reusing_a_reference_factor_is_bit_identical() {
         }
         assert_eq!(sym.changed_work_share(&[]), 0.0);
     }
+}
+
+/// Steps escaping a saddle are doubled while the energy falls (`NewtonParams::
+/// escape_doublings`): the kagome's first relaxation from its drawn state passes one, and
+/// with the doublings it reaches the same equilibrium (energy and displacements) in fewer
+/// factorizations.
+#[test]
+fn saddle_escapes_reach_the_same_equilibrium_sooner() {
+    let Some(data) = data_dir() else {
+        return;
+    };
+    let ex = curvenet::paper::load("kagome", &data, Supports::Clamped).expect("kagome loads");
+    let (net, _) = curvenet::network::build_network(&ex.curves, &ex.build).expect("builds");
+    let relax = |doublings: usize| {
+        let mut params = StabilityParams::default();
+        params.newton.escape_doublings = doublings;
+        let a = Analyzer::new(net.clone(), params).expect("analyzer");
+        let mut u = vec![0.0; a.model().dofs()];
+        let info = a.relax(&a.all(), &mut u);
+        assert!(info.converged, "{info:?}");
+        (info, u)
+    };
+    let (plain, u0) = relax(0);
+    let (escaping, u1) = relax(StabilityParams::default().newton.escape_doublings);
+    assert_eq!(plain.escape_doublings, 0);
+    assert!(plain.projected_steps > 0, "a saddle on the way: {plain:?}");
+    assert!(escaping.escape_doublings > 0, "{escaping:?}");
+    assert!(
+        escaping.factorizations < plain.factorizations,
+        "{} against {}",
+        escaping.factorizations,
+        plain.factorizations
+    );
+    assert!(
+        (escaping.energy - plain.energy).abs() <= 1e-10 * plain.energy.abs(),
+        "energies {} and {}",
+        escaping.energy,
+        plain.energy
+    );
+    let scale = u0.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let diff = u0
+        .iter()
+        .zip(&u1)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    assert!(
+        diff <= 1e-6 * scale,
+        "displacements {diff:e} apart (scale {scale:e})"
+    );
 }
