@@ -176,6 +176,12 @@ pub struct BenchArgs {
     /// Score each iteration's first candidate about zero (not about a shift below its bound).
     #[arg(long = "no-first-shift")]
     pub no_first_shift: bool,
+    /// Factor every inertia test whole (no copying from a factorization of `H_A − σI`).
+    #[arg(long = "no-reuse")]
+    pub no_reuse: bool,
+    /// Never extend Newton steps that escape a saddle.
+    #[arg(long = "no-escape")]
+    pub no_escape: bool,
     /// Low modes per iteration (the candidates' bound subspace; default: the greedy's).
     #[arg(long)]
     pub modes: Option<usize>,

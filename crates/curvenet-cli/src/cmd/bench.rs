@@ -62,7 +62,8 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
     println!(
         "curvenet bench: {threads} thread(s); pruning {}, inertia test {}, chord steps {}, \
          Krylov steps {}, warm starts {}, restricted factorizations {}, subtree-parallel \
-         factorizations {}, early round-off floor {}, first score about a shift {}",
+         factorizations {}, early round-off floor {}, first score about a shift {}, inertia \
+         tests copying a reference {}, saddle escapes {}",
         on(!a.no_prune),
         on(!a.no_prune && !a.no_inertia),
         on(a.chord),
@@ -71,7 +72,9 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         on(!a.no_restrict),
         on(!a.no_subtrees),
         on(!a.no_floor_near),
-        on(!a.no_prune && !a.no_first_shift)
+        on(!a.no_prune && !a.no_first_shift),
+        on(!a.no_prune && !a.no_inertia && !a.no_reuse),
+        on(!a.no_escape)
     );
     curvenet::solve::factor::set_subtree_parallel(!a.no_subtrees);
     println!(
@@ -109,6 +112,9 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         if a.no_floor_near {
             stability.newton.floor_near = 1.0;
         }
+        if a.no_escape {
+            stability.newton.escape_doublings = 0;
+        }
         let mut params = GreedyParams::new(Budget::Fraction(ex.setup.budget_fraction));
         params.keep = ex.setup.keep.clone();
         params.prune.enabled = !a.no_prune;
@@ -116,6 +122,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         if a.no_first_shift {
             params.prune.first_shift = 0.0;
         }
+        params.prune.reuse = !a.no_reuse;
         params.warm_start = !a.no_warm;
         if let Some(m) = a.modes {
             params.modes = m;

@@ -56,6 +56,15 @@ pub struct PruneParams {
     /// only a score about zero passes its factorization on as the next relaxation's first
     /// Newton matrix when the candidate wins.
     pub first_shift: f64,
+    /// The inertia tests about one shift copy the supernodes a candidate cannot reach from a
+    /// factorization of `H_A − σI` when that saves work ([`crate::solve::Cholesky::
+    /// factorize_reusing`]; the factors, hence the results, are the same either way).
+    #[serde(default = "default_true")]
+    pub reuse: bool,
+}
+
+fn default_true() -> bool {
+    true
 }
 
 impl Default for PruneParams {
@@ -65,6 +74,7 @@ impl Default for PruneParams {
             batch: 2,
             inertia: true,
             first_shift: 0.8,
+            reuse: true,
         }
     }
 }
@@ -617,6 +627,7 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
             batch: prune.batch.max(1),
             inertia: prune.inertia,
             first_shift: prune.first_shift,
+            reuse: prune.reuse,
             cancelled,
             out: candidates
                 .iter()
@@ -674,6 +685,7 @@ struct Search<'c, 's, 'a> {
     batch: usize,
     inertia: bool,
     first_shift: f64,
+    reuse: bool,
     cancelled: &'c (dyn Fn() -> bool + Sync),
     out: Vec<CandidateScore>,
     best: f64,
@@ -846,7 +858,7 @@ impl Search<'_, '_, '_> {
                 *self.shares[i].get_or_insert_with(|| self.ctx.changed_share(self.candidates[i]));
             saving += 1.0 - share;
         }
-        let factor = (saving >= REUSE_MIN_SAVING)
+        let factor = (self.reuse && saving >= REUSE_MIN_SAVING)
             .then(|| self.ctx.reference(sigma))
             .flatten()
             .map(Arc::new);
