@@ -162,6 +162,7 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         }
         Err(e) => return Err(e.into()),
     };
+    print_warnings(&curvenet::simplify::result::unrelaxed(&outcome.iterations));
     let (local, local_seconds) = optional_step(job.local_search, "local search", || {
         local_search_of(&analyzer, &params, &outcome)
     });
