@@ -18,7 +18,7 @@
 //! depends only on the scores, never on thread timing, and the choice is the same as without
 //! pruning (tested).
 
-use super::{Scorer, Work};
+use super::{Evaluation, Scorer, Work};
 use crate::rod::ActiveSet;
 use crate::rod::model::LocalHessians;
 use crate::solve::eigen::Spectrum;
@@ -211,6 +211,19 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
             preconditioner: None,
             symbolic,
         }
+    }
+
+    /// The context of structure `active` evaluated as `eval`: its equilibrium, low modes and
+    /// analysis, and its spectrum's factorization as the refined bounds' preconditioner.
+    pub fn of_evaluation(scorer: &'s Scorer<'a>, active: &ActiveSet, eval: &Evaluation) -> Self {
+        CandidateContext::new(
+            scorer,
+            active,
+            &eval.displacement,
+            eval.spectrum.vectors.as_ref(),
+            Some(eval.symbolic.clone()),
+        )
+        .with_preconditioner(eval.factor.clone())
     }
 
     /// Uses `factor`, a factorization of `H_A − σI` (the one `A`'s spectrum was computed
@@ -1103,14 +1116,7 @@ mod tests {
         // Without one curve: the structure has loose vertices of its own.
         let active = ActiveSet::all(n).without(1);
         let eval = scorer.evaluate(&active, None).expect("evaluates");
-        let ctx = CandidateContext::new(
-            &scorer,
-            &active,
-            &eval.displacement,
-            eval.spectrum.vectors.as_ref(),
-            Some(eval.symbolic.clone()),
-        )
-        .with_preconditioner(eval.factor.clone());
+        let ctx = CandidateContext::of_evaluation(&scorer, &active, &eval);
         let cs: Vec<usize> = active.curves();
         let refined = ctx.refined_bounds(&cs);
         for (&c, r) in cs.iter().zip(&refined) {

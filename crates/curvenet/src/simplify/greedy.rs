@@ -338,14 +338,7 @@ pub fn greedy(
 
         // Score every candidate at A's equilibrium.
         let t = Instant::now();
-        let ctx = CandidateContext::new(
-            &scorer,
-            &active,
-            &eval.displacement,
-            eval.spectrum.vectors.as_ref(),
-            Some(eval.symbolic.clone()),
-        )
-        .with_preconditioner(eval.factor.clone());
+        let ctx = CandidateContext::of_evaluation(&scorer, &active, &eval);
         timings.locals_seconds += t.elapsed().as_secs_f64();
         let t = Instant::now();
         let shared: &dyn GreedyHooks = &*hooks;

@@ -3,7 +3,10 @@
 //! Each step solves `(H + τI) d = ∇E` with the shared symbolic factorization; `τ = 0` unless the
 //! factorization fails or `−d` is not a descent direction, in which case `τ` grows geometrically
 //! from a small multiple of the diagonal's scale. A backtracking (Armijo) line search follows;
-//! once energy differences are below round-off, a step is accepted if it reduces `‖∇E‖`.
+//! once energy differences are below round-off, a step is accepted if it reduces `‖∇E‖`. Where
+//! the Hessian is indefinite (a saddle on the way), the step comes from the Hessian with every
+//! term projected to be positive semidefinite, and a full such step is doubled while the
+//! energy keeps falling ([`NewtonParams::escape_doublings`]).
 //! Converged when `‖∇E‖ ≤ rel_tol · ‖∇E(x_start)‖`, or when `‖∇E‖` stops decreasing at the
 //! round-off floor; every way of stopping is reported, never hidden.
 
