@@ -715,7 +715,7 @@ struct Search<'c, 's, 'a> {
     best_threshold: f64,
     /// The inertia tests' shift `σ` and a factorization of `H_A − σI` they copy from (`None`
     /// when not worth it or not positive definite).
-    reference: Option<(f64, Option<Arc<Cholesky>>)>,
+    reference: Option<(f64, Option<Cholesky>)>,
     /// Per candidate: the share of a factorization's work left when copying from the
     /// reference.
     shares: Vec<Option<f64>>,
@@ -774,7 +774,7 @@ impl Search<'_, '_, '_> {
             // A factorization of `H_A − σI` about the same shift to copy from: the inertia
             // tests' reference, or the preconditioner for a first guess at its shift.
             let reference = match (&self.reference, sigma) {
-                (Some((s, Some(f))), Some(sigma)) if s.to_bits() == sigma.to_bits() => Some(&**f),
+                (Some((s, Some(f))), Some(sigma)) if s.to_bits() == sigma.to_bits() => Some(f),
                 (_, Some(_)) => None,
                 (_, None) => self
                     .ctx
@@ -873,8 +873,7 @@ impl Search<'_, '_, '_> {
         }
         let factor = (self.reuse && saving >= REUSE_MIN_SAVING)
             .then(|| self.ctx.reference(sigma))
-            .flatten()
-            .map(Arc::new);
+            .flatten();
         self.reference = Some((sigma, factor));
     }
 

@@ -344,7 +344,7 @@ impl Plan {
         task: &Task,
         a: &[f64],
         l: &mut [f64],
-        reuse: Reuse<'_>,
+        reuse: CopyFrom<'_>,
         abort: &AtomicBool,
     ) -> Result<(), usize> {
         if let Some((reference, changed)) = reuse {
@@ -386,7 +386,7 @@ impl Plan {
         lo: usize,
         a: &[f64],
         l: &mut [f64],
-        reuse: Reuse<'_>,
+        reuse: CopyFrom<'_>,
         abort: &AtomicBool,
     ) -> Result<(), usize> {
         if range.is_empty() {
@@ -484,7 +484,7 @@ impl Plan {
 }
 
 /// A reference factor's values and the supernodes whose values differ from it.
-type Reuse<'a> = Option<(&'a [f64], &'a [bool])>;
+type CopyFrom<'a> = Option<(&'a [f64], &'a [bool])>;
 
 /// Nodes at least this wide, updated by at least this many descendants, take their updates in
 /// two column halves run in parallel.
