@@ -153,6 +153,9 @@ pub struct CandidateContext<'s, 'a> {
     preconditioner: Option<Arc<Cholesky>>,
     /// The symbolic analysis for `A`'s matrices (and its candidates').
     symbolic: Arc<SymbolicFactor>,
+    /// Solves `A`'s spectrum took (0 when unknown): the first candidate's eigen solve, about
+    /// a shift near its score too, costs about as many.
+    spectrum_solves: usize,
 }
 
 impl<'s, 'a> CandidateContext<'s, 'a> {
@@ -210,6 +213,7 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
             solves: AtomicUsize::new(0),
             preconditioner: None,
             symbolic,
+            spectrum_solves: 0,
         }
     }
 
@@ -224,6 +228,24 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
             Some(eval.symbolic.clone()),
         )
         .with_preconditioner(eval.factor.clone())
+        .with_spectrum_solves(eval.spectrum.solves)
+    }
+
+    /// Records how many solves `A`'s spectrum took (see [`Self::first_ahead`]).
+    pub fn with_spectrum_solves(mut self, solves: usize) -> Self {
+        self.spectrum_solves = solves;
+        self
+    }
+
+    /// How many candidates' bounds to refine while the first candidate is scored: its eigen
+    /// solve takes about as many solves as `A`'s spectrum, and refining a candidate's bound
+    /// costs about two (half a call of four columns and a product with `H_A`; the
+    /// factorization takes about four more). Roof: 26 solves per spectrum, 9 candidates;
+    /// arched shell and shell: 15, 3; tower: 8, none beyond the usual batch.
+    fn first_ahead(&self) -> usize {
+        (self.spectrum_solves / 2)
+            .saturating_sub(4)
+            .min(FIRST_AHEAD)
     }
 
     /// Uses `factor`, a factorization of `H_A − σI` (the one `A`'s spectrum was computed
@@ -955,16 +977,6 @@ impl Search<'_, '_, '_> {
         if let Some(sigma) = sigma {
             self.prepare_reference(sigma);
         }
-        let ahead: Vec<usize> = if !self.best.is_finite() && refinable {
-            self.alive[take..]
-                .iter()
-                .copied()
-                .filter(|&i| self.refined[i].is_none())
-                .take(self.batch)
-                .collect()
-        } else {
-            Vec::new()
-        };
         let ctx = self.ctx;
         let candidates = self.candidates;
         let first = self.first_shift;
@@ -988,6 +1000,30 @@ impl Search<'_, '_, '_> {
                 _ => g,
             })
         };
+        // While the first candidate is scored, the other thread refines the bounds of the next
+        // ones its score is unlikely to prune: those whose plain bound lies above the shift it
+        // is scored about (its score lies above that shift when the factorization there
+        // succeeds) and above `AHEAD_SHARE` of its bound, as many as the score's expected
+        // cost allows ([`CandidateContext::first_ahead`]). Pure values decide which, so the
+        // search is the same on any number of threads.
+        let ahead: Vec<usize> = if !self.best.is_finite() && refinable {
+            let above = group
+                .first()
+                .and_then(|&i| guess(i).map(|g| g.max(AHEAD_SHARE * self.key(i).value)));
+            let limit = match above {
+                Some(_) => self.ctx.first_ahead().max(self.batch),
+                None => self.batch,
+            };
+            self.alive[take..]
+                .iter()
+                .copied()
+                .filter(|&i| self.refined[i].is_none())
+                .filter(|&i| above.is_none_or(|g| self.plain[i].value + self.plain[i].margin >= g))
+                .take(limit)
+                .collect()
+        } else {
+            Vec::new()
+        };
         let (results, values): (Vec<Outcome>, Vec<Option<Bound>>) = rayon::join(
             || {
                 group
@@ -1010,6 +1046,15 @@ impl Search<'_, '_, '_> {
 /// batches of the best candidates are computed together (one solve call of four columns per
 /// two candidates, the calls in parallel).
 const REFINE_AHEAD: usize = 2;
+
+/// At most this many candidates' bounds are refined while the first candidate of an
+/// iteration is scored (see [`Search::step`]).
+const FIRST_AHEAD: usize = 10;
+
+/// Candidates refined while the first one is scored have a plain bound above this share of
+/// its bound: scores sit at 0.84–1 of their refined bound, so lower ones are likely pruned by
+/// the first score alone.
+const AHEAD_SHARE: f64 = 0.95;
 
 /// A plain Rayleigh–Ritz bound and what its refinement reuses.
 struct RitzBound {
