@@ -582,8 +582,7 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
         sigma: f64,
         reference: Option<&Cholesky>,
     ) -> Result<Option<(Spectrum, Cholesky)>, StabilityError> {
-        let warm = self.ritz_vectors(c);
-        let warm = warm.as_ref().map_or(self.modes.as_ref(), |w| w.as_ref());
+        let warm = || Some(self.ritz_vectors(c).unwrap_or_else(|| self.modes.clone()));
         let changed = reference.map(|_| self.curve_coordinates(c));
         let reuse = reference.zip(changed.as_deref()).map(|(f, changed)| Reuse {
             reference: f,
@@ -592,7 +591,7 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
         let r = self.scorer.lambda_fixed_above(
             &self.locals,
             &self.active.without(c),
-            Some(warm),
+            warm,
             sigma,
             &self.symbolic,
             reuse,

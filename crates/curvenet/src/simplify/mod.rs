@@ -29,7 +29,8 @@ use crate::rod::ActiveSet;
 use crate::rod::model::LocalHessians;
 use crate::solve::Cholesky;
 use crate::solve::eigen::{
-    EigenParams, Spectrum, smallest_eigenpairs_above, smallest_eigenpairs_factored,
+    EigenParams, Spectrum, smallest_eigenpairs_above, smallest_eigenpairs_above_with,
+    smallest_eigenpairs_factored,
 };
 use crate::stability::{Analyzer, StabilityError};
 use faer::{Mat, MatRef};
@@ -388,18 +389,25 @@ impl<'a> Scorer<'a> {
         &self,
         locals: &LocalHessians,
         active: &ActiveSet,
-        warm: Option<MatRef<'_, f64>>,
+        warm: impl FnOnce() -> Option<Mat<f64>>,
         sigma: f64,
         symbolic: &std::sync::Arc<crate::solve::SymbolicFactor>,
         reuse: Option<crate::solve::Reuse<'_>>,
     ) -> Result<Option<(Spectrum, Cholesky)>, StabilityError> {
-        let (h, warm) = self.fixed_problem(locals, active, warm)?;
+        if active.is_empty() {
+            return Err(StabilityError::Empty);
+        }
         let model = self.analyzer.model();
-        Ok(smallest_eigenpairs_above(
+        let mut h = Vec::new();
+        model.hessian_from_locals(locals, active, &mut h);
+        // The warm start (`warm` restricted to `active`'s vertices) only once the
+        // factorization about `σ` succeeds.
+        let warm = || warm().map(|w| restrict(w.as_ref(), &model.vertex_mask(active)));
+        Ok(smallest_eigenpairs_above_with(
             model.pattern(),
             &h,
             symbolic,
-            warm.as_ref().map(|w| w.as_ref()),
+            warm,
             &self.candidate_eigen,
             sigma,
             reuse,

@@ -260,6 +260,28 @@ pub fn smallest_eigenpairs_above(
     sigma: f64,
     reuse: Option<Reuse<'_>>,
 ) -> Result<Option<(Spectrum, Cholesky)>, EigenError> {
+    smallest_eigenpairs_above_with(
+        pattern,
+        values,
+        symbolic,
+        || warm_start.map(|w| w.to_owned()),
+        params,
+        sigma,
+        reuse,
+    )
+}
+
+/// [`smallest_eigenpairs_above`] with the warm start made only when the factorization of
+/// `H − σI` succeeds: a failed one (the answer `λ < σ`) costs nothing else.
+pub fn smallest_eigenpairs_above_with(
+    pattern: &Pattern,
+    values: &[f64],
+    symbolic: &Arc<SymbolicFactor>,
+    warm_start: impl FnOnce() -> Option<Mat<f64>>,
+    params: &EigenParams,
+    sigma: f64,
+    reuse: Option<Reuse<'_>>,
+) -> Result<Option<(Spectrum, Cholesky)>, EigenError> {
     let _timer = crate::profile::Timer::new(crate::profile::Phase::Eigen);
     params.validate().map_err(EigenError::InvalidParams)?;
     if !sigma.is_finite() {
@@ -267,11 +289,6 @@ pub fn smallest_eigenpairs_above(
             "the shift must be finite, got {sigma:e}"
         )));
     }
-    let norm1 = pattern.sym_norm1(values);
-    if !norm1.is_finite() {
-        return Err(EigenError::NoShift(f64::NAN));
-    }
-    let zero_threshold = params.zero_factor * f64::EPSILON * norm1;
     let factor = match reuse {
         Some(r) => {
             Cholesky::factorize_reusing(symbolic, pattern, values, -sigma, r.reference, r.changed)
@@ -279,8 +296,18 @@ pub fn smallest_eigenpairs_above(
         None => Cholesky::factorize(symbolic, pattern, values, -sigma),
     };
     let Ok(factor) = factor else {
+        // A matrix with NaN or infinity fails too: that is an error, not an answer.
+        if values.iter().any(|v| !v.is_finite()) {
+            return Err(EigenError::NoShift(f64::NAN));
+        }
         return Ok(None);
     };
+    let norm1 = pattern.sym_norm1(values);
+    if !norm1.is_finite() {
+        return Err(EigenError::NoShift(f64::NAN));
+    }
+    let zero_threshold = params.zero_factor * f64::EPSILON * norm1;
+    let warm = warm_start();
     finish(
         pattern,
         values,
@@ -291,7 +318,7 @@ pub fn smallest_eigenpairs_above(
             norm1,
             zero_threshold,
         },
-        warm_start,
+        warm.as_ref().map(|w| w.as_ref()),
         params,
     )
     .map(Some)
@@ -500,5 +527,48 @@ mod tests {
             smallest_eigenpairs_above(&pattern, &values, &symbolic, None, &params, f64::NAN, None)
                 .is_err()
         );
+        // A matrix with NaN fails its factorization too: an error, not a proof.
+        let mut bad = values.clone();
+        bad[pattern.diag[7]] = f64::NAN;
+        let r = smallest_eigenpairs_above(&pattern, &bad, &symbolic, None, &params, -1.0, None);
+        assert!(r.is_err(), "{r:?}");
+    }
+
+    /// The warm start is made only when the factorization about `σ` succeeds.
+    #[test]
+    fn the_warm_start_is_made_only_for_a_successful_factorization() {
+        let (pattern, values, exact) = shifted_laplacian(40);
+        let symbolic = SymbolicFactor::new(&pattern);
+        let params = EigenParams {
+            count: 2,
+            ..Default::default()
+        };
+        let made = std::cell::Cell::new(0);
+        let warm = || {
+            made.set(made.get() + 1);
+            None
+        };
+        let below = smallest_eigenpairs_above_with(
+            &pattern,
+            &values,
+            &symbolic,
+            warm,
+            &params,
+            exact[0] + 1e-3,
+            None,
+        );
+        assert!(below.expect("valid").is_none());
+        assert_eq!(made.get(), 0, "no warm start for a failed factorization");
+        let above = smallest_eigenpairs_above_with(
+            &pattern,
+            &values,
+            &symbolic,
+            warm,
+            &params,
+            exact[0] - 1e-3,
+            None,
+        );
+        assert!(above.expect("valid").is_some());
+        assert_eq!(made.get(), 1);
     }
 }
