@@ -182,6 +182,9 @@ pub struct BenchArgs {
     /// Never extend Newton steps that escape a saddle.
     #[arg(long = "no-escape")]
     pub no_escape: bool,
+    /// Refine only the usual batch of bounds while each iteration's first candidate is scored.
+    #[arg(long = "no-ahead")]
+    pub no_ahead: bool,
     /// Low modes per iteration (the candidates' bound subspace; default: the greedy's).
     #[arg(long)]
     pub modes: Option<usize>,

@@ -220,6 +220,55 @@ fn warm_starts_do_not_change_the_choices() {
     }
 }
 
+/// Refining the next candidates' bounds beside each iteration's first score changes which
+/// bounds are refined (and their last bits: they share other solve calls), never the choices.
+#[test]
+fn refining_ahead_does_not_change_the_choices() {
+    let mut cases = small_cases();
+    if let Some(data) = data_dir() {
+        let ex = curvenet::paper::load("roof", &data, Supports::Clamped).expect("roof loads");
+        let (net, _) = build_network(&ex.curves, &ex.build).expect("roof builds");
+        cases.push(("roof", net, ex.setup.budget_fraction));
+    }
+    let mut differ = 0;
+    for (name, net, fraction) in cases {
+        let a = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
+        let mut ahead = GreedyParams::new(Budget::Fraction(fraction));
+        assert!(ahead.prune.ahead, "on by default");
+        ahead.max_removals = Some(4);
+        let mut batch = ahead.clone();
+        batch.prune.ahead = false;
+        let (g_a, g_b) = (run(&a, &ahead), run(&a, &batch));
+        assert_eq!(removals(&g_a), removals(&g_b), "{name}: removals");
+        for (k, (x, y)) in g_a.iterations.iter().zip(&g_b.iterations).enumerate() {
+            assert!(
+                rel_diff(x.lambda, y.lambda) < SAME,
+                "{name}, iteration {k}: λ_eq"
+            );
+            if let (Some(s), Some(t)) = (x.score, y.score) {
+                assert!(
+                    rel_diff(s, t) < SAME,
+                    "{name}, iteration {k}: {s:e} vs {t:e}"
+                );
+            }
+            let refined = |it: &curvenet::simplify::greedy::IterationRecord| -> Vec<usize> {
+                it.candidates
+                    .iter()
+                    .filter(|c| c.refined_bound.is_some())
+                    .map(|c| c.curve)
+                    .collect()
+            };
+            differ += usize::from(refined(x) != refined(y));
+        }
+    }
+    if data_dir().is_some() {
+        assert!(
+            differ > 0,
+            "refining ahead never changed which bounds were refined"
+        );
+    }
+}
+
 #[test]
 fn a_first_shift_does_not_change_the_choices() {
     let mut shifted_firsts = 0;

@@ -63,7 +63,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         "curvenet bench: {threads} thread(s); pruning {}, inertia test {}, chord steps {}, \
          Krylov steps {}, warm starts {}, restricted factorizations {}, subtree-parallel \
          factorizations {}, early round-off floor {}, first score about a shift {}, inertia \
-         tests copying a reference {}, saddle escapes {}",
+         tests copying a reference {}, saddle escapes {}, refinement beside the first score {}",
         on(!a.no_prune),
         on(!a.no_prune && !a.no_inertia),
         on(a.chord),
@@ -74,7 +74,8 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         on(!a.no_floor_near),
         on(!a.no_prune && !a.no_first_shift),
         on(!a.no_prune && !a.no_inertia && !a.no_reuse),
-        on(!a.no_escape)
+        on(!a.no_escape),
+        on(!a.no_prune && !a.no_ahead)
     );
     curvenet::solve::factor::set_subtree_parallel(!a.no_subtrees);
     println!(
@@ -123,6 +124,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
             params.prune.first_shift = 0.0;
         }
         params.prune.reuse = !a.no_reuse;
+        params.prune.ahead = !a.no_ahead;
         params.warm_start = !a.no_warm;
         if let Some(m) = a.modes {
             params.modes = m;

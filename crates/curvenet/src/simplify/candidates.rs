@@ -61,6 +61,12 @@ pub struct PruneParams {
     /// factorize_reusing`]; the factors, hence the results, are the same either way).
     #[serde(default = "default_true")]
     pub reuse: bool,
+    /// While each iteration's first candidate is scored (one core mostly idle), refine the
+    /// bounds of the next candidates its score is unlikely to prune, as many as its cost
+    /// allows; off, only the usual batch (which candidates are refined never depends on
+    /// timing either way).
+    #[serde(default = "default_true")]
+    pub ahead: bool,
 }
 
 fn default_true() -> bool {
@@ -75,6 +81,7 @@ impl Default for PruneParams {
             inertia: true,
             first_shift: 0.8,
             reuse: true,
+            ahead: true,
         }
     }
 }
@@ -662,6 +669,7 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
             inertia: prune.inertia,
             first_shift: prune.first_shift,
             reuse: prune.reuse,
+            ahead: prune.ahead,
             cancelled,
             out: candidates
                 .iter()
@@ -720,6 +728,7 @@ struct Search<'c, 's, 'a> {
     inertia: bool,
     first_shift: f64,
     reuse: bool,
+    ahead: bool,
     cancelled: &'c (dyn Fn() -> bool + Sync),
     out: Vec<CandidateScore>,
     best: f64,
@@ -1008,6 +1017,7 @@ impl Search<'_, '_, '_> {
         let ahead: Vec<usize> = if !self.best.is_finite() && refinable {
             let above = group
                 .first()
+                .filter(|_| self.ahead)
                 .and_then(|&i| guess(i).map(|g| g.max(AHEAD_SHARE * self.key(i).value)));
             let limit = match above {
                 Some(_) => self.ctx.first_ahead().max(self.batch),
