@@ -49,6 +49,25 @@ fn removals(g: &GreedyOutcome) -> Vec<Option<usize>> {
     g.iterations.iter().map(|i| i.removed).collect()
 }
 
+/// Two runs of the greedy that must make the same choices: the same removals, `λ_eq` and
+/// winning score in every iteration (to `SAME`: scores about different shifts differ by
+/// round-off).
+fn assert_same_choices(name: &str, a: &GreedyOutcome, b: &GreedyOutcome) {
+    assert_eq!(removals(a), removals(b), "{name}: removals");
+    for (k, (x, y)) in a.iterations.iter().zip(&b.iterations).enumerate() {
+        assert!(
+            rel_diff(x.lambda, y.lambda) < SAME,
+            "{name}, iteration {k}: λ_eq"
+        );
+        if let (Some(s), Some(t)) = (x.score, y.score) {
+            assert!(
+                rel_diff(s, t) < SAME,
+                "{name}, iteration {k}: {s:e} vs {t:e}"
+            );
+        }
+    }
+}
+
 /// Compares the greedy with pruning on and off; returns the number of pruned candidates.
 fn check_pruning(name: &str, a: &Analyzer, base: &GreedyParams) -> usize {
     let t = Instant::now();
@@ -239,18 +258,8 @@ fn refining_ahead_does_not_change_the_choices() {
         let mut batch = ahead.clone();
         batch.prune.ahead = false;
         let (g_a, g_b) = (run(&a, &ahead), run(&a, &batch));
-        assert_eq!(removals(&g_a), removals(&g_b), "{name}: removals");
-        for (k, (x, y)) in g_a.iterations.iter().zip(&g_b.iterations).enumerate() {
-            assert!(
-                rel_diff(x.lambda, y.lambda) < SAME,
-                "{name}, iteration {k}: λ_eq"
-            );
-            if let (Some(s), Some(t)) = (x.score, y.score) {
-                assert!(
-                    rel_diff(s, t) < SAME,
-                    "{name}, iteration {k}: {s:e} vs {t:e}"
-                );
-            }
+        assert_same_choices(name, &g_a, &g_b);
+        for (x, y) in g_a.iterations.iter().zip(&g_b.iterations) {
             let refined = |it: &curvenet::simplify::greedy::IterationRecord| -> Vec<usize> {
                 it.candidates
                     .iter()
@@ -279,18 +288,8 @@ fn a_first_shift_does_not_change_the_choices() {
         let mut zero = shifted.clone();
         zero.prune.first_shift = 0.0;
         let (g_s, g_z) = (run(&a, &shifted), run(&a, &zero));
-        assert_eq!(removals(&g_s), removals(&g_z), "{name}: removals");
-        for (k, (s, z)) in g_s.iterations.iter().zip(&g_z.iterations).enumerate() {
-            assert!(
-                rel_diff(s.lambda, z.lambda) < SAME,
-                "{name}, iteration {k}: λ_eq"
-            );
-            if let (Some(a), Some(b)) = (s.score, z.score) {
-                assert!(
-                    rel_diff(a, b) < SAME,
-                    "{name}, iteration {k}: {a:e} vs {b:e}"
-                );
-            }
+        assert_same_choices(name, &g_s, &g_z);
+        for (s, z) in g_s.iterations.iter().zip(&g_z.iterations) {
             // The first score about 0.8 × its refined bound (recorded as its shift).
             shifted_firsts += s
                 .candidates

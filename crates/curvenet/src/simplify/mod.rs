@@ -371,8 +371,9 @@ impl<'a> Scorer<'a> {
         warm: Option<MatRef<'_, f64>>,
         symbolic: &std::sync::Arc<crate::solve::SymbolicFactor>,
     ) -> Result<(Spectrum, Cholesky), StabilityError> {
-        let (h, warm) = self.fixed_problem(locals, active, warm)?;
+        let h = self.fixed_hessian(locals, active)?;
         let model = self.analyzer.model();
+        let warm = warm.map(|w| restrict(w, &model.vertex_mask(active)));
         Ok(smallest_eigenpairs_factored(
             model.pattern(),
             &h,
@@ -384,7 +385,7 @@ impl<'a> Scorer<'a> {
 
     /// [`Self::lambda_fixed`] shifted about `sigma`: `Ok(None)` when one factorization
     /// proves `λ_fix(active | A) < sigma` (see [`smallest_eigenpairs_above`], also for
-    /// `reuse`).
+    /// `reuse`). The warm start is asked of `warm` only when that factorization succeeds.
     pub fn lambda_fixed_above(
         &self,
         locals: &LocalHessians,
@@ -394,12 +395,8 @@ impl<'a> Scorer<'a> {
         symbolic: &std::sync::Arc<crate::solve::SymbolicFactor>,
         reuse: Option<crate::solve::Reuse<'_>>,
     ) -> Result<Option<(Spectrum, Cholesky)>, StabilityError> {
-        if active.is_empty() {
-            return Err(StabilityError::Empty);
-        }
+        let h = self.fixed_hessian(locals, active)?;
         let model = self.analyzer.model();
-        let mut h = Vec::new();
-        model.hessian_from_locals(locals, active, &mut h);
         // The warm start (`warm` restricted to `active`'s vertices) only once the
         // factorization about `σ` succeeds.
         let warm = || warm().map(|w| restrict(w.as_ref(), &model.vertex_mask(active)));
@@ -414,22 +411,20 @@ impl<'a> Scorer<'a> {
         )?)
     }
 
-    /// The Hessian of `active` from the local Hessians at `A`'s equilibrium, and `warm`
-    /// restricted to its vertices.
-    fn fixed_problem(
+    /// The Hessian of `active` from the local Hessians at `A`'s equilibrium.
+    fn fixed_hessian(
         &self,
         locals: &LocalHessians,
         active: &ActiveSet,
-        warm: Option<MatRef<'_, f64>>,
-    ) -> Result<(Vec<f64>, Option<Mat<f64>>), StabilityError> {
+    ) -> Result<Vec<f64>, StabilityError> {
         if active.is_empty() {
             return Err(StabilityError::Empty);
         }
-        let model = self.analyzer.model();
         let mut h = Vec::new();
-        model.hessian_from_locals(locals, active, &mut h);
-        let warm = warm.map(|w| restrict(w, &model.vertex_mask(active)));
-        Ok((h, warm))
+        self.analyzer
+            .model()
+            .hessian_from_locals(locals, active, &mut h);
+        Ok(h)
     }
 }
 
