@@ -637,6 +637,19 @@ impl EnergyModel {
         pos: &[[u32; K]; K],
         local: &[[f64; D]; D],
     ) {
+        self.hess_entries(v, pos, |k, row, col| hess[k] += local[row][col]);
+    }
+
+    /// Calls `f(slot, row, col)` for every entry a term over vertices `v` (block positions
+    /// `pos`) adds to the upper-triangle values: `slot` in the pattern's values, `(row, col)`
+    /// in the term's local Hessian. The order is the assembly's.
+    #[inline]
+    fn hess_entries<const K: usize>(
+        &self,
+        v: &[u32; K],
+        pos: &[[u32; K]; K],
+        mut f: impl FnMut(usize, usize, usize),
+    ) {
         let cp = &self.pattern.col_ptr;
         for p in 0..K {
             for q in 0..K {
@@ -649,8 +662,104 @@ impl EnergyModel {
                     let base = cp[3 * vj + b] + off;
                     let rows = if vi == vj { b + 1 } else { 3 };
                     for a in 0..rows {
-                        hess[base + a] += local[3 * p + a][3 * q + b];
+                        f(base + a, 3 * p + a, 3 * q + b);
                     }
+                }
+            }
+        }
+    }
+
+    /// The Hessian of `active` without curve `c` (which `active` holds), from `h`, the
+    /// Hessian of `active` from the same `locals` ([`Self::hessian_from_locals`]): a copy of
+    /// `h` in which only the entries `c`'s terms touch are summed again, over the other
+    /// curves' terms in the assembly's order — the same values, bit for bit, as
+    /// `hessian_from_locals(locals, &active.without(c))`, for the cost of a copy.
+    pub fn hessian_without(
+        &self,
+        locals: &LocalHessians,
+        active: &ActiveSet,
+        h: &[f64],
+        c: usize,
+        out: &mut Vec<f64>,
+    ) {
+        let _timer = Timer::new(Phase::Assemble);
+        assert!(active.contains(c), "curve {c} is not in the structure");
+        out.clear();
+        out.extend_from_slice(h);
+        let r = &self.rods[c];
+        let mut touched: Vec<usize> = Vec::new();
+        for k in r.stretch.clone() {
+            self.hess_entries(&self.stretch[k].v, &self.stretch_pos[k], |i, _, _| {
+                touched.push(i)
+            });
+        }
+        for k in r.bend.clone() {
+            self.hess_entries(&self.bend[k].v, &self.bend_pos[k], |i, _, _| {
+                touched.push(i)
+            });
+        }
+        for t in &self.anchor[r.anchor.clone()] {
+            touched.extend((0..3).map(|a| self.pattern.diag[3 * t.v as usize + a]));
+        }
+        touched.sort_unstable();
+        touched.dedup();
+        for &i in &touched {
+            out[i] = 0.0;
+        }
+        let hit = |i: usize| touched.binary_search(&i).is_ok();
+        let on_c = |v: u32| self.curve_vertices[c].binary_search(&v).is_ok();
+        // Only terms through one of `c`'s vertices reach those entries; their curves in the
+        // assembly's order.
+        let mut others: Vec<usize> = self.curve_vertices[c]
+            .iter()
+            .flat_map(|&v| self.vertex_curves[v as usize].iter().map(|&o| o as usize))
+            .filter(|&o| o != c && active.contains(o))
+            .collect();
+        others.sort_unstable();
+        others.dedup();
+        for o in others {
+            let ro = &self.rods[o];
+            for k in ro.stretch.clone() {
+                let t = &self.stretch[k];
+                if t.v.iter().any(|&v| on_c(v)) {
+                    let l = &locals.stretch[k];
+                    self.hess_entries(&t.v, &self.stretch_pos[k], |i, row, col| {
+                        if hit(i) {
+                            out[i] += l[row][col];
+                        }
+                    });
+                }
+            }
+            for k in ro.bend.clone() {
+                let t = &self.bend[k];
+                if t.v.iter().any(|&v| on_c(v)) {
+                    let l = &locals.bend[k];
+                    self.hess_entries(&t.v, &self.bend_pos[k], |i, row, col| {
+                        if hit(i) {
+                            out[i] += l[row][col];
+                        }
+                    });
+                }
+            }
+            for t in &self.anchor[ro.anchor.clone()] {
+                if on_c(t.v) {
+                    for a in 0..3 {
+                        let i = self.pattern.diag[3 * t.v as usize + a];
+                        if hit(i) {
+                            out[i] += 2.0 * self.mu;
+                        }
+                    }
+                }
+            }
+        }
+        // `c`'s vertices no other curve of the structure holds: the loose diagonal.
+        for &v in &self.curve_vertices[c] {
+            let held = self.vertex_curves[v as usize]
+                .iter()
+                .any(|&o| o as usize != c && active.contains(o as usize));
+            if !held {
+                for a in 0..3 {
+                    out[self.pattern.diag[3 * v as usize + a]] = self.loose_diagonal;
                 }
             }
         }

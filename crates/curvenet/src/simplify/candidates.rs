@@ -595,8 +595,18 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
             reference: f,
             changed,
         });
-        let r = self.scorer.lambda_fixed_above(
+        // `H_{A∖c}`: `H_A` with the entries of `c`'s terms summed again (the same values as a
+        // whole assembly).
+        let mut h = Vec::new();
+        self.scorer.analyzer().model().hessian_without(
             &self.locals,
+            &self.active,
+            &self.h,
+            c,
+            &mut h,
+        );
+        let r = self.scorer.lambda_fixed_above(
+            &h,
             &self.active.without(c),
             warm,
             sigma,

@@ -383,26 +383,33 @@ impl<'a> Scorer<'a> {
         )?)
     }
 
-    /// [`Self::lambda_fixed`] shifted about `sigma`: `Ok(None)` when one factorization
-    /// proves `λ_fix(active | A) < sigma` (see [`smallest_eigenpairs_above`], also for
-    /// `reuse`). The warm start is asked of `warm` only when that factorization succeeds.
+    /// [`Self::lambda_fixed`] shifted about `sigma`, given `h`, the Hessian of `active` at
+    /// `A`'s equilibrium ([`EnergyModel::hessian_from_locals`] or, for `A` without one curve,
+    /// [`EnergyModel::hessian_without`]): `Ok(None)` when one factorization proves
+    /// `λ_fix(active | A) < sigma` (see [`smallest_eigenpairs_above`], also for `reuse`). The
+    /// warm start is asked of `warm` only when that factorization succeeds.
+    ///
+    /// [`EnergyModel::hessian_from_locals`]: crate::rod::EnergyModel::hessian_from_locals
+    /// [`EnergyModel::hessian_without`]: crate::rod::EnergyModel::hessian_without
     pub fn lambda_fixed_above(
         &self,
-        locals: &LocalHessians,
+        h: &[f64],
         active: &ActiveSet,
         warm: impl FnOnce() -> Option<Mat<f64>>,
         sigma: f64,
         symbolic: &std::sync::Arc<crate::solve::SymbolicFactor>,
         reuse: Option<crate::solve::Reuse<'_>>,
     ) -> Result<Option<(Spectrum, Cholesky)>, StabilityError> {
-        let h = self.fixed_hessian(locals, active)?;
+        if active.is_empty() {
+            return Err(StabilityError::Empty);
+        }
         let model = self.analyzer.model();
         // The warm start (`warm` restricted to `active`'s vertices) only once the
         // factorization about `σ` succeeds.
         let warm = || warm().map(|w| restrict(w.as_ref(), &model.vertex_mask(active)));
         Ok(smallest_eigenpairs_above_with(
             model.pattern(),
-            &h,
+            h,
             symbolic,
             warm,
             &self.candidate_eigen,
