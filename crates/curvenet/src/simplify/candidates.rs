@@ -27,8 +27,8 @@ use crate::stability::StabilityError;
 use faer::{Mat, MatRef};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, OnceLock};
 
 /// Pruning parameters.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -163,6 +163,9 @@ pub struct CandidateContext<'s, 'a> {
     /// Solves `A`'s spectrum took (0 when unknown): the first candidate's eigen solve, about
     /// a shift near its score too, costs about as many.
     spectrum_solves: usize,
+    /// Each curve's plain Rayleigh–Ritz bound, computed once (the plain bound, its refinement
+    /// and the warm start all start from it).
+    ritz: Vec<OnceLock<RitzBound>>,
 }
 
 impl<'s, 'a> CandidateContext<'s, 'a> {
@@ -221,6 +224,9 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
             preconditioner: None,
             symbolic,
             spectrum_solves: 0,
+            ritz: (0..scorer.analyzer().network().rods.len())
+                .map(|_| OnceLock::new())
+                .collect(),
         }
     }
 
@@ -264,7 +270,12 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
 
     /// The Rayleigh–Ritz bound of candidate `c` with its Ritz coefficients and what the
     /// refined bound reuses.
-    fn ritz_bound(&self, c: usize) -> RitzBound {
+    fn ritz_bound(&self, c: usize) -> &RitzBound {
+        self.ritz[c].get_or_init(|| self.compute_ritz_bound(c))
+    }
+
+    /// [`Self::ritz_bound`], computed.
+    fn compute_ritz_bound(&self, c: usize) -> RitzBound {
         let _timer = crate::profile::Timer::new(crate::profile::Phase::Bound);
         let model = self.scorer.analyzer().model();
         let k = self.modes.ncols();
@@ -341,7 +352,7 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
         }
         let take = coeffs.ncols().min(2);
         let mut x = self.modes.as_ref() * coeffs.get(.., ..take);
-        for &r in &loose_rows {
+        for &r in loose_rows {
             for j in 0..take {
                 x[(r, j)] = 0.0;
             }
@@ -466,13 +477,13 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
             hcv,
         } = self.ritz_bound(c);
         if coeffs.ncols() == 0 {
-            return RefineStep::Done(bound);
+            return RefineStep::Done(*bound);
         }
         let r = coeffs.ncols().min(2);
         let n = self.modes.nrows();
         let coeffs = coeffs.get(.., ..r);
         let mut x = self.modes.as_ref() * coeffs;
-        zero_rows(&mut x, &loose_rows);
+        zero_rows(&mut x, loose_rows);
         let mut hx = self.hv.as_ref() * coeffs;
         let hcx = hcv.as_ref() * coeffs;
         let model = self.scorer.analyzer().model();
@@ -483,7 +494,7 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
                 }
             }
         }
-        zero_rows(&mut hx, &loose_rows);
+        zero_rows(&mut hx, loose_rows);
         // Rayleigh quotients of X (not exactly θ: X is only orthogonal in exact arithmetic).
         let mut z = hx.clone();
         for j in 0..r {
@@ -493,13 +504,13 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
                 z[(i, j)] -= q * x[(i, j)];
             }
         }
-        zero_rows(&mut z, &loose_rows);
+        zero_rows(&mut z, loose_rows);
         RefineStep::Step {
-            bound,
+            bound: *bound,
             x,
             hx,
             z,
-            loose_rows,
+            loose_rows: loose_rows.clone(),
         }
     }
 
@@ -1076,6 +1087,7 @@ const FIRST_AHEAD: usize = 10;
 const AHEAD_SHARE: f64 = 0.95;
 
 /// A plain Rayleigh–Ritz bound and what its refinement reuses.
+#[derive(Debug)]
 struct RitzBound {
     bound: Bound,
     /// Ritz coefficients (columns, ascending values) in the modes' space.
