@@ -594,6 +594,7 @@ fn newton_floor_near_below_one_is_an_error() {
 /// (loose vertices, joints held by one curve); and on the tower, with its supports.
 #[test]
 fn the_hessian_without_a_curve_is_the_whole_assembly_bit_for_bit() {
+    // (and a structure's own local Hessians serve it and its sub-structures alike)
     let mut nets = vec![("dome", dome())];
     if let Some(data) = data_dir() {
         let ex = curvenet::paper::load("tower", &data, Supports::Clamped).expect("tower loads");
@@ -620,12 +621,20 @@ fn the_hessian_without_a_curve_is_the_whole_assembly_bit_for_bit() {
         for active in structures {
             let mut h = Vec::new();
             model.hessian_from_locals(&locals, &active, &mut h);
+            // The structure's own local Hessians (its curves' terms only) give the same
+            // Hessians for it and its sub-structures.
+            let own = model.local_hessians_for(&u, &active);
+            let mut h_own = Vec::new();
+            model.hessian_from_locals(&own, &active, &mut h_own);
+            assert_eq!(bits(&h_own), bits(&h), "{name}: the structure's own locals");
             for c in active.curves() {
                 let mut whole = Vec::new();
                 model.hessian_from_locals(&locals, &active.without(c), &mut whole);
                 let mut fast = Vec::new();
                 model.hessian_without(&locals, &active, &h, c, &mut fast);
                 assert_eq!(bits(&fast), bits(&whole), "{name}: without curve {c}");
+                model.hessian_without(&own, &active, &h, c, &mut fast);
+                assert_eq!(bits(&fast), bits(&whole), "{name}: own locals, without {c}");
                 checked += 1;
             }
         }

@@ -153,7 +153,9 @@ pub struct Assembly {
     pub hess: Vec<f64>,
 }
 
-/// Local Hessians of every stretching and bending term at one state (anchors are constant).
+/// Local Hessians of every stretching and bending term at one state (anchors are constant);
+/// when computed for a structure ([`EnergyModel::local_hessians_for`]), those of its curves,
+/// the others zero.
 #[derive(Clone, Debug)]
 pub struct LocalHessians {
     stretch: Vec<[[f64; 6]; 6]>,
@@ -768,17 +770,29 @@ impl EnergyModel {
     /// The local Hessian of every term at displacements `u`, for assembling the Hessians of
     /// many structures at the same state ([`Self::hessian_from_locals`]).
     pub fn local_hessians(&self, u: &[f64]) -> LocalHessians {
-        self.local_hessians_impl(u, false)
+        self.local_hessians_impl(u, None, false)
     }
 
-    /// [`Self::local_hessians`] with every local Hessian projected to be positive
-    /// semidefinite ([`terms::project_psd`]): a convex model for Newton's direction far from
+    /// [`Self::local_hessians`] for the structure `active` and its sub-structures only: the
+    /// terms of the other curves are left zero (the bunny's late iterations hold a third of
+    /// its curves).
+    pub fn local_hessians_for(&self, u: &[f64], active: &ActiveSet) -> LocalHessians {
+        self.local_hessians_impl(u, Some(active), false)
+    }
+
+    /// [`Self::local_hessians_for`] with every local Hessian projected to be positive
+    /// semidefinite ([`terms::project_psd_stretch`], [`terms::project_psd_bend`]): a convex model for Newton's direction far from
     /// equilibrium, never for the stability analysis.
-    pub fn local_hessians_projected(&self, u: &[f64]) -> LocalHessians {
-        self.local_hessians_impl(u, true)
+    pub fn local_hessians_projected(&self, u: &[f64], active: &ActiveSet) -> LocalHessians {
+        self.local_hessians_impl(u, Some(active), true)
     }
 
-    fn local_hessians_impl(&self, u: &[f64], project: bool) -> LocalHessians {
+    fn local_hessians_impl(
+        &self,
+        u: &[f64],
+        active: Option<&ActiveSet>,
+        project: bool,
+    ) -> LocalHessians {
         use rayon::prelude::*;
         let _timer = Timer::new(Phase::Assemble);
         assert_eq!(
@@ -786,14 +800,27 @@ impl EnergyModel {
             self.dofs(),
             "displacement vector of the wrong length"
         );
+        // Which terms to compute: those of the structure's curves (every term without one).
+        let mut stretch_on = vec![active.is_none(); self.stretch.len()];
+        let mut bend_on = vec![active.is_none(); self.bend.len()];
+        if let Some(active) = active {
+            for (_, r) in self.active_terms(active) {
+                stretch_on[r.stretch.clone()].fill(true);
+                bend_on[r.bend.clone()].fill(true);
+            }
+        }
         let stretch = self
             .stretch
             .par_iter()
-            .map(|t| {
+            .zip(&stretch_on)
+            .map(|(t, &on)| {
+                if !on {
+                    return [[0.0; 6]; 6];
+                }
                 let (x0, x1) = t.local(u);
                 let mut h = terms::stretch(x0, x1, t.rest, self.ks).hess;
                 if project {
-                    terms::project_psd(&mut h);
+                    terms::project_psd_stretch(&mut h);
                 }
                 h
             })
@@ -801,11 +828,15 @@ impl EnergyModel {
         let bend = self
             .bend
             .par_iter()
-            .map(|t| {
+            .zip(&bend_on)
+            .map(|(t, &on)| {
+                if !on {
+                    return [[0.0; 9]; 9];
+                }
                 let (x0, x1, x2) = t.local(u);
                 let mut h = terms::bend(x0, x1, x2, t.r0, t.r1, self.kb).hess;
                 if project {
-                    terms::project_psd(&mut h);
+                    terms::project_psd_bend(&mut h);
                 }
                 h
             })

@@ -182,7 +182,7 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
     ) -> Self {
         let symbolic = symbolic.unwrap_or_else(|| scorer.analyzer().symbolic_for(active));
         let model = scorer.analyzer().model();
-        let locals = model.local_hessians(u);
+        let locals = model.local_hessians_for(u, active);
         let mut h = Vec::new();
         model.hessian_from_locals(&locals, active, &mut h);
         let (n, k) = (modes.nrows(), modes.ncols());

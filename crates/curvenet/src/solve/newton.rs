@@ -408,7 +408,7 @@ pub fn relax_with_factor(
                     None => {
                         info.projected_steps += 1;
                         projected_now = true;
-                        let locals = model.local_hessians_projected(x);
+                        let locals = model.local_hessians_projected(x, active);
                         let mut hp = Vec::new();
                         model.hessian_from_locals(&locals, active, &mut hp);
                         let mut shift = 0.0;
