@@ -602,12 +602,17 @@ impl EnergyModel {
             for k in r.bend.clone() {
                 let t = &self.bend[k];
                 let (x0, x1, x2) = t.local(u);
+                if !hessian {
+                    // The gradient alone: a third of the bending term's work.
+                    let (energy, grad) = terms::bend_energy_grad(x0, x1, x2, t.r0, t.r1, self.kb);
+                    out.energy += energy;
+                    scatter_grad(&mut out.grad, &t.v, &grad);
+                    continue;
+                }
                 let l = terms::bend(x0, x1, x2, t.r0, t.r1, self.kb);
                 out.energy += l.energy;
                 scatter_grad(&mut out.grad, &t.v, &l.grad);
-                if hessian {
-                    self.scatter_hess(&mut out.hess, &t.v, &self.bend_pos[k], &l.hess);
-                }
+                self.scatter_hess(&mut out.hess, &t.v, &self.bend_pos[k], &l.hess);
             }
             for t in &self.anchor[r.anchor.clone()] {
                 let l = terms::anchor(vec3(u, t.v), t.offset, self.mu);

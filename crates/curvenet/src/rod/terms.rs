@@ -125,13 +125,25 @@ pub fn bend_energy(x0: Vec3, x1: Vec3, x2: Vec3, r0: f64, r1: f64, kb: f64) -> f
     c * u.cross(w).norm2() / (g * g)
 }
 
-/// [`bend_energy`] with its gradient and Hessian over `(x0, x1, x2)`.
-///
-/// Written as `E = c F / G²` with `F = |u × w|²`, `G = ē₀ē₁ + u·w`, `c = 4k_b/(ē₀+ē₁)`;
-/// the derivatives are taken in `(u, w)` and mapped to the vertices by `u = x1 − x0`,
-/// `w = x2 − x1`. `∂F/∂u = 2 w × (u × w)` and `∂F/∂w = 2 (u × w) × u` avoid the cancellation
-/// of the expanded form near straight configurations.
-pub fn bend(x0: Vec3, x1: Vec3, x2: Vec3, r0: f64, r1: f64, kb: f64) -> Local<9> {
+/// The bending term's energy, gradient and the quantities its Hessian reuses.
+struct BendFirst {
+    u: Vec3,
+    w: Vec3,
+    c: f64,
+    uw: f64,
+    f: f64,
+    ig: f64,
+    ig2: f64,
+    fu: Vec3,
+    fw: Vec3,
+    energy: f64,
+    grad: [f64; 9],
+}
+
+/// The first half of [`bend`], shared with [`bend_energy_grad`] (so both give the same
+/// gradient, bit for bit).
+#[inline(always)]
+fn bend_first(x0: Vec3, x1: Vec3, x2: Vec3, r0: f64, r1: f64, kb: f64) -> BendFirst {
     let u = x1 - x0;
     let w = x2 - x1;
     let c = 4.0 * kb / (r0 + r1);
@@ -141,9 +153,7 @@ pub fn bend(x0: Vec3, x1: Vec3, x2: Vec3, r0: f64, r1: f64, kb: f64) -> Local<9>
     let f = cr.norm2();
     let ig = 1.0 / g;
     let ig2 = ig * ig;
-
-    let mut out = Local::<9>::zero();
-    out.energy = c * f * ig2;
+    let energy = c * f * ig2;
 
     // First derivatives in (u, w).
     let fu = w.cross(cr) * 2.0;
@@ -152,6 +162,65 @@ pub fn bend(x0: Vec3, x1: Vec3, x2: Vec3, r0: f64, r1: f64, kb: f64) -> Local<9>
     // ∂E = c (∂F/G² − 2F ∂G/G³)
     let eu = (fu * ig2 - w * (2.0 * f * ig2 * ig)) * c;
     let ew = (fw * ig2 - u * (2.0 * f * ig2 * ig)) * c;
+    // Map to vertices: x0 → −u, x1 → +u −w, x2 → +w.
+    let mut grad = [0.0; 9];
+    for a in 0..3 {
+        grad[a] = -eu[a];
+        grad[3 + a] = eu[a] - ew[a];
+        grad[6 + a] = ew[a];
+    }
+    BendFirst {
+        u,
+        w,
+        c,
+        uw,
+        f,
+        ig,
+        ig2,
+        fu,
+        fw,
+        energy,
+        grad,
+    }
+}
+
+/// [`bend`]'s energy and gradient without its Hessian (the same values, bit for bit).
+#[inline]
+pub fn bend_energy_grad(
+    x0: Vec3,
+    x1: Vec3,
+    x2: Vec3,
+    r0: f64,
+    r1: f64,
+    kb: f64,
+) -> (f64, [f64; 9]) {
+    let b = bend_first(x0, x1, x2, r0, r1, kb);
+    (b.energy, b.grad)
+}
+
+/// [`bend_energy`] with its gradient and Hessian over `(x0, x1, x2)`.
+///
+/// Written as `E = c F / G²` with `F = |u × w|²`, `G = ē₀ē₁ + u·w`, `c = 4k_b/(ē₀+ē₁)`;
+/// the derivatives are taken in `(u, w)` and mapped to the vertices by `u = x1 − x0`,
+/// `w = x2 − x1`. `∂F/∂u = 2 w × (u × w)` and `∂F/∂w = 2 (u × w) × u` avoid the cancellation
+/// of the expanded form near straight configurations.
+pub fn bend(x0: Vec3, x1: Vec3, x2: Vec3, r0: f64, r1: f64, kb: f64) -> Local<9> {
+    let BendFirst {
+        u,
+        w,
+        c,
+        uw,
+        f,
+        ig,
+        ig2,
+        fu,
+        fw,
+        energy,
+        grad,
+    } = bend_first(x0, x1, x2, r0, r1, kb);
+    let mut out = Local::<9>::zero();
+    out.energy = energy;
+    out.grad = grad;
 
     // Second derivatives in (u, w):
     // ∂²E = c [ ∂²F/G² − 2/G³ (∂F ⊗ ∂G + ∂G ⊗ ∂F) + 6F/G⁴ ∂G ⊗ ∂G − 2F/G³ ∂²G ]
@@ -183,12 +252,6 @@ pub fn bend(x0: Vec3, x1: Vec3, x2: Vec3, r0: f64, r1: f64, kb: f64) -> Local<9>
     m3_axpy(&mut huw, 6.0 * f * ig4, &outer(w, u));
 
     // Map to vertices: x0 → −u, x1 → +u −w, x2 → +w.
-    // Gradient.
-    for a in 0..3 {
-        out.grad[a] = -eu[a];
-        out.grad[3 + a] = eu[a] - ew[a];
-        out.grad[6 + a] = ew[a];
-    }
     // Hessian blocks: H_pq = Σ J_p^s J_q^t H_st with J_0 = (−1, 0), J_1 = (1, −1), J_2 = (0, 1)
     // over s, t ∈ {u, w}.
     const J: [[f64; 2]; 3] = [[-1.0, 0.0], [1.0, -1.0], [0.0, 1.0]];
@@ -656,6 +719,19 @@ mod tests {
         let mut p = h;
         project_psd_stretch(&mut p);
         assert_eq!(p, h);
+    }
+
+    #[test]
+    fn bend_gradient_alone_is_the_full_terms_bit_for_bit() {
+        let mut rng = Rng(5);
+        for _ in 0..100 {
+            let (a, b, c) = (rng.vec(), rng.vec(), rng.vec());
+            let (r0, r1) = (0.5 + rng.next().abs(), 0.5 + rng.next().abs());
+            let full = bend(a, b, c, r0, r1, 1.7);
+            let (energy, grad) = bend_energy_grad(a, b, c, r0, r1, 1.7);
+            assert_eq!(energy.to_bits(), full.energy.to_bits());
+            assert_eq!(grad.map(f64::to_bits), full.grad.map(f64::to_bits));
+        }
     }
 
     #[test]

@@ -228,18 +228,18 @@ impl<'a> Scorer<'a> {
         let model = a.model();
         let mut u = start.map_or_else(|| vec![0.0; model.dofs()], <[f64]>::to_vec);
         let factor = warm.factor;
-        let (symbolic, newton) = match warm.superset {
+        // The relaxation hands out the Hessian at the equilibrium (its last assembly).
+        let (symbolic, (newton, h)) = match warm.superset {
             Some(superset) => rayon::join(
                 || a.symbolic_for(active),
-                || a.relax_with(active, &mut u, factor, superset),
+                || a.relax_assembled(active, &mut u, factor, superset),
             ),
             None => {
                 let symbolic = a.symbolic_for(active);
-                let newton = a.relax_with(active, &mut u, factor, &symbolic);
-                (symbolic, newton)
+                let relaxed = a.relax_assembled(active, &mut u, factor, &symbolic);
+                (symbolic, relaxed)
             }
         };
-        let h = model.assemble(&u, active, true).hess;
         let modes = warm.modes.map(|w| restrict(w, &model.vertex_mask(active)));
         let modes = modes.as_ref().map(|w| w.as_ref());
         // About a shift right below the expected λ when one is known: a successful Cholesky

@@ -262,9 +262,50 @@ pub fn relax_with_factor(
     params: &NewtonParams,
     initial: Option<Cholesky>,
 ) -> NewtonInfo {
+    relax_assembled(model, active, symbolic, x, grad_reference, params, initial).0
+}
+
+/// [`relax_with_factor`], also handing out the Hessian values at the final `x` (the last
+/// assembly's, the same as `model.assemble(x, active, true).hess`): the spectrum that follows
+/// a relaxation needs no assembly of its own.
+pub fn relax_assembled(
+    model: &EnergyModel,
+    active: &ActiveSet,
+    symbolic: &Arc<SymbolicFactor>,
+    x: &mut [f64],
+    grad_reference: Option<f64>,
+    params: &NewtonParams,
+    initial: Option<Cholesky>,
+) -> (NewtonInfo, Vec<f64>) {
+    let mut cur = model.assemble(x, active, true);
+    let info = newton_loop(
+        model,
+        active,
+        symbolic,
+        x,
+        grad_reference,
+        params,
+        initial,
+        &mut cur,
+    );
+    (info, cur.hess)
+}
+
+/// The Newton iteration of [`relax_assembled`] from `cur`, the assembly at `x`; `cur` stays
+/// the assembly at `x` throughout.
+#[allow(clippy::too_many_arguments)]
+fn newton_loop(
+    model: &EnergyModel,
+    active: &ActiveSet,
+    symbolic: &Arc<SymbolicFactor>,
+    x: &mut [f64],
+    grad_reference: Option<f64>,
+    params: &NewtonParams,
+    initial: Option<Cholesky>,
+    cur: &mut crate::rod::model::Assembly,
+) -> NewtonInfo {
     let _timer = crate::profile::Timer::new(crate::profile::Phase::Relax);
     let pattern = model.pattern();
-    let mut cur = model.assemble(x, active, true);
     let g_start = norm(&cur.grad);
     let g_ref = grad_reference.unwrap_or(g_start);
     let mut info = NewtonInfo {
@@ -351,7 +392,7 @@ pub fn relax_with_factor(
                 {
                     last_decrease = cur.energy - a.energy;
                     x.copy_from_slice(&trial);
-                    cur = a;
+                    *cur = a;
                     info.iterations += 1;
                     info.chord_steps += 1;
                     stale = Some(f);
@@ -501,7 +542,7 @@ pub fn relax_with_factor(
             Some(pre) => {
                 x.copy_from_slice(&trial);
                 info.iterations += 1;
-                cur = pre.unwrap_or_else(|| model.assemble(x, active, true));
+                *cur = pre.unwrap_or_else(|| model.assemble(x, active, true));
                 last_decrease = e0 - cur.energy;
                 if !cur.energy.is_finite() || !norm(&cur.grad).is_finite() {
                     info.stop = NewtonStop::NonFinite;

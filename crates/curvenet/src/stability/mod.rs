@@ -12,7 +12,7 @@
 use crate::network::Network;
 use crate::rod::{ActiveSet, EnergyModel, Material};
 use crate::solve::eigen::{EigenError, EigenParams, Spectrum, smallest_eigenpairs};
-use crate::solve::{Cholesky, NewtonInfo, NewtonParams, SymbolicFactor, relax_with_factor};
+use crate::solve::{Cholesky, NewtonInfo, NewtonParams, SymbolicFactor, relax_assembled};
 use faer::MatRef;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -250,10 +250,22 @@ impl Analyzer {
         factor: Option<Cholesky>,
         symbolic: &Arc<SymbolicFactor>,
     ) -> NewtonInfo {
+        self.relax_assembled(active, u, factor, symbolic).0
+    }
+
+    /// [`Self::relax_with`], also handing out the Hessian values at the equilibrium
+    /// ([`crate::solve::newton::relax_assembled`]).
+    pub fn relax_assembled(
+        &self,
+        active: &ActiveSet,
+        u: &mut [f64],
+        factor: Option<Cholesky>,
+        symbolic: &Arc<SymbolicFactor>,
+    ) -> (NewtonInfo, Vec<f64>) {
         let zero = vec![0.0; self.model.dofs()];
         let g0 = self.model.assemble(&zero, active, false).grad;
         let reference = g0.iter().map(|g| g * g).sum::<f64>().sqrt();
-        relax_with_factor(
+        relax_assembled(
             &self.model,
             active,
             symbolic,
