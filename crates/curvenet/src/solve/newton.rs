@@ -277,6 +277,7 @@ pub fn relax_assembled(
     params: &NewtonParams,
     initial: Option<Cholesky>,
 ) -> (NewtonInfo, Vec<f64>) {
+    let _timer = crate::profile::Timer::new(crate::profile::Phase::Relax);
     let mut cur = model.assemble(x, active, true);
     let info = newton_loop(
         model,
@@ -304,7 +305,6 @@ fn newton_loop(
     initial: Option<Cholesky>,
     cur: &mut crate::rod::model::Assembly,
 ) -> NewtonInfo {
-    let _timer = crate::profile::Timer::new(crate::profile::Phase::Relax);
     let pattern = model.pattern();
     let g_start = norm(&cur.grad);
     let g_ref = grad_reference.unwrap_or(g_start);
