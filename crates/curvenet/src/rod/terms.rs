@@ -669,6 +669,20 @@ mod tests {
         (d / n.max(f64::MIN_POSITIVE)).sqrt()
     }
 
+    /// `reduce(h)`, checked against the full projection of `h`.
+    fn same_projection<const D: usize>(
+        h: [[f64; D]; D],
+        reduce: fn(&mut [[f64; D]; D]),
+        what: &str,
+    ) -> [[f64; D]; D] {
+        let (mut full, mut reduced) = (h, h);
+        project_psd(&mut full);
+        reduce(&mut reduced);
+        let d = rel_dist(&full, &reduced);
+        assert!(d < 1e-10, "{what}: {d}");
+        reduced
+    }
+
     #[test]
     fn reduced_projections_match_the_full_one() {
         // Bent and compressed or stretched configurations: the terms' Hessians are
@@ -680,14 +694,7 @@ mod tests {
             let (a, b, c) = (rng.vec(), rng.vec(), rng.vec());
             let (r0, r1) = (0.5 + rng.next().abs(), 0.5 + rng.next().abs());
             let h = bend(a, b, c, r0, r1, 1.3).hess;
-            let (mut full, mut reduced) = (h, h);
-            project_psd(&mut full);
-            project_psd_bend(&mut reduced);
-            assert!(
-                rel_dist(&full, &reduced) < 1e-10,
-                "bend {}",
-                rel_dist(&full, &reduced)
-            );
+            let reduced = same_projection(h, project_psd_bend, "bend");
             bent += usize::from(reduced != h);
             // The projection keeps the translations in the null space.
             let scale = reduced.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -699,14 +706,7 @@ mod tests {
             }
             let rest = 0.2 + 2.0 * rng.next().abs();
             let h = stretch(a, b, rest, 2.5).hess;
-            let (mut full, mut reduced) = (h, h);
-            project_psd(&mut full);
-            project_psd_stretch(&mut reduced);
-            assert!(
-                rel_dist(&full, &reduced) < 1e-10,
-                "stretch {}",
-                rel_dist(&full, &reduced)
-            );
+            let reduced = same_projection(h, project_psd_stretch, "stretch");
             compressed += usize::from(reduced != h);
         }
         // Both kinds of term were indefinite often enough to test something.
