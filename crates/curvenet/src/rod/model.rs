@@ -786,8 +786,8 @@ impl EnergyModel {
     }
 
     /// [`Self::local_hessians_for`] with every local Hessian projected to be positive
-    /// semidefinite ([`terms::project_psd_stretch`], [`terms::project_psd_bend`]): a convex model for Newton's direction far from
-    /// equilibrium, never for the stability analysis.
+    /// semidefinite ([`terms::project_psd_stretch`], [`terms::project_psd_bend`]): a convex
+    /// model for Newton's direction far from equilibrium, never for the stability analysis.
     pub fn local_hessians_projected(&self, u: &[f64], active: &ActiveSet) -> LocalHessians {
         self.local_hessians_impl(u, Some(active), true)
     }
