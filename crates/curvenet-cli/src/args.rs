@@ -185,6 +185,10 @@ pub struct BenchArgs {
     /// Refine only the usual batch of bounds while each iteration's first candidate is scored.
     #[arg(long = "no-ahead")]
     pub no_ahead: bool,
+    /// Start each iteration's candidate bounds afresh (no test vectors carried over from the
+    /// previous iteration).
+    #[arg(long = "no-carry")]
+    pub no_carry: bool,
     /// Low modes per iteration (the candidates' bound subspace; default: the greedy's).
     #[arg(long)]
     pub modes: Option<usize>,

@@ -94,7 +94,11 @@ fn scene(curves: &[curvenet::io::Polyline], h: f64, fraction: f64) -> Scene {
 }
 
 fn arches_scene() -> Scene {
-    scene(&random_arches(3, 9), 70.0, 0.3)
+    let mut s = scene(&random_arches(3, 9), 70.0, 0.3);
+    // Carried test vectors in every iteration (by default only after iterations that needed
+    // inertia tests, which this small network rarely does): the resume must restore them.
+    s.params.prune.carry_after = 0;
+    s
 }
 
 fn dome_scene() -> Scene {
@@ -231,6 +235,10 @@ impl GreedyHooks for CancelAfter<'_> {
         Ok(())
     }
 
+    fn carried(&mut self, carried: &curvenet::simplify::candidates::Carried) -> Result<(), String> {
+        self.writer.carried(carried)
+    }
+
     fn cancelled(&self) -> bool {
         self.seen >= self.after || self.writer.cancelled()
     }
@@ -246,6 +254,15 @@ fn resumed_run_writes_the_same_result_as_an_uninterrupted_one() {
         "the network needs at least 5 removals, got {}",
         g_full.iterations.len() - 1
     );
+    // The run hands test vectors between iterations and uses them (their bounds are
+    // recorded): a resumed run must read them back to continue identically.
+    let extended = g_full
+        .iterations
+        .iter()
+        .flat_map(|i| &i.candidates)
+        .filter(|c| c.extended_bound.is_some())
+        .count();
+    assert!(extended > 0, "the run used no carried vector");
     let budget = s.params.budget.length(s.setup.total_length);
     for k in [1, 3] {
         let dir = TempDir::new(&format!("resume{k}"));

@@ -63,7 +63,8 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         "curvenet bench: {threads} thread(s); pruning {}, inertia test {}, chord steps {}, \
          Krylov steps {}, warm starts {}, restricted factorizations {}, subtree-parallel \
          factorizations {}, early round-off floor {}, first score about a shift {}, inertia \
-         tests copying a reference {}, saddle escapes {}, refinement beside the first score {}",
+         tests copying a reference {}, saddle escapes {}, refinement beside the first score {}, \
+         test vectors carried between iterations {}",
         on(!a.no_prune),
         on(!a.no_prune && !a.no_inertia),
         on(a.chord),
@@ -75,7 +76,8 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         on(!a.no_prune && !a.no_first_shift),
         on(!a.no_prune && !a.no_inertia && !a.no_reuse),
         on(!a.no_escape),
-        on(!a.no_prune && !a.no_ahead)
+        on(!a.no_prune && !a.no_ahead),
+        on(!a.no_prune && !a.no_carry)
     );
     curvenet::solve::factor::set_subtree_parallel(!a.no_subtrees);
     println!(
@@ -125,6 +127,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         }
         params.prune.reuse = !a.no_reuse;
         params.prune.ahead = !a.no_ahead;
+        params.prune.carry = !a.no_carry;
         params.warm_start = !a.no_warm;
         if let Some(m) = a.modes {
             params.modes = m;

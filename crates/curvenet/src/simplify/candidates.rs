@@ -20,7 +20,7 @@
 
 use super::{Evaluation, Scorer, Work};
 use crate::rod::ActiveSet;
-use crate::rod::model::LocalHessians;
+use crate::rod::model::{LocalHessians, Pattern};
 use crate::solve::eigen::Spectrum;
 use crate::solve::{Cholesky, Reuse, SymbolicFactor};
 use crate::stability::StabilityError;
@@ -67,6 +67,23 @@ pub struct PruneParams {
     /// timing either way).
     #[serde(default = "default_true")]
     pub ahead: bool,
+    /// Hand each candidate's best test vector to the next iteration ([`Carried`]): its bound
+    /// there extends the plain Rayleigh–Ritz bound with it (one product with `H_A`, no
+    /// solve), and its refinement starts from it.
+    #[serde(default = "default_true")]
+    pub carry: bool,
+    /// The carried vectors are used in an iteration when the previous one settled at least
+    /// this many candidates by an inertia test (which a carried vector often spares) or by a
+    /// carried vector's bound; 0 uses them always. Where the plain and refined bounds settle
+    /// nearly everything (tower, shells, kagome) the carried vectors' bounds cost more than
+    /// they save; where many candidates sit just below the best (roof, hill, tent) they spare
+    /// most inertia tests.
+    #[serde(default = "default_carry_after")]
+    pub carry_after: usize,
+}
+
+fn default_carry_after() -> usize {
+    2
 }
 
 fn default_true() -> bool {
@@ -82,6 +99,8 @@ impl Default for PruneParams {
             first_shift: 0.8,
             reuse: true,
             ahead: true,
+            carry: true,
+            carry_after: default_carry_after(),
         }
     }
 }
@@ -99,6 +118,27 @@ impl PruneParams {
     }
 }
 
+/// Test vectors handed from one greedy iteration's candidate search to the next, per curve:
+/// each the best approximation found of the lowest mode of the structure without that curve
+/// (the candidate's eigenvector when it was scored, else its refined bound's Ritz vector).
+/// A structure changes little from one iteration to the next, so the vector is a good test
+/// vector again: with the plain Ritz vectors it gives a bound that often prunes the candidate
+/// without a solve, and each refinement starts where the last one ended (an iterated
+/// preconditioned step across iterations). Stored in single precision: a test vector's
+/// Rayleigh quotient is exact for whatever vector it is, so rounding it costs only a
+/// second-order change in the bound.
+pub type Carried = Vec<Option<CarriedVector>>;
+
+/// One carried test vector (see [`Carried`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CarriedVector {
+    /// Its Rayleigh quotient in the structure it was found for (the candidate's score or
+    /// bound there): it predicts whether its bound in the next structure prunes.
+    pub value: f64,
+    /// The vector (all coordinates of the network).
+    pub vector: Vec<f32>,
+}
+
 /// The score of one candidate removal.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CandidateScore {
@@ -109,6 +149,10 @@ pub struct CandidateScore {
     /// Rayleigh–Ritz upper bound on the score (`None` when not computed).
     #[serde(default)]
     pub bound: Option<f64>,
+    /// The bound extended by the vector carried over from the previous iteration, when one
+    /// was computed (see [`Carried`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub extended_bound: Option<f64>,
     /// The refined bound (one preconditioned step), when one was computed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub refined_bound: Option<f64>,
@@ -166,6 +210,15 @@ pub struct CandidateContext<'s, 'a> {
     /// Each curve's plain Rayleigh–Ritz bound, computed once (the plain bound, its refinement
     /// and the warm start all start from it).
     ritz: Vec<OnceLock<RitzBound>>,
+    /// Whether each vertex is held by a curve of `A`.
+    held: Vec<bool>,
+    /// Per curve: a test vector handed over from the previous iteration (its best known
+    /// approximation then of the lowest mode without the curve; see [`Carried`]).
+    carried: Carried,
+    /// Each curve's extended bound, computed once.
+    extended: Vec<OnceLock<Option<Extended>>>,
+    /// Per curve: the best test vector found in this iteration, for the next one.
+    carry_out: Vec<std::sync::Mutex<Option<CarriedVector>>>,
 }
 
 impl<'s, 'a> CandidateContext<'s, 'a> {
@@ -227,6 +280,14 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
             ritz: (0..scorer.analyzer().network().rods.len())
                 .map(|_| OnceLock::new())
                 .collect(),
+            held: model.vertex_mask(active),
+            carried: Vec::new(),
+            extended: (0..scorer.analyzer().network().rods.len())
+                .map(|_| OnceLock::new())
+                .collect(),
+            carry_out: (0..scorer.analyzer().network().rods.len())
+                .map(|_| std::sync::Mutex::new(None))
+                .collect(),
         }
     }
 
@@ -242,6 +303,41 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
         )
         .with_preconditioner(eval.factor.clone())
         .with_spectrum_solves(eval.spectrum.solves)
+    }
+
+    /// Test vectors handed over from the previous iteration ([`Self::take_carried`] of its
+    /// context): they extend the plain bounds ([`Self::extended_bound`]).
+    pub fn with_carried(mut self, carried: Carried) -> Self {
+        self.carried = carried;
+        self
+    }
+
+    /// The best test vector found per curve in this iteration: a candidate's eigenvector
+    /// when it was scored, else the minimising Ritz vector of its refined or extended bound,
+    /// else the vector carried into this iteration.
+    pub fn take_carried(&mut self) -> Carried {
+        let mut old = std::mem::take(&mut self.carried);
+        self.carry_out
+            .iter()
+            .enumerate()
+            .map(|(c, m)| {
+                let new = m.lock().map(|mut g| g.take()).unwrap_or(None);
+                new.or_else(|| old.get_mut(c).and_then(Option::take))
+            })
+            .collect()
+    }
+
+    /// Records `v` as candidate `c`'s best test vector so far.
+    fn offer(&self, c: usize, value: f64, v: MatRef<'_, f64>) {
+        let vector = v.col(0).iter().map(|&x| x as f32).collect();
+        if let Ok(mut g) = self.carry_out[c].lock() {
+            *g = Some(CarriedVector { value, vector });
+        }
+    }
+
+    /// The value of candidate `c`'s carried vector in the previous structure, if any.
+    pub fn carried_value(&self, c: usize) -> Option<f64> {
+        self.carried.get(c)?.as_ref().map(|v| v.value)
     }
 
     /// Records how many solves `A`'s spectrum took: the first candidate's eigen solve costs about
@@ -343,22 +439,185 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
         self.ritz_bound(c).bound
     }
 
-    /// Warm start for candidate `c`: its two lowest Ritz vectors (loose rows zeroed).
-    fn ritz_vectors(&self, c: usize) -> Option<Mat<f64>> {
+    /// The plain bound's two lowest Ritz vectors `X = V·C` (loose rows zeroed) and `H'X`;
+    /// `None` when the modes vanish on `A \ {c}`.
+    ///
+    /// `H'X` needs no sparse product: `H'X = (H_A V)·C − H_c (V·C)` on the kept rows and zero
+    /// on the loose ones (the loose vertices' rows of `H_A` hold only `c`'s terms), from the
+    /// iteration's `H_A V` and the bound's `H_c V`.
+    fn plain_ritz_vectors(&self, c: usize) -> Option<(Mat<f64>, Mat<f64>)> {
         let RitzBound {
-            coeffs, loose_rows, ..
+            coeffs,
+            loose_rows,
+            hcv,
+            ..
         } = self.ritz_bound(c);
         if coeffs.ncols() == 0 {
             return None;
         }
-        let take = coeffs.ncols().min(2);
-        let mut x = self.modes.as_ref() * coeffs.get(.., ..take);
-        for &r in loose_rows {
-            for j in 0..take {
-                x[(r, j)] = 0.0;
+        let r = coeffs.ncols().min(2);
+        let coeffs = coeffs.get(.., ..r);
+        let mut x = self.modes.as_ref() * coeffs;
+        zero_rows(&mut x, loose_rows);
+        let mut hx = self.hv.as_ref() * coeffs;
+        let hcx = hcv.as_ref() * coeffs;
+        let model = self.scorer.analyzer().model();
+        for (s, &v) in model.curve_vertices(c).iter().enumerate() {
+            for a in 0..3 {
+                for j in 0..r {
+                    hx[(3 * v as usize + a, j)] -= hcx[(3 * s + a, j)];
+                }
             }
         }
-        Some(x)
+        zero_rows(&mut hx, loose_rows);
+        Some((x, hx))
+    }
+
+    /// The plain bound extended by the vector carried over from the previous iteration
+    /// (`None` without one): Rayleigh–Ritz on `[X, y]`, one product with `H_A`.
+    fn extended(&self, c: usize) -> Option<&Extended> {
+        self.extended[c]
+            .get_or_init(|| self.compute_extended(c))
+            .as_ref()
+    }
+
+    /// [`Self::extended`], computed.
+    fn compute_extended(&self, c: usize) -> Option<Extended> {
+        let y = self.carried_y(c)?;
+        let hy = self.candidate_matvec(c, y.as_ref());
+        self.finish_extended(c, y, hy)
+    }
+
+    /// Computes the extended bounds of candidates `cs` not computed yet, their carried
+    /// vectors' products with `H_A` in shared passes over it.
+    fn extend_many(&self, cs: &[usize]) {
+        let todo: Vec<(usize, Mat<f64>)> = cs
+            .iter()
+            .filter(|&&c| self.extended[c].get().is_none())
+            .filter_map(|&c| match self.carried_y(c) {
+                Some(y) => Some((c, y)),
+                None => {
+                    let _ = self.extended[c].set(None);
+                    None
+                }
+            })
+            .collect();
+        if todo.is_empty() {
+            return;
+        }
+        let _timer = crate::profile::Timer::new(crate::profile::Phase::Bound);
+        let n = self.modes.nrows();
+        let ys = Mat::<f64>::from_fn(n, todo.len(), |i, j| todo[j].1[(i, 0)]);
+        let hys = self.h_products(ys.as_ref());
+        todo.into_par_iter().enumerate().for_each(|(j, (c, y))| {
+            let mut hy = hys.get(.., j..j + 1).to_owned();
+            self.subtract_curve(c, y.as_ref(), &mut hy);
+            let _ = self.extended[c].set(self.finish_extended(c, y, hy));
+        });
+    }
+
+    /// The extended bound of candidate `c` from its carried vector `y` and `H'y`.
+    fn finish_extended(&self, c: usize, y: Mat<f64>, hy: Mat<f64>) -> Option<Extended> {
+        let (x, hx) = self.plain_ritz_vectors(c)?;
+        let basis = columns(&[&x, &y]);
+        let hbasis = columns(&[&hx, &hy]);
+        let (values, q) = ritz(
+            gram(&basis, &hbasis).as_ref(),
+            gram(&basis, &basis).as_ref(),
+        );
+        let value = *values.first()?;
+        let r = x.ncols().min(q.ncols());
+        let xb = combine(&basis, q.get(.., ..r));
+        let hxb = combine(&hbasis, q.get(.., ..r));
+        let bound = Bound {
+            value,
+            margin: self.margin(c, xb.get(.., ..1), value),
+        };
+        self.offer(c, value, xb.as_ref());
+        Some(Extended {
+            bound,
+            y,
+            hy,
+            xb,
+            hxb,
+        })
+    }
+
+    /// Candidate `c`'s carried vector on `A \ {c}`'s coordinates (one column; `None` without
+    /// one, or if it vanishes there): zero on the vertices no curve of `A` holds (it may
+    /// still have values on the last winner's) and on `c`'s loose ones.
+    fn carried_y(&self, c: usize) -> Option<Mat<f64>> {
+        let carried = &self.carried.get(c)?.as_ref()?.vector;
+        let mut y = Mat::<f64>::from_fn(carried.len(), 1, |i, _| {
+            if self.held[i / 3] {
+                carried[i] as f64
+            } else {
+                0.0
+            }
+        });
+        zero_rows(&mut y, &self.ritz_bound(c).loose_rows);
+        let nonzero = y.col(0).iter().any(|v| *v != 0.0);
+        nonzero.then_some(y)
+    }
+
+    /// The extended bound if it was computed already (never computes it).
+    fn known_extended(&self, c: usize) -> Option<&Extended> {
+        self.extended[c].get().and_then(Option::as_ref)
+    }
+
+    /// The round-off margin of the Rayleigh quotient `value` of `y` (one column) in `H'`:
+    /// `|y|ᵀ|H'||y| ε`, with `|H'| ≤ |H_A| + |H_c|`, `|y|ᵀ|H_A||y| ≤ Σᵢ rᵢ yᵢ²` (`rᵢ`: row sums
+    /// of `|H_A|`; from `|yᵢ||yⱼ| ≤ (yᵢ² + yⱼ²)/2`) and `|y|ᵀ|H_c||y| ≤ (Σ_t ‖H_t‖_F) ‖y_c‖²`
+    /// over `c`'s terms `t`; plus `1e-9` of the value.
+    fn margin(&self, c: usize, y: MatRef<'_, f64>, value: f64) -> f64 {
+        let model = self.scorer.analyzer().model();
+        let yy: f64 = y.col(0).iter().map(|v| v * v).sum();
+        let ya: f64 = y
+            .col(0)
+            .iter()
+            .zip(&self.row_abs)
+            .map(|(v, r)| r * v * v)
+            .sum();
+        let yc: f64 = model
+            .curve_vertices(c)
+            .iter()
+            .flat_map(|&v| (0..3).map(move |a| 3 * v as usize + a))
+            .map(|i| y[(i, 0)] * y[(i, 0)])
+            .sum();
+        let curve = model.curve_hessian_norm(&self.locals, c) * yc;
+        let spread: f64 = (ya + curve) / yy.max(f64::MIN_POSITIVE);
+        64.0 * f64::EPSILON * spread + 1e-9 * value.abs()
+    }
+
+    /// The upper bound from the plain Ritz vectors and the carried one (the plain bound
+    /// without a carried vector): the lower of the two once margins are counted.
+    pub fn extended_bound(&self, c: usize) -> Bound {
+        let plain = self.bound(c);
+        match self.extended(c) {
+            Some(e) => lower(plain, e.bound),
+            None => plain,
+        }
+    }
+
+    /// [`Self::extended_bound`] of candidates `cs`, their carried vectors' products with
+    /// `H_A` in shared passes.
+    pub fn extended_bounds(&self, cs: &[usize]) -> Vec<Bound> {
+        self.extend_many(cs);
+        cs.iter().map(|&c| self.extended_bound(c)).collect()
+    }
+
+    /// The lowest Ritz vectors (two at most) of the extended bound's space when that was
+    /// computed (else the plain bound's), with their products with `H'`.
+    fn best_ritz_vectors(&self, c: usize) -> Option<(Mat<f64>, Mat<f64>)> {
+        match self.known_extended(c) {
+            Some(e) => Some((e.xb.clone(), e.hxb.clone())),
+            None => self.plain_ritz_vectors(c),
+        }
+    }
+
+    /// Warm start for candidate `c`: its two lowest Ritz vectors (loose rows zeroed).
+    fn ritz_vectors(&self, c: usize) -> Option<Mat<f64>> {
+        self.best_ritz_vectors(c).map(|(x, _)| x)
     }
 
     /// Tighter upper bounds for candidates `cs` (`None` without a preconditioner): one
@@ -368,7 +627,9 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
     /// differs from `H_A` only around `c`), and Rayleigh–Ritz on `[X, Z]` gives the bound.
     /// Everything lives on `A \ {c}`'s coordinates (loose rows zero), so by Courant–Fischer
     /// the smallest Ritz value is at least `λ_min(H')`. Costs a few sparse products and a
-    /// share of one solve call — no factorization.
+    /// share of one solve call — no factorization. With a vector carried over from the
+    /// previous iteration, `X` are the lowest Ritz vectors of the plain Ritz vectors and the
+    /// carried one, and the last Rayleigh–Ritz runs on all of them and `Z`.
     ///
     /// The candidates' residuals are solved together: the solves are bound by memory traffic
     /// (reading `L`), so four columns in one call cost little more than one (roof: 1.1 ms
@@ -379,6 +640,7 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
         let Some(f) = self.preconditioner.as_ref() else {
             return vec![None; cs.len()];
         };
+        self.extend_many(cs);
         let _timer = crate::profile::Timer::new(crate::profile::Phase::Bound);
         let steps: Vec<RefineStep> = cs.par_iter().map(|&c| self.refine_start(c)).collect();
         let widths: Vec<usize> = steps
@@ -402,24 +664,28 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
         }
         let mut offsets = Vec::with_capacity(cs.len());
         let mut at = 0;
-        for w in &widths {
+        for (&c, w) in cs.iter().zip(&widths) {
             offsets.push(at);
+            for &row in &self.ritz_bound(c).loose_rows {
+                for j in at..at + w {
+                    rhs[(row, j)] = 0.0;
+                }
+            }
             at += w;
         }
+        // `H_A Z` for every candidate in shared passes over `H_A`.
+        let hrhs = self.h_products(rhs.as_ref());
         steps
             .into_par_iter()
             .zip(cs.par_iter().zip(offsets.par_iter()))
             .map(|(step, (&c, &at))| match step {
                 RefineStep::Done(b) => Some(b),
-                RefineStep::Step {
-                    bound,
-                    x,
-                    hx,
-                    z,
-                    loose_rows,
-                } => {
-                    let z = rhs.get(.., at..at + z.ncols()).to_owned();
-                    Some(self.refine_finish(c, bound, x, hx, z, &loose_rows))
+                RefineStep::Step { bound, x, hx, z } => {
+                    let w = z.ncols();
+                    let z = rhs.get(.., at..at + w).to_owned();
+                    let mut hz = hrhs.get(.., at..at + w).to_owned();
+                    self.subtract_curve(c, z.as_ref(), &mut hz);
+                    Some(self.refine_finish(c, bound, x, hx, z, hz))
                 }
             })
             .collect()
@@ -429,147 +695,119 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
     /// one product with the iteration's `H_A` and the curve's few terms, instead of
     /// assembling `H'`.
     fn candidate_matvec(&self, c: usize, m: MatRef<'_, f64>) -> Mat<f64> {
-        let model = self.scorer.analyzer().model();
-        let n = m.nrows();
-        let mut out = Mat::<f64>::zeros(n, m.ncols());
-        if m.ncols() == 2 {
-            // Both columns in one pass over `H_A` (the refined bounds' two Ritz vectors; the
-            // same values as two products).
-            let x: Vec<[f64; 2]> = (0..n).map(|i| [m[(i, 0)], m[(i, 1)]]).collect();
-            let mut y = vec![[0.0; 2]; n];
-            model.pattern().sym_matvec_many(&self.h, &x, &mut y);
+        let mut out = self.h_products(m);
+        self.subtract_curve(c, m, &mut out);
+        out
+    }
+
+    /// `H_A M`, in passes over `H_A` of up to eight columns (the products are bound by
+    /// reading `H_A`; each column's values are those of one product alone).
+    fn h_products(&self, m: MatRef<'_, f64>) -> Mat<f64> {
+        fn pass<const K: usize>(
+            values: &[f64],
+            p: &Pattern,
+            m: MatRef<'_, f64>,
+            out: &mut Mat<f64>,
+            at: usize,
+        ) {
+            let x: Vec<[f64; K]> = (0..m.nrows())
+                .map(|i| std::array::from_fn(|j| m[(i, at + j)]))
+                .collect();
+            let mut y = vec![[0.0; K]; m.nrows()];
+            p.sym_matvec_many(values, &x, &mut y);
             for (i, v) in y.iter().enumerate() {
-                out[(i, 0)] = v[0];
-                out[(i, 1)] = v[1];
-            }
-        } else {
-            let mut col = vec![0.0; n];
-            for j in 0..m.ncols() {
-                let xj: Vec<f64> = m.col(j).iter().copied().collect();
-                model.pattern().sym_matvec(&self.h, &xj, &mut col);
-                for i in 0..n {
-                    out[(i, j)] = col[i];
+                for (j, &vj) in v.iter().enumerate() {
+                    out[(i, at + j)] = vj;
                 }
             }
         }
-        let hc = model.curve_hessian_product(&self.locals, c, m);
-        for (s, &v) in model.curve_vertices(c).iter().enumerate() {
-            for a in 0..3 {
-                for j in 0..m.ncols() {
-                    out[(3 * v as usize + a, j)] -= hc[(3 * s + a, j)];
-                }
+        let p = self.scorer.analyzer().model().pattern();
+        let mut out = Mat::<f64>::zeros(m.nrows(), m.ncols());
+        let mut at = 0;
+        while at < m.ncols() {
+            let k = (m.ncols() - at).min(8);
+            match k {
+                1 => pass::<1>(&self.h, p, m, &mut out, at),
+                2 => pass::<2>(&self.h, p, m, &mut out, at),
+                3 => pass::<3>(&self.h, p, m, &mut out, at),
+                4 => pass::<4>(&self.h, p, m, &mut out, at),
+                5 => pass::<5>(&self.h, p, m, &mut out, at),
+                6 => pass::<6>(&self.h, p, m, &mut out, at),
+                7 => pass::<7>(&self.h, p, m, &mut out, at),
+                _ => pass::<8>(&self.h, p, m, &mut out, at),
             }
+            at += k;
         }
         out
     }
 
-    /// The refined bound's first half: the Ritz vectors `X` of the plain bound, `H'X`, and
-    /// the residuals to precondition (loose rows zero).
-    ///
-    /// `H'X` needs no sparse product: with `X = V·C` (loose rows zeroed),
-    /// `H'X = (H_A V)·C − H_c (V·C)` on the kept rows and zero on the loose ones (the loose
-    /// vertices' rows of `H_A` hold only `c`'s terms), from the iteration's `H_A V` and the
-    /// bound's `H_c V`.
-    fn refine_start(&self, c: usize) -> RefineStep {
-        let RitzBound {
-            bound,
-            coeffs,
-            loose_rows,
-            hcv,
-        } = self.ritz_bound(c);
-        if coeffs.ncols() == 0 {
-            return RefineStep::Done(*bound);
-        }
-        let r = coeffs.ncols().min(2);
-        let n = self.modes.nrows();
-        let coeffs = coeffs.get(.., ..r);
-        let mut x = self.modes.as_ref() * coeffs;
-        zero_rows(&mut x, loose_rows);
-        let mut hx = self.hv.as_ref() * coeffs;
-        let hcx = hcv.as_ref() * coeffs;
+    /// Turns `hm = H_A m` into `H' m`: subtracts `c`'s terms' product with `m`.
+    fn subtract_curve(&self, c: usize, m: MatRef<'_, f64>, hm: &mut Mat<f64>) {
         let model = self.scorer.analyzer().model();
+        let hc = model.curve_hessian_product(&self.locals, c, m);
         for (s, &v) in model.curve_vertices(c).iter().enumerate() {
             for a in 0..3 {
-                for j in 0..r {
-                    hx[(3 * v as usize + a, j)] -= hcx[(3 * s + a, j)];
+                for j in 0..m.ncols() {
+                    hm[(3 * v as usize + a, j)] -= hc[(3 * s + a, j)];
                 }
             }
         }
-        zero_rows(&mut hx, loose_rows);
+    }
+
+    /// The refined bound's first half: the best Ritz vectors `X` ([`Self::best_ritz_vectors`]),
+    /// `H'X`, and the residuals to precondition (loose rows zero).
+    fn refine_start(&self, c: usize) -> RefineStep {
+        let bound = self.extended_bound(c);
+        let Some((x, hx)) = self.best_ritz_vectors(c) else {
+            return RefineStep::Done(bound);
+        };
+        let n = x.nrows();
         // Rayleigh quotients of X (not exactly θ: X is only orthogonal in exact arithmetic).
         let mut z = hx.clone();
-        for j in 0..r {
+        for j in 0..x.ncols() {
             let xj = x.col(j);
             let q = xj.transpose() * hx.col(j) / (xj.transpose() * xj);
             for i in 0..n {
                 z[(i, j)] -= q * x[(i, j)];
             }
         }
-        zero_rows(&mut z, loose_rows);
-        RefineStep::Step {
-            bound: *bound,
-            x,
-            hx,
-            z,
-            loose_rows: loose_rows.clone(),
-        }
+        zero_rows(&mut z, &self.ritz_bound(c).loose_rows);
+        RefineStep::Step { bound, x, hx, z }
     }
 
     /// The refined bound's second half, from the preconditioned residuals `z`: Rayleigh–Ritz
-    /// on `[X, Z]` and its round-off margin; the lower of it and the plain `bound`.
+    /// on `[X, Z]` (with a carried vector: on the plain Ritz vectors, the carried one and
+    /// `Z`, a space holding `X`) and its round-off margin; the lower of it and `bound`. The
+    /// minimising Ritz vector is offered to the next iteration ([`Self::take_carried`]).
     fn refine_finish(
         &self,
         c: usize,
         bound: Bound,
         x: Mat<f64>,
         hx: Mat<f64>,
-        mut z: Mat<f64>,
-        loose_rows: &[usize],
+        z: Mat<f64>,
+        hz: Mat<f64>,
     ) -> Bound {
-        let model = self.scorer.analyzer().model();
-        let n = x.nrows();
-        let r = x.ncols();
-        zero_rows(&mut z, loose_rows);
-        let hz = self.candidate_matvec(c, z.as_ref());
-        let mut basis = Mat::<f64>::zeros(n, 2 * r);
-        let mut hbasis = Mat::<f64>::zeros(n, 2 * r);
-        basis.get_mut(.., ..r).copy_from(&x);
-        basis.get_mut(.., r..).copy_from(&z);
-        hbasis.get_mut(.., ..r).copy_from(&hx);
-        hbasis.get_mut(.., r..).copy_from(&hz);
-        let k = basis.transpose() * hbasis.as_ref();
-        let g = basis.transpose() * basis.as_ref();
-        let (values, coefficients) = ritz(k.as_ref(), g.as_ref());
-        let value = values.first().copied().unwrap_or(f64::INFINITY);
-        // Round-off of the Rayleigh quotient of the minimising vector y: |y|ᵀ|H'||y| ε, with
-        // |H'| ≤ |H_A| + |H_c|, |y|ᵀ|H_A||y| ≤ Σᵢ rᵢ yᵢ² (rᵢ: row sums of |H_A|; from
-        // |yᵢ||yⱼ| ≤ (yᵢ² + yⱼ²)/2) and |y|ᵀ|H_c||y| ≤ (Σ_t ‖H_t‖_F) ‖y_c‖² over c's terms t.
-        let y = basis.as_ref() * coefficients.get(.., ..1);
-        let yy: f64 = y.col(0).iter().map(|v| v * v).sum();
-        let ya: f64 = y
-            .col(0)
-            .iter()
-            .zip(&self.row_abs)
-            .map(|(v, r)| r * v * v)
-            .sum();
-        let yc: f64 = model
-            .curve_vertices(c)
-            .iter()
-            .flat_map(|&v| (0..3).map(move |a| 3 * v as usize + a))
-            .map(|i| y[(i, 0)] * y[(i, 0)])
-            .sum();
-        let curve = model.curve_hessian_norm(&self.locals, c) * yc;
-        let spread: f64 = (ya + curve) / yy.max(f64::MIN_POSITIVE);
+        // With a carried vector `y`: Rayleigh–Ritz on `[X, y, Z]` (`X` holds the best Ritz
+        // vectors of the plain ones and `y`: with `y` they span all three).
+        let (basis, hbasis) = match self.known_extended(c) {
+            Some(e) => (columns(&[&x, &e.y, &z]), columns(&[&hx, &e.hy, &hz])),
+            None => (columns(&[&x, &z]), columns(&[&hx, &hz])),
+        };
+        let (values, coefficients) = ritz(
+            gram(&basis, &hbasis).as_ref(),
+            gram(&basis, &basis).as_ref(),
+        );
+        let Some(&value) = values.first() else {
+            return bound;
+        };
+        let y = combine(&basis, coefficients.get(.., ..1));
         let refined = Bound {
             value,
-            margin: 64.0 * f64::EPSILON * spread + 1e-9 * value.abs(),
+            margin: self.margin(c, y.as_ref(), value),
         };
-        // Keep whichever bound is lower once margins are counted.
-        if refined.value + refined.margin < bound.value + bound.margin {
-            refined
-        } else {
-            bound
-        }
+        self.offer(c, value, y.as_ref());
+        lower(bound, refined)
     }
 
     /// Candidate `c`'s exact score, warm-started from the iteration's modes, with the
@@ -587,6 +825,9 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
             self.factorizations
                 .fetch_add(sp.factorizations, Ordering::Relaxed);
             self.solves.fetch_add(sp.solves, Ordering::Relaxed);
+            if sp.vectors.ncols() > 0 {
+                self.offer(c, sp.lambda(), sp.vectors.as_ref());
+            }
         }
         r
     }
@@ -630,6 +871,9 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
                 self.factorizations
                     .fetch_add(sp.factorizations, Ordering::Relaxed);
                 self.solves.fetch_add(sp.solves, Ordering::Relaxed);
+                if sp.vectors.ncols() > 0 {
+                    self.offer(c, sp.lambda(), sp.vectors.as_ref());
+                }
             }
             Ok(None) => {
                 self.factorizations.fetch_add(1, Ordering::Relaxed);
@@ -699,6 +943,7 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
                     curve: c,
                     score: None,
                     bound: None,
+                    extended_bound: None,
                     refined_bound: None,
                     pruned: false,
                     below: None,
@@ -709,6 +954,7 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
             best: f64::NEG_INFINITY,
             kept: Vec::new(),
             plain: Vec::new(),
+            extended: vec![None; candidates.len()],
             refined: vec![None; candidates.len()],
             alive: (0..candidates.len()).collect(),
             guesses: vec![0; candidates.len()],
@@ -757,6 +1003,8 @@ struct Search<'c, 's, 'a> {
     /// Candidates scored about zero within `tie` of the best, with their factorizations.
     kept: Vec<(usize, f64, Cholesky)>,
     plain: Vec<Bound>,
+    /// Extended bounds computed so far (candidates with a carried vector).
+    extended: Vec<Option<Bound>>,
     /// Refined bounds computed so far (the plain bound when there is no preconditioner).
     refined: Vec<Option<Bound>>,
     /// Candidates (indices into `candidates`) neither evaluated nor pruned.
@@ -934,7 +1182,9 @@ impl Search<'_, '_, '_> {
     }
 
     fn key(&self, i: usize) -> Bound {
-        self.refined[i].unwrap_or(self.plain[i])
+        self.refined[i]
+            .or(self.extended[i])
+            .unwrap_or(self.plain[i])
     }
 
     fn refine(&mut self, group: &[usize]) {
@@ -991,6 +1241,24 @@ impl Search<'_, '_, '_> {
                 .take(REFINE_AHEAD * self.batch)
                 .filter(|&i| self.refined[i].is_none())
                 .collect();
+            // The carried vectors' bounds first: a product with `H_A` each, no solve.
+            let extend: Vec<usize> = group
+                .iter()
+                .copied()
+                .filter(|&i| {
+                    self.extended[i].is_none()
+                        && self.ctx.carried_value(self.candidates[i]).is_some()
+                })
+                .collect();
+            if !extend.is_empty() {
+                let cs: Vec<usize> = extend.iter().map(|&i| self.candidates[i]).collect();
+                let values = self.ctx.extended_bounds(&cs);
+                for (&i, b) in extend.iter().zip(values) {
+                    self.extended[i] = Some(b);
+                    self.out[i].extended_bound = Some(b.value);
+                }
+                return true;
+            }
             self.refine(&group);
             return true;
         }
@@ -1109,8 +1377,87 @@ enum RefineStep {
         x: Mat<f64>,
         hx: Mat<f64>,
         z: Mat<f64>,
-        loose_rows: Vec<usize>,
     },
+}
+
+/// The plain bound extended by a carried vector (see [`CandidateContext::extended_bound`]).
+#[derive(Debug)]
+struct Extended {
+    /// The smallest Ritz value of `[X, y]`, with its margin.
+    bound: Bound,
+    /// The carried vector on `A \ {c}`'s coordinates (one column) and `H'y`.
+    y: Mat<f64>,
+    hy: Mat<f64>,
+    /// The two lowest Ritz vectors of `[X, y]` and their products with `H'`.
+    xb: Mat<f64>,
+    hxb: Mat<f64>,
+}
+
+/// The columns of `ms`, in order: a basis made of several blocks, without copying them.
+fn columns<'m>(ms: &[&'m Mat<f64>]) -> Vec<&'m [f64]> {
+    ms.iter()
+        .flat_map(|m| (0..m.ncols()).map(move |j| col(m, j)))
+        .collect()
+}
+
+/// Column `j` of `m` as a slice (faer stores columns contiguously).
+fn col(m: &Mat<f64>, j: usize) -> &[f64] {
+    m.col(j)
+        .try_as_col_major()
+        .expect("contiguous column")
+        .as_slice()
+}
+
+/// `AᵀB` for the bases `a` and `b` (lists of columns).
+fn gram(a: &[&[f64]], b: &[&[f64]]) -> Mat<f64> {
+    Mat::from_fn(a.len(), b.len(), |i, j| dot(a[i], b[j]))
+}
+
+/// `xᵀy`, summed in eight interleaved lanes (vectorized).
+fn dot(x: &[f64], y: &[f64]) -> f64 {
+    let mut acc = [0.0; 8];
+    let (xc, yc) = (x.chunks_exact(8), y.chunks_exact(8));
+    let tail: f64 = xc
+        .remainder()
+        .iter()
+        .zip(yc.remainder())
+        .map(|(a, b)| a * b)
+        .sum();
+    for (a, b) in xc.zip(yc) {
+        for l in 0..8 {
+            acc[l] += a[l] * b[l];
+        }
+    }
+    acc.iter().sum::<f64>() + tail
+}
+
+/// `A·Q` for the basis `a` (a list of columns).
+fn combine(a: &[&[f64]], q: MatRef<'_, f64>) -> Mat<f64> {
+    let n = a.first().map_or(0, |c| c.len());
+    let mut out = Mat::<f64>::zeros(n, q.ncols());
+    for j in 0..q.ncols() {
+        let o = out
+            .col_mut(j)
+            .try_as_col_major_mut()
+            .expect("contiguous column")
+            .as_slice_mut();
+        for (i, c) in a.iter().enumerate() {
+            let w = q[(i, j)];
+            for (o, x) in o.iter_mut().zip(c.iter()) {
+                *o += w * x;
+            }
+        }
+    }
+    out
+}
+
+/// The lower of two bounds once their margins are counted (`a` on a tie).
+fn lower(a: Bound, b: Bound) -> Bound {
+    if b.value + b.margin < a.value + a.margin {
+        b
+    } else {
+        a
+    }
 }
 
 /// Zeroes `rows` of `m`.

@@ -15,7 +15,7 @@
 //! `A`'s low modes. Every candidate's computation is deterministic and independent of the
 //! others, so the choice does not depend on the thread count.
 
-use super::candidates::{CandidateContext, CandidateScore, PruneParams};
+use super::candidates::{CandidateContext, CandidateScore, Carried, PruneParams};
 use super::{Budget, Evaluation, Scorer, SimplifyError, Warm, Work, pick_best};
 use crate::report::NewtonSummary;
 use crate::rod::ActiveSet;
@@ -181,11 +181,33 @@ fn spectrum_hint(score: f64, lambda: f64) -> f64 {
     }
 }
 
+/// Whether the next iteration should use the test vectors carried over from this one: when
+/// this one settled at least `after` candidates by an inertia test or by a carried vector's
+/// bound ([`PruneParams::carry_after`]). A function of the recorded values, so a resumed run
+/// decides the same.
+fn carried_pays(scores: &[CandidateScore], after: usize) -> bool {
+    let settled = scores
+        .iter()
+        .filter(|s| {
+            s.pruned
+                && (s.below.is_some() || (s.refined_bound.is_none() && s.extended_bound.is_some()))
+        })
+        .count();
+    settled >= after
+}
+
 /// Callbacks of a greedy run: saving progress, cancelling.
 pub trait GreedyHooks: Sync {
     /// Called once per iteration with its record, its evaluation (mode, equilibrium), and
     /// the number of iterations done; an error stops the run.
     fn iteration(&mut self, record: &IterationRecord, eval: &Evaluation) -> Result<(), String>;
+    /// Called right before [`Self::iteration`] of an iteration whose candidates were searched,
+    /// with the test vectors it hands the next iteration: a resumed run needs them to continue
+    /// exactly as an uninterrupted one ([`ResumePoint::carried`]).
+    fn carried(&mut self, carried: &Carried) -> Result<(), String> {
+        let _ = carried;
+        Ok(())
+    }
     /// Polled between candidates and iterations (from several threads); `true` stops the run
     /// cleanly, keeping every recorded iteration.
     fn cancelled(&self) -> bool {
@@ -213,6 +235,9 @@ pub struct ResumePoint {
     pub displacement: Vec<f64>,
     /// Low modes of the last recorded iteration (columns).
     pub modes: Mat<f64>,
+    /// The test vectors the last recorded iteration handed on ([`GreedyHooks::carried`];
+    /// empty if unknown: the run continues with the same removals, its bounds start afresh).
+    pub carried: Carried,
 }
 
 /// Runs the greedy on `analyzer`'s network.
@@ -236,6 +261,8 @@ pub fn greedy(
     let mut superset = None;
     // The last winner's score, an estimate of the next `λ_eq` (see `Warm::lambda`).
     let mut lambda_hint = None;
+    let mut carried: Carried = Vec::new();
+    let mut use_carried = false;
 
     // What each iteration hands the next: its equilibrium (Newton's start), its low modes (the
     // eigen solver's start) and the factorization of the winning candidate's Hessian, which is
@@ -269,6 +296,10 @@ pub fn greedy(
             };
             superset = Some(analyzer.symbolic_for(&prev));
             lambda_hint = last.score.map(|s| spectrum_hint(s, last.lambda));
+            if params.prune.enabled && params.prune.carry {
+                use_carried = carried_pays(&last.candidates, params.prune.carry_after);
+                carried = r.carried;
+            }
             (
                 r.iterations,
                 prev.without(removed),
@@ -338,7 +369,10 @@ pub fn greedy(
 
         // Score every candidate at A's equilibrium.
         let t = Instant::now();
-        let ctx = CandidateContext::of_evaluation(&scorer, &active, &eval);
+        let mut ctx = CandidateContext::of_evaluation(&scorer, &active, &eval);
+        if use_carried {
+            ctx = ctx.with_carried(std::mem::take(&mut carried));
+        }
         timings.locals_seconds += t.elapsed().as_secs_f64();
         let t = Instant::now();
         let shared: &dyn GreedyHooks = &*hooks;
@@ -350,6 +384,11 @@ pub fn greedy(
         timings.candidate_evaluations += scores.iter().filter(|s| !s.pruned).count();
         timings.candidates_pruned += scores.iter().filter(|s| s.pruned).count();
         timings.candidate_work.add(ctx.work());
+        if params.prune.enabled && params.prune.carry {
+            carried = ctx.take_carried();
+            use_carried = carried_pays(&scores, params.prune.carry_after);
+            hooks.carried(&carried).map_err(SimplifyError::Hook)?;
+        }
         if hooks.cancelled() {
             return Err(SimplifyError::Cancelled);
         }

@@ -7,6 +7,8 @@
 //! DIR/modes/KKKK.bin      worst-case mode of iteration K: 3·V little-endian f64
 //! DIR/states/KKKK.bin     equilibrium displacements of iteration K: 3·V little-endian f64
 //! DIR/states/KKKK.modes.bin all low modes of iteration K, column after column (resume state)
+//! DIR/states/carried.bin  the candidates' test vectors the last iteration handed on (resume
+//!                         state, see `carried_bytes`; removed when the run completes)
 //! DIR/iterations/KKKK.obj the network of iteration K at equilibrium, one polyline per curve
 //! DIR/final.obj           the final network at equilibrium
 //! DIR/mesh.obj            the surface the curves were drawn on, in scene units (if known)
@@ -18,6 +20,7 @@
 //! `result.json` holds no timings and depends only on the inputs, so it is byte-identical from
 //! run to run on one machine and build, whatever the thread count.
 
+use super::candidates::{Carried, CarriedVector};
 use super::greedy::{GreedyHooks, GreedyOutcome, IterationRecord, ResumePoint, StopReason};
 use super::local::{LocalOutcome, LocalParams, Step, Strategy};
 use super::relaxation::Certificate;
@@ -340,10 +343,19 @@ impl<'a> OutputWriter<'a> {
                     return Err(format!("states/{k:04}.bin does not match the network"));
                 }
                 let modes = faer::Mat::from_fn(n, modes.len() / n, |i, j| modes[j * n + i]);
+                // The carried vectors, if they belong to the last recorded iteration (a run
+                // stopped between writing them and its record has newer ones: unused).
+                let carried = std::fs::read(dir.join(CARRIED_FILE))
+                    .ok()
+                    .and_then(|b| carried_from_bytes(&b, network.rods.len(), n))
+                    .filter(|(iteration, _)| *iteration == k)
+                    .map(|(_, c)| c)
+                    .unwrap_or_default();
                 Some(ResumePoint {
                     iterations: result.iterations.clone(),
                     displacement,
                     modes,
+                    carried,
                 })
             }
             _ => None,
@@ -433,11 +445,83 @@ impl<'a> OutputWriter<'a> {
         let mut t = serde_json::to_vec_pretty(timings).map_err(|e| e.to_string())?;
         t.push(b'\n');
         self.write("timings.json", &t)?;
-        self.write("summary.txt", summary(&self.result).as_bytes())
+        self.write("summary.txt", summary(&self.result).as_bytes())?;
+        // Only a resume needs it.
+        let carried = self.dir.join(CARRIED_FILE);
+        if carried.exists() {
+            std::fs::remove_file(&carried).map_err(|e| io_err(&carried, e))?;
+        }
+        Ok(())
     }
 }
 
+/// The carried test vectors' file (see [`carried_bytes`]).
+const CARRIED_FILE: &str = "states/carried.bin";
+
+/// `carried.bin`: the index of the iteration that handed the vectors on (u64), the curve count
+/// (u64), then per curve a flag byte (1: a vector follows) and, with a vector, its value
+/// (f64) and its coordinates (f32 each, the network's degrees of freedom); little-endian.
+pub fn carried_bytes(iteration: usize, carried: &Carried) -> Vec<u8> {
+    let mut out = Vec::new();
+    out.extend_from_slice(&(iteration as u64).to_le_bytes());
+    out.extend_from_slice(&(carried.len() as u64).to_le_bytes());
+    for c in carried {
+        match c {
+            Some(v) => {
+                out.push(1);
+                out.extend_from_slice(&v.value.to_le_bytes());
+                for x in &v.vector {
+                    out.extend_from_slice(&x.to_le_bytes());
+                }
+            }
+            None => out.push(0),
+        }
+    }
+    out
+}
+
+/// Reads [`carried_bytes`] for a network of `curves` curves and `dofs` degrees of freedom:
+/// the iteration and the vectors, `None` if the bytes do not match.
+pub fn carried_from_bytes(bytes: &[u8], curves: usize, dofs: usize) -> Option<(usize, Carried)> {
+    fn take<'b>(b: &mut &'b [u8], n: usize) -> Option<&'b [u8]> {
+        if b.len() < n {
+            return None;
+        }
+        let (head, tail) = b.split_at(n);
+        *b = tail;
+        Some(head)
+    }
+    let mut b = bytes;
+    let u64_of = |s: &[u8]| u64::from_le_bytes(s.try_into().unwrap_or([0; 8]));
+    let iteration = u64_of(take(&mut b, 8)?) as usize;
+    if u64_of(take(&mut b, 8)?) as usize != curves {
+        return None;
+    }
+    let mut carried = Vec::with_capacity(curves);
+    for _ in 0..curves {
+        match take(&mut b, 1)?[0] {
+            0 => carried.push(None),
+            1 => {
+                let value = f64::from_le_bytes(take(&mut b, 8)?.try_into().ok()?);
+                let vector = take(&mut b, 4 * dofs)?
+                    .chunks_exact(4)
+                    .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+                    .collect();
+                carried.push(Some(CarriedVector { value, vector }));
+            }
+            _ => return None,
+        }
+    }
+    b.is_empty().then_some((iteration, carried))
+}
+
 impl GreedyHooks for OutputWriter<'_> {
+    fn carried(&mut self, carried: &Carried) -> Result<(), String> {
+        // Handed on by the iteration about to be recorded as number `len`.
+        let k = self.result.iterations.len();
+        self.write(CARRIED_FILE, &carried_bytes(k, carried))
+    }
+
     fn iteration(&mut self, record: &IterationRecord, eval: &Evaluation) -> Result<(), String> {
         let k = self.result.iterations.len();
         self.write(
