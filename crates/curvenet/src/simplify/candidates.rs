@@ -133,7 +133,7 @@ pub type Carried = Vec<Option<CarriedVector>>;
 #[derive(Clone, Debug, PartialEq)]
 pub struct CarriedVector {
     /// Its Rayleigh quotient in the structure it was found for (the candidate's score or
-    /// bound there): it predicts whether its bound in the next structure prunes.
+    /// bound there).
     pub value: f64,
     /// The vector (all coordinates of the network).
     pub vector: Vec<f32>,
@@ -335,9 +335,9 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
         }
     }
 
-    /// The value of candidate `c`'s carried vector in the previous structure, if any.
-    pub fn carried_value(&self, c: usize) -> Option<f64> {
-        self.carried.get(c)?.as_ref().map(|v| v.value)
+    /// Whether candidate `c` has a vector carried over from the previous iteration.
+    pub fn has_carried(&self, c: usize) -> bool {
+        self.carried.get(c).is_some_and(Option::is_some)
     }
 
     /// Records how many solves `A`'s spectrum took: the first candidate's eigen solve costs about
@@ -983,11 +983,13 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
 /// The state of [`CandidateContext::score_all`]'s best-first search.
 ///
 /// Best first: candidates are taken by decreasing bound (the refined bound once known, else
-/// the plain one; ties by curve id) and skipped once their bound falls below the best score.
-/// A candidate is evaluated only after its refined bound, so the first exact score goes to the
-/// most promising candidate by the tighter bound and later candidates are mostly settled by
-/// their bound or the inertia test. Every decision depends only on the values, never on
-/// thread timing.
+/// the extended one, else the plain one; ties by curve id) and skipped once their bound falls
+/// below the best score. A candidate with a carried vector gets its extended bound before it
+/// is considered for refinement (the extended bound, no solve, often drops it out of the top
+/// for good), and is evaluated only after its refined bound, so the first exact score goes
+/// to the most promising candidate by the tightest bound and later candidates are mostly
+/// settled by their bound or the inertia test. Every decision depends only on the values,
+/// never on thread timing.
 struct Search<'c, 's, 'a> {
     ctx: &'c CandidateContext<'s, 'a>,
     candidates: &'c [usize],
@@ -1241,14 +1243,12 @@ impl Search<'_, '_, '_> {
                 .take(REFINE_AHEAD * self.batch)
                 .filter(|&i| self.refined[i].is_none())
                 .collect();
-            // The carried vectors' bounds first: a product with `H_A` each, no solve.
+            // The carried vectors' bounds first: a share of a pass over `H_A` each, no solve;
+            // the next step re-sorts, and refines those still on top.
             let extend: Vec<usize> = group
                 .iter()
                 .copied()
-                .filter(|&i| {
-                    self.extended[i].is_none()
-                        && self.ctx.carried_value(self.candidates[i]).is_some()
-                })
+                .filter(|&i| self.extended[i].is_none() && self.ctx.has_carried(self.candidates[i]))
                 .collect();
             if !extend.is_empty() {
                 let cs: Vec<usize> = extend.iter().map(|&i| self.candidates[i]).collect();
