@@ -182,6 +182,26 @@ pub struct Bound {
     pub margin: f64,
 }
 
+/// The part of a [`CandidateContext`] that needs only the structure's equilibrium, not its
+/// modes: the local Hessians of its terms and `H_A` assembled from them. The greedy computes
+/// it beside the structure's spectrum, whose solves leave a core idle.
+#[derive(Debug)]
+pub struct CandidateTerms {
+    locals: LocalHessians,
+    h: Vec<f64>,
+}
+
+impl CandidateTerms {
+    /// The terms of structure `active` at displacements `u`.
+    pub fn compute(scorer: &Scorer<'_>, active: &ActiveSet, u: &[f64]) -> Self {
+        let model = scorer.analyzer().model();
+        let locals = model.local_hessians_for(u, active);
+        let mut h = Vec::new();
+        model.hessian_from_locals(&locals, active, &mut h);
+        CandidateTerms { locals, h }
+    }
+}
+
 /// Everything shared by the candidates of one iteration.
 #[derive(Debug)]
 pub struct CandidateContext<'s, 'a> {
@@ -233,11 +253,22 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
         modes: MatRef<'_, f64>,
         symbolic: Option<Arc<SymbolicFactor>>,
     ) -> Self {
+        let terms = CandidateTerms::compute(scorer, active, u);
+        Self::with_terms(scorer, active, terms, modes, symbolic)
+    }
+
+    /// [`Self::new`] from the structure's terms at its equilibrium, computed beforehand
+    /// (beside its spectrum: [`Scorer::evaluate_warm_beside`]).
+    pub fn with_terms(
+        scorer: &'s Scorer<'a>,
+        active: &ActiveSet,
+        terms: CandidateTerms,
+        modes: MatRef<'_, f64>,
+        symbolic: Option<Arc<SymbolicFactor>>,
+    ) -> Self {
         let symbolic = symbolic.unwrap_or_else(|| scorer.analyzer().symbolic_for(active));
         let model = scorer.analyzer().model();
-        let locals = model.local_hessians_for(u, active);
-        let mut h = Vec::new();
-        model.hessian_from_locals(&locals, active, &mut h);
+        let CandidateTerms { locals, h } = terms;
         let (n, k) = (modes.nrows(), modes.ncols());
         let mut hv = Mat::<f64>::zeros(n, k);
         let mut col = vec![0.0; n];
@@ -294,10 +325,22 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
     /// The context of structure `active` evaluated as `eval`: its equilibrium, low modes and
     /// analysis, and its spectrum's factorization as the refined bounds' preconditioner.
     pub fn of_evaluation(scorer: &'s Scorer<'a>, active: &ActiveSet, eval: &Evaluation) -> Self {
-        CandidateContext::new(
+        let terms = CandidateTerms::compute(scorer, active, &eval.displacement);
+        Self::of_evaluation_with(scorer, active, eval, terms)
+    }
+
+    /// [`Self::of_evaluation`] with the structure's terms at `eval`'s equilibrium computed
+    /// beforehand ([`CandidateTerms::compute`]).
+    pub fn of_evaluation_with(
+        scorer: &'s Scorer<'a>,
+        active: &ActiveSet,
+        eval: &Evaluation,
+        terms: CandidateTerms,
+    ) -> Self {
+        CandidateContext::with_terms(
             scorer,
             active,
-            &eval.displacement,
+            terms,
             eval.spectrum.vectors.as_ref(),
             Some(eval.symbolic.clone()),
         )

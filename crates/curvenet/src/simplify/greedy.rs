@@ -15,7 +15,7 @@
 //! `A`'s low modes. Every candidate's computation is deterministic and independent of the
 //! others, so the choice does not depend on the thread count.
 
-use super::candidates::{CandidateContext, CandidateScore, Carried, PruneParams};
+use super::candidates::{CandidateContext, CandidateScore, CandidateTerms, Carried, PruneParams};
 use super::{Budget, Evaluation, Scorer, SimplifyError, Warm, Work, pick_best};
 use crate::report::NewtonSummary;
 use crate::rod::ActiveSet;
@@ -326,7 +326,10 @@ pub fn greedy(
         } else {
             Warm::default()
         };
-        let eval = scorer.evaluate_warm(&active, warm.as_deref(), hints)?;
+        // The candidates' terms (they need only the equilibrium) beside the spectrum.
+        let (eval, terms) = scorer.evaluate_warm_beside(&active, warm.as_deref(), hints, |u| {
+            CandidateTerms::compute(&scorer, &active, u)
+        })?;
         timings.relax_seconds += t.elapsed().as_secs_f64();
         timings.relax_work.add(eval.work);
         let k = iterations.len();
@@ -369,7 +372,7 @@ pub fn greedy(
 
         // Score every candidate at A's equilibrium.
         let t = Instant::now();
-        let mut ctx = CandidateContext::of_evaluation(&scorer, &active, &eval);
+        let mut ctx = CandidateContext::of_evaluation_with(&scorer, &active, &eval, terms);
         if use_carried {
             ctx = ctx.with_carried(std::mem::take(&mut carried));
         }

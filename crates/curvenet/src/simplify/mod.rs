@@ -221,6 +221,20 @@ impl<'a> Scorer<'a> {
         start: Option<&[f64]>,
         warm: Warm<'_>,
     ) -> Result<Evaluation, StabilityError> {
+        self.evaluate_warm_beside(active, start, warm, |_| ())
+            .map(|(e, ())| e)
+    }
+
+    /// [`Self::evaluate_warm`], running `beside` on the equilibrium while the spectrum is
+    /// computed (its solves leave a core idle): the greedy prepares its candidates' terms
+    /// there ([`candidates::CandidateTerms`]).
+    pub fn evaluate_warm_beside<T: Send>(
+        &self,
+        active: &ActiveSet,
+        start: Option<&[f64]>,
+        warm: Warm<'_>,
+        beside: impl FnOnce(&[f64]) -> T + Send,
+    ) -> Result<(Evaluation, T), StabilityError> {
         let a = self.analyzer;
         if active.is_empty() {
             return Err(StabilityError::Empty);
@@ -246,42 +260,49 @@ impl<'a> Scorer<'a> {
         // of `H − σI` proves no eigenvalue lies below σ, and shift-and-invert separates the
         // clustered smallest eigenvalues far better there than about zero (roof: 51 solves
         // per spectrum about zero). Otherwise, or if λ turns out below σ, about zero.
-        let shifted = match warm.lambda.map(|l| SPECTRUM_SHIFT * l) {
-            Some(sigma) if sigma > 0.0 && sigma.is_finite() => smallest_eigenpairs_above(
-                model.pattern(),
-                &h,
-                &symbolic,
-                modes,
-                &self.eval_eigen,
-                sigma,
-                None,
-            )?,
-            _ => None,
+        let spectrum = || -> Result<_, StabilityError> {
+            let shifted = match warm.lambda.map(|l| SPECTRUM_SHIFT * l) {
+                Some(sigma) if sigma > 0.0 && sigma.is_finite() => smallest_eigenpairs_above(
+                    model.pattern(),
+                    &h,
+                    &symbolic,
+                    modes,
+                    &self.eval_eigen,
+                    sigma,
+                    None,
+                )?,
+                _ => None,
+            };
+            Ok(match shifted {
+                Some(pair) => pair,
+                None => smallest_eigenpairs_factored(
+                    model.pattern(),
+                    &h,
+                    &symbolic,
+                    modes,
+                    &self.eval_eigen,
+                )?,
+            })
         };
-        let (spectrum, factor) = match shifted {
-            Some(pair) => pair,
-            None => smallest_eigenpairs_factored(
-                model.pattern(),
-                &h,
-                &symbolic,
-                modes,
-                &self.eval_eigen,
-            )?,
-        };
+        let (spectrum, extra) = rayon::join(spectrum, || beside(&u));
+        let (spectrum, factor) = spectrum?;
         let curves = active.curves();
-        Ok(Evaluation {
-            factor: Some(std::sync::Arc::new(factor)),
-            length: a.network().total_length(&curves),
-            curves,
-            newton: NewtonSummary::from(&newton),
-            work: Work {
-                factorizations: spectrum.factorizations + newton.factorizations,
-                solves: spectrum.solves,
+        Ok((
+            Evaluation {
+                factor: Some(std::sync::Arc::new(factor)),
+                length: a.network().total_length(&curves),
+                curves,
+                newton: NewtonSummary::from(&newton),
+                work: Work {
+                    factorizations: spectrum.factorizations + newton.factorizations,
+                    solves: spectrum.solves,
+                },
+                displacement: u,
+                spectrum,
+                symbolic,
             },
-            displacement: u,
-            spectrum,
-            symbolic,
-        })
+            extra,
+        ))
     }
 
     /// `λ_eq(active)` relaxed from the drawn state, the way every search ranks a subset
