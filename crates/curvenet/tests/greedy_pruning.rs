@@ -113,25 +113,21 @@ fn check_pruning(name: &str, a: &Analyzer, base: &GreedyParams) -> usize {
             );
             let all = c_off.score.expect("every candidate scored without pruning");
             let rr = c_on.bound.expect("bounds computed with pruning");
-            // The refined bound (one preconditioned step), where computed, is tighter
-            // and is what pruned the candidate; both must be upper bounds.
-            if let Some(refined) = c_on.refined_bound {
-                assert!(
-                    all <= refined + 1e-6 * refined.abs(),
-                    "{name}, iteration {k}, curve {}: score {all:e} above its refined bound \
-                     {refined:e}",
-                    c_on.curve
-                );
-            }
-            // The extended bound (with the vector carried over from the previous
-            // iteration), where computed, is an upper bound too.
-            if let Some(extended) = c_on.extended_bound {
-                assert!(
-                    all <= extended + 1e-6 * extended.abs(),
-                    "{name}, iteration {k}, curve {}: score {all:e} above its extended bound \
-                     {extended:e}",
-                    c_on.curve
-                );
+            // The refined bound (one preconditioned step) and the extended bound (with the
+            // vector carried over from the previous iteration), where computed, are tighter
+            // and are what pruned the candidate; all must be upper bounds.
+            for (kind, b) in [
+                ("refined", c_on.refined_bound),
+                ("extended", c_on.extended_bound),
+            ] {
+                if let Some(b) = b {
+                    assert!(
+                        all <= b + 1e-6 * b.abs(),
+                        "{name}, iteration {k}, curve {}: score {all:e} above its {kind} \
+                         bound {b:e}",
+                        c_on.curve
+                    );
+                }
             }
             let bound = [c_on.refined_bound, c_on.extended_bound]
                 .into_iter()
@@ -252,16 +248,22 @@ fn warm_starts_do_not_change_the_choices() {
     }
 }
 
-/// Refining the next candidates' bounds beside each iteration's first score changes which
-/// bounds are refined (and their last bits: they share other solve calls), never the choices.
-#[test]
-fn refining_ahead_does_not_change_the_choices() {
+/// [`small_cases`] and, when the paper's data is there, the roof.
+fn small_cases_and_roof() -> Vec<(&'static str, Network, f64)> {
     let mut cases = small_cases();
     if let Some(data) = data_dir() {
         let ex = curvenet::paper::load("roof", &data, Supports::Clamped).expect("roof loads");
         let (net, _) = build_network(&ex.curves, &ex.build).expect("roof builds");
         cases.push(("roof", net, ex.setup.budget_fraction));
     }
+    cases
+}
+
+/// Refining the next candidates' bounds beside each iteration's first score changes which
+/// bounds are refined (and their last bits: they share other solve calls), never the choices.
+#[test]
+fn refining_ahead_does_not_change_the_choices() {
+    let cases = small_cases_and_roof();
     let mut differ = 0;
     for (name, net, fraction) in cases {
         let a = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
@@ -331,12 +333,7 @@ fn a_first_shift_does_not_change_the_choices() {
 /// settle candidates by their extended bound alone.
 #[test]
 fn carried_test_vectors_do_not_change_the_choices() {
-    let mut cases = small_cases();
-    if let Some(data) = data_dir() {
-        let ex = curvenet::paper::load("roof", &data, Supports::Clamped).expect("roof loads");
-        let (net, _) = build_network(&ex.curves, &ex.build).expect("roof builds");
-        cases.push(("roof", net, ex.setup.budget_fraction));
-    }
+    let cases = small_cases_and_roof();
     let (mut extended, mut settled) = (0, 0);
     for (name, net, fraction) in cases {
         let a = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
