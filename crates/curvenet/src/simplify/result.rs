@@ -700,4 +700,39 @@ mod tests {
         );
         assert!(unrelaxed(&its[..2]).is_empty());
     }
+
+    #[test]
+    fn carried_vectors_round_trip_and_bad_files_are_refused() {
+        use super::{CarriedVector, carried_bytes, carried_from_bytes};
+        let carried = vec![
+            Some(CarriedVector {
+                value: 2.5e-7,
+                vector: vec![1.0, -2.0, 0.5, 3.25, 0.0, -1e-3],
+            }),
+            None,
+            Some(CarriedVector {
+                value: -1.0,
+                vector: vec![0.0; 6],
+            }),
+        ];
+        let bytes = carried_bytes(7, &carried);
+        assert_eq!(carried_from_bytes(&bytes, 3, 6), Some((7, carried.clone())));
+        // Another network (curve count, degrees of freedom) or a damaged file: nothing
+        // (the resumed run then starts its bounds afresh, with the same removals).
+        assert_eq!(carried_from_bytes(&bytes, 4, 6), None);
+        assert_eq!(carried_from_bytes(&bytes, 3, 5), None);
+        for cut in [0, 7, 15, 16, 17, bytes.len() - 1] {
+            assert_eq!(
+                carried_from_bytes(&bytes[..cut], 3, 6),
+                None,
+                "cut at {cut}"
+            );
+        }
+        let mut longer = bytes.clone();
+        longer.push(0);
+        assert_eq!(carried_from_bytes(&longer, 3, 6), None);
+        let mut bad_flag = bytes.clone();
+        bad_flag[16] = 2;
+        assert_eq!(carried_from_bytes(&bad_flag, 3, 6), None);
+    }
 }
