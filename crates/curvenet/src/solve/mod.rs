@@ -19,4 +19,4 @@ pub use eigen::{
     EigenError, EigenParams, Spectrum, smallest_eigenpairs, smallest_eigenpairs_factored,
 };
 pub use factor::{Cholesky, NotPositiveDefinite, Reuse, SymbolicFactor};
-pub use newton::{NewtonInfo, NewtonParams, NewtonStop, relax, relax_assembled, relax_with_factor};
+pub use newton::{NewtonInfo, NewtonParams, NewtonStop, relax, relax_assembled};

@@ -247,27 +247,14 @@ pub fn relax(
     grad_reference: Option<f64>,
     params: &NewtonParams,
 ) -> NewtonInfo {
-    relax_with_factor(model, active, symbolic, x, grad_reference, params, None)
+    relax_assembled(model, active, symbolic, x, grad_reference, params, None).0
 }
 
-/// [`relax`] starting with a factorization of a nearby Hessian (e.g. the structure's Hessian
-/// at a previous equilibrium) for the first steps. The result meets the same tolerance; only
-/// the work changes.
-pub fn relax_with_factor(
-    model: &EnergyModel,
-    active: &ActiveSet,
-    symbolic: &Arc<SymbolicFactor>,
-    x: &mut [f64],
-    grad_reference: Option<f64>,
-    params: &NewtonParams,
-    initial: Option<Cholesky>,
-) -> NewtonInfo {
-    relax_assembled(model, active, symbolic, x, grad_reference, params, initial).0
-}
-
-/// [`relax_with_factor`], also handing out the Hessian values at the final `x` (the last
-/// assembly's, the same as `model.assemble(x, active, true).hess`): the spectrum that follows
-/// a relaxation needs no assembly of its own.
+/// [`relax`] starting with `initial`, a factorization of a nearby Hessian (e.g. the
+/// structure's Hessian at a previous equilibrium), for the first steps (the result meets the
+/// same tolerance; only the work changes), and handing out the Hessian values at the final
+/// `x` (the last assembly's, the same as `model.assemble(x, active, true).hess`): the
+/// spectrum that follows a relaxation needs no assembly of its own.
 pub fn relax_assembled(
     model: &EnergyModel,
     active: &ActiveSet,

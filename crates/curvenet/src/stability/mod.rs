@@ -227,22 +227,12 @@ impl Analyzer {
     /// Relaxes `active` from displacements `u` (updated in place). The relative tolerance is
     /// measured against the structure's gradient in the drawn state, whatever `u` starts at.
     pub fn relax(&self, active: &ActiveSet, u: &mut [f64]) -> NewtonInfo {
-        self.relax_with_factor(active, u, None)
+        self.relax_with(active, u, None, &self.symbolic_for(active))
     }
 
     /// [`Self::relax`] whose first steps reuse `factor`, a factorization of a nearby Hessian
-    /// of the same structure.
-    pub fn relax_with_factor(
-        &self,
-        active: &ActiveSet,
-        u: &mut [f64],
-        factor: Option<Cholesky>,
-    ) -> NewtonInfo {
-        self.relax_with(active, u, factor, &self.symbolic_for(active))
-    }
-
-    /// [`Self::relax_with_factor`] with the symbolic analysis given (one of
-    /// [`Self::symbolic_for`] `active` or a superset of it).
+    /// of the same structure, with the symbolic analysis given (one of [`Self::symbolic_for`]
+    /// `active` or a superset of it).
     pub fn relax_with(
         &self,
         active: &ActiveSet,
