@@ -333,3 +333,69 @@ fn saddle_escapes_reach_the_same_equilibrium_sooner() {
         "displacements {diff:e} apart (scale {scale:e})"
     );
 }
+
+/// Within `floor_near` × the tolerance the last factorization serves the step
+/// (`NewtonParams::chord_near`): the arched shell's relaxations (from its drawn state, then
+/// after the greedy's first removal from that equilibrium) end at the same equilibrium
+/// (energies to round-off, displacements to the round-off floor's reach) with fewer
+/// factorizations.
+#[test]
+fn chord_steps_near_the_floor_reach_the_same_equilibrium() {
+    let Some(data) = data_dir() else {
+        return;
+    };
+    let ex = curvenet::paper::load("arcshell", &data, Supports::Clamped).expect("loads");
+    let (net, _) = curvenet::network::build_network(&ex.curves, &ex.build).expect("builds");
+    let relax = |chord_near: bool| {
+        let mut params = StabilityParams::default();
+        params.newton.chord_near = chord_near;
+        let a = Analyzer::new(net.clone(), params).expect("analyzer");
+        let mut u = vec![0.0; a.model().dofs()];
+        let first = a.relax(&a.all(), &mut u);
+        let mut u_after = u.clone();
+        let after = a.relax(&a.all().without(30), &mut u_after);
+        for info in [&first, &after] {
+            assert!(info.converged, "{info:?}");
+        }
+        [(first, u), (after, u_after)]
+    };
+    let plain = relax(false);
+    let chord = relax(true);
+    let mut chord_steps = 0;
+    for ((p, up), (c, uc)) in plain.iter().zip(&chord) {
+        assert_eq!(p.chord_steps, 0, "{p:?}");
+        chord_steps += c.chord_steps;
+        assert!(
+            c.factorizations + c.chord_steps <= p.factorizations + 1,
+            "{c:?} against {p:?}"
+        );
+        assert!(
+            (c.energy - p.energy).abs() <= 1e-12 * p.energy.abs(),
+            "energies {} and {}",
+            c.energy,
+            p.energy
+        );
+        let scale = up.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let diff = up
+            .iter()
+            .zip(uc)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        assert!(
+            diff <= 1e-6 * scale,
+            "displacements differ by {diff:e} (scale {scale:e})"
+        );
+    }
+    assert!(
+        chord_steps > 0,
+        "no step near the floor used the last factorization"
+    );
+    let facts = |runs: &[(curvenet::solve::NewtonInfo, Vec<f64>); 2]| {
+        runs.iter().map(|(i, _)| i.factorizations).sum::<usize>()
+    };
+    assert!(
+        facts(&chord) < facts(&plain),
+        "{} against {}",
+        facts(&chord),
+        facts(&plain)
+    );
+}

@@ -60,14 +60,15 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         .num_threads(threads)
         .build()?;
     println!(
-        "curvenet bench: {threads} thread(s); pruning {}, inertia test {}, chord steps {}, \
-         Krylov steps {}, warm starts {}, restricted factorizations {}, subtree-parallel \
+        "curvenet bench: {threads} thread(s); pruning {}, inertia test {}, chord steps everywhere {}, \
+         chord steps near the round-off floor {}, Krylov steps {}, warm starts {}, restricted factorizations {}, subtree-parallel \
          factorizations {}, early round-off floor {}, first score about a shift {}, inertia \
          tests copying a reference {}, saddle escapes {}, refinement beside the first score {}, \
          test vectors carried between iterations {}",
         on(!a.no_prune),
         on(!a.no_prune && !a.no_inertia),
         on(a.chord),
+        on(!a.no_chord_near),
         on(a.krylov),
         on(!a.no_warm),
         on(!a.no_restrict),
@@ -114,6 +115,9 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         }
         if a.no_floor_near {
             stability.newton.floor_near = 1.0;
+        }
+        if a.no_chord_near {
+            stability.newton.chord_near = false;
         }
         if a.no_escape {
             stability.newton.escape_doublings = 0;

@@ -8,7 +8,10 @@
 //! term projected to be positive semidefinite, and a full such step is doubled while the
 //! energy keeps falling ([`NewtonParams::escape_doublings`]).
 //! Converged when `‖∇E‖ ≤ rel_tol · ‖∇E(x_start)‖`, or when `‖∇E‖` stops decreasing at the
-//! round-off floor; every way of stopping is reported, never hidden.
+//! round-off floor; every way of stopping is reported, never hidden. Within
+//! [`NewtonParams::floor_near`] × the tolerance a step reuses the last factorization
+//! ([`NewtonParams::chord_near`]): the steps there find the floor, and an old factor does
+//! that as well as a fresh one.
 
 use super::factor::{Cholesky, SymbolicFactor};
 use crate::rod::{ActiveSet, EnergyModel};
@@ -43,6 +46,14 @@ pub struct NewtonParams {
     /// examples a fresh factorization per step is faster: a rejected chord step costs an
     /// assembly, and warm-started solves need few steps (docs/benchmarks.md).
     pub chord_ratio: f64,
+    /// Within `floor_near` × the tolerance, take the step with the last factorization
+    /// instead of a fresh one ("chord" step, judged by the same line search and round-off
+    /// floor test as any step). There the step only has to reach the round-off floor: the
+    /// Hessian has moved by the last step's length, so the old factor's error on the residual
+    /// is far below round-off (arched shell: 1e-8 → 4e-10 either way), and a fresh
+    /// factorization would be spent on the step that finds the floor.
+    #[serde(default = "default_true")]
+    pub chord_near: bool,
     /// Conjugate-gradient iterations allowed per Newton system when an earlier factorization
     /// preconditions it; 0 (the default) always refactors. Off by default for the same
     /// reason: sixteen preconditioned iterations cost about as much as a factorization.
@@ -62,6 +73,10 @@ pub struct NewtonParams {
 
 fn default_escape_doublings() -> usize {
     30
+}
+
+fn default_true() -> bool {
+    true
 }
 
 fn default_floor_near() -> f64 {
@@ -87,6 +102,7 @@ impl Default for NewtonParams {
             floor_max_rel: 1e-6,
             floor_near: default_floor_near(),
             chord_ratio: 0.0,
+            chord_near: true,
             krylov_iterations: default_krylov_iterations(),
             krylov_tol: default_krylov_tol(),
             escape_doublings: default_escape_doublings(),
@@ -361,6 +377,15 @@ fn newton_loop(
             return info;
         }
 
+        // Near the round-off floor the last factorization serves the step.
+        let mut chord_now = false;
+        if params.chord_near
+            && fresh.is_none()
+            && g_norm <= params.floor_near * params.rel_tol * g_ref
+        {
+            fresh = stale.take();
+            chord_now = fresh.is_some();
+        }
         // A chord step with an earlier factorization, kept when it cuts the gradient enough.
         let mut krylov: Option<Cholesky> = None;
         if let Some(f) = stale.take().filter(|_| fresh.is_none()) {
@@ -386,7 +411,9 @@ fn newton_loop(
                     continue;
                 }
             }
-            krylov = Some(f);
+            if params.krylov_iterations > 0 {
+                krylov = Some(f);
+            }
         }
 
         // Direction: the exact Hessian if it is positive definite, else the Hessian with every
@@ -398,6 +425,11 @@ fn newton_loop(
         let reuse = fresh
             .take()
             .and_then(|f| descent(&f, &cur.grad).map(|d| (d, f)))
+            .inspect(|_| {
+                if chord_now {
+                    info.chord_steps += 1;
+                }
+            })
             .or_else(|| {
                 let f = krylov.take()?;
                 let d = pcg(
@@ -464,7 +496,7 @@ fn newton_loop(
                 }
             }
         };
-        if params.chord_ratio > 0.0 || params.krylov_iterations > 0 {
+        if params.chord_ratio > 0.0 || params.krylov_iterations > 0 || params.chord_near {
             stale = Some(f);
         }
         let gd: f64 = d.iter().zip(&cur.grad).map(|(a, b)| a * b).sum();
