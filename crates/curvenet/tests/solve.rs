@@ -203,6 +203,58 @@ fn subtree_parallel_factor_matches_faer() {
     assert!(Cholesky::factorize_reference(sym, pattern, &h, -10.0 * s).is_err());
 }
 
+/// Solves in groups (`Cholesky::solve_in_place_grouped`): with groups of one column, each
+/// column is bit-identical to its own one-column solve; groups of four agree to round-off; the
+/// values never depend on the thread count.
+#[test]
+fn grouped_solves_depend_on_the_grouping_only() {
+    let (a, h) = drawn_hessian(3, 20.0);
+    let model = a.model();
+    let n = model.dofs();
+    let pattern = model.pattern();
+    let s = pattern.sym_norm1(&h);
+    let f = Cholesky::factorize(a.symbolic(), pattern, &h, s).expect("positive definite");
+    let rhs = faer::Mat::<f64>::from_fn(n, 6, |i, j| ((i * 7919 + j * 131) % 101) as f64 - 50.0);
+    let solved = |group: usize, threads: usize| {
+        let mut x = rhs.clone();
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool")
+            .install(|| f.solve_in_place_grouped(x.as_mut(), group));
+        x
+    };
+    let bits = |m: &faer::Mat<f64>| -> Vec<u64> {
+        (0..m.ncols())
+            .flat_map(|j| (0..m.nrows()).map(move |i| (i, j)))
+            .map(|(i, j)| m[(i, j)].to_bits())
+            .collect()
+    };
+    let single = solved(1, 2);
+    for j in 0..rhs.ncols() {
+        let mut col: Vec<f64> = (0..n).map(|i| rhs[(i, j)]).collect();
+        f.solve_vec(&mut col);
+        for (i, v) in col.iter().enumerate() {
+            assert_eq!(v.to_bits(), single[(i, j)].to_bits(), "column {j}, row {i}");
+        }
+    }
+    let grouped = solved(4, 2);
+    let scale = (0..n).map(|i| single[(i, 0)].abs()).fold(0.0, f64::max);
+    for j in 0..rhs.ncols() {
+        for i in 0..n {
+            let d = (grouped[(i, j)] - single[(i, j)]).abs();
+            assert!(d <= 1e-10 * scale, "column {j}, row {i}: {d:e}");
+        }
+    }
+    for group in [1, 4] {
+        assert_eq!(
+            bits(&solved(group, 1)),
+            bits(&solved(group, 2)),
+            "groups of {group}"
+        );
+    }
+}
+
 /// A factorization copying the supernodes a curve's removal cannot reach from a factorization
 /// of the whole structure (`Cholesky::factorize_reusing`) is bit-identical to a whole
 /// factorization, on the whole pattern's analysis and on a restricted one, in pools of one and

@@ -192,6 +192,8 @@ impl<'a> Scorer<'a> {
         self.eval_eigen.count = k.max(1);
         // Blocks as wide as the solver's column groups: every solve call is a full group.
         self.eval_eigen.block_size = crate::solve::factor::SOLVE_GROUP.min(k.max(1));
+        // The spectrum runs while a core is idle: its block's columns are solved side by side.
+        self.eval_eigen.solve_group = 1;
         self.eval_eigen.max_basis = self
             .eval_eigen
             .max_basis

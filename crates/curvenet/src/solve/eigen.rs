@@ -40,6 +40,14 @@ pub struct EigenParams {
     pub shift_factor: f64,
     /// Seed of the random start block.
     pub seed: u64,
+    /// Columns of a block solved per pass over the factor
+    /// ([`Cholesky::solve_in_place_grouped`]); the groups run in parallel.
+    #[serde(default = "default_solve_group")]
+    pub solve_group: usize,
+}
+
+fn default_solve_group() -> usize {
+    crate::solve::factor::SOLVE_GROUP
 }
 
 impl Default for EigenParams {
@@ -53,6 +61,7 @@ impl Default for EigenParams {
             zero_factor: 5.0,
             shift_factor: 10.0,
             seed: 0x5eed,
+            solve_group: default_solve_group(),
         }
     }
 }
@@ -360,7 +369,7 @@ fn finish(
         n,
         |x, mut y| {
             y.copy_from(x);
-            factor.solve_in_place(y);
+            factor.solve_in_place_grouped(y, params.solve_group);
         },
         warm_start,
         &lanczos,

@@ -541,18 +541,29 @@ impl Cholesky {
     /// Solves `(H + τI) X = B` in place for the columns of `rhs`, in fixed groups of
     /// [`SOLVE_GROUP`] columns run in parallel.
     pub fn solve_in_place(&self, rhs: MatMut<'_, f64>) {
-        crate::profile::time(crate::profile::Phase::Solve, || self.solve_impl(rhs))
+        self.solve_in_place_grouped(rhs, SOLVE_GROUP);
     }
 
-    fn solve_impl(&self, rhs: MatMut<'_, f64>) {
+    /// [`Self::solve_in_place`] in fixed groups of `group` columns (at least 1) run in
+    /// parallel: one column per group when the caller leaves a core idle (a two-column
+    /// solve costs 1.4× a one-column solve, two one-column solves side by side about 1.05×),
+    /// a few when every core is busy with other solves (one pass over the factor serves the
+    /// group). A column's values depend on the grouping, never on the thread count.
+    pub fn solve_in_place_grouped(&self, rhs: MatMut<'_, f64>, group: usize) {
+        crate::profile::time(crate::profile::Phase::Solve, || {
+            self.solve_impl(rhs, group.max(1))
+        })
+    }
+
+    fn solve_impl(&self, rhs: MatMut<'_, f64>, group: usize) {
         let Some(r) = &self.symbolic.restriction else {
-            self.solve_kept(rhs);
+            self.solve_kept(rhs, group);
             return;
         };
         assert_eq!(rhs.nrows(), r.n_full, "right-hand side of the full size");
         let mut rhs = rhs;
         let mut sub = Mat::<f64>::from_fn(r.dofs.len(), rhs.ncols(), |i, j| rhs[(r.dofs[i], j)]);
-        self.solve_kept(sub.as_mut());
+        self.solve_kept(sub.as_mut(), group);
         for j in 0..rhs.ncols() {
             for (i, &d) in r.dofs.iter().enumerate() {
                 rhs[(d, j)] = sub[(i, j)];
@@ -564,19 +575,19 @@ impl Cholesky {
     }
 
     /// Solves on the coordinates the factor covers.
-    fn solve_kept(&self, rhs: MatMut<'_, f64>) {
-        // Columns are solved in fixed groups of `SOLVE_GROUP`, in parallel when threads are
+    fn solve_kept(&self, rhs: MatMut<'_, f64>, group: usize) {
+        // Columns are solved in fixed groups of `group`, in parallel when threads are
         // free. faer's result for a column depends on which columns share its call, so the
         // grouping is fixed (never by thread count) to keep results bit-identical.
         let k = rhs.ncols();
-        if k <= SOLVE_GROUP {
+        if k <= group {
             self.solve_group(rhs);
             return;
         }
-        let mut groups = Vec::with_capacity(k.div_ceil(SOLVE_GROUP));
+        let mut groups = Vec::with_capacity(k.div_ceil(group));
         let mut rest = rhs;
-        while rest.ncols() > SOLVE_GROUP {
-            let (a, b) = rest.split_at_col_mut(SOLVE_GROUP);
+        while rest.ncols() > group {
+            let (a, b) = rest.split_at_col_mut(group);
             groups.push(a);
             rest = b;
         }
