@@ -170,9 +170,9 @@ pub struct BenchArgs {
     /// the tolerance (`floor_near` = 1).
     #[arg(long = "no-floor-near")]
     pub no_floor_near: bool,
-    /// Factor afresh for every Newton step, also near the round-off floor (`chord_near` off).
-    #[arg(long = "no-chord-near")]
-    pub no_chord_near: bool,
+    /// Factor afresh for every Newton step, also in its quadratic phase (`chord_below` = 0).
+    #[arg(long = "no-quadratic-chord")]
+    pub no_quadratic_chord: bool,
     /// Factor with faer's sequential numeric factorization instead of the subtree-parallel one.
     #[arg(long = "no-subtrees")]
     pub no_subtrees: bool,

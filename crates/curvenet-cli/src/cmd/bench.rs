@@ -61,14 +61,14 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         .build()?;
     println!(
         "curvenet bench: {threads} thread(s); pruning {}, inertia test {}, chord steps everywhere {}, \
-         chord steps near the round-off floor {}, Krylov steps {}, warm starts {}, restricted factorizations {}, subtree-parallel \
+         chord steps in Newton's quadratic phase {}, Krylov steps {}, warm starts {}, restricted factorizations {}, subtree-parallel \
          factorizations {}, early round-off floor {}, first score about a shift {}, inertia \
          tests copying a reference {}, saddle escapes {}, refinement beside the first score {}, \
          test vectors carried between iterations {}",
         on(!a.no_prune),
         on(!a.no_prune && !a.no_inertia),
         on(a.chord),
-        on(!a.no_chord_near),
+        on(!a.no_quadratic_chord),
         on(a.krylov),
         on(!a.no_warm),
         on(!a.no_restrict),
@@ -116,8 +116,8 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         if a.no_floor_near {
             stability.newton.floor_near = 1.0;
         }
-        if a.no_chord_near {
-            stability.newton.chord_near = false;
+        if a.no_quadratic_chord {
+            stability.newton.chord_below = 0.0;
         }
         if a.no_escape {
             stability.newton.escape_doublings = 0;

@@ -8,10 +8,9 @@
 //! term projected to be positive semidefinite, and a full such step is doubled while the
 //! energy keeps falling ([`NewtonParams::escape_doublings`]).
 //! Converged when `‖∇E‖ ≤ rel_tol · ‖∇E(x_start)‖`, or when `‖∇E‖` stops decreasing at the
-//! round-off floor; every way of stopping is reported, never hidden. Within
-//! [`NewtonParams::floor_near`] × the tolerance a step reuses the last factorization
-//! ([`NewtonParams::chord_near`]): the steps there find the floor, and an old factor does
-//! that as well as a fresh one.
+//! round-off floor; every way of stopping is reported, never hidden. In the quadratic phase
+//! (relative gradient below [`NewtonParams::chord_below`]) a step reuses the last
+//! factorization: an old factor cuts the residual there nearly as well as a fresh one.
 
 use super::factor::{Cholesky, SymbolicFactor};
 use crate::rod::{ActiveSet, EnergyModel};
@@ -46,14 +45,16 @@ pub struct NewtonParams {
     /// examples a fresh factorization per step is faster: a rejected chord step costs an
     /// assembly, and warm-started solves need few steps (docs/benchmarks.md).
     pub chord_ratio: f64,
-    /// Within `floor_near` × the tolerance, take the step with the last factorization
-    /// instead of a fresh one ("chord" step, judged by the same line search and round-off
-    /// floor test as any step). There the step only has to reach the round-off floor: the
-    /// Hessian has moved by the last step's length, so the old factor's error on the residual
-    /// is far below round-off (arched shell: 1e-8 → 4e-10 either way), and a fresh
-    /// factorization would be spent on the step that finds the floor.
-    #[serde(default = "default_true")]
-    pub chord_near: bool,
+    /// Below this relative gradient `‖∇E‖ / ‖∇E(x_start)‖`, steps reuse the last
+    /// factorization instead of a fresh one ("chord" steps, judged by the same line search
+    /// and round-off floor test as any step); 0 never. Newton is then in its quadratic
+    /// phase: the Hessian has moved by the last step's length, so the old factor's error
+    /// shrinks the residual nearly as much as a fresh one (arched shell: 1e-6 → 1e-8 →
+    /// 4e-10 either way), and near the round-off floor a fresh factorization would be spent
+    /// on the step that finds the floor. Above `floor_near` × the tolerance, a chord step
+    /// that cuts `‖∇E‖` less than fourfold is followed by a fresh factorization.
+    #[serde(default = "default_chord_below")]
+    pub chord_below: f64,
     /// Conjugate-gradient iterations allowed per Newton system when an earlier factorization
     /// preconditions it; 0 (the default) always refactors. Off by default for the same
     /// reason: sixteen preconditioned iterations cost about as much as a factorization.
@@ -75,8 +76,8 @@ fn default_escape_doublings() -> usize {
     30
 }
 
-fn default_true() -> bool {
-    true
+fn default_chord_below() -> f64 {
+    1e-6
 }
 
 fn default_floor_near() -> f64 {
@@ -102,7 +103,7 @@ impl Default for NewtonParams {
             floor_max_rel: 1e-6,
             floor_near: default_floor_near(),
             chord_ratio: 0.0,
-            chord_near: true,
+            chord_below: default_chord_below(),
             krylov_iterations: default_krylov_iterations(),
             krylov_tol: default_krylov_tol(),
             escape_doublings: default_escape_doublings(),
@@ -117,6 +118,12 @@ impl NewtonParams {
             return Err(format!(
                 "Newton tolerance must lie in (0, 1), got {}",
                 self.rel_tol
+            ));
+        }
+        if !(self.chord_below >= 0.0 && self.chord_below < 1.0) {
+            return Err(format!(
+                "Newton's chord_below must lie in [0, 1), got {}",
+                self.chord_below
             ));
         }
         if !(self.floor_near >= 1.0 && self.floor_near.is_finite()) {
@@ -137,6 +144,10 @@ impl NewtonParams {
         Ok(())
     }
 }
+
+/// A chord step in the quadratic phase must cut `‖∇E‖` by this factor, or the next step
+/// factors afresh ([`NewtonParams::chord_below`]).
+const CHORD_CUT: f64 = 0.25;
 
 /// How a Newton solve stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -344,6 +355,8 @@ fn newton_loop(
     let mut fresh: Option<Cholesky> = initial;
     let mut stale: Option<Cholesky> = None;
     let mut last_projected = false;
+    // `‖∇E‖` before the last step if that was a chord step.
+    let mut last_chord: Option<f64> = None;
     loop {
         let g_norm = norm(&cur.grad);
         info.grad_end = g_norm;
@@ -377,15 +390,16 @@ fn newton_loop(
             return info;
         }
 
-        // Near the round-off floor the last factorization serves the step.
-        let mut chord_now = false;
-        if params.chord_near
-            && fresh.is_none()
-            && g_norm <= params.floor_near * params.rel_tol * g_ref
-        {
+        // In the quadratic phase the last factorization serves the step, unless the last
+        // chord step fell short of a fourfold cut above the round-off floor's reach.
+        let weak = last_chord.is_some_and(|g0| g_norm > CHORD_CUT * g0)
+            && g_norm > params.floor_near * params.rel_tol * g_ref;
+        let chord_now =
+            fresh.is_none() && !weak && stale.is_some() && g_norm <= params.chord_below * g_ref;
+        if chord_now {
             fresh = stale.take();
-            chord_now = fresh.is_some();
         }
+        last_chord = chord_now.then_some(g_norm);
         // A chord step with an earlier factorization, kept when it cuts the gradient enough.
         let mut krylov: Option<Cholesky> = None;
         if let Some(f) = stale.take().filter(|_| fresh.is_none()) {
@@ -496,7 +510,7 @@ fn newton_loop(
                 }
             }
         };
-        if params.chord_ratio > 0.0 || params.krylov_iterations > 0 || params.chord_near {
+        if params.chord_ratio > 0.0 || params.krylov_iterations > 0 || params.chord_below > 0.0 {
             stale = Some(f);
         }
         let gd: f64 = d.iter().zip(&cur.grad).map(|(a, b)| a * b).sum();
