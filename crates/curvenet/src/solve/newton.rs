@@ -51,8 +51,11 @@ pub struct NewtonParams {
     /// phase: the Hessian has moved by the last step's length, so the old factor's error
     /// shrinks the residual nearly as much as a fresh one (arched shell: 1e-6 → 1e-8 →
     /// 4e-10 either way), and near the round-off floor a fresh factorization would be spent
-    /// on the step that finds the floor. Above `floor_near` × the tolerance, a chord step
-    /// that cuts `‖∇E‖` less than fourfold is followed by a fresh factorization.
+    /// on the step that finds the floor. Only after a full step that cut `‖∇E‖`
+    /// sixteenfold (fourfold for a chord step): along a soft mode Newton's full steps do not,
+    /// and an old factor's steps wander there (the bunny's late relaxations). A chord step
+    /// that stalls declares the round-off floor only within `floor_near` × the tolerance;
+    /// farther away, and after a failed line search, the next step factors afresh.
     #[serde(default = "default_chord_below")]
     pub chord_below: f64,
     /// Conjugate-gradient iterations allowed per Newton system when an earlier factorization
@@ -357,6 +360,9 @@ fn newton_loop(
     let mut last_projected = false;
     // `‖∇E‖` before the last step if that was a chord step.
     let mut last_chord: Option<f64> = None;
+    let mut retry_fresh = false;
+    // `‖∇E‖` before the last step if it was a full one, and whether it was a chord step.
+    let mut full_step: Option<(f64, bool)> = None;
     loop {
         let g_norm = norm(&cur.grad);
         info.grad_end = g_norm;
@@ -370,8 +376,15 @@ fn newton_loop(
         if g_norm <= 0.5 * best_grad {
             best_grad = g_norm;
             stalled = 0;
-        } else if info.iterations > 0 && last_decrease <= 1e-12 * cur.energy.abs() {
+        } else if (last_chord.is_none() || g_norm <= params.floor_near * params.rel_tol * g_ref)
+            && info.iterations > 0
+            && last_decrease <= 1e-12 * cur.energy.abs()
+        {
             // The energy no longer moves and the gradient no longer halves: round-off floor.
+            // A chord step that stalls proves it only near the tolerance, after steps that
+            // showed Newton's quadratic convergence; farther away an old factor's step can
+            // crawl along a soft mode where a fresh one still moves, so the next step factors
+            // afresh.
             best_grad = best_grad.min(g_norm);
             stalled += 1;
             let near = g_norm <= params.floor_near * params.rel_tol * g_ref;
@@ -390,12 +403,23 @@ fn newton_loop(
             return info;
         }
 
-        // In the quadratic phase the last factorization serves the step, unless the last
-        // chord step fell short of a fourfold cut above the round-off floor's reach.
-        let weak = last_chord.is_some_and(|g0| g_norm > CHORD_CUT * g0)
-            && g_norm > params.floor_near * params.rel_tol * g_ref;
-        let chord_now =
-            fresh.is_none() && !weak && stale.is_some() && g_norm <= params.chord_below * g_ref;
+        // In the quadratic phase the last factorization serves the step: when the last full
+        // step cut `‖∇E‖` sixteenfold (a fresh factorization's) or fourfold (a chord step's).
+        // Along a soft mode full steps do not cut that much, and old factors' steps wander.
+        let quadratic = full_step.is_some_and(|(g0, chord)| {
+            let cut = if chord {
+                CHORD_CUT
+            } else {
+                CHORD_CUT * CHORD_CUT
+            };
+            g_norm <= cut * g0
+        });
+        let chord_now = fresh.is_none()
+            && quadratic
+            && !retry_fresh
+            && stale.is_some()
+            && g_norm <= params.chord_below * g_ref;
+        retry_fresh = false;
         if chord_now {
             fresh = stale.take();
         }
@@ -561,6 +585,12 @@ fn newton_loop(
             alpha *= 0.5;
         }
         match accepted {
+            None if chord_now => {
+                // The old factor's step found nothing: try a fresh factorization's.
+                retry_fresh = true;
+                last_chord = None;
+                full_step = None;
+            }
             None => {
                 // Nothing reduces energy or gradient: at the round-off floor if already close,
                 // otherwise a genuine failure.
@@ -573,6 +603,7 @@ fn newton_loop(
                 return info;
             }
             Some(pre) => {
+                full_step = (alpha == 1.0).then_some((g_norm, chord_now));
                 x.copy_from_slice(&trial);
                 info.iterations += 1;
                 *cur = pre.unwrap_or_else(|| model.assemble(x, active, true));
