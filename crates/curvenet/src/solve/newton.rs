@@ -360,8 +360,9 @@ fn newton_loop(
     let mut fresh: Option<Cholesky> = initial;
     let mut stale: Option<Cholesky> = None;
     let mut last_projected = false;
-    // `‖∇E‖` before the last step if that was a chord step.
-    let mut last_chord: Option<f64> = None;
+    // Whether the last step was a chord step, and whether a chord step's line search just
+    // failed (the step is retried with a fresh factorization).
+    let mut last_chord = false;
     let mut retry_fresh = false;
     // `‖∇E‖` before the last step if it was a full one, and whether it was a chord step.
     let mut full_step: Option<(f64, bool)> = None;
@@ -378,7 +379,8 @@ fn newton_loop(
         if g_norm <= 0.5 * best_grad {
             best_grad = g_norm;
             stalled = 0;
-        } else if (last_chord.is_none() || g_norm <= params.floor_near * params.rel_tol * g_ref)
+        } else if (!last_chord || g_norm <= params.floor_near * params.rel_tol * g_ref)
+            && !retry_fresh
             && info.iterations > 0
             && last_decrease <= 1e-12 * cur.energy.abs()
         {
@@ -425,7 +427,7 @@ fn newton_loop(
         if chord_now {
             fresh = stale.take();
         }
-        last_chord = chord_now.then_some(g_norm);
+        last_chord = chord_now;
         // A chord step with an earlier factorization, kept when it cuts the gradient enough.
         let mut krylov: Option<Cholesky> = None;
         if let Some(f) = stale.take().filter(|_| fresh.is_none()) {
@@ -590,7 +592,7 @@ fn newton_loop(
             None if chord_now => {
                 // The old factor's step found nothing: try a fresh factorization's.
                 retry_fresh = true;
-                last_chord = None;
+                last_chord = false;
                 full_step = None;
             }
             None => {
