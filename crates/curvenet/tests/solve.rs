@@ -338,17 +338,49 @@ fn reusing_a_reference_factor_is_bit_identical() {
     }
 }
 
+/// The paper example `name`'s network (clamped supports), if the reference data is there.
+fn paper_network(name: &str) -> Option<curvenet::network::Network> {
+    let ex = curvenet::paper::load(name, &data_dir()?, Supports::Clamped).expect("loads");
+    Some(
+        curvenet::network::build_network(&ex.curves, &ex.build)
+            .expect("builds")
+            .0,
+    )
+}
+
+/// Two relaxations of one structure end at the same equilibrium: energies within
+/// `energy_rel`, displacements within 1e-6 of their scale.
+fn assert_same_equilibrium(
+    (a, ua): (&curvenet::solve::NewtonInfo, &[f64]),
+    (b, ub): (&curvenet::solve::NewtonInfo, &[f64]),
+    energy_rel: f64,
+) {
+    assert!(
+        (a.energy - b.energy).abs() <= energy_rel * b.energy.abs(),
+        "energies {} and {}",
+        a.energy,
+        b.energy
+    );
+    let scale = ub.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let diff = ua
+        .iter()
+        .zip(ub)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()));
+    assert!(
+        diff <= 1e-6 * scale,
+        "displacements {diff:e} apart (scale {scale:e})"
+    );
+}
+
 /// Steps escaping a saddle are doubled while the energy falls (`NewtonParams::
 /// escape_doublings`): the kagome's first relaxation from its drawn state passes one, and
 /// with the doublings it reaches the same equilibrium (energy and displacements) in fewer
 /// factorizations.
 #[test]
 fn saddle_escapes_reach_the_same_equilibrium_sooner() {
-    let Some(data) = data_dir() else {
+    let Some(net) = paper_network("kagome") else {
         return;
     };
-    let ex = curvenet::paper::load("kagome", &data, Supports::Clamped).expect("kagome loads");
-    let (net, _) = curvenet::network::build_network(&ex.curves, &ex.build).expect("builds");
     let relax = |doublings: usize| {
         let mut params = StabilityParams::default();
         params.newton.escape_doublings = doublings;
@@ -371,21 +403,7 @@ fn saddle_escapes_reach_the_same_equilibrium_sooner() {
         escaping.factorizations,
         plain.factorizations
     );
-    assert!(
-        (escaping.energy - plain.energy).abs() <= 1e-10 * plain.energy.abs(),
-        "energies {} and {}",
-        escaping.energy,
-        plain.energy
-    );
-    let scale = u0.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let diff = u0
-        .iter()
-        .zip(&u1)
-        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-    assert!(
-        diff <= 1e-6 * scale,
-        "displacements {diff:e} apart (scale {scale:e})"
-    );
+    assert_same_equilibrium((&escaping, &u1), (&plain, &u0), 1e-10);
 }
 
 /// In Newton's quadratic phase the last factorization serves the step
@@ -395,11 +413,9 @@ fn saddle_escapes_reach_the_same_equilibrium_sooner() {
 /// factorizations.
 #[test]
 fn chord_steps_in_the_quadratic_phase_reach_the_same_equilibrium() {
-    let Some(data) = data_dir() else {
+    let Some(net) = paper_network("arcshell") else {
         return;
     };
-    let ex = curvenet::paper::load("arcshell", &data, Supports::Clamped).expect("loads");
-    let (net, _) = curvenet::network::build_network(&ex.curves, &ex.build).expect("builds");
     let relax = |chord_below: f64| {
         let mut params = StabilityParams::default();
         params.newton.chord_below = chord_below;
@@ -420,21 +436,7 @@ fn chord_steps_in_the_quadratic_phase_reach_the_same_equilibrium() {
         assert_eq!(p.chord_steps, 0, "{p:?}");
         chord_steps += c.chord_steps;
         assert!(c.factorizations < p.factorizations, "{c:?} against {p:?}");
-        assert!(
-            (c.energy - p.energy).abs() <= 1e-12 * p.energy.abs(),
-            "energies {} and {}",
-            c.energy,
-            p.energy
-        );
-        let scale = up.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let diff = up
-            .iter()
-            .zip(uc)
-            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-        assert!(
-            diff <= 1e-6 * scale,
-            "displacements differ by {diff:e} (scale {scale:e})"
-        );
+        assert_same_equilibrium((c, uc), (p, up), 1e-12);
     }
     assert!(chord_steps > 0, "no step used the last factorization");
 }
