@@ -588,6 +588,25 @@ fn newton_floor_near_below_one_is_an_error() {
     assert!(p.validate().is_ok());
 }
 
+#[test]
+fn newton_chord_below_outside_zero_one_and_an_empty_solve_group_are_errors() {
+    for bad in [-1e-6, 1.0, 2.0, f64::NAN, f64::INFINITY] {
+        let mut p = StabilityParams::default();
+        p.newton.chord_below = bad;
+        let e = p.validate().expect_err("rejected");
+        assert!(e.contains("chord_below"), "{e}");
+    }
+    for good in [0.0, 1e-6, 0.5] {
+        let mut p = StabilityParams::default();
+        p.newton.chord_below = good;
+        assert!(p.validate().is_ok(), "{good}");
+    }
+    let mut p = StabilityParams::default();
+    p.eigen.solve_group = 0;
+    let e = p.validate().expect_err("rejected");
+    assert!(e.contains("solve group"), "{e}");
+}
+
 /// `H_{A∖c}` from `H_A` (`EnergyModel::hessian_without`: a copy with only the removed curve's
 /// entries summed again) is bit-identical to the whole assembly of `A ∖ c`, at a deformed
 /// state, for every curve of the whole dome and of dome structures that already lack curves

@@ -69,8 +69,8 @@ impl Default for EigenParams {
 impl EigenParams {
     /// Checks the parameters.
     pub fn validate(&self) -> Result<(), String> {
-        if self.count == 0 || self.block_size == 0 {
-            return Err("eigen count and block size must be at least 1".into());
+        if self.count == 0 || self.block_size == 0 || self.solve_group == 0 {
+            return Err("eigen count, block size and solve group must be at least 1".into());
         }
         if self.max_basis < self.count + 2 * self.block_size {
             return Err(format!(
