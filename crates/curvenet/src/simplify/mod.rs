@@ -190,9 +190,9 @@ impl<'a> Scorer<'a> {
     /// Computes `k` modes in every `λ_eq` spectrum (for the candidates' bounds).
     pub fn with_modes(mut self, k: usize) -> Self {
         self.eval_eigen.count = k.max(1);
-        // Blocks as wide as the solver's column groups: every solve call is a full group.
+        // Blocks of up to a solver's column group; the spectrum runs while a core is idle, so
+        // its block's columns are solved side by side, one per pass over the factor.
         self.eval_eigen.block_size = crate::solve::factor::SOLVE_GROUP.min(k.max(1));
-        // The spectrum runs while a core is idle: its block's columns are solved side by side.
         self.eval_eigen.solve_group = 1;
         self.eval_eigen.max_basis = self
             .eval_eigen
