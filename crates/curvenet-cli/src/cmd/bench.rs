@@ -3,7 +3,9 @@
 //! Each example runs in this process with a fresh profile and peak-memory mark; the table
 //! gives counts (curves, degrees of freedom, iterations, candidate solves done and skipped,
 //! factorizations) and times (relax, assemble, factor, eigen; summed over threads) next to the
-//! wall time and the reference implementation's time on this kind of machine.
+//! wall time, the process's CPU time over the same span (`cpu s`, every thread; divided by
+//! the thread count it is the least wall time the same work could take) and the reference
+//! implementation's time on this kind of machine.
 
 use crate::args::BenchArgs;
 use crate::exit::usage;
@@ -43,6 +45,8 @@ struct Row {
     eigen_s: f64,
     bound_s: f64,
     wall_s: f64,
+    /// CPU time of the process during the run (every thread, rayon's waiting included).
+    cpu_s: Option<f64>,
     peak_mib: Option<f64>,
     reference_s: Option<f64>,
     removed_first: Vec<usize>,
@@ -82,7 +86,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
     );
     curvenet::solve::factor::set_subtree_parallel(!a.no_subtrees);
     println!(
-        "{:<9} {:>6} {:>6} {:>5} {:>5} {:>6} {:>6} {:>6} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}",
+        "{:<9} {:>6} {:>6} {:>5} {:>5} {:>6} {:>6} {:>6} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}",
         "example",
         "curves",
         "dofs",
@@ -98,6 +102,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         "eigen s",
         "bound s",
         "wall s",
+        "cpu s",
         "peak MiB",
         "ref/ours"
     );
@@ -138,6 +143,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         }
         profile::reset_peak_memory();
         profile::reset();
+        let cpu_start = profile::cpu_seconds();
         let start = Instant::now();
         let outcome = pool.install(|| -> anyhow::Result<_> {
             let (network, _) = build_network(&ex.curves, &ex.build)?;
@@ -146,6 +152,9 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
             Ok((greedy(&analyzer, &params, None, &mut NoHooks)?, dofs))
         })?;
         let wall = start.elapsed().as_secs_f64();
+        let cpu = profile::cpu_seconds()
+            .zip(cpu_start)
+            .map(|(end, start)| ((end - start) * 100.0).round() / 100.0);
         let (o, dofs) = outcome;
         let p = profile::snapshot();
         let t = &o.timings;
@@ -167,6 +176,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
             eigen_s: p.eigen.seconds,
             bound_s: p.bound.seconds,
             wall_s: wall,
+            cpu_s: cpu,
             peak_mib: profile::peak_memory().map(|b| b as f64 / (1024.0 * 1024.0)),
             reference_s: reference_seconds(name),
             removed_first: o
@@ -178,7 +188,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
             final_lambda: last.lambda,
         };
         println!(
-            "{:<9} {:>6} {:>6} {:>5} {:>5} {:>6} {:>6} {:>6} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8} {:>8}",
+            "{:<9} {:>6} {:>6} {:>5} {:>5} {:>6} {:>6} {:>6} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8} {:>8} {:>8}",
             row.example,
             format!("{}→{}", row.curves, row.kept),
             row.dofs,
@@ -194,6 +204,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
             row.eigen_s,
             row.bound_s,
             row.wall_s,
+            row.cpu_s.map_or("?".into(), |c| format!("{c:.2}")),
             row.peak_mib.map_or("?".into(), |m| format!("{m:.0}")),
             row.reference_s
                 .map_or("-".into(), |r| format!("{:.0}×", r / row.wall_s)),

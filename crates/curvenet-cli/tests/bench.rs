@@ -1,0 +1,70 @@
+//! `curvenet bench` on one paper example: the table's columns and its `--json` rows, whose
+//! times must be consistent with each other (the CPU time against the wall time and the
+//! thread count).
+
+use std::path::PathBuf;
+use std::process::Command;
+
+/// The binary under test.
+const BIN: &str = env!("CARGO_BIN_EXE_curvenet");
+
+/// The reference data folder beside the repository, or `None` (with a message) when absent.
+fn data_dir() -> Option<PathBuf> {
+    let cands = [
+        PathBuf::from("/work/shared/reference-data"),
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/reference-data"),
+    ];
+    let found = cands.into_iter().find(|p| p.join("meshes").is_dir());
+    if found.is_none() {
+        eprintln!("reference data not found: skipping");
+    }
+    found
+}
+
+#[test]
+fn the_bench_row_reports_wall_and_cpu_time_consistently() {
+    let Some(data) = data_dir() else { return };
+    let out = Command::new(BIN)
+        .args(["bench", "--examples", "tower", "--threads", "2", "--json"])
+        .arg("--data")
+        .arg(&data)
+        .output()
+        .expect("run curvenet bench");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "bench failed: {stdout}\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let header = stdout
+        .lines()
+        .find(|l| l.starts_with("example"))
+        .expect("a header line");
+    for column in ["wall s", "cpu s", "peak MiB", "facts"] {
+        assert!(header.contains(column), "no `{column}` in {header:?}");
+    }
+    let row: serde_json::Value = stdout
+        .lines()
+        .find(|l| l.starts_with('{'))
+        .map(|l| serde_json::from_str(l).expect("a JSON row"))
+        .expect("a --json row");
+    assert_eq!(row["example"], "tower");
+    assert_eq!(row["curves"], 33);
+    let wall = row["wall_s"].as_f64().expect("wall_s");
+    let cpu = row["cpu_s"].as_f64().expect("cpu_s (Linux /proc)");
+    assert!(wall > 0.0);
+    // A core busy for a good part of the run (the work is all computation; a quarter leaves
+    // room for a loaded machine), at most two threads' worth plus the counters' 10 ms
+    // resolution.
+    assert!(
+        cpu >= 0.25 * wall,
+        "cpu {cpu} s for a wall time of {wall} s"
+    );
+    assert!(
+        cpu <= 2.0 * wall + 0.05,
+        "cpu {cpu} s exceeds two threads over {wall} s"
+    );
+    // The greedy's phases ran: its factorization counter and phase times are filled in.
+    assert!(row["factorizations"].as_u64().is_some_and(|f| f > 0));
+    assert!(row["factor_s"].as_f64().is_some_and(|t| t > 0.0));
+}
