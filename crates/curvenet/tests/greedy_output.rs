@@ -242,6 +242,10 @@ impl GreedyHooks for CancelAfter<'_> {
     fn cancelled(&self) -> bool {
         self.seen >= self.after || self.writer.cancelled()
     }
+
+    fn flush(&mut self) -> Result<(), String> {
+        self.writer.flush()
+    }
 }
 
 #[test]
@@ -417,4 +421,34 @@ fn output_folder_holds_the_contracted_files() {
         "output folder: {n_it} iterations, {} keys in result.json",
         all.len()
     );
+}
+
+#[test]
+fn a_file_that_cannot_be_written_stops_the_run_with_its_name() {
+    // The files are written in the background (`io::BackgroundWriter`): a failure must still
+    // reach the greedy, name the file, and keep `result.json` from recording the iteration.
+    let s = dome_scene();
+    let dir = TempDir::new("unwritable");
+    let budget = s.params.budget.length(s.setup.total_length);
+    let mut w = OutputWriter::create(dir.path(), s.analyzer.network(), s.setup.clone(), budget)
+        .expect("output folder");
+    // `iterations` becomes a file: no curve file can be made inside it.
+    let iterations = dir.path().join("iterations");
+    std::fs::remove_dir_all(&iterations).expect("remove iterations/");
+    std::fs::write(&iterations, b"in the way").expect("a file in its place");
+    let r = greedy(&s.analyzer, &s.params, None, &mut w);
+    match r {
+        Err(SimplifyError::Hook(msg)) => {
+            assert!(msg.contains("iterations/0000.obj"), "{msg}");
+        }
+        other => panic!(
+            "expected the failed write as an error, got {:?}",
+            other.map(|g| g.stop)
+        ),
+    }
+    drop(w);
+    // The states written before the failure are there; nothing after it.
+    assert!(dir.path().join("states/0000.bin").is_file());
+    let recorded = ResultFile::read(dir.path()).expect("result.json");
+    assert!(recorded.iterations.is_empty() && !recorded.complete);
 }

@@ -23,6 +23,7 @@
 //! are not exactly equal are kept untouched. Writers emit numbers in Rust's shortest round-trip
 //! form, so writing and reading again gives bit-identical coordinates.
 
+mod background;
 mod checks;
 mod json;
 mod obj_curves;
@@ -30,6 +31,7 @@ mod obj_lexer;
 mod obj_mesh;
 mod reference;
 
+pub use background::BackgroundWriter;
 pub use json::{curves_to_json, parse_json_curves};
 pub use obj_curves::{curves_to_obj, parse_obj_polylines};
 pub use obj_mesh::{mesh_to_obj, parse_obj_mesh};

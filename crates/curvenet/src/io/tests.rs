@@ -251,6 +251,48 @@ fn write_atomic_keeps_permissions() {
 }
 
 #[test]
+fn background_writes_land_in_order_and_flush_waits_for_them() {
+    let dir = temp_dir("background");
+    let w = BackgroundWriter::new().unwrap();
+    // Many writes to one file, then one to another: the last submitted content wins.
+    for i in 0..100 {
+        w.submit(dir.join("counter.txt"), format!("{i}").into_bytes())
+            .unwrap();
+    }
+    let big = vec![7u8; 3 << 20];
+    w.submit(dir.join("big.bin"), big.clone()).unwrap();
+    w.flush().unwrap();
+    assert_eq!(fs::read(dir.join("counter.txt")).unwrap(), b"99");
+    assert_eq!(fs::read(dir.join("big.bin")).unwrap(), big);
+    // Dropping the writer writes what is still queued.
+    w.submit(dir.join("last.txt"), b"queued".to_vec()).unwrap();
+    drop(w);
+    assert_eq!(fs::read(dir.join("last.txt")).unwrap(), b"queued");
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_failed_background_write_is_reported_and_stops_later_ones() {
+    let dir = temp_dir("background-fail");
+    let w = BackgroundWriter::new().unwrap();
+    w.submit(dir.join("first.txt"), b"1".to_vec()).unwrap();
+    // A folder that does not exist: the temporary file cannot be made.
+    w.submit(dir.join("missing/second.txt"), b"2".to_vec())
+        .unwrap();
+    w.submit(dir.join("third.txt"), b"3".to_vec()).unwrap();
+    let err = w.flush().unwrap_err();
+    assert!(err.contains("missing/second.txt"), "{err}");
+    // Reported again by the next submission; nothing after the failure was written.
+    let again = w.submit(dir.join("fourth.txt"), b"4".to_vec()).unwrap_err();
+    assert_eq!(again, err);
+    drop(w);
+    assert_eq!(fs::read(dir.join("first.txt")).unwrap(), b"1");
+    assert!(!dir.join("third.txt").exists());
+    assert!(!dir.join("fourth.txt").exists());
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn write_atomic_failures_leave_nothing_behind() {
     let dir = temp_dir("atomic-fail");
     // The target is a non-empty directory: the rename fails.

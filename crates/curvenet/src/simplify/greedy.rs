@@ -213,6 +213,11 @@ pub trait GreedyHooks: Sync {
     fn cancelled(&self) -> bool {
         false
     }
+    /// Called once before the greedy returns, whatever its outcome: hooks that save in the
+    /// background finish their writes (an error here fails a run that otherwise succeeded).
+    fn flush(&mut self) -> Result<(), String> {
+        Ok(())
+    }
 }
 
 /// Hooks that do nothing.
@@ -240,8 +245,24 @@ pub struct ResumePoint {
     pub carried: Carried,
 }
 
-/// Runs the greedy on `analyzer`'s network.
+/// Runs the greedy on `analyzer`'s network. Returns once `hooks` have flushed
+/// ([`GreedyHooks::flush`]), also when the run stopped early.
 pub fn greedy(
+    analyzer: &Analyzer,
+    params: &GreedyParams,
+    resume: Option<ResumePoint>,
+    hooks: &mut dyn GreedyHooks,
+) -> Result<GreedyOutcome, SimplifyError> {
+    let outcome = run(analyzer, params, resume, hooks);
+    let flushed = hooks.flush().map_err(SimplifyError::Hook);
+    // The run's own error first: a failed write that stopped it is reported as such.
+    let outcome = outcome?;
+    flushed?;
+    Ok(outcome)
+}
+
+/// The greedy's loop ([`greedy`] without the final flush).
+fn run(
     analyzer: &Analyzer,
     params: &GreedyParams,
     resume: Option<ResumePoint>,

@@ -259,15 +259,26 @@ pub fn network_polylines(network: &Network, curves: &[usize], u: Option<&[f64]>)
         .collect()
 }
 
+/// The output folder's writer thread.
+fn background() -> Result<io::BackgroundWriter, String> {
+    io::BackgroundWriter::new().map_err(|e| format!("cannot start the output writer thread: {e}"))
+}
+
 fn io_err(path: &Path, e: std::io::Error) -> String {
     format!("{}: {e}", path.display())
 }
 
 /// Writes a run's folder as the greedy goes (a [`GreedyHooks`]).
+///
+/// The files are written on a background thread ([`io::BackgroundWriter`]), in the order the
+/// run produces them, while the greedy computes the next iteration; [`Self::flush`] (called
+/// by the greedy before it returns, [`GreedyHooks::flush`]) and [`Self::finish`] wait for
+/// them, and dropping the writer writes whatever is still queued.
 pub struct OutputWriter<'a> {
     dir: PathBuf,
     network: &'a Network,
     result: ResultFile,
+    files: io::BackgroundWriter,
     cancel: Option<&'a std::sync::atomic::AtomicBool>,
     /// Called after each iteration (e.g. to move a progress bar).
     progress: Option<&'a (dyn Fn(&IterationRecord) + Sync)>,
@@ -312,6 +323,7 @@ impl<'a> OutputWriter<'a> {
             dir: dir.to_path_buf(),
             network,
             result,
+            files: background()?,
             cancel: None,
             progress: None,
         };
@@ -370,6 +382,7 @@ impl<'a> OutputWriter<'a> {
                 dir: dir.to_path_buf(),
                 network,
                 result,
+                files: background()?,
                 cancel: None,
                 progress: None,
             },
@@ -379,7 +392,7 @@ impl<'a> OutputWriter<'a> {
 
     /// Writes the surface mesh (scene units) as `mesh.obj`, for viewers and pictures.
     pub fn write_mesh(&self, mesh: &crate::io::TriMesh) -> Result<(), String> {
-        self.write("mesh.obj", io::mesh_to_obj(mesh).as_bytes())
+        self.write("mesh.obj", io::mesh_to_obj(mesh))
     }
 
     /// Polls `flag` for cancellation.
@@ -400,15 +413,20 @@ impl<'a> OutputWriter<'a> {
     }
 
     fn write_result(&self) -> Result<(), String> {
-        let path = self.dir.join("result.json");
         let mut text = serde_json::to_vec_pretty(&self.result).map_err(|e| e.to_string())?;
         text.push(b'\n');
-        io::write_atomic(&path, &text).map_err(|e| io_err(&path, e))
+        self.write("result.json", text)
     }
 
-    fn write(&self, rel: &str, bytes: &[u8]) -> Result<(), String> {
-        let path = self.dir.join(rel);
-        io::write_atomic(&path, bytes).map_err(|e| io_err(&path, e))
+    /// Queues `bytes` for the file `rel` of the folder (written atomically, in order).
+    fn write(&self, rel: &str, bytes: impl Into<Vec<u8>>) -> Result<(), String> {
+        self.files.submit(self.dir.join(rel), bytes.into())
+    }
+
+    /// Waits until every file submitted so far is written; an error names the first file
+    /// that could not be.
+    pub fn flush(&self) -> Result<(), String> {
+        self.files.flush()
     }
 
     /// Sets the certificate of the final network (written by [`Self::finish`]).
@@ -438,14 +456,16 @@ impl<'a> OutputWriter<'a> {
             lambda: last.lambda,
         });
         self.write_result()?;
+        self.flush()?;
         let k = outcome.iterations.len() - 1;
         let u = read_f64_file(&self.dir.join(format!("states/{k:04}.bin")))?;
         let obj = io::curves_to_obj(&network_polylines(self.network, &last.curves, Some(&u)));
-        self.write("final.obj", obj.as_bytes())?;
+        self.write("final.obj", obj)?;
         let mut t = serde_json::to_vec_pretty(timings).map_err(|e| e.to_string())?;
         t.push(b'\n');
-        self.write("timings.json", &t)?;
-        self.write("summary.txt", summary(&self.result).as_bytes())?;
+        self.write("timings.json", t)?;
+        self.write("summary.txt", summary(&self.result))?;
+        self.flush()?;
         // Only a resume needs it.
         let carried = self.dir.join(CARRIED_FILE);
         if carried.exists() {
@@ -519,14 +539,14 @@ impl GreedyHooks for OutputWriter<'_> {
     fn carried(&mut self, carried: &Carried) -> Result<(), String> {
         // Handed on by the iteration about to be recorded as number `len`.
         let k = self.result.iterations.len();
-        self.write(CARRIED_FILE, &carried_bytes(k, carried))
+        self.write(CARRIED_FILE, carried_bytes(k, carried))
     }
 
     fn iteration(&mut self, record: &IterationRecord, eval: &Evaluation) -> Result<(), String> {
         let k = self.result.iterations.len();
         self.write(
             &format!("modes/{k:04}.bin"),
-            &f64_bytes(
+            f64_bytes(
                 &eval
                     .spectrum
                     .vectors
@@ -536,27 +556,28 @@ impl GreedyHooks for OutputWriter<'_> {
                     .collect::<Vec<_>>(),
             ),
         )?;
-        self.write(
-            &format!("states/{k:04}.bin"),
-            &f64_bytes(&eval.displacement),
-        )?;
+        self.write(&format!("states/{k:04}.bin"), f64_bytes(&eval.displacement))?;
         let v = &eval.spectrum.vectors;
         let all: Vec<f64> = (0..v.ncols())
             .flat_map(|j| v.col(j).iter().copied().collect::<Vec<_>>())
             .collect();
-        self.write(&format!("states/{k:04}.modes.bin"), &f64_bytes(&all))?;
+        self.write(&format!("states/{k:04}.modes.bin"), f64_bytes(&all))?;
         let obj = io::curves_to_obj(&network_polylines(
             self.network,
             &record.curves,
             Some(&eval.displacement),
         ));
-        self.write(&format!("iterations/{k:04}.obj"), obj.as_bytes())?;
+        self.write(&format!("iterations/{k:04}.obj"), obj)?;
         self.result.iterations.push(record.clone());
         self.write_result()?;
         if let Some(p) = self.progress {
             p(record);
         }
         Ok(())
+    }
+
+    fn flush(&mut self) -> Result<(), String> {
+        OutputWriter::flush(self)
     }
 
     fn cancelled(&self) -> bool {
