@@ -127,6 +127,16 @@ pub struct Warm<'a> {
     pub lambda: Option<f64>,
 }
 
+/// Factors storing more values than this solve a candidate's Lanczos block one column per
+/// core instead of in one pass. Far beyond the caches, a pass for two columns costs nearly
+/// two one-column passes, while two one-column solves side by side cost little more than
+/// one (the bunny's factor, 10 M values: 20.8 ms in one pass, 12.1 ms side by side, 14.7 ms
+/// for one column); smaller factors stay in cache and one pass is cheaper (roof, 0.3 M
+/// values: 0.88 against 1.07 ms; tower, hill, tent 1–6% slower side by side, kagome, 2.6 M,
+/// even). A function of the structure's size only, so the grouping, and with it every
+/// result, never depends on the threads.
+pub const LARGE_FACTOR_VALUES: usize = 4_000_000;
+
 /// The spectrum's shift, as a fraction of [`Warm::lambda`].
 const SPECTRUM_SHIFT: f64 = 0.9;
 
@@ -402,8 +412,23 @@ impl<'a> Scorer<'a> {
             &h,
             symbolic,
             warm.as_ref().map(|w| w.as_ref()),
-            &self.candidate_eigen,
+            &self.candidate_params(symbolic),
         )?)
+    }
+
+    /// The candidates' eigen parameters for factors of `symbolic`: one column per solve group
+    /// on large factors ([`LARGE_FACTOR_VALUES`]).
+    fn candidate_params(
+        &self,
+        symbolic: &crate::solve::SymbolicFactor,
+    ) -> std::borrow::Cow<'_, EigenParams> {
+        if symbolic.factor_nnz() > LARGE_FACTOR_VALUES {
+            let mut p = self.candidate_eigen.clone();
+            p.solve_group = 1;
+            std::borrow::Cow::Owned(p)
+        } else {
+            std::borrow::Cow::Borrowed(&self.candidate_eigen)
+        }
     }
 
     /// [`Self::lambda_fixed`] shifted about `sigma`, given `h`, the Hessian of `active` at
@@ -435,7 +460,7 @@ impl<'a> Scorer<'a> {
             h,
             symbolic,
             warm,
-            &self.candidate_eigen,
+            &self.candidate_params(symbolic),
             sigma,
             reuse,
         )?)
