@@ -2,28 +2,18 @@
 //! times must be consistent with each other (the CPU time against the wall time and the
 //! thread count).
 
-use std::path::PathBuf;
 use std::process::Command;
 
 /// The binary under test.
 const BIN: &str = env!("CARGO_BIN_EXE_curvenet");
 
-/// The reference data folder beside the repository, or `None` (with a message) when absent.
-fn data_dir() -> Option<PathBuf> {
-    let cands = [
-        PathBuf::from("/work/shared/reference-data"),
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/reference-data"),
-    ];
-    let found = cands.into_iter().find(|p| p.join("meshes").is_dir());
-    if found.is_none() {
-        eprintln!("reference data not found: skipping");
-    }
-    found
-}
-
 #[test]
 fn the_bench_row_reports_wall_and_cpu_time_consistently() {
-    let Some(data) = data_dir() else { return };
+    // The reference data beside the repository (the test's folder, upwards).
+    let Some(data) = curvenet::paper::default_data_dir() else {
+        eprintln!("reference data not found: skipping");
+        return;
+    };
     let out = Command::new(BIN)
         .args(["bench", "--examples", "tower", "--threads", "2", "--json"])
         .arg("--data")
