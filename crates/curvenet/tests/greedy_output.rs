@@ -452,3 +452,51 @@ fn a_file_that_cannot_be_written_stops_the_run_with_its_name() {
     let recorded = ResultFile::read(dir.path()).expect("result.json");
     assert!(recorded.iterations.is_empty() && !recorded.complete);
 }
+
+#[test]
+fn a_damaged_carried_vectors_file_is_a_warning_on_resume_and_the_removals_stay() {
+    let s = arches_scene();
+    let full = TempDir::new("carried-full");
+    let g_full = full_run(&s, full.path());
+    let removals = |g: &GreedyOutcome| g.iterations.iter().map(|i| i.removed).collect::<Vec<_>>();
+    let budget = s.params.budget.length(s.setup.total_length);
+    // Damaged (cut in half), and absent: only the first is worth a warning.
+    for damage in [true, false] {
+        let dir = TempDir::new(&format!("carried-{damage}"));
+        let writer =
+            OutputWriter::create(dir.path(), s.analyzer.network(), s.setup.clone(), budget)
+                .expect("output folder");
+        let mut hooks = CancelAfter {
+            writer,
+            after: 2,
+            seen: 0,
+        };
+        let r = greedy(&s.analyzer, &s.params, None, &mut hooks);
+        assert!(matches!(r, Err(SimplifyError::Cancelled)));
+        drop(hooks);
+        let carried = dir.path().join("states/carried.bin");
+        let bytes = std::fs::read(&carried).expect("the run saved its carried vectors");
+        if damage {
+            std::fs::write(&carried, &bytes[..bytes.len() / 2]).unwrap();
+        } else {
+            std::fs::remove_file(&carried).unwrap();
+        }
+        let (mut writer, point) = OutputWriter::resume(dir.path(), s.analyzer.network(), &s.setup)
+            .expect("a damaged side file does not stop a resume");
+        let point = point.expect("a point to resume from");
+        assert!(point.carried.is_empty());
+        if damage {
+            assert_eq!(writer.warnings().len(), 1, "{:?}", writer.warnings());
+            let w = &writer.warnings()[0];
+            assert!(
+                w.contains("states/carried.bin") && w.contains("damaged"),
+                "{w}"
+            );
+        } else {
+            assert!(writer.warnings().is_empty(), "{:?}", writer.warnings());
+        }
+        let g = greedy(&s.analyzer, &s.params, Some(point), &mut writer).expect("resumed greedy");
+        writer.finish(&g, &timings_json(&g)).expect("finish");
+        assert_eq!(removals(&g), removals(&g_full), "damaged = {damage}");
+    }
+}

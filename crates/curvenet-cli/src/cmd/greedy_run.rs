@@ -104,6 +104,7 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     let net = analyzer.network();
     let (writer, resume_point) = if job.resume && job.out.join("result.json").is_file() {
         let (w, p) = OutputWriter::resume(&job.out, net, &setup).map_err(usage)?;
+        print_warnings(w.warnings());
         if p.is_none() && w.result().complete {
             eprintln!("{}: the run is already complete", job.out.display());
             print!("{}", summary(w.result()));

@@ -279,6 +279,8 @@ pub struct OutputWriter<'a> {
     network: &'a Network,
     result: ResultFile,
     files: io::BackgroundWriter,
+    /// What a resume found that the run can go on without ([`Self::warnings`]).
+    warnings: Vec<String>,
     cancel: Option<&'a std::sync::atomic::AtomicBool>,
     /// Called after each iteration (e.g. to move a progress bar).
     progress: Option<&'a (dyn Fn(&IterationRecord) + Sync)>,
@@ -324,6 +326,7 @@ impl<'a> OutputWriter<'a> {
             network,
             result,
             files: background()?,
+            warnings: Vec::new(),
             cancel: None,
             progress: None,
         };
@@ -339,6 +342,7 @@ impl<'a> OutputWriter<'a> {
         setup: &RunSetup,
     ) -> Result<(Self, Option<ResumePoint>), String> {
         let result = ResultFile::read(dir)?;
+        let mut warnings = Vec::new();
         if &result.setup != setup {
             return Err(format!(
                 "{}: the recorded run was made with a different set-up; use another --out or drop --resume",
@@ -355,14 +359,7 @@ impl<'a> OutputWriter<'a> {
                     return Err(format!("states/{k:04}.bin does not match the network"));
                 }
                 let modes = faer::Mat::from_fn(n, modes.len() / n, |i, j| modes[j * n + i]);
-                // The carried vectors, if they belong to the last recorded iteration (a run
-                // stopped between writing them and its record has newer ones: unused).
-                let carried = std::fs::read(dir.join(CARRIED_FILE))
-                    .ok()
-                    .and_then(|b| carried_from_bytes(&b, network.rods.len(), n))
-                    .filter(|(iteration, _)| *iteration == k)
-                    .map(|(_, c)| c)
-                    .unwrap_or_default();
+                let carried = read_carried(dir, network.rods.len(), n, k, &mut warnings);
                 Some(ResumePoint {
                     iterations: result.iterations.clone(),
                     displacement,
@@ -383,6 +380,7 @@ impl<'a> OutputWriter<'a> {
                 network,
                 result,
                 files: background()?,
+                warnings,
                 cancel: None,
                 progress: None,
             },
@@ -405,6 +403,12 @@ impl<'a> OutputWriter<'a> {
     pub fn with_progress(mut self, f: &'a (dyn Fn(&IterationRecord) + Sync)) -> Self {
         self.progress = Some(f);
         self
+    }
+
+    /// What [`Self::resume`] found that the run can go on without (a damaged or stale
+    /// carried-vectors file); empty for a new run.
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
     }
 
     /// The result so far.
@@ -477,6 +481,52 @@ impl<'a> OutputWriter<'a> {
 
 /// The carried test vectors' file (see [`carried_bytes`]).
 const CARRIED_FILE: &str = "states/carried.bin";
+
+/// The carried test vectors to resume after iteration `k` with: those of `CARRIED_FILE` if
+/// they belong to iteration `k`, else none. Absent (a run without them) or newer (a run
+/// stopped between writing them and its record) is normal; unreadable, damaged or older is
+/// a warning: the run goes on with the same removals, its bounds start afresh, so its
+/// `result.json` will differ from an uninterrupted run's in the recorded bounds.
+fn read_carried(
+    dir: &Path,
+    curves: usize,
+    dofs: usize,
+    k: usize,
+    warnings: &mut Vec<String>,
+) -> Carried {
+    let path = dir.join(CARRIED_FILE);
+    let consequence = "the run goes on without the carried test vectors (the same removals; \
+                       the recorded bounds will differ from an uninterrupted run's)";
+    let bytes = match std::fs::read(&path) {
+        Ok(b) => b,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Vec::new(),
+        Err(e) => {
+            warnings.push(format!("{}: {e}; {consequence}", path.display()));
+            return Vec::new();
+        }
+    };
+    match carried_from_bytes(&bytes, curves, dofs) {
+        Some((iteration, carried)) if iteration == k => carried,
+        Some((iteration, _)) if iteration > k => Vec::new(),
+        Some((iteration, _)) => {
+            warnings.push(format!(
+                "{}: holds the vectors of iteration {iteration}, not of the last recorded one \
+                 ({k}); {consequence}",
+                path.display()
+            ));
+            Vec::new()
+        }
+        None => {
+            warnings.push(format!(
+                "{}: damaged ({} bytes, not the vectors of {curves} curves with {dofs} \
+                 unknowns); {consequence}",
+                path.display(),
+                bytes.len()
+            ));
+            Vec::new()
+        }
+    }
+}
 
 /// `carried.bin`: the index of the iteration that handed the vectors on (u64), the curve count
 /// (u64), then per curve a flag byte (1: a vector follows) and, with a vector, its value
