@@ -248,6 +248,25 @@ impl GreedyHooks for CancelAfter<'_> {
     }
 }
 
+/// A run into `dir` whose hooks cancel it after `after` iterations; checks that it reports the
+/// cancellation. The folder is flushed and the writer dropped when it returns.
+fn cancelled_run(s: &Scene, dir: &Path, after: usize) {
+    let budget = s.params.budget.length(s.setup.total_length);
+    let writer = OutputWriter::create(dir, s.analyzer.network(), s.setup.clone(), budget)
+        .expect("output folder");
+    let mut hooks = CancelAfter {
+        writer,
+        after,
+        seen: 0,
+    };
+    let r = greedy(&s.analyzer, &s.params, None, &mut hooks);
+    assert!(
+        matches!(r, Err(SimplifyError::Cancelled)),
+        "after = {after}: expected a cancelled run, got {:?}",
+        r.map(|g| g.stop)
+    );
+}
+
 #[test]
 fn resumed_run_writes_the_same_result_as_an_uninterrupted_one() {
     let s = arches_scene();
@@ -267,23 +286,9 @@ fn resumed_run_writes_the_same_result_as_an_uninterrupted_one() {
         .filter(|c| c.extended_bound.is_some())
         .count();
     assert!(extended > 0, "the run used no carried vector");
-    let budget = s.params.budget.length(s.setup.total_length);
     for k in [1, 3] {
         let dir = TempDir::new(&format!("resume{k}"));
-        let writer =
-            OutputWriter::create(dir.path(), s.analyzer.network(), s.setup.clone(), budget)
-                .expect("output folder");
-        let mut hooks = CancelAfter {
-            writer,
-            after: k,
-            seen: 0,
-        };
-        let r = greedy(&s.analyzer, &s.params, None, &mut hooks);
-        assert!(
-            matches!(r, Err(SimplifyError::Cancelled)),
-            "k = {k}: expected a cancelled run, got {:?}",
-            r.map(|g| g.stop)
-        );
+        cancelled_run(&s, dir.path(), k);
         // The interrupted folder: k iterations, incomplete.
         let partial = ResultFile::read(dir.path()).expect("partial result.json");
         assert!(!partial.complete && partial.stop.is_none() && partial.final_network.is_none());
@@ -459,21 +464,10 @@ fn a_damaged_carried_vectors_file_is_a_warning_on_resume_and_the_removals_stay()
     let full = TempDir::new("carried-full");
     let g_full = full_run(&s, full.path());
     let removals = |g: &GreedyOutcome| g.iterations.iter().map(|i| i.removed).collect::<Vec<_>>();
-    let budget = s.params.budget.length(s.setup.total_length);
     // Damaged (cut in half), and absent: only the first is worth a warning.
     for damage in [true, false] {
         let dir = TempDir::new(&format!("carried-{damage}"));
-        let writer =
-            OutputWriter::create(dir.path(), s.analyzer.network(), s.setup.clone(), budget)
-                .expect("output folder");
-        let mut hooks = CancelAfter {
-            writer,
-            after: 2,
-            seen: 0,
-        };
-        let r = greedy(&s.analyzer, &s.params, None, &mut hooks);
-        assert!(matches!(r, Err(SimplifyError::Cancelled)));
-        drop(hooks);
+        cancelled_run(&s, dir.path(), 2);
         let carried = dir.path().join("states/carried.bin");
         let bytes = std::fs::read(&carried).expect("the run saved its carried vectors");
         if damage {
