@@ -607,6 +607,21 @@ fn newton_chord_below_outside_zero_one_and_an_empty_solve_group_are_errors() {
     assert!(e.contains("solve group"), "{e}");
 }
 
+#[test]
+fn an_eigen_trailing_tolerance_outside_zero_to_a_hundredth_is_an_error() {
+    for bad in [0.0, -1e-4, 1e-2, f64::NAN, f64::INFINITY] {
+        let mut p = StabilityParams::default();
+        p.eigen.trailing_tol = Some(bad);
+        let e = p.validate().expect_err("rejected");
+        assert!(e.contains("trailing tolerance"), "{e}");
+    }
+    for good in [None, Some(1e-4), Some(1e-12)] {
+        let mut p = StabilityParams::default();
+        p.eigen.trailing_tol = good;
+        assert!(p.validate().is_ok(), "{good:?}");
+    }
+}
+
 /// `H_{A∖c}` from `H_A` (`EnergyModel::hessian_without`: a copy with only the removed curve's
 /// entries summed again) is bit-identical to the whole assembly of `A ∖ c`, at a deformed
 /// state, for every curve of the whole dome and of dome structures that already lack curves

@@ -140,6 +140,18 @@ pub const LARGE_FACTOR_VALUES: usize = 4_000_000;
 /// The spectrum's shift, as a fraction of [`Warm::lambda`].
 const SPECTRUM_SHIFT: f64 = 0.9;
 
+/// Residual tolerance of the lowest pair of the greedy's spectra (at least; see
+/// [`Scorer::with_modes`]). Its value `λ_eq` comes out accurate to about the square of it
+/// over the relative gap to the next eigenvalue (1e-12 / gap), below what fixes the
+/// equilibrium itself: a benign change of Newton's path (another factorization handed to
+/// its first step) moves the arched shell's and the shell's `λ_eq` by up to 3e-6 relative.
+pub const SPECTRUM_TOL: f64 = 1e-6;
+
+/// Residual tolerance of the greedy spectra's other pairs: their vectors only span the
+/// candidates' bound subspace and the next spectrum's start (any subspace gives valid
+/// bounds), their values stay accurate to about 1e-8 / gap.
+pub const SPECTRUM_TRAILING_TOL: f64 = 1e-4;
+
 /// Counts of the expensive operations, for benchmarks.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Work {
@@ -197,9 +209,14 @@ impl<'a> Scorer<'a> {
         }
     }
 
-    /// Computes `k` modes in every `λ_eq` spectrum (for the candidates' bounds).
+    /// Computes `k` modes in every `λ_eq` spectrum (for the candidates' bounds), the lowest
+    /// to [`SPECTRUM_TOL`], the others to [`SPECTRUM_TRAILING_TOL`] (or the analyzer's
+    /// tolerance where looser): the greedy's records need `λ_eq`, its search a subspace. The
+    /// roof's spectra took 26 solves each to 1e-10, 16 with these.
     pub fn with_modes(mut self, k: usize) -> Self {
         self.eval_eigen.count = k.max(1);
+        self.eval_eigen.tol = self.eval_eigen.tol.max(SPECTRUM_TOL);
+        self.eval_eigen.trailing_tol = Some(SPECTRUM_TRAILING_TOL.max(self.eval_eigen.tol));
         // Blocks of up to a solver's column group; the spectrum runs while a core is idle, so
         // its block's columns are solved side by side, one per pass over the factor.
         self.eval_eigen.block_size = crate::solve::factor::SOLVE_GROUP.min(k.max(1));

@@ -29,6 +29,13 @@ pub struct EigenParams {
     pub max_basis: usize,
     /// Relative residual tolerance of the inverted operator.
     pub tol: f64,
+    /// The residual tolerance of the pairs after the first, when only the first needs `tol`
+    /// (never below it); `None`: `tol` for every pair. A Ritz value's error is about the
+    /// square of its residual over the gap to the next eigenvalue, so the later pairs'
+    /// values stay accurate to about `trailing_tol²` while their vectors, which serve as a
+    /// subspace (the candidates' bounds, the next solve's start), cost fewer solves.
+    #[serde(default)]
+    pub trailing_tol: Option<f64>,
     /// Restart cap.
     pub max_restarts: usize,
     /// `C` in the zero-mode threshold `C·ε·‖H‖₁`. SPEC §5 suggests 10–100, but the shell's
@@ -57,6 +64,7 @@ impl Default for EigenParams {
             block_size: 3,
             max_basis: 60,
             tol: 1e-10,
+            trailing_tol: None,
             max_restarts: 60,
             zero_factor: 5.0,
             shift_factor: 10.0,
@@ -82,6 +90,11 @@ impl EigenParams {
             return Err(format!(
                 "eigen tolerance must lie in (0, 1e-2), got {}",
                 self.tol
+            ));
+        }
+        if let Some(t) = self.trailing_tol.filter(|t| !(*t > 0.0 && *t < 1e-2)) {
+            return Err(format!(
+                "eigen trailing tolerance must lie in (0, 1e-2), got {t}"
             ));
         }
         if !(self.zero_factor > 0.0 && self.shift_factor > 0.0) {
@@ -362,6 +375,7 @@ fn finish(
         block_size: params.block_size.min(n),
         max_basis: params.max_basis.min(n.max(1)),
         tol: params.tol,
+        trailing_tol: params.trailing_tol,
         max_restarts: params.max_restarts,
         seed: params.seed,
     };
@@ -379,7 +393,7 @@ fn finish(
         Err(LanczosError::NotConverged(partial)) => {
             let requested = partial.values.len();
             let message = LanczosError::NotConverged(partial.clone()).to_string();
-            let p = converged_prefix(*partial, params.tol);
+            let p = converged_prefix(*partial, |j| lanczos.tolerance(j));
             if p.values.is_empty() {
                 return Err(EigenError::NotConverged(message));
             }
@@ -432,9 +446,10 @@ fn finish(
     ))
 }
 
-/// The leading pairs of a run that did not converge whose residuals meet the tolerance
-/// (`tol` times the largest `|μ|`, the solver's own test); the rest are dropped.
-fn converged_prefix(mut pairs: EigenPairs, tol: f64) -> EigenPairs {
+/// The leading pairs of a run that did not converge whose residuals meet their tolerance
+/// (`tol(j)` times the largest `|μ|` for pair `j`, the solver's own test); the rest are
+/// dropped.
+fn converged_prefix(mut pairs: EigenPairs, tol: impl Fn(usize) -> f64) -> EigenPairs {
     let scale = pairs
         .values
         .iter()
@@ -443,7 +458,8 @@ fn converged_prefix(mut pairs: EigenPairs, tol: f64) -> EigenPairs {
         .info
         .residuals
         .iter()
-        .take_while(|&&r| r <= tol * scale)
+        .enumerate()
+        .take_while(|&(j, &r)| r <= tol(j) * scale)
         .count()
         .min(pairs.values.len());
     pairs.values.truncate(k);
@@ -471,12 +487,24 @@ mod tests {
         };
         // The third pair misses the tolerance (1e-10 × 4): the fourth, though converged,
         // is not kept, since a missing pair before it may hide a smaller λ.
-        let p = converged_prefix(pairs(vec![1e-14, 3e-10, 1e-6, 1e-14]), 1e-10);
+        let p = converged_prefix(pairs(vec![1e-14, 3e-10, 1e-6, 1e-14]), |_| 1e-10);
         assert_eq!(p.values, vec![4.0, 3.0]);
         assert_eq!((p.vectors.nrows(), p.vectors.ncols()), (n, 2));
         assert_eq!(p.vectors[(1, 1)], 1.0);
+        // A looser tolerance for the pairs after the first keeps the third too.
+        let p = converged_prefix(pairs(vec![1e-14, 3e-10, 1e-6, 1e-3]), |j| {
+            if j == 0 { 1e-10 } else { 1e-6 }
+        });
+        assert_eq!(p.values, vec![4.0, 3.0, 2.0]);
+        let p = converged_prefix(pairs(vec![1e-9, 1e-14, 1e-14, 1e-14]), |j| {
+            if j == 0 { 1e-10 } else { 1e-6 }
+        });
+        assert!(
+            p.values.is_empty(),
+            "the first pair keeps its own tolerance"
+        );
         // Nothing converged: nothing kept (the caller reports an error).
-        let p = converged_prefix(pairs(vec![1e-6, 1e-14, 1e-14, 1e-14]), 1e-10);
+        let p = converged_prefix(pairs(vec![1e-6, 1e-14, 1e-14, 1e-14]), |_| 1e-10);
         assert!(p.values.is_empty() && p.vectors.ncols() == 0);
     }
 

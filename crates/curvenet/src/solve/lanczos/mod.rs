@@ -57,9 +57,13 @@ pub struct BlockLanczosParams {
     /// stored on top of these. Default 60.
     pub max_basis: usize,
     /// Convergence tolerance: every wanted pair must satisfy
-    /// `‖Op·y − μ·y‖ ≤ tol·|μ_max|`, with `μ_max` the Ritz value of largest magnitude.
+    /// `‖Op·y − μ·y‖ ≤ tol·|μ_max|`, with `μ_max` the Ritz value of largest magnitude
+    /// (the pairs after the first: see [`Self::trailing_tol`]).
     /// Must be positive and finite. Default `1e-10`.
     pub tol: f64,
+    /// The tolerance of the wanted pairs after the first, when they need less accuracy than
+    /// the first (never below `tol`); `None`: `tol` for every pair. Default `None`.
+    pub trailing_tol: Option<f64>,
     /// Maximum number of thick restarts before giving up with
     /// [`LanczosError::NotConverged`]. Default 50.
     pub max_restarts: usize,
@@ -74,6 +78,7 @@ impl Default for BlockLanczosParams {
             block_size: 3,
             max_basis: 60,
             tol: 1e-10,
+            trailing_tol: None,
             max_restarts: 50,
             seed: 0,
         }
@@ -81,6 +86,14 @@ impl Default for BlockLanczosParams {
 }
 
 impl BlockLanczosParams {
+    /// The tolerance of wanted pair `j` (0: the first).
+    pub fn tolerance(&self, j: usize) -> f64 {
+        match self.trailing_tol {
+            Some(t) if j > 0 => t.max(self.tol),
+            _ => self.tol,
+        }
+    }
+
     /// Checks the parameters for an operator of dimension `n`.
     ///
     /// Requires `n ≥ 1`, `1 ≤ nev ≤ n`, `block_size ≥ 1`, a positive finite `tol`, and
@@ -111,6 +124,9 @@ impl BlockLanczosParams {
         }
         if !(self.tol.is_finite() && self.tol > 0.0) {
             return fail(format!("tol = {} must be positive and finite", self.tol));
+        }
+        if let Some(t) = self.trailing_tol.filter(|t| !(t.is_finite() && *t > 0.0)) {
+            return fail(format!("trailing_tol = {t} must be positive and finite"));
         }
         Ok(())
     }
@@ -514,8 +530,9 @@ impl<'p, F: FnMut(MatRef<'_, f64>, MatMut<'_, f64>)> Solver<'p, F> {
                 .theta
                 .iter()
                 .fold(f64::MIN_POSITIVE, |acc, t| acc.max(t.abs()));
-            let threshold = self.params.tol * scale;
-            let converged = ritz.res[..nev].iter().filter(|&&r| r <= threshold).count();
+            let converged = (0..nev)
+                .filter(|&j| ritz.res[j] <= self.params.tolerance(j) * scale)
+                .count();
             // p == 0: the basis spans an invariant subspace (the whole space for n ≤
             // max_basis), so T is exact.
             if converged == nev || self.p == 0 {

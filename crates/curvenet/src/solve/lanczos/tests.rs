@@ -246,6 +246,20 @@ fn invalid_params_are_errors() {
             },
             100,
         ),
+        (
+            BlockLanczosParams {
+                trailing_tol: Some(f64::NAN),
+                ..ok.clone()
+            },
+            100,
+        ),
+        (
+            BlockLanczosParams {
+                trailing_tol: Some(0.0),
+                ..ok.clone()
+            },
+            100,
+        ),
         (ok.clone(), 0),
     ];
     for (p, n) in bad {
@@ -274,6 +288,60 @@ fn invalid_params_are_errors() {
     let w = Mat::<f64>::zeros(9, 2);
     let r = largest_eigenpairs(10, |_, _| {}, Some(w.as_ref()), &params(1, 1));
     assert!(matches!(r, Err(LanczosError::InvalidParams(_))));
+}
+
+/// A looser tolerance for the pairs after the first: the first pair still meets `tol`, the
+/// others their own, in fewer operator applications; the values stay accurate to about the
+/// square of the residual.
+#[test]
+fn the_pairs_after_the_first_can_have_a_looser_tolerance() {
+    let n = 300;
+    let (mut diag, mut off) = (Vec::new(), Vec::new());
+    push_laplacian(&mut diag, &mut off, n, 1.0);
+    let a = tridiagonal(&diag, &off);
+    let exact: Vec<f64> = (1..=3)
+        .map(|k| 1.0 / laplacian_eigenvalue(n, k, 1.0))
+        .collect();
+    let all = BlockLanczosParams {
+        nev: 3,
+        block_size: 2,
+        max_basis: 40,
+        tol: 1e-10,
+        ..Default::default()
+    };
+    let lead = BlockLanczosParams {
+        trailing_tol: Some(1e-4),
+        ..all.clone()
+    };
+    assert_eq!((lead.tolerance(0), lead.tolerance(2)), (1e-10, 1e-4));
+    // Never tighter than `tol`.
+    let odd = BlockLanczosParams {
+        trailing_tol: Some(1e-12),
+        ..all.clone()
+    };
+    assert_eq!(odd.tolerance(1), 1e-10);
+    let full = largest_eigenpairs(n, inverse_op(&a), None, &all).unwrap();
+    let part = largest_eigenpairs(n, inverse_op(&a), None, &lead).unwrap();
+    assert!(
+        part.info.applications < full.info.applications,
+        "{} against {}",
+        part.info.applications,
+        full.info.applications
+    );
+    let scale = part.values[0].abs();
+    assert!(part.info.residuals[0] <= 1e-10 * scale);
+    for j in 1..3 {
+        assert!(part.info.residuals[j] <= 1e-4 * scale);
+    }
+    assert!((part.values[0] - exact[0]).abs() <= 1e-12 * exact[0]);
+    for j in 0..3 {
+        assert!(
+            (part.values[j] - exact[j]).abs() <= 1e-6 * exact[j],
+            "pair {j}: {} against {}",
+            part.values[j],
+            exact[j]
+        );
+    }
 }
 
 #[test]
