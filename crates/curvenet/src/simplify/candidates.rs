@@ -383,20 +383,21 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
         self.carried.get(c).is_some_and(Option::is_some)
     }
 
-    /// Records how many solves `A`'s spectrum took: the first candidate's eigen solve costs about
-    /// as many, which sets how many bounds are refined beside it.
+    /// Records how many solves `A`'s spectrum took: the first candidate's eigen solve costs
+    /// about [`FIRST_SCORE_COST`] times as many, which sets how many bounds are refined beside
+    /// it.
     pub fn with_spectrum_solves(mut self, solves: usize) -> Self {
         self.spectrum_solves = solves;
         self
     }
 
     /// How many candidates' bounds to refine while the first candidate is scored: its eigen
-    /// solve takes about as many solves as `A`'s spectrum, and refining a candidate's bound
-    /// costs about two (half a call of four columns and a product with `H_A`; the
-    /// factorization takes about four more). Roof: 26 solves per spectrum, 9 candidates;
-    /// arched shell and shell: 15, 3; tower: 8, none beyond the usual batch.
+    /// solve takes about [`FIRST_SCORE_COST`] times the solves of `A`'s spectrum, and refining
+    /// a candidate's bound costs about two (half a call of four columns and a product with
+    /// `H_A`; the factorization takes about four more). Roof: 16 solves per spectrum, 8
+    /// candidates; arched shell 9, 3; shell 8, 2; tower 6, 1.
     fn first_ahead(&self) -> usize {
-        (self.spectrum_solves / 2)
+        ((self.spectrum_solves as f64 * FIRST_SCORE_COST) as usize / 2)
             .saturating_sub(4)
             .min(FIRST_AHEAD)
     }
@@ -1392,6 +1393,12 @@ const REFINE_AHEAD: usize = 2;
 /// At most this many candidates' bounds are refined while the first candidate of an
 /// iteration is scored (see [`Search::step`]).
 const FIRST_AHEAD: usize = 10;
+
+/// A first score's solves per solve of `A`'s spectrum: the score converges its pair to a
+/// residual of 1e-8, the spectrum its lowest to 1e-6 ([`crate::simplify::SPECTRUM_TOL`]);
+/// measured when both converged to 1e-10 and 1e-8, 26 and about as many on the roof, the
+/// spectrum now takes 16 (arched shell 15 → 9, shell 15 → 8, tower 8 → 6).
+const FIRST_SCORE_COST: f64 = 1.6;
 
 /// Candidates refined while the first one is scored have a plain bound above this share of
 /// its bound: scores sit at 0.84–1 of their refined bound, so lower ones are likely pruned by
