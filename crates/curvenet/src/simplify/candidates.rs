@@ -1395,9 +1395,9 @@ const REFINE_AHEAD: usize = 2;
 const FIRST_AHEAD: usize = 10;
 
 /// A first score's solves per solve of `A`'s spectrum: the score converges its pair to a
-/// residual of 1e-8, the spectrum its lowest to 1e-6 ([`crate::simplify::SPECTRUM_TOL`]);
-/// measured when both converged to 1e-10 and 1e-8, 26 and about as many on the roof, the
-/// spectrum now takes 16 (arched shell 15 → 9, shell 15 → 8, tower 8 → 6).
+/// residual of 1e-8, the spectrum its lowest to 1e-6 ([`crate::simplify::SPECTRUM_TOL`]).
+/// When the spectrum converged to 1e-10 it took about as many solves as a first score (roof
+/// 26); now it takes 16 (arched shell 15 → 9, shell 15 → 8, tower 8 → 6).
 const FIRST_SCORE_COST: f64 = 1.6;
 
 /// Candidates refined while the first one is scored have a plain bound above this share of
