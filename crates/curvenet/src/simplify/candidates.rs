@@ -42,6 +42,8 @@ pub struct PruneParams {
     /// score minus the tie tolerance: a failed factorization proves the candidate cannot win
     /// (Sylvester's inertia) without any eigen solve, and a successful one is the
     /// shift-and-invert operator of its eigen solve, close to `λ` (faster convergence).
+    /// A best score inside the zero-mode band (round-off) is tested at the band's lower edge
+    /// instead, and a candidate that passes there is scored about zero.
     pub inertia: bool,
     /// The first candidate of an iteration (nothing known yet to shift about) is scored
     /// about `first_shift` × its refined bound when the Cholesky of `H − σI` there succeeds
