@@ -930,11 +930,6 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
         reference: Option<&Cholesky>,
     ) -> Result<bool, StabilityError> {
         let h = self.candidate_hessian(c);
-        if h.iter().any(|v| !v.is_finite()) {
-            return Err(StabilityError::Eigen(
-                crate::solve::eigen::EigenError::NoShift(f64::NAN),
-            ));
-        }
         let model = self.scorer.analyzer().model();
         self.factorizations.fetch_add(1, Ordering::Relaxed);
         let factor = match reference {
@@ -948,6 +943,13 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
             ),
             None => Cholesky::factorize(&self.symbolic, model.pattern(), &h, -sigma),
         };
+        // A matrix with NaN or infinity fails too: that is an error, not a proof (checked only
+        // then, as the eigen solver does).
+        if factor.is_err() && h.iter().any(|v| !v.is_finite()) {
+            return Err(StabilityError::Eigen(
+                crate::solve::eigen::EigenError::NoShift(f64::NAN),
+            ));
+        }
         Ok(factor.is_err())
     }
 
@@ -1161,17 +1163,6 @@ impl Search<'_, '_, '_> {
         if (self.cancelled)() {
             return Outcome::Failed("cancelled".into());
         }
-        if let Some(sigma) = sigma.filter(|_| test_only) {
-            let reference = match &self.reference {
-                Some((s, Some(f))) if s.to_bits() == sigma.to_bits() => Some(f),
-                _ => None,
-            };
-            match self.ctx.proves_below(c, sigma, reference) {
-                Ok(true) => return Outcome::Below(sigma),
-                Ok(false) => return self.evaluate(c, None, None, false),
-                Err(e) => return Outcome::Failed(e.to_string()),
-            }
-        }
         if let Some(shift) = sigma.or(guess) {
             // A factorization of `H_A − σI` about the same shift to copy from: the inertia
             // tests' reference, or the preconditioner for a first guess at its shift.
@@ -1184,6 +1175,13 @@ impl Search<'_, '_, '_> {
                     .as_deref()
                     .filter(|f| (-f.shift).to_bits() == shift.to_bits()),
             };
+            if test_only && sigma.is_some() {
+                return match self.ctx.proves_below(c, shift, reference) {
+                    Ok(true) => Outcome::Below(shift),
+                    Ok(false) => self.evaluate(c, None, None, false),
+                    Err(e) => Outcome::Failed(e.to_string()),
+                };
+            }
             return match self.ctx.score_above(c, shift, reference) {
                 Ok(Some((sp, _))) => Outcome::Scored {
                     score: sp.lambda(),
