@@ -932,17 +932,13 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
         let h = self.candidate_hessian(c);
         let model = self.scorer.analyzer().model();
         self.factorizations.fetch_add(1, Ordering::Relaxed);
-        let factor = match reference {
-            Some(f) => Cholesky::factorize_reusing(
-                &self.symbolic,
-                model.pattern(),
-                &h,
-                -sigma,
-                f,
-                &self.curve_coordinates(c),
-            ),
-            None => Cholesky::factorize(&self.symbolic, model.pattern(), &h, -sigma),
-        };
+        let changed = reference.map(|_| self.curve_coordinates(c));
+        let reuse = reference.zip(changed.as_deref()).map(|(f, changed)| Reuse {
+            reference: f,
+            changed,
+        });
+        let factor =
+            Cholesky::factorize_maybe_reusing(&self.symbolic, model.pattern(), &h, -sigma, reuse);
         // A matrix with NaN or infinity fails too: that is an error, not a proof (checked only
         // then, as the eigen solver does).
         if factor.is_err() && h.iter().any(|v| !v.is_finite()) {

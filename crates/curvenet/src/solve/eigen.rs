@@ -311,12 +311,7 @@ pub fn smallest_eigenpairs_above_with(
             "the shift must be finite, got {sigma:e}"
         )));
     }
-    let factor = match reuse {
-        Some(r) => {
-            Cholesky::factorize_reusing(symbolic, pattern, values, -sigma, r.reference, r.changed)
-        }
-        None => Cholesky::factorize(symbolic, pattern, values, -sigma),
-    };
+    let factor = Cholesky::factorize_maybe_reusing(symbolic, pattern, values, -sigma, reuse);
     let Ok(factor) = factor else {
         // A matrix with NaN or infinity fails too: that is an error, not an answer.
         if values.iter().any(|v| !v.is_finite()) {

@@ -391,6 +391,22 @@ impl Cholesky {
         Self::factorize_impl(symbolic, pattern, values, shift, false)
     }
 
+    /// [`Cholesky::factorize_reusing`] when `reuse` is given, else [`Cholesky::factorize`].
+    pub fn factorize_maybe_reusing(
+        symbolic: &Arc<SymbolicFactor>,
+        pattern: &Pattern,
+        values: &[f64],
+        shift: f64,
+        reuse: Option<Reuse<'_>>,
+    ) -> Result<Cholesky, NotPositiveDefinite> {
+        match reuse {
+            Some(r) => {
+                Self::factorize_reusing(symbolic, pattern, values, shift, r.reference, r.changed)
+            }
+            None => Self::factorize(symbolic, pattern, values, shift),
+        }
+    }
+
     /// [`Cholesky::factorize`] of a matrix that differs from the one `reference` factors
     /// only in entries whose row and column both lie in `changed` (coordinates of the whole
     /// pattern), with the same analysis and shift: the supernodes the difference cannot
