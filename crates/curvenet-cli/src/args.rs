@@ -173,7 +173,8 @@ pub struct BenchArgs {
     /// Factor afresh for every Newton step, also in its quadratic phase (`chord_below` = 0).
     #[arg(long = "no-quadratic-chord")]
     pub no_quadratic_chord: bool,
-    /// Factor with faer's sequential numeric factorization instead of the subtree-parallel one.
+    /// Factor, and solve Newton's systems, with faer's sequential supernodal code instead of the
+    /// subtree-parallel one.
     #[arg(long = "no-subtrees")]
     pub no_subtrees: bool,
     /// Score each iteration's first candidate about zero (not about a shift below its bound).

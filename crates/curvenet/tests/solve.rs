@@ -440,3 +440,55 @@ fn chord_steps_in_the_quadratic_phase_reach_the_same_equilibrium() {
     }
     assert!(chord_steps > 0, "no step used the last factorization");
 }
+
+/// The subtree-parallel substitution (`Cholesky::solve_in_place_subtrees`, `solve::supernodal`)
+/// is bit-identical to faer's sequential one (`solve_in_place_grouped` with one group), for
+/// one, two and four columns, in pools of one and two threads, on a network big enough for a parallel schedule and on a small one (one
+/// sequential task).
+#[test]
+fn subtree_parallel_solves_match_faer_bit_for_bit() {
+    for (seed, h) in [(11, 0.5), (3, 20.0)] {
+        let (a, hess) = drawn_hessian(seed, h);
+        let model = a.model();
+        let n = model.dofs();
+        if seed == 11 {
+            assert!(a.symbolic().parallel_subtrees() >= 4, "a parallel schedule");
+        }
+        let pattern = model.pattern();
+        let s = pattern.sym_norm1(&hess);
+        let f = Cholesky::factorize(a.symbolic(), pattern, &hess, s).expect("positive definite");
+        let rhs =
+            faer::Mat::<f64>::from_fn(n, 4, |i, j| ((i * 7919 + j * 131) % 101) as f64 - 50.0);
+        let bits = |m: &faer::Mat<f64>| -> Vec<u64> {
+            (0..m.ncols())
+                .flat_map(|j| (0..m.nrows()).map(move |i| (i, j)))
+                .map(|(i, j)| m[(i, j)].to_bits())
+                .collect()
+        };
+        for k in [1, 2, 4] {
+            let rhs = rhs.subcols(0, k).to_owned();
+            let mut reference = rhs.clone();
+            f.solve_in_place_grouped(reference.as_mut(), k);
+            for threads in [1, 2] {
+                let mut x = rhs.clone();
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .expect("pool")
+                    .install(|| f.solve_in_place_subtrees(x.as_mut()));
+                assert_eq!(
+                    bits(&x),
+                    bits(&reference),
+                    "seed {seed}, {k} columns, {threads} threads"
+                );
+            }
+        }
+        // `solve_vec` is the one-column case.
+        let mut v: Vec<f64> = (0..n).map(|i| rhs[(i, 0)]).collect();
+        f.solve_vec(&mut v);
+        let mut reference = rhs.subcols(0, 1).to_owned();
+        f.solve_in_place_grouped(reference.as_mut(), 1);
+        let v_bits: Vec<u64> = v.iter().map(|x| x.to_bits()).collect();
+        assert_eq!(v_bits, bits(&reference), "seed {seed}, solve_vec");
+    }
+}

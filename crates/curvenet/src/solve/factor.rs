@@ -123,9 +123,11 @@ impl SymbolicFactor {
 
 static SUBTREE_PARALLEL: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(true);
 
-/// Switches the subtree-parallel numeric factorization (`solve::supernodal`) on (the
-/// default) or off (faer's sequential supernodal factorization), for the whole process: a
-/// benchmark switch. Both give the same factor up to round-off; each is deterministic.
+/// Switches the subtree-parallel numeric factorization and substitution
+/// ([`Cholesky::solve_in_place_subtrees`], `solve::supernodal`) on (the default) or off
+/// (faer's sequential supernodal factorization and substitution), for the whole process: a
+/// benchmark switch. Both give the same factor up to round-off, and the same substitution bit
+/// for bit; each is deterministic.
 pub fn set_subtree_parallel(on: bool) {
     SUBTREE_PARALLEL.store(on, std::sync::atomic::Ordering::Relaxed);
 }
@@ -561,25 +563,40 @@ impl Cholesky {
     }
 
     /// [`Self::solve_in_place`] in fixed groups of `group` columns (at least 1) run in
-    /// parallel: one column per group when the caller leaves a core idle (arched shell: a
-    /// two-column solve 1.27 ms, a one-column one 0.86 ms, and two groups side by side cost
-    /// little more than one), a few when every core is busy with other solves (one pass over
-    /// the factor serves the group). A column's values depend on the grouping, never on the thread count.
+    /// parallel, each group by one sequential substitution: one column per group when the
+    /// caller leaves a core idle (arched shell: a two-column solve 1.27 ms, a one-column one
+    /// 0.86 ms, and two groups side by side cost little more than one), a few when every core
+    /// is busy with other solves (one pass over the factor serves the group). A column's
+    /// values depend on the grouping, never on the thread count.
     pub fn solve_in_place_grouped(&self, rhs: MatMut<'_, f64>, group: usize) {
         crate::profile::time(crate::profile::Phase::Solve, || {
-            self.solve_impl(rhs, group.max(1))
+            self.solve_impl(rhs, group.max(1), false)
         })
     }
 
-    fn solve_impl(&self, rhs: MatMut<'_, f64>, group: usize) {
+    /// Solves `(H + τI) X = B` in place for all the columns of `rhs` in one substitution
+    /// whose independent subtrees run in parallel (`solve::supernodal`; sequential when the
+    /// analysis has no parallel schedule or [`set_subtree_parallel`] is off): for callers
+    /// that leave the cores idle, such as Newton's steps (arched shell: 0.60 ms on two
+    /// threads for one column, 0.78 ms sequential). Bit-identical to
+    /// [`Self::solve_in_place_grouped`] with one group of all the columns; where the cores are
+    /// busy with other work, its deferred updates make it about 10% slower than that.
+    pub fn solve_in_place_subtrees(&self, rhs: MatMut<'_, f64>) {
+        crate::profile::time(crate::profile::Phase::Solve, || {
+            let k = rhs.ncols().max(1);
+            self.solve_impl(rhs, k, subtree_parallel())
+        })
+    }
+
+    fn solve_impl(&self, rhs: MatMut<'_, f64>, group: usize, tree: bool) {
         let Some(r) = &self.symbolic.restriction else {
-            self.solve_kept(rhs, group);
+            self.solve_kept(rhs, group, tree);
             return;
         };
         assert_eq!(rhs.nrows(), r.n_full, "right-hand side of the full size");
         let mut rhs = rhs;
         let mut sub = Mat::<f64>::from_fn(r.dofs.len(), rhs.ncols(), |i, j| rhs[(r.dofs[i], j)]);
-        self.solve_kept(sub.as_mut(), group);
+        self.solve_kept(sub.as_mut(), group, tree);
         for j in 0..rhs.ncols() {
             for (i, &d) in r.dofs.iter().enumerate() {
                 rhs[(d, j)] = sub[(i, j)];
@@ -591,13 +608,13 @@ impl Cholesky {
     }
 
     /// Solves on the coordinates the factor covers.
-    fn solve_kept(&self, rhs: MatMut<'_, f64>, group: usize) {
+    fn solve_kept(&self, rhs: MatMut<'_, f64>, group: usize, tree: bool) {
         // Columns are solved in fixed groups of `group`, in parallel when threads are
         // free. faer's result for a column depends on which columns share its call, so the
         // grouping is fixed (never by thread count) to keep results bit-identical.
         let k = rhs.ncols();
         if k <= group {
-            self.solve_group(rhs);
+            self.solve_group(rhs, tree);
             return;
         }
         let mut groups = Vec::with_capacity(k.div_ceil(group));
@@ -609,11 +626,30 @@ impl Cholesky {
         }
         groups.push(rest);
         use rayon::prelude::*;
-        groups.into_par_iter().for_each(|g| self.solve_group(g));
+        groups
+            .into_par_iter()
+            .for_each(|g| self.solve_group(g, tree));
     }
 
-    fn solve_group(&self, rhs: MatMut<'_, f64>) {
+    fn solve_group(&self, mut rhs: MatMut<'_, f64>, tree: bool) {
         let sym = &self.symbolic.inner;
+        if let Some(plan) = self.symbolic.plan.as_ref().filter(|_| tree) {
+            // The subtree-parallel substitution: bit-identical to faer's below.
+            match sym.perm() {
+                Some(perm) => {
+                    let (fwd, inv) = perm.arrays();
+                    let mut x = Mat::from_fn(rhs.nrows(), rhs.ncols(), |i, j| rhs[(fwd[i], j)]);
+                    plan.solve_in_place(&self.values, x.as_mut());
+                    for j in 0..rhs.ncols() {
+                        for (i, &p) in inv.iter().enumerate() {
+                            rhs[(i, j)] = x[(p, j)];
+                        }
+                    }
+                }
+                None => plan.solve_in_place(&self.values, rhs),
+            }
+            return;
+        }
         let mut mem = MemBuffer::new(sym.solve_in_place_scratch::<f64>(rhs.ncols(), Par::Seq));
         LltRef::new(sym, &self.values).solve_in_place_with_conj(
             Conj::No,
@@ -623,10 +659,11 @@ impl Cholesky {
         );
     }
 
-    /// Solves for one right-hand side given as a slice.
+    /// Solves for one right-hand side given as a slice, by
+    /// [`Self::solve_in_place_subtrees`].
     pub fn solve_vec(&self, rhs: &mut [f64]) {
         let n = rhs.len();
         let m = faer::MatMut::from_column_major_slice_mut(rhs, n, 1);
-        self.solve_in_place(m);
+        self.solve_in_place_subtrees(m);
     }
 }
