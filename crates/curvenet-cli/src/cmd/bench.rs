@@ -66,7 +66,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
     println!(
         "curvenet bench: {threads} thread(s); pruning {}, inertia test {}, chord steps everywhere {}, \
          chord steps in Newton's quadratic phase {}, Krylov steps {}, warm starts {}, restricted factorizations {}, subtree-parallel \
-         factorizations {}, early round-off floor {}, first score about a shift {}, inertia \
+         factorizations and Newton's substitutions {}, early round-off floor {}, first score about a shift {}, inertia \
          tests copying a reference {}, saddle escapes {}, refinement beside the first score {}, \
          test vectors carried between iterations {}",
         on(!a.no_prune),
