@@ -335,6 +335,13 @@ impl SymbolicFactor {
         self.plan.as_ref().map_or(0, Plan::parallel_tasks)
     }
 
+    /// Independent subtrees Newton's triangular substitutions run in parallel
+    /// ([`Cholesky::solve_in_place_subtrees`]; 1: sequential; 0: faer's substitution, for
+    /// simplicial analyses).
+    pub fn parallel_solve_subtrees(&self) -> usize {
+        self.plan.as_ref().map_or(0, Plan::parallel_solve_tasks)
+    }
+
     /// Number of stored values in the factor `L`.
     pub fn factor_nnz(&self) -> usize {
         self.inner.len_val()

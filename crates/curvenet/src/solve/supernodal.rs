@@ -72,6 +72,14 @@ enum Task {
 }
 
 impl Task {
+    /// The sequential parts of the schedule (1 if it has no fork).
+    fn sequential_parts(&self) -> usize {
+        match self {
+            Task::Seq(_) => 1,
+            Task::Fork { parts, .. } => parts.iter().map(Task::sequential_parts).sum(),
+        }
+    }
+
     /// The supernodes the task covers (a contiguous range in postorder).
     fn range(&self) -> Range<usize> {
         match self {
@@ -301,13 +309,12 @@ impl Plan {
 
     /// Number of tasks that may run in parallel (sequential parts of forks), 1 if none.
     pub(crate) fn parallel_tasks(&self) -> usize {
-        fn count(t: &Task) -> usize {
-            match t {
-                Task::Seq(_) => 1,
-                Task::Fork { parts, .. } => parts.iter().map(count).sum(),
-            }
-        }
-        count(&self.root)
+        self.root.sequential_parts()
+    }
+
+    /// [`Plan::parallel_tasks`] of the substitutions' schedule.
+    pub(crate) fn parallel_solve_tasks(&self) -> usize {
+        self.solve_root.sequential_parts()
     }
 
     /// The supernodes whose values change when the matrix changes only in entries whose row
@@ -805,6 +812,8 @@ impl Plan {
             }
             let tmp = MatRef::from_column_major_slice(&buf[..p * k], p, k);
             let mut x_top = x.rb_mut().subrows_mut(node.start - c0, node.ncols);
+            // The conjugations faer's substitution passes (no-ops on reals), so that the
+            // kernels, hence the bits, are the same.
             matmul_with_conj(
                 x_top.rb_mut(),
                 Accum::Add,
