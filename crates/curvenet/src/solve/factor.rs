@@ -348,6 +348,15 @@ impl SymbolicFactor {
     }
 }
 
+/// How a solve runs its triangular substitutions.
+#[derive(Clone, Copy, Debug)]
+enum Substitution {
+    /// Fixed groups of this many columns in parallel, each by faer's sequential substitution.
+    Groups(usize),
+    /// All the columns in one substitution whose independent subtrees run in parallel.
+    Subtrees,
+}
+
 /// A numeric Cholesky factor `L Lᵀ = P (H + τI) Pᵀ`.
 #[derive(Debug)]
 pub struct Cholesky {
@@ -577,7 +586,7 @@ impl Cholesky {
     /// values depend on the grouping, never on the thread count.
     pub fn solve_in_place_grouped(&self, rhs: MatMut<'_, f64>, group: usize) {
         crate::profile::time(crate::profile::Phase::Solve, || {
-            self.solve_impl(rhs, group.max(1), false)
+            self.solve_impl(rhs, Substitution::Groups(group.max(1)))
         })
     }
 
@@ -590,20 +599,24 @@ impl Cholesky {
     /// busy with other work, its deferred updates make it about 10% slower than that.
     pub fn solve_in_place_subtrees(&self, rhs: MatMut<'_, f64>) {
         crate::profile::time(crate::profile::Phase::Solve, || {
-            let k = rhs.ncols().max(1);
-            self.solve_impl(rhs, k, subtree_parallel())
+            let how = if subtree_parallel() {
+                Substitution::Subtrees
+            } else {
+                Substitution::Groups(rhs.ncols().max(1))
+            };
+            self.solve_impl(rhs, how)
         })
     }
 
-    fn solve_impl(&self, rhs: MatMut<'_, f64>, group: usize, tree: bool) {
+    fn solve_impl(&self, rhs: MatMut<'_, f64>, how: Substitution) {
         let Some(r) = &self.symbolic.restriction else {
-            self.solve_kept(rhs, group, tree);
+            self.solve_kept(rhs, how);
             return;
         };
         assert_eq!(rhs.nrows(), r.n_full, "right-hand side of the full size");
         let mut rhs = rhs;
         let mut sub = Mat::<f64>::from_fn(r.dofs.len(), rhs.ncols(), |i, j| rhs[(r.dofs[i], j)]);
-        self.solve_kept(sub.as_mut(), group, tree);
+        self.solve_kept(sub.as_mut(), how);
         for j in 0..rhs.ncols() {
             for (i, &d) in r.dofs.iter().enumerate() {
                 rhs[(d, j)] = sub[(i, j)];
@@ -615,13 +628,20 @@ impl Cholesky {
     }
 
     /// Solves on the coordinates the factor covers.
-    fn solve_kept(&self, rhs: MatMut<'_, f64>, group: usize, tree: bool) {
+    fn solve_kept(&self, rhs: MatMut<'_, f64>, how: Substitution) {
+        let group = match how {
+            Substitution::Subtrees => {
+                self.solve_subtrees(rhs);
+                return;
+            }
+            Substitution::Groups(group) => group,
+        };
         // Columns are solved in fixed groups of `group`, in parallel when threads are
         // free. faer's result for a column depends on which columns share its call, so the
         // grouping is fixed (never by thread count) to keep results bit-identical.
         let k = rhs.ncols();
         if k <= group {
-            self.solve_group(rhs, tree);
+            self.solve_group(rhs);
             return;
         }
         let mut groups = Vec::with_capacity(k.div_ceil(group));
@@ -633,15 +653,14 @@ impl Cholesky {
         }
         groups.push(rest);
         use rayon::prelude::*;
-        groups
-            .into_par_iter()
-            .for_each(|g| self.solve_group(g, tree));
+        groups.into_par_iter().for_each(|g| self.solve_group(g));
     }
 
-    fn solve_group(&self, mut rhs: MatMut<'_, f64>, tree: bool) {
+    /// All the columns of `rhs` in one subtree-parallel substitution (faer's sequential one
+    /// for analyses without a plan): bit-identical to [`Self::solve_group`].
+    fn solve_subtrees(&self, mut rhs: MatMut<'_, f64>) {
         let sym = &self.symbolic.inner;
-        if let Some(plan) = self.symbolic.plan.as_ref().filter(|_| tree) {
-            // The subtree-parallel substitution: bit-identical to faer's below.
+        if let Some(plan) = self.symbolic.plan.as_ref() {
             match sym.perm() {
                 Some(perm) => {
                     let (fwd, inv) = perm.arrays();
@@ -655,8 +674,14 @@ impl Cholesky {
                 }
                 None => plan.solve_in_place(&self.values, rhs),
             }
-            return;
+        } else {
+            self.solve_group(rhs);
         }
+    }
+
+    /// All the columns of `rhs` in one call of faer's sequential substitution.
+    fn solve_group(&self, rhs: MatMut<'_, f64>) {
+        let sym = &self.symbolic.inner;
         let mut mem = MemBuffer::new(sym.solve_in_place_scratch::<f64>(rhs.ncols(), Par::Seq));
         LltRef::new(sym, &self.values).solve_in_place_with_conj(
             Conj::No,
