@@ -207,6 +207,11 @@ pub struct BenchArgs {
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Runs of each example, in rounds (every example once per round, so the machine's drift
+    /// touches them alike); each row is the run with the median wall time, with the fastest
+    /// and slowest beside it. The runs must agree bit for bit (removals and every `λ_eq`).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    pub repeat: u32,
     /// Print the rows as JSON lines too.
     #[arg(long)]
     pub json: bool,

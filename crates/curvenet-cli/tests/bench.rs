@@ -1,6 +1,6 @@
 //! `curvenet bench` on one paper example: the table's columns and its `--json` rows, whose
 //! times must be consistent with each other (the CPU time against the wall time and the
-//! thread count).
+//! thread count), and `--repeat`, whose row is the median run.
 
 use std::process::Command;
 
@@ -15,7 +15,16 @@ fn the_bench_row_reports_wall_and_cpu_time_consistently() {
         return;
     };
     let out = Command::new(BIN)
-        .args(["bench", "--examples", "tower", "--threads", "2", "--json"])
+        .args([
+            "bench",
+            "--examples",
+            "tower",
+            "--threads",
+            "2",
+            "--json",
+            "--repeat",
+            "2",
+        ])
         .arg("--data")
         .arg(&data)
         .output()
@@ -30,7 +39,7 @@ fn the_bench_row_reports_wall_and_cpu_time_consistently() {
         .lines()
         .find(|l| l.starts_with("example"))
         .expect("a header line");
-    for column in ["wall s", "cpu s", "peak MiB", "facts"] {
+    for column in ["wall s", "wall range", "cpu s", "peak MiB", "facts"] {
         assert!(header.contains(column), "no `{column}` in {header:?}");
     }
     let row: serde_json::Value = stdout
@@ -43,6 +52,20 @@ fn the_bench_row_reports_wall_and_cpu_time_consistently() {
     let wall = row["wall_s"].as_f64().expect("wall_s");
     let cpu = row["cpu_s"].as_f64().expect("cpu_s (Linux /proc)");
     assert!(wall > 0.0);
+    // Two runs (they agreed bit for bit, or the bench would have failed); the row is the
+    // slower of the two middle ones, so the slower run here.
+    let runs: Vec<f64> = row["wall_runs"]
+        .as_array()
+        .expect("wall_runs")
+        .iter()
+        .map(|w| w.as_f64().expect("a wall time"))
+        .collect();
+    assert_eq!(runs.len(), 2, "one wall time per run: {runs:?}");
+    assert_eq!(wall, runs[0].max(runs[1]), "the median run's wall time");
+    assert!(
+        stdout.lines().filter(|l| l.starts_with('{')).count() == 1,
+        "one row per example, not per run"
+    );
     // A core busy for a good part of the run (the work is all computation; a quarter leaves
     // room for a loaded machine), at most two threads' worth plus the counters' 10 ms
     // resolution.

@@ -6,6 +6,11 @@
 //! wall time, the process's CPU time over the same span (`cpu s`, every thread; divided by
 //! the thread count it is the least wall time the same work could take) and the reference
 //! implementation's time on this kind of machine.
+//!
+//! `--repeat N` runs every example `N` times, round by round, and reports the run with the
+//! median wall time, the range of all of them beside it (this sandbox's timings drift by
+//! 5–25% between runs minutes apart), and fails if two runs of an example disagree in any
+//! removal or any bit of `λ_eq`.
 
 use crate::args::BenchArgs;
 use crate::exit::usage;
@@ -27,7 +32,7 @@ fn reference_seconds(name: &str) -> Option<f64> {
     }
 }
 
-#[derive(Debug, Serialize)]
+#[derive(Clone, Debug, Serialize)]
 struct Row {
     example: String,
     curves: usize,
@@ -44,7 +49,10 @@ struct Row {
     solve_s: f64,
     eigen_s: f64,
     bound_s: f64,
+    /// Wall time of the run the row reports (the median run with `--repeat`).
     wall_s: f64,
+    /// Wall time of every run, in the order they ran.
+    wall_runs: Vec<f64>,
     /// CPU time of the process during the run (every thread, rayon's waiting included).
     cpu_s: Option<f64>,
     peak_mib: Option<f64>,
@@ -86,7 +94,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
     );
     curvenet::solve::factor::set_subtree_parallel(!a.no_subtrees);
     println!(
-        "{:<9} {:>6} {:>6} {:>5} {:>5} {:>6} {:>6} {:>6} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}",
+        "{:<9} {:>6} {:>6} {:>5} {:>5} {:>6} {:>6} {:>6} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>11} {:>8} {:>8} {:>8}",
         "example",
         "curves",
         "dofs",
@@ -102,116 +110,191 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         "eigen s",
         "bound s",
         "wall s",
+        "wall range",
         "cpu s",
         "peak MiB",
         "ref/ours"
     );
+    // Everything is read before the first run; the rounds then run every example in turn.
+    let mut loaded = Vec::with_capacity(a.examples.len());
     for name in &a.examples {
-        let ex = paper::load(name, &data, Default::default())?;
-        let mut stability = StabilityParams::default();
-        if a.chord {
-            stability.newton.chord_ratio = 0.25;
+        loaded.push(paper::load(name, &data, Default::default())?);
+    }
+    let repeat = a.repeat as usize;
+    let mut runs: Vec<Vec<Run>> = vec![Vec::with_capacity(repeat); loaded.len()];
+    for round in 0..repeat {
+        for (i, (name, ex)) in a.examples.iter().zip(&loaded).enumerate() {
+            let run = run_once(&a, &pool, name, ex)?;
+            if repeat > 1 {
+                eprintln!(
+                    "round {}/{repeat}: {name} {:.2} s",
+                    round + 1,
+                    run.row.wall_s
+                );
+            }
+            if let Some(first) = runs[i].first()
+                && first.answer != run.answer
+            {
+                anyhow::bail!(
+                    "{name}: run {} made different removals or λ_eq than run 1 \
+                     (the greedy must be deterministic)",
+                    round + 1
+                );
+            }
+            runs[i].push(run);
+            if round + 1 == repeat {
+                print_row(&median_row(std::mem::take(&mut runs[i])), a.json)?;
+            }
         }
-        if a.no_restrict {
-            stability.restrict_share = 0.0;
+    }
+    Ok(())
+}
+
+/// One run of the greedy on an example: its row and its answer (for the repeats' check).
+#[derive(Clone)]
+struct Run {
+    row: Row,
+    /// Every removal and the bits of every `λ_eq`.
+    answer: (Vec<Option<usize>>, Vec<u64>),
+}
+
+/// The row of the run with the median wall time (the slower of the two middle ones for an
+/// even count), with every run's wall time.
+fn median_row(mut runs: Vec<Run>) -> Row {
+    let walls: Vec<f64> = runs.iter().map(|r| r.row.wall_s).collect();
+    runs.sort_by(|x, y| x.row.wall_s.total_cmp(&y.row.wall_s));
+    let mut row = runs.swap_remove(runs.len() / 2).row;
+    row.wall_runs = walls;
+    row
+}
+
+fn run_once(
+    a: &BenchArgs,
+    pool: &rayon::ThreadPool,
+    name: &str,
+    ex: &paper::LoadedExample,
+) -> anyhow::Result<Run> {
+    let mut stability = StabilityParams::default();
+    if a.chord {
+        stability.newton.chord_ratio = 0.25;
+    }
+    if a.no_restrict {
+        stability.restrict_share = 0.0;
+    }
+    if a.krylov {
+        stability.newton.krylov_iterations = 16;
+    }
+    if a.no_floor_near {
+        stability.newton.floor_near = 1.0;
+    }
+    if a.no_quadratic_chord {
+        stability.newton.chord_below = 0.0;
+    }
+    if a.no_escape {
+        stability.newton.escape_doublings = 0;
+    }
+    let mut params = GreedyParams::new(Budget::Fraction(ex.setup.budget_fraction));
+    params.keep = ex.setup.keep.clone();
+    params.prune.enabled = !a.no_prune;
+    params.prune.inertia = !a.no_inertia;
+    if a.no_first_shift {
+        params.prune.first_shift = 0.0;
+    }
+    params.prune.reuse = !a.no_reuse;
+    params.prune.ahead = !a.no_ahead;
+    params.prune.carry = !a.no_carry;
+    params.warm_start = !a.no_warm;
+    if let Some(m) = a.modes {
+        params.modes = m;
+    }
+    profile::reset_peak_memory();
+    profile::reset();
+    let cpu_start = profile::cpu_seconds();
+    let start = Instant::now();
+    let outcome = pool.install(|| -> anyhow::Result<_> {
+        let (network, _) = build_network(&ex.curves, &ex.build)?;
+        let analyzer = Analyzer::new(network, stability).map_err(usage)?;
+        let dofs = analyzer.model().dofs();
+        Ok((greedy(&analyzer, &params, None, &mut NoHooks)?, dofs))
+    })?;
+    let wall = start.elapsed().as_secs_f64();
+    let cpu = profile::cpu_seconds()
+        .zip(cpu_start)
+        .map(|(end, start)| ((end - start) * 100.0).round() / 100.0);
+    let (o, dofs) = outcome;
+    let p = profile::snapshot();
+    let t = &o.timings;
+    let last = o.iterations.last().expect("at least one iteration");
+    let row = Row {
+        example: name.to_string(),
+        curves: ex.curves.len(),
+        kept: last.curves.len(),
+        dofs,
+        iterations: o.iterations.len(),
+        evaluated: t.candidate_evaluations,
+        pruned: t.candidates_pruned,
+        factorizations: t.relax_work.factorizations + t.candidate_work.factorizations,
+        solves: t.relax_work.solves + t.candidate_work.solves,
+        relax_s: p.relax.seconds,
+        assemble_s: p.assemble.seconds,
+        factor_s: p.factor.seconds,
+        solve_s: p.solve.seconds,
+        eigen_s: p.eigen.seconds,
+        bound_s: p.bound.seconds,
+        wall_s: wall,
+        wall_runs: vec![wall],
+        cpu_s: cpu,
+        peak_mib: profile::peak_memory().map(|b| b as f64 / (1024.0 * 1024.0)),
+        reference_s: reference_seconds(name),
+        removed_first: o
+            .iterations
+            .iter()
+            .filter_map(|i| i.removed)
+            .take(3)
+            .collect(),
+        final_lambda: last.lambda,
+    };
+    let answer = (
+        o.iterations.iter().map(|i| i.removed).collect(),
+        o.iterations.iter().map(|i| i.lambda.to_bits()).collect(),
+    );
+    Ok(Run { row, answer })
+}
+
+fn print_row(row: &Row, json: bool) -> anyhow::Result<()> {
+    let spread = match row.wall_runs.len() {
+        0 | 1 => "-".to_string(),
+        _ => {
+            let lo = row.wall_runs.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = row.wall_runs.iter().copied().fold(0.0, f64::max);
+            format!("{lo:.2}–{hi:.2}")
         }
-        if a.krylov {
-            stability.newton.krylov_iterations = 16;
-        }
-        if a.no_floor_near {
-            stability.newton.floor_near = 1.0;
-        }
-        if a.no_quadratic_chord {
-            stability.newton.chord_below = 0.0;
-        }
-        if a.no_escape {
-            stability.newton.escape_doublings = 0;
-        }
-        let mut params = GreedyParams::new(Budget::Fraction(ex.setup.budget_fraction));
-        params.keep = ex.setup.keep.clone();
-        params.prune.enabled = !a.no_prune;
-        params.prune.inertia = !a.no_inertia;
-        if a.no_first_shift {
-            params.prune.first_shift = 0.0;
-        }
-        params.prune.reuse = !a.no_reuse;
-        params.prune.ahead = !a.no_ahead;
-        params.prune.carry = !a.no_carry;
-        params.warm_start = !a.no_warm;
-        if let Some(m) = a.modes {
-            params.modes = m;
-        }
-        profile::reset_peak_memory();
-        profile::reset();
-        let cpu_start = profile::cpu_seconds();
-        let start = Instant::now();
-        let outcome = pool.install(|| -> anyhow::Result<_> {
-            let (network, _) = build_network(&ex.curves, &ex.build)?;
-            let analyzer = Analyzer::new(network, stability).map_err(usage)?;
-            let dofs = analyzer.model().dofs();
-            Ok((greedy(&analyzer, &params, None, &mut NoHooks)?, dofs))
-        })?;
-        let wall = start.elapsed().as_secs_f64();
-        let cpu = profile::cpu_seconds()
-            .zip(cpu_start)
-            .map(|(end, start)| ((end - start) * 100.0).round() / 100.0);
-        let (o, dofs) = outcome;
-        let p = profile::snapshot();
-        let t = &o.timings;
-        let last = o.iterations.last().expect("at least one iteration");
-        let row = Row {
-            example: name.clone(),
-            curves: ex.curves.len(),
-            kept: last.curves.len(),
-            dofs,
-            iterations: o.iterations.len(),
-            evaluated: t.candidate_evaluations,
-            pruned: t.candidates_pruned,
-            factorizations: t.relax_work.factorizations + t.candidate_work.factorizations,
-            solves: t.relax_work.solves + t.candidate_work.solves,
-            relax_s: p.relax.seconds,
-            assemble_s: p.assemble.seconds,
-            factor_s: p.factor.seconds,
-            solve_s: p.solve.seconds,
-            eigen_s: p.eigen.seconds,
-            bound_s: p.bound.seconds,
-            wall_s: wall,
-            cpu_s: cpu,
-            peak_mib: profile::peak_memory().map(|b| b as f64 / (1024.0 * 1024.0)),
-            reference_s: reference_seconds(name),
-            removed_first: o
-                .iterations
-                .iter()
-                .filter_map(|i| i.removed)
-                .take(3)
-                .collect(),
-            final_lambda: last.lambda,
-        };
-        println!(
-            "{:<9} {:>6} {:>6} {:>5} {:>5} {:>6} {:>6} {:>6} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8} {:>8} {:>8}",
-            row.example,
-            format!("{}→{}", row.curves, row.kept),
-            row.dofs,
-            row.iterations,
-            row.evaluated,
-            row.pruned,
-            row.factorizations,
-            row.solves,
-            row.relax_s,
-            row.assemble_s,
-            row.factor_s,
-            row.solve_s,
-            row.eigen_s,
-            row.bound_s,
-            row.wall_s,
-            row.cpu_s.map_or("?".into(), |c| format!("{c:.2}")),
-            row.peak_mib.map_or("?".into(), |m| format!("{m:.0}")),
-            row.reference_s
-                .map_or("-".into(), |r| format!("{:.0}×", r / row.wall_s)),
-        );
-        if a.json {
-            println!("{}", serde_json::to_string(&row)?);
-        }
+    };
+    println!(
+        "{:<9} {:>6} {:>6} {:>5} {:>5} {:>6} {:>6} {:>6} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>8.2} {:>11} {:>8} {:>8} {:>8}",
+        row.example,
+        format!("{}→{}", row.curves, row.kept),
+        row.dofs,
+        row.iterations,
+        row.evaluated,
+        row.pruned,
+        row.factorizations,
+        row.solves,
+        row.relax_s,
+        row.assemble_s,
+        row.factor_s,
+        row.solve_s,
+        row.eigen_s,
+        row.bound_s,
+        row.wall_s,
+        spread,
+        row.cpu_s.map_or("?".into(), |c| format!("{c:.2}")),
+        row.peak_mib.map_or("?".into(), |m| format!("{m:.0}")),
+        row.reference_s
+            .map_or("-".into(), |r| format!("{:.0}×", r / row.wall_s)),
+    );
+    if json {
+        println!("{}", serde_json::to_string(row)?);
     }
     Ok(())
 }
