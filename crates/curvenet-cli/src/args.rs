@@ -215,6 +215,10 @@ pub struct BenchArgs {
     /// Print the rows as JSON lines too.
     #[arg(long)]
     pub json: bool,
+    /// Run the one example given once, in this process, and print its JSON row only (the
+    /// bench runs every run so, in a fresh process of its own).
+    #[arg(long, hide = true)]
+    pub worker: bool,
 }
 
 /// `curvenet demo`.

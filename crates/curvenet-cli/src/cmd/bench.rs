@@ -7,6 +7,10 @@
 //! the thread count it is the least wall time the same work could take) and the reference
 //! implementation's time on this kind of machine.
 //!
+//! Every run has a process of its own (the bench starts itself with the hidden `--worker`
+//! switch and reads its JSON row): each starts from a fresh heap and thread pool, and its
+//! peak resident memory is its own, not the high-water mark of the examples run before it.
+//!
 //! `--repeat N` runs every example `N` times, round by round, and reports the run with the
 //! median wall time, the range of all of them beside it (this sandbox's timings drift by
 //! 5–25% between runs minutes apart), and fails if two runs of an example disagree in any
@@ -19,7 +23,8 @@ use curvenet::simplify::greedy::NoHooks;
 use curvenet::simplify::{Budget, GreedyParams, greedy};
 use curvenet::stability::{Analyzer, StabilityParams};
 use curvenet::{paper, profile};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
+use std::process::{Command, Stdio};
 use std::time::Instant;
 
 /// The reference implementation's greedy on a 2-core machine like this one (issue 4), seconds.
@@ -32,7 +37,7 @@ fn reference_seconds(name: &str) -> Option<f64> {
     }
 }
 
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 struct Row {
     example: String,
     curves: usize,
@@ -59,6 +64,20 @@ struct Row {
     reference_s: Option<f64>,
     removed_first: Vec<usize>,
     final_lambda: f64,
+    /// The curve removed in every iteration (`None` in the last).
+    removed: Vec<Option<usize>>,
+    /// `λ_eq` of every iteration (JSON round-trips them bit for bit).
+    lambdas: Vec<f64>,
+}
+
+impl Row {
+    /// Every removal and the bits of every `λ_eq`: what repeated runs must agree on.
+    fn answer(&self) -> (&[Option<usize>], Vec<u64>) {
+        (
+            &self.removed,
+            self.lambdas.iter().map(|l| l.to_bits()).collect(),
+        )
+    }
 }
 
 pub fn run(a: BenchArgs) -> anyhow::Result<()> {
@@ -68,9 +87,23 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         .or_else(paper::default_data_dir)
         .ok_or_else(|| usage("reference data not found; pass --data DIR"))?;
     let threads = a.threads.unwrap_or_else(rayon::current_num_threads);
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()?;
+    curvenet::solve::factor::set_subtree_parallel(!a.no_subtrees);
+    if a.worker {
+        let [name] = a.examples.as_slice() else {
+            return Err(usage("--worker runs exactly one example"));
+        };
+        let ex = paper::load(name, &data, Default::default())?;
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()?;
+        let row = run_once(&a, &pool, name, &ex)?;
+        println!("{}", serde_json::to_string(&row)?);
+        return Ok(());
+    }
+    // Fail early, in this process, on an unknown example or missing data.
+    for name in &a.examples {
+        paper::load(name, &data, Default::default())?;
+    }
     println!(
         "curvenet bench: {threads} thread(s); pruning {}, inertia test {}, chord steps everywhere {}, \
          chord steps in Newton's quadratic phase {}, Krylov steps {}, warm starts {}, restricted factorizations {}, subtree-parallel \
@@ -92,7 +125,6 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         on(!a.no_prune && !a.no_ahead),
         on(!a.no_prune && !a.no_carry)
     );
-    curvenet::solve::factor::set_subtree_parallel(!a.no_subtrees);
     println!(
         "{:<9} {:>6} {:>6} {:>5} {:>5} {:>6} {:>6} {:>6} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>11} {:>8} {:>8} {:>8}",
         "example",
@@ -115,25 +147,17 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         "peak MiB",
         "ref/ours"
     );
-    // Everything is read before the first run; the rounds then run every example in turn.
-    let mut loaded = Vec::with_capacity(a.examples.len());
-    for name in &a.examples {
-        loaded.push(paper::load(name, &data, Default::default())?);
-    }
     let repeat = a.repeat as usize;
-    let mut runs: Vec<Vec<Run>> = vec![Vec::with_capacity(repeat); loaded.len()];
+    let forwarded = worker_args(std::env::args().collect())?;
+    let mut runs: Vec<Vec<Row>> = vec![Vec::with_capacity(repeat); a.examples.len()];
     for round in 0..repeat {
-        for (i, (name, ex)) in a.examples.iter().zip(&loaded).enumerate() {
-            let run = run_once(&a, &pool, name, ex)?;
+        for (i, name) in a.examples.iter().enumerate() {
+            let row = run_worker(&forwarded, name)?;
             if repeat > 1 {
-                eprintln!(
-                    "round {}/{repeat}: {name} {:.2} s",
-                    round + 1,
-                    run.row.wall_s
-                );
+                eprintln!("round {}/{repeat}: {name} {:.2} s", round + 1, row.wall_s);
             }
             if let Some(first) = runs[i].first()
-                && first.answer != run.answer
+                && first.answer() != row.answer()
             {
                 anyhow::bail!(
                     "{name}: run {} made different removals or λ_eq than run 1 \
@@ -141,7 +165,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
                     round + 1
                 );
             }
-            runs[i].push(run);
+            runs[i].push(row);
             if round + 1 == repeat {
                 print_row(&median_row(std::mem::take(&mut runs[i])), a.json)?;
             }
@@ -150,20 +174,56 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// One run of the greedy on an example: its row and its answer (for the repeats' check).
-#[derive(Clone)]
-struct Run {
-    row: Row,
-    /// Every removal and the bits of every `λ_eq`.
-    answer: (Vec<Option<usize>>, Vec<u64>),
+/// The arguments of a worker run: this bench's own switches (everything after `bench` but
+/// the examples, the repeats and `--json`), for one example given after them.
+fn worker_args(argv: Vec<String>) -> anyhow::Result<Vec<String>> {
+    let at = argv
+        .iter()
+        .position(|s| s == "bench")
+        .ok_or_else(|| anyhow::anyhow!("`bench` not found in the command line"))?;
+    let mut out = vec!["bench".to_string()];
+    let mut rest = argv[at + 1..].iter();
+    while let Some(arg) = rest.next() {
+        match arg.as_str() {
+            "--examples" | "--repeat" => {
+                rest.next();
+            }
+            "--json" => {}
+            s if s.starts_with("--examples=") || s.starts_with("--repeat=") => {}
+            _ => out.push(arg.clone()),
+        }
+    }
+    out.push("--worker".into());
+    Ok(out)
+}
+
+/// Runs example `name` once in a fresh process of this executable and reads its row.
+fn run_worker(forwarded: &[String], name: &str) -> anyhow::Result<Row> {
+    let exe = std::env::current_exe()?;
+    let out = Command::new(exe)
+        .args(forwarded)
+        .args(["--examples", name])
+        .stdin(Stdio::null())
+        .stderr(Stdio::inherit())
+        .output()?;
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    if !out.status.success() {
+        anyhow::bail!("{name}: the bench's run failed ({}): {stdout}", out.status);
+    }
+    let line = stdout
+        .lines()
+        .rev()
+        .find(|l| l.starts_with('{'))
+        .ok_or_else(|| anyhow::anyhow!("{name}: the bench's run printed no row: {stdout}"))?;
+    Ok(serde_json::from_str(line)?)
 }
 
 /// The row of the run with the median wall time (the slower of the two middle ones for an
 /// even count), with every run's wall time.
-fn median_row(mut runs: Vec<Run>) -> Row {
-    let walls: Vec<f64> = runs.iter().map(|r| r.row.wall_s).collect();
-    runs.sort_by(|x, y| x.row.wall_s.total_cmp(&y.row.wall_s));
-    let mut row = runs.swap_remove(runs.len() / 2).row;
+fn median_row(mut runs: Vec<Row>) -> Row {
+    let walls: Vec<f64> = runs.iter().map(|r| r.wall_s).collect();
+    runs.sort_by(|x, y| x.wall_s.total_cmp(&y.wall_s));
+    let mut row = runs.swap_remove(runs.len() / 2);
     row.wall_runs = walls;
     row
 }
@@ -173,7 +233,7 @@ fn run_once(
     pool: &rayon::ThreadPool,
     name: &str,
     ex: &paper::LoadedExample,
-) -> anyhow::Result<Run> {
+) -> anyhow::Result<Row> {
     let mut stability = StabilityParams::default();
     if a.chord {
         stability.newton.chord_ratio = 0.25;
@@ -253,12 +313,10 @@ fn run_once(
             .take(3)
             .collect(),
         final_lambda: last.lambda,
+        removed: o.iterations.iter().map(|i| i.removed).collect(),
+        lambdas: o.iterations.iter().map(|i| i.lambda).collect(),
     };
-    let answer = (
-        o.iterations.iter().map(|i| i.removed).collect(),
-        o.iterations.iter().map(|i| i.lambda.to_bits()).collect(),
-    );
-    Ok(Run { row, answer })
+    Ok(row)
 }
 
 fn print_row(row: &Row, json: bool) -> anyhow::Result<()> {
@@ -301,4 +359,40 @@ fn print_row(row: &Row, json: bool) -> anyhow::Result<()> {
 
 fn on(b: bool) -> &'static str {
     if b { "on" } else { "off" }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::worker_args;
+
+    #[test]
+    fn worker_runs_get_the_switches_but_not_the_examples_repeats_or_json() {
+        let argv = [
+            "curvenet",
+            "bench",
+            "--examples",
+            "tower,roof",
+            "--no-prune",
+            "--repeat",
+            "3",
+            "--json",
+            "--threads=2",
+            "--repeat=4",
+            "--examples=shell",
+            "--data",
+            "/d",
+        ];
+        let got = worker_args(argv.iter().map(|s| s.to_string()).collect()).expect("args");
+        assert_eq!(
+            got,
+            [
+                "bench",
+                "--no-prune",
+                "--threads=2",
+                "--data",
+                "/d",
+                "--worker"
+            ]
+        );
+    }
 }
