@@ -14,7 +14,8 @@
 //! `--repeat N` runs every example `N` times, round by round, and reports the run with the
 //! median wall time, the range of all of them beside it (this sandbox's timings drift by
 //! 5–25% between runs minutes apart), and fails if two runs of an example disagree in any
-//! removal or any bit of `λ_eq`.
+//! removal or any bit of `λ_eq`. On a terminal a progress bar counts the runs (with an
+//! estimate of the time left); piped, the output is the table alone.
 
 use crate::args::BenchArgs;
 use crate::exit::usage;
@@ -23,6 +24,7 @@ use curvenet::simplify::greedy::NoHooks;
 use curvenet::simplify::{Budget, GreedyParams, greedy};
 use curvenet::stability::{Analyzer, StabilityParams};
 use curvenet::{paper, profile};
+use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
 use std::process::{Command, Stdio};
 use std::time::Instant;
@@ -150,11 +152,24 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
     let repeat = a.repeat as usize;
     let forwarded = worker_args(std::env::args().collect())?;
     let mut runs: Vec<Vec<Row>> = vec![Vec::with_capacity(repeat); a.examples.len()];
+    // On a terminal only (indicatif draws nothing when stderr is not one).
+    let bar = ProgressBar::new((repeat * a.examples.len()) as u64);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {pos}/{len} runs, ETA {eta} {msg}",
+        )
+        .expect("valid template"),
+    );
+    bar.enable_steady_tick(std::time::Duration::from_millis(250));
     for round in 0..repeat {
         for (i, name) in a.examples.iter().enumerate() {
+            bar.set_message(format!("({name}, round {}/{repeat})", round + 1));
             let row = run_worker(&forwarded, name)?;
+            bar.inc(1);
             if repeat > 1 {
-                eprintln!("round {}/{repeat}: {name} {:.2} s", round + 1, row.wall_s);
+                bar.suspend(|| {
+                    eprintln!("round {}/{repeat}: {name} {:.2} s", round + 1, row.wall_s)
+                });
             }
             if let Some(first) = runs[i].first()
                 && first.answer() != row.answer()
@@ -167,10 +182,12 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
             }
             runs[i].push(row);
             if round + 1 == repeat {
-                print_row(&median_row(std::mem::take(&mut runs[i])), a.json)?;
+                let row = median_row(std::mem::take(&mut runs[i]));
+                bar.suspend(|| print_row(&row, a.json))?;
             }
         }
     }
+    bar.finish_and_clear();
     Ok(())
 }
 
