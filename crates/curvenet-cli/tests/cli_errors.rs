@@ -565,6 +565,32 @@ fn unknown_examples_and_missing_data_are_usage_errors() {
     );
 }
 
+#[test]
+fn bench_options_are_checked_before_any_run() {
+    expect_error(
+        &[],
+        &["bench", "--repeat", "0", "--data", "."],
+        &["--repeat"],
+    );
+    expect_error(
+        &[],
+        &["bench", "--examples", "nosuch,tower", "--data", "."],
+        &["unknown example 'nosuch'"],
+    );
+    expect_error(
+        &[],
+        &[
+            "bench",
+            "--worker",
+            "--examples",
+            "tower,roof",
+            "--data",
+            ".",
+        ],
+        &["--worker runs exactly one example"],
+    );
+}
+
 // ---------------------------------------------------------------------------------------------
 // Warnings: the run goes on (exit 0), and the warning is on stderr and in the output
 
