@@ -18,6 +18,7 @@
 //! See `ARCHITECTURE.md` at the repository root for the map and `SPEC.md` for the model.
 
 pub mod builtin;
+pub mod cancel;
 pub mod geom;
 pub mod io;
 pub mod network;
