@@ -25,10 +25,14 @@
 //! greedy, [`Constraints::neighbours`] for the local search, [`Constraints::feasible_subsets`]
 //! for the exhaustive search, [`Constraints::draw_subsets`] for the random search).
 //!
+//! [`answer`] chooses the network to build among those the searches evaluated: the best
+//! stable one that meets every constraint, and the alternatives beside it.
+//!
 //! `--max-deviation` is the one constraint that needs an equilibrium: it is checked on every
 //! network a search evaluates ([`max_displacement`], the largest displacement of a vertex of
 //! the structure), never up front.
 
+pub mod answer;
 pub mod bits;
 pub mod coverage;
 mod feasibility;
