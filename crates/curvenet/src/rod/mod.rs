@@ -1,13 +1,16 @@
 //! Rod energy: the material, the supports and the discrete elastic rod terms (SPEC §3).
 //!
 //! - [`terms`]: the local stretching, bending and anchor terms with exact derivatives;
+//! - [`network`]: the rod network as data (what [`crate::network`] builds from curves);
 //! - [`model`]: the flat list of all terms of a network and its sparse assembly, with the
-//!   ability to leave out any set of curves (the structure of SPEC §5).
+//!   ability to leave out any set of curves (a structure: `docs/model.md`, *Stability*).
 
 pub mod model;
+pub mod network;
 pub mod terms;
 
 pub use model::{ActiveSet, Assembly, EnergyModel};
+pub use network::{Joint, Network, Rod};
 
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;

@@ -20,9 +20,10 @@
 
 use super::{Evaluation, Scorer, Work};
 use crate::rod::ActiveSet;
-use crate::rod::model::{LocalHessians, Pattern};
+use crate::rod::model::LocalHessians;
 use crate::solve::eigen::Spectrum;
 use crate::solve::{Cholesky, Reuse, SymbolicFactor};
+use crate::sparse::Pattern;
 use crate::stability::StabilityError;
 use faer::{Mat, MatRef};
 use rayon::prelude::*;

@@ -12,7 +12,7 @@
 
 use super::factor::{Cholesky, Reuse, SymbolicFactor};
 use super::lanczos::{BlockLanczosParams, EigenPairs, LanczosError, largest_eigenpairs};
-use crate::rod::model::Pattern;
+use crate::sparse::Pattern;
 use faer::{Mat, MatRef};
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;

@@ -12,7 +12,7 @@
 
 use super::ordering::{self, OrderingKind};
 use super::supernodal::{self, Plan};
-use crate::rod::model::Pattern;
+use crate::sparse::Pattern;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::SparseColMatRef;

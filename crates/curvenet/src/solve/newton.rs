@@ -208,7 +208,7 @@ pub struct NewtonInfo {
 /// preconditioned by the factorization `f` of a nearby matrix. `None` when `H` shows
 /// non-positive curvature or the relative residual does not reach `tol` within `max_it`.
 fn pcg(
-    pattern: &crate::rod::model::Pattern,
+    pattern: &crate::sparse::Pattern,
     hess: &[f64],
     g: &[f64],
     f: &Cholesky,

@@ -15,7 +15,7 @@
 //! it to matter and keeps the one with less fill; METIS runs with its default, fixed seed, so
 //! the choice is deterministic.
 
-use crate::rod::model::Pattern;
+use crate::sparse::Pattern;
 
 /// Which ordering a symbolic factorization used.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
