@@ -93,7 +93,7 @@ fn explicit_deletion_is_the_definition() {
                 kept.len() < net.vertex_count(),
                 "removing {removed:?} deletes vertices"
             );
-            let (dv, _) = smallest_eigenpairs_dense(dense.as_ref(), 4);
+            let (dv, _) = smallest_eigenpairs_dense(dense.as_ref(), 4).expect("dense solve");
             for k in 0..4 {
                 let tol = match tol_of {
                     None => 1e-9,
@@ -512,7 +512,7 @@ fn compressed_rod_beyond_euler_load_has_negative_modes() {
     assert!(rel_diff(s.values[0], s.values[1]) < 1e-8, "transverse pair");
     // Dense eigenvalues of the same Hessian.
     let hd = dense_hessian(a.model(), &u, &a.all());
-    let (dv, _) = smallest_eigenpairs_dense(hd.as_ref(), 4);
+    let (dv, _) = smallest_eigenpairs_dense(hd.as_ref(), 4).expect("dense solve");
     for k in 0..4 {
         assert!(
             rel_diff(s.values[k], dv[k]) < 1e-8,
@@ -579,12 +579,12 @@ fn restrict_share_outside_the_unit_interval_is_an_error() {
 fn newton_floor_near_below_one_is_an_error() {
     for bad in [0.5, -1.0, f64::NAN, f64::INFINITY] {
         let mut p = StabilityParams::default();
-        p.newton.floor_near = bad;
+        p.solver.floor_near = bad;
         let e = p.validate().expect_err("rejected");
         assert!(e.contains("floor_near"), "{e}");
     }
     let mut p = StabilityParams::default();
-    p.newton.floor_near = 1.0;
+    p.solver.floor_near = 1.0;
     assert!(p.validate().is_ok());
 }
 
@@ -592,13 +592,13 @@ fn newton_floor_near_below_one_is_an_error() {
 fn newton_chord_below_outside_zero_one_and_an_empty_solve_group_are_errors() {
     for bad in [-1e-6, 1.0, 2.0, f64::NAN, f64::INFINITY] {
         let mut p = StabilityParams::default();
-        p.newton.chord_below = bad;
+        p.solver.chord_below = bad;
         let e = p.validate().expect_err("rejected");
         assert!(e.contains("chord_below"), "{e}");
     }
     for good in [0.0, 1e-6, 0.5] {
         let mut p = StabilityParams::default();
-        p.newton.chord_below = good;
+        p.solver.chord_below = good;
         assert!(p.validate().is_ok(), "{good}");
     }
     let mut p = StabilityParams::default();

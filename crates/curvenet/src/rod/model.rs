@@ -375,6 +375,11 @@ impl EnergyModel {
         &self.pattern
     }
 
+    /// The stretching stiffness `k_s = E π r²`.
+    pub fn stretch_stiffness(&self) -> f64 {
+        self.ks
+    }
+
     /// The diagonal value placed on loose vertices' coordinates.
     pub fn loose_diagonal(&self) -> f64 {
         self.loose_diagonal

@@ -24,13 +24,12 @@ pub mod result;
 
 pub use greedy::{GreedyHooks, GreedyOutcome, GreedyParams, StopReason, greedy};
 
-use crate::report::NewtonSummary;
 use crate::rod::ActiveSet;
 use crate::rod::model::LocalHessians;
 use crate::solve::Cholesky;
+use crate::solve::NewtonSummary;
 use crate::solve::eigen::{
-    EigenParams, Spectrum, smallest_eigenpairs_above, smallest_eigenpairs_above_with,
-    smallest_eigenpairs_factored,
+    Eigen, EigenOptions, EigenParams, Shift, Spectrum, Start, smallest_eigenpairs,
 };
 use crate::stability::{Analyzer, StabilityError};
 use faer::{Mat, MatRef};
@@ -289,39 +288,34 @@ impl<'a> Scorer<'a> {
         // of `H − σI` proves no eigenvalue lies below σ, and shift-and-invert separates the
         // clustered smallest eigenvalues far better there than about zero (roof: 51 solves
         // per spectrum about zero). Otherwise, or if λ turns out below σ, about zero.
+        let solve = |shift: Shift| {
+            let options = EigenOptions {
+                shift,
+                start: modes.map_or(Start::Random, Start::Vectors),
+                ..Default::default()
+            };
+            smallest_eigenpairs(&symbolic, model.pattern(), &h, &self.eval_eigen, options)
+        };
         let spectrum = || -> Result<_, StabilityError> {
             let shifted = match warm.lambda.map(|l| SPECTRUM_SHIFT * l) {
-                Some(sigma) if sigma > 0.0 && sigma.is_finite() => smallest_eigenpairs_above(
-                    model.pattern(),
-                    &h,
-                    &symbolic,
-                    modes,
-                    &self.eval_eigen,
-                    sigma,
-                    None,
-                )?,
+                Some(sigma) if sigma > 0.0 && sigma.is_finite() => solve(Shift::Above(sigma))?,
                 _ => None,
             };
             Ok(match shifted {
-                Some(pair) => pair,
-                None => smallest_eigenpairs_factored(
-                    model.pattern(),
-                    &h,
-                    &symbolic,
-                    modes,
-                    &self.eval_eigen,
-                )?,
+                Some(found) => found,
+                None => solve(Shift::BelowZero)?.expect("a shift below zero always factors"),
             })
         };
         let (spectrum, extra) = rayon::join(spectrum, || beside(&u));
-        let (spectrum, factor) = spectrum?;
+        let Eigen { spectrum, factor } = spectrum?;
+        let factor = factor.expect("the whole matrix was factored");
         let curves = active.curves();
         Ok((
             Evaluation {
                 factor: Some(std::sync::Arc::new(factor)),
                 length: a.network().total_length(&curves),
                 curves,
-                newton: NewtonSummary::from(&newton),
+                newton: newton.summary(),
                 work: Work {
                     factorizations: spectrum.factorizations + newton.factorizations,
                     solves: spectrum.solves,
@@ -424,13 +418,16 @@ impl<'a> Scorer<'a> {
         let h = self.fixed_hessian(locals, active)?;
         let model = self.analyzer.model();
         let warm = warm.map(|w| restrict(w, &model.vertex_mask(active)));
-        Ok(smallest_eigenpairs_factored(
-            model.pattern(),
-            &h,
-            symbolic,
-            warm.as_ref().map(|w| w.as_ref()),
-            &self.candidate_params(symbolic),
-        )?)
+        let options = EigenOptions {
+            start: warm
+                .as_ref()
+                .map_or(Start::Random, |w| Start::Vectors(w.as_ref())),
+            ..Default::default()
+        };
+        let params = self.candidate_params(symbolic);
+        let found = smallest_eigenpairs(symbolic, model.pattern(), &h, &params, options)?
+            .expect("a shift below zero always factors");
+        Ok((found.spectrum, found.factor.expect("the whole matrix")))
     }
 
     /// The candidates' eigen parameters for factors of `symbolic`: one column per solve group
@@ -451,7 +448,7 @@ impl<'a> Scorer<'a> {
     /// [`Self::lambda_fixed`] shifted about `sigma`, given `h`, the Hessian of `active` at
     /// `A`'s equilibrium ([`EnergyModel::hessian_from_locals`] or, for `A` without one curve,
     /// [`EnergyModel::hessian_without`]): `Ok(None)` when one factorization proves
-    /// `λ_fix(active | A) < sigma` (see [`smallest_eigenpairs_above`], also for `reuse`). The
+    /// `λ_fix(active | A) < sigma` (see [`Shift::Above`], and [`EigenOptions::reuse`]). The
     /// warm start is asked of `warm` only when that factorization succeeds.
     ///
     /// [`EnergyModel::hessian_from_locals`]: crate::rod::EnergyModel::hessian_from_locals
@@ -471,16 +468,16 @@ impl<'a> Scorer<'a> {
         let model = self.analyzer.model();
         // The warm start (`warm` restricted to `active`'s vertices) only once the
         // factorization about `σ` succeeds.
-        let warm = || warm().map(|w| restrict(w.as_ref(), &model.vertex_mask(active)));
-        Ok(smallest_eigenpairs_above_with(
-            model.pattern(),
-            h,
-            symbolic,
-            warm,
-            &self.candidate_params(symbolic),
-            sigma,
+        let warm = move || warm().map(|w| restrict(w.as_ref(), &model.vertex_mask(active)));
+        let options = EigenOptions {
+            shift: Shift::Above(sigma),
+            start: Start::Lazy(Box::new(warm)),
             reuse,
-        )?)
+            keep: None,
+        };
+        let params = self.candidate_params(symbolic);
+        let found = smallest_eigenpairs(symbolic, model.pattern(), h, &params, options)?;
+        Ok(found.map(|f| (f.spectrum, f.factor.expect("the whole matrix"))))
     }
 
     /// The Hessian of `active` from the local Hessians at `A`'s equilibrium.

@@ -741,7 +741,6 @@ mod tests {
                 stop,
                 factorizations: 5,
                 chord_steps: 0,
-                krylov_steps: 0,
             },
             removed: None,
             score: None,

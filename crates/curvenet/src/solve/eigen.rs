@@ -1,4 +1,5 @@
-//! The smallest eigenpairs of a Hessian by shift-and-invert block Lanczos (SPEC §5).
+//! The smallest eigenpairs of a Hessian by shift-and-invert block Lanczos (`docs/model.md`,
+//! *Stability*).
 //!
 //! `H − σI` is factored with the shared symbolic analysis at a shift `σ` just below zero
 //! (`σ = −c·ε·‖H‖₁`); block Lanczos ([`super::lanczos`]) finds the largest eigenvalues `μ` of
@@ -10,7 +11,7 @@
 //! Eigenvalues within `±C·ε·‖H‖₁` count as zero modes (mechanisms), below as negative modes
 //! (an unstable equilibrium). Every returned pair comes with its residual `‖Hv − λv‖`.
 
-use super::factor::{Cholesky, Reuse, SymbolicFactor};
+use super::factor::{Cholesky, Reuse, Schedule, SymbolicFactor};
 use super::lanczos::{BlockLanczosParams, EigenPairs, LanczosError, largest_eigenpairs};
 use crate::sparse::Pattern;
 use faer::{Mat, MatRef};
@@ -38,23 +39,17 @@ pub struct EigenParams {
     pub trailing_tol: Option<f64>,
     /// Restart cap.
     pub max_restarts: usize,
-    /// `C` in the zero-mode threshold `C·ε·‖H‖₁`. SPEC §5 suggests 10–100, but the shell's
-    /// real soft modes sit at 30× (clamped) and 8× (pinned, 1.67e-9, confirmed by an
-    /// independent implementation) above `ε‖H‖₁`, while exact mechanisms come out far below
-    /// `ε‖H‖₁` (tested); 5 keeps both right.
+    /// `C` in the zero-mode threshold `C·ε·‖H‖₁`: below every real soft mode (the paper's
+    /// shell has them at 8 and 30 `ε‖H‖₁`, pinned and clamped) and above exact mechanisms,
+    /// which come out far below `ε‖H‖₁` (tested).
     pub zero_factor: f64,
     /// The first shift is `−shift_factor·ε·‖H‖₁`.
     pub shift_factor: f64,
     /// Seed of the random start block.
     pub seed: u64,
-    /// Columns of a block solved per pass over the factor
-    /// ([`Cholesky::solve_in_place_grouped`]); the groups run in parallel.
-    #[serde(default = "default_solve_group")]
+    /// Columns of a block solved per pass over the factor ([`Schedule::Groups`]); the groups
+    /// run in parallel.
     pub solve_group: usize,
-}
-
-fn default_solve_group() -> usize {
-    crate::solve::factor::SOLVE_GROUP
 }
 
 impl Default for EigenParams {
@@ -69,7 +64,7 @@ impl Default for EigenParams {
             zero_factor: 5.0,
             shift_factor: 10.0,
             seed: 0x5eed,
-            solve_group: default_solve_group(),
+            solve_group: super::factor::SOLVE_GROUP,
         }
     }
 }
@@ -157,77 +152,184 @@ pub enum EigenError {
     NotConverged(String),
 }
 
-/// Computes the `params.count` smallest eigenpairs of the symmetric matrix whose upper triangle
-/// is `values` in `pattern`.
-///
-/// `warm_start` (columns of approximate eigenvectors, e.g. of a nearby matrix) speeds up
-/// convergence; the result does not depend on it beyond the solver's tolerance.
-pub fn smallest_eigenpairs(
-    pattern: &Pattern,
-    values: &[f64],
-    symbolic: &Arc<SymbolicFactor>,
-    warm_start: Option<MatRef<'_, f64>>,
-    params: &EigenParams,
-) -> Result<Spectrum, EigenError> {
-    smallest_eigenpairs_factored(pattern, values, symbolic, warm_start, params).map(|(s, _)| s)
+/// Where the shift `σ` of a shift-and-invert solve lies.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Shift {
+    /// Just below zero (`σ = −shift_factor·ε·‖H‖₁`), moved down tenfold until `H − σI` is
+    /// positive definite: the pairs nearest above it are the smallest eigenvalues, the most
+    /// negative ones first.
+    #[default]
+    BelowZero,
+    /// At `σ`: when `H − σI` is not positive definite its Cholesky factorization fails, which
+    /// proves `λ < σ` (Sylvester's law of inertia) for one factorization and no solve (the
+    /// answer is `None`). Otherwise shift-and-invert about `σ`, which converges faster than
+    /// about zero when `σ` lies just below `λ`.
+    Above(f64),
 }
 
-/// Above this share of kept coordinates, [`smallest_eigenpairs_restricted`] works on the
-/// whole pattern (a symbolic analysis of the submatrix would cost more than it saves).
+/// The start block of the Lanczos iteration.
+#[derive(Default)]
+pub enum Start<'a> {
+    /// Seeded random vectors.
+    #[default]
+    Random,
+    /// Columns of approximate eigenvectors (e.g. of a nearby matrix), at the matrix's full
+    /// size; the result does not depend on them beyond the solver's tolerance.
+    Vectors(MatRef<'a, f64>),
+    /// Vectors made only once the factorization succeeded (a failed one, with
+    /// [`Shift::Above`], then costs nothing else).
+    Lazy(Box<dyn FnOnce() -> Option<Mat<f64>> + 'a>),
+}
+
+impl std::fmt::Debug for Start<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Start::Random => f.write_str("Random"),
+            Start::Vectors(v) => write!(f, "Vectors({}×{})", v.nrows(), v.ncols()),
+            Start::Lazy(_) => f.write_str("Lazy"),
+        }
+    }
+}
+
+impl Start<'_> {
+    fn vectors(self) -> Option<Mat<f64>> {
+        match self {
+            Start::Random => None,
+            Start::Vectors(v) => Some(v.to_owned()),
+            Start::Lazy(make) => make(),
+        }
+    }
+}
+
+/// How [`smallest_eigenpairs`] runs: everything but the matrix and the accuracy.
+#[derive(Debug, Default)]
+pub struct EigenOptions<'a> {
+    /// Where the shift lies.
+    pub shift: Shift,
+    /// The start block.
+    pub start: Start<'a>,
+    /// A factorization the one of `H − σI` copies what it can from ([`Cholesky::factorize`];
+    /// the factor, hence the result, is the same either way).
+    pub reuse: Option<Reuse<'a>>,
+    /// The coordinates to solve on, when the others are decoupled from them (no stored
+    /// off-diagonal entry links them: loose vertices, which carry only a diagonal): the
+    /// smallest eigenpairs of the principal submatrix on them, the decoupled coordinates'
+    /// eigenvalues left out. When it selects at most [`RESTRICT_MAX_SHARE`] of them, the
+    /// factorizations see only those (an analysis of their own, without `reuse`, and no
+    /// factor handed out); otherwise the whole matrix is solved, whose decoupled diagonals
+    /// must then lie above the pairs sought. Vectors come back at full size, zero outside.
+    pub keep: Option<&'a [bool]>,
+}
+
+/// The eigenpairs found, and the factorization of `H − σI` they used (a good Newton matrix
+/// for the same structure near this state; `None` when a submatrix of its own was solved).
+#[derive(Debug)]
+pub struct Eigen {
+    /// The pairs.
+    pub spectrum: Spectrum,
+    /// The factorization of `H − σI`.
+    pub factor: Option<Cholesky>,
+}
+
+/// Above this share of kept coordinates, [`EigenOptions::keep`] solves the whole matrix (a
+/// symbolic analysis of the submatrix would cost more than it saves).
 pub const RESTRICT_MAX_SHARE: f64 = 0.75;
 
-/// [`smallest_eigenpairs`] of a matrix whose coordinates outside `keep` are decoupled from the
-/// rest (no stored off-diagonal entry links them to a kept coordinate; e.g. loose vertices,
-/// which carry only a diagonal): the smallest eigenpairs of the principal submatrix on
-/// `keep`, the eigenvalues of the decoupled coordinates being left out. When `keep` selects
-/// few coordinates, the factorizations only see those (with a symbolic analysis of their
-/// own); otherwise the whole matrix is solved with `symbolic`, which then must leave the
-/// decoupled diagonals above the pairs sought. Vectors come back at full size, zero outside
-/// `keep`; `warm_start` is given at full size too.
-pub fn smallest_eigenpairs_restricted(
+/// The `params.count` smallest eigenpairs of the symmetric matrix whose upper triangle is
+/// `values` in `pattern`, by shift-and-invert block Lanczos with `symbolic`'s factorizations.
+///
+/// `Ok(None)` only with [`Shift::Above`]: the proof that `λ < σ`. A matrix with NaN or
+/// infinite entries is an error, not such a proof.
+pub fn smallest_eigenpairs(
+    symbolic: &Arc<SymbolicFactor>,
     pattern: &Pattern,
     values: &[f64],
-    symbolic: &Arc<SymbolicFactor>,
-    keep: &[bool],
-    warm_start: Option<MatRef<'_, f64>>,
     params: &EigenParams,
-) -> Result<Spectrum, EigenError> {
-    let kept = keep.iter().filter(|&&k| k).count();
-    if kept == 0 || kept as f64 > RESTRICT_MAX_SHARE * pattern.n as f64 {
-        return smallest_eigenpairs(pattern, values, symbolic, warm_start, params);
+    options: EigenOptions<'_>,
+) -> Result<Option<Eigen>, EigenError> {
+    let _timer = crate::profile::Timer::new(crate::profile::Phase::Eigen);
+    params.validate().map_err(EigenError::InvalidParams)?;
+    if let Shift::Above(sigma) = options.shift
+        && !sigma.is_finite()
+    {
+        return Err(EigenError::InvalidParams(format!(
+            "the shift must be finite, got {sigma:e}"
+        )));
     }
+    let Some(keep) = options.keep.filter(|keep| {
+        let kept = keep.iter().filter(|&&k| k).count();
+        kept > 0 && kept as f64 <= RESTRICT_MAX_SHARE * pattern.n as f64
+    }) else {
+        return solve_whole(symbolic, pattern, values, params, options);
+    };
     let (sub, slots, dofs) = pattern.principal(keep);
     let sub_values: Vec<f64> = slots.iter().map(|&k| values[k]).collect();
-    let sub_symbolic = SymbolicFactor::new(&sub);
-    let warm = warm_start.map(|w| Mat::from_fn(dofs.len(), w.ncols(), |i, j| w[(dofs[i], j)]));
-    let mut sp = smallest_eigenpairs(
-        &sub,
-        &sub_values,
-        &sub_symbolic,
+    let sub_symbolic = SymbolicFactor::new(&sub, symbolic.backend());
+    let (start, map) = (options.start, dofs.clone());
+    let sub_start = Start::Lazy(Box::new(move || {
+        let w = start.vectors()?;
+        Some(Mat::from_fn(map.len(), w.ncols(), |i, j| w[(map[i], j)]))
+    }));
+    let sub_options = EigenOptions {
+        shift: options.shift,
+        start: sub_start,
+        reuse: None,
+        keep: None,
+    };
+    let Some(found) = solve_whole(&sub_symbolic, &sub, &sub_values, params, sub_options)? else {
+        return Ok(None);
+    };
+    let mut spectrum = found.spectrum;
+    let mut full = Mat::<f64>::zeros(pattern.n, spectrum.vectors.ncols());
+    for (i, &d) in dofs.iter().enumerate() {
+        for j in 0..full.ncols() {
+            full[(d, j)] = spectrum.vectors[(i, j)];
+        }
+    }
+    spectrum.vectors = full;
+    Ok(Some(Eigen {
+        spectrum,
+        factor: None,
+    }))
+}
+
+/// [`smallest_eigenpairs`] on the whole matrix.
+fn solve_whole(
+    symbolic: &Arc<SymbolicFactor>,
+    pattern: &Pattern,
+    values: &[f64],
+    params: &EigenParams,
+    options: EigenOptions<'_>,
+) -> Result<Option<Eigen>, EigenError> {
+    let shifted = match options.shift {
+        Shift::BelowZero => Some(factor_below_zero(symbolic, pattern, values, params)?),
+        Shift::Above(sigma) => factor_at(symbolic, pattern, values, params, sigma, options.reuse)?,
+    };
+    let Some((factor, shifted)) = shifted else {
+        return Ok(None);
+    };
+    let warm = options.start.vectors();
+    let (spectrum, factor) = finish(
+        pattern,
+        values,
+        factor,
+        shifted,
         warm.as_ref().map(|w| w.as_ref()),
         params,
     )?;
-    let mut full = Mat::<f64>::zeros(pattern.n, sp.vectors.ncols());
-    for (i, &d) in dofs.iter().enumerate() {
-        for j in 0..full.ncols() {
-            full[(d, j)] = sp.vectors[(i, j)];
-        }
-    }
-    sp.vectors = full;
-    Ok(sp)
+    Ok(Some(Eigen {
+        spectrum,
+        factor: Some(factor),
+    }))
 }
 
-/// [`smallest_eigenpairs`], also returning the factorization of `H − σI` it used (a good
-/// Newton matrix for the same structure near this state).
-pub fn smallest_eigenpairs_factored(
+/// The factorization of `H − σI` for [`Shift::BelowZero`].
+fn factor_below_zero(
+    symbolic: &Arc<SymbolicFactor>,
     pattern: &Pattern,
     values: &[f64],
-    symbolic: &Arc<SymbolicFactor>,
-    warm_start: Option<MatRef<'_, f64>>,
     params: &EigenParams,
-) -> Result<(Spectrum, Cholesky), EigenError> {
-    let _timer = crate::profile::Timer::new(crate::profile::Phase::Eigen);
-    params.validate().map_err(EigenError::InvalidParams)?;
+) -> Result<(Cholesky, Shifted), EigenError> {
     let norm1 = pattern.sym_norm1(values);
     if !norm1.is_finite() {
         return Err(EigenError::NoShift(f64::NAN));
@@ -236,10 +338,18 @@ pub fn smallest_eigenpairs_factored(
     let zero_threshold = params.zero_factor * eps * norm1;
     let mut shift = -(params.shift_factor * eps * norm1).max(f64::MIN_POSITIVE);
     let mut factorizations = 0;
-    let factor = loop {
+    loop {
         factorizations += 1;
-        match Cholesky::factorize(symbolic, pattern, values, -shift) {
-            Ok(f) => break f,
+        match Cholesky::factorize(symbolic, pattern, values, -shift, None) {
+            Ok(f) => {
+                let shifted = Shifted {
+                    shift,
+                    factorizations,
+                    norm1,
+                    zero_threshold,
+                };
+                return Ok((f, shifted));
+            }
             Err(_) => {
                 if -shift > 2.0 * norm1 + 1.0 {
                     return Err(EigenError::NoShift(shift));
@@ -247,72 +357,19 @@ pub fn smallest_eigenpairs_factored(
                 shift *= 10.0;
             }
         }
-    };
-    finish(
-        pattern,
-        values,
-        factor,
-        Shifted {
-            shift,
-            factorizations,
-            norm1,
-            zero_threshold,
-        },
-        warm_start,
-        params,
-    )
-}
-
-/// Like [`smallest_eigenpairs_factored`], but with the shift `σ = sigma` given: when
-/// `H − σI` is not positive definite, its Cholesky factorization fails and that proves
-/// `λ < σ` (Sylvester's law of inertia) at the cost of one factorization and no solve:
-/// `Ok(None)`. Otherwise the pairs are computed by shift-and-invert about `σ`, which converges
-/// faster than about zero when `σ` lies just below `λ`. The greedy uses it with `σ` the best
-/// score so far (minus the tie tolerance): a candidate below it cannot win.
-///
-/// With `reuse`, the factorization of `H − σI` copies what it can from a factorization of a
-/// matrix that differs only in a few rows and columns ([`Cholesky::factorize_reusing`]; the
-/// factor, hence the result, is the same).
-pub fn smallest_eigenpairs_above(
-    pattern: &Pattern,
-    values: &[f64],
-    symbolic: &Arc<SymbolicFactor>,
-    warm_start: Option<MatRef<'_, f64>>,
-    params: &EigenParams,
-    sigma: f64,
-    reuse: Option<Reuse<'_>>,
-) -> Result<Option<(Spectrum, Cholesky)>, EigenError> {
-    smallest_eigenpairs_above_with(
-        pattern,
-        values,
-        symbolic,
-        || warm_start.map(|w| w.to_owned()),
-        params,
-        sigma,
-        reuse,
-    )
-}
-
-/// [`smallest_eigenpairs_above`] with the warm start made only when the factorization of
-/// `H − σI` succeeds: a failed one (the answer `λ < σ`) costs nothing else.
-pub fn smallest_eigenpairs_above_with(
-    pattern: &Pattern,
-    values: &[f64],
-    symbolic: &Arc<SymbolicFactor>,
-    warm_start: impl FnOnce() -> Option<Mat<f64>>,
-    params: &EigenParams,
-    sigma: f64,
-    reuse: Option<Reuse<'_>>,
-) -> Result<Option<(Spectrum, Cholesky)>, EigenError> {
-    let _timer = crate::profile::Timer::new(crate::profile::Phase::Eigen);
-    params.validate().map_err(EigenError::InvalidParams)?;
-    if !sigma.is_finite() {
-        return Err(EigenError::InvalidParams(format!(
-            "the shift must be finite, got {sigma:e}"
-        )));
     }
-    let factor = Cholesky::factorize_maybe_reusing(symbolic, pattern, values, -sigma, reuse);
-    let Ok(factor) = factor else {
+}
+
+/// The factorization of `H − σI` for [`Shift::Above`]; `None` when it fails (`λ < σ`).
+fn factor_at(
+    symbolic: &Arc<SymbolicFactor>,
+    pattern: &Pattern,
+    values: &[f64],
+    params: &EigenParams,
+    sigma: f64,
+    reuse: Option<Reuse<'_>>,
+) -> Result<Option<(Cholesky, Shifted)>, EigenError> {
+    let Ok(factor) = Cholesky::factorize(symbolic, pattern, values, -sigma, reuse) else {
         // A matrix with NaN or infinity fails too: that is an error, not an answer.
         if values.iter().any(|v| !v.is_finite()) {
             return Err(EigenError::NoShift(f64::NAN));
@@ -323,22 +380,13 @@ pub fn smallest_eigenpairs_above_with(
     if !norm1.is_finite() {
         return Err(EigenError::NoShift(f64::NAN));
     }
-    let zero_threshold = params.zero_factor * f64::EPSILON * norm1;
-    let warm = warm_start();
-    finish(
-        pattern,
-        values,
-        factor,
-        Shifted {
-            shift: sigma,
-            factorizations: 1,
-            norm1,
-            zero_threshold,
-        },
-        warm.as_ref().map(|w| w.as_ref()),
-        params,
-    )
-    .map(Some)
+    let shifted = Shifted {
+        shift: sigma,
+        factorizations: 1,
+        norm1,
+        zero_threshold: params.zero_factor * f64::EPSILON * norm1,
+    };
+    Ok(Some((factor, shifted)))
 }
 
 /// What the factorization step of a shift-and-invert solve found.
@@ -378,7 +426,7 @@ fn finish(
         n,
         |x, mut y| {
             y.copy_from(x);
-            factor.solve_in_place_grouped(y, params.solve_group);
+            factor.solve_in_place(y, Schedule::Groups(params.solve_group));
         },
         warm_start,
         &lanczos,
@@ -530,23 +578,41 @@ mod tests {
         (pattern, values, exact)
     }
 
+    /// `smallest_eigenpairs` about `σ` on the shifted Laplacian.
+    fn above(
+        pattern: &Pattern,
+        values: &[f64],
+        symbolic: &Arc<SymbolicFactor>,
+        params: &EigenParams,
+        sigma: f64,
+        start: Start<'_>,
+    ) -> Result<Option<Eigen>, EigenError> {
+        let options = EigenOptions {
+            shift: Shift::Above(sigma),
+            start,
+            ..Default::default()
+        };
+        smallest_eigenpairs(symbolic, pattern, values, params, options)
+    }
+
     #[test]
     fn a_negative_shift_proves_or_finds_negative_eigenvalues() {
         let (pattern, values, exact) = shifted_laplacian(40);
-        let symbolic = SymbolicFactor::new(&pattern);
+        let symbolic = SymbolicFactor::new(&pattern, Default::default());
         let params = EigenParams {
             count: 2,
             ..Default::default()
         };
         assert!(exact[0] < -0.4 && exact[1] < exact[0] + 0.1);
         // Below the shift: one failed factorization says so.
-        let above = |sigma: f64| {
-            smallest_eigenpairs_above(&pattern, &values, &symbolic, None, &params, sigma, None)
-                .expect("valid")
+        let at = |sigma: f64| {
+            above(&pattern, &values, &symbolic, &params, sigma, Start::Random).expect("valid")
         };
-        assert!(above(exact[0] + 1e-3).is_none());
+        assert!(at(exact[0] + 1e-3).is_none());
         // Just below λ₁ (negative): the pairs, to the solver's accuracy.
-        let (sp, _) = above(exact[0] - 1e-3).expect("H − σI is positive definite");
+        let sp = at(exact[0] - 1e-3)
+            .expect("H − σI is positive definite")
+            .spectrum;
         assert!(
             (sp.lambda() - exact[0]).abs() < 1e-9,
             "{} {}",
@@ -556,51 +622,58 @@ mod tests {
         assert!((sp.values[1] - exact[1]).abs() < 1e-9);
         assert_eq!(sp.negative_modes, 2);
         assert!(
-            smallest_eigenpairs_above(&pattern, &values, &symbolic, None, &params, f64::NAN, None)
-                .is_err()
+            above(
+                &pattern,
+                &values,
+                &symbolic,
+                &params,
+                f64::NAN,
+                Start::Random
+            )
+            .is_err()
         );
         // A matrix with NaN fails its factorization too: an error, not a proof.
         let mut bad = values.clone();
         bad[pattern.diag[7]] = f64::NAN;
-        let r = smallest_eigenpairs_above(&pattern, &bad, &symbolic, None, &params, -1.0, None);
+        let r = above(&pattern, &bad, &symbolic, &params, -1.0, Start::Random);
         assert!(r.is_err(), "{r:?}");
     }
 
-    /// The warm start is made only when the factorization about `σ` succeeds.
+    /// A lazy start is made only when the factorization about `σ` succeeds.
     #[test]
     fn the_warm_start_is_made_only_for_a_successful_factorization() {
         let (pattern, values, exact) = shifted_laplacian(40);
-        let symbolic = SymbolicFactor::new(&pattern);
+        let symbolic = SymbolicFactor::new(&pattern, Default::default());
         let params = EigenParams {
             count: 2,
             ..Default::default()
         };
         let made = std::cell::Cell::new(0);
-        let warm = || {
-            made.set(made.get() + 1);
-            None
+        let lazy = || {
+            Start::Lazy(Box::new(|| {
+                made.set(made.get() + 1);
+                None
+            }))
         };
-        let below = smallest_eigenpairs_above_with(
+        let below = above(
             &pattern,
             &values,
             &symbolic,
-            warm,
             &params,
             exact[0] + 1e-3,
-            None,
+            lazy(),
         );
         assert!(below.expect("valid").is_none());
         assert_eq!(made.get(), 0, "no warm start for a failed factorization");
-        let above = smallest_eigenpairs_above_with(
+        let found = above(
             &pattern,
             &values,
             &symbolic,
-            warm,
             &params,
             exact[0] - 1e-3,
-            None,
+            lazy(),
         );
-        assert!(above.expect("valid").is_some());
+        assert!(found.expect("valid").is_some());
         assert_eq!(made.get(), 1);
     }
 }
