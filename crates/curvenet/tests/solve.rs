@@ -7,6 +7,7 @@
 mod common;
 
 use common::{build, data_dir, random_curves};
+use curvenet::rod::model::Terms;
 use curvenet::rod::{ActiveSet, Supports};
 use curvenet::solve::{
     Backend, Cholesky, EigenOptions, Reuse, Schedule, Spectrum, SymbolicFactor, smallest_eigenpairs,
@@ -286,7 +287,7 @@ fn reusing_a_reference_factor_is_bit_identical() {
     let n = model.dofs();
     let curves = a.network().rods.len();
     let u = vec![0.0; n];
-    let locals = model.local_hessians(&u);
+    let locals = model.local_hessians(&u, Terms::All);
     // The whole structure, and one without curve 0 (its analysis restricted to its vertices).
     for active in [a.all(), a.all().without(0)] {
         let sym = a.symbolic_for(&active);

@@ -22,6 +22,7 @@ use common::{
 };
 use curvenet::geom::Vec3;
 use curvenet::network::{Joint, Network, Rod, build_network};
+use curvenet::rod::model::Terms;
 use curvenet::rod::{ActiveSet, Material, Supports};
 use curvenet::solve::EigenParams;
 use curvenet::solve::lanczos::smallest_eigenpairs_dense;
@@ -645,7 +646,7 @@ fn the_hessian_without_a_curve_is_the_whole_assembly_bit_for_bit() {
         let u: Vec<f64> = (0..model.dofs())
             .map(|i| 0.5 * ((i as f64) * 0.7).sin())
             .collect();
-        let locals = model.local_hessians(&u);
+        let locals = model.local_hessians(&u, Terms::All);
         let mut structures = vec![ActiveSet::all(n)];
         if name == "dome" {
             structures.extend(REMOVALS.iter().map(|r| active_without(n, r)));
@@ -657,7 +658,7 @@ fn the_hessian_without_a_curve_is_the_whole_assembly_bit_for_bit() {
             model.hessian_from_locals(&locals, &active, &mut h);
             // The structure's own local Hessians (its curves' terms only) give the same
             // Hessians for it and its sub-structures.
-            let own = model.local_hessians_for(&u, &active);
+            let own = model.local_hessians(&u, Terms::Of(&active));
             let mut h_own = Vec::new();
             model.hessian_from_locals(&own, &active, &mut h_own);
             assert_eq!(bits(&h_own), bits(&h), "{name}: the structure's own locals");

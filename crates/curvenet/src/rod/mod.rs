@@ -5,11 +5,13 @@
 //! - [`model`]: the flat list of all terms of a network and its sparse assembly, with the
 //!   ability to leave out any set of curves (a structure: `docs/model.md`, *Stability*).
 
+mod active;
 pub mod model;
 pub mod network;
 pub mod terms;
 
-pub use model::{ActiveSet, Assembly, EnergyModel};
+pub use active::ActiveSet;
+pub use model::{Assembly, EnergyModel};
 pub use network::{Joint, Network, Rod};
 
 use serde::{Deserialize, Serialize};

@@ -20,7 +20,7 @@
 
 use super::{Evaluation, Scorer, Work};
 use crate::rod::ActiveSet;
-use crate::rod::model::LocalHessians;
+use crate::rod::model::{LocalHessians, Terms};
 use crate::solve::eigen::Spectrum;
 use crate::solve::factor::SOLVE_GROUP;
 use crate::solve::{Cholesky, Reuse, Schedule, SymbolicFactor};
@@ -199,7 +199,7 @@ impl CandidateTerms {
     /// The terms of structure `active` at displacements `u`.
     pub fn compute(scorer: &Scorer<'_>, active: &ActiveSet, u: &[f64]) -> Self {
         let model = scorer.analyzer().model();
-        let locals = model.local_hessians_for(u, active);
+        let locals = model.local_hessians(u, Terms::Of(active));
         let mut h = Vec::new();
         model.hessian_from_locals(&locals, active, &mut h);
         CandidateTerms { locals, h }

@@ -91,7 +91,7 @@
 
 use super::{Budget, SimplifyError};
 use crate::rod::ActiveSet;
-use crate::rod::model::LocalHessians;
+use crate::rod::model::{LocalHessians, Terms};
 use crate::solve::NewtonSummary;
 use crate::solve::SymbolicFactor;
 use crate::solve::eigen::{EigenError, EigenOptions, EigenParams, Spectrum, Start};
@@ -463,7 +463,7 @@ impl<'a> FixedProblem<'a> {
         keep.dedup();
         let lengths = analyzer.network().rest_lengths();
         let budget = budget.length(lengths.iter().sum());
-        let locals = model.local_hessians(&displacement);
+        let locals = model.local_hessians(&displacement, Terms::All);
         let mut index: BTreeMap<Vec<usize>, usize> = BTreeMap::new();
         let mut groups: Vec<VertexGroup> = Vec::new();
         for (v, cs) in model.vertex_curves().iter().enumerate() {

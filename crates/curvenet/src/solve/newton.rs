@@ -17,7 +17,7 @@
 
 use super::factor::{Cholesky, SymbolicFactor};
 use super::tuning::SolverTuning;
-use crate::rod::model::Assembly;
+use crate::rod::model::{Assembly, Terms};
 use crate::rod::{ActiveSet, EnergyModel};
 use serde::{Deserialize, Serialize};
 use std::convert::Infallible;
@@ -483,7 +483,7 @@ impl<'a> Solver<'a> {
     fn projected_direction(&mut self, x: &[f64], cur: &Assembly) -> Result<Direction, NewtonStop> {
         let Equilibrium { model, active, .. } = *self.eq;
         self.info.projected_steps += 1;
-        let locals = model.local_hessians_projected(x, active);
+        let locals = model.local_hessians(x, Terms::ProjectedOf(active));
         let mut hp = Vec::new();
         model.hessian_from_locals(&locals, active, &mut hp);
         let mut shift = 0.0;
