@@ -1,7 +1,8 @@
 //! The rod network: curves resampled into rods that share vertices at their crossings
 //! (`docs/model.md`, *Network construction*).
 //!
-//! - [`build`]: from input polylines to a [`Network`] (crossings, joints, resampling, locking);
+//! - [`build`]: from input polylines to a [`Network`]: crossings, joints (`joints`),
+//!   resampling and locking (`resample`);
 //! - [`crossings`]: closest-approach crossing detection through a spatial grid;
 //! - [`checks`]: input sanity checks (curves far from the mesh, mesh defects, curves that run
 //!   together, tiny edges) whose findings are warnings, not errors;
@@ -11,6 +12,8 @@
 pub mod build;
 pub mod checks;
 pub mod crossings;
+mod joints;
+mod resample;
 pub mod subnet;
 
 pub use build::{BuildInfo, BuildParams, build_network};
