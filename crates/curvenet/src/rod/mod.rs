@@ -1,4 +1,5 @@
-//! Rod energy: the material, the supports and the discrete elastic rod terms (SPEC §3).
+//! Rod energy: the material, the supports and the discrete elastic rod terms (`docs/model.md`,
+//! *Energy*).
 //!
 //! - [`terms`]: the local stretching, bending and anchor terms with exact derivatives;
 //! - [`network`]: the rod network as data (what [`crate::network`] builds from curves);
@@ -17,7 +18,7 @@ pub use network::{Joint, Network, Rod};
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
-/// Material constants of every rod, in scene units (SPEC §3).
+/// Material constants of every rod, in scene units (`docs/model.md`, *Energy*).
 ///
 /// Results depend on the radius relative to the curves' length: the defaults are the
 /// reference's (`r = 2`, `E = 1`, `µ = 500`), made for scenes a few hundred to a few thousand
@@ -71,7 +72,8 @@ impl Material {
     }
 }
 
-/// Which vertices of an open curve are anchored (SPEC §3). Closed curves have none.
+/// Which vertices of an open curve are anchored (`docs/model.md`, *Energy*). Closed curves
+/// have none.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Supports {

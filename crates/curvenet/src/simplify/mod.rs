@@ -139,17 +139,7 @@ pub const LARGE_FACTOR_VALUES: usize = 4_000_000;
 /// The spectrum's shift, as a fraction of [`Warm::lambda`].
 const SPECTRUM_SHIFT: f64 = 0.9;
 
-/// Residual tolerance of the lowest pair of the greedy's spectra (at least; see
-/// [`Scorer::with_modes`]). Its value `λ_eq` comes out accurate to about the square of it
-/// over the relative gap to the next eigenvalue (1e-12 / gap), below what fixes the
-/// equilibrium itself: a benign change of Newton's path (another factorization handed to
-/// its first step) moves the arched shell's and the shell's `λ_eq` by up to 3e-6 relative.
-pub const SPECTRUM_TOL: f64 = 1e-6;
-
-/// Residual tolerance of the greedy spectra's other pairs: their vectors only span the
-/// candidates' bound subspace and the next spectrum's start (any subspace gives valid
-/// bounds), their values stay accurate to about 1e-8 / gap.
-pub const SPECTRUM_TRAILING_TOL: f64 = 1e-4;
+pub use crate::solve::eigen::{SPECTRUM_TOL, SPECTRUM_TRAILING_TOL};
 
 /// Counts of the expensive operations, for benchmarks.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -190,16 +180,7 @@ pub struct Scorer<'a> {
 impl<'a> Scorer<'a> {
     /// A scorer over `analyzer`'s network.
     pub fn new(analyzer: &'a Analyzer) -> Self {
-        let mut candidate_eigen = analyzer.params().eigen.clone();
-        // Only λ is needed: one converged pair, in a block of two that holds its neighbour
-        // (clustered smallest eigenvalues: the roof's two are 5% apart). Converging the
-        // second pair too cost 12–15% more solves (arched shell, roof) for nothing.
-        candidate_eigen.count = 1;
-        candidate_eigen.block_size = 2.min(candidate_eigen.block_size);
-        candidate_eigen.max_basis = candidate_eigen.max_basis.min(40);
-        // Scores need λ to ~1e-12 relative (ties are 1e-7 apart); with the pair captured by the
-        // block, the Ritz value error is about tol²/gap.
-        candidate_eigen.tol = candidate_eigen.tol.max(1e-8);
+        let candidate_eigen = analyzer.params().eigen.candidate_score();
         Scorer {
             analyzer,
             eval_eigen: analyzer.params().eigen.clone(),
@@ -208,22 +189,10 @@ impl<'a> Scorer<'a> {
         }
     }
 
-    /// Computes `k` modes in every `λ_eq` spectrum (for the candidates' bounds), the lowest
-    /// to [`SPECTRUM_TOL`], the others to [`SPECTRUM_TRAILING_TOL`] (or the analyzer's
-    /// tolerance where looser): the greedy's records need `λ_eq`, its search a subspace. The
-    /// roof's spectra took 26 solves each to 1e-10, 16 with these.
+    /// Computes `k` modes in every `λ_eq` spectrum ([`EigenParams::greedy_spectrum`]): the
+    /// greedy's records need `λ_eq`, its search a subspace.
     pub fn with_modes(mut self, k: usize) -> Self {
-        self.eval_eigen.count = k.max(1);
-        self.eval_eigen.tol = self.eval_eigen.tol.max(SPECTRUM_TOL);
-        self.eval_eigen.trailing_tol = Some(SPECTRUM_TRAILING_TOL.max(self.eval_eigen.tol));
-        // Blocks of up to a solver's column group; the spectrum runs while a core is idle, so
-        // its block's columns are solved side by side, one per pass over the factor.
-        self.eval_eigen.block_size = crate::solve::factor::SOLVE_GROUP.min(k.max(1));
-        self.eval_eigen.solve_group = 1;
-        self.eval_eigen.max_basis = self
-            .eval_eigen
-            .max_basis
-            .max(self.eval_eigen.count + 6 * self.eval_eigen.block_size);
+        self.eval_eigen = self.eval_eigen.greedy_spectrum(k);
         self
     }
 
@@ -437,9 +406,7 @@ impl<'a> Scorer<'a> {
         symbolic: &crate::solve::SymbolicFactor,
     ) -> std::borrow::Cow<'_, EigenParams> {
         if symbolic.factor_nnz() > LARGE_FACTOR_VALUES {
-            let mut p = self.candidate_eigen.clone();
-            p.solve_group = 1;
-            std::borrow::Cow::Owned(p)
+            std::borrow::Cow::Owned(self.candidate_eigen.column_by_column())
         } else {
             std::borrow::Cow::Borrowed(&self.candidate_eigen)
         }

@@ -484,14 +484,9 @@ impl<'a> FixedProblem<'a> {
         }
         let full = model.assemble(&displacement, &ActiveSet::all(n), true).hess;
         let norm1 = model.pattern().sym_norm1(&full);
-        let base = analyzer.params().eigen.clone();
-        let mut eval_eigen = base.clone();
-        eval_eigen.count = 4;
-        eval_eigen.block_size = 4;
-        eval_eigen.max_basis = eval_eigen.max_basis.clamp(32, 48);
-        eval_eigen.tol = base.tol.max(1e-10);
-        let mut relax_eigen = eval_eigen.clone();
-        relax_eigen.tol = base.tol.max(1e-8);
+        let base = &analyzer.params().eigen;
+        let eval_eigen = base.fixed_spectrum();
+        let relax_eigen = base.relaxation_step();
         let mut p = FixedProblem {
             analyzer,
             displacement,

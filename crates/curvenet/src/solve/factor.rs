@@ -57,8 +57,8 @@ pub struct SymbolicFactor {
     backend: Backend,
     /// Buffers of dropped factors and factorization scratch, reused by the next numeric
     /// factorizations: a fresh buffer of `L`'s size costs page faults and zeroing on every
-    /// factorization (≈ 8% of a factorization on the tower). Which buffer a factorization
-    /// gets never affects its values (faer zeroes `L` and overwrites the scratch).
+    /// factorization. Which buffer a factorization gets never affects its values (faer zeroes
+    /// `L` and overwrites the scratch).
     pool: std::sync::Mutex<Pool>,
     /// When this analysis covers only some coordinates of a larger pattern (see
     /// [`SymbolicFactor::restricted`]): how they sit in it.
@@ -205,7 +205,7 @@ impl SymbolicFactor {
             }
         }
         // A fresh ordering of the part (the whole network's ordering restricted to it leaves
-        // 14% more fill on the tower), with the whole network's choice of method.
+        // more fill), with the whole network's choice of method.
         let mut analysis = Self::analyse(&sub, Some(full.ordering), full.backend);
 
         analysis.restriction = Some(Restriction {

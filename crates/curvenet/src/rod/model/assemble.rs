@@ -241,7 +241,7 @@ impl EnergyModel {
     }
 
     /// The Hessian of the active structure with the rows and columns of loose vertices deleted
-    /// (the normative definition of SPEC §5), as a dense matrix, and the kept vertices.
+    /// (the definition of a structure: `docs/model.md`, *Stability*), as a dense matrix, and the kept vertices.
     /// For tests and small networks.
     pub fn explicit_deletion(&self, u: &[f64], active: &ActiveSet) -> (faer::Mat<f64>, Vec<usize>) {
         let a = self.assemble(u, active, true);

@@ -131,7 +131,7 @@ impl EnergyModel {
 
     /// `Σ_c weights[c]·H_c` from precomputed local Hessians, where `H_c` holds every term of
     /// curve `c` (stretching, bending, anchors): the Hessian of the structure in which curve
-    /// `c`'s stiffness is scaled by `weights[c]` (the relaxation of SPEC §7). Vertices whose
+    /// `c`'s stiffness is scaled by `weights[c]` (the continuous relaxation: `docs/model.md`, *Relaxation and certificate*). Vertices whose
     /// curves all have weight 0 get the loose diagonal, as in [`Self::hessian_from_locals`];
     /// with 0/1 weights the two agree bit for bit.
     pub fn hessian_weighted(&self, locals: &LocalHessians, weights: &[f64], hess: &mut Vec<f64>) {

@@ -23,9 +23,8 @@
 //! applies the updates to its own rows at once and defers those to rows above it, which are
 //! applied in the sequential order once its siblings are done. Each row thus receives the
 //! same updates in the same order, from the same dense operations, as in faer's sequential
-//! substitution: the solution is bit-identical to it. The deferred updates make it about 10%
-//! slower where no core is free, so only callers that leave the cores idle (Newton's steps)
-//! use it.
+//! substitution: the solution is bit-identical to it. The deferred updates cost extra work
+//! where no core is free, so only callers that leave the cores idle (Newton's steps) use it.
 
 mod factorize;
 mod plan;
