@@ -2,15 +2,17 @@
 //! (`solve::factor`), which must never change its values; eigenpairs of a structure with loose
 //! vertices computed on the principal submatrix (`solve::EigenOptions::keep`) agree with those
 //! of the whole matrix; the subtree-parallel backend against faer's, bit for bit where it
-//! promises so; Newton's speed techniques against none.
+//! promises so; Newton's speed techniques against none; Newton's convergence scale.
 
 mod common;
 
-use common::{build, data_dir, random_curves};
+use common::{build, data_dir, norm, polyline, random_arches, random_curves};
+use curvenet::geom::Vec3;
 use curvenet::rod::model::Terms;
 use curvenet::rod::{ActiveSet, Supports};
 use curvenet::solve::{
-    Backend, Cholesky, EigenOptions, Reuse, Schedule, Spectrum, SymbolicFactor, smallest_eigenpairs,
+    Backend, Cholesky, EigenOptions, NewtonStop, Reuse, Schedule, Spectrum, SymbolicFactor,
+    smallest_eigenpairs,
 };
 use curvenet::stability::{Analyzer, StabilityParams};
 
@@ -516,4 +518,56 @@ fn subtree_parallel_solves_match_faer_bit_for_bit() {
         let v_bits: Vec<u64> = v.iter().map(|x| x.to_bits()).collect();
         assert_eq!(v_bits, bits(&reference), "seed {seed}, solve_vec");
     }
+}
+
+/// Unloaded straight rods (a tilted grid of straight curves crossing at joints) are at rest in
+/// their drawn state, where their gradient is pure round-off: Newton judges it against the
+/// forces' natural scale and converges at once, instead of chasing a tolerance relative to
+/// round-off (it stalled, and every such network reported "equilibrium not reached").
+#[test]
+fn unloaded_straight_rods_converge_at_once() {
+    let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+    let (cz, sz) = (17f64.to_radians().cos(), 17f64.to_radians().sin());
+    let at = |u: f64, v: f64| {
+        let (x, y, z) = (u, v * c, v * s);
+        Vec3::new(x * cz - y * sz, x * sz + y * cz, z)
+    };
+    let mut curves = Vec::new();
+    for i in 0..5 {
+        let t = 100.0 + 200.0 * i as f64;
+        curves.push(polyline(vec![at(t, 0.0), at(t, 1000.0)], false));
+        curves.push(polyline(vec![at(0.0, t), at(1000.0, t)], false));
+    }
+    for supports in [Supports::Clamped, Supports::Pinned] {
+        let a = Analyzer::new(build(&curves, 50.0, supports), StabilityParams::default())
+            .expect("analyzer");
+        assert_eq!(a.network().joints.len(), 25);
+        let mut u = vec![0.0; a.model().dofs()];
+        let info = a.relax(&a.all(), &mut u);
+        assert_eq!(info.stop, NewtonStop::Converged, "{supports:?}: {info:?}");
+        assert!(info.converged && info.iterations == 0, "{info:?}");
+        assert!(info.grad_rel < a.params().newton.rel_tol, "{info:?}");
+        assert!(
+            u.iter().all(|&x| x == 0.0),
+            "the drawn state is the equilibrium"
+        );
+    }
+}
+
+/// Curved rods have a drawn gradient far above the forces' natural scale: their relaxations
+/// are judged against their drawn state, exactly as without that scale.
+#[test]
+fn curved_rods_are_judged_against_their_drawn_gradient() {
+    let a = Analyzer::new(
+        build(&random_arches(7, 6), 40.0, Supports::Clamped),
+        StabilityParams::default(),
+    )
+    .expect("analyzer");
+    let (model, all) = (a.model(), a.all());
+    let drawn = norm(&model.assemble(&vec![0.0; model.dofs()], &all, false).grad);
+    let natural = model.natural_force_scale(&all);
+    assert!(
+        natural > 0.0 && natural < 1e-3 * drawn,
+        "{natural:e} against {drawn:e}"
+    );
 }

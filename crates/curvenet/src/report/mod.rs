@@ -252,7 +252,7 @@ impl AnalysisReport {
             dofs: network.dofs(),
             edge_length: network.edge_length_stats(),
             supports: network.supports.name().to_string(),
-            newton: NewtonSummary::from(&analysis.newton),
+            newton: analysis.newton.summary(),
             lambda: sp.lambda(),
             eigenvalues: sp.values.clone(),
             zero_modes: sp.zero_modes,

@@ -722,9 +722,9 @@ pub fn summary(r: &ResultFile) -> String {
 #[cfg(test)]
 mod tests {
     use super::unrelaxed;
-    use crate::report::NewtonSummary;
     use crate::simplify::greedy::IterationRecord;
     use crate::solve::NewtonStop;
+    use crate::solve::NewtonSummary;
 
     fn record(curves: usize, converged: bool, stop: NewtonStop) -> IterationRecord {
         IterationRecord {

@@ -11,7 +11,10 @@
 //!
 //! **Convergence** is judged against a scale `g₀`: the structure's gradient norm in the drawn
 //! state (so the tolerance means the same for every solve of it, whatever state it starts
-//! from). Converged when `‖∇E‖ ≤ rel_tol · g₀`, or when `‖∇E‖` stops
+//! from), but never below the forces' natural scale
+//! ([`EnergyModel::natural_force_scale`]): a structure already at rest in its drawn state
+//! (unloaded straight rods), whose drawn gradient is pure round-off, converges at once instead
+//! of chasing a tolerance below round-off. Converged when `‖∇E‖ ≤ rel_tol · g₀`, or when `‖∇E‖` stops
 //! decreasing at the round-off floor within [`NewtonParams::floor_max_rel`]; every way of
 //! stopping is reported ([`NewtonStop`]), never hidden.
 
@@ -136,7 +139,6 @@ pub struct NewtonInfo {
     /// Largest diagonal shift `τ` used.
     pub max_shift: f64,
     /// Doublings of steps escaping a saddle ([`SolverTuning::escape_doublings`]).
-    #[serde(default)]
     pub escape_doublings: usize,
 }
 
@@ -171,12 +173,6 @@ pub struct NewtonSummary {
     /// Steps that reused an earlier factorization.
     #[serde(default)]
     pub chord_steps: usize,
-}
-
-impl From<&NewtonInfo> for NewtonSummary {
-    fn from(n: &NewtonInfo) -> Self {
-        n.summary()
-    }
 }
 
 /// An equilibrium problem: a structure of an energy model, factored with `symbolic` (an
@@ -222,10 +218,12 @@ impl Equilibrium<'_> {
         }
     }
 
-    /// The convergence scale `g₀`: the structure's gradient norm in the drawn state.
+    /// The convergence scale `g₀`: the structure's gradient norm in the drawn state, at least
+    /// its forces' natural scale ([`EnergyModel::natural_force_scale`]).
     pub fn convergence_scale(&self) -> f64 {
         let zero = vec![0.0; self.model.dofs()];
-        norm(&self.model.assemble(&zero, self.active, false).grad)
+        let drawn = norm(&self.model.assemble(&zero, self.active, false).grad);
+        drawn.max(self.model.natural_force_scale(self.active))
     }
 }
 

@@ -142,9 +142,27 @@ impl EnergyModel {
         &self.pattern
     }
 
-    /// The stretching stiffness `k_s = E π r²`.
-    pub fn stretch_stiffness(&self) -> f64 {
-        self.ks
+    /// The natural scale of the forces in structure `active`, the scale below which residual
+    /// forces are negligible: the bending force `k_b / L²` of its longest curve (Euler's
+    /// buckling load without its `π²`, the force under which the structure's softest members
+    /// give way) at each of its vertices, as a norm over them (`k_b / L² · √V`). A drawn state
+    /// with forces (curved rods, anchors out of place) has a gradient far above it; unloaded
+    /// straight rods have only round-off.
+    pub fn natural_force_scale(&self, active: &ActiveSet) -> f64 {
+        let longest = self
+            .active_terms(active)
+            .map(|(_, r)| {
+                self.stretch[r.stretch.clone()]
+                    .iter()
+                    .map(|t| t.rest)
+                    .sum::<f64>()
+            })
+            .fold(0.0, f64::max);
+        let held = self.vertex_mask(active).iter().filter(|&&h| h).count();
+        if !(longest > 0.0) {
+            return 0.0;
+        }
+        self.kb / (longest * longest) * (held as f64).sqrt()
     }
 
     /// The diagonal value placed on loose vertices' coordinates.

@@ -10,6 +10,12 @@
 //!
 //! Eigenvalues within `±C·ε·‖H‖₁` count as zero modes (mechanisms), below as negative modes
 //! (an unstable equilibrium). Every returned pair comes with its residual `‖Hv − λv‖`.
+//!
+//! [`smallest_eigenpairs`] is the one entry: the matrix, the accuracy ([`EigenParams`] and its
+//! named presets) and how to run ([`EigenOptions`]: the shift, the start, a factor to reuse,
+//! the coordinates to keep). A generalized problem `H v = μ M v` with a diagonal (lumped) mass
+//! `M` would enter there as one more option, solved as the standard problem of
+//! `M^{-1/2} H M^{-1/2}` (shift-and-invert on `H − σM`).
 
 mod presets;
 mod shift_invert;
@@ -40,7 +46,6 @@ pub struct EigenParams {
     /// square of its residual over the gap to the next eigenvalue, so the later pairs'
     /// values stay accurate to about `trailing_tol²` while their vectors, which serve as a
     /// subspace (the candidates' bounds, the next solve's start), cost fewer solves.
-    #[serde(default)]
     pub trailing_tol: Option<f64>,
     /// Restart cap.
     pub max_restarts: usize,
@@ -186,16 +191,6 @@ pub enum Start<'a> {
     Lazy(Box<dyn FnOnce() -> Option<Mat<f64>> + 'a>),
 }
 
-impl std::fmt::Debug for Start<'_> {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Start::Random => f.write_str("Random"),
-            Start::Vectors(v) => write!(f, "Vectors({}×{})", v.nrows(), v.ncols()),
-            Start::Lazy(_) => f.write_str("Lazy"),
-        }
-    }
-}
-
 impl Start<'_> {
     fn vectors(self) -> Option<Mat<f64>> {
         match self {
@@ -207,7 +202,7 @@ impl Start<'_> {
 }
 
 /// How [`smallest_eigenpairs`] runs: everything but the matrix and the accuracy.
-#[derive(Debug, Default)]
+#[derive(Default)]
 pub struct EigenOptions<'a> {
     /// Where the shift lies.
     pub shift: Shift,
