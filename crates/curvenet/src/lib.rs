@@ -30,5 +30,6 @@ pub mod rng;
 pub mod rod;
 pub mod simplify;
 pub mod solve;
+pub mod sparse;
 pub mod stability;
 pub mod trace;
