@@ -28,7 +28,11 @@ pub fn input(py: Python<'_>, e: &InputError) -> PyErr {
 
 /// `curvenet.InputError(message)` for a bad parameter or a bad file without a line.
 pub fn usage(py: Python<'_>, message: impl Into<String>) -> PyErr {
-    raise(py, "InputError", (message.into(), None::<String>, None::<usize>))
+    raise(
+        py,
+        "InputError",
+        (message.into(), None::<String>, None::<usize>),
+    )
 }
 
 /// `curvenet.CurvenetError(message)`: a computation that failed.

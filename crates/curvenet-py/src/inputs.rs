@@ -11,7 +11,13 @@ use pyo3::types::{PyDict, PyList, PyTuple};
 use std::path::{Path, PathBuf};
 
 /// One curve as Python sees it: `(points (n, 3), closed, label, file, line)`.
-pub type CurveTuple<'py> = (Bound<'py, PyArray2<f64>>, bool, Option<String>, String, usize);
+pub type CurveTuple<'py> = (
+    Bound<'py, PyArray2<f64>>,
+    bool,
+    Option<String>,
+    String,
+    usize,
+);
 
 /// A curve to its Python tuple.
 pub fn curve_tuple<'py>(py: Python<'py>, c: &Polyline) -> CurveTuple<'py> {
@@ -41,14 +47,17 @@ pub fn curve_from_tuple(t: &Bound<'_, PyAny>) -> PyResult<Polyline> {
     })
 }
 
-/// A mesh to `(vertices (V, 3), faces (F, 3) uint32)`.
-pub fn mesh_tuple<'py>(
-    py: Python<'py>,
-    m: &TriMesh,
-) -> (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>) {
+/// A mesh as Python sees it: `(vertices (V, 3), faces (F, 3) uint32)`.
+pub type MeshTuple<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>);
+
+/// A mesh to its Python tuple.
+pub fn mesh_tuple<'py>(py: Python<'py>, m: &TriMesh) -> MeshTuple<'py> {
     let flat: Vec<u32> = m.faces.iter().flatten().copied().collect();
     let faces = Array2::from_shape_vec((m.faces.len(), 3), flat).expect("3 indices per face");
-    (points(py, &m.vertices), PyArray2::from_owned_array(py, faces))
+    (
+        points(py, &m.vertices),
+        PyArray2::from_owned_array(py, faces),
+    )
 }
 
 /// A mesh from `(vertices, faces)`, checked (indices in range, finite coordinates).
@@ -62,7 +71,10 @@ pub fn mesh_from_tuple(py: Python<'_>, t: &Bound<'_, PyAny>) -> PyResult<TriMesh
     if f.ncols() != 3 {
         return Err(errors::usage(
             py,
-            format!("mesh faces: expected an (m, 3) array, got shape {:?}", f.shape()),
+            format!(
+                "mesh faces: expected an (m, 3) array, got shape {:?}",
+                f.shape()
+            ),
         ));
     }
     let mut faces = Vec::with_capacity(f.nrows());
@@ -117,7 +129,10 @@ pub fn curves_from_arrays<'py>(
 ) -> PyResult<(Vec<CurveTuple<'py>>, Vec<String>)> {
     let n = arrays.len();
     if closed.len() != n || labels.len() != n || lines.len() != n {
-        return Err(errors::usage(py, "one closed flag, label and line per curve"));
+        return Err(errors::usage(
+            py,
+            "one closed flag, label and line per curve",
+        ));
     }
     let mut curves = Vec::with_capacity(n);
     for (k, a) in arrays.iter().enumerate() {

@@ -138,7 +138,6 @@ impl Network {
         supports = "clamped", merge_joints = None, radius = None, young = None,
         anchor_weight = None, eigen_count = 4, warnings = Vec::new(), example = None,
         curve_files = Vec::new()))]
-    #[allow(clippy::too_many_arguments)]
     fn new(
         py: Python<'_>,
         curves: &Bound<'_, PyList>,
@@ -175,7 +174,9 @@ impl Network {
             merge_joints_below: merge_joints,
             ..BuildParams::default()
         };
-        build.validate().map_err(|e| errors::usage(py, e.to_string()))?;
+        build
+            .validate()
+            .map_err(|e| errors::usage(py, e.to_string()))?;
         let built = py.detach(|| {
             let mut found = Vec::new();
             if let Some(m) = &mesh {
@@ -273,10 +274,7 @@ impl Network {
 
     /// The surface mesh, scaled, as `(vertices, faces)`, or `None`.
     #[getter]
-    fn mesh<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> Option<(Bound<'py, PyArray2<f64>>, Bound<'py, PyArray2<u32>>)> {
+    fn mesh<'py>(&self, py: Python<'py>) -> Option<crate::inputs::MeshTuple<'py>> {
         self.mesh.as_ref().map(|m| mesh_tuple(py, m))
     }
 
@@ -289,17 +287,14 @@ impl Network {
     /// Construction details (JSON text).
     #[getter]
     fn build_info(&self) -> PyResult<String> {
-        serde_json::to_string(&self.info).map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))
+        serde_json::to_string(&self.info)
+            .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))
     }
 
     /// Relaxes the network without the curves `remove` and analyses its equilibrium:
     /// `(report JSON, eigenvalues, mode (V, 3), displacement (V, 3))`.
     #[pyo3(signature = (remove = Vec::new()))]
-    fn analyze<'py>(
-        &self,
-        py: Python<'py>,
-        remove: Vec<usize>,
-    ) -> PyResult<Bound<'py, PyDict>> {
+    fn analyze<'py>(&self, py: Python<'py>, remove: Vec<usize>) -> PyResult<Bound<'py, PyDict>> {
         let n = self.curves.len();
         if let Some(&bad) = remove.iter().find(|&&c| c >= n) {
             return Err(errors::usage(
@@ -346,7 +341,6 @@ impl Network {
     /// `progress` with each iteration's record (JSON text). Returns the warnings.
     #[pyo3(signature = (out, budget = None, budget_length = None, keep = Vec::new(),
         local_search = false, prune = true, pictures = true, resume = false, progress = None))]
-    #[allow(clippy::too_many_arguments)]
     fn simplify(
         &self,
         py: Python<'_>,
@@ -456,8 +450,7 @@ impl Job<'_> {
             (w, p)
         } else {
             (
-                OutputWriter::create(&self.out, network, setup, budget)
-                    .map_err(JobError::Usage)?,
+                OutputWriter::create(&self.out, network, setup, budget).map_err(JobError::Usage)?,
                 None,
             )
         };
@@ -580,6 +573,7 @@ fn local_search_of(
         keep: params.keep.clone(),
         ..LocalParams::new(params.budget)
     };
-    let o = local_search(&Scorer::new(analyzer), &local, &last.curves).map_err(|e| e.to_string())?;
+    let o =
+        local_search(&Scorer::new(analyzer), &local, &last.curves).map_err(|e| e.to_string())?;
     LocalSearchRecord::new(&local, &o).ok_or_else(|| "λ_eq could not be evaluated".to_string())
 }

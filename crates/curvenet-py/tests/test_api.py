@@ -13,7 +13,7 @@ def test_curves_from_arrays_and_from_a_file_make_the_same_network(grid, tmp_path
         for c in grid:
             out.write(f"CURVE {len(c)}\n")
             for p in c:
-                out.write(f"{p[0]!r} {p[1]!r} {p[2]!r}\n")
+                out.write(" ".join(repr(float(x)) for x in p) + "\n")
     b = curvenet.load(curves=[f])
     np.testing.assert_array_equal(a.positions, b.positions)
     assert a.curve_count == 8 and len(a.joints) == 16

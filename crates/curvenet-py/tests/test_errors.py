@@ -37,6 +37,8 @@ def test_a_missing_file_and_bad_parameters(grid, tmp_path):
     with pytest.raises(curvenet.InputError, match="unknown example"):
         curvenet.example("cathedral")
     with pytest.raises(curvenet.InputError, match="not a folder"):
+        curvenet.open_run(tmp_path / "no-run")
+    with pytest.raises(curvenet.InputError, match="result.json"):
         curvenet.open_run(tmp_path)
 
 

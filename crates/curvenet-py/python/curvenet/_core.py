@@ -182,9 +182,10 @@ def example(
     its set-up: the network, and as :meth:`Network.simplify`'s defaults its budget and keep
     list. ``data`` names a folder with the paper's ``meshes/`` and ``curves/``."""
     ex = _native.example(name, supports or "clamped", None if data is None else os.fspath(data))
+    vertices, faces = ex["mesh"]
     native = _native.Network(
         ex["curves"],
-        mesh=ex["mesh"],
+        mesh=(vertices, np.asarray(faces, dtype=np.int64)),
         mesh_name=ex["mesh_file"],
         scale=1.0,
         edge_length=ex["edge_length"],

@@ -24,3 +24,7 @@ class InputError(ValueError):
         super().__init__(message)
         self.file = file
         self.line = line
+
+
+CurvenetError.__module__ = "curvenet"
+InputError.__module__ = "curvenet"

@@ -83,8 +83,8 @@ mod tests {
     fn a_bad_point_curve_names_the_file_and_its_position() {
         let good = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]];
         let bad = [[0.0, 0.0, 0.0], [f64::NAN, 0.0, 0.0]];
-        let e = curves_from_points("sketch.3dm", vec![curve(&good, 1), curve(&bad, 2)])
-            .unwrap_err();
+        let e =
+            curves_from_points("sketch.3dm", vec![curve(&good, 1), curve(&bad, 2)]).unwrap_err();
         assert_eq!(e.file(), "sketch.3dm");
         assert_eq!(e.line(), Some(2));
         assert!(e.to_string().contains("curve 1"), "{e}");
