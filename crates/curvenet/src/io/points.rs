@@ -45,9 +45,11 @@ pub fn curves_from_points(file: &str, curves: Vec<PointCurve>) -> Result<CurveFi
         };
         out.push(finish_curve(raw, file, &mut warnings)?);
     }
+    let groups = vec![None; out.len()];
     Ok(CurveFile {
         curves: out,
         warnings,
+        groups,
     })
 }
 
