@@ -286,8 +286,10 @@ mod tests {
     fn the_best_stable_feasible_network_is_the_answer() {
         let net = network(&pavilion(4, false, 0.0));
         let l = net.rest_lengths();
-        let total: f64 = l.iter().sum();
-        let c = Constraints::none(&net, 0.5 * total, &[]);
+        // The budget holds the ring with two arches, not the whole pavilion.
+        let budget = (l[0] + l[1].max(l[3]) + l[2].max(l[3])) * (1.0 + 1e-9);
+        assert!(budget < l.iter().sum::<f64>());
+        let c = Constraints::none(&net, budget, &[]);
         let offers = vec![
             offer("greedy", &[0, 1, 2], &l, 1e-9, 0),
             offer("local_search", &[0, 1, 3], &l, 3e-9, 0),
@@ -314,8 +316,10 @@ mod tests {
     fn a_mechanism_is_never_the_answer_and_the_smallest_stable_network_is_named() {
         let net = network(&pavilion(4, false, 0.0));
         let l = net.rest_lengths();
-        let total: f64 = l.iter().sum();
-        let c = Constraints::none(&net, 0.3 * total, &[]);
+        // The budget holds the ring with one arch: only the mechanism of the path.
+        let budget = (l[0] + l[1]) * (1.0 + 1e-9);
+        assert!(budget < l[0] + l[1] + l[2].min(l[3]));
+        let c = Constraints::none(&net, budget, &[]);
         let mut path = vec![
             offer("greedy", &[0, 1, 2, 3, 4], &l, 4e-9, 0),
             offer("greedy", &[0, 1, 2, 3], &l, 2e-9, 0),
