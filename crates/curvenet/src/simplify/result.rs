@@ -32,7 +32,6 @@ use crate::stability::Evaluation;
 use crate::geom::Vec3;
 use crate::io::{self, Origin, Polyline};
 use crate::network::{BuildInfo, BuildParams, Network};
-use crate::stability::Evaluation;
 use crate::stability::StabilityParams;
 use crate::stability::candidates::{Carried, CarriedVector};
 use serde::{Deserialize, Serialize};
