@@ -238,6 +238,35 @@ fn no_answer(constraints: &Constraints, offers: &[Offer]) -> NoAnswer {
     }
 }
 
+impl Answer {
+    /// One line for summaries: where it comes from, its size, length and `λ_eq`, and the
+    /// tightest margins beyond the budget's.
+    pub fn describe(&self) -> String {
+        let place = self.iteration.map_or_else(
+            || format!("the {}'s network", self.source.replace('_', " ")),
+            |k| format!("the {}'s iteration {k}", self.source.replace('_', " ")),
+        );
+        let m = &self.margins;
+        let mut s = format!(
+            "{place}, {} curves, length {:.6} ({:.1}% of the budget), λ_eq {:.6e}",
+            self.curves.len(),
+            self.length,
+            100.0 * m.budget.value / m.budget.limit,
+            self.lambda
+        );
+        let named = [
+            ("largest gap", m.max_gap.as_ref()),
+            ("largest deviation", m.max_deviation.as_ref()),
+        ];
+        for (what, margin) in named {
+            if let Some(g) = margin {
+                s.push_str(&format!("; {what} {:.6} (limit {:.6})", g.value, g.limit));
+            }
+        }
+        s
+    }
+}
+
 impl NoAnswer {
     /// Lines for summaries: the reason, then the smallest stable network.
     pub fn describe(&self) -> String {
