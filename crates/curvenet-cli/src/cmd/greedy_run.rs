@@ -4,14 +4,14 @@ use super::print_warnings;
 use crate::args::GreedyArgs;
 use crate::exit::{ExitError, usage};
 use curvenet::cancel::Cancel;
+use curvenet::constraints::Constraints;
+use curvenet::constraints::answer::{Answer, NoAnswer, choose};
 use curvenet::io::{Polyline, TriMesh};
 use curvenet::network::{BuildParams, build_network};
+use curvenet::rod::ActiveSet;
 use curvenet::simplify::certificate::{
     Certificate, CertifyParams, certificate, tighten_certificate,
 };
-use curvenet::constraints::Constraints;
-use curvenet::constraints::answer::{Answer, NoAnswer, choose};
-use curvenet::rod::ActiveSet;
 use curvenet::simplify::greedy::IterationRecord;
 use curvenet::simplify::local::{LocalParams, local_search};
 use curvenet::simplify::result::{
@@ -263,14 +263,7 @@ fn evaluate_curves(
 ) -> Option<curvenet::stability::Evaluation> {
     let active = ActiveSet::from_curves(analyzer.network().rods.len(), curves);
     analyzer
-        .evaluate(
-            &active,
-            Warm::default(),
-            Preset::Greedy {
-                modes: analyzer.tuning().modes,
-            },
-            Prepare::Nothing,
-        )
+        .evaluate(&active, Warm::default(), Preset::Analysis, Prepare::Nothing)
         .map_err(|e| print_warnings(&[format!("the {what} could not be evaluated: {e}")]))
         .ok()
 }

@@ -28,10 +28,10 @@ use super::greedy::{GreedyHooks, GreedyOutcome, IterationRecord, ResumePoint, St
 use super::local::{LocalOutcome, LocalParams, Step, Strategy};
 use crate::constraints::Constraints;
 use crate::constraints::answer::{Answer, NoAnswer, Offer, choose};
-use crate::stability::Evaluation;
 use crate::geom::Vec3;
 use crate::io::{self, Origin, Polyline};
 use crate::network::{BuildInfo, BuildParams, Network};
+use crate::stability::Evaluation;
 use crate::stability::StabilityParams;
 use crate::stability::candidates::{Carried, CarriedVector};
 use serde::{Deserialize, Serialize};
