@@ -20,7 +20,7 @@ pub enum Command {
     Analyze(AnalyzeArgs),
     /// Simplify a network to a material budget with the greedy (paper Algorithm 1).
     Simplify(SimplifyArgs),
-    /// Run one of the paper's examples (SPEC §9) from the reference data.
+    /// Run one of the paper's examples with its set-up (docs/model.md, "The paper's examples").
     Example(ExampleArgs),
     /// Run the whole pipeline on a built-in scene: no input files needed.
     Demo(DemoArgs),
@@ -88,15 +88,17 @@ pub struct CompareArgs {
     /// Base seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u32,
-    /// Surfaces to trace on: mesh files, names of the reference's simple surfaces (1wave,
-    /// 2waves, half_sphere, sine_disk, leaf, from the data folder) or built-in surfaces.
+    /// Surfaces to trace on: mesh files, names of the paper's simple surfaces (1wave, 2waves,
+    /// half_sphere, sine_disk, leaf) or built-in surfaces (hill, tent, stadium, shell, dome,
+    /// saddle, wave).
     #[arg(
         long,
         value_delimiter = ',',
         default_value = "1wave,2waves,half_sphere,sine_disk,leaf"
     )]
     pub surfaces: Vec<String>,
-    /// Folder holding the reference data (for the simple surfaces).
+    /// Folder holding the paper's data (`meshes/`) to read the simple surfaces from instead of
+    /// the copies embedded in curvenet.
     #[arg(long)]
     pub data: Option<PathBuf>,
     /// Write the full report (every instance) as JSON.
@@ -151,7 +153,8 @@ pub struct BenchArgs {
         default_value = "tower,arcshell,roof,shell,kagome"
     )]
     pub examples: Vec<String>,
-    /// Folder holding the reference data.
+    /// Folder holding the paper's data (`meshes/`, `curves/`) to read instead of the copies
+    /// embedded in curvenet.
     #[arg(long)]
     pub data: Option<PathBuf>,
     /// Switch off candidate pruning.
@@ -370,8 +373,8 @@ pub struct SimplifyArgs {
 pub struct ExampleArgs {
     /// Example name: hill, roof, kagome, stadium, tower, shell, bunny, tent, arcshell.
     pub name: String,
-    /// Folder holding the reference data (`meshes/`, `curves/`). Default: found next to
-    /// the repository (`../shared/reference-data`).
+    /// Folder holding the paper's data (`meshes/`, `curves/`) to read instead of the copies
+    /// embedded in curvenet.
     #[arg(long)]
     pub data: Option<PathBuf>,
     /// Output folder (default `out/NAME`).

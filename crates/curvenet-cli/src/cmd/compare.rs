@@ -7,29 +7,20 @@ use curvenet::io;
 use curvenet::paper;
 use curvenet::simplify::compare::{CompareParams, Surface, compare};
 use indicatif::{ProgressBar, ProgressStyle};
-use std::path::PathBuf;
-
-/// The reference's simple surfaces for random experiments.
-const SIMPLE: [&str; 5] = ["1wave", "2waves", "half_sphere", "sine_disk", "leaf"];
+use std::path::Path;
 
 pub fn run(a: CompareArgs) -> anyhow::Result<()> {
-    let data = a.data.clone().or_else(paper::default_data_dir);
+    let data = super::data_source(a.data.as_deref())?;
     let mut surfaces = Vec::new();
     for name in &a.surfaces {
-        let path = match (&data, SIMPLE.contains(&name.as_str())) {
-            (Some(d), true) => d.join("meshes").join(format!("{name}.obj")),
-            (None, true) => {
-                return Err(usage(format!(
-                    "surface '{name}' is one of the reference's meshes, but the data folder was not \
-                     found; pass --data DIR or use built-in surfaces (--surfaces dome,hill,saddle,wave)"
-                )));
-            }
-            _ => PathBuf::from(name),
+        let mesh = if paper::SIMPLE_SURFACES.contains(&name.as_str()) {
+            data.read_mesh(&format!("{name}.obj"))?.mesh
+        } else {
+            read_mesh_arg(Path::new(name))?.mesh
         };
-        let m = read_mesh_arg(&path)?;
         surfaces.push(Surface {
             name: name.clone(),
-            mesh: m.mesh,
+            mesh,
         });
     }
     let params = CompareParams {

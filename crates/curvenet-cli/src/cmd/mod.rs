@@ -16,10 +16,10 @@ use crate::args::{Cli, Command, InputArgs, PhysicsArgs};
 use crate::exit::usage;
 use curvenet::io::{self, Polyline, TriMesh};
 use curvenet::network::{BuildParams, checks};
-use curvenet::pipeline;
 use curvenet::rod::Material;
 use curvenet::simplify::result::InputDescription;
 use curvenet::stability::StabilityParams;
+use curvenet::{paper, pipeline};
 
 /// Runs the parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
@@ -34,6 +34,21 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Export(a) => export::run(a),
         Command::Bench(a) => bench::run(a),
     }
+}
+
+/// Where the paper's files are read from: the folder `--data` names (which must exist), or the
+/// copies embedded in curvenet.
+pub fn data_source(folder: Option<&std::path::Path>) -> anyhow::Result<paper::DataSource> {
+    if let Some(dir) = folder {
+        if !dir.is_dir() {
+            return Err(usage(format!(
+                "--data {}: no such folder (it should hold meshes/ and curves/; without --data \
+                 the paper's files embedded in curvenet are used)",
+                dir.display()
+            )));
+        }
+    }
+    Ok(paper::DataSource::folder_or_embedded(folder))
 }
 
 /// Stability parameters from the shared options (defaults where unset).
