@@ -5,12 +5,18 @@ use crate::args::CompareArgs;
 use crate::exit::usage;
 use curvenet::io;
 use curvenet::paper;
+use curvenet::simplify::SimplifyError;
 use curvenet::simplify::compare::{CompareParams, Surface, compare};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::Path;
 
 pub fn run(a: CompareArgs) -> anyhow::Result<()> {
     let data = super::data_source(a.data.as_deref())?;
+    for (option, path) in [("--json", &a.json), ("--markdown", &a.markdown)] {
+        if let Some(p) = path {
+            super::writable_file(option, p)?;
+        }
+    }
     let mut surfaces = Vec::new();
     for name in &a.surfaces {
         let mesh = if paper::SIMPLE_SURFACES.contains(&name.as_str()) {
@@ -31,11 +37,6 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
         exact_time_limit: a.exact_time_limit,
         ..CompareParams::default()
     };
-    if params.sizes.iter().any(|n| !(2..=30).contains(n)) {
-        return Err(usage(
-            "--sizes must lie between 2 and 30 (exhaustive search is exponential)",
-        ));
-    }
     let bar = ProgressBar::new((params.sizes.len() * params.instances) as u64);
     bar.set_style(
         ProgressStyle::with_template(
@@ -43,7 +44,17 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
         )
         .expect("valid template"),
     );
-    let report = compare(&params, &surfaces, &|done, _| bar.set_position(done as u64))?;
+    let report = compare(&params, &surfaces, &|done, _| bar.set_position(done as u64)).map_err(
+        |e| match e {
+            // The parameters do not fit the networks traced (a budget no subset meets).
+            SimplifyError::Params(m) => usage(format!(
+                "compare with --budget {} and --sizes {:?}: {m}; a larger --budget or more \
+                 curves leave the searches a subset to find",
+                params.budget, params.sizes
+            )),
+            e => e.into(),
+        },
+    )?;
     bar.finish_and_clear();
     println!(
         "greedy, greedy + local search (and single moves), rounded relaxation, exact λ_fix, exhaustive and random \
