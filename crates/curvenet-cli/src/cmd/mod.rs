@@ -203,6 +203,19 @@ fn check_scaled(curves: &[Polyline], mesh: Option<&TriMesh>, a: &InputArgs) -> a
             curve.origin, a.scale
         )));
     }
+    // Points that still differ but whose distances underflow: the scale shrank the curve away.
+    if let Some((c, curve)) = curves
+        .iter()
+        .enumerate()
+        .find(|(_, c)| c.length() == 0.0 && c.points.windows(2).any(|w| w[0] != w[1]))
+    {
+        return Err(usage(format!(
+            "{}: --scale {} makes curve {c} so small that its length underflows to 0; choose \
+             a larger scale",
+            curve.origin,
+            fmt_length(a.scale)
+        )));
+    }
     if mesh.is_some_and(|m| m.vertices.iter().any(|p| !p.is_finite())) {
         return Err(usage(format!(
             "{}: --scale {} makes the mesh's coordinates overflow; choose a smaller scale",
