@@ -1,6 +1,5 @@
-//! Command-line arguments (clap derive). The names are a contract that scripts rely on: add
-//! options, do not rename them. Every numeric option is checked while it is parsed
-//! ([`crate::values`]).
+//! Command-line arguments (clap derive). Subcommand and option names are fixed: scripts rely on them.
+//! Every numeric option is checked while it is parsed ([`crate::values`]).
 
 use crate::values::{budget_fraction, count, extent, open_fraction, positive, seconds};
 use clap::{Args, Parser, Subcommand};
@@ -23,13 +22,13 @@ pub enum Command {
     Analyze(AnalyzeArgs),
     /// Simplify a network to a material budget with the greedy (paper Algorithm 1).
     Simplify(SimplifyArgs),
-    /// Run one of the paper's examples with its set-up (docs/model.md, "The paper's examples").
+    /// Run one of the paper's examples (docs/model.md, "The paper's examples") from its input files.
     Example(ExampleArgs),
     /// Run the whole pipeline on a built-in scene: no input files needed.
     Demo(DemoArgs),
-    /// Time the greedy on the paper's examples and print a table (docs/benchmarks.md).
+    /// Time the greedy on the paper's examples and print a table.
     Bench(BenchArgs),
-    /// Generate curves on a mesh: random geodesics or frame-field streamlines.
+    /// Generate curves on a mesh: random geodesics or frame-field streamlines (docs/model.md, "Curve generation").
     Trace(TraceArgs),
     /// Greedy against exhaustive and random search on random networks (paper Fig. 10).
     Compare(CompareArgs),
@@ -232,8 +231,7 @@ pub struct PhysicsArgs {
     /// Number of smallest eigenvalues to report (1 to 100).
     #[arg(long = "eigen-count", default_value_t = 4, value_parser = count(1, 100), allow_hyphen_values = true)]
     pub eigen_count: usize,
-    /// Merge joints closer than this fraction of h, in (0, 1) (off by default; see
-    /// docs/model.md, "Numerical hazards").
+    /// Merge joints closer than this fraction of h, in (0, 1) (off by default; docs/model.md, "Numerical hazards").
     #[arg(long = "merge-joints", value_parser = open_fraction, allow_hyphen_values = true)]
     pub merge_joints: Option<f64>,
 }
@@ -306,7 +304,7 @@ pub struct AnalyzeArgs {
     /// Curves to remove before the analysis (comma-separated ids).
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub remove: Vec<usize>,
-    /// Print one JSON object on stdout (docs/formats.md).
+    /// Print one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
     /// Material and solver options.
