@@ -93,8 +93,8 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     }
     if !info.isolated_curves.is_empty() {
         warnings.push(format!(
-            "curves that cross nothing: {:?}",
-            info.isolated_curves
+            "curves that cross nothing: {}",
+            list(&info.isolated_curves)
         ));
     }
     print_warnings(&warnings);
@@ -217,10 +217,10 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         Err(e) => print_warnings(&[format!("pictures and viewer not written: {e}")]),
     }
     print!("{}", summary(writer.result()));
-    if job.local_search {
+    if writer.result().local_search.is_some() {
         println!("local search time: {local_seconds:.2} s");
     }
-    if job.certificate {
+    if writer.result().certificate.is_some() {
         println!("certificate time: {certificate_seconds:.2} s");
     }
     println!(
@@ -322,7 +322,7 @@ fn local_search_of(
         .ok_or_else(|| anyhow::anyhow!("no iteration"))?;
     if outcome.stop != StopReason::BudgetMet {
         anyhow::bail!(
-            "the greedy's final network does not meet the budget (stop: {:?})",
+            "it starts from a network within the budget, and the greedy ended over it ({})",
             outcome.stop
         );
     }
@@ -407,4 +407,12 @@ fn certificate_of(
     let nodes = nodes.unwrap_or_else(|| (1e6 / analyzer.model().dofs().max(1) as f64) as usize);
     tighten_certificate(&problem, &mut c, nodes.min(100_000), cancel)?;
     Ok(c)
+}
+
+/// Curve ids as a user reads them: `3, 5, 8`.
+fn list(ids: &[usize]) -> String {
+    ids.iter()
+        .map(usize::to_string)
+        .collect::<Vec<_>>()
+        .join(", ")
 }
