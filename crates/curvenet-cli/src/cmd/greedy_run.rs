@@ -114,6 +114,10 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         print_warnings(w.warnings());
         if p.is_none() && w.result().complete {
             eprintln!("{}: the run is already complete", job.out.display());
+            // A run stopped while its pictures were drawn is complete without them.
+            if !job.out.join("viewer.html").is_file() {
+                write_pictures(&job.out);
+            }
             print!("{}", summary(w.result()));
             return Ok(());
         }
@@ -210,12 +214,7 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         code: 1,
         message: e,
     })?;
-    // Pictures, viewer page and fabrication table: a failure here leaves the run's results
-    // intact, so it is a warning.
-    match curvenet::report::viewer::write_run_outputs(&job.out) {
-        Ok(o) => print_warnings(&o.warnings),
-        Err(e) => print_warnings(&[format!("pictures and viewer not written: {e}")]),
-    }
+    write_pictures(&job.out);
     print!("{}", summary(writer.result()));
     if writer.result().local_search.is_some() {
         println!("local search time: {local_seconds:.2} s");
@@ -229,6 +228,15 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         job.out.display()
     );
     Ok(())
+}
+
+/// Writes the pictures, viewer page (last) and fabrication table of the finished run in `out`.
+/// A failure leaves the run's results intact, so it is a warning.
+fn write_pictures(out: &std::path::Path) {
+    match curvenet::report::viewer::write_run_outputs(out) {
+        Ok(o) => print_warnings(&o.warnings),
+        Err(e) => print_warnings(&[format!("pictures and viewer not written: {e}")]),
+    }
 }
 
 /// Makes sure `out` is (or can be made) a folder, before any work: a file there, or a folder
