@@ -3,6 +3,7 @@
 
 use crate::values::{budget_fraction, count, extent, open_fraction, positive, seconds};
 use clap::{Args, Parser, Subcommand};
+use curvenet::constraints::SymmetryOption;
 use curvenet::rod::Supports;
 use std::path::PathBuf;
 
@@ -208,6 +209,9 @@ pub struct DemoArgs {
     /// What runs after the greedy.
     #[command(flatten)]
     pub after: AfterGreedyArgs,
+    /// Design constraints.
+    #[command(flatten)]
+    pub constraints: ConstraintArgs,
     /// Material and solver options.
     #[command(flatten)]
     pub physics: PhysicsArgs,
@@ -273,6 +277,42 @@ pub struct GreedyArgs {
     /// What runs after the greedy.
     #[command(flatten)]
     pub after: AfterGreedyArgs,
+    /// Design constraints.
+    #[command(flatten)]
+    pub constraints: ConstraintArgs,
+}
+
+/// Design constraints every search honours (`docs/constraints.md`). Distances are in scene
+/// units (after `--scale`).
+#[derive(Debug, Args, Clone, Default)]
+pub struct ConstraintArgs {
+    /// Groups of curves kept or removed together: a text file, one group per line
+    /// (`NAME: 0 1 4-7`); the JSON curve format's `"group"` fields add theirs.
+    #[arg(long, value_name = "FILE")]
+    pub groups: Option<PathBuf>,
+    /// Keep the network symmetric: `rotate:N` (orbits under the rotation of order N about the
+    /// detected axis kept or removed whole), `mirror`, `auto` (the largest symmetry found that
+    /// leaves a choice within the budget) or `none`.
+    #[arg(long, value_parser = symmetry)]
+    pub symmetry: Option<SymmetryOption>,
+    /// The kept curves form one connected structure.
+    #[arg(long)]
+    pub connected: bool,
+    /// Keep at least this many curves.
+    #[arg(long = "min-curves", value_parser = count(1, 1_000_000), allow_hyphen_values = true)]
+    pub min_curves: Option<usize>,
+    /// No point of the surface farther than D from a kept curve (needs the mesh).
+    #[arg(long = "max-gap", value_name = "D", value_parser = positive, allow_hyphen_values = true)]
+    pub max_gap: Option<f64>,
+    /// No vertex of the kept network farther than D from its designed place at equilibrium
+    /// (the answer is chosen among networks that meet it).
+    #[arg(long = "max-deviation", value_name = "D", value_parser = positive, allow_hyphen_values = true)]
+    pub max_deviation: Option<f64>,
+}
+
+/// `--symmetry`'s value.
+fn symmetry(s: &str) -> Result<SymmetryOption, String> {
+    s.parse()
 }
 
 /// What `demo`, `example` and `simplify` do after the greedy: the certificate and the local
@@ -356,6 +396,9 @@ pub struct ExampleArgs {
     /// What runs after the greedy.
     #[command(flatten)]
     pub after: AfterGreedyArgs,
+    /// Design constraints.
+    #[command(flatten)]
+    pub constraints: ConstraintArgs,
     /// Print one JSON object on stdout.
     #[arg(long)]
     pub json: bool,

@@ -482,7 +482,7 @@ impl Job<'_> {
         let mut writer = writer.with_cancel(&flag.flag).with_progress(&progress);
         let outcome = std::thread::scope(|s| {
             s.spawn(poller);
-            let o = greedy(&analyzer, &self.params, resume_point, &mut writer);
+            let o = greedy(&analyzer, &self.params, None, resume_point, &mut writer);
             flag.done();
             o
         });
@@ -575,6 +575,7 @@ fn local_search_of(
     let o = local_search(
         analyzer,
         &local,
+        None,
         &last.curves,
         &curvenet::cancel::Cancel::never(),
     )

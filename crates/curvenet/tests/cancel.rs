@@ -74,7 +74,7 @@ fn a_cancelled_local_search_returns_its_best_set_so_far() {
         .filter(|&c| lengths[c] <= cap)
         .take(1)
         .collect();
-    let full = local_search(&an, &params, &start, &Cancel::never()).expect("runs");
+    let full = local_search(&an, &params, None, &start, &Cancel::never()).expect("runs");
     assert!(!full.cancelled);
     assert!(full.structures > 40, "long enough ({})", full.structures);
 
@@ -82,7 +82,7 @@ fn a_cancelled_local_search_returns_its_best_set_so_far() {
     let cancel = Cancel::new();
     let work = || an.cached_structures();
     let (o, at) = cancel_at(&cancel, &work, 20, || {
-        local_search(&an, &params, &start, &cancel)
+        local_search(&an, &params, None, &start, &cancel)
     });
     let o = o.expect("a cancelled search still answers");
     let Some(at) = at else {
@@ -147,7 +147,7 @@ fn a_cancelled_exact_search_returns_its_best_subset_and_an_open_bound() {
         wave: 1,
         ..ExactParams::default()
     };
-    let full = exact(&p, &params, &[], &Cancel::never()).expect("exact");
+    let full = exact(&p, &params, None, &[], &Cancel::never()).expect("exact");
     assert!(full.proven());
     assert!(full.info.nodes > 20, "long enough ({})", full.info.nodes);
 
@@ -155,7 +155,9 @@ fn a_cancelled_exact_search_returns_its_best_subset_and_an_open_bound() {
     let cancel = Cancel::new();
     let work = || p.eigen_solves() + p.relax_solves();
     let mark = work() + 10;
-    let (o, at) = cancel_at(&cancel, &work, mark, || exact(&p, &params, &[], &cancel));
+    let (o, at) = cancel_at(&cancel, &work, mark, || {
+        exact(&p, &params, None, &[], &cancel)
+    });
     let o = o.expect("answers");
     let Some(at) = at else {
         panic!("the search ended before it was cancelled");
@@ -176,7 +178,7 @@ fn cancelled_exhaustive_and_random_searches() {
     let cancel = Cancel::new();
     let work = || an.cached_structures();
     let (ex, at) = cancel_at(&cancel, &work, 10, || {
-        exhaustive(&an, &ExhaustiveParams::new(budget), &cancel)
+        exhaustive(&an, &ExhaustiveParams::new(budget), None, &cancel)
     });
     if let Some(at) = at {
         assert!(matches!(ex, Err(SimplifyError::Cancelled)), "{ex:?}");
@@ -193,7 +195,9 @@ fn cancelled_exhaustive_and_random_searches() {
         seed: 1,
         time_limit: None,
     };
-    let (r, at) = cancel_at(&cancel, &work, 10, || random_search(&an, &params, &cancel));
+    let (r, at) = cancel_at(&cancel, &work, 10, || {
+        random_search(&an, &params, None, &cancel)
+    });
     if at.is_some() {
         let r = r.expect("answers");
         assert!(r.cancelled && r.evaluated.len() < 200);
@@ -203,11 +207,11 @@ fn cancelled_exhaustive_and_random_searches() {
     never_started.cancel();
     let an = analyzer(6, 10);
     assert!(matches!(
-        random_search(&an, &params, &never_started),
+        random_search(&an, &params, None, &never_started),
         Err(SimplifyError::Cancelled)
     ));
     assert!(matches!(
-        local_search(&an, &LocalParams::new(budget), &[0], &never_started),
+        local_search(&an, &LocalParams::new(budget), None, &[0], &never_started),
         Err(SimplifyError::Cancelled) | Err(SimplifyError::Params(_))
     ));
 }

@@ -33,7 +33,7 @@ fn exact(
     params: &ExactParams,
     incumbents: &[Vec<usize>],
 ) -> Result<ExactOutcome, curvenet::simplify::SimplifyError> {
-    curvenet::simplify::exact::exact(p, params, incumbents, &Cancel::never())
+    curvenet::simplify::exact::exact(p, params, None, incumbents, &Cancel::never())
 }
 
 fn exhaustive_fixed(

@@ -124,7 +124,7 @@ fn full_run(s: &Scene, dir: &Path) -> GreedyOutcome {
     let budget = s.params.budget.length(s.setup.total_length);
     let mut w = OutputWriter::create(dir, s.analyzer.network(), s.setup.clone(), budget)
         .expect("output folder");
-    let g = greedy(&s.analyzer, &s.params, None, &mut w).expect("greedy runs");
+    let g = greedy(&s.analyzer, &s.params, None, None, &mut w).expect("greedy runs");
     w.finish(&g, &timings_json(&g)).expect("finish");
     g
 }
@@ -271,7 +271,7 @@ fn cancelled_run(s: &Scene, dir: &Path, after: usize) {
         after,
         seen: 0,
     };
-    let r = greedy(&s.analyzer, &s.params, None, &mut hooks);
+    let r = greedy(&s.analyzer, &s.params, None, None, &mut hooks);
     assert!(
         matches!(r, Err(SimplifyError::Cancelled)),
         "after = {after}: expected a cancelled run, got {:?}",
@@ -316,7 +316,8 @@ fn resumed_run_writes_the_same_result_as_an_uninterrupted_one() {
             .unwrap_or_else(|e| panic!("k = {k}: resume failed: {e}"));
         let point = point.expect("an interrupted run has a point to resume from");
         assert_eq!(point.iterations.len(), k);
-        let g = greedy(&s.analyzer, &s.params, Some(point), &mut writer).expect("resumed greedy");
+        let g =
+            greedy(&s.analyzer, &s.params, None, Some(point), &mut writer).expect("resumed greedy");
         writer.finish(&g, &timings_json(&g)).expect("finish");
         assert_eq!(g.stop, g_full.stop);
         assert_eq!(g.iterations.len(), g_full.iterations.len());
@@ -453,7 +454,7 @@ fn a_file_that_cannot_be_written_stops_the_run_with_its_name() {
     let iterations = dir.path().join("iterations");
     std::fs::remove_dir_all(&iterations).expect("remove iterations/");
     std::fs::write(&iterations, b"in the way").expect("a file in its place");
-    let r = greedy(&s.analyzer, &s.params, None, &mut w);
+    let r = greedy(&s.analyzer, &s.params, None, None, &mut w);
     match r {
         Err(SimplifyError::Hook(msg)) => {
             assert!(msg.contains("iterations/0000.obj"), "{msg}");
@@ -501,7 +502,8 @@ fn a_damaged_carried_vectors_file_is_a_warning_on_resume_and_the_removals_stay()
         } else {
             assert!(writer.warnings().is_empty(), "{:?}", writer.warnings());
         }
-        let g = greedy(&s.analyzer, &s.params, Some(point), &mut writer).expect("resumed greedy");
+        let g =
+            greedy(&s.analyzer, &s.params, None, Some(point), &mut writer).expect("resumed greedy");
         writer.finish(&g, &timings_json(&g)).expect("finish");
         assert_eq!(removals(&g), removals(&g_full), "damaged = {damage}");
     }

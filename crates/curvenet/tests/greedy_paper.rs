@@ -47,7 +47,7 @@ fn tower_greedy_matches_the_independent_values() {
     };
     assert_eq!(ex.setup.budget_fraction, 0.2);
     assert_eq!(ex.setup.keep, vec![0]);
-    let g = greedy(&a, &params, None, &mut NoHooks).expect("greedy runs");
+    let g = greedy(&a, &params, None, None, &mut NoHooks).expect("greedy runs");
     println!(
         "tower greedy: {} iterations in {:.2} s ({} candidates evaluated, {} pruned)",
         g.iterations.len(),

@@ -42,7 +42,7 @@ fn dome(families: usize, per_family: usize, h: f64) -> Network {
 }
 
 fn run(a: &Analyzer, params: &GreedyParams) -> GreedyOutcome {
-    greedy(a, params, None, &mut NoHooks).expect("greedy runs")
+    greedy(a, params, None, None, &mut NoHooks).expect("greedy runs")
 }
 
 /// `a`'s network and parameters with `technique` switched off.

@@ -35,7 +35,7 @@ fn fresh(an: &Analyzer) -> Analyzer {
 
 /// A search with an analyzer (and cache) of its own.
 fn run(an: &Analyzer, params: &LocalParams, start: &[usize]) -> LocalOutcome {
-    local_search(&fresh(an), params, start, &Cancel::never()).expect("local search")
+    local_search(&fresh(an), params, None, start, &Cancel::never()).expect("local search")
 }
 
 /// The same search in a pool of `threads` threads.
@@ -138,6 +138,7 @@ fn local_search_improves_feasibly_and_deterministically() {
                 ..GreedyParams::new(budget)
             },
             None,
+            None,
             &mut NoHooks,
         )
         .expect("greedy");
@@ -149,6 +150,7 @@ fn local_search_improves_feasibly_and_deterministically() {
                 keep: keep.clone(),
                 ..ExhaustiveParams::new(budget)
             },
+            None,
             &Cancel::never(),
         )
         .expect("exhaustive");
@@ -196,7 +198,7 @@ fn local_search_improves_feasibly_and_deterministically() {
         };
         let mut starts = vec![start.clone(), (0..n).collect()];
         starts.extend((0..n).map(|c| vec![c]));
-        let m = local_search_multi(&sc, &params, &starts, &Cancel::never()).expect("multi");
+        let m = local_search_multi(&sc, &params, None, &starts, &Cancel::never()).expect("multi");
         let from_greedy = run(&an, &params, &start);
         assert!(m.best.lambda >= from_greedy.best.lambda);
         assert!(m.best.lambda <= ex.best.lambda * (1.0 + 5e-8) + 1e-300);
@@ -216,11 +218,12 @@ fn default_search_reaches_the_optimum() {
     ] {
         let an = Analyzer::new(arches(seed, n, h), StabilityParams::default()).expect("an");
         let budget = Budget::Fraction(0.3);
-        let g = greedy(&an, &GreedyParams::new(budget), None, &mut NoHooks).expect("greedy");
+        let g = greedy(&an, &GreedyParams::new(budget), None, None, &mut NoHooks).expect("greedy");
         let start = g.iterations.last().expect("one").curves.clone();
         let ex = exhaustive(
             &fresh(&an),
             &ExhaustiveParams::new(budget),
+            None,
             &Cancel::never(),
         )
         .expect("ex");
@@ -263,10 +266,11 @@ fn explore() {
         let (name, _, net) = instance_network(&surf, n, i, &CompareParams::default()).expect("net");
         let an = Analyzer::new(net, StabilityParams::default()).expect("an");
         let lengths = an.network().rest_lengths();
-        let g = greedy(&an, &GreedyParams::new(budget), None, &mut NoHooks).expect("greedy");
+        let g = greedy(&an, &GreedyParams::new(budget), None, None, &mut NoHooks).expect("greedy");
         let start = g.iterations.last().expect("one").curves.clone();
         let sc = fresh(&an);
-        let ex = exhaustive(&sc, &ExhaustiveParams::new(budget), &Cancel::never()).expect("ex");
+        let ex =
+            exhaustive(&sc, &ExhaustiveParams::new(budget), None, &Cancel::never()).expect("ex");
         let mut singles: Vec<(usize, f64)> = (0..n)
             .filter_map(|c| {
                 ex.all
@@ -299,7 +303,7 @@ fn explore() {
                 ..LocalParams::new(budget)
             };
             let t = std::time::Instant::now();
-            let o = local_search(&fresh(&an), &p, &start, &Cancel::never()).expect("ls");
+            let o = local_search(&fresh(&an), &p, None, &start, &Cancel::never()).expect("ls");
             println!(
                 "  {name:13} {:?} {:.3} evals {} structures {} {:.2}s",
                 o.best.curves,

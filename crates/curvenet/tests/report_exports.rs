@@ -108,7 +108,7 @@ fn make_run(
     if let Some(m) = mesh {
         w.write_mesh(m).expect("mesh");
     }
-    let outcome = greedy(&analyzer, &params, None, &mut w).expect("greedy");
+    let outcome = greedy(&analyzer, &params, None, None, &mut w).expect("greedy");
     w.finish(&outcome, &serde_json::json!({})).expect("finish");
 }
 

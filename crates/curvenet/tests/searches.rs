@@ -207,14 +207,14 @@ fn first_within_tie(all: &[(Vec<usize>, f64)]) -> (Vec<usize>, f64) {
 fn run_exhaustive(sc: &Analyzer, case: &Case) -> ExhaustiveOutcome {
     let mut p = ExhaustiveParams::new(Budget::Fraction(case.fraction));
     p.keep = case.keep.clone();
-    exhaustive(sc, &p, &Cancel::never()).expect("exhaustive search runs")
+    exhaustive(sc, &p, None, &Cancel::never()).expect("exhaustive search runs")
 }
 
 fn random(
     sc: &Analyzer,
     p: &RandomParams,
 ) -> Result<RandomOutcome, curvenet::simplify::SimplifyError> {
-    random_search(sc, p, &Cancel::never())
+    random_search(sc, p, None, &Cancel::never())
 }
 
 fn random_params(case: &Case, evaluations: usize, seed: u64) -> RandomParams {
@@ -320,7 +320,7 @@ fn exhaustive_is_at_least_greedy_and_random_search() {
         let ex = run_exhaustive(sc, &case);
         let mut gp = GreedyParams::new(Budget::Fraction(case.fraction));
         gp.keep = case.keep.clone();
-        let g = greedy(&a, &gp, None, &mut NoHooks).expect("greedy runs");
+        let g = greedy(&a, &gp, None, None, &mut NoHooks).expect("greedy runs");
         assert_eq!(g.stop, StopReason::BudgetMet, "{}", case.name);
         let fin = &g.iterations.last().expect("iterations").curves;
         let g_lambda = sc
@@ -476,7 +476,7 @@ fn keep_lists_are_respected_by_all_three_searches() {
 
         let mut gp = GreedyParams::new(Budget::Fraction(case.fraction));
         gp.keep = keep.clone();
-        let g = greedy(&a, &gp, None, &mut NoHooks).expect("greedy");
+        let g = greedy(&a, &gp, None, None, &mut NoHooks).expect("greedy");
         assert_eq!(g.stop, StopReason::BudgetMet, "{}", case.name);
         for it in &g.iterations {
             assert!(

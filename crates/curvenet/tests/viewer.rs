@@ -74,7 +74,7 @@ fn run_dir() -> &'static Path {
         let mut w = OutputWriter::create(&dir, analyzer.network(), setup, 0.4 * total)
             .expect("output folder");
         w.write_mesh(&mesh).expect("mesh");
-        let outcome = greedy(&analyzer, &params, None, &mut w).expect("greedy");
+        let outcome = greedy(&analyzer, &params, None, None, &mut w).expect("greedy");
         w.finish(&outcome, &serde_json::json!({})).expect("finish");
         TempDir(dir)
     })

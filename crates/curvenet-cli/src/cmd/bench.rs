@@ -254,7 +254,7 @@ fn run_once(
         let (network, _) = build_network(&ex.curves, &ex.build)?;
         let analyzer = Analyzer::new(network, stability).map_err(usage)?;
         let dofs = analyzer.model().dofs();
-        Ok((greedy(&analyzer, &params, None, &mut NoHooks)?, dofs))
+        Ok((greedy(&analyzer, &params, None, None, &mut NoHooks)?, dofs))
     })?;
     let wall = start.elapsed().as_secs_f64();
     let cpu = profile::cpu_seconds()

@@ -69,5 +69,6 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
         local_search: a.after.local_search,
         resume: false,
         mesh: Some(mesh),
+        constraints: super::constraint_params(&a.constraints, Vec::new())?,
     })
 }

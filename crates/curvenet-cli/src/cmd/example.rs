@@ -67,5 +67,6 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
         local_search: a.after.local_search,
         resume: a.resume,
         mesh: Some(ex.mesh),
+        constraints: super::constraint_params(&a.constraints, Vec::new())?,
     })
 }

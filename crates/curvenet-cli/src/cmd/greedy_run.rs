@@ -5,8 +5,8 @@ use crate::args::GreedyArgs;
 use crate::exit::{ExitError, usage};
 use crate::signals::{self, Stage};
 use curvenet::cancel::Cancel;
-use curvenet::constraints::Constraints;
 use curvenet::constraints::answer::{Answer, NoAnswer, choose};
+use curvenet::constraints::{ConstraintError, ConstraintParams, Constraints};
 use curvenet::io::{Polyline, TriMesh};
 use curvenet::network::{BuildParams, build_network};
 use curvenet::rod::ActiveSet;
@@ -44,6 +44,8 @@ pub struct GreedyJob {
     pub local_search: bool,
     /// The surface, in scene units, written next to the result when known.
     pub mesh: Option<TriMesh>,
+    /// Design constraints every search honours.
+    pub constraints: ConstraintParams,
 }
 
 /// The budget from the options, or `default` (a fraction) when none is given.
@@ -98,6 +100,21 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         ));
     }
     print_warnings(&warnings);
+    // Infeasible combinations stop the run here, before any work, saying why.
+    let constraints = Constraints::new(
+        &network,
+        job.mesh.as_ref(),
+        &job.constraints,
+        budget,
+        &job.keep,
+    )
+    .map_err(|e| match e {
+        ConstraintError::Usage(m) => usage(m),
+        ConstraintError::Infeasible(m) => usage(format!("the constraints cannot be met: {m}")),
+    })?;
+    for note in constraints.notes() {
+        eprintln!("note: {note}");
+    }
 
     let setup = RunSetup {
         input: job.input,
@@ -159,7 +176,13 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     }
     let mut writer = writer.with_cancel(signals::flag()).with_progress(&progress);
     let stage = Stage::start();
-    let outcome = greedy(&analyzer, &params, resume_point, &mut writer);
+    let outcome = greedy(
+        &analyzer,
+        &params,
+        Some(&constraints),
+        resume_point,
+        &mut writer,
+    );
     drop(stage);
     bar.finish_and_clear();
     let outcome = match outcome {
@@ -181,14 +204,14 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     print_warnings(budget_unmet(&outcome, budget).as_slice());
     let (local, local_seconds) = optional_step(job.local_search, "local search", || {
         let _stage = Stage::start();
-        local_search_of(&analyzer, &params, &outcome, &cancel)
+        local_search_of(&analyzer, &params, &constraints, &outcome, &cancel)
     });
     stop_if_cancelled(&cancel, "the local search", &job.out)?;
     let local_eval = local
         .as_ref()
         .and_then(|l| evaluate_curves(&analyzer, &l.curves, "local search's network"));
     writer.set_local_search(local);
-    let (answer, answer_state) = answer_of(&analyzer, &params, &outcome, local_eval);
+    let (answer, answer_state) = answer_of(&constraints, &outcome, local_eval);
     writer.set_answer(answer, answer_state);
     let (certificate, certificate_seconds) = optional_step(job.certificate, "certificate", || {
         let _stage = Stage::start();
@@ -281,22 +304,15 @@ fn budget_unmet(outcome: &curvenet::simplify::GreedyOutcome, budget: f64) -> Opt
 /// The run's answer among the greedy's iterations and the local search's network (when it
 /// ran, evaluated in full), and the answer's equilibrium when it is not a greedy iteration.
 fn answer_of(
-    analyzer: &Analyzer,
-    params: &GreedyParams,
+    constraints: &Constraints,
     outcome: &curvenet::simplify::GreedyOutcome,
     local: Option<curvenet::stability::Evaluation>,
 ) -> (Result<Answer, NoAnswer>, Option<Vec<f64>>) {
-    let net = analyzer.network();
-    let n = net.rods.len();
-    let budget = params
-        .budget
-        .length(net.total_length(&(0..n).collect::<Vec<_>>()));
-    let constraints = Constraints::none(net, budget, &params.keep);
     let mut offers = greedy_offers(&outcome.iterations);
     if let Some(e) = &local {
         offers.push(evaluated_offer("local_search", e));
     }
-    let choice = choose(&constraints, &offers, 0);
+    let choice = choose(constraints, &offers, 0);
     let state = match (&choice.answer, local) {
         (Ok(a), Some(e)) if a.iteration.is_none() => Some(e.displacement),
         _ => None,
@@ -322,6 +338,7 @@ fn evaluate_curves(
 fn local_search_of(
     analyzer: &Analyzer,
     params: &GreedyParams,
+    constraints: &Constraints,
     outcome: &curvenet::simplify::GreedyOutcome,
     cancel: &Cancel,
 ) -> anyhow::Result<LocalSearchRecord> {
@@ -339,7 +356,7 @@ fn local_search_of(
         keep: params.keep.clone(),
         ..LocalParams::new(params.budget)
     };
-    let o = local_search(analyzer, &local, &last.curves, cancel)?;
+    let o = local_search(analyzer, &local, Some(constraints), &last.curves, cancel)?;
     LocalSearchRecord::new(&local, &o).ok_or_else(|| anyhow::anyhow!("λ_eq could not be evaluated"))
 }
 

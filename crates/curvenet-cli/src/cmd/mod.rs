@@ -94,6 +94,8 @@ pub struct Inputs {
     pub description: InputDescription,
     /// The mesh, scaled, if one was given.
     pub mesh: Option<curvenet::io::TriMesh>,
+    /// The groups the curve files name (each curve's JSON `"group"`, in id order), as groups.
+    pub groups: Vec<curvenet::constraints::Group>,
 }
 
 /// Reads and scales the inputs.
@@ -110,11 +112,21 @@ pub fn load_inputs(a: &InputArgs, p: &PhysicsArgs) -> anyhow::Result<Inputs> {
         mesh = Some(tri);
     }
     let mut curves = Vec::new();
+    let (mut tags, mut origins) = (Vec::new(), Vec::new());
     for path in &a.curves {
         let f = io::read_curves(path)?;
         warnings.extend(f.warnings.iter().map(|w| w.to_string()));
+        origins.extend(f.curves.iter().map(|c| c.origin.to_string()));
+        tags.extend(
+            f.groups
+                .iter()
+                .cloned()
+                .chain(std::iter::repeat(None))
+                .take(f.curves.len()),
+        );
         curves.extend(f.curves);
     }
+    let groups = curvenet::constraints::groups::groups_of_tags(&tags, &origins);
     pipeline::scale_curves(&mut curves, a.scale);
     check_scaled(&curves, mesh.as_ref(), a)?;
     let h = match a.edge_length {
@@ -160,7 +172,33 @@ pub fn load_inputs(a: &InputArgs, p: &PhysicsArgs) -> anyhow::Result<Inputs> {
         warnings,
         description,
         mesh,
+        groups,
     })
+}
+
+/// The design constraints of the options, with `groups` (the curve files' own) after the
+/// groups file's.
+pub fn constraint_params(
+    a: &crate::args::ConstraintArgs,
+    groups: Vec<curvenet::constraints::Group>,
+) -> anyhow::Result<curvenet::constraints::ConstraintParams> {
+    use curvenet::constraints::{ConstraintParams, read_groups};
+    let mut all = match &a.groups {
+        Some(path) => read_groups(path)?,
+        None => Vec::new(),
+    };
+    all.extend(groups);
+    let p = ConstraintParams {
+        groups: all,
+        symmetry: a.symmetry.unwrap_or_default(),
+        connected: a.connected,
+        min_curves: a.min_curves,
+        max_gap: a.max_gap,
+        max_deviation: a.max_deviation,
+        ..ConstraintParams::default()
+    };
+    p.validate().map_err(usage)?;
+    Ok(p)
 }
 
 /// The warning about a very large network at edge length `h` (given as `--edge-length` when

@@ -15,6 +15,7 @@ pub fn run(a: SimplifyArgs) -> anyhow::Result<()> {
             n.saturating_sub(1)
         )));
     }
+    let constraints = super::constraint_params(&a.greedy.constraints, inputs.groups)?;
     run_greedy(GreedyJob {
         curves: inputs.curves,
         build: inputs.build,
@@ -28,5 +29,6 @@ pub fn run(a: SimplifyArgs) -> anyhow::Result<()> {
         local_search: a.greedy.after.local_search,
         resume: a.greedy.resume,
         mesh: inputs.mesh,
+        constraints,
     })
 }

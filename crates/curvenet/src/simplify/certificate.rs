@@ -190,7 +190,7 @@ pub fn tighten_certificate(
         certificate.curves.clone(),
         certificate.best_found_curves.clone(),
     ];
-    let o = exact(problem, &params, &seeds, cancel)?;
+    let o = exact(problem, &params, None, &seeds, cancel)?;
     certificate.branch_and_bound_nodes = o.info.nodes;
     certificate.cancelled = o.status == ExactStatus::Cancelled;
     if o.lambda_fix > certificate.best_found {

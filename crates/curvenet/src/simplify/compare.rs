@@ -442,7 +442,13 @@ pub fn compare(
             let never = Cancel::never();
             let budget = Budget::Fraction(params.budget);
             let t = Instant::now();
-            let g = greedy(&analyzer, &GreedyParams::new(budget), None, &mut NoHooks)?;
+            let g = greedy(
+                &analyzer,
+                &GreedyParams::new(budget),
+                None,
+                None,
+                &mut NoHooks,
+            )?;
             let greedy_seconds = t.elapsed().as_secs_f64();
             let last = g.iterations.last().expect("one iteration at least");
             let greedy_lambda = analyzer.lambda_eq(&ActiveSet::from_curves(n, &last.curves))?;
@@ -458,7 +464,7 @@ pub fn compare(
                 let own = Analyzer::new(analyzer.network().clone(), StabilityParams::default())
                     .map_err(SimplifyError::Params)?;
                 let t = Instant::now();
-                let o = local_search(&own, p, &last.curves, &never)?;
+                let o = local_search(&own, p, None, &last.curves, &never)?;
                 Ok((o, t.elapsed().as_secs_f64()))
             };
             let (local, local_seconds) = timed(&LocalParams::new(budget))?;
@@ -472,6 +478,7 @@ pub fn compare(
                     keep: Vec::new(),
                     max_subsets: params.max_subsets,
                 },
+                None,
                 &never,
             )?;
             let exhaustive_seconds = t.elapsed().as_secs_f64();
@@ -490,12 +497,13 @@ pub fn compare(
                     seed: u64::from(seed),
                     time_limit: None,
                 },
+                None,
                 &never,
             )?;
             let mut starts = vec![last.curves.clone()];
             starts.extend((0..n).map(|c| vec![c]));
             let single_moves = LocalParams::single_moves(budget);
-            let multi = local_search_multi(&analyzer, &single_moves, &starts, &never)?;
+            let multi = local_search_multi(&analyzer, &single_moves, None, &starts, &never)?;
             let problem = FixedProblem::new(&analyzer, budget, &[])?;
             let greedy_fix = problem.lambda_fix(&last.curves)?;
             let report = certify(&problem, &CertifyParams::default(), &[], &never)?;
@@ -506,6 +514,7 @@ pub fn compare(
                     time_limit: Some(params.exact_time_limit),
                     ..ExactParams::default()
                 },
+                None,
                 &[last.curves.clone(), report.lower_curves.clone()],
                 &never,
             )?;

@@ -1,13 +1,13 @@
 //! Every search under design constraints against brute force on small networks: each returns
 //! only sets that meet the constraints, the exhaustive search and the exact search find the
-//! constrained optimum, and without constraints the constrained entry points are the plain
-//! searches.
+//! constrained optimum, and constraints that ask for nothing leave every search as it is
+//! without constraints.
 
-use super::exact::{ExactParams, exact, exact_constrained};
-use super::exhaustive::{ExhaustiveParams, exhaustive, exhaustive_constrained};
-use super::local::{LocalParams, local_search_multi, local_search_multi_constrained};
-use super::random::{RandomParams, random_search, random_search_constrained};
-use super::{Budget, GreedyParams, StopReason, greedy, greedy_constrained};
+use super::exact::{ExactParams, exact};
+use super::exhaustive::{ExhaustiveParams, exhaustive};
+use super::local::{LocalParams, local_search_multi};
+use super::random::{RandomParams, random_search};
+use super::{Budget, GreedyParams, StopReason, greedy};
 use crate::cancel::Cancel;
 use crate::constraints::testing::{grid, network, pavilion, square_mesh};
 use crate::constraints::{ConstraintParams, Constraints, SymmetryOption, parse_groups};
@@ -129,8 +129,8 @@ fn exhaustive_search_finds_the_constrained_optimum() {
         assert!(!brute.is_empty(), "{}", k.name);
         let mut params = ExhaustiveParams::new(Budget::Fraction(k.fraction));
         params.keep = k.keep.clone();
-        let o = exhaustive_constrained(&k.analyzer, &params, &k.constraints, &Cancel::new())
-            .expect("runs");
+        let o =
+            exhaustive(&k.analyzer, &params, Some(&k.constraints), &Cancel::new()).expect("runs");
         let sets: Vec<Vec<usize>> = o.all.iter().map(|s| s.curves.clone()).collect();
         assert_eq!(sorted(sets), brute, "{}: exactly the feasible sets", k.name);
         // The optimum over the feasible sets, evaluated one by one.
@@ -153,8 +153,14 @@ fn the_greedy_removes_whole_units_and_keeps_the_constraints() {
     for k in cases() {
         let mut params = GreedyParams::new(Budget::Fraction(k.fraction));
         params.keep = k.keep.clone();
-        let g = greedy_constrained(&k.analyzer, &params, &k.constraints, None, &mut NoHooks)
-            .expect("runs");
+        let g = greedy(
+            &k.analyzer,
+            &params,
+            Some(&k.constraints),
+            None,
+            &mut NoHooks,
+        )
+        .expect("runs");
         let c = &k.constraints;
         assert!(g.iterations.len() >= 2, "{}: nothing removed", k.name);
         for (i, w) in g.iterations.windows(2).enumerate() {
@@ -208,7 +214,7 @@ fn random_and_local_searches_return_only_feasible_sets() {
             seed: 7,
             time_limit: None,
         };
-        let r = random_search_constrained(&k.analyzer, &params, c, &Cancel::new()).expect("runs");
+        let r = random_search(&k.analyzer, &params, Some(c), &Cancel::new()).expect("runs");
         assert!(
             r.evaluated.iter().all(|s| c.check(&s.curves).is_ok()),
             "{}",
@@ -220,8 +226,8 @@ fn random_and_local_searches_return_only_feasible_sets() {
         starts.push(r.best.curves.clone());
         let mut lp = LocalParams::new(Budget::Fraction(k.fraction));
         lp.keep = k.keep.clone();
-        let o = local_search_multi_constrained(&k.analyzer, &lp, c, &starts, &Cancel::new())
-            .expect("runs");
+        let o =
+            local_search_multi(&k.analyzer, &lp, Some(c), &starts, &Cancel::new()).expect("runs");
         assert!(
             c.check(&o.best.curves).is_ok(),
             "{}: {:?}",
@@ -247,7 +253,7 @@ fn the_exact_search_finds_the_constrained_optimum_of_the_fixed_objective() {
             time_limit: None,
             ..ExactParams::default()
         };
-        let o = exact_constrained(&problem, &params, c, &[], &Cancel::new()).expect("runs");
+        let o = exact(&problem, &params, Some(c), &[], &Cancel::new()).expect("runs");
         assert!(c.check(&o.curves).is_ok(), "{}: {:?}", k.name, o.curves);
         assert!(
             (o.lambda_fix - brute).abs() <= 1e-6 * brute.abs(),
@@ -260,20 +266,20 @@ fn the_exact_search_finds_the_constrained_optimum_of_the_fixed_objective() {
 
 /// Constraints that ask for nothing leave every search as it is.
 #[test]
-fn without_constraints_the_constrained_searches_are_the_plain_ones() {
+fn empty_constraints_leave_every_search_as_it_is() {
     let net = network(&pavilion(3, false, 0.0));
     let total: f64 = net.rest_lengths().iter().sum();
     let none = Constraints::none(&net, 0.5 * total, &[]);
     let an = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
     let budget = Budget::Fraction(0.5);
     let gp = GreedyParams::new(budget);
-    let a = greedy(&an, &gp, None, &mut NoHooks).expect("runs");
-    let b = greedy_constrained(&an, &gp, &none, None, &mut NoHooks).expect("runs");
+    let a = greedy(&an, &gp, None, None, &mut NoHooks).expect("runs");
+    let b = greedy(&an, &gp, Some(&none), None, &mut NoHooks).expect("runs");
     assert_eq!(a.iterations, b.iterations);
     let ep = ExhaustiveParams::new(budget);
     let cancel = Cancel::new();
-    let a = exhaustive(&an, &ep, &cancel).expect("runs");
-    let b = exhaustive_constrained(&an, &ep, &none, &cancel).expect("runs");
+    let a = exhaustive(&an, &ep, None, &cancel).expect("runs");
+    let b = exhaustive(&an, &ep, Some(&none), &cancel).expect("runs");
     assert_eq!(a.all, b.all);
     let rp = RandomParams {
         budget,
@@ -282,20 +288,20 @@ fn without_constraints_the_constrained_searches_are_the_plain_ones() {
         seed: 3,
         time_limit: None,
     };
-    let a = random_search(&an, &rp, &cancel).expect("runs");
-    let b = random_search_constrained(&an, &rp, &none, &cancel).expect("runs");
+    let a = random_search(&an, &rp, None, &cancel).expect("runs");
+    let b = random_search(&an, &rp, Some(&none), &cancel).expect("runs");
     assert_eq!(a.evaluated, b.evaluated);
     let lp = LocalParams::new(budget);
     let starts = vec![vec![0], vec![1], vec![2]];
-    let a = local_search_multi(&an, &lp, &starts, &cancel).expect("runs");
-    let b = local_search_multi_constrained(&an, &lp, &none, &starts, &cancel).expect("runs");
+    let a = local_search_multi(&an, &lp, None, &starts, &cancel).expect("runs");
+    let b = local_search_multi(&an, &lp, Some(&none), &starts, &cancel).expect("runs");
     assert_eq!(a, b);
     let problem = FixedProblem::new(&an, budget, &[]).expect("problem");
     let ex = ExactParams::default();
-    let a = exact(&problem, &ex, &[], &cancel).expect("runs");
-    let b = exact_constrained(&problem, &ex, &none, &[], &cancel).expect("runs");
+    let a = exact(&problem, &ex, None, &[], &cancel).expect("runs");
+    let b = exact(&problem, &ex, Some(&none), &[], &cancel).expect("runs");
     assert_eq!((a.curves, a.lambda_fix), (b.curves, b.lambda_fix));
     // Constraints bound to another budget are refused.
     let other = Constraints::none(an.network(), 0.4 * total, &[]);
-    assert!(greedy_constrained(&an, &gp, &other, None, &mut NoHooks).is_err());
+    assert!(greedy(&an, &gp, Some(&other), None, &mut NoHooks).is_err());
 }

@@ -38,7 +38,7 @@
 //!
 //! # Design constraints
 //!
-//! Under design constraints ([`exact_constrained`]) the tree is the same (every subset is
+//! Under design constraints (the `constraints` of [`exact`]) the tree is the same (every subset is
 //! still the `I` of one node, and a bound on all of a node's subsets bounds its feasible ones),
 //! but only the sets that meet every constraint but `--max-deviation` become incumbents: the
 //! answer is the constrained optimum of `λ_fix`, proved like the unconstrained one.
@@ -210,37 +210,30 @@ fn cut_level(incumbent: f64, tolerance: f64) -> f64 {
     incumbent + tolerance * incumbent.abs()
 }
 
-/// Finds the feasible subset with the largest `λ_fix` (see the module documentation).
-/// `incumbents` are feasible subsets known beforehand (e.g. the greedy's answer); they only
-/// speed the search up. Once `cancel` is set the search stops between eigen solves with the
-/// best subset found and the bound of the nodes left open ([`ExactStatus::Cancelled`]).
+/// Finds the feasible subset with the largest `λ_fix` (see the module documentation), among
+/// the sets that meet the design `constraints` when given (bound to the problem's network,
+/// budget and keep list). `incumbents` are feasible subsets known beforehand (e.g. the
+/// greedy's answer); they only speed the search up (those that do not meet the constraints
+/// are ignored). Once `cancel` is set the search stops between eigen solves with the best
+/// subset found and the bound of the nodes left open ([`ExactStatus::Cancelled`]).
 pub fn exact(
     problem: &FixedProblem<'_>,
     params: &ExactParams,
+    constraints: Option<&Constraints>,
     incumbents: &[Vec<usize>],
     cancel: &Cancel,
 ) -> Result<ExactOutcome, SimplifyError> {
-    run(problem, params, None, incumbents, cancel)
-}
-
-/// [`exact`] over the sets that meet the design `constraints` (bound to the problem's
-/// network, budget and keep list): the constrained optimum of `λ_fix`. `incumbents` that do
-/// not meet them are ignored.
-pub fn exact_constrained(
-    problem: &FixedProblem<'_>,
-    params: &ExactParams,
-    constraints: &Constraints,
-    incumbents: &[Vec<usize>],
-    cancel: &Cancel,
-) -> Result<ExactOutcome, SimplifyError> {
-    super::exhaustive::check_binding(
-        constraints,
-        problem.curve_count(),
-        problem.budget(),
-        problem.keep(),
-    )?;
-    let active = constraints.is_active().then_some(constraints);
-    run(problem, params, active, incumbents, cancel)
+    if let Some(c) = constraints {
+        let (n, budget) = (problem.curve_count(), problem.budget());
+        super::exhaustive::check_binding(c, n, budget, problem.keep())?;
+    }
+    run(
+        problem,
+        params,
+        constraints.filter(|c| c.is_active()),
+        incumbents,
+        cancel,
+    )
 }
 
 /// The search of [`exact`], under `constraints` when given.

@@ -6,7 +6,7 @@
 //! stops as soon as its length exceeds the budget) and evaluated in parallel with
 //! [`Analyzer::lambda_eq`], the same evaluation the other searches use; [`exhaustive_fixed`]
 //! does the same on `λ_fix` at the full network's equilibrium (the exact solver's objective).
-//! Under design constraints ([`exhaustive_constrained`]) the subsets are the feasible sets of
+//! Under design constraints (the `constraints` of [`exhaustive`]) the subsets are the feasible sets of
 //! [`Constraints::feasible_subsets`] (whole units, every constraint but `--max-deviation`,
 //! which the run's answer checks on each equilibrium), so the best is the constrained optimum.
 //! A cancelled search ([`Cancel`]) stops within one evaluation per thread and is an error:
@@ -142,10 +142,13 @@ pub fn feasible_subsets(
     Ok(out)
 }
 
-/// Runs the exhaustive search on `λ_eq` (each subset relaxed to its own equilibrium).
+/// Runs the exhaustive search on `λ_eq` (each subset relaxed to its own equilibrium), over the
+/// sets that meet the design `constraints` when given (bound to `analyzer`'s network and
+/// `params`' budget and keep list): then the best is the constrained optimum.
 pub fn exhaustive(
     analyzer: &Analyzer,
     params: &ExhaustiveParams,
+    constraints: Option<&Constraints>,
     cancel: &Cancel,
 ) -> Result<ExhaustiveOutcome, SimplifyError> {
     let score = |curves: &[usize]| {
@@ -153,23 +156,7 @@ pub fn exhaustive(
             .lambda_eq(&analyzer.set(curves))
             .unwrap_or(f64::NAN)
     };
-    score_all(analyzer, params, None, &score, cancel)
-}
-
-/// [`exhaustive`] over the sets that meet the design `constraints` (bound to `analyzer`'s
-/// network, `params`' budget and keep list): the constrained optimum of `λ_eq`.
-pub fn exhaustive_constrained(
-    analyzer: &Analyzer,
-    params: &ExhaustiveParams,
-    constraints: &Constraints,
-    cancel: &Cancel,
-) -> Result<ExhaustiveOutcome, SimplifyError> {
-    let score = |curves: &[usize]| {
-        analyzer
-            .lambda_eq(&analyzer.set(curves))
-            .unwrap_or(f64::NAN)
-    };
-    score_all(analyzer, params, Some(constraints), &score, cancel)
+    score_all(analyzer, params, constraints, &score, cancel)
 }
 
 /// Checks that `constraints` were bound to a network of `n` curves, the budget `budget` (a

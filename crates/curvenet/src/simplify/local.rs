@@ -45,7 +45,7 @@
 //! construction). The measurements of each variant against the exhaustive optimum are in
 //! `docs/benchmarks.md` (*Local search*).
 //!
-//! **Under design constraints** ([`local_search_constrained`]) the moves add, drop and swap
+//! **Under design constraints** (the `constraints` of [`local_search`]) the moves add, drop and swap
 //! whole units (a group or a symmetry orbit; [`Constraints::neighbours`]), each recorded by
 //! its unit's smallest curve, and only to sets that meet every constraint but
 //! `--max-deviation` (which the run's answer checks on each equilibrium); a part step is taken
@@ -412,34 +412,26 @@ fn best_position(vals: &[f64], tol: f64) -> Option<usize> {
     vals.iter().position(|&v| v.is_finite() && v >= floor)
 }
 
-/// Runs the local search from `start` (a feasible subset).
+/// Runs the local search from `start` (a feasible subset), under the design `constraints`
+/// when given (bound to `analyzer`'s network and `params`' budget and keep list): then the
+/// moves are of whole units, to sets that meet the constraints, and `start` must meet them.
 pub fn local_search(
     analyzer: &Analyzer,
     params: &LocalParams,
-    start: &[usize],
-    cancel: &Cancel,
-) -> Result<LocalOutcome, SimplifyError> {
-    search_from(analyzer, params, None, start, cancel)
-}
-
-/// [`local_search`] under the design `constraints` (bound to `analyzer`'s network, `params`'
-/// budget and keep list): moves of whole units, to sets that meet the constraints; `start`
-/// must meet them.
-pub fn local_search_constrained(
-    analyzer: &Analyzer,
-    params: &LocalParams,
-    constraints: &Constraints,
+    constraints: Option<&Constraints>,
     start: &[usize],
     cancel: &Cancel,
 ) -> Result<LocalOutcome, SimplifyError> {
     let (lengths, budget) = check(analyzer, params)?;
-    super::exhaustive::check_binding(constraints, lengths.len(), budget, &params.keep)?;
+    if let Some(c) = constraints {
+        super::exhaustive::check_binding(c, lengths.len(), budget, &params.keep)?;
+    }
     search_from(analyzer, params, active(constraints), start, cancel)
 }
 
 /// Constraints that ask for something (`None`: the search without them).
-fn active(constraints: &Constraints) -> Option<&Constraints> {
-    constraints.is_active().then_some(constraints)
+fn active(constraints: Option<&Constraints>) -> Option<&Constraints> {
+    constraints.filter(|c| c.is_active())
 }
 
 /// The local search from `start`, under `constraints` when given.
@@ -689,28 +681,20 @@ impl Search<'_> {
 
 /// Local search from several starts (e.g. the greedy's answer, then every curve alone, which
 /// reaches the small sets of short curves a greedy started from the full network misses): the
-/// best outcome, ties to the earliest start. Starts that are not feasible are skipped; a
-/// cancelled search ends the run with the best outcome so far.
+/// best outcome, ties to the earliest start; under the design `constraints` when given (as
+/// [`local_search`]). Starts that are not feasible (or do not meet the constraints) are
+/// skipped; a cancelled search ends the run with the best outcome so far.
 pub fn local_search_multi(
     analyzer: &Analyzer,
     params: &LocalParams,
-    starts: &[Vec<usize>],
-    cancel: &Cancel,
-) -> Result<LocalOutcome, SimplifyError> {
-    multi(analyzer, params, None, starts, cancel)
-}
-
-/// [`local_search_multi`] under the design `constraints`: starts that do not meet them are
-/// skipped.
-pub fn local_search_multi_constrained(
-    analyzer: &Analyzer,
-    params: &LocalParams,
-    constraints: &Constraints,
+    constraints: Option<&Constraints>,
     starts: &[Vec<usize>],
     cancel: &Cancel,
 ) -> Result<LocalOutcome, SimplifyError> {
     let (lengths, budget) = check(analyzer, params)?;
-    super::exhaustive::check_binding(constraints, lengths.len(), budget, &params.keep)?;
+    if let Some(c) = constraints {
+        super::exhaustive::check_binding(c, lengths.len(), budget, &params.keep)?;
+    }
     multi(analyzer, params, active(constraints), starts, cancel)
 }
 

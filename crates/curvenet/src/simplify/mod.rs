@@ -29,9 +29,7 @@ pub mod random;
 pub mod result;
 
 pub use crate::stability::Budget;
-pub use greedy::{
-    GreedyHooks, GreedyOutcome, GreedyParams, StopReason, greedy, greedy_constrained,
-};
+pub use greedy::{GreedyHooks, GreedyOutcome, GreedyParams, StopReason, greedy};
 
 use crate::stability::StabilityError;
 

@@ -10,7 +10,7 @@
 //! time: the result depends only on the seed, unless a wall-clock limit or a cancellation
 //! ([`Cancel`]: the outcome says so) cuts the evaluation short.
 //!
-//! Under design constraints ([`random_search_constrained`]) the draws are whole units and
+//! Under design constraints (the `constraints` of [`random_search`]) the draws are whole units and
 //! only sets meeting every constraint but `--max-deviation` are kept
 //! ([`Constraints::draw_subsets`]; without constraints, the same draws from the same seed).
 
@@ -117,24 +117,15 @@ pub fn draw_subsets(
     (out, fallback, exhausted)
 }
 
-/// Runs the random search.
+/// Runs the random search, over the sets that meet the design `constraints` when given (bound
+/// to `analyzer`'s network and `params`' budget and keep list).
 pub fn random_search(
     analyzer: &Analyzer,
     params: &RandomParams,
+    constraints: Option<&Constraints>,
     cancel: &Cancel,
 ) -> Result<RandomOutcome, SimplifyError> {
-    search(analyzer, params, None, cancel)
-}
-
-/// [`random_search`] over the sets that meet the design `constraints` (bound to `analyzer`'s
-/// network, `params`' budget and keep list).
-pub fn random_search_constrained(
-    analyzer: &Analyzer,
-    params: &RandomParams,
-    constraints: &Constraints,
-    cancel: &Cancel,
-) -> Result<RandomOutcome, SimplifyError> {
-    search(analyzer, params, Some(constraints), cancel)
+    search(analyzer, params, constraints, cancel)
 }
 
 /// The random search, under `constraints` when given.

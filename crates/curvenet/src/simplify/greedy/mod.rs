@@ -10,7 +10,7 @@
 //!     remove the c with the largest score (ties within 1e-7 → lowest id)
 //! ```
 //!
-//! **Under design constraints** ([`greedy_constrained`]) the candidates are the removable
+//! **Under design constraints** (the `constraints` of [`greedy`]) the candidates are the removable
 //! units of `A` ([`Constraints::removal_candidates`]: a group or a symmetry orbit is removed
 //! as a whole, and no removal may leave a set that breaks a constraint other than the budget);
 //! a unit `U` is scored by `λ_fix(A \ U | A)`. When every unit is one curve the candidates are
@@ -259,41 +259,33 @@ pub struct ResumePoint {
     pub carried: Carried,
 }
 
-/// Runs the greedy on `analyzer`'s network. Returns once `hooks` have flushed
+/// Runs the greedy on `analyzer`'s network, under the design `constraints` when given (bound
+/// to that network and `params`' budget and keep list): then only whole units are removed and
+/// every network recorded after the first meets every constraint but the budget and
+/// `--max-deviation` (see the module documentation); constraints that ask for nothing, or
+/// `None`, give the paper's run exactly. Returns once `hooks` have flushed
 /// ([`GreedyHooks::flush`]), also when the run stopped early.
-pub fn greedy(
-    analyzer: &Analyzer,
-    params: &GreedyParams,
-    resume: Option<ResumePoint>,
-    hooks: &mut dyn GreedyHooks,
-) -> Result<GreedyOutcome, SimplifyError> {
-    finish(run(analyzer, params, None, resume, hooks), hooks)
-}
-
-/// Runs the greedy under the design `constraints` (bound to `analyzer`'s network, the budget
-/// and the keep list of `params`): only whole units are removed and every network recorded
-/// after the first meets every constraint but the budget and `--max-deviation` (see the
-/// module documentation). Constraints that ask for nothing give [`greedy`]'s run exactly.
 ///
 /// # Errors
 ///
-/// As [`greedy`]; [`SimplifyError::Params`] when `constraints` were bound to another
-/// network, budget or keep list.
-pub fn greedy_constrained(
+/// [`SimplifyError::Params`] for bad parameters or constraints bound to another network,
+/// budget or keep list; the run's own failures and cancellation.
+pub fn greedy(
     analyzer: &Analyzer,
     params: &GreedyParams,
-    constraints: &Constraints,
+    constraints: Option<&Constraints>,
     resume: Option<ResumePoint>,
     hooks: &mut dyn GreedyHooks,
 ) -> Result<GreedyOutcome, SimplifyError> {
-    let n = analyzer.curve_count();
-    let total = analyzer.total_length(&(0..n).collect::<Vec<_>>());
-    if let Err(e) =
-        super::exhaustive::check_binding(constraints, n, params.budget.length(total), &params.keep)
-    {
-        return finish(Err(e), hooks);
+    if let Some(c) = constraints {
+        let n = analyzer.curve_count();
+        let total = analyzer.total_length(&(0..n).collect::<Vec<_>>());
+        let budget = params.budget.length(total);
+        if let Err(e) = super::exhaustive::check_binding(c, n, budget, &params.keep) {
+            return finish(Err(e), hooks);
+        }
     }
-    let active = constraints.is_active().then_some(constraints);
+    let active = constraints.filter(|c| c.is_active());
     finish(run(analyzer, params, active, resume, hooks), hooks)
 }
 
