@@ -100,18 +100,23 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         ));
     }
     print_warnings(&warnings);
-    // Infeasible combinations stop the run here, before any work, saying why.
-    let constraints = Constraints::new(
-        &network,
-        job.mesh.as_ref(),
-        &job.constraints,
-        budget,
-        &job.keep,
-    )
-    .map_err(|e| match e {
-        ConstraintError::Usage(m) => usage(m),
-        ConstraintError::Infeasible(m) => usage(format!("the constraints cannot be met: {m}")),
-    })?;
+    // Infeasible combinations stop the run here, before any work, saying why. Without design
+    // constraints a budget nothing meets is only a warning (above): the greedy runs as ever.
+    let constraints = if job.constraints == ConstraintParams::default() {
+        Constraints::none(&network, budget, &job.keep)
+    } else {
+        Constraints::new(
+            &network,
+            job.mesh.as_ref(),
+            &job.constraints,
+            budget,
+            &job.keep,
+        )
+        .map_err(|e| match e {
+            ConstraintError::Usage(m) => usage(m),
+            ConstraintError::Infeasible(m) => usage(format!("the constraints cannot be met: {m}")),
+        })?
+    };
     for note in constraints.notes() {
         eprintln!("note: {note}");
     }

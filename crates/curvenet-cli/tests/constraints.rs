@@ -1,0 +1,205 @@
+//! Design constraints through the real `curvenet` binary: groups (a file and the JSON curves'
+//! own), symmetry, connectivity, number of curves and the largest gap reach every search;
+//! bad values and combinations nothing can satisfy exit 2 before any work, naming why.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The binary under test.
+const BIN: &str = env!("CARGO_BIN_EXE_curvenet");
+
+/// A 2 × 2 grid of straight curves (reference text format): 0, 1 along x; 2, 3 along y.
+const GRID: &str = "CURVE 0\n-1 -0.5 0\n0 -0.5 0\n1 -0.5 0\n\
+                    CURVE 1\n-1 0.5 0\n0 0.5 0\n1 0.5 0\n\
+                    CURVE 2\n-0.5 -1 0\n-0.5 0 0\n-0.5 1 0\n\
+                    CURVE 3\n0.5 -1 0\n0.5 0 0\n0.5 1 0\n";
+
+/// A fresh folder holding the grid, removed afterwards.
+struct Dir(PathBuf);
+
+impl Dir {
+    fn new(tag: &str) -> Self {
+        let dir =
+            std::env::temp_dir().join(format!("curvenet-constraints-{tag}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("grid.txt"), GRID).unwrap();
+        Dir(dir)
+    }
+}
+
+impl Drop for Dir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// `curvenet simplify --curves grid.txt --out out --budget 0.5 --no-certificate ARGS` in `dir`:
+/// exit code, stdout + stderr.
+fn simplify(dir: &Path, curves: &str, args: &[&str]) -> (i32, String) {
+    let o = Command::new(BIN)
+        .args([
+            "simplify", "--curves", curves, "--out", "out", "--budget", "0.5",
+        ])
+        .arg("--no-certificate")
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("runs");
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    (o.status.code().unwrap_or(-1), text)
+}
+
+fn result(dir: &Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(dir.join("out/result.json")).expect("result.json");
+    serde_json::from_str(&text).expect("JSON")
+}
+
+/// The curve lists of every iteration.
+fn paths(r: &serde_json::Value) -> Vec<Vec<u64>> {
+    r["iterations"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|it| {
+            it["curves"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|c| c.as_u64().unwrap())
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn a_group_is_removed_whole() {
+    let d = Dir::new("groups");
+    std::fs::write(d.0.join("g.txt"), "pair: 0 1\n").unwrap();
+    let (code, text) = simplify(&d.0, "grid.txt", &["--groups", "g.txt"]);
+    assert_eq!(code, 0, "{text}");
+    let r = result(&d.0);
+    for p in paths(&r) {
+        assert_eq!(p.contains(&0), p.contains(&1), "{p:?} splits the group");
+    }
+    let removed_group = r["iterations"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|it| it["removed_group"].is_array());
+    if let Some(it) = removed_group {
+        assert_eq!(it["removed_group"], serde_json::json!([0, 1]));
+        assert_eq!(it["removed"], 0);
+    }
+    // The same groups from the JSON curve format's own "group" fields.
+    let d = Dir::new("json");
+    let curve = |pts: &str, group: Option<&str>| match group {
+        Some(g) => format!("{{\"points\": {pts}, \"group\": \"{g}\"}}"),
+        None => format!("{{\"points\": {pts}}}"),
+    };
+    let json = format!(
+        "{{\"format\": \"curvenet-curves\", \"version\": 1, \"curves\": [{}, {}, {}, {}]}}",
+        curve("[[-1,-0.5,0],[0,-0.5,0],[1,-0.5,0]]", Some("pair")),
+        curve("[[-1,0.5,0],[0,0.5,0],[1,0.5,0]]", Some("pair")),
+        curve("[[-0.5,-1,0],[-0.5,0,0],[-0.5,1,0]]", None),
+        curve("[[0.5,-1,0],[0.5,0,0],[0.5,1,0]]", None),
+    );
+    std::fs::write(d.0.join("grid.json"), json).unwrap();
+    let (code, text) = simplify(&d.0, "grid.json", &[]);
+    assert_eq!(code, 0, "{text}");
+    for p in paths(&result(&d.0)) {
+        assert_eq!(
+            p.contains(&0),
+            p.contains(&1),
+            "{p:?} splits the JSON group"
+        );
+    }
+}
+
+#[test]
+fn a_run_keeps_the_constraints_and_its_answer_meets_them() {
+    let d = Dir::new("connected");
+    let (code, text) = simplify(
+        &d.0,
+        "grid.txt",
+        &["--connected", "--min-curves", "2", "--local-search"],
+    );
+    assert_eq!(code, 0, "{text}");
+    let r = result(&d.0);
+    for p in paths(&r) {
+        assert!(p.len() >= 2, "{p:?}: fewer than 2 curves");
+        // Connected: a curve along x with one along y.
+        let x = p.iter().any(|&c| c < 2);
+        let y = p.iter().any(|&c| c >= 2);
+        assert!(x && y, "{p:?} is not connected");
+    }
+    let answer = &r["answer"];
+    assert!(answer.is_object(), "{}", r["answer"]);
+    assert!(answer["curves"].as_array().unwrap().len() >= 2);
+}
+
+#[test]
+fn impossible_constraints_exit_2_before_any_work_naming_why() {
+    let d = Dir::new("bad");
+    std::fs::write(d.0.join("g.txt"), "pair: 0 9\n").unwrap();
+    std::fs::write(d.0.join("bad.txt"), "pair: 0 x\n").unwrap();
+    for (args, want) in [
+        (&["--min-curves", "3"][..], "--min-curves 3"),
+        (&["--max-gap", "0.3"][..], "--max-gap"),
+        (&["--symmetry", "rotate:3"][..], "rotation of order 3"),
+        (&["--symmetry", "spin"][..], "unknown symmetry"),
+        (&["--groups", "g.txt"][..], "g.txt:1"),
+        (&["--groups", "bad.txt"][..], "bad.txt:1"),
+        (&["--groups", "nosuch.txt"][..], "nosuch.txt"),
+        (&["--min-curves", "0"][..], "--min-curves"),
+        (&["--max-deviation", "-1"][..], "--max-deviation"),
+    ] {
+        let (code, text) = simplify(&d.0, "grid.txt", args);
+        assert_eq!(code, 2, "{args:?}: {text}");
+        assert!(text.contains(want), "{args:?}: {text}");
+        assert!(
+            !d.0.join("out/result.json").exists(),
+            "{args:?}: no work done"
+        );
+    }
+}
+
+#[test]
+fn the_tower_keeps_its_symmetry() {
+    let dir = Dir::new("tower");
+    let o = Command::new(BIN)
+        .args([
+            "example",
+            "tower",
+            "--no-certificate",
+            "--symmetry",
+            "rotate:8",
+        ])
+        .arg("--out")
+        .arg(dir.0.join("out"))
+        .output()
+        .expect("runs");
+    let text = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{text}");
+    assert!(text.contains("rotation of order 8"), "{text}");
+    let r = result(&dir.0);
+    // The orbits of the rotation by 45°: the ring alone, and eight of four curves. Each step
+    // removes one whole orbit, recorded as a group when it has several curves.
+    let its = r["iterations"].as_array().unwrap();
+    let p = paths(&r);
+    assert!(p.len() >= 3, "{p:?}");
+    for (k, w) in p.windows(2).enumerate() {
+        let gone: Vec<u64> = w[0].iter().copied().filter(|c| !w[1].contains(c)).collect();
+        assert!(
+            gone == [0] || gone.len() == 4,
+            "iteration {k} removes {gone:?}"
+        );
+        if gone.len() == 4 {
+            assert_eq!(its[k]["removed_group"], serde_json::json!(gone));
+        }
+    }
+}
