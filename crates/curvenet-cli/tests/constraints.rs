@@ -143,6 +143,23 @@ fn a_run_keeps_the_constraints_and_its_answer_meets_them() {
 }
 
 #[test]
+fn the_constraints_are_recorded_and_a_resume_with_others_is_refused() {
+    let d = Dir::new("resume");
+    let (code, text) = simplify(&d.0, "grid.txt", &["--connected"]);
+    assert_eq!(code, 0, "{text}");
+    let r = result(&d.0);
+    assert_eq!(r["setup"]["constraints"]["connected"], true, "{}", r["setup"]);
+    let (code, text) = simplify(&d.0, "grid.txt", &["--min-curves", "2", "--resume"]);
+    assert_eq!(code, 2, "{text}");
+    assert!(text.contains("different set-up"), "{text}");
+    // Without constraints nothing is recorded.
+    let d = Dir::new("plain");
+    let (code, text) = simplify(&d.0, "grid.txt", &[]);
+    assert_eq!(code, 0, "{text}");
+    assert!(result(&d.0)["setup"].get("constraints").is_none());
+}
+
+#[test]
 fn impossible_constraints_exit_2_before_any_work_naming_why() {
     let d = Dir::new("bad");
     std::fs::write(d.0.join("g.txt"), "pair: 0 9\n").unwrap();

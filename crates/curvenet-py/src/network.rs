@@ -436,6 +436,7 @@ impl Job<'_> {
             greedy: self.params.clone(),
             network: net.info.clone(),
             total_length: total,
+            constraints: Default::default(),
         };
         let analyzer = Analyzer::new(network, self.stability.clone()).map_err(JobError::Usage)?;
         let network = analyzer.network();

@@ -94,6 +94,7 @@ fn scene_with(
         greedy: params.clone(),
         network: info,
         total_length: total,
+        constraints: Default::default(),
     };
     Scene {
         analyzer: Analyzer::new(net, stability).expect("analyzer"),

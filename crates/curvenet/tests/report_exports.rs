@@ -96,6 +96,7 @@ fn make_run(
         greedy: params.clone(),
         network: info,
         total_length: total,
+        constraints: Default::default(),
     };
     let analyzer = Analyzer::new(net, stability).expect("analyzer");
     let mut w = OutputWriter::create(

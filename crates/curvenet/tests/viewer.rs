@@ -69,6 +69,7 @@ fn run_dir() -> &'static Path {
             greedy: params.clone(),
             network: info,
             total_length: total,
+            constraints: Default::default(),
         };
         let analyzer = Analyzer::new(net, stability).expect("analyzer");
         let mut w = OutputWriter::create(&dir, analyzer.network(), setup, 0.4 * total)

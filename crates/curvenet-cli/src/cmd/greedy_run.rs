@@ -102,7 +102,7 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     print_warnings(&warnings);
     // Infeasible combinations stop the run here, before any work, saying why. Without design
     // constraints a budget nothing meets is only a warning (above): the greedy runs as ever.
-    let constraints = if job.constraints == ConstraintParams::default() {
+    let constraints = if job.constraints.is_default() {
         Constraints::none(&network, budget, &job.keep)
     } else {
         Constraints::new(
@@ -128,6 +128,7 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         greedy: params.clone(),
         network: info.clone(),
         total_length: total,
+        constraints: job.constraints.clone(),
     };
     let analyzer = Analyzer::new(network, job.stability).map_err(usage)?;
     let net = analyzer.network();

@@ -98,6 +98,11 @@ impl ConstraintParams {
             && self.max_deviation.is_none()
     }
 
+    /// True when every setting is the default (nothing asked for, not even a group of one).
+    pub fn is_default(&self) -> bool {
+        *self == ConstraintParams::default()
+    }
+
     /// Checks the values (not their feasibility: [`Constraints::new`] does that).
     pub fn validate(&self) -> Result<(), String> {
         if self.min_curves == Some(0) {

@@ -68,6 +68,13 @@ pub struct RunSetup {
     pub network: BuildInfo,
     /// Total rest length of all curves.
     pub total_length: f64,
+    /// The design constraints every search honoured (absent when none was asked for): a run
+    /// resumed with others is refused.
+    #[serde(
+        default,
+        skip_serializing_if = "crate::constraints::ConstraintParams::is_default"
+    )]
+    pub constraints: crate::constraints::ConstraintParams,
 }
 
 /// The final network of a run.
