@@ -3,9 +3,9 @@
 use super::surface::read_mesh_arg;
 use crate::args::CompareArgs;
 use crate::exit::usage;
+use curvenet::experiments::compare::{CompareParams, Surface, compare};
 use curvenet::io;
 use curvenet::paper;
-use curvenet::simplify::compare::{CompareParams, Surface, compare};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 

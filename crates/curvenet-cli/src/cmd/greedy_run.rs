@@ -5,13 +5,13 @@ use crate::args::GreedyArgs;
 use crate::exit::{ExitError, usage};
 use curvenet::io::{Polyline, TriMesh};
 use curvenet::network::{BuildParams, build_network};
+use curvenet::run_folder::{
+    InputDescription, LocalSearchRecord, OutputWriter, RunSetup, read_f64_file, summary,
+};
 use curvenet::simplify::candidates::PruneParams;
 use curvenet::simplify::greedy::IterationRecord;
 use curvenet::simplify::local::{LocalParams, local_search};
 use curvenet::simplify::relaxation::{Certificate, CertifyParams, FixedProblem};
-use curvenet::simplify::result::{
-    InputDescription, LocalSearchRecord, OutputWriter, RunSetup, read_f64_file, summary,
-};
 use curvenet::simplify::{Budget, GreedyParams, Scorer, SimplifyError, StopReason, greedy};
 use curvenet::stability::{Analyzer, StabilityParams};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -163,7 +163,7 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         }
         Err(e) => return Err(e.into()),
     };
-    print_warnings(&curvenet::simplify::result::unrelaxed(&outcome.iterations));
+    print_warnings(&curvenet::run_folder::unrelaxed(&outcome.iterations));
     let (local, local_seconds) = optional_step(job.local_search, "local search", || {
         local_search_of(&analyzer, &params, &outcome)
     });

@@ -6,21 +6,21 @@
 //! - [`relaxation`]: certified upper bounds on the best `λ_fix` (SPEC §7 relaxed);
 //! - [`exact`]: branch and bound for the optimum of `λ_fix`, with a proof;
 //! - [`local`]: local search (add, drop, swap) from a feasible subset, e.g. the greedy's;
-//! - [`random`]: uniformly random feasible subsets, a given number of evaluations;
-//! - [`result`]: the `result.json` schema (SPEC §10), written and read back.
+//! - [`random`]: uniformly random feasible subsets, a given number of evaluations.
+//!
+//! The run folder a greedy run writes is [`crate::run_folder`]; the experiments that compare
+//! the searches are [`crate::experiments`].
 //!
 //! All searches share [`Scorer`], which evaluates `λ_eq(S)` and `λ_fix(S | A)` the same way
 //! for everyone, so their answers are comparable.
 
 pub mod candidates;
-pub mod compare;
 pub mod exact;
 pub mod exhaustive;
 pub mod greedy;
 pub mod local;
 pub mod random;
 pub mod relaxation;
-pub mod result;
 
 pub use greedy::{GreedyHooks, GreedyOutcome, GreedyParams, StopReason, greedy};
 
