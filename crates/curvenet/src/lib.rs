@@ -12,6 +12,10 @@
 //! 6. [`run_folder`]: the folder a simplification run writes as it goes, and reads back;
 //! 7. [`report`]: the JSON objects and text of the command line, exports, pictures, viewer.
 //!
+//! [`constraints`] holds what a designer asks beyond the budget (groups, symmetry, a connected
+//! structure, a number of curves, the surface's largest gap, the equilibrium's largest
+//! deviation), tested on every subset the searches of [`simplify`] meet.
+//!
 //! [`trace`] generates curves on a mesh (geodesics, frame-field streamlines) and holds the
 //! built-in surfaces; [`paper`] holds the paper's example set-ups, [`builtin`] scenes made in
 //! code, [`pipeline`] the glue that runs the stages in order and [`experiments`] the harnesses
@@ -21,6 +25,7 @@
 
 pub mod builtin;
 pub mod cancel;
+pub mod constraints;
 pub mod experiments;
 pub mod geom;
 pub mod io;
@@ -34,5 +39,6 @@ pub mod rod;
 pub mod run_folder;
 pub mod simplify;
 pub mod solve;
+pub mod sparse;
 pub mod stability;
 pub mod trace;

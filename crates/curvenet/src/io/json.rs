@@ -6,14 +6,16 @@
 //!   "version": 1,
 //!   "units": "m",
 //!   "curves": [
-//!     {"label": "ring", "closed": true, "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]}
+//!     {"label": "ring", "closed": true, "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]},
+//!     {"label": "arch 1", "group": "arches", "points": [[0, 0, 0], [0, 1, 1], [0, 2, 0]]}
 //!   ]
 //! }
 //! ```
 //!
-//! `units`, `label` and `closed` are optional; without `closed` the curve is closed when its last
-//! point repeats its first. Unknown fields are errors (a misspelt `"close"` must not pass
-//! silently).
+//! `units`, `label`, `closed` and `group` are optional; without `closed` the curve is closed when
+//! its last point repeats its first. Curves with the same `group` (a name, or an integer) are kept
+//! or removed together by the searches ([`CurveFile::groups`]). Unknown fields are errors (a
+//! misspelt `"close"` must not pass silently).
 //!
 //! `serde_json` validates the document and reports syntax and type errors with their line and
 //! column. Its number parsing may be off by one unit in the last place, so a light scan of the
@@ -62,7 +64,7 @@ struct Document {
 #[derive(Deserialize)]
 #[serde(
     deny_unknown_fields,
-    expecting = "a curve object with \"points\" and optional \"label\" and \"closed\""
+    expecting = "a curve object with \"points\" and optional \"label\", \"closed\" and \"group\""
 )]
 struct JsonCurve {
     #[serde(default)]
@@ -70,6 +72,33 @@ struct JsonCurve {
     points: Vec<[f64; 3]>,
     #[serde(default)]
     closed: Option<bool>,
+    #[serde(default)]
+    group: Option<GroupTag>,
+}
+
+/// A curve's `"group"`: a name, or an integer (kept as its decimal text).
+struct GroupTag(String);
+
+impl<'de> Deserialize<'de> for GroupTag {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Visit;
+        impl serde::de::Visitor<'_> for Visit {
+            type Value = GroupTag;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a group name (a string or an integer)")
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<GroupTag, E> {
+                Ok(GroupTag(v.to_owned()))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<GroupTag, E> {
+                Ok(GroupTag(v.to_string()))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<GroupTag, E> {
+                Ok(GroupTag(v.to_string()))
+            }
+        }
+        d.deserialize_any(Visit)
+    }
 }
 
 /// Parses curvenet's JSON curve format. `file` names the input in messages.
@@ -148,7 +177,9 @@ pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError
 
     let mut warnings = Vec::new();
     let mut curves = Vec::with_capacity(document.curves.len());
+    let mut groups = Vec::with_capacity(document.curves.len());
     for (index, curve) in document.curves.into_iter().enumerate() {
+        groups.push(curve.group.map(|g| g.0));
         let loc = located.curves.get(index);
         let curve_line = loc.map_or(0, |c| c.line);
         let points = curve
@@ -176,7 +207,11 @@ pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError
         };
         curves.push(finish_curve(raw, file, &mut warnings)?);
     }
-    Ok(CurveFile { curves, warnings })
+    Ok(CurveFile {
+        curves,
+        warnings,
+        groups,
+    })
 }
 
 /// Writes curves in curvenet's JSON format, pretty-printed with one point per line. Every curve
@@ -552,6 +587,34 @@ mod tests {
         assert_eq!(f.curves[2].points.len(), 4);
         assert_eq!(f.curves[3].points[1], Vec3::new(1e-3, 250.0, 0.0));
         assert_eq!(f.curves[3].origin.line, 8);
+    }
+
+    #[test]
+    fn groups_are_read_per_curve() {
+        let text = doc(&[
+            r#"{"group": "arches", "points": [[0, 0, 0], [1, 0, 0]]}"#,
+            GOOD,
+            r#"{"group": 7, "points": [[0, 0, 0], [1, 0, 0]]}"#,
+            r#"{"points": [[0, 0, 0], [1, 0, 0]], "group": "arches"}"#,
+        ]);
+        let f = parse_json_curves(&text, "c.json").unwrap();
+        assert_eq!(
+            f.groups,
+            vec![
+                Some("arches".into()),
+                None,
+                Some("7".into()),
+                Some("arches".into())
+            ]
+        );
+        let f = parse_json_curves(&doc(&[GOOD]), "c.json").unwrap();
+        assert_eq!(f.groups, vec![None]);
+        let text = doc(&[GOOD, r#"{"group": [1], "points": [[0, 0, 0], [1, 0, 0]]}"#]);
+        assert_err(&text, 6, "a group name (a string or an integer)");
+        let text = doc(&[GOOD, r#"{"group": 1.5, "points": [[0, 0, 0], [1, 0, 0]]}"#]);
+        assert_err(&text, 6, "a group name");
+        let text = doc(&[r#"{"groups": "a", "points": [[0, 0, 0], [1, 0, 0]]}"#]);
+        assert_err(&text, 5, "unknown field `groups`");
     }
 
     #[test]

@@ -221,6 +221,9 @@ pub struct CurveFile {
     pub curves: Vec<Polyline>,
     /// Non-fatal findings, in file order.
     pub warnings: Vec<InputWarning>,
+    /// Each curve's group (the JSON format's `"group"`; `None` for every curve of the other
+    /// formats): curves of one group are kept or removed together. Aligned with `curves`.
+    pub groups: Vec<Option<String>>,
 }
 
 /// The mesh of one file, with the warnings found while reading it.

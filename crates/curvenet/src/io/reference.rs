@@ -98,7 +98,12 @@ pub fn parse_reference_curves(text: &str, file: &str) -> Result<CurveFile, Input
             ));
         }
     }
-    Ok(CurveFile { curves, warnings })
+    let groups = vec![None; curves.len()];
+    Ok(CurveFile {
+        curves,
+        warnings,
+        groups,
+    })
 }
 
 /// Writes curves in the reference text format. Each curve opens with `CURVE <label>` (a bare

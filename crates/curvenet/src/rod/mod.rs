@@ -1,18 +1,24 @@
-//! Rod energy: the material, the supports and the discrete elastic rod terms (SPEC §3).
+//! Rod energy: the material, the supports and the discrete elastic rod terms (`docs/model.md`,
+//! *Energy*).
 //!
 //! - [`terms`]: the local stretching, bending and anchor terms with exact derivatives;
+//! - [`network`]: the rod network as data (what [`crate::network`] builds from curves);
 //! - [`model`]: the flat list of all terms of a network and its sparse assembly, with the
-//!   ability to leave out any set of curves (the structure of SPEC §5).
+//!   ability to leave out any set of curves (a structure: `docs/model.md`, *Stability*).
 
+mod active;
 pub mod model;
+pub mod network;
 pub mod terms;
 
-pub use model::{ActiveSet, Assembly, EnergyModel};
+pub use active::ActiveSet;
+pub use model::{Assembly, EnergyModel};
+pub use network::{Joint, Network, Rod};
 
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
-/// Material constants of every rod, in scene units (SPEC §3).
+/// Material constants of every rod, in scene units (`docs/model.md`, *Energy*).
 ///
 /// Results depend on the radius relative to the curves' length: the defaults are the
 /// reference's (`r = 2`, `E = 1`, `µ = 500`), made for scenes a few hundred to a few thousand
@@ -66,7 +72,8 @@ impl Material {
     }
 }
 
-/// Which vertices of an open curve are anchored (SPEC §3). Closed curves have none.
+/// Which vertices of an open curve are anchored (`docs/model.md`, *Energy*). Closed curves
+/// have none.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Supports {

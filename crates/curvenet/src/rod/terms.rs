@@ -1,5 +1,5 @@
-//! The three local energy terms of a discrete elastic rod without twist (SPEC §3), each with its
-//! exact gradient and Hessian.
+//! The three local energy terms of a discrete elastic rod without twist (`docs/model.md`,
+//! *Energy*), each with its exact gradient and Hessian.
 //!
 //! Every term acts on a few vertices; the result is a [`Local`] value with the energy, the
 //! gradient over the term's `D = 3·(vertex count)` coordinates (vertex-major: `x0.x, x0.y, x0.z,
