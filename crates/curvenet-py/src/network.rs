@@ -11,10 +11,9 @@ use curvenet::network::{BuildInfo, BuildParams, build_network, checks};
 use curvenet::pipeline;
 use curvenet::rod::{Material, Supports};
 use curvenet::run_folder::{InputDescription, LocalSearchRecord, OutputWriter, RunSetup};
-use curvenet::simplify::candidates::PruneParams;
 use curvenet::simplify::greedy::IterationRecord;
 use curvenet::simplify::local::{LocalParams, local_search};
-use curvenet::simplify::{Budget, GreedyParams, Scorer, SimplifyError, StopReason, greedy};
+use curvenet::simplify::{Budget, GreedyParams, SimplifyError, StopReason, greedy};
 use curvenet::stability::{Analyzer, StabilityParams};
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
@@ -357,17 +356,16 @@ impl Network {
         let budget = budget_of(budget, budget_length).map_err(|e| errors::usage(py, e))?;
         let params = GreedyParams {
             keep,
-            prune: PruneParams {
-                enabled: prune,
-                ..Default::default()
-            },
             ..GreedyParams::new(budget)
         };
+        let mut stability = self.stability.clone();
+        stability.tuning.prune = prune;
         params
             .validate(self.curves.len())
             .map_err(|e| errors::usage(py, e))?;
         let job = Job {
             net: self,
+            stability,
             params,
             out,
             local_search,
@@ -385,6 +383,7 @@ impl Network {
 /// A greedy run of [`Network::simplify`].
 struct Job<'a> {
     net: &'a Network,
+    stability: StabilityParams,
     params: GreedyParams,
     out: PathBuf,
     local_search: bool,
@@ -433,12 +432,12 @@ impl Job<'_> {
         let setup = RunSetup {
             input: net.description.clone(),
             build: net.build.clone(),
-            stability: net.stability.clone(),
+            stability: self.stability.clone(),
             greedy: self.params.clone(),
             network: net.info.clone(),
             total_length: total,
         };
-        let analyzer = Analyzer::new(network, net.stability.clone()).map_err(JobError::Usage)?;
+        let analyzer = Analyzer::new(network, self.stability.clone()).map_err(JobError::Usage)?;
         let network = analyzer.network();
         let (writer, resume_point) = if self.resume && self.out.join("result.json").is_file() {
             let (w, p) =
@@ -573,7 +572,12 @@ fn local_search_of(
         keep: params.keep.clone(),
         ..LocalParams::new(params.budget)
     };
-    let o =
-        local_search(&Scorer::new(analyzer), &local, &last.curves).map_err(|e| e.to_string())?;
+    let o = local_search(
+        analyzer,
+        &local,
+        &last.curves,
+        &curvenet::cancel::Cancel::never(),
+    )
+    .map_err(|e| e.to_string())?;
     LocalSearchRecord::new(&local, &o).ok_or_else(|| "λ_eq could not be evaluated".to_string())
 }

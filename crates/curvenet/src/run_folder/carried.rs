@@ -2,7 +2,7 @@
 //! the next one (`docs/model.md`, *Greedy simplification*). A resumed run needs them to go on
 //! exactly as an uninterrupted one.
 
-use crate::simplify::candidates::{Carried, CarriedVector};
+use crate::stability::candidates::{Carried, CarriedVector};
 use std::path::Path;
 
 /// The carried test vectors' file (see [`carried_bytes`]).

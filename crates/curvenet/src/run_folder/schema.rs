@@ -4,7 +4,7 @@ use crate::network::{BuildInfo, BuildParams};
 use crate::simplify::GreedyParams;
 use crate::simplify::greedy::{IterationRecord, StopReason};
 use crate::simplify::local::{LocalOutcome, LocalParams, Step, Strategy};
-use crate::simplify::relaxation::Certificate;
+use crate::simplify::certificate::Certificate;
 use crate::stability::StabilityParams;
 use serde::{Deserialize, Serialize};
 use std::path::Path;

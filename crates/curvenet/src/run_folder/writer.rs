@@ -6,10 +6,10 @@ use super::summary::summary;
 use super::{f64_bytes, network_polylines, read_f64_file};
 use crate::io;
 use crate::network::Network;
-use crate::simplify::Evaluation;
-use crate::simplify::candidates::Carried;
+use crate::stability::Evaluation;
+use crate::stability::candidates::Carried;
 use crate::simplify::greedy::{GreedyHooks, GreedyOutcome, IterationRecord, ResumePoint};
-use crate::simplify::relaxation::Certificate;
+use crate::simplify::certificate::Certificate;
 use std::path::{Path, PathBuf};
 
 /// The output folder's writer thread.

@@ -4,13 +4,15 @@ use super::CompareParams;
 use crate::io::TriMesh;
 use crate::network::{BuildParams, Network, build_network};
 use crate::rod::ActiveSet;
+use crate::cancel::Cancel;
+use crate::simplify::certificate::{CertifyParams, certify};
 use crate::simplify::exact::{ExactParams, exact};
 use crate::simplify::exhaustive::{ExhaustiveParams, exhaustive, exhaustive_fixed};
 use crate::simplify::greedy::{GreedyParams, NoHooks, greedy};
 use crate::simplify::local::{LocalOutcome, LocalParams, local_search, local_search_multi};
 use crate::simplify::random::{RandomParams, random_search};
-use crate::simplify::relaxation::{CertifyParams, FixedProblem};
-use crate::simplify::{Budget, Scorer, SimplifyError};
+use crate::simplify::{Budget, SimplifyError};
+use crate::stability::fixed::FixedProblem;
 use crate::stability::{Analyzer, StabilityParams};
 use crate::trace::{Generator, generate};
 use serde::{Deserialize, Serialize};
@@ -59,7 +61,7 @@ pub struct InstanceResult {
     /// Distinct subsets it evaluated.
     #[serde(default)]
     pub local_evaluations: usize,
-    /// Connected structures it relaxed (its own scorer: nothing cached beforehand).
+    /// Connected structures it relaxed (its own analyzer: nothing cached beforehand).
     #[serde(default)]
     pub local_structures: usize,
     /// Its wall time (seconds).
@@ -78,7 +80,7 @@ pub struct InstanceResult {
     /// Distinct subsets it evaluated.
     #[serde(default)]
     pub single_evaluations: usize,
-    /// Its wall time (seconds, its own scorer).
+    /// Its wall time (seconds, its own analyzer).
     #[serde(default)]
     pub single_seconds: f64,
     /// Wall time of exhaustive search over `λ_eq` (seconds).
@@ -166,12 +168,11 @@ pub(super) fn run(
     };
     let analyzer =
         Analyzer::new(network, StabilityParams::default()).map_err(SimplifyError::Params)?;
-    let scorer = Scorer::new(&analyzer);
     let budget = Budget::Fraction(params.budget);
-    greedy_figures(&mut row, &analyzer, &scorer, budget)?;
+    greedy_figures(&mut row, &analyzer, budget)?;
     local_figures(&mut row, &analyzer, budget)?;
-    exhaustive_figures(&mut row, &scorer, budget, params.max_subsets)?;
-    fixed_figures(&mut row, &analyzer, &scorer, budget, params)?;
+    exhaustive_figures(&mut row, &analyzer, budget, params.max_subsets)?;
+    fixed_figures(&mut row, &analyzer, budget, params)?;
     Ok(row)
 }
 
@@ -180,7 +181,6 @@ pub(super) fn run(
 fn greedy_figures(
     row: &mut InstanceResult,
     analyzer: &Analyzer,
-    scorer: &Scorer<'_>,
     budget: Budget,
 ) -> Result<(), SimplifyError> {
     let t = Instant::now();
@@ -188,7 +188,7 @@ fn greedy_figures(
     row.greedy_seconds = t.elapsed().as_secs_f64();
     let last = g.iterations.last().expect("one iteration at least");
     row.greedy_curves = last.curves.clone();
-    row.greedy = scorer.lambda_eq(&ActiveSet::from_curves(row.n, &last.curves))?;
+    row.greedy = analyzer.lambda_eq(&ActiveSet::from_curves(row.n, &last.curves))?;
     row.greedy_evaluations = g
         .iterations
         .iter()
@@ -198,7 +198,8 @@ fn greedy_figures(
     Ok(())
 }
 
-/// The local searches from the greedy's set, each with a scorer of its own (timed alone):
+/// The local searches from the greedy's set, each with an analyzer (and cache) of its own
+/// (timed alone):
 /// the default and single improving moves.
 fn local_figures(
     row: &mut InstanceResult,
@@ -206,9 +207,10 @@ fn local_figures(
     budget: Budget,
 ) -> Result<(), SimplifyError> {
     let timed = |p: &LocalParams| -> Result<(LocalOutcome, f64), SimplifyError> {
-        let own = Scorer::new(analyzer);
+        let own = Analyzer::new(analyzer.network().clone(), StabilityParams::default())
+            .map_err(SimplifyError::Params)?;
         let t = Instant::now();
-        let o = local_search(&own, p, &row.greedy_curves)?;
+        let o = local_search(&own, p, &row.greedy_curves, &Cancel::never())?;
         Ok((o, t.elapsed().as_secs_f64()))
     };
     let (local, local_seconds) = timed(&LocalParams::new(budget))?;
@@ -232,22 +234,24 @@ fn local_figures(
 /// greedy's evaluations, and the multi-start local search.
 fn exhaustive_figures(
     row: &mut InstanceResult,
-    scorer: &Scorer<'_>,
+    analyzer: &Analyzer,
     budget: Budget,
     max_subsets: usize,
 ) -> Result<(), SimplifyError> {
-    let cached = scorer.cached_structures();
+    let never = Cancel::never();
+    let cached = analyzer.cached_structures();
     let t = Instant::now();
     let ex = exhaustive(
-        scorer,
+        analyzer,
         &ExhaustiveParams {
             budget,
             keep: Vec::new(),
             max_subsets,
         },
+        &never,
     )?;
     row.exhaustive_seconds = t.elapsed().as_secs_f64();
-    row.exhaustive_structures = scorer.cached_structures() - cached;
+    row.exhaustive_structures = analyzer.cached_structures() - cached;
     let below = ex
         .all
         .iter()
@@ -258,7 +262,7 @@ fn exhaustive_figures(
     row.feasible = ex.all.len();
     row.percentile = 100.0 * below as f64 / ex.all.len() as f64;
     let rnd = random_search(
-        scorer,
+        analyzer,
         &RandomParams {
             budget,
             keep: Vec::new(),
@@ -266,11 +270,13 @@ fn exhaustive_figures(
             seed: u64::from(row.seed),
             time_limit: None,
         },
+        &never,
     )?;
     row.random = rnd.best.lambda;
     let mut starts = vec![row.greedy_curves.clone()];
     starts.extend((0..row.n).map(|c| vec![c]));
-    let multi = local_search_multi(scorer, &LocalParams::single_moves(budget), &starts)?;
+    let single_moves = LocalParams::single_moves(budget);
+    let multi = local_search_multi(analyzer, &single_moves, &starts, &never)?;
     row.multi = multi.best.lambda;
     row.multi_curves = multi.best.curves.clone();
     Ok(())
@@ -282,15 +288,15 @@ fn exhaustive_figures(
 fn fixed_figures(
     row: &mut InstanceResult,
     analyzer: &Analyzer,
-    scorer: &Scorer<'_>,
     budget: Budget,
     params: &CompareParams,
 ) -> Result<(), SimplifyError> {
+    let never = Cancel::never();
     let problem = FixedProblem::new(analyzer, budget, &[])?;
     row.greedy_fix = problem.lambda_fix(&row.greedy_curves)?;
-    let report = problem.certify(&CertifyParams::default(), &[])?;
+    let report = certify(&problem, &CertifyParams::default(), &[], &never)?;
     row.bound_fix = report.upper;
-    row.rounded = scorer.lambda_eq(&ActiveSet::from_curves(row.n, &report.lower_curves))?;
+    row.rounded = analyzer.lambda_eq(&ActiveSet::from_curves(row.n, &report.lower_curves))?;
     row.rounded_curves = report.lower_curves.clone();
     let ex_fix = exact(
         &problem,
@@ -299,13 +305,14 @@ fn fixed_figures(
             ..ExactParams::default()
         },
         &[row.greedy_curves.clone(), report.lower_curves.clone()],
+        &never,
     )?;
-    row.exact_eq = ex_fix.lambda_eq(scorer)?;
+    row.exact_eq = ex_fix.lambda_eq(analyzer)?;
     row.exact_fix = ex_fix.lambda_fix;
     row.exact_curves = ex_fix.curves.clone();
     row.exact_proven = ex_fix.proven();
     row.exact_nodes = ex_fix.info.nodes;
     row.exact_seconds = ex_fix.info.seconds;
-    row.exhaustive_fix = exhaustive_fixed(&problem, params.max_subsets)?.best.lambda;
+    row.exhaustive_fix = exhaustive_fixed(&problem, params.max_subsets, &never)?.best.lambda;
     Ok(())
 }

@@ -4,19 +4,20 @@
 //! For every size `N` and instance `i`, `N` random geodesics are traced on one of the given
 //! surfaces (scaled to a largest extent of 4000, the reference's command-line scenes), built
 //! at `h = 100` with clamped supports, and simplified to the budget by
-//! - the greedy (its final set re-evaluated with [`crate::simplify::Scorer::lambda_eq`], like every other set),
+//! - the greedy (its final set re-evaluated with [`crate::stability::Analyzer::lambda_eq`],
+//!   like every other set),
 //! - exhaustive search (every feasible subset: the optimum and the greedy's percentile),
 //! - random search with as many evaluations as the greedy spent (every candidate of every
 //!   iteration, as the paper's greedy evaluates them, plus one per iteration),
 //! - the greedy followed by the local search of [`crate::simplify::local`]: its default
 //!   (first-improvement descent with part steps, then variable-depth chains) and, for
 //!   comparison, single improving moves (first improvement, no part steps), each from the
-//!   greedy's final set alone, each with a scorer of its own so its time and the structures it
+//!   greedy's final set alone, each with an analyzer of its own so its time and the structures it
 //!   relaxed are its own (no help from the other searches' cache),
 //! - the multi-start local search: single moves from the greedy's set and from every curve
 //!   alone, the best outcome,
 //! - the rounded relaxation: the best `λ_fix` among the roundings of the relaxed faces'
-//!   solutions (and the faces' first curves) of [`crate::simplify::relaxation::FixedProblem::certify`], re-evaluated on
+//!   solutions (and the faces' first curves) of [`crate::simplify::certificate::certify`], re-evaluated on
 //!   `λ_eq`; the same run gives the certified upper bound on `λ_fix`,
 //! - the exact optimum of `λ_fix` ([`crate::simplify::exact`]), checked against exhaustive
 //!   search over `λ_fix`, and the `λ_eq` of its answer.

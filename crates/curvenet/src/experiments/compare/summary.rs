@@ -144,7 +144,7 @@ impl CompareReport {
             ));
         }
         s.push_str(
-            "\nCost per network (mean; each local search from the greedy's set with a scorer of its own):\n\n\
+            "\nCost per network (mean; each local search from the greedy's set with an analyzer of its own):\n\n\
              | N | greedy seconds | greedy evaluations | local search: optimum reached | moves (chains) | subsets evaluated | structures relaxed | seconds (max) | single moves: subsets | seconds | exhaustive: structures relaxed | seconds |\n\
              |---|---|---|---|---|---|---|---|---|---|---|---|\n",
         );
