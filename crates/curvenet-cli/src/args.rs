@@ -1,4 +1,4 @@
-//! Command-line arguments (clap derive). Names follow SPEC §10.
+//! Command-line arguments (clap derive). Subcommand and option names are fixed: scripts rely on them.
 
 use clap::{Args, Parser, Subcommand};
 use curvenet::rod::Supports;
@@ -20,13 +20,13 @@ pub enum Command {
     Analyze(AnalyzeArgs),
     /// Simplify a network to a material budget with the greedy (paper Algorithm 1).
     Simplify(SimplifyArgs),
-    /// Run one of the paper's examples (SPEC §9) from the reference data.
+    /// Run one of the paper's examples (docs/model.md, "The paper's examples") from its input files.
     Example(ExampleArgs),
     /// Run the whole pipeline on a built-in scene: no input files needed.
     Demo(DemoArgs),
-    /// Time the greedy on the paper's examples and print a table (SPEC §10, issue 4).
+    /// Time the greedy on the paper's examples and print a table.
     Bench(BenchArgs),
-    /// Generate curves on a mesh: random geodesics or frame-field streamlines (SPEC §8).
+    /// Generate curves on a mesh: random geodesics or frame-field streamlines (docs/model.md, "Curve generation").
     Trace(TraceArgs),
     /// Greedy against exhaustive and random search on random networks (paper Fig. 10).
     Compare(CompareArgs),
@@ -226,7 +226,7 @@ pub struct PhysicsArgs {
     /// Number of smallest eigenvalues to report.
     #[arg(long = "eigen-count", default_value_t = 4)]
     pub eigen_count: usize,
-    /// Merge joints closer than this fraction of h (off by default; SPEC §11).
+    /// Merge joints closer than this fraction of h (off by default; docs/model.md, "Numerical hazards").
     #[arg(long = "merge-joints")]
     pub merge_joints: Option<f64>,
 }
@@ -298,7 +298,7 @@ pub struct AnalyzeArgs {
     /// Curves to remove before the analysis (comma-separated ids).
     #[arg(long, value_delimiter = ',')]
     pub remove: Vec<usize>,
-    /// Print one JSON object on stdout (SPEC §10).
+    /// Print one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
     /// Material and solver options.

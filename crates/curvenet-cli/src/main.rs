@@ -1,6 +1,6 @@
 //! The `curvenet` command-line tool: a thin layer over the `curvenet` library.
 //!
-//! Exit codes (SPEC §10): 0 success (warnings on stderr and in the output), 2 when no network
+//! Exit codes: 0 success (warnings on stderr and in the output), 2 when no network
 //! can be built or the usage is wrong (the message names the file and line), 1 internal error.
 
 mod args;

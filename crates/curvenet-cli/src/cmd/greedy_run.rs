@@ -4,10 +4,14 @@ use super::print_warnings;
 use crate::args::GreedyArgs;
 use crate::exit::{ExitError, usage};
 use curvenet::cancel::Cancel;
+use curvenet::constraints::Constraints;
+use curvenet::constraints::answer::{Answer, NoAnswer, choose};
 use curvenet::io::{Polyline, TriMesh};
 use curvenet::network::{BuildParams, build_network};
+use curvenet::rod::ActiveSet;
 use curvenet::run_folder::{
-    InputDescription, LocalSearchRecord, OutputWriter, RunSetup, read_f64_file, summary,
+    InputDescription, LocalSearchRecord, OutputWriter, RunSetup, evaluated_offer, greedy_offers,
+    read_f64_file, summary,
 };
 use curvenet::simplify::certificate::{
     Certificate, CertifyParams, certificate, tighten_certificate,
@@ -16,7 +20,7 @@ use curvenet::simplify::greedy::IterationRecord;
 use curvenet::simplify::local::{LocalParams, local_search};
 use curvenet::simplify::{Budget, GreedyParams, SimplifyError, StopReason, greedy};
 use curvenet::stability::fixed::FixedProblem;
-use curvenet::stability::{Analyzer, StabilityParams};
+use curvenet::stability::{Analyzer, Prepare, Preset, StabilityParams, Warm};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -175,7 +179,12 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         local_search_of(&analyzer, &params, &outcome, &cancel)
     });
     stop_if_cancelled(&cancel, "the local search", &job.out)?;
+    let local_eval = local
+        .as_ref()
+        .and_then(|l| evaluate_curves(&analyzer, &l.curves, "local search's network"));
     writer.set_local_search(local);
+    let (answer, answer_state) = answer_of(&analyzer, &params, &outcome, local_eval);
+    writer.set_answer(answer, answer_state);
     let (certificate, certificate_seconds) = optional_step(job.certificate, "certificate", || {
         certificate_of(
             &analyzer,
@@ -218,6 +227,45 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         job.out.display()
     );
     Ok(())
+}
+
+/// The run's answer among the greedy's iterations and the local search's network (when it
+/// ran, evaluated in full), and the answer's equilibrium when it is not a greedy iteration.
+fn answer_of(
+    analyzer: &Analyzer,
+    params: &GreedyParams,
+    outcome: &curvenet::simplify::GreedyOutcome,
+    local: Option<curvenet::stability::Evaluation>,
+) -> (Result<Answer, NoAnswer>, Option<Vec<f64>>) {
+    let net = analyzer.network();
+    let n = net.rods.len();
+    let budget = params
+        .budget
+        .length(net.total_length(&(0..n).collect::<Vec<_>>()));
+    let constraints = Constraints::none(net, budget, &params.keep);
+    let mut offers = greedy_offers(&outcome.iterations);
+    if let Some(e) = &local {
+        offers.push(evaluated_offer("local_search", e));
+    }
+    let choice = choose(&constraints, &offers, 0);
+    let state = match (&choice.answer, local) {
+        (Ok(a), Some(e)) if a.iteration.is_none() => Some(e.displacement),
+        _ => None,
+    };
+    (choice.answer, state)
+}
+
+/// `curves` relaxed and its spectrum computed (a warning and `None` when that fails).
+fn evaluate_curves(
+    analyzer: &Analyzer,
+    curves: &[usize],
+    what: &str,
+) -> Option<curvenet::stability::Evaluation> {
+    let active = ActiveSet::from_curves(analyzer.network().rods.len(), curves);
+    analyzer
+        .evaluate(&active, Warm::default(), Preset::Analysis, Prepare::Nothing)
+        .map_err(|e| print_warnings(&[format!("the {what} could not be evaluated: {e}")]))
+        .ok()
 }
 
 /// The local search (its default: descent with part steps, then variable-depth chains) from

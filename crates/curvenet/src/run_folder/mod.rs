@@ -10,7 +10,9 @@
 //! DIR/states/carried.bin  the candidates' test vectors the last iteration handed on (resume
 //!                         state, see [`carried`]; removed when the run completes)
 //! DIR/iterations/KKKK.obj the network of iteration K at equilibrium, one polyline per curve
-//! DIR/final.obj           the final network at equilibrium
+//! DIR/final.obj           the greedy's final network at equilibrium
+//! DIR/answer.obj          the answer (the network to build) at equilibrium; absent when
+//!                         no stable network within the budget was found
 //! DIR/mesh.obj            the surface the curves were drawn on, in scene units (if known)
 //! DIR/summary.txt         a short text summary
 //! ```
@@ -21,19 +23,23 @@
 //! - [`carried`]: the carried test vectors' file;
 //! - [`reader`]: [`RunFolder`], a finished or interrupted folder read back and checked, for the
 //!   exports, pictures and viewer of [`crate::report`];
-//! - [`summary`]: `summary.txt` and the warnings a run's record calls for.
+//! - [`summary`]: `summary.txt` and the warnings a run's record calls for;
+//! - [`answer`]: the networks a run offers as its answer ([`greedy_offers`],
+//!   [`evaluated_offer`]).
 //!
 //! Every file is written atomically (temporary file + rename), and `result.json` is rewritten
 //! after each iteration, so an interrupted run keeps everything it finished and can resume.
 //! `result.json` holds no timings and depends only on the inputs, so it is byte-identical from
 //! run to run on one machine and build, whatever the thread count.
 
+pub mod answer;
 pub mod carried;
 pub mod reader;
 pub mod schema;
 pub mod summary;
 pub mod writer;
 
+pub use answer::{evaluated_offer, greedy_offers};
 pub use reader::{RunFolder, check_network};
 pub use schema::{FinalRecord, InputDescription, LocalSearchRecord, ResultFile, RunSetup, VERSION};
 pub use summary::{summary, unrelaxed};

@@ -108,6 +108,17 @@ impl RunFolder {
         self.result.iterations.len() - 1
     }
 
+    /// The iteration the run's pictures and viewer show first: the answer's when it is one of
+    /// the greedy's iterations, else the last.
+    pub fn shown_index(&self) -> usize {
+        self.result
+            .answer
+            .as_ref()
+            .and_then(|a| a.iteration)
+            .filter(|&k| k < self.iteration_count())
+            .unwrap_or_else(|| self.last_index())
+    }
+
     /// The record of iteration `k`.
     pub fn record(&self, k: usize) -> Result<&IterationRecord, String> {
         self.result.iterations.get(k).ok_or_else(|| {

@@ -1,5 +1,6 @@
 //! `result.json`: the record of a run ([`ResultFile`]) and its parts.
 
+use crate::constraints::answer::{Answer, NoAnswer};
 use crate::network::{BuildInfo, BuildParams};
 use crate::simplify::GreedyParams;
 use crate::simplify::greedy::{IterationRecord, StopReason};
@@ -162,6 +163,15 @@ pub struct ResultFile {
     /// not run).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub local_search: Option<LocalSearchRecord>,
+    /// The network to build: the best stable network meeting the budget and every constraint
+    /// among those the run's searches evaluated; `null` when there is none (see
+    /// [`Self::no_answer`]) or while the run is in progress.
+    #[serde(default)]
+    pub answer: Option<Answer>,
+    /// Why there is no answer, and the run's smallest stable network (present only when the
+    /// run completed without an answer).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub no_answer: Option<NoAnswer>,
 }
 
 impl ResultFile {

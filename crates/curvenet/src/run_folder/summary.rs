@@ -83,6 +83,11 @@ pub fn summary(r: &ResultFile) -> String {
     if let Some(c) = &r.certificate {
         let _ = writeln!(s, "{}", c.describe());
     }
+    if let Some(a) = &r.answer {
+        let _ = writeln!(s, "answer (the network to build): {}", a.describe());
+    } else if let Some(n) = &r.no_answer {
+        let _ = writeln!(s, "{}", n.describe());
+    }
     s
 }
 

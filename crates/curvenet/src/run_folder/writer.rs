@@ -1,9 +1,12 @@
 //! [`OutputWriter`]: the greedy's hooks that write the run folder as the run goes.
 
 use super::carried::{CARRIED_FILE, carried_bytes, read_carried};
+use super::answer::greedy_offers;
 use super::schema::{FinalRecord, LocalSearchRecord, ResultFile, RunSetup, VERSION};
 use super::summary::summary;
 use super::{f64_bytes, network_polylines, read_f64_file};
+use crate::constraints::Constraints;
+use crate::constraints::answer::{Answer, NoAnswer, choose};
 use crate::io;
 use crate::network::Network;
 use crate::stability::Evaluation;
@@ -21,6 +24,10 @@ fn io_err(path: &Path, e: std::io::Error) -> String {
     format!("{}: {e}", path.display())
 }
 
+/// An answer given to [`OutputWriter::set_answer`] and its equilibrium (when it is not one of
+/// the greedy's iterations).
+type GivenAnswer = (Result<Answer, NoAnswer>, Option<Vec<f64>>);
+
 /// Writes a run's folder as the greedy goes (a [`GreedyHooks`]).
 ///
 /// The files are written on a background thread ([`io::BackgroundWriter`]), in the order the
@@ -37,6 +44,9 @@ pub struct OutputWriter<'a> {
     cancel: Option<&'a std::sync::atomic::AtomicBool>,
     /// Called after each iteration (e.g. to move a progress bar).
     progress: Option<&'a (dyn Fn(&IterationRecord) + Sync)>,
+    /// The answer given by [`Self::set_answer`], with its equilibrium when it is not one of
+    /// the greedy's iterations.
+    answer: Option<GivenAnswer>,
 }
 
 impl std::fmt::Debug for OutputWriter<'_> {
@@ -73,6 +83,8 @@ impl<'a> OutputWriter<'a> {
             final_network: None,
             certificate: None,
             local_search: None,
+            answer: None,
+            no_answer: None,
         };
         let w = OutputWriter {
             dir: dir.to_path_buf(),
@@ -82,6 +94,7 @@ impl<'a> OutputWriter<'a> {
             warnings: Vec::new(),
             cancel: None,
             progress: None,
+            answer: None,
         };
         w.write_result()?;
         Ok(w)
@@ -136,6 +149,7 @@ impl<'a> OutputWriter<'a> {
                 warnings,
                 cancel: None,
                 progress: None,
+                answer: None,
             },
             point,
         ))
@@ -196,6 +210,14 @@ impl<'a> OutputWriter<'a> {
         self.result.local_search = record;
     }
 
+    /// Sets the answer (written by [`Self::finish`], with `answer.obj`). `state` is the
+    /// answer's equilibrium displacements, needed when it is not one of the greedy's
+    /// iterations (whose states the folder holds). Without it, [`Self::finish`] chooses among
+    /// the greedy's iterations with no constraint but the budget and the keep list.
+    pub fn set_answer(&mut self, answer: Result<Answer, NoAnswer>, state: Option<Vec<f64>>) {
+        self.answer = Some((answer, state));
+    }
+
     /// Finishes the run: final record, `result.json` complete, `final.obj`, `timings.json`,
     /// `summary.txt`.
     pub fn finish(
@@ -204,6 +226,18 @@ impl<'a> OutputWriter<'a> {
         timings: &serde_json::Value,
     ) -> Result<(), String> {
         self.result.iterations = outcome.iterations.clone();
+        let (answer, answer_state) = self.answer.take().unwrap_or_else(|| {
+            let keep = &self.result.setup.greedy.keep;
+            let c = Constraints::none(self.network, self.result.budget, keep);
+            (
+                choose(&c, &greedy_offers(&outcome.iterations), 0).answer,
+                None,
+            )
+        });
+        (self.result.answer, self.result.no_answer) = match answer {
+            Ok(a) => (Some(a), None),
+            Err(n) => (None, Some(n)),
+        };
         self.result.complete = true;
         self.result.stop = Some(outcome.stop);
         let last = outcome.iterations.last().ok_or("no iteration recorded")?;
@@ -218,6 +252,23 @@ impl<'a> OutputWriter<'a> {
         let u = read_f64_file(&self.dir.join(format!("states/{k:04}.bin")))?;
         let obj = io::curves_to_obj(&network_polylines(self.network, &last.curves, Some(&u)));
         self.write("final.obj", obj)?;
+        let answer_path = self.dir.join("answer.obj");
+        match &self.result.answer {
+            Some(a) => {
+                let u = match (a.iteration, answer_state) {
+                    (_, Some(u)) => u,
+                    (Some(k), None) => read_f64_file(&self.dir.join(format!("states/{k:04}.bin")))?,
+                    (None, None) => return Err("the answer's equilibrium is not known".into()),
+                };
+                let obj = io::curves_to_obj(&network_polylines(self.network, &a.curves, Some(&u)));
+                self.write("answer.obj", obj)?;
+            }
+            // A folder run again (--force, --resume) keeps no answer of an earlier run.
+            None if answer_path.exists() => {
+                std::fs::remove_file(&answer_path).map_err(|e| io_err(&answer_path, e))?;
+            }
+            None => {}
+        }
         let mut t = serde_json::to_vec_pretty(timings).map_err(|e| e.to_string())?;
         t.push(b'\n');
         self.write("timings.json", t)?;
