@@ -3,9 +3,9 @@
 use crate::constraints::answer::{Answer, NoAnswer};
 use crate::network::{BuildInfo, BuildParams};
 use crate::simplify::GreedyParams;
+use crate::simplify::certificate::Certificate;
 use crate::simplify::greedy::{IterationRecord, StopReason};
 use crate::simplify::local::{LocalOutcome, LocalParams, Step, Strategy};
-use crate::simplify::certificate::Certificate;
 use crate::stability::StabilityParams;
 use serde::{Deserialize, Serialize};
 use std::path::Path;

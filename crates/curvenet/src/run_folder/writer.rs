@@ -1,7 +1,7 @@
 //! [`OutputWriter`]: the greedy's hooks that write the run folder as the run goes.
 
-use super::carried::{CARRIED_FILE, carried_bytes, read_carried};
 use super::answer::greedy_offers;
+use super::carried::{CARRIED_FILE, carried_bytes, read_carried};
 use super::schema::{FinalRecord, LocalSearchRecord, ResultFile, RunSetup, VERSION};
 use super::summary::summary;
 use super::{f64_bytes, network_polylines, read_f64_file};
@@ -9,10 +9,10 @@ use crate::constraints::Constraints;
 use crate::constraints::answer::{Answer, NoAnswer, choose};
 use crate::io;
 use crate::network::Network;
+use crate::simplify::certificate::Certificate;
+use crate::simplify::greedy::{GreedyHooks, GreedyOutcome, IterationRecord, ResumePoint};
 use crate::stability::Evaluation;
 use crate::stability::candidates::Carried;
-use crate::simplify::greedy::{GreedyHooks, GreedyOutcome, IterationRecord, ResumePoint};
-use crate::simplify::certificate::Certificate;
 use std::path::{Path, PathBuf};
 
 /// The output folder's writer thread.

@@ -1,10 +1,10 @@
 //! One instance of the experiment: a random network and every search's figures on it.
 
 use super::CompareParams;
+use crate::cancel::Cancel;
 use crate::io::TriMesh;
 use crate::network::{BuildParams, Network, build_network};
 use crate::rod::ActiveSet;
-use crate::cancel::Cancel;
 use crate::simplify::certificate::{CertifyParams, certify};
 use crate::simplify::exact::{ExactParams, exact};
 use crate::simplify::exhaustive::{ExhaustiveParams, exhaustive, exhaustive_fixed};
@@ -313,6 +313,8 @@ fn fixed_figures(
     row.exact_proven = ex_fix.proven();
     row.exact_nodes = ex_fix.info.nodes;
     row.exact_seconds = ex_fix.info.seconds;
-    row.exhaustive_fix = exhaustive_fixed(&problem, params.max_subsets, &never)?.best.lambda;
+    row.exhaustive_fix = exhaustive_fixed(&problem, params.max_subsets, &never)?
+        .best
+        .lambda;
     Ok(())
 }
