@@ -10,6 +10,9 @@ pub fn run(a: AnalyzeArgs) -> anyhow::Result<()> {
     let start = Instant::now();
     let inputs = load_inputs(&a.input, &a.physics)?;
     let params = stability_params(&a.physics)?;
+    // The input's warnings now, before the (possibly long) analysis; the analysis adds its own.
+    let shown = inputs.warnings.len();
+    print_warnings(&inputs.warnings);
     let n = inputs.curves.len();
     if let Some(&bad) = a.remove.iter().find(|&&c| c >= n) {
         return Err(usage(format!(
@@ -33,7 +36,7 @@ pub fn run(a: AnalyzeArgs) -> anyhow::Result<()> {
         &remove,
         inputs.warnings,
     )?;
-    print_warnings(&out.report.warnings);
+    print_warnings(out.report.warnings.get(shown..).unwrap_or_default());
     if a.json {
         println!("{}", serde_json::to_string(&out.report)?);
     } else {
