@@ -267,6 +267,7 @@ fn budget_unmet(outcome: &curvenet::simplify::GreedyOutcome, budget: f64) -> Opt
         StopReason::BudgetUnmet => "only curves of the keep list are left",
         StopReason::NoScorableCandidate => "no curve could be scored for removal",
         StopReason::RemovalLimit => "the removal limit was reached",
+        StopReason::Blocked => "the design constraints allow no further removal",
     };
     Some(format!(
         "the budget {} was not met: the run ended at {} curve(s) of total length {} ({why}); \

@@ -20,6 +20,8 @@
 //! Every long search polls a [`crate::cancel::Cancel`] token and stops within a second.
 
 pub mod certificate;
+#[cfg(test)]
+mod constrained_tests;
 pub mod exact;
 pub mod exhaustive;
 pub mod greedy;
@@ -27,7 +29,9 @@ pub mod local;
 pub mod random;
 
 pub use crate::stability::Budget;
-pub use greedy::{GreedyHooks, GreedyOutcome, GreedyParams, StopReason, greedy};
+pub use greedy::{
+    GreedyHooks, GreedyOutcome, GreedyParams, StopReason, greedy, greedy_constrained,
+};
 
 use crate::stability::StabilityError;
 
