@@ -148,7 +148,11 @@ fn the_constraints_are_recorded_and_a_resume_with_others_is_refused() {
     let (code, text) = simplify(&d.0, "grid.txt", &["--connected"]);
     assert_eq!(code, 0, "{text}");
     let r = result(&d.0);
-    assert_eq!(r["setup"]["constraints"]["connected"], true, "{}", r["setup"]);
+    assert_eq!(
+        r["setup"]["constraints"]["connected"], true,
+        "{}",
+        r["setup"]
+    );
     let (code, text) = simplify(&d.0, "grid.txt", &["--min-curves", "2", "--resume"]);
     assert_eq!(code, 2, "{text}");
     assert!(text.contains("different set-up"), "{text}");

@@ -17,7 +17,7 @@ use crate::exit::usage;
 use curvenet::io::{self, Polyline, TriMesh};
 use curvenet::network::{BuildParams, checks};
 use curvenet::rod::Material;
-use curvenet::simplify::result::InputDescription;
+use curvenet::run_folder::InputDescription;
 use curvenet::stability::StabilityParams;
 use curvenet::{paper, pipeline};
 
