@@ -15,14 +15,19 @@
 //! built-in surfaces; [`paper`] holds the paper's example set-ups, [`builtin`] scenes made in
 //! code, and [`pipeline`] the glue that runs the stages in order.
 //!
+//! [`units`] and [`material`] describe the physical mode (the scene's length unit, materials,
+//! cross-sections, rest shapes) at the bottom of the stack, beside [`geom`].
+//!
 //! See `ARCHITECTURE.md` at the repository root for the map and `SPEC.md` for the model.
 
 pub mod builtin;
 pub mod cancel;
 pub mod geom;
 pub mod io;
+pub mod material;
 pub mod network;
 pub mod paper;
+pub mod physics;
 pub mod pipeline;
 pub mod profile;
 pub mod report;
@@ -32,3 +37,4 @@ pub mod simplify;
 pub mod solve;
 pub mod stability;
 pub mod trace;
+pub mod units;

@@ -1,14 +1,23 @@
 //! Rod energy: the material, the supports and the discrete elastic rod terms (SPEC §3).
 //!
-//! - [`terms`]: the local stretching, bending and anchor terms with exact derivatives;
+//! - [`terms`]: the local stretching, bending and anchor terms with exact derivatives (and the
+//!   bending term of a pre-bent rod);
 //! - [`model`]: the flat list of all terms of a network and its sparse assembly, with the
-//!   ability to leave out any set of curves (the structure of SPEC §5).
+//!   ability to leave out any set of curves (the structure of SPEC §5), every rod with its own
+//!   stiffnesses and rest shape ([`RodStiffness`]);
+//! - [`physical`]: those stiffnesses from materials and sections, and rigid supports, in the
+//!   physical mode; [`mass`]: the lumped mass matrix and the scaling to `H v = μ M v`.
 
+mod jet;
+pub mod mass;
 pub mod model;
+pub mod physical;
+mod prebent;
 pub mod terms;
 
 pub use model::{ActiveSet, Assembly, EnergyModel};
 
+use crate::material::RestShape;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
@@ -63,6 +72,27 @@ impl Material {
             }
         }
         Ok(())
+    }
+}
+
+/// One rod's stiffnesses and rest shape, as the energy uses them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RodStiffness {
+    /// Stretching stiffness `k_s` (`E A`).
+    pub ks: f64,
+    /// Bending stiffness `k_b` (`E I`).
+    pub kb: f64,
+    /// Straight at rest (the paper) or pre-bent to its drawn shape.
+    pub rest: RestShape,
+}
+
+impl From<&Material> for RodStiffness {
+    fn from(m: &Material) -> Self {
+        RodStiffness {
+            ks: m.ks(),
+            kb: m.kb(),
+            rest: RestShape::Straight,
+        }
     }
 }
 

@@ -16,30 +16,41 @@
 //! shortest edges, floors the gradient near 1e-7 (SPEC §11); displacements are small, so the
 //! gradient can be driven orders of magnitude lower and λ is measured at a truer equilibrium.
 
-use super::{Material, terms};
+use super::terms::RestBend;
+use super::{Material, RodStiffness, terms};
 use crate::geom::Vec3;
+use crate::material::RestShape;
 use crate::network::Network;
 use crate::profile::{Phase, Timer};
 use std::ops::Range;
 
-/// A stretching term (one edge). `e` is the rest edge vector `X1 − X0`.
+/// A stretching term (one edge) with its rod's stiffness `ks`. `e` is the rest edge vector
+/// `X1 − X0`.
 #[derive(Clone, Copy, Debug)]
 struct StretchTerm {
     v: [u32; 2],
     rest: f64,
+    ks: f64,
     e: Vec3,
 }
 
-/// A bending term (one interior vertex and its two edges). `a = X0 − X1`, `b = X2 − X1` are the
-/// rest offsets of the outer vertices from the centre.
+/// A bending term (one interior vertex and its two edges) with its rod's stiffness `kb`.
+/// `a = X0 − X1`, `b = X2 − X1` are the rest offsets of the outer vertices from the centre.
+/// `rest` indexes the drawn shape of a pre-bent rod's term in `EnergyModel::bend_rest`
+/// (`STRAIGHT` for a rod straight at rest).
 #[derive(Clone, Copy, Debug)]
 struct BendTerm {
     v: [u32; 3],
+    rest: u32,
     r0: f64,
     r1: f64,
+    kb: f64,
     a: Vec3,
     b: Vec3,
 }
+
+/// [`BendTerm::rest`] of a term of a rod straight at rest.
+const STRAIGHT: u32 = u32::MAX;
 
 /// An anchor spring on a supported vertex; `offset` is its target minus its rest position
 /// (zero when the anchor holds the vertex where it was drawn).
@@ -306,11 +317,11 @@ impl Pattern {
 #[derive(Clone, Debug)]
 pub struct EnergyModel {
     n_vertices: usize,
-    ks: f64,
-    kb: f64,
     mu: f64,
     stretch: Vec<StretchTerm>,
     bend: Vec<BendTerm>,
+    /// The drawn shapes of the pre-bent rods' bending terms.
+    bend_rest: Vec<RestBend>,
     anchor: Vec<AnchorTerm>,
     rods: Vec<RodTerms>,
     /// For every vertex, the curves through it.
@@ -327,14 +338,32 @@ pub struct EnergyModel {
 }
 
 impl EnergyModel {
-    /// Collects the terms of `network` with `material` and builds the Hessian pattern.
+    /// Collects the terms of `network` with `material` (every rod alike, straight at rest)
+    /// and builds the Hessian pattern.
     pub fn new(network: &Network, material: &Material) -> Self {
+        let rods = vec![RodStiffness::from(material); network.rods.len()];
+        Self::with_rods(network, &rods, material.anchor_weight)
+    }
+
+    /// Collects the terms of `network`, rod `i` with the stiffnesses and rest shape
+    /// `rods[i]`, anchors of weight `anchor_weight`, and builds the Hessian pattern.
+    pub fn with_rods(
+        network: &Network,
+        rods_stiffness: &[RodStiffness],
+        anchor_weight: f64,
+    ) -> Self {
+        assert_eq!(
+            rods_stiffness.len(),
+            network.rods.len(),
+            "one stiffness per rod"
+        );
         let n_vertices = network.positions.len();
         let mut stretch = Vec::new();
         let mut bend = Vec::new();
+        let mut bend_rest = Vec::new();
         let mut anchor = Vec::new();
         let mut rods = Vec::with_capacity(network.rods.len());
-        for rod in &network.rods {
+        for (rod, k) in network.rods.iter().zip(rods_stiffness) {
             let (s0, b0, a0) = (stretch.len(), bend.len(), anchor.len());
             let m = rod.vertices.len();
             let ne = rod.edge_count();
@@ -344,6 +373,7 @@ impl EnergyModel {
                 stretch.push(StretchTerm {
                     v: [a, b],
                     rest: rod.rest_lengths[j],
+                    ks: k.ks,
                     e,
                 });
             }
@@ -359,12 +389,26 @@ impl EnergyModel {
                 let v1 = rod.vertices[i];
                 let v2 = rod.vertices[(i + 1) % m];
                 let x1 = network.positions[v1 as usize];
+                let (r0, r1) = (rod.rest_lengths[prev], rod.rest_lengths[next]);
+                let (a, b) = (
+                    network.positions[v0 as usize] - x1,
+                    network.positions[v2 as usize] - x1,
+                );
+                let rest = match k.rest {
+                    RestShape::Straight => STRAIGHT,
+                    RestShape::PreBent => {
+                        bend_rest.push(terms::rest_bend(-a, b, r0, r1));
+                        (bend_rest.len() - 1) as u32
+                    }
+                };
                 bend.push(BendTerm {
                     v: [v0, v1, v2],
-                    r0: rod.rest_lengths[prev],
-                    r1: rod.rest_lengths[next],
-                    a: network.positions[v0 as usize] - x1,
-                    b: network.positions[v2 as usize] - x1,
+                    rest,
+                    r0,
+                    r1,
+                    kb: k.kb,
+                    a,
+                    b,
                 });
             }
             for &v in &rod.anchors {
@@ -460,24 +504,24 @@ impl EnergyModel {
             })
             .collect();
 
-        let ks = material.ks();
-        let kb = material.kb();
-        let mu = material.anchor_weight;
+        let mu = anchor_weight;
         // A loose vertex's diagonal: the stiffest scale in the model, far above the low
         // spectrum that stability is about.
-        let min_rest = stretch.iter().map(|t| t.rest).fold(f64::INFINITY, f64::min);
-        let loose_diagonal = if min_rest.is_finite() {
-            (ks / min_rest).max(2.0 * mu)
+        let stiffest = stretch
+            .iter()
+            .map(|t| t.ks / t.rest)
+            .fold(f64::NEG_INFINITY, f64::max);
+        let loose_diagonal = if stiffest.is_finite() {
+            stiffest.max(2.0 * mu)
         } else {
             1.0
         };
         EnergyModel {
             n_vertices,
-            ks,
-            kb,
             mu,
             stretch,
             bend,
+            bend_rest,
             anchor,
             rods,
             vertex_curves,
@@ -492,6 +536,26 @@ impl EnergyModel {
             bend_pos,
             loose_diagonal,
         }
+    }
+
+    /// The drawn shape of bending term `t`, when its rod is pre-bent.
+    #[inline]
+    fn rest_of(&self, t: &BendTerm) -> Option<&RestBend> {
+        (t.rest != STRAIGHT).then(|| &self.bend_rest[t.rest as usize])
+    }
+
+    /// Bending term `t`'s energy, gradient and Hessian at the local positions `x0, x1, x2`.
+    #[inline]
+    fn bend_local(&self, t: &BendTerm, x0: Vec3, x1: Vec3, x2: Vec3) -> terms::Local<9> {
+        match self.rest_of(t) {
+            None => terms::bend(x0, x1, x2, t.r0, t.r1, t.kb),
+            Some(rest) => terms::bend_rest(x0, x1, x2, t.r0, t.r1, t.kb, rest),
+        }
+    }
+
+    /// The anchor weight `µ` (an anchor is a spring of stiffness `2µ`).
+    pub fn anchor_weight(&self) -> f64 {
+        self.mu
     }
 
     /// Number of vertices.
@@ -544,11 +608,14 @@ impl EnergyModel {
         for (_, r) in self.active_terms(active) {
             for t in &self.stretch[r.stretch.clone()] {
                 let (x0, x1) = t.local(u);
-                e += terms::stretch_energy(x0, x1, t.rest, self.ks);
+                e += terms::stretch_energy(x0, x1, t.rest, t.ks);
             }
             for t in &self.bend[r.bend.clone()] {
                 let (x0, x1, x2) = t.local(u);
-                e += terms::bend_energy(x0, x1, x2, t.r0, t.r1, self.kb);
+                e += match self.rest_of(t) {
+                    None => terms::bend_energy(x0, x1, x2, t.r0, t.r1, t.kb),
+                    Some(rest) => terms::bend_rest_energy(x0, x1, x2, t.r0, t.r1, t.kb, rest),
+                };
             }
             for t in &self.anchor[r.anchor.clone()] {
                 e += terms::anchor_energy(vec3(u, t.v), t.offset, self.mu);
@@ -592,7 +659,7 @@ impl EnergyModel {
             for k in r.stretch.clone() {
                 let t = &self.stretch[k];
                 let (x0, x1) = t.local(u);
-                let l = terms::stretch(x0, x1, t.rest, self.ks);
+                let l = terms::stretch(x0, x1, t.rest, t.ks);
                 out.energy += l.energy;
                 scatter_grad(&mut out.grad, &t.v, &l.grad);
                 if hessian {
@@ -604,12 +671,17 @@ impl EnergyModel {
                 let (x0, x1, x2) = t.local(u);
                 if !hessian {
                     // The gradient alone: a third of the bending term's work.
-                    let (energy, grad) = terms::bend_energy_grad(x0, x1, x2, t.r0, t.r1, self.kb);
+                    let (energy, grad) = match self.rest_of(t) {
+                        None => terms::bend_energy_grad(x0, x1, x2, t.r0, t.r1, t.kb),
+                        Some(rest) => {
+                            terms::bend_rest_energy_grad(x0, x1, x2, t.r0, t.r1, t.kb, rest)
+                        }
+                    };
                     out.energy += energy;
                     scatter_grad(&mut out.grad, &t.v, &grad);
                     continue;
                 }
-                let l = terms::bend(x0, x1, x2, t.r0, t.r1, self.kb);
+                let l = self.bend_local(t, x0, x1, x2);
                 out.energy += l.energy;
                 scatter_grad(&mut out.grad, &t.v, &l.grad);
                 self.scatter_hess(&mut out.hess, &t.v, &self.bend_pos[k], &l.hess);
@@ -823,7 +895,7 @@ impl EnergyModel {
                     return [[0.0; 6]; 6];
                 }
                 let (x0, x1) = t.local(u);
-                let mut h = terms::stretch(x0, x1, t.rest, self.ks).hess;
+                let mut h = terms::stretch(x0, x1, t.rest, t.ks).hess;
                 if project {
                     terms::project_psd_stretch(&mut h);
                 }
@@ -839,7 +911,7 @@ impl EnergyModel {
                     return [[0.0; 9]; 9];
                 }
                 let (x0, x1, x2) = t.local(u);
-                let mut h = terms::bend(x0, x1, x2, t.r0, t.r1, self.kb).hess;
+                let mut h = self.bend_local(t, x0, x1, x2).hess;
                 if project {
                     terms::project_psd_bend(&mut h);
                 }
