@@ -6,14 +6,20 @@
 //!   "version": 1,
 //!   "units": "m",
 //!   "curves": [
-//!     {"label": "ring", "closed": true, "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]}
+//!     {"label": "ring", "closed": true, "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]},
+//!     {"points": [[0, 0, 0], [2, 0, 1], [4, 0, 0]],
+//!      "material": "aluminium", "section": {"outer_diameter": 60, "wall": 4},
+//!      "rest": "pre-bent"}
 //!   ]
 //! }
 //! ```
 //!
 //! `units`, `label` and `closed` are optional; without `closed` the curve is closed when its last
 //! point repeats its first. Unknown fields are errors (a misspelt `"close"` must not pass
-//! silently).
+//! silently). `units` (`mm`, `cm` or `m`) is the scene's length unit when the command line does
+//! not give one. A curve's optional `material`, `section` and `rest` set its material, its
+//! cross-section and its rest shape (`straight`, the default, or `pre-bent`); their forms are
+//! in [`crate::material::spec`].
 //!
 //! `serde_json` validates the document and reports syntax and type errors with their line and
 //! column. Its number parsing may be off by one unit in the last place, so a light scan of the
@@ -24,6 +30,7 @@
 use super::checks::{Closure, RawCurve, finish_curve, push_number, shorten};
 use super::{CurveFile, InputError, Polyline};
 use crate::geom::Vec3;
+use crate::material::CurveSpec;
 use serde::Deserialize;
 use serde::de::IgnoredAny;
 use std::fmt::Write as _;
@@ -53,8 +60,8 @@ struct Document {
     _format: IgnoredAny,
     #[serde(rename = "version")]
     _version: IgnoredAny,
-    #[serde(rename = "units", default)]
-    _units: Option<String>,
+    #[serde(default)]
+    units: Option<String>,
     curves: Vec<JsonCurve>,
 }
 
@@ -62,7 +69,7 @@ struct Document {
 #[derive(Deserialize)]
 #[serde(
     deny_unknown_fields,
-    expecting = "a curve object with \"points\" and optional \"label\" and \"closed\""
+    expecting = "a curve object with \"points\" and optional \"label\", \"closed\", \"material\", \"section\" and \"rest\""
 )]
 struct JsonCurve {
     #[serde(default)]
@@ -70,6 +77,12 @@ struct JsonCurve {
     points: Vec<[f64; 3]>,
     #[serde(default)]
     closed: Option<bool>,
+    #[serde(default)]
+    material: Option<serde_json::Value>,
+    #[serde(default)]
+    section: Option<serde_json::Value>,
+    #[serde(default)]
+    rest: Option<serde_json::Value>,
 }
 
 /// Parses curvenet's JSON curve format. `file` names the input in messages.
@@ -148,9 +161,17 @@ pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError
 
     let mut warnings = Vec::new();
     let mut curves = Vec::with_capacity(document.curves.len());
+    let mut specs = Vec::with_capacity(document.curves.len());
     for (index, curve) in document.curves.into_iter().enumerate() {
         let loc = located.curves.get(index);
         let curve_line = loc.map_or(0, |c| c.line);
+        let spec = CurveSpec::from_json(
+            curve.material.as_ref(),
+            curve.section.as_ref(),
+            curve.rest.as_ref(),
+        )
+        .map_err(|e| InputError::parse(file, curve_line.max(1), format!("curve {index}: {e}")))?;
+        specs.push(spec);
         let points = curve
             .points
             .iter()
@@ -176,7 +197,15 @@ pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError
         };
         curves.push(finish_curve(raw, file, &mut warnings)?);
     }
-    Ok(CurveFile { curves, warnings })
+    if specs.iter().all(CurveSpec::is_empty) {
+        specs.clear();
+    }
+    Ok(CurveFile {
+        curves,
+        warnings,
+        specs,
+        units: document.units,
+    })
 }
 
 /// Writes curves in curvenet's JSON format, pretty-printed with one point per line. Every curve

@@ -38,6 +38,7 @@ pub use obj_mesh::{mesh_to_obj, parse_obj_mesh};
 pub use reference::{curves_to_reference_text, parse_reference_curves};
 
 use crate::geom::Vec3;
+use crate::material::CurveSpec;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::fs;
@@ -221,6 +222,11 @@ pub struct CurveFile {
     pub curves: Vec<Polyline>,
     /// Non-fatal findings, in file order.
     pub warnings: Vec<InputWarning>,
+    /// What the file says about each curve's material, section and rest shape (curvenet's
+    /// JSON format only): one per curve, or empty when the file says nothing.
+    pub specs: Vec<CurveSpec>,
+    /// The length unit the file declares (JSON `"units"`), as written.
+    pub units: Option<String>,
 }
 
 /// The mesh of one file, with the warnings found while reading it.

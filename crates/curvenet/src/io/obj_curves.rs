@@ -124,7 +124,12 @@ pub fn parse_obj_polylines(text: &str, file: &str) -> Result<CurveFile, InputErr
         };
         curves.push(finish_curve(raw, file, &mut warnings)?);
     }
-    Ok(CurveFile { curves, warnings })
+    Ok(CurveFile {
+        curves,
+        warnings,
+        specs: Vec::new(),
+        units: None,
+    })
 }
 
 /// An `o` name for a label: one line, without `#` (a comment) or a trailing backslash (a

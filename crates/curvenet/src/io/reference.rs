@@ -98,7 +98,12 @@ pub fn parse_reference_curves(text: &str, file: &str) -> Result<CurveFile, Input
             ));
         }
     }
-    Ok(CurveFile { curves, warnings })
+    Ok(CurveFile {
+        curves,
+        warnings,
+        specs: Vec::new(),
+        units: None,
+    })
 }
 
 /// Writes curves in the reference text format. Each curve opens with `CURVE <label>` (a bare
