@@ -154,56 +154,13 @@ pub struct BenchArgs {
     /// Folder holding the reference data.
     #[arg(long)]
     pub data: Option<PathBuf>,
-    /// Switch off candidate pruning.
-    #[arg(long = "no-prune")]
-    pub no_prune: bool,
-    /// Switch on factorization reuse in Newton (chord steps; off by default).
-    #[arg(long)]
-    pub chord: bool,
-    /// Switch off warm starts between iterations (modes and the winner's factorization).
-    #[arg(long = "no-warm")]
-    pub no_warm: bool,
-    /// Factor every structure on the whole network's pattern, never on its own vertices only.
-    #[arg(long = "no-restrict")]
-    pub no_restrict: bool,
-    /// Stop Newton at the round-off floor only after several stalled iterations, also near
-    /// the tolerance (`floor_near` = 1).
-    #[arg(long = "no-floor-near")]
-    pub no_floor_near: bool,
-    /// Factor afresh for every Newton step, also in its quadratic phase (`chord_below` = 0).
-    #[arg(long = "no-quadratic-chord")]
-    pub no_quadratic_chord: bool,
-    /// Factor, and solve Newton's systems, with faer's sequential supernodal code instead of the
-    /// subtree-parallel one.
-    #[arg(long = "no-subtrees")]
-    pub no_subtrees: bool,
-    /// Score each iteration's first candidate about zero (not about a shift below its bound).
-    #[arg(long = "no-first-shift")]
-    pub no_first_shift: bool,
-    /// Factor every inertia test whole (no copying from a factorization of `H_A − σI`).
-    #[arg(long = "no-reuse")]
-    pub no_reuse: bool,
-    /// Never extend Newton steps that escape a saddle.
-    #[arg(long = "no-escape")]
-    pub no_escape: bool,
-    /// Refine only the usual batch of bounds while each iteration's first candidate is scored.
-    #[arg(long = "no-ahead")]
-    pub no_ahead: bool,
-    /// Start each iteration's candidate bounds afresh (no test vectors carried over from the
-    /// previous iteration).
-    #[arg(long = "no-carry")]
-    pub no_carry: bool,
+    /// Techniques to switch off, to measure what each contributes (comma-separated; the
+    /// answer must stay the same).
+    #[arg(long, value_delimiter = ',', value_enum)]
+    pub off: Vec<crate::cmd::bench::Technique>,
     /// Low modes per iteration (the candidates' bound subspace; default: the greedy's).
     #[arg(long)]
     pub modes: Option<usize>,
-    /// Switch off the inertia test (one factorization at the best score so far) for
-    /// candidates the bounds could not prune.
-    #[arg(long = "no-inertia")]
-    pub no_inertia: bool,
-    /// Switch on Krylov Newton steps (conjugate gradients preconditioned by the last
-    /// factorization; off by default) in the relaxations.
-    #[arg(long)]
-    pub krylov: bool,
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,

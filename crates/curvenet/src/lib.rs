@@ -35,6 +35,7 @@ pub mod rng;
 pub mod rod;
 pub mod simplify;
 pub mod solve;
+pub mod sparse;
 pub mod stability;
 pub mod trace;
 pub mod units;

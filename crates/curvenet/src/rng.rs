@@ -2,8 +2,9 @@
 //!
 //! - [`SplitMix64`]: a fast 64-bit generator for searches and experiments;
 //! - [`MsvcRand`]: the C `rand()` of Microsoft's runtime, which the reference implementation
-//!   used to draw its generated curves (SPEC §8): `state = state·214013 + 2531011` (wrapping
-//!   at 32 bits), output `(state >> 16) & 0x7FFF`, `RAND_MAX = 32767`.
+//!   used to draw its generated curves (`docs/model.md`, *Curve generation*):
+//!   `state = state·214013 + 2531011` (wrapping at 32 bits), output `(state >> 16) & 0x7FFF`,
+//!   `RAND_MAX = 32767`.
 
 /// SplitMix64 (Steele, Lea, Flood 2014).
 #[derive(Clone, Debug)]

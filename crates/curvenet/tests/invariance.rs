@@ -201,7 +201,7 @@ fn check_six_rigid_zero_modes(h: faer::MatRef<'_, f64>, x: &[f64], what: &str) {
     let hnorm = (0..n)
         .map(|j| (0..n).map(|i| h[(i, j)].abs()).sum::<f64>())
         .fold(0.0, f64::max);
-    let (vals, vecs) = smallest_eigenpairs_dense(h, 8);
+    let (vals, vecs) = smallest_eigenpairs_dense(h, 8).expect("dense solve");
     let zero = 100.0 * f64::EPSILON * hnorm;
     let zeros = vals.iter().filter(|l| l.abs() <= zero).count();
     println!(

@@ -19,14 +19,45 @@ mod common;
 use common::{build, dense_hessian, polyline, rel_diff, straight_rod};
 use curvenet::geom::Vec3;
 use curvenet::material::{Physical, RestShape, Section, presets};
-use curvenet::network::Network;
 use curvenet::physics::assembly_stresses;
+use curvenet::rod::Network;
 use curvenet::rod::mass::{inverse_sqrt_coordinates, lumped_masses, scale_hessian};
 use curvenet::rod::physical::{masses_per_length, physical_rods, rigid_anchor_weight};
 use curvenet::rod::{ActiveSet, EnergyModel, Supports};
-use curvenet::solve::eigen::{EigenParams, smallest_eigenpairs};
+use curvenet::solve::eigen::{EigenOptions, EigenParams, Spectrum, smallest_eigenpairs};
 use curvenet::solve::lanczos::smallest_eigenpairs_dense;
-use curvenet::solve::{Cholesky, NewtonParams, SymbolicFactor, relax};
+use curvenet::solve::{
+    Backend, Cholesky, Equilibrium, NewtonInfo, NewtonParams, SolverTuning, SymbolicFactor,
+};
+use std::sync::Arc;
+
+/// Relaxes structure `all` of `m` from `u` (in place) with the default parameters.
+fn relax(m: &EnergyModel, all: &ActiveSet, u: &mut [f64]) -> NewtonInfo {
+    let symbolic = SymbolicFactor::new(m.pattern(), Backend::default());
+    Equilibrium {
+        model: m,
+        active: all,
+        symbolic: &symbolic,
+        params: &NewtonParams::default(),
+        tuning: &SolverTuning::default(),
+    }
+    .relax(u, None)
+    .info
+}
+
+/// The default number of smallest eigenpairs of the Hessian values `h` of `m`.
+fn spectrum(symbolic: &Arc<SymbolicFactor>, m: &EnergyModel, h: &[f64]) -> Spectrum {
+    smallest_eigenpairs(
+        symbolic,
+        m.pattern(),
+        h,
+        &EigenParams::default(),
+        EigenOptions::default(),
+    )
+    .expect("spectrum")
+    .expect("a spectrum below zero's shift")
+    .spectrum
+}
 use curvenet::units::LengthUnit;
 use std::f64::consts::PI;
 
@@ -100,8 +131,9 @@ fn self_weight_deflection(n: usize, supports: Supports) -> f64 {
         .iter()
         .flat_map(|&mv| [mv * g[0], mv * g[1], mv * g[2]])
         .collect();
-    let symbolic = SymbolicFactor::new(m.pattern());
-    let factor = Cholesky::factorize(&symbolic, m.pattern(), &h, 0.0).expect("positive definite");
+    let symbolic = SymbolicFactor::new(m.pattern(), Backend::default());
+    let factor =
+        Cholesky::factorize(&symbolic, m.pattern(), &h, 0.0, None).expect("positive definite");
     factor.solve_vec(&mut u);
     (0..net.vertex_count())
         .map(|v| -u[3 * v + 2])
@@ -150,9 +182,8 @@ fn rod_spectrum(n: usize, supports: Supports, mass_metric: bool) -> Vec<f64> {
         let masses = lumped_masses(&net, &masses_per_length(&phys, 1), &all);
         scale_hessian(m.pattern(), &mut h, &inverse_sqrt_coordinates(&masses));
     }
-    let symbolic = SymbolicFactor::new(m.pattern());
-    let s = smallest_eigenpairs(m.pattern(), &h, &symbolic, None, &EigenParams::default())
-        .expect("spectrum");
+    let symbolic = SymbolicFactor::new(m.pattern(), Backend::default());
+    let s = spectrum(&symbolic, &m, &h);
     assert_eq!((s.zero_modes, s.negative_modes), (0, 0));
     s.values
 }
@@ -247,8 +278,8 @@ fn rigid_smallest(m: &EnergyModel, net: &Network, u: &[f64], masses: Option<&[f6
     };
     let free: Vec<usize> = (0..m.dofs()).filter(|&i| !anchored[i / 3]).collect();
     let sub = faer::Mat::<f64>::from_fn(free.len(), free.len(), |i, j| dense[(free[i], free[j])]);
-    let (with, _) = smallest_eigenpairs_dense(dense.as_ref(), 1);
-    let (rigid, _) = smallest_eigenpairs_dense(sub.as_ref(), 1);
+    let (with, _) = smallest_eigenpairs_dense(dense.as_ref(), 1).expect("dense spectrum");
+    let (rigid, _) = smallest_eigenpairs_dense(sub.as_ref(), 1).expect("dense spectrum");
     (with[0], rigid[0])
 }
 
@@ -287,8 +318,7 @@ fn supports_are_rigid_at_any_scale() {
                 let m = model(&net, &phys, &[]);
                 let all = ActiveSet::all(net.rods.len());
                 let mut u = vec![0.0; m.dofs()];
-                let symbolic = SymbolicFactor::new(m.pattern());
-                let info = relax(&m, &all, &symbolic, &mut u, None, &NewtonParams::default());
+                let info = relax(&m, &all, &mut u);
                 assert!(info.converged, "{name}: {info:?}");
                 let masses = lumped_masses(&net, &masses_per_length(&phys, net.rods.len()), &all);
                 let (l, l_rigid) = rigid_smallest(&m, &net, &u, None);
@@ -348,8 +378,7 @@ fn bending_stress_of_a_rod_bent_into_an_arc() {
             let m = model(&net, &phys, &[rest]);
             let all = ActiveSet::all(1);
             let mut u = vec![0.0; m.dofs()];
-            let symbolic = SymbolicFactor::new(m.pattern());
-            let info = relax(&m, &all, &symbolic, &mut u, None, &NewtonParams::default());
+            let info = relax(&m, &all, &mut u);
             assert!(info.converged);
             let s = assembly_stresses(&net, &phys, &[rest], &all, &u);
             let c = s.curves[0];
@@ -411,14 +440,13 @@ fn a_pre_bent_rod_rests_where_it_was_drawn() {
         let a = m.assemble(&zero, &all, true);
         let gnorm = a.grad.iter().map(|g| g * g).sum::<f64>().sqrt();
         let mut u = zero.clone();
-        let symbolic = SymbolicFactor::new(m.pattern());
-        let info = relax(&m, &all, &symbolic, &mut u, None, &NewtonParams::default());
+        let symbolic = SymbolicFactor::new(m.pattern(), Backend::default());
+        let info = relax(&m, &all, &mut u);
         assert!(info.converged, "{info:?}");
         let max_u = u.iter().fold(0.0f64, |x, v| x.max(v.abs()));
         moved.push(max_u);
         let h = m.assemble(&u, &all, true).hess;
-        let s = smallest_eigenpairs(m.pattern(), &h, &symbolic, None, &EigenParams::default())
-            .expect("spectrum");
+        let s = spectrum(&symbolic, &m, &h);
         println!(
             "{}: |∇E(drawn)| = {gnorm:.3e}, E = {:.3e}, moved {max_u:.3e} mm, λ = {:.4e}, \
              zero modes {}",

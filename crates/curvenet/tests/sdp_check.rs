@@ -189,7 +189,7 @@ struct Dense {
 impl Dense {
     fn new(p: &FixedProblem<'_>) -> Dense {
         let model = p.analyzer().model();
-        let locals = model.local_hessians(p.displacement());
+        let locals = model.local_hessians(p.displacement(), curvenet::rod::model::Terms::All);
         let pat = model.pattern();
         let n = p.curve_count();
         let vertex_curves: Vec<Vec<usize>> = model

@@ -1,14 +1,19 @@
 //! Solver plumbing: the numeric factorization reuses buffers of dropped factors
 //! (`solve::factor`), which must never change its values; eigenpairs of a structure with loose
-//! vertices computed on the principal submatrix (`solve::eigen::smallest_eigenpairs_restricted`)
-//! agree with those of the whole matrix.
+//! vertices computed on the principal submatrix (`solve::EigenOptions::keep`) agree with those
+//! of the whole matrix; the subtree-parallel backend against faer's, bit for bit where it
+//! promises so; Newton's speed techniques against none; Newton's convergence scale.
 
 mod common;
 
-use common::{build, data_dir, random_curves};
+use common::{build, data_dir, norm, polyline, random_arches, random_curves};
+use curvenet::geom::Vec3;
+use curvenet::rod::model::Terms;
 use curvenet::rod::{ActiveSet, Supports};
-use curvenet::solve::Cholesky;
-use curvenet::solve::eigen::{smallest_eigenpairs, smallest_eigenpairs_restricted};
+use curvenet::solve::{
+    Backend, Cholesky, EigenOptions, NewtonStop, Reuse, Schedule, Spectrum, SymbolicFactor,
+    smallest_eigenpairs,
+};
 use curvenet::stability::{Analyzer, StabilityParams};
 
 /// The solution of `F x = b` for a fixed right-hand side `b`.
@@ -42,24 +47,24 @@ fn reused_buffers_give_bit_identical_factors() {
     // The drawn state's Hessian need not be definite: shift it by its 1-norm (Gershgorin).
     let s = pattern.sym_norm1(&h);
 
-    let first = Cholesky::factorize(sym, pattern, &h, s).expect("positive definite");
+    let first = Cholesky::factorize(sym, pattern, &h, s, None).expect("positive definite");
     let reference = solve_bits(&first, n);
     drop(first);
     // A failed factorization (far below the smallest eigenvalue) hands its buffer back too.
-    assert!(Cholesky::factorize(sym, pattern, &h, -10.0 * s).is_err());
+    assert!(Cholesky::factorize(sym, pattern, &h, -10.0 * s, None).is_err());
     // Several factors alive at once, some on reused buffers, some on fresh ones.
     let alive: Vec<Cholesky> = (0..6)
-        .map(|_| Cholesky::factorize(sym, pattern, &h, s).expect("positive definite"))
+        .map(|_| Cholesky::factorize(sym, pattern, &h, s, None).expect("positive definite"))
         .collect();
     for f in &alive {
         assert_eq!(solve_bits(f, n), reference);
     }
     drop(alive);
     // A differently shifted matrix in between must not leak into the next factor.
-    let shifted = Cholesky::factorize(sym, pattern, &h, 2.0 * s).expect("positive definite");
+    let shifted = Cholesky::factorize(sym, pattern, &h, 2.0 * s, None).expect("positive definite");
     assert_ne!(solve_bits(&shifted, n), reference);
     drop(shifted);
-    let again = Cholesky::factorize(sym, pattern, &h, s).expect("positive definite");
+    let again = Cholesky::factorize(sym, pattern, &h, s, None).expect("positive definite");
     assert_eq!(solve_bits(&again, n), reference);
 }
 
@@ -83,10 +88,18 @@ fn eigenpairs_on_the_principal_submatrix_match_the_whole_matrix() {
         kept < n * 3 / 4,
         "the test needs the restricted path ({kept} of {n} kept)"
     );
-    let whole = smallest_eigenpairs(model.pattern(), &h, a.symbolic(), None, &params).unwrap();
-    let part =
-        smallest_eigenpairs_restricted(model.pattern(), &h, a.symbolic(), &keep, None, &params)
-            .unwrap();
+    let spectrum = |keep: Option<&[bool]>| -> Spectrum {
+        let options = EigenOptions {
+            keep,
+            ..Default::default()
+        };
+        smallest_eigenpairs(a.symbolic(), model.pattern(), &h, &params, options)
+            .expect("solved")
+            .expect("about zero")
+            .spectrum
+    };
+    let whole = spectrum(None);
+    let part = spectrum(Some(&keep));
     assert_eq!(part.vectors.nrows(), n);
     for (k, (w, p)) in whole.values.iter().zip(&part.values).enumerate() {
         let rel = (w - p).abs() / w.abs();
@@ -142,8 +155,8 @@ fn restricted_analysis_factors_the_whole_matrix() {
     };
     // The structure's matrix (loose vertices decoupled): the restricted factor solves the
     // whole system as accurately as the full one.
-    let fr = Cholesky::factorize(&restricted, model.pattern(), &h, s).expect("definite");
-    let ff = Cholesky::factorize(a.symbolic(), model.pattern(), &h, s).expect("definite");
+    let fr = Cholesky::factorize(&restricted, model.pattern(), &h, s, None).expect("definite");
+    let ff = Cholesky::factorize(a.symbolic(), model.pattern(), &h, s, None).expect("definite");
     let (rr, rf) = (residual(&fr, &h, s), residual(&ff, &h, s));
     assert!(
         rr < 1e-12 && rf < 1e-12,
@@ -153,11 +166,12 @@ fn restricted_analysis_factors_the_whole_matrix() {
     // the analysis falls back to the full pattern.
     let h_all = model.assemble(&u, &a.all(), true).hess;
     let s_all = model.pattern().sym_norm1(&h_all);
-    let fc = Cholesky::factorize(&restricted, model.pattern(), &h_all, s_all).expect("definite");
+    let fc =
+        Cholesky::factorize(&restricted, model.pattern(), &h_all, s_all, None).expect("definite");
     let rc = residual(&fc, &h_all, s_all);
     assert!(rc < 1e-12, "residual {rc:e} of a coupled matrix");
     // A non-positive diagonal on a left-out coordinate is reported, not hidden.
-    assert!(Cholesky::factorize(&restricted, model.pattern(), &h, -10.0 * s).is_err());
+    assert!(Cholesky::factorize(&restricted, model.pattern(), &h, -10.0 * s, None).is_err());
 }
 
 #[test]
@@ -175,8 +189,12 @@ fn subtree_parallel_factor_matches_faer() {
     );
     let pattern = model.pattern();
     let s = pattern.sym_norm1(&h);
-    let fast = Cholesky::factorize(sym, pattern, &h, s).expect("positive definite");
-    let reference = Cholesky::factorize_reference(sym, pattern, &h, s).expect("positive definite");
+    let fast = Cholesky::factorize(sym, pattern, &h, s, None).expect("positive definite");
+    // faer's own factorization, on an analysis of its own (the same ordering).
+    let faer = SymbolicFactor::new(pattern, Backend::Faer);
+    assert_eq!(faer.parallel_subtrees(), 0);
+    assert_eq!(faer.factor_nnz(), sym.factor_nnz());
+    let reference = Cholesky::factorize(&faer, pattern, &h, s, None).expect("positive definite");
     let (x, y) = (solve_fixed(&fast, n), solve_fixed(&reference, n));
     let err = x
         .iter()
@@ -194,16 +212,21 @@ fn subtree_parallel_factor_matches_faer() {
             .num_threads(t)
             .build()
             .expect("pool")
-            .install(|| solve_bits(&Cholesky::factorize(sym, pattern, &h, s).expect("pd"), n))
+            .install(|| {
+                solve_bits(
+                    &Cholesky::factorize(sym, pattern, &h, s, None).expect("pd"),
+                    n,
+                )
+            })
     };
     assert_eq!(in_pool(1), in_pool(2));
     assert_eq!(in_pool(2), solve_bits(&fast, n));
     // Indefinite: both fail.
-    assert!(Cholesky::factorize(sym, pattern, &h, -10.0 * s).is_err());
-    assert!(Cholesky::factorize_reference(sym, pattern, &h, -10.0 * s).is_err());
+    assert!(Cholesky::factorize(sym, pattern, &h, -10.0 * s, None).is_err());
+    assert!(Cholesky::factorize(&faer, pattern, &h, -10.0 * s, None).is_err());
 }
 
-/// Solves in groups (`Cholesky::solve_in_place_grouped`): with groups of one column, each
+/// Solves in groups (`Schedule::Groups`): with groups of one column, each
 /// column is bit-identical to its own one-column solve; groups of four agree to round-off; the
 /// values never depend on the thread count.
 #[test]
@@ -213,7 +236,7 @@ fn grouped_solves_depend_on_the_grouping_only() {
     let n = model.dofs();
     let pattern = model.pattern();
     let s = pattern.sym_norm1(&h);
-    let f = Cholesky::factorize(a.symbolic(), pattern, &h, s).expect("positive definite");
+    let f = Cholesky::factorize(a.symbolic(), pattern, &h, s, None).expect("positive definite");
     let rhs = faer::Mat::<f64>::from_fn(n, 6, |i, j| ((i * 7919 + j * 131) % 101) as f64 - 50.0);
     let solved = |group: usize, threads: usize| {
         let mut x = rhs.clone();
@@ -221,7 +244,7 @@ fn grouped_solves_depend_on_the_grouping_only() {
             .num_threads(threads)
             .build()
             .expect("pool")
-            .install(|| f.solve_in_place_grouped(x.as_mut(), group));
+            .install(|| f.solve_in_place(x.as_mut(), Schedule::Groups(group)));
         x
     };
     let bits = |m: &faer::Mat<f64>| -> Vec<u64> {
@@ -256,7 +279,7 @@ fn grouped_solves_depend_on_the_grouping_only() {
 }
 
 /// A factorization copying the supernodes a curve's removal cannot reach from a factorization
-/// of the whole structure (`Cholesky::factorize_reusing`) is bit-identical to a whole
+/// of the whole structure (`Cholesky::factorize` with a `Reuse`) is bit-identical to a whole
 /// factorization, on the whole pattern's analysis and on a restricted one, in pools of one and
 /// two threads; a reference of another shift is ignored.
 #[test]
@@ -266,14 +289,14 @@ fn reusing_a_reference_factor_is_bit_identical() {
     let n = model.dofs();
     let curves = a.network().rods.len();
     let u = vec![0.0; n];
-    let locals = model.local_hessians(&u);
+    let locals = model.local_hessians(&u, Terms::All);
     // The whole structure, and one without curve 0 (its analysis restricted to its vertices).
     for active in [a.all(), a.all().without(0)] {
         let sym = a.symbolic_for(&active);
         let mut h = Vec::new();
         model.hessian_from_locals(&locals, &active, &mut h);
         let s = model.pattern().sym_norm1(&h);
-        let reference = Cholesky::factorize(&sym, model.pattern(), &h, s).expect("pd");
+        let reference = Cholesky::factorize(&sym, model.pattern(), &h, s, None).expect("pd");
         let mut shares = Vec::new();
         for c in active.curves() {
             let mut hc = Vec::new();
@@ -285,7 +308,7 @@ fn reusing_a_reference_factor_is_bit_identical() {
                 .collect();
             shares.push(sym.changed_work_share(&changed));
             let whole = solve_bits(
-                &Cholesky::factorize(&sym, model.pattern(), &hc, s).expect("pd"),
+                &Cholesky::factorize(&sym, model.pattern(), &hc, s, None).expect("pd"),
                 n,
             );
             for t in [1, 2] {
@@ -294,28 +317,23 @@ fn reusing_a_reference_factor_is_bit_identical() {
                     .build()
                     .expect("pool")
                     .install(|| {
-                        Cholesky::factorize_reusing(
-                            &sym,
-                            model.pattern(),
-                            &hc,
-                            s,
-                            &reference,
-                            &changed,
-                        )
-                        .expect("pd")
+                        let reuse = Reuse {
+                            reference: &reference,
+                            changed: &changed,
+                        };
+                        Cholesky::factorize(&sym, model.pattern(), &hc, s, Some(reuse)).expect("pd")
                     });
                 assert_eq!(solve_bits(&reused, n), whole, "curve {c}, {t} thread(s)");
             }
             // A reference of another shift is not used: still the same factor.
-            let other = Cholesky::factorize_reusing(
-                &sym,
-                model.pattern(),
-                &hc,
-                s,
-                &Cholesky::factorize(&sym, model.pattern(), &h, 2.0 * s).expect("pd"),
-                &changed,
-            )
-            .expect("pd");
+            let shifted =
+                Cholesky::factorize(&sym, model.pattern(), &h, 2.0 * s, None).expect("pd");
+            let reuse = Reuse {
+                reference: &shifted,
+                changed: &changed,
+            };
+            let other =
+                Cholesky::factorize(&sym, model.pattern(), &hc, s, Some(reuse)).expect("pd");
             assert_eq!(solve_bits(&other, n), whole, "curve {c}, other shift");
         }
         // Some work is saved for every curve, none for no change.
@@ -325,12 +343,15 @@ fn reusing_a_reference_factor_is_bit_identical() {
             let mut h2 = h.clone();
             h2[model.pattern().diag[d]] += 0.5 * s;
             let whole = solve_bits(
-                &Cholesky::factorize(&sym, model.pattern(), &h2, s).expect("pd"),
+                &Cholesky::factorize(&sym, model.pattern(), &h2, s, None).expect("pd"),
                 n,
             );
+            let reuse = Reuse {
+                reference: &reference,
+                changed: &[d],
+            };
             let reused =
-                Cholesky::factorize_reusing(&sym, model.pattern(), &h2, s, &reference, &[d])
-                    .expect("pd");
+                Cholesky::factorize(&sym, model.pattern(), &h2, s, Some(reuse)).expect("pd");
             assert_eq!(solve_bits(&reused, n), whole, "coordinate {d}");
             assert!(sym.changed_work_share(&[d]) < 1.0);
         }
@@ -372,7 +393,7 @@ fn assert_same_equilibrium(
     );
 }
 
-/// Steps escaping a saddle are doubled while the energy falls (`NewtonParams::
+/// Steps escaping a saddle are doubled while the energy falls (`SolverTuning::
 /// escape_doublings`): the kagome's first relaxation from its drawn state passes one, and
 /// with the doublings it reaches the same equilibrium (energy and displacements) in fewer
 /// factorizations.
@@ -383,9 +404,9 @@ fn saddle_escapes_reach_the_same_equilibrium_sooner() {
     };
     let relax = |doublings: usize| {
         let mut params = StabilityParams::default();
-        params.newton.escape_doublings = doublings;
+        params.solver.escape_doublings = doublings;
         // Every step factored afresh: the doublings' saving alone.
-        params.newton.chord_below = 0.0;
+        params.solver.chord_below = 0.0;
         let a = Analyzer::new(net.clone(), params).expect("analyzer");
         let mut u = vec![0.0; a.model().dofs()];
         let info = a.relax(&a.all(), &mut u);
@@ -393,7 +414,7 @@ fn saddle_escapes_reach_the_same_equilibrium_sooner() {
         (info, u)
     };
     let (plain, u0) = relax(0);
-    let (escaping, u1) = relax(StabilityParams::default().newton.escape_doublings);
+    let (escaping, u1) = relax(StabilityParams::default().solver.escape_doublings);
     assert_eq!(plain.escape_doublings, 0);
     assert!(plain.projected_steps > 0, "a saddle on the way: {plain:?}");
     assert!(escaping.escape_doublings > 0, "{escaping:?}");
@@ -407,7 +428,7 @@ fn saddle_escapes_reach_the_same_equilibrium_sooner() {
 }
 
 /// In Newton's quadratic phase the last factorization serves the step
-/// (`NewtonParams::chord_below`): the arched shell's relaxations (from its drawn state, then
+/// (`SolverTuning::chord_below`): the arched shell's relaxations (from its drawn state, then
 /// after the greedy's first removal from that equilibrium) end at the same equilibrium
 /// (energies to round-off, displacements to the round-off floor's reach) with fewer
 /// factorizations.
@@ -418,7 +439,7 @@ fn chord_steps_in_the_quadratic_phase_reach_the_same_equilibrium() {
     };
     let relax = |chord_below: f64| {
         let mut params = StabilityParams::default();
-        params.newton.chord_below = chord_below;
+        params.solver.chord_below = chord_below;
         let a = Analyzer::new(net.clone(), params).expect("analyzer");
         let mut u = vec![0.0; a.model().dofs()];
         let first = a.relax(&a.all(), &mut u);
@@ -430,7 +451,7 @@ fn chord_steps_in_the_quadratic_phase_reach_the_same_equilibrium() {
         [(first, u), (after, u_after)]
     };
     let plain = relax(0.0);
-    let chord = relax(StabilityParams::default().newton.chord_below);
+    let chord = relax(StabilityParams::default().solver.chord_below);
     let mut chord_steps = 0;
     for ((p, up), (c, uc)) in plain.iter().zip(&chord) {
         assert_eq!(p.chord_steps, 0, "{p:?}");
@@ -441,8 +462,8 @@ fn chord_steps_in_the_quadratic_phase_reach_the_same_equilibrium() {
     assert!(chord_steps > 0, "no step used the last factorization");
 }
 
-/// The subtree-parallel substitution (`Cholesky::solve_in_place_subtrees`, `solve::supernodal`)
-/// is bit-identical to faer's sequential one (`solve_in_place_grouped` with one group), for
+/// The subtree-parallel substitution (`Schedule::Subtrees`, `solve::supernodal`) is
+/// bit-identical to faer's sequential one (`Schedule::Groups` with one group), for
 /// one, two and four columns, in pools of one and two threads, on a network big enough for a parallel schedule and on a small one (one
 /// sequential task).
 #[test]
@@ -461,7 +482,8 @@ fn subtree_parallel_solves_match_faer_bit_for_bit() {
         }
         let pattern = model.pattern();
         let s = pattern.sym_norm1(&hess);
-        let f = Cholesky::factorize(a.symbolic(), pattern, &hess, s).expect("positive definite");
+        let f =
+            Cholesky::factorize(a.symbolic(), pattern, &hess, s, None).expect("positive definite");
         let rhs =
             faer::Mat::<f64>::from_fn(n, 4, |i, j| ((i * 7919 + j * 131) % 101) as f64 - 50.0);
         let bits = |m: &faer::Mat<f64>| -> Vec<u64> {
@@ -473,14 +495,14 @@ fn subtree_parallel_solves_match_faer_bit_for_bit() {
         for k in [1, 2, 4] {
             let rhs = rhs.subcols(0, k).to_owned();
             let mut reference = rhs.clone();
-            f.solve_in_place_grouped(reference.as_mut(), k);
+            f.solve_in_place(reference.as_mut(), Schedule::Groups(k));
             for threads in [1, 2] {
                 let mut x = rhs.clone();
                 rayon::ThreadPoolBuilder::new()
                     .num_threads(threads)
                     .build()
                     .expect("pool")
-                    .install(|| f.solve_in_place_subtrees(x.as_mut()));
+                    .install(|| f.solve_in_place(x.as_mut(), Schedule::Subtrees));
                 assert_eq!(
                     bits(&x),
                     bits(&reference),
@@ -492,8 +514,60 @@ fn subtree_parallel_solves_match_faer_bit_for_bit() {
         let mut v: Vec<f64> = (0..n).map(|i| rhs[(i, 0)]).collect();
         f.solve_vec(&mut v);
         let mut reference = rhs.subcols(0, 1).to_owned();
-        f.solve_in_place_grouped(reference.as_mut(), 1);
+        f.solve_in_place(reference.as_mut(), Schedule::Groups(1));
         let v_bits: Vec<u64> = v.iter().map(|x| x.to_bits()).collect();
         assert_eq!(v_bits, bits(&reference), "seed {seed}, solve_vec");
     }
+}
+
+/// Unloaded straight rods (a tilted grid of straight curves crossing at joints) are at rest in
+/// their drawn state, where their gradient is pure round-off: Newton judges it against the
+/// forces' natural scale and converges at once, instead of chasing a tolerance relative to
+/// round-off (it stalled, and every such network reported "equilibrium not reached").
+#[test]
+fn unloaded_straight_rods_converge_at_once() {
+    let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+    let (cz, sz) = (17f64.to_radians().cos(), 17f64.to_radians().sin());
+    let at = |u: f64, v: f64| {
+        let (x, y, z) = (u, v * c, v * s);
+        Vec3::new(x * cz - y * sz, x * sz + y * cz, z)
+    };
+    let mut curves = Vec::new();
+    for i in 0..5 {
+        let t = 100.0 + 200.0 * i as f64;
+        curves.push(polyline(vec![at(t, 0.0), at(t, 1000.0)], false));
+        curves.push(polyline(vec![at(0.0, t), at(1000.0, t)], false));
+    }
+    for supports in [Supports::Clamped, Supports::Pinned] {
+        let a = Analyzer::new(build(&curves, 50.0, supports), StabilityParams::default())
+            .expect("analyzer");
+        assert_eq!(a.network().joints.len(), 25);
+        let mut u = vec![0.0; a.model().dofs()];
+        let info = a.relax(&a.all(), &mut u);
+        assert_eq!(info.stop, NewtonStop::Converged, "{supports:?}: {info:?}");
+        assert!(info.converged && info.iterations == 0, "{info:?}");
+        assert!(info.grad_rel < a.params().newton.rel_tol, "{info:?}");
+        assert!(
+            u.iter().all(|&x| x == 0.0),
+            "the drawn state is the equilibrium"
+        );
+    }
+}
+
+/// Curved rods have a drawn gradient far above the forces' natural scale: their relaxations
+/// are judged against their drawn state, exactly as without that scale.
+#[test]
+fn curved_rods_are_judged_against_their_drawn_gradient() {
+    let a = Analyzer::new(
+        build(&random_arches(7, 6), 40.0, Supports::Clamped),
+        StabilityParams::default(),
+    )
+    .expect("analyzer");
+    let (model, all) = (a.model(), a.all());
+    let drawn = norm(&model.assemble(&vec![0.0; model.dofs()], &all, false).grad);
+    let natural = model.natural_force_scale(&all);
+    assert!(
+        natural > 0.0 && natural < 1e-3 * drawn,
+        "{natural:e} against {drawn:e}"
+    );
 }

@@ -22,6 +22,7 @@ use common::{
 };
 use curvenet::geom::Vec3;
 use curvenet::network::{Joint, Network, Rod, build_network};
+use curvenet::rod::model::Terms;
 use curvenet::rod::{ActiveSet, Material, Supports};
 use curvenet::solve::EigenParams;
 use curvenet::solve::lanczos::smallest_eigenpairs_dense;
@@ -93,7 +94,7 @@ fn explicit_deletion_is_the_definition() {
                 kept.len() < net.vertex_count(),
                 "removing {removed:?} deletes vertices"
             );
-            let (dv, _) = smallest_eigenpairs_dense(dense.as_ref(), 4);
+            let (dv, _) = smallest_eigenpairs_dense(dense.as_ref(), 4).expect("dense solve");
             for k in 0..4 {
                 let tol = match tol_of {
                     None => 1e-9,
@@ -512,7 +513,7 @@ fn compressed_rod_beyond_euler_load_has_negative_modes() {
     assert!(rel_diff(s.values[0], s.values[1]) < 1e-8, "transverse pair");
     // Dense eigenvalues of the same Hessian.
     let hd = dense_hessian(a.model(), &u, &a.all());
-    let (dv, _) = smallest_eigenpairs_dense(hd.as_ref(), 4);
+    let (dv, _) = smallest_eigenpairs_dense(hd.as_ref(), 4).expect("dense solve");
     for k in 0..4 {
         assert!(
             rel_diff(s.values[k], dv[k]) < 1e-8,
@@ -579,12 +580,12 @@ fn restrict_share_outside_the_unit_interval_is_an_error() {
 fn newton_floor_near_below_one_is_an_error() {
     for bad in [0.5, -1.0, f64::NAN, f64::INFINITY] {
         let mut p = StabilityParams::default();
-        p.newton.floor_near = bad;
+        p.solver.floor_near = bad;
         let e = p.validate().expect_err("rejected");
         assert!(e.contains("floor_near"), "{e}");
     }
     let mut p = StabilityParams::default();
-    p.newton.floor_near = 1.0;
+    p.solver.floor_near = 1.0;
     assert!(p.validate().is_ok());
 }
 
@@ -592,13 +593,13 @@ fn newton_floor_near_below_one_is_an_error() {
 fn newton_chord_below_outside_zero_one_and_an_empty_solve_group_are_errors() {
     for bad in [-1e-6, 1.0, 2.0, f64::NAN, f64::INFINITY] {
         let mut p = StabilityParams::default();
-        p.newton.chord_below = bad;
+        p.solver.chord_below = bad;
         let e = p.validate().expect_err("rejected");
         assert!(e.contains("chord_below"), "{e}");
     }
     for good in [0.0, 1e-6, 0.5] {
         let mut p = StabilityParams::default();
-        p.newton.chord_below = good;
+        p.solver.chord_below = good;
         assert!(p.validate().is_ok(), "{good}");
     }
     let mut p = StabilityParams::default();
@@ -645,7 +646,7 @@ fn the_hessian_without_a_curve_is_the_whole_assembly_bit_for_bit() {
         let u: Vec<f64> = (0..model.dofs())
             .map(|i| 0.5 * ((i as f64) * 0.7).sin())
             .collect();
-        let locals = model.local_hessians(&u);
+        let locals = model.local_hessians(&u, Terms::All);
         let mut structures = vec![ActiveSet::all(n)];
         if name == "dome" {
             structures.extend(REMOVALS.iter().map(|r| active_without(n, r)));
@@ -657,7 +658,7 @@ fn the_hessian_without_a_curve_is_the_whole_assembly_bit_for_bit() {
             model.hessian_from_locals(&locals, &active, &mut h);
             // The structure's own local Hessians (its curves' terms only) give the same
             // Hessians for it and its sub-structures.
-            let own = model.local_hessians_for(&u, &active);
+            let own = model.local_hessians(&u, Terms::Of(&active));
             let mut h_own = Vec::new();
             model.hessian_from_locals(&own, &active, &mut h_own);
             assert_eq!(bits(&h_own), bits(&h), "{name}: the structure's own locals");

@@ -16,12 +16,16 @@
 //! 5–25% between runs minutes apart), and fails if two runs of an example disagree in any
 //! removal or any bit of `λ_eq`. On a terminal a progress bar counts the runs (with an
 //! estimate of the time left); piped, the output is the table alone.
+//!
+//! `--off NAME,…` switches techniques off ([`Technique`]) to measure what each contributes;
+//! every configuration must make the same removals.
 
 use crate::args::BenchArgs;
 use crate::exit::usage;
 use curvenet::network::build_network;
 use curvenet::simplify::greedy::NoHooks;
 use curvenet::simplify::{Budget, GreedyParams, greedy};
+use curvenet::solve::Backend;
 use curvenet::stability::{Analyzer, StabilityParams};
 use curvenet::{paper, profile};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -29,7 +33,57 @@ use serde::{Deserialize, Serialize};
 use std::process::{Command, Stdio};
 use std::time::Instant;
 
-/// The reference implementation's greedy on a 2-core machine like this one (issue 4), seconds.
+/// A speed technique `bench --off` switches off. None changes the answer: the same removals,
+/// the same values up to the round-off of another path.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Technique {
+    /// Candidate pruning by bounds (and everything built on it).
+    Prune,
+    /// The inertia test of candidates the bounds could not prune.
+    Inertia,
+    /// Each iteration's first candidate scored about a shift below its bound.
+    FirstShift,
+    /// Inertia tests copying a factorization of `H_A − σI`.
+    Reuse,
+    /// Refining bounds beside each iteration's first score.
+    Ahead,
+    /// Test vectors carried between iterations.
+    Carry,
+    /// Warm starts between iterations (modes, the winner's factorization).
+    Warm,
+    /// Factorizations restricted to a structure's vertices.
+    Restrict,
+    /// The subtree-parallel factorization and substitutions (faer's sequential ones instead).
+    Subtrees,
+    /// The early round-off floor of Newton's method.
+    FloorNear,
+    /// Chord steps in Newton's quadratic phase.
+    QuadraticChord,
+    /// Doubled steps escaping saddles.
+    Escape,
+}
+
+impl Technique {
+    /// Switches the technique off in the parameters of a run.
+    fn switch_off(self, stability: &mut StabilityParams, greedy: &mut GreedyParams) {
+        match self {
+            Technique::Prune => greedy.prune.enabled = false,
+            Technique::Inertia => greedy.prune.inertia = false,
+            Technique::FirstShift => greedy.prune.first_shift = 0.0,
+            Technique::Reuse => greedy.prune.reuse = false,
+            Technique::Ahead => greedy.prune.ahead = false,
+            Technique::Carry => greedy.prune.carry = false,
+            Technique::Warm => greedy.warm_start = false,
+            Technique::Restrict => stability.restrict_share = 0.0,
+            Technique::Subtrees => stability.solver.backend = Backend::Faer,
+            Technique::FloorNear => stability.solver.floor_near = 1.0,
+            Technique::QuadraticChord => stability.solver.chord_below = 0.0,
+            Technique::Escape => stability.solver.escape_doublings = 0,
+        }
+    }
+}
+
+/// The reference implementation's greedy on a 2-core machine like this one, seconds.
 fn reference_seconds(name: &str) -> Option<f64> {
     match name {
         "tower" => Some(109.0),
@@ -89,7 +143,6 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         .or_else(paper::default_data_dir)
         .ok_or_else(|| usage("reference data not found; pass --data DIR"))?;
     let threads = a.threads.unwrap_or_else(rayon::current_num_threads);
-    curvenet::solve::factor::set_subtree_parallel(!a.no_subtrees);
     if a.worker {
         let [name] = a.examples.as_slice() else {
             return Err(usage("--worker runs exactly one example"));
@@ -106,26 +159,19 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
     for name in &a.examples {
         paper::load(name, &data, Default::default())?;
     }
+    let off: Vec<String> = a
+        .off
+        .iter()
+        .filter_map(clap::ValueEnum::to_possible_value)
+        .map(|v| v.get_name().to_string())
+        .collect();
     println!(
-        "curvenet bench: {threads} thread(s); pruning {}, inertia test {}, chord steps everywhere {}, \
-         chord steps in Newton's quadratic phase {}, Krylov steps {}, warm starts {}, restricted factorizations {}, subtree-parallel \
-         factorizations and Newton's substitutions {}, early round-off floor {}, first score about a shift {}, inertia \
-         tests copying a reference {}, saddle escapes {}, refinement beside the first score {}, \
-         test vectors carried between iterations {}",
-        on(!a.no_prune),
-        on(!a.no_prune && !a.no_inertia),
-        on(a.chord),
-        on(!a.no_quadratic_chord),
-        on(a.krylov),
-        on(!a.no_warm),
-        on(!a.no_restrict),
-        on(!a.no_subtrees),
-        on(!a.no_floor_near),
-        on(!a.no_prune && !a.no_first_shift),
-        on(!a.no_prune && !a.no_inertia && !a.no_reuse),
-        on(!a.no_escape),
-        on(!a.no_prune && !a.no_ahead),
-        on(!a.no_prune && !a.no_carry)
+        "curvenet bench: {threads} thread(s); techniques off: {}",
+        if off.is_empty() {
+            "none".to_string()
+        } else {
+            off.join(", ")
+        }
     );
     println!(
         "{:<9} {:>6} {:>6} {:>5} {:>5} {:>6} {:>6} {:>6} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>11} {:>8} {:>8} {:>8}",
@@ -252,35 +298,11 @@ fn run_once(
     ex: &paper::LoadedExample,
 ) -> anyhow::Result<Row> {
     let mut stability = StabilityParams::default();
-    if a.chord {
-        stability.newton.chord_ratio = 0.25;
-    }
-    if a.no_restrict {
-        stability.restrict_share = 0.0;
-    }
-    if a.krylov {
-        stability.newton.krylov_iterations = 16;
-    }
-    if a.no_floor_near {
-        stability.newton.floor_near = 1.0;
-    }
-    if a.no_quadratic_chord {
-        stability.newton.chord_below = 0.0;
-    }
-    if a.no_escape {
-        stability.newton.escape_doublings = 0;
-    }
     let mut params = GreedyParams::new(Budget::Fraction(ex.setup.budget_fraction));
     params.keep = ex.setup.keep.clone();
-    params.prune.enabled = !a.no_prune;
-    params.prune.inertia = !a.no_inertia;
-    if a.no_first_shift {
-        params.prune.first_shift = 0.0;
+    for t in &a.off {
+        t.switch_off(&mut stability, &mut params);
     }
-    params.prune.reuse = !a.no_reuse;
-    params.prune.ahead = !a.no_ahead;
-    params.prune.carry = !a.no_carry;
-    params.warm_start = !a.no_warm;
     if let Some(m) = a.modes {
         params.modes = m;
     }
@@ -374,10 +396,6 @@ fn print_row(row: &Row, json: bool) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn on(b: bool) -> &'static str {
-    if b { "on" } else { "off" }
-}
-
 #[cfg(test)]
 mod tests {
     use super::worker_args;
@@ -389,7 +407,8 @@ mod tests {
             "bench",
             "--examples",
             "tower,roof",
-            "--no-prune",
+            "--off",
+            "prune,warm",
             "--repeat",
             "3",
             "--json",
@@ -404,7 +423,8 @@ mod tests {
             got,
             [
                 "bench",
-                "--no-prune",
+                "--off",
+                "prune,warm",
                 "--threads=2",
                 "--data",
                 "/d",

@@ -1,7 +1,7 @@
 //! One module per subcommand, plus the option handling they share.
 
 mod analyze;
-mod bench;
+pub(crate) mod bench;
 mod compare;
 mod demo;
 mod example;

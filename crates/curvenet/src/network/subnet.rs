@@ -4,8 +4,8 @@ use super::{Joint, Network, Rod};
 
 impl Network {
     /// The network of `curves` alone: their rods with the same rest lengths and anchors, and
-    /// only the vertices they use, renumbered in order of first use. This is the structure of
-    /// SPEC §5 with the loose vertices deleted. Returns the network and, for each of its
+    /// only the vertices they use, renumbered in order of first use: the structure of `curves`
+    /// (`docs/model.md`, *Stability*) with the loose vertices deleted. Returns the network and, for each of its
     /// vertices, the vertex it was in `self`.
     pub fn sub_network(&self, curves: &[usize]) -> (Network, Vec<u32>) {
         let mut new_index = vec![u32::MAX; self.positions.len()];

@@ -4,7 +4,7 @@
 use super::stress::Stresses;
 use crate::geom::Vec3;
 use crate::material::Physical;
-use crate::network::Network;
+use crate::rod::Network;
 
 /// A network more than this many metres across is probably drawn in another unit.
 pub const MAX_EXTENT_M: f64 = 10_000.0;
@@ -17,7 +17,11 @@ pub const MAX_SLENDERNESS: f64 = 1e4;
 
 /// One warning per curve whose assembly stress exceeds its strength, worst first: "curve 12
 /// would break when bent: 480 MPa > 355 MPa (steel) near joint 57 at (x, y, z)".
-pub fn overstress_warnings(stresses: &Stresses, network: &Network, physical: &Physical) -> Vec<String> {
+pub fn overstress_warnings(
+    stresses: &Stresses,
+    network: &Network,
+    physical: &Physical,
+) -> Vec<String> {
     stresses
         .overstressed()
         .into_iter()
@@ -49,7 +53,13 @@ pub fn near_joint(network: &Network, curve: usize, vertex: usize) -> String {
         .iter()
         .enumerate()
         .filter(|(_, j)| j.curves.contains(&(curve as u32)))
-        .map(|(k, j)| (k, j.vertex as usize, at.dist(network.positions[j.vertex as usize])))
+        .map(|(k, j)| {
+            (
+                k,
+                j.vertex as usize,
+                at.dist(network.positions[j.vertex as usize]),
+            )
+        })
         .min_by(|a, b| a.2.total_cmp(&b.2));
     match nearest {
         Some((k, v, _)) if v == vertex => format!("at joint {k}"),
@@ -68,7 +78,10 @@ pub fn units_warnings(network: &Network, physical: &Physical) -> Vec<String> {
     let u = physical.units;
     let m = u.metres();
     let (lo, hi) = network.positions.iter().fold(
-        (Vec3::new(f64::MAX, f64::MAX, f64::MAX), Vec3::new(f64::MIN, f64::MIN, f64::MIN)),
+        (
+            Vec3::new(f64::MAX, f64::MAX, f64::MAX),
+            Vec3::new(f64::MIN, f64::MIN, f64::MIN),
+        ),
         |(lo, hi), p| {
             (
                 Vec3::new(lo.x.min(p.x), lo.y.min(p.y), lo.z.min(p.z)),
@@ -78,7 +91,7 @@ pub fn units_warnings(network: &Network, physical: &Physical) -> Vec<String> {
     );
     let d = hi - lo;
     let extent = d.x.max(d.y).max(d.z) * m;
-    if extent > MAX_EXTENT_M || extent < MIN_EXTENT_M {
+    if !(MIN_EXTENT_M..=MAX_EXTENT_M).contains(&extent) {
         out.push(format!(
             "with --units {u} the network is {} across: are the coordinates in {u}?",
             metres(extent)

@@ -13,8 +13,8 @@
 //!   `q · max|v̂| / μ_L` with `v̂` normalised to RMS 1 over the structure's length.
 
 use crate::material::Physical;
-use crate::network::Network;
 use crate::rod::ActiveSet;
+use crate::rod::Network;
 use crate::rod::mass::lumped_masses;
 use crate::rod::physical::masses_per_length;
 

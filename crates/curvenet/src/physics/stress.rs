@@ -12,8 +12,8 @@
 
 use crate::geom::Vec3;
 use crate::material::{Physical, RestShape};
-use crate::network::Network;
 use crate::rod::ActiveSet;
+use crate::rod::Network;
 use crate::rod::terms::{bend_strain, rest_bend};
 use serde::{Deserialize, Serialize};
 

@@ -15,47 +15,12 @@ pub mod viewer;
 
 use crate::network::{BuildInfo, EdgeLengthStats, Network};
 use crate::rod::{ActiveSet, Material};
-use crate::solve::{NewtonInfo, NewtonStop};
 use crate::stability::{Analysis, CurveShare, GravityDeflection};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 
-/// Summary of a Newton solve for reports.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct NewtonSummary {
-    /// Iterations.
-    pub iterations: usize,
-    /// Converged (to the tolerance or the round-off floor).
-    pub converged: bool,
-    /// `‖∇E‖ / ‖∇E(drawn state)‖` at the end.
-    pub grad_rel: f64,
-    /// How it stopped.
-    pub stop: NewtonStop,
-    /// Numeric factorizations it took.
-    #[serde(default)]
-    pub factorizations: usize,
-    /// Steps that reused an earlier factorization.
-    #[serde(default)]
-    pub chord_steps: usize,
-    /// Steps whose Newton system was solved by conjugate gradients preconditioned with an
-    /// earlier factorization.
-    #[serde(default)]
-    pub krylov_steps: usize,
-}
-
-impl From<&NewtonInfo> for NewtonSummary {
-    fn from(n: &NewtonInfo) -> Self {
-        NewtonSummary {
-            iterations: n.iterations,
-            converged: n.converged,
-            grad_rel: n.grad_rel,
-            stop: n.stop,
-            factorizations: n.factorizations,
-            chord_steps: n.chord_steps,
-            krylov_steps: n.krylov_steps,
-        }
-    }
-}
+/// Summary of a Newton solve for reports (what results record of it).
+pub use crate::solve::NewtonSummary;
 
 /// The rod radius against the scene: SPEC §3 asks to say what the units imply.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -287,7 +252,7 @@ impl AnalysisReport {
             dofs: network.dofs(),
             edge_length: network.edge_length_stats(),
             supports: network.supports.name().to_string(),
-            newton: NewtonSummary::from(&analysis.newton),
+            newton: analysis.newton.summary(),
             lambda: sp.lambda(),
             eigenvalues: sp.values.clone(),
             zero_modes: sp.zero_modes,

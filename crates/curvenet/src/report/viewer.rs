@@ -172,7 +172,7 @@ pub fn gravity_deflection(analyzer: &Analyzer, curves: &[usize], u0: &[f64]) -> 
     let active = ActiveSet::from_curves(analyzer.network().rods.len(), curves);
     let model = analyzer.model();
     let h = model.assemble(u0, &active, true).hess;
-    let factor = Cholesky::factorize(analyzer.symbolic(), model.pattern(), &h, 0.0).ok()?;
+    let factor = Cholesky::factorize(analyzer.symbolic(), model.pattern(), &h, 0.0, None).ok()?;
     let mut u = analyzer.gravity_load(&active);
     factor.solve_vec(&mut u);
     u.iter().all(|x| x.is_finite()).then_some(u)

@@ -13,8 +13,9 @@
 //! the network through it, so the loose diagonal of `H` keeps it far above the structure's
 //! spectrum after the scaling too.
 
-use super::model::{ActiveSet, Pattern};
-use crate::network::Network;
+use super::ActiveSet;
+use super::Network;
+use crate::sparse::Pattern;
 
 /// The lumped mass of every vertex of the structure `active` (the whole network's at loose
 /// vertices), with rod `c` weighing `mass_per_length[c]` per unit rest length.
@@ -65,8 +66,8 @@ pub fn scale_hessian(pattern: &Pattern, hess: &mut [f64], s: &[f64]) {
 mod tests {
     use super::*;
     use crate::geom::Vec3;
-    use crate::network::{Joint, Rod};
     use crate::rod::Supports;
+    use crate::rod::{Joint, Rod};
 
     /// Two straight rods crossing at vertex 2: rod 0 = 0-1-2-3 (edges 1, 1, 2), rod 1 = 4-2-5
     /// (edges 3, 3).

@@ -1,27 +1,33 @@
-//! Rod energy: the material, the supports and the discrete elastic rod terms (SPEC §3).
+//! Rod energy: the material, the supports and the discrete elastic rod terms (`docs/model.md`,
+//! *Energy*).
 //!
 //! - [`terms`]: the local stretching, bending and anchor terms with exact derivatives (and the
 //!   bending term of a pre-bent rod);
+//! - [`network`]: the rod network as data (what [`crate::network`] builds from curves);
 //! - [`model`]: the flat list of all terms of a network and its sparse assembly, with the
-//!   ability to leave out any set of curves (the structure of SPEC §5), every rod with its own
-//!   stiffnesses and rest shape ([`RodStiffness`]);
+//!   ability to leave out any set of curves (a structure: `docs/model.md`, *Stability*), every
+//!   rod with its own stiffnesses and rest shape ([`RodStiffness`]);
 //! - [`physical`]: those stiffnesses from materials and sections, and rigid supports, in the
 //!   physical mode; [`mass`]: the lumped mass matrix and the scaling to `H v = μ M v`.
 
+mod active;
 mod jet;
 pub mod mass;
 pub mod model;
+pub mod network;
 pub mod physical;
 mod prebent;
 pub mod terms;
 
-pub use model::{ActiveSet, Assembly, EnergyModel};
+pub use active::ActiveSet;
+pub use model::{Assembly, EnergyModel};
+pub use network::{Joint, Network, Rod};
 
 use crate::material::RestShape;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
-/// Material constants of every rod, in scene units (SPEC §3).
+/// Material constants of every rod, in scene units (`docs/model.md`, *Energy*).
 ///
 /// Results depend on the radius relative to the curves' length: the defaults are the
 /// reference's (`r = 2`, `E = 1`, `µ = 500`), made for scenes a few hundred to a few thousand
@@ -96,7 +102,8 @@ impl From<&Material> for RodStiffness {
     }
 }
 
-/// Which vertices of an open curve are anchored (SPEC §3). Closed curves have none.
+/// Which vertices of an open curve are anchored (`docs/model.md`, *Energy*). Closed curves
+/// have none.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Supports {

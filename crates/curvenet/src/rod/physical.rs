@@ -13,9 +13,9 @@
 //! of rigid supports (supports eliminated) on straight rods, arches and a small grid
 //! (`tests/physical.rs`).
 
+use super::Network;
 use super::RodStiffness;
 use crate::material::{Physical, RestShape};
-use crate::network::Network;
 
 /// `2µ` over the stiffness of a typical edge in the physical mode ([`rigid_anchor_weight`]).
 pub const ANCHOR_STIFFNESS_RATIO: f64 = 1e3;

@@ -1,4 +1,4 @@
-//! The three local energy terms of a discrete elastic rod without twist (see `docs/model.md`,
+//! The three local energy terms of a discrete elastic rod without twist (`docs/model.md`,
 //! *Energy*), each with its exact gradient and Hessian, and the bending term of a pre-bent rod
 //! ([`bend_rest`], bending measured from the drawn shape; its doc explains the form chosen).
 //!

@@ -20,9 +20,11 @@
 
 use super::{Evaluation, Scorer, Work};
 use crate::rod::ActiveSet;
-use crate::rod::model::{LocalHessians, Pattern};
+use crate::rod::model::{LocalHessians, Terms};
 use crate::solve::eigen::Spectrum;
-use crate::solve::{Cholesky, Reuse, SymbolicFactor};
+use crate::solve::factor::SOLVE_GROUP;
+use crate::solve::{Cholesky, Reuse, Schedule, SymbolicFactor};
+use crate::sparse::Pattern;
 use crate::stability::StabilityError;
 use faer::{Mat, MatRef};
 use rayon::prelude::*;
@@ -59,8 +61,8 @@ pub struct PruneParams {
     /// Newton matrix when the candidate wins.
     pub first_shift: f64,
     /// The inertia tests about one shift copy the supernodes a candidate cannot reach from a
-    /// factorization of `H_A − σI` when that saves work ([`crate::solve::Cholesky::
-    /// factorize_reusing`]; the factors, hence the results, are the same either way).
+    /// factorization of `H_A − σI` when that saves work ([`crate::solve::Reuse`]; the
+    /// factors, hence the results, are the same either way).
     #[serde(default = "default_true")]
     pub reuse: bool,
     /// While each iteration's first candidate is scored (one core mostly idle), refine the
@@ -197,7 +199,7 @@ impl CandidateTerms {
     /// The terms of structure `active` at displacements `u`.
     pub fn compute(scorer: &Scorer<'_>, active: &ActiveSet, u: &[f64]) -> Self {
         let model = scorer.analyzer().model();
-        let locals = model.local_hessians_for(u, active);
+        let locals = model.local_hessians(u, Terms::Of(active));
         let mut h = Vec::new();
         model.hessian_from_locals(&locals, active, &mut h);
         CandidateTerms { locals, h }
@@ -706,7 +708,7 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
             }
         }
         if rhs.ncols() > 0 {
-            f.solve_in_place(rhs.as_mut());
+            f.solve_in_place(rhs.as_mut(), Schedule::Groups(SOLVE_GROUP));
         }
         let mut offsets = Vec::with_capacity(cs.len());
         let mut at = 0;
@@ -937,8 +939,7 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
             reference: f,
             changed,
         });
-        let factor =
-            Cholesky::factorize_maybe_reusing(&self.symbolic, model.pattern(), &h, -sigma, reuse);
+        let factor = Cholesky::factorize(&self.symbolic, model.pattern(), &h, -sigma, reuse);
         // A matrix with NaN or infinity fails too: that is an error, not a proof (checked only
         // then, as the eigen solver does).
         if factor.is_err() && h.iter().any(|v| !v.is_finite()) {
@@ -975,7 +976,7 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
     }
 
     /// The share of a factorization's work that a factorization reusing one of `H_A − σI`
-    /// still does for candidate `c` ([`Cholesky::factorize_reusing`]).
+    /// still does for candidate `c` ([`Reuse`]).
     fn changed_share(&self, c: usize) -> f64 {
         self.symbolic.changed_work_share(&self.curve_coordinates(c))
     }
@@ -985,7 +986,7 @@ impl<'s, 'a> CandidateContext<'s, 'a> {
     pub fn reference(&self, sigma: f64) -> Option<Cholesky> {
         let model = self.scorer.analyzer().model();
         self.factorizations.fetch_add(1, Ordering::Relaxed);
-        Cholesky::factorize(&self.symbolic, model.pattern(), &self.h, -sigma).ok()
+        Cholesky::factorize(&self.symbolic, model.pattern(), &self.h, -sigma, None).ok()
     }
 
     /// Factorizations and solves spent on scores so far.
@@ -1251,7 +1252,7 @@ impl Search<'_, '_, '_> {
 
     /// Factors `H_A − σI` for the inertia tests about `σ` to copy from, when the alive
     /// candidates' factorizations would save more than it costs: the saving is estimated from
-    /// the share of each one's factorization its curve reaches ([`Cholesky::factorize_reusing`]).
+    /// the share of each one's factorization its curve reaches ([`Reuse`]).
     /// A pure function of the values, like every decision of the search.
     fn prepare_reference(&mut self, sigma: f64) {
         if self

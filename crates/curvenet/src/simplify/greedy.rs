@@ -17,8 +17,8 @@
 
 use super::candidates::{CandidateContext, CandidateScore, CandidateTerms, Carried, PruneParams};
 use super::{Budget, Evaluation, Scorer, SimplifyError, Warm, Work, pick_best};
-use crate::report::NewtonSummary;
 use crate::rod::ActiveSet;
+use crate::solve::NewtonSummary;
 use crate::stability::Analyzer;
 use faer::Mat;
 use serde::{Deserialize, Serialize};

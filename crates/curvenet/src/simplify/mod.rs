@@ -24,13 +24,12 @@ pub mod result;
 
 pub use greedy::{GreedyHooks, GreedyOutcome, GreedyParams, StopReason, greedy};
 
-use crate::report::NewtonSummary;
 use crate::rod::ActiveSet;
 use crate::rod::model::LocalHessians;
 use crate::solve::Cholesky;
+use crate::solve::NewtonSummary;
 use crate::solve::eigen::{
-    EigenParams, Spectrum, smallest_eigenpairs_above, smallest_eigenpairs_above_with,
-    smallest_eigenpairs_factored,
+    Eigen, EigenOptions, EigenParams, Shift, Spectrum, Start, smallest_eigenpairs,
 };
 use crate::stability::{Analyzer, StabilityError};
 use faer::{Mat, MatRef};
@@ -140,17 +139,7 @@ pub const LARGE_FACTOR_VALUES: usize = 4_000_000;
 /// The spectrum's shift, as a fraction of [`Warm::lambda`].
 const SPECTRUM_SHIFT: f64 = 0.9;
 
-/// Residual tolerance of the lowest pair of the greedy's spectra (at least; see
-/// [`Scorer::with_modes`]). Its value `λ_eq` comes out accurate to about the square of it
-/// over the relative gap to the next eigenvalue (1e-12 / gap), below what fixes the
-/// equilibrium itself: a benign change of Newton's path (another factorization handed to
-/// its first step) moves the arched shell's and the shell's `λ_eq` by up to 3e-6 relative.
-pub const SPECTRUM_TOL: f64 = 1e-6;
-
-/// Residual tolerance of the greedy spectra's other pairs: their vectors only span the
-/// candidates' bound subspace and the next spectrum's start (any subspace gives valid
-/// bounds), their values stay accurate to about 1e-8 / gap.
-pub const SPECTRUM_TRAILING_TOL: f64 = 1e-4;
+pub use crate::solve::eigen::{SPECTRUM_TOL, SPECTRUM_TRAILING_TOL};
 
 /// Counts of the expensive operations, for benchmarks.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -191,16 +180,7 @@ pub struct Scorer<'a> {
 impl<'a> Scorer<'a> {
     /// A scorer over `analyzer`'s network.
     pub fn new(analyzer: &'a Analyzer) -> Self {
-        let mut candidate_eigen = analyzer.params().eigen.clone();
-        // Only λ is needed: one converged pair, in a block of two that holds its neighbour
-        // (clustered smallest eigenvalues: the roof's two are 5% apart). Converging the
-        // second pair too cost 12–15% more solves (arched shell, roof) for nothing.
-        candidate_eigen.count = 1;
-        candidate_eigen.block_size = 2.min(candidate_eigen.block_size);
-        candidate_eigen.max_basis = candidate_eigen.max_basis.min(40);
-        // Scores need λ to ~1e-12 relative (ties are 1e-7 apart); with the pair captured by the
-        // block, the Ritz value error is about tol²/gap.
-        candidate_eigen.tol = candidate_eigen.tol.max(1e-8);
+        let candidate_eigen = analyzer.params().eigen.candidate_score();
         Scorer {
             analyzer,
             eval_eigen: analyzer.params().eigen.clone(),
@@ -209,22 +189,10 @@ impl<'a> Scorer<'a> {
         }
     }
 
-    /// Computes `k` modes in every `λ_eq` spectrum (for the candidates' bounds), the lowest
-    /// to [`SPECTRUM_TOL`], the others to [`SPECTRUM_TRAILING_TOL`] (or the analyzer's
-    /// tolerance where looser): the greedy's records need `λ_eq`, its search a subspace. The
-    /// roof's spectra took 26 solves each to 1e-10, 16 with these.
+    /// Computes `k` modes in every `λ_eq` spectrum ([`EigenParams::greedy_spectrum`]): the
+    /// greedy's records need `λ_eq`, its search a subspace.
     pub fn with_modes(mut self, k: usize) -> Self {
-        self.eval_eigen.count = k.max(1);
-        self.eval_eigen.tol = self.eval_eigen.tol.max(SPECTRUM_TOL);
-        self.eval_eigen.trailing_tol = Some(SPECTRUM_TRAILING_TOL.max(self.eval_eigen.tol));
-        // Blocks of up to a solver's column group; the spectrum runs while a core is idle, so
-        // its block's columns are solved side by side, one per pass over the factor.
-        self.eval_eigen.block_size = crate::solve::factor::SOLVE_GROUP.min(k.max(1));
-        self.eval_eigen.solve_group = 1;
-        self.eval_eigen.max_basis = self
-            .eval_eigen
-            .max_basis
-            .max(self.eval_eigen.count + 6 * self.eval_eigen.block_size);
+        self.eval_eigen = self.eval_eigen.greedy_spectrum(k);
         self
     }
 
@@ -289,39 +257,34 @@ impl<'a> Scorer<'a> {
         // of `H − σI` proves no eigenvalue lies below σ, and shift-and-invert separates the
         // clustered smallest eigenvalues far better there than about zero (roof: 51 solves
         // per spectrum about zero). Otherwise, or if λ turns out below σ, about zero.
+        let solve = |shift: Shift| {
+            let options = EigenOptions {
+                shift,
+                start: modes.map_or(Start::Random, Start::Vectors),
+                ..Default::default()
+            };
+            smallest_eigenpairs(&symbolic, model.pattern(), &h, &self.eval_eigen, options)
+        };
         let spectrum = || -> Result<_, StabilityError> {
             let shifted = match warm.lambda.map(|l| SPECTRUM_SHIFT * l) {
-                Some(sigma) if sigma > 0.0 && sigma.is_finite() => smallest_eigenpairs_above(
-                    model.pattern(),
-                    &h,
-                    &symbolic,
-                    modes,
-                    &self.eval_eigen,
-                    sigma,
-                    None,
-                )?,
+                Some(sigma) if sigma > 0.0 && sigma.is_finite() => solve(Shift::Above(sigma))?,
                 _ => None,
             };
             Ok(match shifted {
-                Some(pair) => pair,
-                None => smallest_eigenpairs_factored(
-                    model.pattern(),
-                    &h,
-                    &symbolic,
-                    modes,
-                    &self.eval_eigen,
-                )?,
+                Some(found) => found,
+                None => solve(Shift::BelowZero)?.expect("a shift below zero always factors"),
             })
         };
         let (spectrum, extra) = rayon::join(spectrum, || beside(&u));
-        let (spectrum, factor) = spectrum?;
+        let Eigen { spectrum, factor } = spectrum?;
+        let factor = factor.expect("the whole matrix was factored");
         let curves = active.curves();
         Ok((
             Evaluation {
                 factor: Some(std::sync::Arc::new(factor)),
                 length: a.network().total_length(&curves),
                 curves,
-                newton: NewtonSummary::from(&newton),
+                newton: newton.summary(),
                 work: Work {
                     factorizations: spectrum.factorizations + newton.factorizations,
                     solves: spectrum.solves,
@@ -424,13 +387,16 @@ impl<'a> Scorer<'a> {
         let h = self.fixed_hessian(locals, active)?;
         let model = self.analyzer.model();
         let warm = warm.map(|w| restrict(w, &model.vertex_mask(active)));
-        Ok(smallest_eigenpairs_factored(
-            model.pattern(),
-            &h,
-            symbolic,
-            warm.as_ref().map(|w| w.as_ref()),
-            &self.candidate_params(symbolic),
-        )?)
+        let options = EigenOptions {
+            start: warm
+                .as_ref()
+                .map_or(Start::Random, |w| Start::Vectors(w.as_ref())),
+            ..Default::default()
+        };
+        let params = self.candidate_params(symbolic);
+        let found = smallest_eigenpairs(symbolic, model.pattern(), &h, &params, options)?
+            .expect("a shift below zero always factors");
+        Ok((found.spectrum, found.factor.expect("the whole matrix")))
     }
 
     /// The candidates' eigen parameters for factors of `symbolic`: one column per solve group
@@ -440,9 +406,7 @@ impl<'a> Scorer<'a> {
         symbolic: &crate::solve::SymbolicFactor,
     ) -> std::borrow::Cow<'_, EigenParams> {
         if symbolic.factor_nnz() > LARGE_FACTOR_VALUES {
-            let mut p = self.candidate_eigen.clone();
-            p.solve_group = 1;
-            std::borrow::Cow::Owned(p)
+            std::borrow::Cow::Owned(self.candidate_eigen.column_by_column())
         } else {
             std::borrow::Cow::Borrowed(&self.candidate_eigen)
         }
@@ -451,7 +415,7 @@ impl<'a> Scorer<'a> {
     /// [`Self::lambda_fixed`] shifted about `sigma`, given `h`, the Hessian of `active` at
     /// `A`'s equilibrium ([`EnergyModel::hessian_from_locals`] or, for `A` without one curve,
     /// [`EnergyModel::hessian_without`]): `Ok(None)` when one factorization proves
-    /// `λ_fix(active | A) < sigma` (see [`smallest_eigenpairs_above`], also for `reuse`). The
+    /// `λ_fix(active | A) < sigma` (see [`Shift::Above`], and [`EigenOptions::reuse`]). The
     /// warm start is asked of `warm` only when that factorization succeeds.
     ///
     /// [`EnergyModel::hessian_from_locals`]: crate::rod::EnergyModel::hessian_from_locals
@@ -471,16 +435,16 @@ impl<'a> Scorer<'a> {
         let model = self.analyzer.model();
         // The warm start (`warm` restricted to `active`'s vertices) only once the
         // factorization about `σ` succeeds.
-        let warm = || warm().map(|w| restrict(w.as_ref(), &model.vertex_mask(active)));
-        Ok(smallest_eigenpairs_above_with(
-            model.pattern(),
-            h,
-            symbolic,
-            warm,
-            &self.candidate_params(symbolic),
-            sigma,
+        let warm = move || warm().map(|w| restrict(w.as_ref(), &model.vertex_mask(active)));
+        let options = EigenOptions {
+            shift: Shift::Above(sigma),
+            start: Start::Lazy(Box::new(warm)),
             reuse,
-        )?)
+            keep: None,
+        };
+        let params = self.candidate_params(symbolic);
+        let found = smallest_eigenpairs(symbolic, model.pattern(), h, &params, options)?;
+        Ok(found.map(|f| (f.spectrum, f.factor.expect("the whole matrix"))))
     }
 
     /// The Hessian of `active` from the local Hessians at `A`'s equilibrium.

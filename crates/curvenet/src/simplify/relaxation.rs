@@ -90,10 +90,12 @@
 //! best is kept; the run stops on a relative gap, a cap on eigen solves, or a stalled step.
 
 use super::{Budget, SimplifyError};
-use crate::report::NewtonSummary;
 use crate::rod::ActiveSet;
-use crate::rod::model::LocalHessians;
-use crate::solve::eigen::{EigenParams, Spectrum, smallest_eigenpairs_restricted};
+use crate::rod::model::{LocalHessians, Terms};
+use crate::solve::NewtonSummary;
+use crate::solve::SymbolicFactor;
+use crate::solve::eigen::{EigenError, EigenOptions, EigenParams, Spectrum, Start};
+use crate::sparse::Pattern;
 use crate::stability::{Analyzer, StabilityError};
 use faer::{Mat, MatRef};
 use rayon::prelude::*;
@@ -429,7 +431,7 @@ impl<'a> FixedProblem<'a> {
         let mut u = vec![0.0; analyzer.model().dofs()];
         let info = analyzer.relax(&ActiveSet::all(n), &mut u);
         let mut p = Self::with_displacement(analyzer, u, budget, keep)?;
-        p.newton = Some(NewtonSummary::from(&info));
+        p.newton = Some(info.summary());
         Ok(p)
     }
 
@@ -461,7 +463,7 @@ impl<'a> FixedProblem<'a> {
         keep.dedup();
         let lengths = analyzer.network().rest_lengths();
         let budget = budget.length(lengths.iter().sum());
-        let locals = model.local_hessians(&displacement);
+        let locals = model.local_hessians(&displacement, Terms::All);
         let mut index: BTreeMap<Vec<usize>, usize> = BTreeMap::new();
         let mut groups: Vec<VertexGroup> = Vec::new();
         for (v, cs) in model.vertex_curves().iter().enumerate() {
@@ -482,14 +484,9 @@ impl<'a> FixedProblem<'a> {
         }
         let full = model.assemble(&displacement, &ActiveSet::all(n), true).hess;
         let norm1 = model.pattern().sym_norm1(&full);
-        let base = analyzer.params().eigen.clone();
-        let mut eval_eigen = base.clone();
-        eval_eigen.count = 4;
-        eval_eigen.block_size = 4;
-        eval_eigen.max_basis = eval_eigen.max_basis.clamp(32, 48);
-        eval_eigen.tol = base.tol.max(1e-10);
-        let mut relax_eigen = eval_eigen.clone();
-        relax_eigen.tol = base.tol.max(1e-8);
+        let base = &analyzer.params().eigen;
+        let eval_eigen = base.fixed_spectrum();
+        let relax_eigen = base.relaxation_step();
         let mut p = FixedProblem {
             analyzer,
             displacement,
@@ -726,7 +723,7 @@ impl<'a> FixedProblem<'a> {
         let mut h = Vec::new();
         model.hessian_from_locals(&self.locals, &active, &mut h);
         self.eigen_solves.fetch_add(1, Ordering::Relaxed);
-        Ok(smallest_eigenpairs_restricted(
+        Ok(restricted_spectrum(
             model.pattern(),
             &h,
             self.analyzer.symbolic(),
@@ -744,7 +741,7 @@ impl<'a> FixedProblem<'a> {
         model.hessian_from_locals(&self.locals, &active, &mut h);
         self.eigen_solves.fetch_add(1, Ordering::Relaxed);
         let mask = model.vertex_mask(&active);
-        let sp = smallest_eigenpairs_restricted(
+        let sp = restricted_spectrum(
             model.pattern(),
             &h,
             self.analyzer.symbolic(),
@@ -910,7 +907,7 @@ impl<'a> FixedProblem<'a> {
         }
         self.relax_solves.fetch_add(1, Ordering::Relaxed);
         let held: Vec<bool> = p.iter().map(|&pv| pv > 0.0).collect();
-        let sp = smallest_eigenpairs_restricted(
+        let sp = restricted_spectrum(
             pattern,
             &h,
             self.analyzer.symbolic(),
@@ -1164,7 +1161,7 @@ impl<'a> FixedProblem<'a> {
             .enumerate()
             .map(|(v, cs)| !clamp[v] && cs.iter().any(|&c| weights[c as usize] != 0.0))
             .collect();
-        let sp = smallest_eigenpairs_restricted(
+        let sp = restricted_spectrum(
             pattern,
             &h,
             self.analyzer.symbolic(),
@@ -1902,6 +1899,25 @@ impl Dinic {
         let level = self.levels(s, eps);
         level.iter().map(|&l| l != usize::MAX).collect()
     }
+}
+
+/// The smallest eigenpairs of the principal submatrix on `keep` (the other coordinates
+/// decoupled: [`EigenOptions::keep`]).
+fn restricted_spectrum(
+    pattern: &Pattern,
+    h: &[f64],
+    symbolic: &Arc<SymbolicFactor>,
+    keep: &[bool],
+    warm: Option<MatRef<'_, f64>>,
+    params: &EigenParams,
+) -> Result<Spectrum, EigenError> {
+    let options = EigenOptions {
+        start: warm.map_or(Start::Random, Start::Vectors),
+        keep: Some(keep),
+        ..Default::default()
+    };
+    let found = crate::solve::smallest_eigenpairs(symbolic, pattern, h, params, options)?;
+    Ok(found.expect("a shift below zero always factors").spectrum)
 }
 
 #[cfg(test)]

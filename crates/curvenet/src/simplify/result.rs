@@ -722,9 +722,9 @@ pub fn summary(r: &ResultFile) -> String {
 #[cfg(test)]
 mod tests {
     use super::unrelaxed;
-    use crate::report::NewtonSummary;
     use crate::simplify::greedy::IterationRecord;
     use crate::solve::NewtonStop;
+    use crate::solve::NewtonSummary;
 
     fn record(curves: usize, converged: bool, stop: NewtonStop) -> IterationRecord {
         IterationRecord {
@@ -741,7 +741,6 @@ mod tests {
                 stop,
                 factorizations: 5,
                 chord_steps: 0,
-                krylov_steps: 0,
             },
             removed: None,
             score: None,

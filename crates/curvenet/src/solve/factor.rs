@@ -12,7 +12,7 @@
 
 use super::ordering::{self, OrderingKind};
 use super::supernodal::{self, Plan};
-use crate::rod::model::Pattern;
+use crate::sparse::Pattern;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::SparseColMatRef;
@@ -21,33 +21,51 @@ use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky,
 };
 use faer::{Conj, Mat, MatMut, Par, Side};
+use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
 /// Networks with at least this many unknowns also try a nested-dissection ordering.
 pub const ND_MIN_DOFS: usize = 3000;
 
-/// Right-hand sides solved together in one call (see [`Cholesky::solve_in_place`]).
+/// Right-hand sides solved together in one substitution by default ([`Schedule::Groups`]).
 pub const SOLVE_GROUP: usize = 4;
 
 /// Factor-value buffers kept for reuse per symbolic analysis (bounded: a dropped factor
 /// beyond this many is freed).
 const POOL_BUFFERS: usize = 4;
 
+/// The numeric factorization and triangular substitutions a symbolic analysis runs: a
+/// parameter of the analysis, so every factor of it takes the same path.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Backend {
+    /// Independent subtrees of the elimination tree in parallel (`solve::supernodal`), on
+    /// faer's dense kernels and storage layout: the same factor whatever the thread count,
+    /// and substitutions ([`Schedule::Subtrees`]) bit-identical to faer's sequential ones.
+    #[default]
+    Subtrees,
+    /// faer's own sequential supernodal factorization and substitution: the reference the
+    /// other is tested against.
+    Faer,
+}
+
 /// The symbolic Cholesky analysis of a pattern.
 #[derive(Debug)]
 pub struct SymbolicFactor {
     inner: SymbolicCholesky<usize>,
     ordering: OrderingKind,
+    backend: Backend,
     /// Buffers of dropped factors and factorization scratch, reused by the next numeric
     /// factorizations: a fresh buffer of `L`'s size costs page faults and zeroing on every
-    /// factorization (≈ 8% of a factorization on the tower). Which buffer a factorization
-    /// gets never affects its values (faer zeroes `L` and overwrites the scratch).
+    /// factorization. Which buffer a factorization gets never affects its values (faer zeroes
+    /// `L` and overwrites the scratch).
     pool: std::sync::Mutex<Pool>,
     /// When this analysis covers only some coordinates of a larger pattern (see
     /// [`SymbolicFactor::restricted`]): how they sit in it.
     restriction: Option<Restriction>,
     /// The subtree-parallel numeric factorization of a supernodal analysis (see
-    /// `solve::supernodal`); `None` for simplicial analyses, which faer factors.
+    /// `solve::supernodal`); `None` with [`Backend::Faer`] and for simplicial analyses,
+    /// which faer factors.
     plan: Option<Plan>,
 }
 
@@ -121,21 +139,6 @@ impl SymbolicFactor {
     }
 }
 
-static SUBTREE_PARALLEL: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(true);
-
-/// Switches the subtree-parallel numeric factorization and substitution
-/// ([`Cholesky::solve_in_place_subtrees`], `solve::supernodal`) on (the default) or off
-/// (faer's sequential supernodal factorization and substitution), for the whole process: a
-/// benchmark switch. Both give the same factor up to round-off, and the same substitution bit
-/// for bit; each is deterministic.
-pub fn set_subtree_parallel(on: bool) {
-    SUBTREE_PARALLEL.store(on, std::sync::atomic::Ordering::Relaxed);
-}
-
-fn subtree_parallel() -> bool {
-    SUBTREE_PARALLEL.load(std::sync::atomic::Ordering::Relaxed)
-}
-
 /// faer's symbolic analysis of `pattern` in the order `fwd` (original index of each new one).
 fn custom_symbolic(pattern: &Pattern, fwd: Vec<usize>) -> Option<SymbolicCholesky<usize>> {
     let mut inv = vec![0; fwd.len()];
@@ -170,10 +173,11 @@ pub struct NotPositiveDefinite {
 }
 
 impl SymbolicFactor {
-    /// Analyses `pattern`: AMD, and on networks of more than [`ND_MIN_DOFS`] unknowns also
-    /// nested dissection, keeping the ordering with less fill (see [`super::ordering`]).
-    pub fn new(pattern: &Pattern) -> Arc<Self> {
-        Arc::new(Self::analyse(pattern))
+    /// Analyses `pattern` for factorizations by `backend`: AMD, and on networks of more than
+    /// [`ND_MIN_DOFS`] unknowns also nested dissection, keeping the ordering with less fill
+    /// (see [`super::ordering`]).
+    pub fn new(pattern: &Pattern, backend: Backend) -> Arc<Self> {
+        Arc::new(Self::analyse(pattern, None, backend))
     }
 
     /// An analysis of the coordinates `keep` selects (`keep.len() == pattern.n`) for matrices
@@ -182,7 +186,8 @@ impl SymbolicFactor {
     /// it take values on the whole `pattern` and give a factor of the whole matrix — the
     /// principal submatrix on `keep` factored sparsely, the rest a diagonal — at the cost of
     /// the kept coordinates only. A matrix that does couple a left-out coordinate is factored
-    /// with `full` (the whole pattern's analysis) instead: the result is always exact.
+    /// with `full` (the whole pattern's analysis) instead: the result is always exact. The
+    /// analysis has `full`'s backend.
     pub fn restricted(full: &Arc<SymbolicFactor>, pattern: &Pattern, keep: &[bool]) -> Arc<Self> {
         let (sub, slots, dofs) = pattern.principal(keep);
         let mut rest = Vec::new();
@@ -200,8 +205,8 @@ impl SymbolicFactor {
             }
         }
         // A fresh ordering of the part (the whole network's ordering restricted to it leaves
-        // 14% more fill on the tower), with the whole network's choice of method.
-        let mut analysis = Self::analyse_preferring(&sub, Some(full.ordering));
+        // more fill), with the whole network's choice of method.
+        let mut analysis = Self::analyse(&sub, Some(full.ordering), full.backend);
 
         analysis.restriction = Some(Restriction {
             full: full.clone(),
@@ -220,14 +225,15 @@ impl SymbolicFactor {
         self.inner.nrows()
     }
 
-    fn analyse(pattern: &Pattern) -> Self {
-        Self::analyse_preferring(pattern, None)
+    /// The factorizations' backend.
+    pub fn backend(&self) -> Backend {
+        self.backend
     }
 
     /// AMD and, on patterns of at least [`ND_MIN_DOFS`] unknowns, nested dissection, keeping
     /// the one with less fill; with `prefer` set to nested dissection (a part of a network
     /// whose own analysis chose it), nested dissection alone when it is available.
-    fn analyse_preferring(pattern: &Pattern, prefer: Option<OrderingKind>) -> Self {
+    fn analyse(pattern: &Pattern, prefer: Option<OrderingKind>, backend: Backend) -> Self {
         let nd = (pattern.n >= ND_MIN_DOFS)
             .then(|| ordering::nested_dissection(pattern))
             .flatten()
@@ -257,7 +263,7 @@ impl SymbolicFactor {
                 }
             }
         };
-        Self::finish(pattern, best.0, best.1)
+        Self::finish(pattern, best.0, best.1, backend)
     }
 
     /// The analysis of `pattern` with the supernodes of `inner` (an analysis of it) renumbered
@@ -266,6 +272,7 @@ impl SymbolicFactor {
         pattern: &Pattern,
         mut inner: SymbolicCholesky<usize>,
         ordering: OrderingKind,
+        backend: Backend,
     ) -> Self {
         // The renumbered analysis can merge supernodes differently, hence the loop.
         for _ in 0..4 {
@@ -281,17 +288,18 @@ impl SymbolicFactor {
             }
         }
         let plan = match inner.raw() {
-            SymbolicCholeskyRaw::Supernodal(sup) => Plan::new(
+            SymbolicCholeskyRaw::Supernodal(sup) if backend == Backend::Subtrees => Plan::new(
                 sup,
                 inner.perm().map(|p| p.arrays().1),
                 &pattern.col_ptr,
                 &pattern.row_idx,
             ),
-            SymbolicCholeskyRaw::Simplicial(_) => None,
+            _ => None,
         };
         SymbolicFactor {
             inner,
             ordering,
+            backend,
             pool: Default::default(),
             restriction: None,
             plan,
@@ -315,8 +323,9 @@ impl SymbolicFactor {
         Some(plan.changed_supernodes(&cols))
     }
 
-    /// The share of a factorization's work that [`Cholesky::factorize_reusing`] redoes when
-    /// the matrix changes only in rows and columns `coords` (1 without a plan).
+    /// The share of a factorization's work that a factorization reusing another
+    /// ([`Reuse`]) redoes when the matrix changes only in rows and columns `coords` (1 with
+    /// [`Backend::Faer`], which reuses nothing).
     pub fn changed_work_share(&self, coords: &[usize]) -> f64 {
         match (self.plan.as_ref(), self.changed_supernodes(coords)) {
             (Some(plan), Some(changed)) => plan.work_share(&changed),
@@ -330,14 +339,13 @@ impl SymbolicFactor {
     }
 
     /// Independent subtrees of the elimination tree the numeric factorization can run in
-    /// parallel (1: sequential; 0: faer's own factorization, for simplicial analyses).
+    /// parallel (1: sequential; 0: faer's own factorization).
     pub fn parallel_subtrees(&self) -> usize {
         self.plan.as_ref().map_or(0, Plan::parallel_tasks)
     }
 
-    /// Independent subtrees Newton's triangular substitutions run in parallel
-    /// ([`Cholesky::solve_in_place_subtrees`]; 1: sequential; 0: faer's substitution, for
-    /// simplicial analyses).
+    /// Independent subtrees a [`Schedule::Subtrees`] substitution runs in parallel (1:
+    /// sequential; 0: faer's substitution).
     pub fn parallel_solve_subtrees(&self) -> usize {
         self.plan.as_ref().map_or(0, Plan::parallel_solve_tasks)
     }
@@ -348,12 +356,20 @@ impl SymbolicFactor {
     }
 }
 
-/// How a solve runs its triangular substitutions.
-#[derive(Clone, Copy, Debug)]
-enum Substitution {
-    /// Fixed groups of this many columns in parallel, each by faer's sequential substitution.
+/// How a solve runs its triangular substitutions. A column's values depend on the schedule
+/// (on which columns share its substitution), never on the thread count.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Schedule {
+    /// Fixed groups of this many columns (at least 1) run in parallel, each by one sequential
+    /// substitution: one column per group when the caller leaves a core idle (two groups side
+    /// by side cost little more than one), a few when every core is busy with other solves
+    /// (one pass over the factor serves the group).
     Groups(usize),
-    /// All the columns in one substitution whose independent subtrees run in parallel.
+    /// All the columns in one substitution whose independent subtrees run in parallel
+    /// (`solve::supernodal`; sequential without a parallel schedule or with
+    /// [`Backend::Faer`]): for callers that leave the cores idle, such as Newton's steps.
+    /// Bit-identical to one group of all the columns; where the cores are busy with other
+    /// work, its deferred updates make it slower than that.
     Subtrees,
 }
 
@@ -374,9 +390,9 @@ impl Drop for Cholesky {
     }
 }
 
-/// A factorization to copy values from: [`Cholesky::factorize_reusing`]'s reference, and the
-/// coordinates (of the whole pattern) whose rows and columns hold every entry in which the
-/// new matrix differs from the reference's.
+/// A factorization to copy values from ([`Cholesky::factorize`]), and the coordinates (of the
+/// whole pattern) whose rows and columns hold every entry in which the new matrix differs
+/// from the reference's.
 #[derive(Clone, Copy, Debug)]
 pub struct Reuse<'a> {
     /// A factorization with the same analysis and shift.
@@ -386,99 +402,46 @@ pub struct Reuse<'a> {
 }
 
 impl Cholesky {
-    /// Factors `H + τI`, `H` given by its upper-triangle `values` in `pattern`.
+    /// Factors `H + τI` (`τ = shift`), `H` given by its upper-triangle `values` in `pattern`,
+    /// with `symbolic` (an analysis of `pattern`, or a restriction of one).
+    ///
+    /// With `reuse`, a factorization of a matrix that differs from this one only in entries
+    /// whose row and column both lie in [`Reuse::changed`]: the supernodes the difference
+    /// cannot reach are copied from it, the others factored. The factor is bit-identical
+    /// either way (same values, same operations); a reference that does not fit (another
+    /// analysis or shift, or [`Backend::Faer`]) is ignored.
     pub fn factorize(
-        symbolic: &Arc<SymbolicFactor>,
-        pattern: &Pattern,
-        values: &[f64],
-        shift: f64,
-    ) -> Result<Cholesky, NotPositiveDefinite> {
-        crate::profile::time(crate::profile::Phase::Factor, || {
-            Self::factorize_impl(symbolic, pattern, values, shift, subtree_parallel())
-        })
-    }
-
-    /// [`Cholesky::factorize`] with faer's own sequential numeric factorization: the
-    /// reference the subtree-parallel one (`solve::supernodal`) is tested against.
-    pub fn factorize_reference(
-        symbolic: &Arc<SymbolicFactor>,
-        pattern: &Pattern,
-        values: &[f64],
-        shift: f64,
-    ) -> Result<Cholesky, NotPositiveDefinite> {
-        Self::factorize_impl(symbolic, pattern, values, shift, false)
-    }
-
-    /// [`Cholesky::factorize_reusing`] when `reuse` is given, else [`Cholesky::factorize`].
-    pub fn factorize_maybe_reusing(
         symbolic: &Arc<SymbolicFactor>,
         pattern: &Pattern,
         values: &[f64],
         shift: f64,
         reuse: Option<Reuse<'_>>,
     ) -> Result<Cholesky, NotPositiveDefinite> {
-        match reuse {
-            Some(r) => {
-                Self::factorize_reusing(symbolic, pattern, values, shift, r.reference, r.changed)
-            }
-            None => Self::factorize(symbolic, pattern, values, shift),
-        }
-    }
-
-    /// [`Cholesky::factorize`] of a matrix that differs from the one `reference` factors
-    /// only in entries whose row and column both lie in `changed` (coordinates of the whole
-    /// pattern), with the same analysis and shift: the supernodes the difference cannot
-    /// reach are copied from `reference`, the others factored. The factor is bit-identical
-    /// to [`Cholesky::factorize`]'s (same values, same operations). Falls back to a whole
-    /// factorization when the reference does not fit (another analysis or shift, no
-    /// subtree-parallel plan).
-    pub fn factorize_reusing(
-        symbolic: &Arc<SymbolicFactor>,
-        pattern: &Pattern,
-        values: &[f64],
-        shift: f64,
-        reference: &Cholesky,
-        changed: &[usize],
-    ) -> Result<Cholesky, NotPositiveDefinite> {
         crate::profile::time(crate::profile::Phase::Factor, || {
-            let fits = Arc::ptr_eq(symbolic, &reference.symbolic)
-                && reference.shift.to_bits() == shift.to_bits()
-                && subtree_parallel();
-            let Some(changed) = fits.then(|| symbolic.changed_supernodes(changed)).flatten() else {
-                return Self::factorize_impl(symbolic, pattern, values, shift, subtree_parallel());
-            };
-            Self::factorize_with(
-                symbolic,
-                pattern,
-                values,
-                shift,
-                true,
-                Some((reference, &changed)),
-            )
+            let changed = reuse
+                .filter(|r| {
+                    Arc::ptr_eq(symbolic, &r.reference.symbolic)
+                        && r.reference.shift.to_bits() == shift.to_bits()
+                })
+                .and_then(|r| Some((r.reference, symbolic.changed_supernodes(r.changed)?)));
+            let copy = changed.as_ref().map(|(r, c)| (*r, &c[..]));
+            Self::factorize_shifted(symbolic, pattern, values, shift, copy)
         })
     }
 
-    fn factorize_impl(
+    /// Adds the shift and factors, on the kept coordinates of a restricted analysis (the
+    /// others' diagonal apart), or with the whole pattern's analysis when the matrix couples a
+    /// left-out coordinate.
+    fn factorize_shifted(
         symbolic: &Arc<SymbolicFactor>,
         pattern: &Pattern,
         values: &[f64],
         shift: f64,
-        tree: bool,
-    ) -> Result<Cholesky, NotPositiveDefinite> {
-        Self::factorize_with(symbolic, pattern, values, shift, tree, None)
-    }
-
-    fn factorize_with(
-        symbolic: &Arc<SymbolicFactor>,
-        pattern: &Pattern,
-        values: &[f64],
-        shift: f64,
-        tree: bool,
         reuse: Option<(&Cholesky, &[bool])>,
     ) -> Result<Cholesky, NotPositiveDefinite> {
         if let Some(r) = &symbolic.restriction {
             if r.coupling.iter().any(|&k| values[k] != 0.0) {
-                return Self::factorize_impl(&r.full, pattern, values, shift, tree);
+                return Self::factorize_shifted(&r.full, pattern, values, shift, None);
             }
             let mut rest = Vec::with_capacity(r.rest.len());
             for &(j, k) in &r.rest {
@@ -492,7 +455,7 @@ impl Cholesky {
             for &d in &r.sub.diag {
                 sub[d] += shift;
             }
-            let mut f = Self::factorize_sub(symbolic, &r.sub, &sub, tree, reuse)?;
+            let mut f = Self::factorize_kept(symbolic, &r.sub, &sub, reuse)?;
             f.rest = rest;
             f.shift = shift;
             return Ok(f);
@@ -508,23 +471,22 @@ impl Cholesky {
         } else {
             values
         };
-        let mut f = Self::factorize_sub(symbolic, pattern, vals, tree, reuse)?;
+        let mut f = Self::factorize_kept(symbolic, pattern, vals, reuse)?;
         f.shift = shift;
         Ok(f)
     }
 
     /// Factors the matrix with upper-triangle `vals` on `pattern`, the pattern `symbolic`
     /// analysed (the whole pattern, or the kept coordinates of a restricted analysis).
-    fn factorize_sub(
+    fn factorize_kept(
         symbolic: &Arc<SymbolicFactor>,
         pattern: &Pattern,
         vals: &[f64],
-        tree: bool,
         reuse: Option<(&Cholesky, &[bool])>,
     ) -> Result<Cholesky, NotPositiveDefinite> {
         let sym = &symbolic.inner;
         let mut l_values = symbolic.take_values();
-        if let Some(plan) = symbolic.plan.as_ref().filter(|_| tree) {
+        if let Some(plan) = symbolic.plan.as_ref() {
             let result = match reuse {
                 Some((reference, changed)) => {
                     plan.factorize_partial(vals, &mut l_values, &reference.values, changed)
@@ -572,43 +534,25 @@ impl Cholesky {
         }
     }
 
-    /// Solves `(H + τI) X = B` in place for the columns of `rhs`, in fixed groups of
-    /// [`SOLVE_GROUP`] columns run in parallel.
-    pub fn solve_in_place(&self, rhs: MatMut<'_, f64>) {
-        self.solve_in_place_grouped(rhs, SOLVE_GROUP);
-    }
-
-    /// [`Self::solve_in_place`] in fixed groups of `group` columns (at least 1) run in
-    /// parallel, each group by one sequential substitution: one column per group when the
-    /// caller leaves a core idle (arched shell: a two-column solve 1.27 ms, a one-column one
-    /// 0.86 ms, and two groups side by side cost little more than one), a few when every core
-    /// is busy with other solves (one pass over the factor serves the group). A column's
-    /// values depend on the grouping, never on the thread count.
-    pub fn solve_in_place_grouped(&self, rhs: MatMut<'_, f64>, group: usize) {
+    /// Solves `(H + τI) X = B` in place for the columns of `rhs`, on `schedule`.
+    pub fn solve_in_place(&self, rhs: MatMut<'_, f64>, schedule: Schedule) {
+        let schedule = match schedule {
+            Schedule::Groups(g) => Schedule::Groups(g.max(1)),
+            s => s,
+        };
         crate::profile::time(crate::profile::Phase::Solve, || {
-            self.solve_impl(rhs, Substitution::Groups(group.max(1)))
+            self.solve_scheduled(rhs, schedule)
         })
     }
 
-    /// Solves `(H + τI) X = B` in place for all the columns of `rhs` in one substitution
-    /// whose independent subtrees run in parallel (`solve::supernodal`; sequential when the
-    /// analysis has no parallel schedule or [`set_subtree_parallel`] is off): for callers
-    /// that leave the cores idle, such as Newton's steps (arched shell: 0.60 ms on two
-    /// threads for one column, 0.78 ms sequential). Bit-identical to
-    /// [`Self::solve_in_place_grouped`] with one group of all the columns; where the cores are
-    /// busy with other work, its deferred updates make it about 10% slower than that.
-    pub fn solve_in_place_subtrees(&self, rhs: MatMut<'_, f64>) {
-        crate::profile::time(crate::profile::Phase::Solve, || {
-            let how = if subtree_parallel() {
-                Substitution::Subtrees
-            } else {
-                Substitution::Groups(rhs.ncols().max(1))
-            };
-            self.solve_impl(rhs, how)
-        })
+    /// Solves for one right-hand side given as a slice, on [`Schedule::Subtrees`].
+    pub fn solve_vec(&self, rhs: &mut [f64]) {
+        let n = rhs.len();
+        let m = faer::MatMut::from_column_major_slice_mut(rhs, n, 1);
+        self.solve_in_place(m, Schedule::Subtrees);
     }
 
-    fn solve_impl(&self, rhs: MatMut<'_, f64>, how: Substitution) {
+    fn solve_scheduled(&self, rhs: MatMut<'_, f64>, how: Schedule) {
         let Some(r) = &self.symbolic.restriction else {
             self.solve_kept(rhs, how);
             return;
@@ -628,13 +572,13 @@ impl Cholesky {
     }
 
     /// Solves on the coordinates the factor covers.
-    fn solve_kept(&self, rhs: MatMut<'_, f64>, how: Substitution) {
+    fn solve_kept(&self, rhs: MatMut<'_, f64>, how: Schedule) {
         let group = match how {
-            Substitution::Subtrees => {
+            Schedule::Subtrees => {
                 self.solve_subtrees(rhs);
                 return;
             }
-            Substitution::Groups(group) => group,
+            Schedule::Groups(group) => group,
         };
         // Columns are solved in fixed groups of `group`, in parallel when threads are
         // free. faer's result for a column depends on which columns share its call, so the
@@ -689,13 +633,5 @@ impl Cholesky {
             Par::Seq,
             MemStack::new(&mut mem),
         );
-    }
-
-    /// Solves for one right-hand side given as a slice, by
-    /// [`Self::solve_in_place_subtrees`].
-    pub fn solve_vec(&self, rhs: &mut [f64]) {
-        let n = rhs.len();
-        let m = faer::MatMut::from_column_major_slice_mut(rhs, n, 1);
-        self.solve_in_place_subtrees(m);
     }
 }

@@ -1,12 +1,15 @@
 //! Numerical solvers: sparse Cholesky on a fixed pattern, Newton equilibrium, eigenpairs.
 //!
-//! - [`factor`]: symbolic analysis once per network, numeric factorization per matrix;
-//! - `supernodal`: the numeric factorization, independent subtrees of the elimination tree in
-//!   parallel;
-//! - [`newton`]: equilibrium of any structure (SPEC §4);
+//! - [`factor`]: symbolic analysis once per network, numeric factorization per matrix, on a
+//!   [`Backend`] chosen per analysis;
+//! - `supernodal`: the numeric factorization and substitutions with independent subtrees of
+//!   the elimination tree in parallel;
+//! - [`newton`]: the equilibrium of any structure (`docs/model.md`, *Equilibrium*);
 //! - [`ordering`]: fill-reducing orderings (AMD, nested dissection with METIS);
 //! - [`lanczos`]: thick-restart block Lanczos for the largest eigenpairs of an operator;
-//! - [`eigen`]: shift-and-invert driver giving the smallest eigenpairs of a Hessian (SPEC §5).
+//! - [`eigen`]: the shift-and-invert driver giving the smallest eigenpairs of a Hessian
+//!   (`docs/model.md`, *Stability*);
+//! - [`tuning`]: the solvers' speed knobs, apart from the parameters that define a result.
 
 pub mod eigen;
 pub mod factor;
@@ -14,9 +17,11 @@ pub mod lanczos;
 pub mod newton;
 pub mod ordering;
 mod supernodal;
+pub mod tuning;
 
 pub use eigen::{
-    EigenError, EigenParams, Spectrum, smallest_eigenpairs, smallest_eigenpairs_factored,
+    Eigen, EigenError, EigenOptions, EigenParams, Shift, Spectrum, Start, smallest_eigenpairs,
 };
-pub use factor::{Cholesky, NotPositiveDefinite, Reuse, SymbolicFactor};
-pub use newton::{NewtonInfo, NewtonParams, NewtonStop, relax, relax_assembled};
+pub use factor::{Backend, Cholesky, NotPositiveDefinite, Reuse, Schedule, SymbolicFactor};
+pub use newton::{Equilibrium, NewtonInfo, NewtonParams, NewtonStop, NewtonSummary, Relaxed};
+pub use tuning::SolverTuning;

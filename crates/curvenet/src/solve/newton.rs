@@ -1,31 +1,39 @@
-//! Equilibrium by Newton's method (SPEC §4).
+//! Equilibrium by Newton's method (`docs/model.md`, *Equilibrium*).
 //!
-//! Each step solves `(H + τI) d = ∇E` with the shared symbolic factorization; `τ = 0` unless the
-//! factorization fails or `−d` is not a descent direction, in which case `τ` grows geometrically
-//! from a small multiple of the diagonal's scale. A backtracking (Armijo) line search follows;
-//! once energy differences are below round-off, a step is accepted if it reduces `‖∇E‖`. Where
-//! the Hessian is indefinite (a saddle on the way), the step comes from the Hessian with every
-//! term projected to be positive semidefinite, and a full such step is doubled while the
-//! energy keeps falling ([`NewtonParams::escape_doublings`]).
-//! Converged when `‖∇E‖ ≤ rel_tol · ‖∇E(x_start)‖`, or when `‖∇E‖` stops decreasing at the
-//! round-off floor; every way of stopping is reported, never hidden. In the quadratic phase
-//! (relative gradient below [`NewtonParams::chord_below`]) a step reuses the last
-//! factorization: an old factor cuts the residual there nearly as well as a fresh one.
+//! Each step solves `(H + τI) d = ∇E` with the structure's symbolic analysis; `τ = 0` unless
+//! the factorization fails or `−d` is not a descent direction. Where the Hessian is
+//! indefinite (a saddle on the way) the step comes from the Hessian with every term projected
+//! to be positive semidefinite (a convex model), shifted only if even that is singular, and a
+//! full such step is doubled while the energy keeps falling
+//! ([`SolverTuning::escape_doublings`]). A backtracking (Armijo) line search follows; once
+//! energy differences are below round-off, a step is accepted if it reduces `‖∇E‖`. In the
+//! quadratic phase a step may reuse the last factorization ([`SolverTuning::chord_below`]).
+//!
+//! **Convergence** is judged against a scale `g₀`: the structure's gradient norm in the drawn
+//! state (so the tolerance means the same for every solve of it, whatever state it starts
+//! from), but never below the forces' natural scale
+//! ([`EnergyModel::natural_force_scale`]): a structure already at rest in its drawn state
+//! (unloaded straight rods), whose drawn gradient is pure round-off, converges at once instead
+//! of chasing a tolerance below round-off. Converged when `‖∇E‖ ≤ rel_tol · g₀`, or when `‖∇E‖` stops
+//! decreasing at the round-off floor within [`NewtonParams::floor_max_rel`]; every way of
+//! stopping is reported ([`NewtonStop`]), never hidden.
 
 use super::factor::{Cholesky, SymbolicFactor};
+use super::tuning::SolverTuning;
+use crate::rod::model::{Assembly, Terms};
 use crate::rod::{ActiveSet, EnergyModel};
 use serde::{Deserialize, Serialize};
+use std::convert::Infallible;
 use std::sync::Arc;
 
-/// Newton parameters.
+/// Newton parameters: what an equilibrium is, and how hard to look for it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct NewtonParams {
-    /// Relative gradient tolerance (SPEC: `1e-10`).
+    /// Relative gradient tolerance (against the convergence scale; the paper's `1e-10`).
     pub rel_tol: f64,
-    /// Iteration cap. Structures near a mechanism relax by long walks along their soft mode:
-    /// the bunny's final three curves take 390 steps (1.4 s), and stopped at 200 they sat
-    /// 1,700 units (half the model's size) short of their equilibrium.
+    /// Iteration cap. Structures near a mechanism relax by long walks along their soft mode
+    /// (hundreds of steps: `docs/benchmarks.md`).
     pub max_iterations: usize,
     /// Armijo sufficient-decrease constant.
     pub armijo: f64,
@@ -36,65 +44,6 @@ pub struct NewtonParams {
     pub stall_iterations: usize,
     /// A stall at a relative gradient above this is a failure, not a round-off floor.
     pub floor_max_rel: f64,
-    /// Within this factor of the tolerance, one iteration that neither halves `‖∇E‖` nor
-    /// moves the energy beyond round-off ends the solve at the round-off floor (Newton's
-    /// quadratic convergence would have passed the tolerance); farther away it takes
-    /// `stall_iterations` of them.
-    #[serde(default = "default_floor_near")]
-    pub floor_near: f64,
-    /// Reuse the last factorization for a step ("chord" step) and keep it when the step cuts
-    /// `‖∇E‖` by at least this factor; 0 (the default) disables reuse. On the paper's
-    /// examples a fresh factorization per step is faster: a rejected chord step costs an
-    /// assembly, and warm-started solves need few steps (docs/benchmarks.md).
-    pub chord_ratio: f64,
-    /// Below this relative gradient `‖∇E‖ / ‖∇E(x_start)‖`, steps reuse the last
-    /// factorization instead of a fresh one ("chord" steps, judged by the same line search
-    /// and round-off floor test as any step); 0 never. Newton is then in its quadratic
-    /// phase: the Hessian has moved by the last step's length, so the old factor's error
-    /// shrinks the residual nearly as much as a fresh one (arched shell: 1e-6 → 1e-8 →
-    /// 4e-10 either way), and near the round-off floor a fresh factorization would be spent
-    /// on the step that finds the floor. Only after a full step that cut `‖∇E‖`
-    /// sixteenfold (fourfold for a chord step): along a soft mode Newton's full steps do not,
-    /// and an old factor's steps wander there (the bunny's late relaxations). A chord step
-    /// that stalls declares the round-off floor only within `floor_near` × the tolerance;
-    /// farther away, and after a failed line search, the next step factors afresh.
-    #[serde(default = "default_chord_below")]
-    pub chord_below: f64,
-    /// Conjugate-gradient iterations allowed per Newton system when an earlier factorization
-    /// preconditions it; 0 (the default) always refactors. Off by default for the same
-    /// reason: sixteen preconditioned iterations cost about as much as a factorization.
-    #[serde(default = "default_krylov_iterations")]
-    pub krylov_iterations: usize,
-    /// Relative residual the conjugate gradients must reach.
-    #[serde(default = "default_krylov_tol")]
-    pub krylov_tol: f64,
-    /// Near a saddle (the Hessian indefinite, the step from the projected Hessian) a full step
-    /// that lowers the energy is doubled up to this many times while the energy keeps
-    /// falling: the projected model's curvature along the escape direction is far above the
-    /// true (negative) one, so its steps creep away from the saddle (bunny: eighty steps
-    /// growing 8% each). 0 never extends a step; steps from the exact Hessian never are.
-    #[serde(default = "default_escape_doublings")]
-    pub escape_doublings: usize,
-}
-
-fn default_escape_doublings() -> usize {
-    30
-}
-
-fn default_chord_below() -> f64 {
-    1e-6
-}
-
-fn default_floor_near() -> f64 {
-    100.0
-}
-
-fn default_krylov_iterations() -> usize {
-    0
-}
-
-fn default_krylov_tol() -> f64 {
-    1e-4
 }
 
 impl Default for NewtonParams {
@@ -106,12 +55,6 @@ impl Default for NewtonParams {
             max_backtracks: 60,
             stall_iterations: 4,
             floor_max_rel: 1e-6,
-            floor_near: default_floor_near(),
-            chord_ratio: 0.0,
-            chord_below: default_chord_below(),
-            krylov_iterations: default_krylov_iterations(),
-            krylov_tol: default_krylov_tol(),
-            escape_doublings: default_escape_doublings(),
         }
     }
 }
@@ -123,18 +66,6 @@ impl NewtonParams {
             return Err(format!(
                 "Newton tolerance must lie in (0, 1), got {}",
                 self.rel_tol
-            ));
-        }
-        if !(self.chord_below >= 0.0 && self.chord_below < 1.0) {
-            return Err(format!(
-                "Newton's chord_below must lie in [0, 1), got {}",
-                self.chord_below
-            ));
-        }
-        if !(self.floor_near >= 1.0 && self.floor_near.is_finite()) {
-            return Err(format!(
-                "Newton's floor_near must be a finite factor of at least 1, got {}",
-                self.floor_near
             ));
         }
         if self.max_iterations == 0 {
@@ -150,15 +81,25 @@ impl NewtonParams {
     }
 }
 
-/// A chord step in the quadratic phase must cut `‖∇E‖` by this factor, or the next step
-/// factors afresh ([`NewtonParams::chord_below`]).
+/// A chord step in the quadratic phase must cut `‖∇E‖` by this factor (a fresh
+/// factorization's step by its square), or the next step factors afresh.
 const CHORD_CUT: f64 = 0.25;
+
+/// Shifts of the projected Hessian tried (each ten times the last) before giving up.
+const MAX_SHIFTS: usize = 40;
+
+/// Energy differences below this share of the energy are round-off (the line search then
+/// judges a step by the gradient).
+const ENERGY_ROUNDOFF: f64 = 1e-13;
+
+/// The energy "no longer moves" (a stalled iteration) when it fell by at most this share.
+const ENERGY_STALL: f64 = 1e-12;
 
 /// How a Newton solve stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum NewtonStop {
-    /// `‖∇E‖ ≤ rel_tol · ‖∇E(x_start)‖`.
+    /// `‖∇E‖ ≤ rel_tol · g₀`.
     Converged,
     /// `‖∇E‖` stopped decreasing at the round-off floor before reaching the tolerance.
     RoundoffFloor,
@@ -175,7 +116,7 @@ pub enum NewtonStop {
 /// What a Newton solve did.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct NewtonInfo {
-    /// Newton iterations (factorizations of an accepted step).
+    /// Newton iterations (accepted steps).
     pub iterations: usize,
     /// True for [`NewtonStop::Converged`] and [`NewtonStop::RoundoffFloor`].
     pub converged: bool,
@@ -185,7 +126,7 @@ pub struct NewtonInfo {
     pub grad_start: f64,
     /// `‖∇E‖` at the end.
     pub grad_end: f64,
-    /// `‖∇E‖ / ‖∇E(x_start)‖` at the end.
+    /// `‖∇E‖ / g₀` at the end (`g₀`: the convergence scale).
     pub grad_rel: f64,
     /// Energy at the end.
     pub energy: f64,
@@ -195,222 +136,279 @@ pub struct NewtonInfo {
     pub chord_steps: usize,
     /// Iterations whose direction came from the projected (convex) Hessian.
     pub projected_steps: usize,
-    /// Iterations whose Newton system was solved by preconditioned conjugate gradients.
-    pub krylov_steps: usize,
     /// Largest diagonal shift `τ` used.
     pub max_shift: f64,
-    /// Doublings of steps escaping a saddle ([`NewtonParams::escape_doublings`]).
-    #[serde(default)]
+    /// Doublings of steps escaping a saddle ([`SolverTuning::escape_doublings`]).
     pub escape_doublings: usize,
 }
 
-/// Conjugate gradients for `H d = g` (`H` symmetric, upper triangle `hess` in `pattern`),
-/// preconditioned by the factorization `f` of a nearby matrix. `None` when `H` shows
-/// non-positive curvature or the relative residual does not reach `tol` within `max_it`.
-fn pcg(
-    pattern: &crate::rod::model::Pattern,
-    hess: &[f64],
-    g: &[f64],
-    f: &Cholesky,
-    tol: f64,
-    max_it: usize,
-) -> Option<Vec<f64>> {
-    if max_it == 0 {
-        return None;
-    }
-    let n = g.len();
-    let g_norm = norm(g);
-    let mut x = vec![0.0; n];
-    let mut r = g.to_vec();
-    let mut z = r.clone();
-    f.solve_vec(&mut z);
-    let mut p = z.clone();
-    let mut rz: f64 = r.iter().zip(&z).map(|(a, b)| a * b).sum();
-    let mut q = vec![0.0; n];
-    for _ in 0..max_it {
-        pattern.sym_matvec(hess, &p, &mut q);
-        let pq: f64 = p.iter().zip(&q).map(|(a, b)| a * b).sum();
-        if !(pq > 0.0 && pq.is_finite()) {
-            return None;
-        }
-        let alpha = rz / pq;
-        for i in 0..n {
-            x[i] += alpha * p[i];
-            r[i] -= alpha * q[i];
-        }
-        if norm(&r) <= tol * g_norm {
-            return Some(x);
-        }
-        z.copy_from_slice(&r);
-        f.solve_vec(&mut z);
-        let rz_new: f64 = r.iter().zip(&z).map(|(a, b)| a * b).sum();
-        let beta = rz_new / rz;
-        rz = rz_new;
-        for i in 0..n {
-            p[i] = z[i] + beta * p[i];
+impl NewtonInfo {
+    /// What a run's record keeps of the solve.
+    pub fn summary(&self) -> NewtonSummary {
+        NewtonSummary {
+            iterations: self.iterations,
+            converged: self.converged,
+            grad_rel: self.grad_rel,
+            stop: self.stop,
+            factorizations: self.factorizations,
+            chord_steps: self.chord_steps,
         }
     }
-    None
 }
 
-/// The Newton direction `F⁻¹ g` if it is a finite descent direction (`gᵀd > 0`).
-fn descent(f: &Cholesky, g: &[f64]) -> Option<Vec<f64>> {
-    let mut d = g.to_vec();
-    f.solve_vec(&mut d);
-    let gd: f64 = d.iter().zip(g).map(|(a, b)| a * b).sum();
-    (gd > 0.0 && gd.is_finite()).then_some(d)
+/// The part of [`NewtonInfo`] that results record (`result.json`, reports).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct NewtonSummary {
+    /// Iterations.
+    pub iterations: usize,
+    /// Converged (to the tolerance or the round-off floor).
+    pub converged: bool,
+    /// `‖∇E‖ / g₀` at the end (`g₀`: the convergence scale, see [`crate::solve::newton`]).
+    pub grad_rel: f64,
+    /// How it stopped.
+    pub stop: NewtonStop,
+    /// Numeric factorizations it took.
+    #[serde(default)]
+    pub factorizations: usize,
+    /// Steps that reused an earlier factorization.
+    #[serde(default)]
+    pub chord_steps: usize,
+}
+
+/// An equilibrium problem: a structure of an energy model, factored with `symbolic` (an
+/// analysis of the model's pattern, or one restricted to a superset of the structure's
+/// vertices), solved with `params` and `tuning`.
+#[derive(Clone, Copy, Debug)]
+pub struct Equilibrium<'a> {
+    /// The network's energy.
+    pub model: &'a EnergyModel,
+    /// The curves of the structure.
+    pub active: &'a ActiveSet,
+    /// The symbolic analysis every factorization uses.
+    pub symbolic: &'a Arc<SymbolicFactor>,
+    /// What an equilibrium is.
+    pub params: &'a NewtonParams,
+    /// How the work is done.
+    pub tuning: &'a SolverTuning,
+}
+
+/// A relaxed state's solve report and Hessian.
+#[derive(Clone, Debug)]
+pub struct Relaxed {
+    /// What the solve did.
+    pub info: NewtonInfo,
+    /// The Hessian values at the final state (the last assembly's: the same as
+    /// `model.assemble(x, active, true).hess`), for the spectrum that follows.
+    pub hess: Vec<f64>,
+}
+
+impl Equilibrium<'_> {
+    /// Relaxes the structure from displacements `x` (updated in place) to equilibrium.
+    ///
+    /// `warm`, a factorization of a nearby Hessian of the same structure (e.g. at a previous
+    /// equilibrium), serves the first step; only the work changes, never the tolerance met.
+    pub fn relax(&self, x: &mut [f64], warm: Option<Cholesky>) -> Relaxed {
+        let _timer = crate::profile::Timer::new(crate::profile::Phase::Relax);
+        let mut cur = self.model.assemble(x, self.active, true);
+        let mut solver = Solver::new(self, &cur, warm);
+        let Err(stop) = solver.run(x, &mut cur);
+        Relaxed {
+            info: solver.finish(stop),
+            hess: cur.hess,
+        }
+    }
+
+    /// The convergence scale `g₀`: the structure's gradient norm in the drawn state, at least
+    /// its forces' natural scale ([`EnergyModel::natural_force_scale`]).
+    pub fn convergence_scale(&self) -> f64 {
+        let zero = vec![0.0; self.model.dofs()];
+        let drawn = norm(&self.model.assemble(&zero, self.active, false).grad);
+        drawn.max(self.model.natural_force_scale(self.active))
+    }
+}
+
+/// `g / g₀`, 0 when `g₀` is.
+fn relative(g: f64, g_ref: f64) -> f64 {
+    if g_ref > 0.0 { g / g_ref } else { 0.0 }
 }
 
 fn norm(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
-/// Relaxes the structure `active` of `model` from displacements `x` (updated in place) to
-/// equilibrium.
-///
-/// `grad_reference` overrides `‖∇E(x_start)‖` in the relative test (pass the drawn state's
-/// gradient norm when warm-starting from a previous equilibrium, so the tolerance means the
-/// same thing for every solve).
-pub fn relax(
-    model: &EnergyModel,
-    active: &ActiveSet,
-    symbolic: &Arc<SymbolicFactor>,
-    x: &mut [f64],
-    grad_reference: Option<f64>,
-    params: &NewtonParams,
-) -> NewtonInfo {
-    relax_assembled(model, active, symbolic, x, grad_reference, params, None).0
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
-/// [`relax`] starting with `initial`, a factorization of a nearby Hessian (e.g. the
-/// structure's Hessian at a previous equilibrium), for the first steps (the result meets the
-/// same tolerance; only the work changes), and handing out the Hessian values at the final
-/// `x` (the last assembly's, the same as `model.assemble(x, active, true).hess`): the
-/// spectrum that follows a relaxation needs no assembly of its own.
-pub fn relax_assembled(
-    model: &EnergyModel,
-    active: &ActiveSet,
-    symbolic: &Arc<SymbolicFactor>,
-    x: &mut [f64],
-    grad_reference: Option<f64>,
-    params: &NewtonParams,
-    initial: Option<Cholesky>,
-) -> (NewtonInfo, Vec<f64>) {
-    let _timer = crate::profile::Timer::new(crate::profile::Phase::Relax);
-    let mut cur = model.assemble(x, active, true);
-    let info = newton_loop(
-        model,
-        active,
-        symbolic,
-        x,
-        grad_reference,
-        params,
-        initial,
-        &mut cur,
-    );
-    (info, cur.hess)
+/// The Newton direction `F⁻¹ g` if it is a finite descent direction (`gᵀd > 0`).
+fn descent(f: &Cholesky, g: &[f64]) -> Option<Vec<f64>> {
+    let mut d = g.to_vec();
+    f.solve_vec(&mut d);
+    let gd = dot(&d, g);
+    (gd > 0.0 && gd.is_finite()).then_some(d)
 }
 
-/// The Newton iteration of [`relax_assembled`] from `cur`, the assembly at `x`; `cur` stays
-/// the assembly at `x` throughout.
-#[allow(clippy::too_many_arguments)]
-fn newton_loop(
-    model: &EnergyModel,
-    active: &ActiveSet,
-    symbolic: &Arc<SymbolicFactor>,
-    x: &mut [f64],
-    grad_reference: Option<f64>,
-    params: &NewtonParams,
-    initial: Option<Cholesky>,
-    cur: &mut crate::rod::model::Assembly,
-) -> NewtonInfo {
-    let pattern = model.pattern();
-    let g_start = norm(&cur.grad);
-    let g_ref = grad_reference.unwrap_or(g_start);
-    let mut info = NewtonInfo {
-        iterations: 0,
-        converged: false,
-        stop: NewtonStop::MaxIterations,
-        grad_start: g_start,
-        grad_end: g_start,
-        grad_rel: if g_ref > 0.0 { g_start / g_ref } else { 0.0 },
-        energy: cur.energy,
-        factorizations: 0,
-        chord_steps: 0,
-        projected_steps: 0,
-        krylov_steps: 0,
-        max_shift: 0.0,
-        escape_doublings: 0,
-    };
-    if !cur.energy.is_finite() || !g_start.is_finite() {
-        info.stop = NewtonStop::NonFinite;
-        return info;
-    }
-    // Diagonal scale for shifts.
-    let diag_scale = {
-        let d: f64 = pattern.diag.iter().map(|&k| cur.hess[k].abs()).sum();
-        (d / pattern.n.max(1) as f64).max(f64::MIN_POSITIVE)
-    };
-    let mut trial = vec![0.0; x.len()];
-    let mut best_grad = g_start;
-    let mut stalled = 0;
-    let mut last_decrease = f64::INFINITY;
-    // `fresh`: a factorization of the Hessian at the current point (the caller's, at the
-    // start); `stale`: the last factorization, for chord steps at later points.
-    let mut fresh: Option<Cholesky> = initial;
-    let mut stale: Option<Cholesky> = None;
-    let mut last_projected = false;
-    // Whether the last step was a chord step, and whether a chord step's line search just
-    // failed (the step is retried with a fresh factorization).
-    let mut last_chord = false;
-    let mut retry_fresh = false;
-    // `‖∇E‖` before the last step if it was a full one, and whether it was a chord step.
-    let mut full_step: Option<(f64, bool)> = None;
-    loop {
-        let g_norm = norm(&cur.grad);
-        info.grad_end = g_norm;
-        info.grad_rel = if g_ref > 0.0 { g_norm / g_ref } else { 0.0 };
-        info.energy = cur.energy;
-        if g_norm <= params.rel_tol * g_ref || g_norm == 0.0 {
-            info.converged = true;
-            info.stop = NewtonStop::Converged;
-            return info;
+/// A step direction `d` (the step is `x − α d`) and the factorization it came from.
+struct Direction {
+    d: Vec<f64>,
+    factor: Cholesky,
+    /// From the projected Hessian (a saddle nearby): a full step may be extended.
+    projected: bool,
+}
+
+/// What a line search found: the step length, and the assembly at the new point when the
+/// search already made it.
+struct Accepted {
+    alpha: f64,
+    assembly: Option<Assembly>,
+}
+
+/// The state of one Newton solve between iterations.
+struct Solver<'a> {
+    eq: &'a Equilibrium<'a>,
+    /// The convergence scale `g₀`.
+    g_ref: f64,
+    /// Mean absolute diagonal of the starting Hessian: the scale of the shifts.
+    diag_scale: f64,
+    info: NewtonInfo,
+    /// The trial point of line searches.
+    trial: Vec<f64>,
+    best_grad: f64,
+    stalled: usize,
+    last_decrease: f64,
+    /// A factorization of the Hessian at the current point (the caller's, at the start).
+    fresh: Option<Cholesky>,
+    /// The last factorization, for chord steps at later points.
+    stale: Option<Cholesky>,
+    last_projected: bool,
+    /// Whether the last step was a chord step.
+    last_chord: bool,
+    /// A chord step's line search just failed: the step is retried with a fresh
+    /// factorization.
+    retry_fresh: bool,
+    /// `‖∇E‖` before the last step if it was a full one, and whether it was a chord step.
+    full_step: Option<(f64, bool)>,
+}
+
+impl<'a> Solver<'a> {
+    fn new(eq: &'a Equilibrium<'a>, cur: &Assembly, warm: Option<Cholesky>) -> Self {
+        let pattern = eq.model.pattern();
+        let g_start = norm(&cur.grad);
+        let g_ref = eq.convergence_scale();
+        let diag: f64 = pattern.diag.iter().map(|&k| cur.hess[k].abs()).sum();
+        Solver {
+            eq,
+            g_ref,
+            diag_scale: (diag / pattern.n.max(1) as f64).max(f64::MIN_POSITIVE),
+            info: NewtonInfo {
+                iterations: 0,
+                converged: false,
+                stop: NewtonStop::MaxIterations,
+                grad_start: g_start,
+                grad_end: g_start,
+                grad_rel: relative(g_start, g_ref),
+                energy: cur.energy,
+                factorizations: 0,
+                chord_steps: 0,
+                projected_steps: 0,
+                max_shift: 0.0,
+                escape_doublings: 0,
+            },
+            trial: vec![0.0; cur.grad.len()],
+            best_grad: g_start,
+            stalled: 0,
+            last_decrease: f64::INFINITY,
+            fresh: warm,
+            stale: None,
+            last_projected: false,
+            last_chord: false,
+            retry_fresh: false,
+            full_step: None,
         }
-        if g_norm <= 0.5 * best_grad {
-            best_grad = g_norm;
-            stalled = 0;
-        } else if (!last_chord || g_norm <= params.floor_near * params.rel_tol * g_ref)
-            && !retry_fresh
-            && info.iterations > 0
-            && last_decrease <= 1e-12 * cur.energy.abs()
+    }
+
+    fn finish(mut self, stop: NewtonStop) -> NewtonInfo {
+        self.info.stop = stop;
+        self.info.converged = matches!(stop, NewtonStop::Converged | NewtonStop::RoundoffFloor);
+        self.info
+    }
+
+    /// Newton iterations from `cur`, the assembly at `x` (it stays so), until a stop.
+    fn run(&mut self, x: &mut [f64], cur: &mut Assembly) -> Result<Infallible, NewtonStop> {
+        if !cur.energy.is_finite() || !self.info.grad_start.is_finite() {
+            return Err(NewtonStop::NonFinite);
+        }
+        loop {
+            let g_norm = norm(&cur.grad);
+            self.info.grad_end = g_norm;
+            self.info.grad_rel = relative(g_norm, self.g_ref);
+            self.info.energy = cur.energy;
+            self.stop_test(g_norm, cur.energy)?;
+            let chord_now = self.chord_now(g_norm);
+            let dir = self.direction(x, cur, g_norm, chord_now)?;
+            if self.eq.tuning.chord_below > 0.0 {
+                self.stale = Some(dir.factor);
+            }
+            match self.line_search(x, cur, &dir.d, g_norm, dir.projected) {
+                None if chord_now => {
+                    // The old factor's step found nothing: try a fresh factorization's.
+                    self.retry_fresh = true;
+                    self.last_chord = false;
+                    self.full_step = None;
+                }
+                // Nothing reduces energy or gradient: at the round-off floor if already
+                // close, otherwise a genuine failure.
+                None if self.info.grad_rel <= self.eq.params.floor_max_rel => {
+                    return Err(NewtonStop::RoundoffFloor);
+                }
+                None => return Err(NewtonStop::LineSearchFailed),
+                Some(step) => self.accept(x, cur, step, g_norm, chord_now)?,
+            }
+        }
+    }
+
+    /// Stops the solve when it converged, stalled at the round-off floor or ran out of
+    /// iterations.
+    fn stop_test(&mut self, g_norm: f64, energy: f64) -> Result<(), NewtonStop> {
+        let params = self.eq.params;
+        let tol = params.rel_tol * self.g_ref;
+        if g_norm <= tol || g_norm == 0.0 {
+            return Err(NewtonStop::Converged);
+        }
+        let near = g_norm <= self.eq.tuning.floor_near * params.rel_tol * self.g_ref;
+        if g_norm <= 0.5 * self.best_grad {
+            self.best_grad = g_norm;
+            self.stalled = 0;
+        } else if (!self.last_chord || near)
+            && !self.retry_fresh
+            && self.info.iterations > 0
+            && self.last_decrease <= ENERGY_STALL * energy.abs()
         {
             // The energy no longer moves and the gradient no longer halves: round-off floor.
             // A chord step that stalls proves it only near the tolerance, after steps that
             // showed Newton's quadratic convergence; farther away an old factor's step can
             // crawl along a soft mode where a fresh one still moves, so the next step factors
             // afresh.
-            best_grad = best_grad.min(g_norm);
-            stalled += 1;
-            let near = g_norm <= params.floor_near * params.rel_tol * g_ref;
-            if stalled >= params.stall_iterations || near {
-                info.converged = info.grad_rel <= params.floor_max_rel;
-                info.stop = if info.converged {
+            self.best_grad = self.best_grad.min(g_norm);
+            self.stalled += 1;
+            if self.stalled >= params.stall_iterations || near {
+                return Err(if self.info.grad_rel <= params.floor_max_rel {
                     NewtonStop::RoundoffFloor
                 } else {
                     NewtonStop::Stalled
-                };
-                return info;
+                });
             }
         }
-        if info.iterations >= params.max_iterations {
-            info.stop = NewtonStop::MaxIterations;
-            return info;
+        if self.info.iterations >= params.max_iterations {
+            return Err(NewtonStop::MaxIterations);
         }
+        Ok(())
+    }
 
-        // In the quadratic phase the last factorization serves the step: when the last full
-        // step cut `‖∇E‖` sixteenfold (a fresh factorization's) or fourfold (a chord step's).
-        // Along a soft mode full steps do not cut that much, and old factors' steps wander.
-        let quadratic = full_step.is_some_and(|(g0, chord)| {
+    /// Whether this step reuses the last factorization ([`SolverTuning::chord_below`]), which
+    /// it then takes as the current one.
+    fn chord_now(&mut self, g_norm: f64) -> bool {
+        let quadratic = self.full_step.is_some_and(|(g0, chord)| {
             let cut = if chord {
                 CHORD_CUT
             } else {
@@ -418,205 +416,204 @@ fn newton_loop(
             };
             g_norm <= cut * g0
         });
-        let chord_now = fresh.is_none()
+        let chord_now = self.fresh.is_none()
             && quadratic
-            && !retry_fresh
-            && stale.is_some()
-            && g_norm <= params.chord_below * g_ref;
-        retry_fresh = false;
+            && !self.retry_fresh
+            && self.stale.is_some()
+            && g_norm <= self.eq.tuning.chord_below * self.g_ref;
+        self.retry_fresh = false;
+        self.last_chord = chord_now;
+        let stale = self.stale.take();
         if chord_now {
-            fresh = stale.take();
+            self.fresh = stale;
         }
-        last_chord = chord_now;
-        // A chord step with an earlier factorization, kept when it cuts the gradient enough.
-        let mut krylov: Option<Cholesky> = None;
-        if let Some(f) = stale.take().filter(|_| fresh.is_none()) {
-            if params.chord_ratio > 0.0
-                && let Some(d) = descent(&f, &cur.grad)
-            {
-                let gd: f64 = d.iter().zip(&cur.grad).map(|(a, b)| a * b).sum();
-                for ((t, xi), di) in trial.iter_mut().zip(x.iter()).zip(&d) {
-                    *t = xi - di;
-                }
-                let a = model.assemble(&trial, active, true);
-                let roundoff = 1e-13 * cur.energy.abs().max(f64::MIN_POSITIVE);
-                let decreases = a.energy <= cur.energy - params.armijo * gd
-                    || (a.energy - cur.energy).abs() <= roundoff;
-                if a.energy.is_finite() && decreases && norm(&a.grad) <= params.chord_ratio * g_norm
-                {
-                    last_decrease = cur.energy - a.energy;
-                    x.copy_from_slice(&trial);
-                    *cur = a;
-                    info.iterations += 1;
-                    info.chord_steps += 1;
-                    stale = Some(f);
-                    continue;
-                }
-            }
-            if params.krylov_iterations > 0 {
-                krylov = Some(f);
-            }
-        }
+        chord_now
+    }
 
-        // Direction: the exact Hessian if it is positive definite, else the Hessian with every
-        // term's local Hessian projected to be positive semidefinite (a convex model that
-        // always gives a descent direction), shifted only if even that is singular.
-        // Next best to a factorization: the Newton system solved by conjugate gradients
-        // preconditioned with the earlier factorization (a nearby Hessian), when it converges
-        // in a few iterations.
-        let reuse = fresh
+    /// The step's direction: from the current factorization if it gives a descent direction,
+    /// else from the exact Hessian if it is positive definite, else from the projected one.
+    fn direction(
+        &mut self,
+        x: &[f64],
+        cur: &Assembly,
+        g_norm: f64,
+        chord_now: bool,
+    ) -> Result<Direction, NewtonStop> {
+        if let Some((d, factor)) = self
+            .fresh
             .take()
             .and_then(|f| descent(&f, &cur.grad).map(|d| (d, f)))
-            .inspect(|_| {
-                if chord_now {
-                    info.chord_steps += 1;
-                }
-            })
-            .or_else(|| {
-                let f = krylov.take()?;
-                let d = pcg(
-                    pattern,
-                    &cur.hess,
-                    &cur.grad,
-                    &f,
-                    params.krylov_tol,
-                    params.krylov_iterations,
-                )?;
-                let gd: f64 = d.iter().zip(&cur.grad).map(|(a, b)| a * b).sum();
-                (gd > 0.0 && gd.is_finite()).then(|| {
-                    info.krylov_steps += 1;
-                    (d, f)
-                })
+        {
+            if chord_now {
+                self.info.chord_steps += 1;
+            }
+            return Ok(Direction {
+                d,
+                factor,
+                projected: false,
             });
-        let mut projected_now = false;
-        let (d, f) = match reuse {
-            Some(pair) => pair,
-            None => {
-                // After a projected step the exact Hessian is usually still indefinite: try it
-                // again only every few iterations, or once the gradient has come down.
-                let try_exact =
-                    !last_projected || info.iterations % 4 == 0 || g_norm <= 1e-3 * g_ref;
-                let exact = if try_exact {
-                    info.factorizations += 1;
-                    Cholesky::factorize(symbolic, pattern, &cur.hess, 0.0)
-                        .ok()
-                        .and_then(|f| descent(&f, &cur.grad).map(|d| (d, f)))
-                } else {
-                    None
-                };
-                last_projected = exact.is_none();
-                match exact {
-                    Some(pair) => pair,
-                    None => {
-                        info.projected_steps += 1;
-                        projected_now = true;
-                        let locals = model.local_hessians_projected(x, active);
-                        let mut hp = Vec::new();
-                        model.hessian_from_locals(&locals, active, &mut hp);
-                        let mut shift = 0.0;
-                        let mut tries = 0;
-                        loop {
-                            tries += 1;
-                            info.factorizations += 1;
-                            if let Ok(f) = Cholesky::factorize(symbolic, pattern, &hp, shift) {
-                                if let Some(d) = descent(&f, &cur.grad) {
-                                    break (d, f);
-                                }
-                            }
-                            if tries > 40 {
-                                info.stop = NewtonStop::LineSearchFailed;
-                                return info;
-                            }
-                            shift = if shift == 0.0 {
-                                1e-12 * diag_scale
-                            } else {
-                                shift * 10.0
-                            };
-                            info.max_shift = info.max_shift.max(shift);
-                        }
-                    }
-                }
-            }
-        };
-        if params.chord_ratio > 0.0 || params.krylov_iterations > 0 || params.chord_below > 0.0 {
-            stale = Some(f);
         }
-        let gd: f64 = d.iter().zip(&cur.grad).map(|(a, b)| a * b).sum();
+        // After a projected step the exact Hessian is usually still indefinite: try it again
+        // only every few iterations, or once the gradient has come down.
+        let try_exact =
+            !self.last_projected || self.info.iterations % 4 == 0 || g_norm <= 1e-3 * self.g_ref;
+        let exact = if try_exact {
+            self.info.factorizations += 1;
+            self.factorize(&cur.hess, 0.0)
+                .and_then(|f| descent(&f, &cur.grad).map(|d| (d, f)))
+        } else {
+            None
+        };
+        self.last_projected = exact.is_none();
+        match exact {
+            Some((d, factor)) => Ok(Direction {
+                d,
+                factor,
+                projected: false,
+            }),
+            None => self.projected_direction(x, cur),
+        }
+    }
 
-        // Backtracking line search on x − α d.
-        let e0 = cur.energy;
-        let roundoff = 1e-13 * e0.abs().max(f64::MIN_POSITIVE);
-        let mut alpha = 1.0;
-        let mut accepted = None;
-        for _ in 0..=params.max_backtracks {
-            for ((t, xi), di) in trial.iter_mut().zip(x.iter()).zip(&d) {
-                *t = xi - alpha * di;
+    /// The direction from the Hessian with every term's local Hessian projected to be
+    /// positive semidefinite (always a descent direction), shifted only if even that is
+    /// singular.
+    fn projected_direction(&mut self, x: &[f64], cur: &Assembly) -> Result<Direction, NewtonStop> {
+        let Equilibrium { model, active, .. } = *self.eq;
+        self.info.projected_steps += 1;
+        let locals = model.local_hessians(x, Terms::ProjectedOf(active));
+        let mut hp = Vec::new();
+        model.hessian_from_locals(&locals, active, &mut hp);
+        let mut shift = 0.0;
+        for attempt in 0.. {
+            self.info.factorizations += 1;
+            if let Some(factor) = self.factorize(&hp, shift)
+                && let Some(d) = descent(&factor, &cur.grad)
+            {
+                return Ok(Direction {
+                    d,
+                    factor,
+                    projected: true,
+                });
             }
-            let e = model.energy(&trial, active);
+            if attempt == MAX_SHIFTS {
+                break;
+            }
+            shift = if shift == 0.0 {
+                1e-12 * self.diag_scale
+            } else {
+                shift * 10.0
+            };
+            self.info.max_shift = self.info.max_shift.max(shift);
+        }
+        Err(NewtonStop::LineSearchFailed)
+    }
+
+    fn factorize(&self, hess: &[f64], shift: f64) -> Option<Cholesky> {
+        let eq = self.eq;
+        Cholesky::factorize(eq.symbolic, eq.model.pattern(), hess, shift, None).ok()
+    }
+
+    /// Backtracking (Armijo) line search on `x − α d`; once energy differences are below
+    /// round-off, a step is accepted if it reduces `‖∇E‖`. A full step from the projected
+    /// Hessian is extended while the energy keeps falling ([`Self::escape`]).
+    fn line_search(
+        &mut self,
+        x: &[f64],
+        cur: &Assembly,
+        d: &[f64],
+        g_norm: f64,
+        projected: bool,
+    ) -> Option<Accepted> {
+        let Equilibrium {
+            model,
+            active,
+            params,
+            ..
+        } = *self.eq;
+        let gd = dot(d, &cur.grad);
+        let e0 = cur.energy;
+        let roundoff = ENERGY_ROUNDOFF * e0.abs().max(f64::MIN_POSITIVE);
+        let mut alpha = 1.0;
+        for _ in 0..=params.max_backtracks {
+            set_step(&mut self.trial, x, d, alpha);
+            let e = model.energy(&self.trial, active);
             if e.is_finite() {
                 if e <= e0 - params.armijo * alpha * gd {
-                    accepted = Some(None);
-                    if projected_now && alpha == 1.0 {
-                        // Escaping a saddle: extend the step while the energy keeps falling.
-                        let mut best = e;
-                        let mut longer = trial.clone();
-                        for _ in 0..params.escape_doublings {
-                            let a = 2.0 * alpha;
-                            for ((t, xi), di) in longer.iter_mut().zip(x.iter()).zip(&d) {
-                                *t = xi - a * di;
-                            }
-                            let el = model.energy(&longer, active);
-                            if !(el.is_finite() && el < best) {
-                                break;
-                            }
-                            best = el;
-                            alpha = a;
-                            trial.copy_from_slice(&longer);
-                        }
-                        info.escape_doublings += alpha.log2().round() as usize;
+                    if projected && alpha == 1.0 {
+                        alpha = self.escape(x, d, e);
                     }
-                    break;
+                    return Some(Accepted {
+                        alpha,
+                        assembly: None,
+                    });
                 }
                 if (e - e0).abs() <= roundoff {
                     // Energy differences are below round-off: judge the step by the gradient.
-                    let a = model.assemble(&trial, active, true);
+                    let a = model.assemble(&self.trial, active, true);
                     if norm(&a.grad) < g_norm {
-                        accepted = Some(Some(a));
-                        break;
+                        return Some(Accepted {
+                            alpha,
+                            assembly: Some(a),
+                        });
                     }
                 }
             }
             alpha *= 0.5;
         }
-        match accepted {
-            None if chord_now => {
-                // The old factor's step found nothing: try a fresh factorization's.
-                retry_fresh = true;
-                last_chord = false;
-                full_step = None;
+        None
+    }
+
+    /// Escaping a saddle: doubles the full step `x − d` (energy `e`, in `trial`) while the
+    /// energy keeps falling; returns the step length, the step left in `trial`.
+    fn escape(&mut self, x: &[f64], d: &[f64], e: f64) -> f64 {
+        let Equilibrium { model, active, .. } = *self.eq;
+        let mut alpha = 1.0;
+        let mut best = e;
+        let mut longer = self.trial.clone();
+        for _ in 0..self.eq.tuning.escape_doublings {
+            let a = 2.0 * alpha;
+            set_step(&mut longer, x, d, a);
+            let el = model.energy(&longer, active);
+            if !(el.is_finite() && el < best) {
+                break;
             }
-            None => {
-                // Nothing reduces energy or gradient: at the round-off floor if already close,
-                // otherwise a genuine failure.
-                info.stop = if info.grad_rel <= params.floor_max_rel {
-                    info.converged = true;
-                    NewtonStop::RoundoffFloor
-                } else {
-                    NewtonStop::LineSearchFailed
-                };
-                return info;
-            }
-            Some(pre) => {
-                full_step = (alpha == 1.0).then_some((g_norm, chord_now));
-                x.copy_from_slice(&trial);
-                info.iterations += 1;
-                *cur = pre.unwrap_or_else(|| model.assemble(x, active, true));
-                last_decrease = e0 - cur.energy;
-                if !cur.energy.is_finite() || !norm(&cur.grad).is_finite() {
-                    info.stop = NewtonStop::NonFinite;
-                    return info;
-                }
-            }
+            best = el;
+            alpha = a;
+            self.trial.copy_from_slice(&longer);
         }
+        self.info.escape_doublings += alpha.log2().round() as usize;
+        alpha
+    }
+
+    /// Moves to the accepted step (left in `trial`).
+    fn accept(
+        &mut self,
+        x: &mut [f64],
+        cur: &mut Assembly,
+        step: Accepted,
+        g_norm: f64,
+        chord_now: bool,
+    ) -> Result<(), NewtonStop> {
+        let Equilibrium { model, active, .. } = *self.eq;
+        self.full_step = (step.alpha == 1.0).then_some((g_norm, chord_now));
+        x.copy_from_slice(&self.trial);
+        self.info.iterations += 1;
+        let e0 = cur.energy;
+        *cur = step
+            .assembly
+            .unwrap_or_else(|| model.assemble(x, active, true));
+        self.last_decrease = e0 - cur.energy;
+        if !cur.energy.is_finite() || !norm(&cur.grad).is_finite() {
+            return Err(NewtonStop::NonFinite);
+        }
+        Ok(())
+    }
+}
+
+/// `out = x − α d`.
+fn set_step(out: &mut [f64], x: &[f64], d: &[f64], alpha: f64) {
+    for ((t, xi), di) in out.iter_mut().zip(x).zip(d) {
+        *t = xi - alpha * di;
     }
 }

@@ -4,18 +4,18 @@
 //! are computed on the vertex graph and expanded to the three coordinates of each vertex.
 //!
 //! - **AMD** (faer's approximate minimum degree): fast, good on small networks.
-//! - **Nested dissection** (METIS `NodeND`, with the `metis` feature): on the paper's networks
-//!   it leaves 40–50% less fill in the Cholesky factor than AMD (tower 1.24 M against 2.03 M
-//!   stored values, kagome 2.64 M against 4.36 M, bunny 9.8 M against 18.5 M, measured before
-//!   [`postorder`], which lets faer merge more supernodes: the tower's factor now stores
-//!   1.41 M values, the extra ones explicit zeros), which makes every factorization and solve
-//!   of the greedy cheaper.
+//! - **Nested dissection** (METIS `NodeND`, with the `metis` feature): on large networks it
+//!   leaves far less fill in the Cholesky factor than AMD (the paper's: `docs/benchmarks.md`),
+//!   which makes every factorization and solve cheaper.
+//!
+//! Either ordering is then renumbered in a [`postorder`] of its elimination tree (same fill;
+//! faer merges more supernodes, and the subtree-parallel factorization needs it).
 //!
 //! [`SymbolicFactor::new`](super::SymbolicFactor::new) tries both on networks large enough for
 //! it to matter and keeps the one with less fill; METIS runs with its default, fixed seed, so
 //! the choice is deterministic.
 
-use crate::rod::model::Pattern;
+use crate::sparse::Pattern;
 
 /// Which ordering a symbolic factorization used.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -11,8 +11,11 @@
 
 use crate::network::Network;
 use crate::rod::{ActiveSet, EnergyModel, Material};
-use crate::solve::eigen::{EigenError, EigenParams, Spectrum, smallest_eigenpairs};
-use crate::solve::{Cholesky, NewtonInfo, NewtonParams, SymbolicFactor, relax_assembled};
+use crate::solve::eigen::{EigenError, EigenOptions, EigenParams, Spectrum, Start};
+use crate::solve::{
+    Cholesky, Equilibrium, NewtonInfo, NewtonParams, SolverTuning, SymbolicFactor,
+    smallest_eigenpairs,
+};
 use faer::MatRef;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
@@ -29,6 +32,8 @@ pub struct StabilityParams {
     pub eigen: EigenParams,
     /// Gravity load for the deflection report.
     pub gravity: GravityParams,
+    /// The solvers' speed knobs (the factorization backend, Newton's techniques).
+    pub solver: SolverTuning,
     /// A structure holding at most this share of the network's vertices is factored on its
     /// own vertices only (see [`Analyzer::symbolic_for`]); 0 factors every structure on the
     /// whole pattern. Only the work changes, not the results (beyond round-off).
@@ -42,6 +47,7 @@ impl Default for StabilityParams {
             newton: NewtonParams::default(),
             eigen: EigenParams::default(),
             gravity: GravityParams::default(),
+            solver: SolverTuning::default(),
             restrict_share: 0.85,
         }
     }
@@ -58,6 +64,7 @@ impl StabilityParams {
         }
         self.material.validate()?;
         self.newton.validate()?;
+        self.solver.validate()?;
         self.eigen.validate()?;
         self.gravity.validate()
     }
@@ -174,7 +181,7 @@ impl Analyzer {
     pub fn new(network: Network, params: StabilityParams) -> Result<Self, String> {
         params.validate()?;
         let model = EnergyModel::new(&network, &params.material);
-        let symbolic = SymbolicFactor::new(model.pattern());
+        let symbolic = SymbolicFactor::new(model.pattern(), params.solver.backend);
         Ok(Analyzer {
             network,
             model,
@@ -244,7 +251,7 @@ impl Analyzer {
     }
 
     /// [`Self::relax_with`], also handing out the Hessian values at the equilibrium
-    /// ([`crate::solve::newton::relax_assembled`]).
+    /// ([`crate::solve::Relaxed`]).
     pub fn relax_assembled(
         &self,
         active: &ActiveSet,
@@ -252,18 +259,15 @@ impl Analyzer {
         factor: Option<Cholesky>,
         symbolic: &Arc<SymbolicFactor>,
     ) -> (NewtonInfo, Vec<f64>) {
-        let zero = vec![0.0; self.model.dofs()];
-        let g0 = self.model.assemble(&zero, active, false).grad;
-        let reference = g0.iter().map(|g| g * g).sum::<f64>().sqrt();
-        relax_assembled(
-            &self.model,
+        let relaxed = Equilibrium {
+            model: &self.model,
             active,
             symbolic,
-            u,
-            Some(reference),
-            &self.params.newton,
-            factor,
-        )
+            params: &self.params.newton,
+            tuning: &self.params.solver,
+        }
+        .relax(u, factor);
+        (relaxed.info, relaxed.hess)
     }
 
     /// Smallest eigenpairs of `active`'s Hessian at displacements `u` (no relaxation):
@@ -278,13 +282,30 @@ impl Analyzer {
             return Err(StabilityError::Empty);
         }
         let h = self.model.assemble(u, active, true).hess;
-        Ok(smallest_eigenpairs(
+        Ok(self.spectrum_of(active, &h, &self.symbolic_for(active), warm_start)?)
+    }
+
+    /// The smallest eigenpairs of Hessian values `h` of `active` with `symbolic`.
+    fn spectrum_of(
+        &self,
+        active: &ActiveSet,
+        h: &[f64],
+        symbolic: &Arc<SymbolicFactor>,
+        warm_start: Option<MatRef<'_, f64>>,
+    ) -> Result<Spectrum, EigenError> {
+        debug_assert!(!active.is_empty());
+        let options = EigenOptions {
+            start: warm_start.map_or(Start::Random, Start::Vectors),
+            ..Default::default()
+        };
+        let found = smallest_eigenpairs(
+            symbolic,
             self.model.pattern(),
-            &h,
-            &self.symbolic_for(active),
-            warm_start,
+            h,
             &self.params.eigen,
-        )?)
+            options,
+        )?;
+        Ok(found.expect("a shift below zero always factors").spectrum)
     }
 
     /// `λ_eq(active)`: relaxes from `start` (or the drawn state) and analyses the equilibrium.
@@ -300,13 +321,7 @@ impl Analyzer {
         let symbolic = self.symbolic_for(active);
         let newton = self.relax_with(active, &mut u, None, &symbolic);
         let h = self.model.assemble(&u, active, true).hess;
-        let spectrum = smallest_eigenpairs(
-            self.model.pattern(),
-            &h,
-            &symbolic,
-            None,
-            &self.params.eigen,
-        )?;
+        let spectrum = self.spectrum_of(active, &h, &symbolic, None)?;
         let mode_curves = self.mode_curves(active, spectrum.vectors.col(0).iter().copied());
         let gravity = self.gravity(active, &h);
         Ok(Analysis {
@@ -378,7 +393,8 @@ impl Analyzer {
     pub fn gravity(&self, active: &ActiveSet, h: &[f64]) -> Option<GravityDeflection> {
         let n = self.model.dofs();
         let f = self.gravity_load(active);
-        let factor = Cholesky::factorize(&self.symbolic, self.model.pattern(), h, 0.0).ok()?;
+        let factor =
+            Cholesky::factorize(&self.symbolic, self.model.pattern(), h, 0.0, None).ok()?;
         let mut u = f.clone();
         factor.solve_vec(&mut u);
         let compliance: f64 = f.iter().zip(&u).map(|(a, b)| a * b).sum();

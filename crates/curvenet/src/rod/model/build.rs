@@ -1,0 +1,232 @@
+//! Building an [`EnergyModel`]: the terms of every rod, the Hessian's block pattern over the
+//! vertices they couple, and each term's block positions in it.
+
+use super::{AnchorTerm, BendTerm, EnergyModel, RodTerms, STRAIGHT, StretchTerm};
+use crate::geom::Vec3;
+use crate::material::RestShape;
+use crate::rod::terms::{self, RestBend};
+use crate::rod::{Material, Network, RodStiffness};
+use crate::sparse::Pattern;
+
+impl EnergyModel {
+    /// Collects the terms of `network` with `material` (every rod alike, straight at rest)
+    /// and builds the Hessian pattern.
+    pub fn new(network: &Network, material: &Material) -> Self {
+        let rods = vec![RodStiffness::from(material); network.rods.len()];
+        Self::with_rods(network, &rods, material.anchor_weight)
+    }
+
+    /// Collects the terms of `network`, rod `i` with the stiffnesses and rest shape
+    /// `rods[i]`, anchors of weight `anchor_weight`, and builds the Hessian pattern.
+    pub fn with_rods(network: &Network, rods: &[RodStiffness], anchor_weight: f64) -> Self {
+        assert_eq!(rods.len(), network.rods.len(), "one stiffness per rod");
+        let n_vertices = network.positions.len();
+        let terms = collect_terms(network, rods);
+        let curve_vertices = network
+            .rods
+            .iter()
+            .map(|r| {
+                let mut v = r.vertices.clone();
+                v.sort_unstable();
+                v.dedup();
+                v
+            })
+            .collect();
+        let lower = vertex_adjacency(n_vertices, &terms.stretch, &terms.bend);
+        let pos = |a: u32, b: u32| -> u32 {
+            let (i, j) = if a <= b { (a, b) } else { (b, a) };
+            lower[j as usize]
+                .binary_search(&i)
+                .expect("pattern holds every term") as u32
+        };
+        let stretch_pos = terms
+            .stretch
+            .iter()
+            .map(|t| block_positions(&t.v, pos))
+            .collect();
+        let bend_pos = terms
+            .bend
+            .iter()
+            .map(|t| block_positions(&t.v, pos))
+            .collect();
+        let mu = anchor_weight;
+        // A loose vertex's diagonal: the stiffest scale in the model, far above the low
+        // spectrum that stability is about. (ks / rest is monotone in rest, so with one ks
+        // this is exactly ks over the shortest edge.)
+        let stiffest = terms
+            .stretch
+            .iter()
+            .map(|t| t.ks / t.rest)
+            .fold(f64::NEG_INFINITY, f64::max);
+        let loose_diagonal = if stiffest.is_finite() {
+            stiffest.max(2.0 * mu)
+        } else {
+            1.0
+        };
+        EnergyModel {
+            n_vertices,
+            mu,
+            stretch: terms.stretch,
+            bend: terms.bend,
+            bend_rest: terms.bend_rest,
+            anchor: terms.anchor,
+            rods: terms.rods,
+            vertex_curves: network.vertex_curves(),
+            curve_vertices,
+            pattern: block_pattern(&lower),
+            stretch_pos,
+            bend_pos,
+            loose_diagonal,
+        }
+    }
+}
+
+/// Every term of a network, grouped by rod.
+struct Terms {
+    stretch: Vec<StretchTerm>,
+    bend: Vec<BendTerm>,
+    bend_rest: Vec<RestBend>,
+    anchor: Vec<AnchorTerm>,
+    rods: Vec<RodTerms>,
+}
+
+/// The stretching term of every edge, the bending term of every interior vertex (every vertex
+/// of a closed rod) and the anchor of every supported vertex, rod after rod, rod `i` with the
+/// stiffnesses and rest shape `stiffness[i]`.
+fn collect_terms(network: &Network, stiffness: &[RodStiffness]) -> Terms {
+    let p = &network.positions;
+    let mut t = Terms {
+        stretch: Vec::new(),
+        bend: Vec::new(),
+        bend_rest: Vec::new(),
+        anchor: Vec::new(),
+        rods: Vec::with_capacity(network.rods.len()),
+    };
+    for (rod, k) in network.rods.iter().zip(stiffness) {
+        let (s0, b0, a0) = (t.stretch.len(), t.bend.len(), t.anchor.len());
+        let m = rod.vertices.len();
+        let ne = rod.edge_count();
+        for j in 0..ne {
+            let (a, b) = rod.edge(j);
+            t.stretch.push(StretchTerm {
+                v: [a, b],
+                rest: rod.rest_lengths[j],
+                ks: k.ks,
+                e: p[b as usize] - p[a as usize],
+            });
+        }
+        let centers = if rod.closed {
+            0..m
+        } else {
+            1..m.saturating_sub(1)
+        };
+        for i in centers {
+            let (prev, next) = ((i + ne - 1) % ne, i % ne);
+            let v0 = rod.vertices[(i + m - 1) % m];
+            let v1 = rod.vertices[i];
+            let v2 = rod.vertices[(i + 1) % m];
+            let x1 = p[v1 as usize];
+            let (r0, r1) = (rod.rest_lengths[prev], rod.rest_lengths[next]);
+            let (a, b) = (p[v0 as usize] - x1, p[v2 as usize] - x1);
+            let rest = match k.rest {
+                RestShape::Straight => STRAIGHT,
+                RestShape::PreBent => {
+                    t.bend_rest.push(terms::rest_bend(-a, b, r0, r1));
+                    (t.bend_rest.len() - 1) as u32
+                }
+            };
+            t.bend.push(BendTerm {
+                v: [v0, v1, v2],
+                rest,
+                r0,
+                r1,
+                kb: k.kb,
+                a,
+                b,
+            });
+        }
+        for &v in &rod.anchors {
+            t.anchor.push(AnchorTerm {
+                v,
+                offset: Vec3::ZERO,
+            });
+        }
+        t.rods.push(RodTerms {
+            kb: k.kb,
+            stretch: s0..t.stretch.len(),
+            bend: b0..t.bend.len(),
+            anchor: a0..t.anchor.len(),
+        });
+    }
+    t
+}
+
+/// For each vertex `j`, the vertices `i ≤ j` sharing a term with it (itself included),
+/// ascending.
+fn vertex_adjacency(
+    n_vertices: usize,
+    stretch: &[StretchTerm],
+    bend: &[BendTerm],
+) -> Vec<Vec<u32>> {
+    let mut lower: Vec<Vec<u32>> = (0..n_vertices as u32).map(|j| vec![j]).collect();
+    let mut link = |a: u32, b: u32| {
+        let (i, j) = if a <= b { (a, b) } else { (b, a) };
+        lower[j as usize].push(i);
+    };
+    for t in stretch {
+        link(t.v[0], t.v[1]);
+    }
+    for t in bend {
+        link(t.v[0], t.v[1]);
+        link(t.v[0], t.v[2]);
+        link(t.v[1], t.v[2]);
+    }
+    for l in &mut lower {
+        l.sort_unstable();
+        l.dedup();
+    }
+    lower
+}
+
+/// The upper-triangle pattern over `3·V` coordinates with a dense 3×3 block for every pair of
+/// adjacent vertices (`lower`: [`vertex_adjacency`]).
+fn block_pattern(lower: &[Vec<u32>]) -> Pattern {
+    let n = 3 * lower.len();
+    let mut col_ptr = Vec::with_capacity(n + 1);
+    let mut row_idx = Vec::new();
+    let mut diag = Vec::with_capacity(n);
+    col_ptr.push(0);
+    for (j, nbrs) in lower.iter().enumerate() {
+        for b in 0..3 {
+            for &i in nbrs {
+                let i = i as usize;
+                let rows = if i == j { 0..b + 1 } else { 0..3 };
+                for a in rows {
+                    if i == j && a == b {
+                        diag.push(row_idx.len());
+                    }
+                    row_idx.push(3 * i + a);
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+    }
+    Pattern {
+        n,
+        col_ptr,
+        row_idx,
+        diag,
+    }
+}
+
+/// `pos[p][q]`: the position of the 3×3 block of local vertices `(p, q)` of a term over
+/// vertices `v` among the blocks of the larger global vertex's column.
+fn block_positions<const K: usize>(v: &[u32; K], pos: impl Fn(u32, u32) -> u32) -> [[u32; K]; K] {
+    let mut p = [[0u32; K]; K];
+    for (x, row) in p.iter_mut().enumerate() {
+        for (y, slot) in row.iter_mut().enumerate() {
+            *slot = pos(v[x], v[y]);
+        }
+    }
+    p
+}

@@ -1,0 +1,147 @@
+//! The rod network as data: rods sharing vertices at their crossings, in their locked rest
+//! state. [`crate::network`] builds it from curves; the energy ([`super::EnergyModel`]) is
+//! built from it.
+
+use super::Supports;
+use crate::geom::Vec3;
+use serde::{Deserialize, Serialize};
+
+/// One rod: the resampled curve of the same id.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Rod {
+    /// Global vertex indices along the rod. A closed rod does not repeat its first vertex; a
+    /// rod crossing itself lists the shared vertex twice.
+    pub vertices: Vec<u32>,
+    /// True for a closed curve (an edge joins the last vertex to the first).
+    pub closed: bool,
+    /// Rest length of each edge (`vertices.len() − 1` edges, or `vertices.len()` if closed).
+    pub rest_lengths: Vec<f64>,
+    /// Supported (anchored) vertices; their anchor targets are their rest positions.
+    pub anchors: Vec<u32>,
+}
+
+impl Rod {
+    /// Number of edges.
+    pub fn edge_count(&self) -> usize {
+        self.rest_lengths.len()
+    }
+
+    /// The rod's rest length `L_i`: the material to cut, fixed for the whole run.
+    pub fn rest_length(&self) -> f64 {
+        self.rest_lengths.iter().sum()
+    }
+
+    /// The end vertices of edge `j`.
+    pub fn edge(&self, j: usize) -> (u32, u32) {
+        let n = self.vertices.len();
+        (self.vertices[j], self.vertices[(j + 1) % n])
+    }
+}
+
+/// A vertex shared by two or more rods (or by two passes of one rod).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Joint {
+    /// The shared vertex.
+    pub vertex: u32,
+    /// Curves through it, ascending, without repeats.
+    pub curves: Vec<u32>,
+}
+
+/// A rod network in its locked rest state (`docs/model.md`, *Network construction*).
+///
+/// `positions` is the drawn (resampled) state: rest lengths were measured on it and anchors
+/// pull toward it. Relaxed states are separate coordinate vectors of displacements from it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Network {
+    /// Rest positions of all vertices.
+    pub positions: Vec<Vec3>,
+    /// One rod per input curve, in input order: rod `i` is curve `i`.
+    pub rods: Vec<Rod>,
+    /// Shared vertices.
+    pub joints: Vec<Joint>,
+    /// Supports used to choose the anchored vertices.
+    pub supports: Supports,
+}
+
+impl Network {
+    /// Number of vertices.
+    pub fn vertex_count(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// Number of degrees of freedom (3 per vertex).
+    pub fn dofs(&self) -> usize {
+        3 * self.positions.len()
+    }
+
+    /// Rest length of every curve.
+    pub fn rest_lengths(&self) -> Vec<f64> {
+        self.rods.iter().map(Rod::rest_length).collect()
+    }
+
+    /// Total rest length of the given curves.
+    pub fn total_length(&self, curves: &[usize]) -> f64 {
+        curves.iter().map(|&c| self.rods[c].rest_length()).sum()
+    }
+
+    /// The rest positions as a flat coordinate vector `[x0, y0, z0, x1, …]`.
+    pub fn rest_coordinates(&self) -> Vec<f64> {
+        self.positions.iter().flat_map(|p| p.to_array()).collect()
+    }
+
+    /// Minimum, median and maximum rest edge length over all rods.
+    pub fn edge_length_stats(&self) -> EdgeLengthStats {
+        let mut all: Vec<f64> = self
+            .rods
+            .iter()
+            .flat_map(|r| r.rest_lengths.iter().copied())
+            .collect();
+        all.sort_by(f64::total_cmp);
+        if all.is_empty() {
+            return EdgeLengthStats {
+                min: 0.0,
+                median: 0.0,
+                max: 0.0,
+            };
+        }
+        let median = if all.len() % 2 == 1 {
+            all[all.len() / 2]
+        } else {
+            0.5 * (all[all.len() / 2 - 1] + all[all.len() / 2])
+        };
+        EdgeLengthStats {
+            min: all[0],
+            median,
+            max: all[all.len() - 1],
+        }
+    }
+
+    /// For every vertex, the curves through it (ascending, no repeats).
+    pub fn vertex_curves(&self) -> Vec<Vec<u32>> {
+        let mut out = vec![Vec::new(); self.positions.len()];
+        for (c, rod) in self.rods.iter().enumerate() {
+            for &v in &rod.vertices {
+                let list: &mut Vec<u32> = &mut out[v as usize];
+                if list.last() != Some(&(c as u32)) {
+                    list.push(c as u32);
+                }
+            }
+        }
+        for l in &mut out {
+            l.sort_unstable();
+            l.dedup();
+        }
+        out
+    }
+}
+
+/// Edge-length range of a network.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct EdgeLengthStats {
+    /// Shortest rest edge.
+    pub min: f64,
+    /// Median rest edge.
+    pub median: f64,
+    /// Longest rest edge.
+    pub max: f64,
+}
