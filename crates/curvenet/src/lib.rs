@@ -11,6 +11,10 @@
 //! 5. [`stability`]: the worst-case stability `λ` of a network or of any sub-structure;
 //! 6. [`report`]: the JSON objects and text of the command line.
 //!
+//! [`constraints`] holds what a designer asks beyond the budget (groups, symmetry, a connected
+//! structure, a number of curves, the surface's largest gap, the equilibrium's largest
+//! deviation), tested on every subset the searches of [`simplify`] meet.
+//!
 //! [`trace`] generates curves on a mesh (geodesics, frame-field streamlines) and holds the
 //! built-in surfaces; [`paper`] holds the paper's example set-ups, [`builtin`] scenes made in
 //! code, and [`pipeline`] the glue that runs the stages in order.
@@ -22,6 +26,7 @@
 
 pub mod builtin;
 pub mod cancel;
+pub mod constraints;
 pub mod geom;
 pub mod io;
 pub mod material;

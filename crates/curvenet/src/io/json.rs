@@ -9,17 +9,19 @@
 //!     {"label": "ring", "closed": true, "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]},
 //!     {"points": [[0, 0, 0], [2, 0, 1], [4, 0, 0]],
 //!      "material": "aluminium", "section": {"outer_diameter": 60, "wall": 4},
-//!      "rest": "pre-bent"}
+//!      "rest": "pre-bent"},
+//!     {"label": "arch 1", "group": "arches", "points": [[0, 0, 0], [0, 1, 1], [0, 2, 0]]}
 //!   ]
 //! }
 //! ```
 //!
-//! `units`, `label` and `closed` are optional; without `closed` the curve is closed when its last
-//! point repeats its first. Unknown fields are errors (a misspelt `"close"` must not pass
-//! silently). `units` (`mm`, `cm` or `m`) is the scene's length unit when the command line does
-//! not give one. A curve's optional `material`, `section` and `rest` set its material, its
-//! cross-section and its rest shape (`straight`, the default, or `pre-bent`); their forms are
-//! in [`crate::material::spec`].
+//! `units`, `label`, `closed` and `group` are optional; without `closed` the curve is closed when
+//! its last point repeats its first. Curves with the same `group` (a name, or an integer) are kept
+//! or removed together by the searches ([`CurveFile::groups`]). Unknown fields are errors (a
+//! misspelt `"close"` must not pass silently). `units` (`mm`, `cm` or `m`) is the scene's length
+//! unit when the command line does not give one. A curve's optional `material`, `section` and
+//! `rest` set its material, its cross-section and its rest shape (`straight`, the default, or
+//! `pre-bent`); their forms are in [`crate::material::spec`].
 //!
 //! `serde_json` validates the document and reports syntax and type errors with their line and
 //! column. Its number parsing may be off by one unit in the last place, so a light scan of the
@@ -69,7 +71,7 @@ struct Document {
 #[derive(Deserialize)]
 #[serde(
     deny_unknown_fields,
-    expecting = "a curve object with \"points\" and optional \"label\", \"closed\", \"material\", \"section\" and \"rest\""
+    expecting = "a curve object with \"points\" and optional \"label\", \"closed\", \"group\", \"material\", \"section\" and \"rest\""
 )]
 struct JsonCurve {
     #[serde(default)]
@@ -83,6 +85,33 @@ struct JsonCurve {
     section: Option<serde_json::Value>,
     #[serde(default)]
     rest: Option<serde_json::Value>,
+    #[serde(default)]
+    group: Option<GroupTag>,
+}
+
+/// A curve's `"group"`: a name, or an integer (kept as its decimal text).
+struct GroupTag(String);
+
+impl<'de> Deserialize<'de> for GroupTag {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Visit;
+        impl serde::de::Visitor<'_> for Visit {
+            type Value = GroupTag;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("a group name (a string or an integer)")
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<GroupTag, E> {
+                Ok(GroupTag(v.to_owned()))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<GroupTag, E> {
+                Ok(GroupTag(v.to_string()))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<GroupTag, E> {
+                Ok(GroupTag(v.to_string()))
+            }
+        }
+        d.deserialize_any(Visit)
+    }
 }
 
 /// Parses curvenet's JSON curve format. `file` names the input in messages.
@@ -162,7 +191,9 @@ pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError
     let mut warnings = Vec::new();
     let mut curves = Vec::with_capacity(document.curves.len());
     let mut specs = Vec::with_capacity(document.curves.len());
+    let mut groups = Vec::with_capacity(document.curves.len());
     for (index, curve) in document.curves.into_iter().enumerate() {
+        groups.push(curve.group.map(|g| g.0));
         let loc = located.curves.get(index);
         let curve_line = loc.map_or(0, |c| c.line);
         let spec = CurveSpec::from_json(
@@ -204,6 +235,7 @@ pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError
         curves,
         warnings,
         specs,
+        groups,
         units: document.units,
     })
 }
@@ -581,6 +613,34 @@ mod tests {
         assert_eq!(f.curves[2].points.len(), 4);
         assert_eq!(f.curves[3].points[1], Vec3::new(1e-3, 250.0, 0.0));
         assert_eq!(f.curves[3].origin.line, 8);
+    }
+
+    #[test]
+    fn groups_are_read_per_curve() {
+        let text = doc(&[
+            r#"{"group": "arches", "points": [[0, 0, 0], [1, 0, 0]]}"#,
+            GOOD,
+            r#"{"group": 7, "points": [[0, 0, 0], [1, 0, 0]]}"#,
+            r#"{"points": [[0, 0, 0], [1, 0, 0]], "group": "arches"}"#,
+        ]);
+        let f = parse_json_curves(&text, "c.json").unwrap();
+        assert_eq!(
+            f.groups,
+            vec![
+                Some("arches".into()),
+                None,
+                Some("7".into()),
+                Some("arches".into())
+            ]
+        );
+        let f = parse_json_curves(&doc(&[GOOD]), "c.json").unwrap();
+        assert_eq!(f.groups, vec![None]);
+        let text = doc(&[GOOD, r#"{"group": [1], "points": [[0, 0, 0], [1, 0, 0]]}"#]);
+        assert_err(&text, 6, "a group name (a string or an integer)");
+        let text = doc(&[GOOD, r#"{"group": 1.5, "points": [[0, 0, 0], [1, 0, 0]]}"#]);
+        assert_err(&text, 6, "a group name");
+        let text = doc(&[r#"{"groups": "a", "points": [[0, 0, 0], [1, 0, 0]]}"#]);
+        assert_err(&text, 5, "unknown field `groups`");
     }
 
     #[test]

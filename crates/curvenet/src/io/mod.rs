@@ -227,6 +227,9 @@ pub struct CurveFile {
     pub specs: Vec<CurveSpec>,
     /// The length unit the file declares (JSON `"units"`), as written.
     pub units: Option<String>,
+    /// Each curve's group (the JSON format's `"group"`; `None` for every curve of the other
+    /// formats): curves of one group are kept or removed together. Aligned with `curves`.
+    pub groups: Vec<Option<String>>,
 }
 
 /// The mesh of one file, with the warnings found while reading it.

@@ -124,9 +124,11 @@ pub fn parse_obj_polylines(text: &str, file: &str) -> Result<CurveFile, InputErr
         };
         curves.push(finish_curve(raw, file, &mut warnings)?);
     }
+    let groups = vec![None; curves.len()];
     Ok(CurveFile {
         curves,
         warnings,
+        groups,
         specs: Vec::new(),
         units: None,
     })

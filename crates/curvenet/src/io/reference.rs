@@ -98,9 +98,11 @@ pub fn parse_reference_curves(text: &str, file: &str) -> Result<CurveFile, Input
             ));
         }
     }
+    let groups = vec![None; curves.len()];
     Ok(CurveFile {
         curves,
         warnings,
+        groups,
         specs: Vec::new(),
         units: None,
     })

@@ -1,0 +1,368 @@
+//! The answer of a run: the network to build, chosen among the networks the searches of the
+//! run evaluated, and the alternatives beside it.
+//!
+//! A network *qualifies* when it is
+//! - **stable**: `λ_eq > 0` with no zero mode and no negative mode among its computed
+//!   eigenvalues (a mechanism, `λ ≈ 0`, or an unstable equilibrium is never an answer);
+//! - **feasible**: within the budget, holding the keep list, and meeting every constraint
+//!   ([`Constraints::check`], and `--max-deviation` on its equilibrium when asked for).
+//!
+//! The answer is the qualifying network with the largest `λ_eq`; networks within the tie
+//! tolerance (relative 1e-7) of the best go to the first offered. The caller offers, in order,
+//! the greedy's final network, then the local search's, then any other search's. The
+//! alternatives are the best qualifying networks after it with distinct curve sets, by
+//! decreasing `λ_eq`. With none qualifying, there is no answer: the reason names what the
+//! best-ranked offer lacked, and the smallest stable network of the run (any offer, within the
+//! budget or not: the greedy's path records every larger network) is named with how far over
+//! the budget it is.
+
+use super::{Constraints, Margins};
+use serde::{Deserialize, Serialize};
+
+/// Relative tolerance under which two `λ_eq` tie.
+const TIE: f64 = 1e-7;
+
+/// A network a search of the run evaluated, offered as the answer.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Offer {
+    /// Which search found it: `greedy`, `local_search`, `exhaustive`, `random`, …
+    pub source: String,
+    /// The greedy's iteration, for the networks of its path.
+    pub iteration: Option<usize>,
+    /// Curves, ascending.
+    pub curves: Vec<usize>,
+    /// Total rest length.
+    pub length: f64,
+    /// `λ_eq`.
+    pub lambda: f64,
+    /// Zero modes among the computed eigenvalues.
+    pub zero_modes: usize,
+    /// Negative modes among them.
+    pub negative_modes: usize,
+    /// The largest displacement of a vertex at equilibrium, when known.
+    pub deviation: Option<f64>,
+}
+
+impl Offer {
+    /// Stable: `λ_eq > 0`, no zero mode, no negative mode.
+    pub fn is_stable(&self) -> bool {
+        self.lambda > 0.0 && self.zero_modes == 0 && self.negative_modes == 0
+    }
+}
+
+/// The network to build (`answer` in `result.json`; each of `alternatives` too).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Answer {
+    /// Which search found it.
+    pub source: String,
+    /// The greedy's iteration, for a network of its path.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub iteration: Option<usize>,
+    /// Curves, ascending.
+    pub curves: Vec<usize>,
+    /// Total rest length.
+    pub length: f64,
+    /// `λ_eq`.
+    pub lambda: f64,
+    /// Zero modes (0).
+    pub zero_modes: usize,
+    /// Negative modes (0).
+    pub negative_modes: usize,
+    /// Every constraint's margin.
+    pub margins: Margins,
+}
+
+/// A stable network outside the budget, named when there is no answer.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StableNetwork {
+    /// Which search found it.
+    pub source: String,
+    /// The greedy's iteration, for a network of its path.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub iteration: Option<usize>,
+    /// Curves, ascending.
+    pub curves: Vec<usize>,
+    /// Total rest length.
+    pub length: f64,
+    /// `λ_eq`.
+    pub lambda: f64,
+    /// How far its length exceeds the budget, in percent of the budget (0 or less: within).
+    pub over_budget_percent: f64,
+}
+
+/// Why there is no answer (`no_answer` in `result.json`, beside `"answer": null`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct NoAnswer {
+    /// What the networks found lacked.
+    pub reason: String,
+    /// The smallest stable network of the run, if any.
+    pub smallest_stable: Option<StableNetwork>,
+}
+
+/// The answer and the alternatives.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Choice {
+    /// The answer, or why there is none.
+    pub answer: Result<Answer, NoAnswer>,
+    /// Up to the number asked for, best first (the answer not included).
+    pub alternatives: Vec<Answer>,
+}
+
+/// Why `offer` does not qualify, if it does not.
+fn disqualified(constraints: &Constraints, offer: &Offer) -> Option<String> {
+    if offer.negative_modes > 0 {
+        return Some(format!(
+            "{} negative mode(s): an unstable equilibrium (λ_eq {:.6e})",
+            offer.negative_modes, offer.lambda
+        ));
+    }
+    if offer.zero_modes > 0 || !(offer.lambda > 0.0) {
+        return Some(format!(
+            "{} zero mode(s): a mechanism, a part of it moves freely (λ_eq {:.6e})",
+            offer.zero_modes.max(1),
+            offer.lambda
+        ));
+    }
+    if let Err(v) = constraints.check(&offer.curves) {
+        return Some(format!("it does not meet the constraints ({v})"));
+    }
+    if let Some(d) = offer.deviation
+        && !constraints.deviation_ok(d)
+    {
+        return Some(format!(
+            "its equilibrium moves a vertex {d:.6} from its designed place, more than \
+             --max-deviation allows"
+        ));
+    }
+    None
+}
+
+fn answer_of(constraints: &Constraints, offer: &Offer) -> Answer {
+    Answer {
+        source: offer.source.clone(),
+        iteration: offer.iteration,
+        curves: offer.curves.clone(),
+        length: offer.length,
+        lambda: offer.lambda,
+        zero_modes: offer.zero_modes,
+        negative_modes: offer.negative_modes,
+        margins: constraints.margins(&offer.curves, offer.deviation),
+    }
+}
+
+/// Chooses the answer and up to `alternatives` alternatives among `offers` (see the module
+/// documentation).
+pub fn choose(constraints: &Constraints, offers: &[Offer], alternatives: usize) -> Choice {
+    let qualifying: Vec<&Offer> = offers
+        .iter()
+        .filter(|o| disqualified(constraints, o).is_none())
+        .collect();
+    // Distinct curve sets, the first offer of each; then by decreasing λ_eq, ties (within the
+    // tolerance of the better) to the earlier offer.
+    let mut distinct: Vec<&Offer> = Vec::new();
+    for o in qualifying {
+        if !distinct.iter().any(|d| d.curves == o.curves) {
+            distinct.push(o);
+        }
+    }
+    let mut ranked: Vec<(usize, &Offer)> = distinct.into_iter().enumerate().collect();
+    ranked.sort_by(|a, b| {
+        let (la, lb) = (a.1.lambda, b.1.lambda);
+        let tie = (la - lb).abs() <= TIE * la.abs().max(lb.abs());
+        if tie {
+            a.0.cmp(&b.0)
+        } else {
+            lb.total_cmp(&la)
+        }
+    });
+    let mut picked = ranked.into_iter().map(|(_, o)| answer_of(constraints, o));
+    let Some(answer) = picked.next() else {
+        return Choice {
+            answer: Err(no_answer(constraints, offers)),
+            alternatives: Vec::new(),
+        };
+    };
+    Choice {
+        answer: Ok(answer),
+        alternatives: picked.take(alternatives).collect(),
+    }
+}
+
+/// Why nothing qualifies, with the smallest stable network of the run.
+fn no_answer(constraints: &Constraints, offers: &[Offer]) -> NoAnswer {
+    let budget = constraints.budget();
+    let within: Vec<&Offer> = offers
+        .iter()
+        .filter(|o| o.length <= budget && !o.curves.is_empty())
+        .collect();
+    let reason = if within.is_empty() {
+        "no network found meets the budget".to_owned()
+    } else {
+        let mut lines: Vec<String> = Vec::new();
+        for o in within.iter().take(4) {
+            let what = disqualified(constraints, o).unwrap_or_default();
+            let place = o
+                .iteration
+                .map_or_else(String::new, |k| format!(" (iteration {k})"));
+            lines.push(format!(
+                "the {}'s network{place}: {what}",
+                o.source.replace('_', " ")
+            ));
+        }
+        if within.len() > 4 {
+            lines.push(format!(
+                "and {} other network(s) likewise",
+                within.len() - 4
+            ));
+        }
+        format!(
+            "no stable network meets the budget and the constraints: {}",
+            lines.join("; ")
+        )
+    };
+    let smallest_stable = offers
+        .iter()
+        .filter(|o| o.is_stable())
+        .min_by(|a, b| a.length.total_cmp(&b.length))
+        .map(|o| StableNetwork {
+            source: o.source.clone(),
+            iteration: o.iteration,
+            curves: o.curves.clone(),
+            length: o.length,
+            lambda: o.lambda,
+            over_budget_percent: 100.0 * (o.length - budget) / budget,
+        });
+    NoAnswer {
+        reason,
+        smallest_stable,
+    }
+}
+
+impl NoAnswer {
+    /// Lines for summaries: the reason, then the smallest stable network.
+    pub fn describe(&self) -> String {
+        let mut s = format!("no answer: {}", self.reason);
+        match &self.smallest_stable {
+            Some(n) => {
+                let place = n.iteration.map_or_else(
+                    || format!("the {}'s network", n.source),
+                    |k| format!("iteration {k}"),
+                );
+                s.push_str(&format!(
+                    "\nsmallest stable network of the run: {place}, {} curves, length {:.6} ({:+.1}% \
+                     of the budget), λ_eq {:.6e}",
+                    n.curves.len(),
+                    n.length,
+                    n.over_budget_percent,
+                    n.lambda
+                ));
+            }
+            None => s.push_str("\nno stable network was found in the run"),
+        }
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::constraints::testing::{network, pavilion};
+    use crate::constraints::{ConstraintParams, parse_groups};
+
+    fn offer(source: &str, curves: &[usize], lengths: &[f64], lambda: f64, zero: usize) -> Offer {
+        Offer {
+            source: source.into(),
+            iteration: None,
+            curves: curves.to_vec(),
+            length: curves.iter().map(|&c| lengths[c]).sum(),
+            lambda,
+            zero_modes: zero,
+            negative_modes: 0,
+            deviation: None,
+        }
+    }
+
+    #[test]
+    fn the_best_stable_feasible_network_is_the_answer() {
+        let net = network(&pavilion(4, false, 0.0));
+        let l = net.rest_lengths();
+        let total: f64 = l.iter().sum();
+        let c = Constraints::none(&net, 0.5 * total, &[]);
+        let offers = vec![
+            offer("greedy", &[0, 1, 2], &l, 1e-9, 0),
+            offer("local_search", &[0, 1, 3], &l, 3e-9, 0),
+            // Better but a mechanism, and one over the budget.
+            offer("random", &[0], &l, 5e-9, 1),
+            offer("exhaustive", &[0, 1, 2, 3, 4], &l, 9e-9, 0),
+            // A tie with the local search's, offered later: an alternative, not the answer.
+            offer("exhaustive", &[1, 2], &l, 3e-9 * (1.0 + 1e-9), 0),
+            offer("exhaustive", &[0, 1, 3], &l, 3e-9, 0),
+        ];
+        let ch = choose(&c, &offers, 5);
+        let a = ch.answer.expect("an answer");
+        assert_eq!(
+            (a.source.as_str(), a.curves.clone()),
+            ("local_search", vec![0, 1, 3])
+        );
+        assert!(a.margins.all_met());
+        let alt: Vec<Vec<usize>> = ch.alternatives.iter().map(|x| x.curves.clone()).collect();
+        assert_eq!(alt, vec![vec![1, 2], vec![0, 1, 2]], "distinct, best first");
+        assert_eq!(choose(&c, &offers, 1).alternatives.len(), 1);
+    }
+
+    #[test]
+    fn a_mechanism_is_never_the_answer_and_the_smallest_stable_network_is_named() {
+        let net = network(&pavilion(4, false, 0.0));
+        let l = net.rest_lengths();
+        let total: f64 = l.iter().sum();
+        let c = Constraints::none(&net, 0.3 * total, &[]);
+        let mut path = vec![
+            offer("greedy", &[0, 1, 2, 3, 4], &l, 4e-9, 0),
+            offer("greedy", &[0, 1, 2, 3], &l, 2e-9, 0),
+            offer("greedy", &[0, 1], &l, -2e-15, 1),
+        ];
+        for (k, o) in path.iter_mut().enumerate() {
+            o.iteration = Some(k);
+        }
+        let ch = choose(&c, &path, 3);
+        let none = ch.answer.expect_err("no answer");
+        assert!(none.reason.contains("zero mode"), "{}", none.reason);
+        assert!(none.reason.contains("iteration 2"), "{}", none.reason);
+        let s = none.smallest_stable.clone().expect("iteration 1 is stable");
+        assert_eq!(s.iteration, Some(1));
+        assert!(s.over_budget_percent > 0.0);
+        assert!(
+            none.describe()
+                .contains("smallest stable network of the run: iteration 1")
+        );
+        assert!(ch.alternatives.is_empty());
+    }
+
+    #[test]
+    fn constraints_and_the_deviation_disqualify() {
+        let net = network(&pavilion(4, false, 0.0));
+        let l = net.rest_lengths();
+        let total: f64 = l.iter().sum();
+        let p = ConstraintParams {
+            groups: parse_groups("1 3\n", "g.txt").expect("groups"),
+            max_deviation: Some(10.0),
+            ..Default::default()
+        };
+        let c = Constraints::new(&net, None, &p, total, &[]).expect("feasible");
+        let mut split = offer("greedy", &[0, 1], &l, 1e-9, 0);
+        split.deviation = Some(1.0);
+        let mut sags = offer("local_search", &[0, 1, 3], &l, 1e-9, 0);
+        sags.deviation = Some(11.0);
+        let none = choose(&c, &[split.clone(), sags.clone()], 0)
+            .answer
+            .expect_err("none");
+        assert!(none.reason.contains("group"), "{}", none.reason);
+        assert!(none.reason.contains("--max-deviation"), "{}", none.reason);
+        sags.deviation = Some(9.0);
+        let a = choose(&c, &[split, sags], 0)
+            .answer
+            .expect("now it qualifies");
+        assert_eq!(a.margins.max_deviation.expect("evaluated").margin, 1.0);
+        assert_eq!(a.margins.groups.expect("groups").value, 0.0);
+    }
+}

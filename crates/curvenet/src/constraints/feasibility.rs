@@ -1,0 +1,236 @@
+//! The up-front analysis of a combination of constraints, budget and keep list: what no set
+//! can satisfy is refused before any search runs, with the reason.
+//!
+//! Each test is a necessary condition (a set passing all of them may still not exist; the
+//! searches then find no feasible network and the run says so):
+//!
+//! - the forced units (the groups holding keep-list curves) fit the budget;
+//! - without a keep list, some unit fits the budget;
+//! - `--min-curves K`: at most the network's curves, and at most the number of curves the
+//!   budget can hold (units taken by ascending length per curve, the last one in part: an
+//!   upper bound);
+//! - `--connected`: the forced curves lie in one connected part of the whole network;
+//! - `--max-gap D`: every curve kept leaves no gap above `D`, and every part of the surface
+//!   (each need of [`super::Coverage`]) has a unit within `D` short enough for the budget the
+//!   forced units leave.
+
+use super::{Constraints, CurveSet};
+
+/// `x` with six significant digits, for messages.
+fn num(x: f64) -> String {
+    format!("{x:.6}")
+}
+
+/// Curve ids as `0, 3, 5` (at most a dozen, then a count).
+fn list(curves: impl IntoIterator<Item = usize>) -> String {
+    let all: Vec<usize> = curves.into_iter().collect();
+    let mut s: Vec<String> = all.iter().take(12).map(|c| c.to_string()).collect();
+    if all.len() > 12 {
+        s.push(format!("… ({} curves)", all.len()));
+    }
+    s.join(", ")
+}
+
+impl Constraints {
+    /// Runs the tests of the module documentation; records what it found in the notes.
+    pub(crate) fn analyse(&mut self) -> Result<(), String> {
+        if let Some(f) = &self.symmetry {
+            self.notes
+                .push(format!("--symmetry {}: {}", f.option(), f.describe()));
+        }
+        let keep_length = self.length(&self.keep);
+        let forced: Vec<usize> = self.forced_set.to_vec();
+        let forced_length = self.length(&forced);
+        for (u, unit) in self.units.iter().enumerate() {
+            let extra: Vec<usize> = unit
+                .iter()
+                .copied()
+                .filter(|c| !self.keep.contains(c))
+                .collect();
+            if self.forced[u] && !extra.is_empty() {
+                self.notes.push(format!(
+                    "curves {} are kept whole with curve(s) {} of the keep list (one group)",
+                    list(extra),
+                    list(unit.iter().copied().filter(|c| self.keep.contains(c)))
+                ));
+            }
+        }
+        if keep_length <= self.budget && forced_length > self.budget {
+            return Err(format!(
+                "the keep list needs {} and, with the groups holding its curves (curves {}), {}: \
+                 more than the budget {}",
+                num(keep_length),
+                list(forced.iter().copied()),
+                num(forced_length),
+                num(self.budget)
+            ));
+        }
+        if keep_length > self.budget {
+            self.notes.push(format!(
+                "the keep list alone needs {}, more than the budget {}: no network meets the budget",
+                num(keep_length),
+                num(self.budget)
+            ));
+        }
+        let free: Vec<usize> = (0..self.units.len()).filter(|&u| !self.forced[u]).collect();
+        let unit_length = |u: usize| self.length(&self.units[u]);
+        if forced.is_empty()
+            && let Some(&u) = free
+                .iter()
+                .min_by(|&&a, &&b| unit_length(a).total_cmp(&unit_length(b)))
+            && unit_length(u) > self.budget
+        {
+            return Err(format!(
+                "every group is longer than the budget {}: the shortest (curves {}) needs {}",
+                num(self.budget),
+                list(self.units[u].iter().copied()),
+                num(unit_length(u))
+            ));
+        }
+        self.analyse_min_curves(&free, forced.len(), forced_length)?;
+        self.analyse_connected(&forced)?;
+        self.analyse_gap(&free, forced_length)?;
+        if let Some(d) = self.params.max_deviation {
+            self.notes.push(format!(
+                "--max-deviation {}: checked on every network a search relaxes (the largest \
+                 displacement of a vertex at equilibrium)",
+                num(d)
+            ));
+        }
+        Ok(())
+    }
+
+    fn analyse_min_curves(
+        &self,
+        free: &[usize],
+        forced_count: usize,
+        forced_length: f64,
+    ) -> Result<(), String> {
+        let Some(k) = self.params.min_curves else {
+            return Ok(());
+        };
+        if k > self.n {
+            return Err(format!(
+                "--min-curves {k}: the network has only {} curves",
+                self.n
+            ));
+        }
+        // Fractional knapsack on the number of curves: an upper bound.
+        let mut order: Vec<(f64, usize, usize)> = free
+            .iter()
+            .map(|&u| {
+                let len = self.length(&self.units[u]);
+                (len / self.units[u].len() as f64, self.units[u].len(), u)
+            })
+            .collect();
+        order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.2.cmp(&b.2)));
+        let mut room = self.budget - forced_length;
+        let mut most = forced_count as f64;
+        for (per, count, _) in order {
+            let len = per * count as f64;
+            if len <= room {
+                room -= len;
+                most += count as f64;
+            } else {
+                most += (room / per).max(0.0);
+                break;
+            }
+        }
+        let most = (most + 1e-9).floor() as usize;
+        if most < k {
+            return Err(format!(
+                "--min-curves {k}: at most {most} curves fit in the budget {} (the shortest \
+                 first, groups whole)",
+                num(self.budget)
+            ));
+        }
+        Ok(())
+    }
+
+    fn analyse_connected(&self, forced: &[usize]) -> Result<(), String> {
+        if self.adjacency.is_none() || forced.is_empty() {
+            return Ok(());
+        }
+        // The part of the whole network holding the first forced curve.
+        let all = CurveSet::from_curves(self.n, &(0..self.n).collect::<Vec<_>>());
+        let adj = self.adjacency.as_ref().expect("connected");
+        let mut reach = CurveSet::new(self.n);
+        reach.insert(forced[0]);
+        let mut stack = vec![forced[0]];
+        while let Some(c) = stack.pop() {
+            for d in adj[c].iter() {
+                if all.contains(d) && !reach.contains(d) {
+                    reach.insert(d);
+                    stack.push(d);
+                }
+            }
+        }
+        if let Some(&c) = forced.iter().find(|&&c| !reach.contains(c)) {
+            return Err(format!(
+                "--connected: curves {} and {c} (kept with the keep list) lie in separate parts \
+                 of the network, which no kept curves can join",
+                forced[0]
+            ));
+        }
+        Ok(())
+    }
+
+    fn analyse_gap(&mut self, free: &[usize], forced_length: f64) -> Result<(), String> {
+        let Some(cov) = &self.coverage else {
+            return Ok(());
+        };
+        let d = cov.limit();
+        let full = cov.full_gap();
+        let note = format!(
+            "--max-gap {}: the surface sampled at {} points (spacing {}: the true gap exceeds the \
+             measured one by less), {} distinct needs; every curve kept leaves a gap of {}",
+            num(d),
+            cov.sample_count(),
+            num(cov.spacing()),
+            cov.need_count(),
+            num(full.value)
+        );
+        if full.value > d {
+            return Err(format!(
+                "--max-gap {}: even with every curve kept, the point ({}, {}, {}) of the surface \
+                 lies {} from the nearest curve (the smallest gap possible)",
+                num(d),
+                num(full.at.x),
+                num(full.at.y),
+                num(full.at.z),
+                num(full.value)
+            ));
+        }
+        let room = self.budget - forced_length;
+        for (need, at) in cov.needs() {
+            if need.intersects(&self.forced_set) {
+                continue;
+            }
+            let shortest = free
+                .iter()
+                .filter(|&&u| self.unit_sets[u].intersects(need))
+                .map(|&u| (self.length(&self.units[u]), u))
+                .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            if let Some((len, u)) = shortest
+                && len > room
+            {
+                return Err(format!(
+                    "--max-gap {}: the point ({}, {}, {}) of the surface is within {} only of \
+                     curves {}, and the shortest group holding one (curves {}) needs {}, more \
+                     than the budget leaves ({})",
+                    num(d),
+                    num(at.x),
+                    num(at.y),
+                    num(at.z),
+                    num(d),
+                    list(need.iter()),
+                    list(self.units[u].iter().copied()),
+                    num(len),
+                    num(room)
+                ));
+            }
+        }
+        self.notes.push(note);
+        Ok(())
+    }
+}
