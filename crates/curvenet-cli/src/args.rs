@@ -155,9 +155,10 @@ pub struct BenchArgs {
     #[arg(long)]
     pub data: Option<PathBuf>,
     /// Techniques to switch off, to measure what each contributes (comma-separated; the
-    /// answer must stay the same).
-    #[arg(long, value_delimiter = ',', value_enum)]
-    pub off: Vec<crate::cmd::bench::Technique>,
+    /// answer must stay the same): prune, warm, restrict, first-shift, reuse, ahead, carry,
+    /// inertia, subtrees, floor-near, quadratic-chord, escape.
+    #[arg(long, value_delimiter = ',', value_parser = parse_technique)]
+    pub off: Vec<curvenet::stability::Technique>,
     /// Low modes per iteration (the candidates' bound subspace; default: the greedy's).
     #[arg(long)]
     pub modes: Option<usize>,
@@ -358,5 +359,10 @@ pub struct ExampleArgs {
 }
 
 fn parse_supports(s: &str) -> Result<Supports, String> {
+    s.parse()
+}
+
+/// A technique's name as `bench --off` takes it.
+fn parse_technique(s: &str) -> Result<curvenet::stability::Technique, String> {
     s.parse()
 }

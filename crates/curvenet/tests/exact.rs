@@ -8,7 +8,7 @@
 //! - the exact solver proves an optimum, and its `λ_fix` equals the exhaustive maximum of
 //!   `λ_fix` (the same cached evaluation, so within the solver's relative tolerance 1e-7 and
 //!   never above it); its bound is at least that maximum;
-//! - the relaxation's certificate (`FixedProblem::certify`) bounds the maximum from above;
+//! - the relaxation's certificate (`certificate::certify`) bounds the maximum from above;
 //! - the search does not depend on the thread count (same answer, same node count).
 //!
 //! The ignored test `exact_scaling` measures the solver on `curvenet compare`'s random geodesic
@@ -18,13 +18,30 @@
 mod common;
 
 use common::{build, random_arches};
+use curvenet::cancel::Cancel;
 use curvenet::network::Network;
 use curvenet::rod::Supports;
-use curvenet::simplify::exact::{ExactParams, exact};
-use curvenet::simplify::exhaustive::exhaustive_fixed;
-use curvenet::simplify::relaxation::{CertifyParams, FixedProblem, RelaxParams};
-use curvenet::simplify::{Budget, Scorer};
+use curvenet::simplify::Budget;
+use curvenet::simplify::certificate::{CertifyParams, certificate, certify, tighten_certificate};
+use curvenet::simplify::exact::{ExactOutcome, ExactParams};
+use curvenet::simplify::exhaustive::{ExhaustiveOutcome, exhaustive_fixed as exhaustive_fixed_c};
+use curvenet::stability::fixed::{FixedProblem, RelaxParams};
 use curvenet::stability::{Analyzer, StabilityParams};
+
+fn exact(
+    p: &FixedProblem<'_>,
+    params: &ExactParams,
+    incumbents: &[Vec<usize>],
+) -> Result<ExactOutcome, curvenet::simplify::SimplifyError> {
+    curvenet::simplify::exact::exact(p, params, incumbents, &Cancel::never())
+}
+
+fn exhaustive_fixed(
+    p: &FixedProblem<'_>,
+    max: usize,
+) -> Result<ExhaustiveOutcome, curvenet::simplify::SimplifyError> {
+    exhaustive_fixed_c(p, max, &Cancel::never())
+}
 
 struct Case {
     network: Network,
@@ -124,11 +141,14 @@ fn exact_matches_exhaustive_search_over_lambda_fix() {
                 max_evals: 8,
                 ..RelaxParams::default()
             },
-            ..CertifyParams::default()
         };
-        let cert = p
-            .certify(&light, std::slice::from_ref(&ex_outcome.curves))
-            .expect("certify");
+        let cert = certify(
+            &p,
+            &light,
+            std::slice::from_ref(&ex_outcome.curves),
+            &Cancel::never(),
+        )
+        .expect("certify");
         assert!(
             cert.upper >= best,
             "case {k}: certified bound {:e} below the optimum {best:e}",
@@ -136,8 +156,7 @@ fn exact_matches_exhaustive_search_over_lambda_fix() {
         );
         assert!(cert.lower <= best && cert.lower >= ex_outcome.lambda_fix);
         // λ_eq of the answer is a number.
-        let sc = Scorer::new(&an);
-        assert!(ex_outcome.lambda_eq(&sc).expect("lambda_eq").is_finite());
+        assert!(ex_outcome.lambda_eq(&an).expect("lambda_eq").is_finite());
     }
 }
 
@@ -212,7 +231,6 @@ fn exact_scaling() {
     };
     let surf = common::compare_surfaces(&data);
     let n = common::env_usize("N", 14);
-    let relax = std::env::var("RELAX").ok().and_then(|s| s.parse().ok());
     let exhaustive = std::env::var("EX").is_ok();
     for i in 0..common::env_usize("I", 3) {
         let (name, seed, net) =
@@ -222,11 +240,7 @@ fn exact_scaling() {
         let t = std::time::Instant::now();
         let p = FixedProblem::new(&an, Budget::Fraction(0.3), &[]).expect("p");
         let setup = t.elapsed().as_secs_f64();
-        let params = ExactParams {
-            relax_min_free: relax,
-            ..ExactParams::default()
-        };
-        let o = exact(&p, &params, &[]).expect("exact");
+        let o = exact(&p, &ExactParams::default(), &[]).expect("exact");
         println!(
             "N={n} i={i} {name} seed {seed} {vertices} vertices: setup {setup:.2}s, {:?} \
              λ_fix {:e} {:?} upper {:e} {:?}",
@@ -277,9 +291,8 @@ fn certificate_on_a_paper_example() {
             max_evals: evals,
             ..RelaxParams::default()
         },
-        ..CertifyParams::default()
     };
-    let r = p.certify(&params, &[]).expect("certify");
+    let r = certify(&p, &params, &[], &Cancel::never()).expect("certify");
     println!(
         "certify {:.2}s upper {:e} lower {:e} {:?} relax evals {} evaluations {}",
         t.elapsed().as_secs_f64(),
@@ -297,7 +310,6 @@ fn certificate_on_a_paper_example() {
 
 #[test]
 fn a_certificate_tightened_by_branch_and_bound() {
-    use curvenet::simplify::exact::tighten_certificate;
     let case = &cases()[1];
     let an = Analyzer::new(case.network.clone(), StabilityParams::default()).expect("an");
     let p = FixedProblem::new(&an, Budget::Fraction(case.fraction), &case.keep).expect("p");
@@ -315,19 +327,19 @@ fn a_certificate_tightened_by_branch_and_bound() {
             max_evals: 8,
             ..RelaxParams::default()
         },
-        ..CertifyParams::default()
     };
-    let mut c = p.certificate(&worst, &light).expect("certificate");
+    let never = Cancel::never();
+    let mut c = certificate(&p, &worst, &light, &never).expect("certificate");
     assert_eq!(c.curves, worst);
     assert!(c.upper_bound >= ex.best.lambda && !c.proven_optimum);
     let loose = c.upper_bound;
     // A node budget too small to finish: a valid bound, not proven.
     let mut partial = c.clone();
-    tighten_certificate(&p, &mut partial, 2).expect("tighten");
+    tighten_certificate(&p, &mut partial, 2, &never).expect("tighten");
     assert!(!partial.proven_optimum && partial.branch_and_bound_nodes <= 2);
     assert!(partial.upper_bound >= ex.best.lambda && partial.upper_bound <= loose);
     // Enough nodes: the optimum, proven.
-    tighten_certificate(&p, &mut c, 100_000).expect("tighten");
+    tighten_certificate(&p, &mut c, 100_000, &never).expect("tighten");
     assert!(c.proven_optimum);
     assert!(c.best_found >= ex.best.lambda * (1.0 - 1e-7) && c.best_found <= ex.best.lambda);
     assert!(c.upper_bound >= ex.best.lambda && c.upper_bound <= loose);

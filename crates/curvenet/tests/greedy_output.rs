@@ -23,7 +23,8 @@ use curvenet::network::{BuildInfo, BuildParams, Network, build_network};
 use curvenet::rod::Supports;
 use curvenet::simplify::greedy::{GreedyHooks, GreedyOutcome, IterationRecord};
 use curvenet::simplify::result::{InputDescription, OutputWriter, ResultFile, RunSetup};
-use curvenet::simplify::{Budget, Evaluation, GreedyParams, SimplifyError, greedy};
+use curvenet::simplify::{Budget, GreedyParams, SimplifyError, greedy};
+use curvenet::stability::Evaluation;
 use curvenet::stability::{Analyzer, StabilityParams};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -63,6 +64,15 @@ struct Scene {
 }
 
 fn scene(curves: &[curvenet::io::Polyline], h: f64, fraction: f64) -> Scene {
+    scene_with(curves, h, fraction, StabilityParams::default())
+}
+
+fn scene_with(
+    curves: &[curvenet::io::Polyline],
+    h: f64,
+    fraction: f64,
+    stability: StabilityParams,
+) -> Scene {
     let build = BuildParams {
         edge_length: h,
         supports: Supports::Clamped,
@@ -72,7 +82,6 @@ fn scene(curves: &[curvenet::io::Polyline], h: f64, fraction: f64) -> Scene {
     let n = net.rods.len();
     let total = net.total_length(&(0..n).collect::<Vec<_>>());
     let params = GreedyParams::new(Budget::Fraction(fraction));
-    let stability = StabilityParams::default();
     let setup = RunSetup {
         input: InputDescription {
             example: None,
@@ -94,11 +103,11 @@ fn scene(curves: &[curvenet::io::Polyline], h: f64, fraction: f64) -> Scene {
 }
 
 fn arches_scene() -> Scene {
-    let mut s = scene(&random_arches(3, 9), 70.0, 0.3);
     // Carried test vectors in every iteration (by default only after iterations that needed
     // inertia tests, which this small network rarely does): the resume must restore them.
-    s.params.prune.carry_after = 0;
-    s
+    let mut stability = StabilityParams::default();
+    stability.tuning.carry_after = 0;
+    scene_with(&random_arches(3, 9), 70.0, 0.3, stability)
 }
 
 fn dome_scene() -> Scene {
@@ -235,7 +244,10 @@ impl GreedyHooks for CancelAfter<'_> {
         Ok(())
     }
 
-    fn carried(&mut self, carried: &curvenet::simplify::candidates::Carried) -> Result<(), String> {
+    fn carried(
+        &mut self,
+        carried: &curvenet::stability::candidates::Carried,
+    ) -> Result<(), String> {
         self.writer.carried(carried)
     }
 

@@ -1,7 +1,7 @@
-//! Candidate pruning and warm starts must not change the greedy's choices (SPEC §6).
+//! Candidate pruning and warm starts must not change the greedy's choices.
 //!
 //! On random crossing arches (9 and 10 arches), the built-in domes (2×4 arcs at h = 100 and the
-//! 3×5 demo scene at h = 50) and the tower example (clamped, SPEC §9 set-up, truncated at 3
+//! 3×5 demo scene at h = 50) and the tower example (clamped, the paper's set-up, truncated at 3
 //! removals; skipped without the reference data), the greedy runs with pruning on and off:
 //!
 //! - same removals iteration by iteration, same `λ_eq` and same score of the removed curve
@@ -11,10 +11,10 @@
 //! - a pruned candidate has no score and a recorded bound below the chosen score;
 //! - pruning does skip candidates (on the domes and the tower).
 //!
-//! And `warm_start = false` gives the same removals as `warm_start = true` (with `λ_eq` equal
-//! to the Newton and eigen solvers' accuracy, 1e-7 relative), and scoring each iteration's
-//! first candidate about a shift below its refined bound (`PruneParams::first_shift`) gives the
-//! same removals and scores as scoring it about zero.
+//! And without warm starts the greedy makes the same removals (with `λ_eq` equal to the Newton
+//! and eigen solvers' accuracy, 1e-7 relative), and scoring each iteration's first candidate
+//! about a shift below its refined bound (`Tuning::first_shift`) gives the same removals and
+//! scores as scoring it about zero; likewise refining ahead and carried test vectors.
 
 mod common;
 
@@ -23,7 +23,7 @@ use curvenet::network::{Network, build_network};
 use curvenet::rod::Supports;
 use curvenet::simplify::greedy::{GreedyOutcome, NoHooks};
 use curvenet::simplify::{Budget, GreedyParams, greedy};
-use curvenet::stability::{Analyzer, StabilityParams};
+use curvenet::stability::{Analyzer, StabilityParams, Technique};
 use std::time::Instant;
 
 /// Agreement of one score computed by two routes: shift-and-invert about zero (no pruning) or
@@ -43,6 +43,12 @@ fn dome(families: usize, per_family: usize, h: f64) -> Network {
 
 fn run(a: &Analyzer, params: &GreedyParams) -> GreedyOutcome {
     greedy(a, params, None, &mut NoHooks).expect("greedy runs")
+}
+
+/// `a`'s network and parameters with `technique` switched off.
+fn without(a: &Analyzer, technique: Technique) -> Analyzer {
+    let params = a.params().clone().without(technique);
+    Analyzer::new(a.network().clone(), params).expect("analyzer")
 }
 
 fn removals(g: &GreedyOutcome) -> Vec<Option<usize>> {
@@ -71,12 +77,9 @@ fn assert_same_choices(name: &str, a: &GreedyOutcome, b: &GreedyOutcome) {
 /// Compares the greedy with pruning on and off; returns the number of pruned candidates.
 fn check_pruning(name: &str, a: &Analyzer, base: &GreedyParams) -> usize {
     let t = Instant::now();
-    let mut on = base.clone();
-    on.prune.enabled = true;
-    let mut off = base.clone();
-    off.prune.enabled = false;
-    let g_on = run(a, &on);
-    let g_off = run(a, &off);
+    assert!(a.tuning().prune, "on by default");
+    let g_on = run(a, base);
+    let g_off = run(&without(a, Technique::Prune), base);
     assert_eq!(removals(&g_on), removals(&g_off), "{name}: removals");
     assert_eq!(g_on.stop, g_off.stop, "{name}: stop");
     assert!(g_on.iterations.len() >= 3, "{name}: too short to test");
@@ -184,12 +187,9 @@ fn check_pruning(name: &str, a: &Analyzer, base: &GreedyParams) -> usize {
 }
 
 fn check_warm_start(name: &str, a: &Analyzer, base: &GreedyParams) {
-    let mut warm = base.clone();
-    warm.warm_start = true;
-    let mut cold = base.clone();
-    cold.warm_start = false;
-    let g_warm = run(a, &warm);
-    let g_cold = run(a, &cold);
+    assert!(a.tuning().warm_start, "on by default");
+    let g_warm = run(a, base);
+    let g_cold = run(&without(a, Technique::Warm), base);
     assert_eq!(removals(&g_warm), removals(&g_cold), "{name}: removals");
     assert_eq!(g_warm.stop, g_cold.stop);
     let mut worst = 0.0f64;
@@ -252,9 +252,7 @@ fn an_inertia_test_at_the_zero_band_edge_does_not_change_the_choices() {
     let net = build(&random_curves(122, 3), 60.0, Supports::Pinned);
     let a = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
     let on = GreedyParams::new(Budget::Fraction(0.05));
-    let mut off = on.clone();
-    off.prune.enabled = false;
-    let (g_on, g_off) = (run(&a, &on), run(&a, &off));
+    let (g_on, g_off) = (run(&a, &on), run(&without(&a, Technique::Prune), &on));
     // This small network's scores carry about 1e-7 of round-off (the first removal's score
     // about a shift and about zero differ by 8.6e-8), and its last removal leaves a mechanism
     // (scores of a few 1e-18): scores are compared to 1e-6 relative plus 1e-14.
@@ -317,12 +315,10 @@ fn refining_ahead_does_not_change_the_choices() {
     let mut differ = 0;
     for (name, net, fraction) in cases {
         let a = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
-        let mut ahead = GreedyParams::new(Budget::Fraction(fraction));
-        assert!(ahead.prune.ahead, "on by default");
-        ahead.max_removals = Some(4);
-        let mut batch = ahead.clone();
-        batch.prune.ahead = false;
-        let (g_a, g_b) = (run(&a, &ahead), run(&a, &batch));
+        let mut p = GreedyParams::new(Budget::Fraction(fraction));
+        assert!(a.tuning().ahead, "on by default");
+        p.max_removals = Some(4);
+        let (g_a, g_b) = (run(&a, &p), run(&without(&a, Technique::Ahead), &p));
         assert_same_choices(name, &g_a, &g_b);
         for (x, y) in g_a.iterations.iter().zip(&g_b.iterations) {
             let refined = |it: &curvenet::simplify::greedy::IterationRecord| -> Vec<usize> {
@@ -348,11 +344,10 @@ fn a_first_shift_does_not_change_the_choices() {
     let mut shifted_firsts = 0;
     for (name, net, fraction) in small_cases() {
         let a = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
-        let shifted = GreedyParams::new(Budget::Fraction(fraction));
-        assert!(shifted.prune.first_shift > 0.0, "on by default");
-        let mut zero = shifted.clone();
-        zero.prune.first_shift = 0.0;
-        let (g_s, g_z) = (run(&a, &shifted), run(&a, &zero));
+        let p = GreedyParams::new(Budget::Fraction(fraction));
+        let first_shift = a.tuning().first_shift;
+        assert!(first_shift > 0.0, "on by default");
+        let (g_s, g_z) = (run(&a, &p), run(&without(&a, Technique::FirstShift), &p));
         assert_same_choices(name, &g_s, &g_z);
         for (s, z) in g_s.iterations.iter().zip(&g_z.iterations) {
             // The first score about 0.8 × its refined bound (recorded as its shift).
@@ -360,8 +355,7 @@ fn a_first_shift_does_not_change_the_choices() {
                 .candidates
                 .iter()
                 .filter(|c| {
-                    c.shift.is_some()
-                        && c.shift == c.refined_bound.map(|r| shifted.prune.first_shift * r)
+                    c.shift.is_some() && c.shift == c.refined_bound.map(|r| first_shift * r)
                 })
                 .count();
             assert!(
@@ -387,14 +381,12 @@ fn carried_test_vectors_do_not_change_the_choices() {
     let (mut extended, mut settled) = (0, 0);
     for (name, net, fraction) in cases {
         let a = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
-        let mut carry = GreedyParams::new(Budget::Fraction(fraction));
-        assert!(carry.prune.carry, "on by default");
+        let mut p = GreedyParams::new(Budget::Fraction(fraction));
+        assert!(a.tuning().carry, "on by default");
         if name == "roof" {
-            carry.max_removals = Some(12);
+            p.max_removals = Some(12);
         }
-        let mut fresh = carry.clone();
-        fresh.prune.carry = false;
-        let (g_c, g_f) = (run(&a, &carry), run(&a, &fresh));
+        let (g_c, g_f) = (run(&a, &p), run(&without(&a, Technique::Carry), &p));
         assert_same_choices(name, &g_c, &g_f);
         for it in &g_f.iterations {
             assert!(

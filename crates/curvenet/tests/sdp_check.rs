@@ -1,4 +1,4 @@
-//! The relaxation's bounds (`simplify::relaxation`) against an SDP solver (Clarabel) on tiny
+//! The relaxation's bounds (`stability::fixed`, `simplify::certificate`) against an SDP solver (Clarabel) on tiny
 //! networks: issue 8's cross-check. Needs the `sdp-check` feature and the system's OpenBLAS
 //! (`apt-get install libopenblas-dev`):
 //!
@@ -60,7 +60,7 @@
 //!
 //! On five tiny networks (three coarse clamped arches, 15 vertices, LMIs of 30–45
 //! coordinates; one with a keep list, four with fractional relaxed optima), for every face of
-//! [`FixedProblem::certify`] with free curves and a tight [`FixedProblem::relax_node`] of it:
+//! `certify` with free curves and a tight [`FixedProblem::relax_node`] of it:
 //!
 //! - (a) the code's certified bounds are at least `μ*` (bound valid);
 //! - (b) the code's relaxed values are at most `μ*` (the relaxed point is feasible);
@@ -86,10 +86,12 @@ mod common;
 use clarabel::algebra::CscMatrix;
 use clarabel::solver::{DefaultSettings, DefaultSolver, IPSolver, SolverStatus, SupportedConeT::*};
 use common::build;
+use curvenet::cancel::Cancel;
 use curvenet::rod::Supports;
 use curvenet::simplify::Budget;
+use curvenet::simplify::certificate::{CertifyParams, certify};
 use curvenet::simplify::exhaustive::exhaustive_fixed;
-use curvenet::simplify::relaxation::{CertifyParams, FixedProblem, Node, RelaxParams, Status};
+use curvenet::stability::fixed::{FixedProblem, Node, RelaxParams, Status};
 use curvenet::stability::{Analyzer, StabilityParams};
 use faer::{Mat, Side};
 use std::collections::BTreeMap;
@@ -738,9 +740,10 @@ fn relaxation_bounds_agree_with_an_sdp_solver() {
         let d = Dense::new(&p);
         let margin = p.margin();
         let t0 = Instant::now();
-        let report = p.certify(&CertifyParams::default(), &[]).expect("certify");
+        let never = Cancel::never();
+        let report = certify(&p, &CertifyParams::default(), &[], &never).expect("certify");
         let certify_s = t0.elapsed().as_secs_f64();
-        let all = exhaustive_fixed(&p, 1 << 12).expect("exhaustive");
+        let all = exhaustive_fixed(&p, 1 << 12, &never).expect("exhaustive");
         let best = all.best.lambda;
         let mut face_max = f64::NEG_INFINITY;
         for fb in &report.faces {
@@ -749,7 +752,9 @@ fn relaxation_bounds_agree_with_an_sdp_solver() {
                 continue;
             }
             let t1 = Instant::now();
-            let r = p.relax_node(&node, &tight, None, &[]).expect("relax_node");
+            let r = p
+                .relax_node(&node, &tight, None, &[], &never)
+                .expect("relax_node");
             let relax_s = t1.elapsed().as_secs_f64();
             // Dinkelbach starts from the better of the node's own structure and the code's
             // relaxed point: only the speed depends on it (the bracket's ends are a dense

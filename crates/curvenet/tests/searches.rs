@@ -5,7 +5,7 @@
 //! vertices) and the built-in dome `dome_arcs(2000, 700, 2, 4)` at h = 100 (312 vertices, with
 //! symmetric ties), clamped, budget fractions 0.3 and 0.4.
 //!
-//! - exhaustive ≥ greedy: the exhaustive optimum is at least `Scorer::lambda_eq` of the
+//! - exhaustive ≥ greedy: the exhaustive optimum is at least `Analyzer::lambda_eq` of the
 //!   greedy's final set (which is feasible and among the exhaustive subsets with the same λ),
 //!   and at least the best of a random search of E evaluations (1e-9 relative slack);
 //! - exhaustive = brute force: every mask of the 2^N is tested for feasibility (keep list held,
@@ -27,12 +27,13 @@
 mod common;
 
 use common::{build, random_arches, rel_diff, sub_network};
+use curvenet::cancel::Cancel;
 use curvenet::network::Network;
 use curvenet::rod::{ActiveSet, Supports};
 use curvenet::simplify::exhaustive::{ExhaustiveOutcome, ExhaustiveParams, exhaustive};
 use curvenet::simplify::greedy::NoHooks;
 use curvenet::simplify::random::{RandomOutcome, RandomParams, random_search};
-use curvenet::simplify::{Budget, GreedyParams, Scorer, StopReason, greedy};
+use curvenet::simplify::{Budget, GreedyParams, StopReason, greedy};
 use curvenet::stability::{Analyzer, StabilityParams};
 use std::collections::HashSet;
 
@@ -203,10 +204,17 @@ fn first_within_tie(all: &[(Vec<usize>, f64)]) -> (Vec<usize>, f64) {
         .expect("one within the tie")
 }
 
-fn run_exhaustive(sc: &Scorer<'_>, case: &Case) -> ExhaustiveOutcome {
+fn run_exhaustive(sc: &Analyzer, case: &Case) -> ExhaustiveOutcome {
     let mut p = ExhaustiveParams::new(Budget::Fraction(case.fraction));
     p.keep = case.keep.clone();
-    exhaustive(sc, &p).expect("exhaustive search runs")
+    exhaustive(sc, &p, &Cancel::never()).expect("exhaustive search runs")
+}
+
+fn random(
+    sc: &Analyzer,
+    p: &RandomParams,
+) -> Result<RandomOutcome, curvenet::simplify::SimplifyError> {
+    random_search(sc, p, &Cancel::never())
 }
 
 fn random_params(case: &Case, evaluations: usize, seed: u64) -> RandomParams {
@@ -232,8 +240,8 @@ fn exhaustive_lambda(ex: &ExhaustiveOutcome, curves: &[usize]) -> f64 {
 fn exhaustive_equals_an_independent_brute_force() {
     for case in cases().iter().chain(&keep_cases()) {
         let a = analyzer(&case.network);
-        let sc = Scorer::new(&a);
-        let ex = run_exhaustive(&sc, case);
+        let sc = &a;
+        let ex = run_exhaustive(sc, case);
         let budget = budget_length(&case.network, case.fraction);
         let brute = brute_force(&a, budget, &case.keep);
         println!(
@@ -308,8 +316,8 @@ fn dfs_order_key_is_include_first() {
 fn exhaustive_is_at_least_greedy_and_random_search() {
     for case in cases() {
         let a = analyzer(&case.network);
-        let sc = Scorer::new(&a);
-        let ex = run_exhaustive(&sc, &case);
+        let sc = &a;
+        let ex = run_exhaustive(sc, &case);
         let mut gp = GreedyParams::new(Budget::Fraction(case.fraction));
         gp.keep = case.keep.clone();
         let g = greedy(&a, &gp, None, &mut NoHooks).expect("greedy runs");
@@ -329,7 +337,7 @@ fn exhaustive_is_at_least_greedy_and_random_search() {
         );
         // Random search with about a third of the feasible subsets.
         let e = (ex.all.len() / 3).max(5);
-        let r = random_search(&sc, &random_params(&case, e, 11)).expect("random search runs");
+        let r = random(sc, &random_params(&case, e, 11)).expect("random search runs");
         assert_eq!(r.evaluated.len(), e);
         assert!(
             ex.best.lambda >= r.best.lambda * (1.0 - SAME),
@@ -356,21 +364,21 @@ fn exhaustive_is_at_least_greedy_and_random_search() {
 fn random_search_draws_feasible_distinct_subsets_deterministically() {
     for (ci, case) in cases().iter().chain(&keep_cases()).enumerate() {
         let a = analyzer(&case.network);
-        let sc = Scorer::new(&a);
-        let ex = run_exhaustive(&sc, case);
+        let sc = &a;
+        let ex = run_exhaustive(sc, case);
         let budget = budget_length(&case.network, case.fraction);
         let feasible = ex.all.len();
 
         let e = (feasible / 2).max(5);
-        let r1 = random_search(&sc, &random_params(case, e, 5)).expect("random search");
-        let r2 = random_search(&sc, &random_params(case, e, 5)).expect("random search");
+        let r1 = random(sc, &random_params(case, e, 5)).expect("random search");
+        let r2 = random(sc, &random_params(case, e, 5)).expect("random search");
         assert!(!r1.used_fallback && !r1.exhausted);
         assert_eq!(r1.evaluated.len(), e);
         // Deterministic for a seed: same draws, same values, same best.
         assert_eq!(r1.evaluated, r2.evaluated, "{}: same seed", case.name);
         assert_eq!(r1.best, r2.best);
         // Another seed draws another sequence.
-        let r3 = random_search(&sc, &random_params(case, e, 6)).expect("random search");
+        let r3 = random(sc, &random_params(case, e, 6)).expect("random search");
         assert_ne!(
             r1.evaluated.iter().map(|s| &s.curves).collect::<Vec<_>>(),
             r3.evaluated.iter().map(|s| &s.curves).collect::<Vec<_>>(),
@@ -401,13 +409,13 @@ fn random_search_draws_feasible_distinct_subsets_deterministically() {
         // (Noticing that every subset was drawn takes the search 1e6 rejected draws, ~0.5 s:
         // done on the first two cases only; E = count exactly, below, on all of them.)
         if ci < 2 {
-            let r = random_search(&sc, &random_params(case, feasible + 3, 17)).expect("random");
+            let r = random(sc, &random_params(case, feasible + 3, 17)).expect("random");
             assert!(r.exhausted && !r.used_fallback, "{}", case.name);
             assert_eq!(r.evaluated.len(), feasible, "{}", case.name);
             assert_finds_the_optimum(case, &ex, &r);
         }
         // E exactly the number of feasible subsets: all drawn, not "exhausted".
-        let r = random_search(&sc, &random_params(case, feasible, 23)).expect("random");
+        let r = random(sc, &random_params(case, feasible, 23)).expect("random");
         assert!(!r.exhausted && !r.used_fallback, "{}", case.name);
         assert_eq!(r.evaluated.len(), feasible, "{}", case.name);
         assert_finds_the_optimum(case, &ex, &r);
@@ -436,11 +444,11 @@ fn assert_finds_the_optimum(case: &Case, ex: &ExhaustiveOutcome, r: &RandomOutco
 fn keep_lists_are_respected_by_all_three_searches() {
     for case in keep_cases() {
         let a = analyzer(&case.network);
-        let sc = Scorer::new(&a);
+        let sc = &a;
         let keep = &case.keep;
         let holds = |curves: &[usize]| keep.iter().all(|k| curves.contains(k));
 
-        let ex = run_exhaustive(&sc, &case);
+        let ex = run_exhaustive(sc, &case);
         assert!(ex.all.iter().all(|s| holds(&s.curves)), "{}", case.name);
         // The kept subsets are exactly the feasible subsets (without a keep list) holding it.
         let free = Case {
@@ -449,7 +457,7 @@ fn keep_lists_are_respected_by_all_three_searches() {
             fraction: case.fraction,
             keep: vec![],
         };
-        let ex_free = run_exhaustive(&sc, &free);
+        let ex_free = run_exhaustive(sc, &free);
         assert!(ex_free.all.len() > ex.all.len());
         assert_eq!(
             ex.all.len(),
@@ -458,7 +466,7 @@ fn keep_lists_are_respected_by_all_three_searches() {
             case.name
         );
 
-        let r = random_search(&sc, &random_params(&case, ex.all.len(), 3)).expect("random");
+        let r = random(sc, &random_params(&case, ex.all.len(), 3)).expect("random");
         assert_eq!(r.evaluated.len(), ex.all.len());
         assert!(
             r.evaluated.iter().all(|s| holds(&s.curves)),
@@ -526,7 +534,7 @@ fn removing_curves_equals_rebuilding_the_network_without_them() {
             .enumerate()
         {
             let a = Analyzer::new(net.clone(), params.clone()).expect("analyzer");
-            let sc = Scorer::new(&a);
+            let sc = &a;
             for keep in &subsets {
                 let (small, old_of) = sub_network(net, keep);
                 assert_eq!(small.rods.len(), keep.len());
@@ -560,7 +568,7 @@ fn removing_curves_equals_rebuilding_the_network_without_them() {
                 let l_scorer = sc
                     .lambda_eq(&ActiveSet::from_curves(n, keep))
                     .expect("λ_eq");
-                let l_scorer_small = Scorer::new(&b).lambda_eq(&b.all()).expect("λ_eq");
+                let l_scorer_small = b.lambda_eq(&b.all()).expect("λ_eq");
                 assert!(rel_diff(l_scorer, l_device) < SAME);
                 assert!(rel_diff(l_scorer_small, l_rebuilt) < SAME);
             }
@@ -574,11 +582,14 @@ fn removing_curves_equals_rebuilding_the_network_without_them() {
 
 #[test]
 fn a_lambda_hint_changes_only_the_work() {
-    use curvenet::simplify::Warm;
+    use curvenet::stability::{Prepare, Preset, Warm};
     let an = Analyzer::new(arches(7, 6, 30.0), StabilityParams::default()).expect("analyzer");
-    let sc = Scorer::new(&an);
     let all = an.all();
-    let plain = sc.evaluate(&all, None).expect("evaluate");
+    let evaluate = |warm: Warm| {
+        an.evaluate(&all, warm, Preset::Analysis, Prepare::Nothing)
+            .expect("evaluate")
+    };
+    let plain = evaluate(Warm::default());
     let lambda = plain.lambda();
     assert!(lambda > 0.0, "a stable test network ({lambda:e})");
     assert!(plain.spectrum.shift <= 0.0, "about zero without a hint");
@@ -589,11 +600,7 @@ fn a_lambda_hint_changes_only_the_work() {
         (-1.0, false),
         (f64::NAN, false),
     ] {
-        let warm = Warm {
-            lambda: Some(hint),
-            ..Warm::default()
-        };
-        let e = sc.evaluate_warm(&all, None, warm).expect("evaluate");
+        let e = evaluate(Warm::default().lambda(hint));
         assert_eq!(
             e.spectrum.shift > 0.0,
             shifted,

@@ -404,9 +404,9 @@ fn saddle_escapes_reach_the_same_equilibrium_sooner() {
     };
     let relax = |doublings: usize| {
         let mut params = StabilityParams::default();
-        params.solver.escape_doublings = doublings;
+        params.tuning.solver.escape_doublings = doublings;
         // Every step factored afresh: the doublings' saving alone.
-        params.solver.chord_below = 0.0;
+        params.tuning.solver.chord_below = 0.0;
         let a = Analyzer::new(net.clone(), params).expect("analyzer");
         let mut u = vec![0.0; a.model().dofs()];
         let info = a.relax(&a.all(), &mut u);
@@ -414,7 +414,7 @@ fn saddle_escapes_reach_the_same_equilibrium_sooner() {
         (info, u)
     };
     let (plain, u0) = relax(0);
-    let (escaping, u1) = relax(StabilityParams::default().solver.escape_doublings);
+    let (escaping, u1) = relax(StabilityParams::default().tuning.solver.escape_doublings);
     assert_eq!(plain.escape_doublings, 0);
     assert!(plain.projected_steps > 0, "a saddle on the way: {plain:?}");
     assert!(escaping.escape_doublings > 0, "{escaping:?}");
@@ -439,7 +439,7 @@ fn chord_steps_in_the_quadratic_phase_reach_the_same_equilibrium() {
     };
     let relax = |chord_below: f64| {
         let mut params = StabilityParams::default();
-        params.solver.chord_below = chord_below;
+        params.tuning.solver.chord_below = chord_below;
         let a = Analyzer::new(net.clone(), params).expect("analyzer");
         let mut u = vec![0.0; a.model().dofs()];
         let first = a.relax(&a.all(), &mut u);
@@ -451,7 +451,7 @@ fn chord_steps_in_the_quadratic_phase_reach_the_same_equilibrium() {
         [(first, u), (after, u_after)]
     };
     let plain = relax(0.0);
-    let chord = relax(StabilityParams::default().solver.chord_below);
+    let chord = relax(StabilityParams::default().tuning.solver.chord_below);
     let mut chord_steps = 0;
     for ((p, up), (c, uc)) in plain.iter().zip(&chord) {
         assert_eq!(p.chord_steps, 0, "{p:?}");

@@ -560,18 +560,14 @@ fn compressed_rod_beyond_euler_load_has_negative_modes() {
 #[test]
 fn restrict_share_outside_the_unit_interval_is_an_error() {
     for bad in [-0.1, 1.5, f64::NAN, f64::INFINITY] {
-        let p = StabilityParams {
-            restrict_share: bad,
-            ..StabilityParams::default()
-        };
+        let mut p = StabilityParams::default();
+        p.tuning.restrict_share = bad;
         let e = p.validate().expect_err("rejected");
         assert!(e.contains("restrict_share"), "{e}");
     }
     for good in [0.0, 0.85, 1.0] {
-        let p = StabilityParams {
-            restrict_share: good,
-            ..StabilityParams::default()
-        };
+        let mut p = StabilityParams::default();
+        p.tuning.restrict_share = good;
         assert!(p.validate().is_ok());
     }
 }
@@ -580,12 +576,12 @@ fn restrict_share_outside_the_unit_interval_is_an_error() {
 fn newton_floor_near_below_one_is_an_error() {
     for bad in [0.5, -1.0, f64::NAN, f64::INFINITY] {
         let mut p = StabilityParams::default();
-        p.solver.floor_near = bad;
+        p.tuning.solver.floor_near = bad;
         let e = p.validate().expect_err("rejected");
         assert!(e.contains("floor_near"), "{e}");
     }
     let mut p = StabilityParams::default();
-    p.solver.floor_near = 1.0;
+    p.tuning.solver.floor_near = 1.0;
     assert!(p.validate().is_ok());
 }
 
@@ -593,13 +589,13 @@ fn newton_floor_near_below_one_is_an_error() {
 fn newton_chord_below_outside_zero_one_and_an_empty_solve_group_are_errors() {
     for bad in [-1e-6, 1.0, 2.0, f64::NAN, f64::INFINITY] {
         let mut p = StabilityParams::default();
-        p.solver.chord_below = bad;
+        p.tuning.solver.chord_below = bad;
         let e = p.validate().expect_err("rejected");
         assert!(e.contains("chord_below"), "{e}");
     }
     for good in [0.0, 1e-6, 0.5] {
         let mut p = StabilityParams::default();
-        p.solver.chord_below = good;
+        p.tuning.solver.chord_below = good;
         assert!(p.validate().is_ok(), "{good}");
     }
     let mut p = StabilityParams::default();

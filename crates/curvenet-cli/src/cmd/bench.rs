@@ -25,63 +25,12 @@ use crate::exit::usage;
 use curvenet::network::build_network;
 use curvenet::simplify::greedy::NoHooks;
 use curvenet::simplify::{Budget, GreedyParams, greedy};
-use curvenet::solve::Backend;
 use curvenet::stability::{Analyzer, StabilityParams};
 use curvenet::{paper, profile};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
 use std::process::{Command, Stdio};
 use std::time::Instant;
-
-/// A speed technique `bench --off` switches off. None changes the answer: the same removals,
-/// the same values up to the round-off of another path.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum Technique {
-    /// Candidate pruning by bounds (and everything built on it).
-    Prune,
-    /// The inertia test of candidates the bounds could not prune.
-    Inertia,
-    /// Each iteration's first candidate scored about a shift below its bound.
-    FirstShift,
-    /// Inertia tests copying a factorization of `H_A − σI`.
-    Reuse,
-    /// Refining bounds beside each iteration's first score.
-    Ahead,
-    /// Test vectors carried between iterations.
-    Carry,
-    /// Warm starts between iterations (modes, the winner's factorization).
-    Warm,
-    /// Factorizations restricted to a structure's vertices.
-    Restrict,
-    /// The subtree-parallel factorization and substitutions (faer's sequential ones instead).
-    Subtrees,
-    /// The early round-off floor of Newton's method.
-    FloorNear,
-    /// Chord steps in Newton's quadratic phase.
-    QuadraticChord,
-    /// Doubled steps escaping saddles.
-    Escape,
-}
-
-impl Technique {
-    /// Switches the technique off in the parameters of a run.
-    fn switch_off(self, stability: &mut StabilityParams, greedy: &mut GreedyParams) {
-        match self {
-            Technique::Prune => greedy.prune.enabled = false,
-            Technique::Inertia => greedy.prune.inertia = false,
-            Technique::FirstShift => greedy.prune.first_shift = 0.0,
-            Technique::Reuse => greedy.prune.reuse = false,
-            Technique::Ahead => greedy.prune.ahead = false,
-            Technique::Carry => greedy.prune.carry = false,
-            Technique::Warm => greedy.warm_start = false,
-            Technique::Restrict => stability.restrict_share = 0.0,
-            Technique::Subtrees => stability.solver.backend = Backend::Faer,
-            Technique::FloorNear => stability.solver.floor_near = 1.0,
-            Technique::QuadraticChord => stability.solver.chord_below = 0.0,
-            Technique::Escape => stability.solver.escape_doublings = 0,
-        }
-    }
-}
 
 /// The reference implementation's greedy on a 2-core machine like this one, seconds.
 fn reference_seconds(name: &str) -> Option<f64> {
@@ -159,12 +108,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
     for name in &a.examples {
         paper::load(name, &data, Default::default())?;
     }
-    let off: Vec<String> = a
-        .off
-        .iter()
-        .filter_map(clap::ValueEnum::to_possible_value)
-        .map(|v| v.get_name().to_string())
-        .collect();
+    let off: Vec<String> = a.off.iter().map(|t| t.name().to_string()).collect();
     println!(
         "curvenet bench: {threads} thread(s); techniques off: {}",
         if off.is_empty() {
@@ -300,11 +244,11 @@ fn run_once(
     let mut stability = StabilityParams::default();
     let mut params = GreedyParams::new(Budget::Fraction(ex.setup.budget_fraction));
     params.keep = ex.setup.keep.clone();
-    for t in &a.off {
-        t.switch_off(&mut stability, &mut params);
+    for &t in &a.off {
+        stability = stability.without(t);
     }
     if let Some(m) = a.modes {
-        params.modes = m;
+        stability.tuning.modes = m;
     }
     profile::reset_peak_memory();
     profile::reset();

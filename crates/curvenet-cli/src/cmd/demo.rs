@@ -65,7 +65,6 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
         certificate_nodes: a.after.certificate_nodes,
         local_search: a.after.local_search,
         resume: false,
-        prune: Default::default(),
         mesh: Some(mesh),
     })
 }

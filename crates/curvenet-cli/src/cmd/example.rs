@@ -6,7 +6,6 @@ use crate::args::ExampleArgs;
 use crate::exit::usage;
 use curvenet::network::BuildParams;
 use curvenet::simplify::Budget;
-use curvenet::simplify::candidates::PruneParams;
 use curvenet::simplify::result::InputDescription;
 use curvenet::{paper, pipeline};
 use std::path::PathBuf;
@@ -24,7 +23,8 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
     let start = Instant::now();
     let supports = a.physics.supports.unwrap_or_default();
     let ex = paper::load(&a.name, &data, supports)?;
-    let params = stability_params(&a.physics)?;
+    let mut params = stability_params(&a.physics)?;
+    params.tuning.prune = !a.no_prune;
     let build = BuildParams {
         merge_joints_below: a.physics.merge_joints,
         ..ex.build.clone()
@@ -74,9 +74,5 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
         local_search: a.after.local_search,
         resume: a.resume,
         mesh: Some(ex.mesh),
-        prune: PruneParams {
-            enabled: !a.no_prune,
-            ..Default::default()
-        },
     })
 }

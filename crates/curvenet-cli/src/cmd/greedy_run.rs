@@ -3,16 +3,19 @@
 use super::print_warnings;
 use crate::args::GreedyArgs;
 use crate::exit::{ExitError, usage};
+use curvenet::cancel::Cancel;
 use curvenet::io::{Polyline, TriMesh};
 use curvenet::network::{BuildParams, build_network};
-use curvenet::simplify::candidates::PruneParams;
+use curvenet::simplify::certificate::{
+    Certificate, CertifyParams, certificate, tighten_certificate,
+};
 use curvenet::simplify::greedy::IterationRecord;
 use curvenet::simplify::local::{LocalParams, local_search};
-use curvenet::simplify::relaxation::{Certificate, CertifyParams, FixedProblem};
 use curvenet::simplify::result::{
     InputDescription, LocalSearchRecord, OutputWriter, RunSetup, read_f64_file, summary,
 };
-use curvenet::simplify::{Budget, GreedyParams, Scorer, SimplifyError, StopReason, greedy};
+use curvenet::simplify::{Budget, GreedyParams, SimplifyError, StopReason, greedy};
+use curvenet::stability::fixed::FixedProblem;
 use curvenet::stability::{Analyzer, StabilityParams};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
@@ -38,7 +41,6 @@ pub struct GreedyJob {
     pub certificate_nodes: Option<usize>,
     /// Run the local search from the greedy's final network and record its answer.
     pub local_search: bool,
-    pub prune: PruneParams,
     /// The surface, in scene units, written next to the result when known.
     pub mesh: Option<TriMesh>,
 }
@@ -66,7 +68,6 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     let n = network.rods.len();
     let params = GreedyParams {
         keep: job.keep.clone(),
-        prune: job.prune.clone(),
         ..GreedyParams::new(job.budget)
     };
     params.validate(n).map_err(usage)?;
@@ -128,7 +129,13 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         );
     }
 
-    let _ = ctrlc::set_handler(|| CANCEL.store(true, Ordering::Relaxed));
+    // The greedy polls `CANCEL` through its writer; the stages after it poll `cancel`.
+    let cancel = Cancel::new();
+    let on_signal = cancel.clone();
+    let _ = ctrlc::set_handler(move || {
+        CANCEL.store(true, Ordering::Relaxed);
+        on_signal.cancel();
+    });
     let bar = ProgressBar::new(1000);
     bar.set_style(
         ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:40} {percent}% of the length to remove, ETA {eta} {msg}")
@@ -165,8 +172,9 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     };
     print_warnings(&curvenet::simplify::result::unrelaxed(&outcome.iterations));
     let (local, local_seconds) = optional_step(job.local_search, "local search", || {
-        local_search_of(&analyzer, &params, &outcome)
+        local_search_of(&analyzer, &params, &outcome, &cancel)
     });
+    stop_if_cancelled(&cancel, "the local search", &job.out)?;
     writer.set_local_search(local);
     let (certificate, certificate_seconds) = optional_step(job.certificate, "certificate", || {
         certificate_of(
@@ -175,8 +183,10 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
             &params,
             &outcome,
             job.certificate_nodes,
+            &cancel,
         )
     });
+    stop_if_cancelled(&cancel, "the certificate", &job.out)?;
     writer.set_certificate(certificate);
     let timings = serde_json::json!({
         "total_seconds": start.elapsed().as_secs_f64(),
@@ -216,6 +226,7 @@ fn local_search_of(
     analyzer: &Analyzer,
     params: &GreedyParams,
     outcome: &curvenet::simplify::GreedyOutcome,
+    cancel: &Cancel,
 ) -> anyhow::Result<LocalSearchRecord> {
     let last = outcome
         .iterations
@@ -231,8 +242,24 @@ fn local_search_of(
         keep: params.keep.clone(),
         ..LocalParams::new(params.budget)
     };
-    let o = local_search(&Scorer::new(analyzer), &local, &last.curves)?;
+    let o = local_search(analyzer, &local, &last.curves, cancel)?;
     LocalSearchRecord::new(&local, &o).ok_or_else(|| anyhow::anyhow!("λ_eq could not be evaluated"))
+}
+
+/// Exit 130 once Ctrl-C was pressed during `stage`: the greedy's iterations stay recorded in
+/// `out`.
+fn stop_if_cancelled(cancel: &Cancel, stage: &str, out: &std::path::Path) -> anyhow::Result<()> {
+    if !cancel.is_cancelled() {
+        return Ok(());
+    }
+    Err(ExitError {
+        code: 130,
+        message: format!(
+            "cancelled during {stage}: the greedy's iterations are kept in {}",
+            out.display()
+        ),
+    }
+    .into())
 }
 
 /// Runs an optional step after the greedy when `on`: its result, or `None` with a warning
@@ -261,6 +288,7 @@ fn certificate_of(
     params: &GreedyParams,
     outcome: &curvenet::simplify::GreedyOutcome,
     nodes: Option<usize>,
+    cancel: &Cancel,
 ) -> anyhow::Result<Certificate> {
     let n = analyzer.network().rods.len();
     let last = outcome
@@ -279,10 +307,10 @@ fn certificate_of(
     if !problem.feasible(&last.curves) {
         anyhow::bail!("the final network does not meet the budget");
     }
-    let mut c = problem.certificate(&last.curves, &CertifyParams::default())?;
+    let mut c = certificate(&problem, &last.curves, &CertifyParams::default(), cancel)?;
     // Branch and bound nodes: as given, or about 1e6 unknowns' worth of eigen solves
     // (≈ 220 nodes on the demo's network, ≈ 60 on the tower's).
     let nodes = nodes.unwrap_or_else(|| (1e6 / analyzer.model().dofs().max(1) as f64) as usize);
-    curvenet::simplify::exact::tighten_certificate(&problem, &mut c, nodes.min(100_000))?;
+    tighten_certificate(&problem, &mut c, nodes.min(100_000), cancel)?;
     Ok(c)
 }

@@ -20,7 +20,6 @@ pub fn run(a: SimplifyArgs) -> anyhow::Result<()> {
         certificate_nodes: a.greedy.after.certificate_nodes,
         local_search: a.greedy.after.local_search,
         resume: a.greedy.resume,
-        prune: Default::default(),
         mesh: inputs.mesh,
     })
 }

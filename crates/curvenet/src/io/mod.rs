@@ -8,6 +8,9 @@
 //! | `.obj` | OBJ polylines (`v` and `l` records, as Rhino exports curves) | [`parse_obj_polylines`] | [`curves_to_obj`] |
 //! | `.json` | curvenet's own JSON format (`"format": "curvenet-curves"`) | [`parse_json_curves`] | [`curves_to_json`] |
 //!
+//! Curves given as point lists (arrays from Python, objects of a Rhino document) go through
+//! [`curves_from_points`], with the same normalisation and checks.
+//!
 //! Meshes are read from OBJ `v`/`f` records ([`read_mesh`], [`parse_obj_mesh`]) and written by
 //! [`mesh_to_obj`].
 //!
@@ -29,12 +32,14 @@ mod json;
 mod obj_curves;
 mod obj_lexer;
 mod obj_mesh;
+mod points;
 mod reference;
 
 pub use background::BackgroundWriter;
 pub use json::{curves_to_json, parse_json_curves};
 pub use obj_curves::{curves_to_obj, parse_obj_polylines};
 pub use obj_mesh::{mesh_to_obj, parse_obj_mesh};
+pub use points::{PointCurve, curves_from_points};
 pub use reference::{curves_to_reference_text, parse_reference_curves};
 
 use crate::geom::Vec3;

@@ -4,7 +4,8 @@
 //! For every size `N` and instance `i`, `N` random geodesics are traced on one of the given
 //! surfaces (scaled to a largest extent of 4000, the reference's command-line scenes), built
 //! at `h = 100` with clamped supports, and simplified to the budget by
-//! - the greedy (its final set re-evaluated with [`Scorer::lambda_eq`], like every other set),
+//! - the greedy (its final set re-evaluated with [`crate::stability::Analyzer::lambda_eq`], like
+//!   every other set),
 //! - exhaustive search (every feasible subset: the optimum and the greedy's percentile),
 //! - random search with as many evaluations as the greedy spent (every candidate of every
 //!   iteration, as the paper's greedy evaluates them, plus one per iteration),
@@ -16,7 +17,7 @@
 //! - the multi-start local search: single moves from the greedy's set and from every curve
 //!   alone, the best outcome,
 //! - the rounded relaxation: the best `λ_fix` among the roundings of the relaxed faces'
-//!   solutions (and the faces' first curves) of [`FixedProblem::certify`], re-evaluated on
+//!   solutions (and the faces' first curves) of [`certify`], re-evaluated on
 //!   `λ_eq`; the same run gives the certified upper bound on `λ_fix`,
 //! - the exact optimum of `λ_fix` ([`super::exact`]), checked against exhaustive search over
 //!   `λ_fix`, and the `λ_eq` of its answer.
@@ -26,16 +27,18 @@
 //!
 //! Everything is seeded; the report depends only on the parameters.
 
+use super::certificate::{CertifyParams, certify};
 use super::exact::{ExactParams, exact};
 use super::exhaustive::{ExhaustiveParams, exhaustive, exhaustive_fixed};
 use super::greedy::{GreedyParams, NoHooks, greedy};
 use super::local::{LocalOutcome, LocalParams, local_search, local_search_multi};
 use super::random::{RandomParams, random_search};
-use super::relaxation::{CertifyParams, FixedProblem};
-use super::{Budget, Scorer, SimplifyError};
+use super::{Budget, SimplifyError};
+use crate::cancel::Cancel;
 use crate::io::TriMesh;
 use crate::network::{BuildParams, build_network};
 use crate::rod::ActiveSet;
+use crate::stability::fixed::FixedProblem;
 use crate::stability::{Analyzer, StabilityParams};
 use crate::trace::{Generator, generate, scale_to_extent};
 use serde::{Deserialize, Serialize};
@@ -436,47 +439,50 @@ pub fn compare(
             let vertices = network.vertex_count();
             let analyzer = Analyzer::new(network, StabilityParams::default())
                 .map_err(SimplifyError::Params)?;
-            let scorer = Scorer::new(&analyzer);
+            let never = Cancel::never();
             let budget = Budget::Fraction(params.budget);
             let t = Instant::now();
             let g = greedy(&analyzer, &GreedyParams::new(budget), None, &mut NoHooks)?;
             let greedy_seconds = t.elapsed().as_secs_f64();
             let last = g.iterations.last().expect("one iteration at least");
-            let greedy_lambda = scorer.lambda_eq(&ActiveSet::from_curves(n, &last.curves))?;
+            let greedy_lambda = analyzer.lambda_eq(&ActiveSet::from_curves(n, &last.curves))?;
             let greedy_evaluations = g
                 .iterations
                 .iter()
                 .map(|it| it.candidates.len())
                 .sum::<usize>()
                 + g.iterations.len();
-            // The local searches first, each with a scorer of its own (timed alone).
+            // The local searches first, each with an analyzer (and cache) of its own (timed
+            // alone).
             let timed = |p: &LocalParams| -> Result<(LocalOutcome, f64), SimplifyError> {
-                let own = Scorer::new(&analyzer);
+                let own = Analyzer::new(analyzer.network().clone(), StabilityParams::default())
+                    .map_err(SimplifyError::Params)?;
                 let t = Instant::now();
-                let o = local_search(&own, p, &last.curves)?;
+                let o = local_search(&own, p, &last.curves, &never)?;
                 Ok((o, t.elapsed().as_secs_f64()))
             };
             let (local, local_seconds) = timed(&LocalParams::new(budget))?;
             let (single, single_seconds) = timed(&LocalParams::single_moves(budget))?;
-            let cached = scorer.cached_structures();
+            let cached = analyzer.cached_structures();
             let t = Instant::now();
             let ex = exhaustive(
-                &scorer,
+                &analyzer,
                 &ExhaustiveParams {
                     budget,
                     keep: Vec::new(),
                     max_subsets: params.max_subsets,
                 },
+                &never,
             )?;
             let exhaustive_seconds = t.elapsed().as_secs_f64();
-            let exhaustive_structures = scorer.cached_structures() - cached;
+            let exhaustive_structures = analyzer.cached_structures() - cached;
             let below = ex
                 .all
                 .iter()
                 .filter(|s| s.lambda <= greedy_lambda * (1.0 + 1e-9))
                 .count();
             let rnd = random_search(
-                &scorer,
+                &analyzer,
                 &RandomParams {
                     budget,
                     keep: Vec::new(),
@@ -484,14 +490,16 @@ pub fn compare(
                     seed: u64::from(seed),
                     time_limit: None,
                 },
+                &never,
             )?;
             let mut starts = vec![last.curves.clone()];
             starts.extend((0..n).map(|c| vec![c]));
-            let multi = local_search_multi(&scorer, &LocalParams::single_moves(budget), &starts)?;
+            let single_moves = LocalParams::single_moves(budget);
+            let multi = local_search_multi(&analyzer, &single_moves, &starts, &never)?;
             let problem = FixedProblem::new(&analyzer, budget, &[])?;
             let greedy_fix = problem.lambda_fix(&last.curves)?;
-            let report = problem.certify(&CertifyParams::default(), &[])?;
-            let rounded = scorer.lambda_eq(&ActiveSet::from_curves(n, &report.lower_curves))?;
+            let report = certify(&problem, &CertifyParams::default(), &[], &never)?;
+            let rounded = analyzer.lambda_eq(&ActiveSet::from_curves(n, &report.lower_curves))?;
             let ex_fix = exact(
                 &problem,
                 &ExactParams {
@@ -499,9 +507,10 @@ pub fn compare(
                     ..ExactParams::default()
                 },
                 &[last.curves.clone(), report.lower_curves.clone()],
+                &never,
             )?;
-            let exact_eq = ex_fix.lambda_eq(&scorer)?;
-            let exh_fix = exhaustive_fixed(&problem, params.max_subsets)?;
+            let exact_eq = ex_fix.lambda_eq(&analyzer)?;
+            let exh_fix = exhaustive_fixed(&problem, params.max_subsets, &never)?;
             rows.push(InstanceResult {
                 n,
                 surface,

@@ -1,4 +1,5 @@
-//! Exact branch and bound over curves for the fixed-geometry objective `λ_fix` (SPEC §5):
+//! Exact branch and bound over curves for the fixed-geometry objective `λ_fix`
+//! (`docs/model.md`, *Searches beyond the greedy*):
 //!
 //! ```text
 //! λ* = max { λ_fix(S | full network) : S ⊇ keep, S ≠ ∅, Σ_{c∈S} L_c ≤ V }.
@@ -13,7 +14,7 @@
 //! order that still fit. Its children are `(I + F[j], F[j+1..])`: every feasible subset is the
 //! `I` of exactly one node (the enumeration tree of exhaustive search), and is evaluated when
 //! that node is opened. With an empty keep list the root is the empty set (not a subset) and
-//! its children are the faces of [`super::relaxation`]; with a keep list the root is the keep
+//! its children are the faces of [`super::certificate`]; with a keep list the root is the keep
 //! list.
 //!
 //! # Bounds
@@ -22,13 +23,10 @@
 //! [`FixedProblem::best_bound`]: the Rayleigh certificates of the node's own structure `I`
 //! (its low modes, valid for every subset), of its parent's, the span bounds `σ_c` of its
 //! curves, the clamped certificates of `I` (its low modes with the vertices free curves touch
-//! held fixed: Cauchy interlacing; one more eigen solve, which on the compare networks cuts
-//! the nodes opened by 5–10× on most surfaces, [`ExactParams::clamped`]), and optionally
-//! ([`ExactParams::relax_min_free`]) the relaxation of SPEC §7 ([`FixedProblem::relax_node`])
-//! on nodes with many free curves (off by default: on the compare networks it opens far fewer
-//! nodes but spends up to 24 eigen solves on each, and was no faster). A child's bound is computed
-//! from its parent's certificates *before* its own structure is evaluated, so most children are
-//! cut without an eigen solve. A node is cut when its bound is at most the incumbent plus a
+//! held fixed: Cauchy interlacing; one more eigen solve, [`ExactParams::clamped`]). A child's
+//! bound is computed from its parent's certificates *before* its own structure is evaluated,
+//! so most children are cut without an eigen solve (the measurements, and those of relaxing
+//! nodes as well, are in `docs/benchmarks.md`, *Exact search*). A node is cut when its bound is at most the incumbent plus a
 //! relative [`ExactParams::tolerance`]; the answer is then optimal within that tolerance.
 //!
 //! # Order and determinism
@@ -38,17 +36,12 @@
 //! so the search (and its answer) does not depend on the thread count. Only the time limit,
 //! when it is hit, makes the run timing-dependent; the outcome says so.
 //!
-//! # Reach
-//!
-//! On `curvenet compare`'s random geodesic networks (budget 0.3, 2 cores) it proves every
-//! network of 16 curves within a minute (1–18 s), 4 of 5 at 18, 3 of 5 at 20 (see
-//! `docs/compare.md`); its bounds cut little on half_sphere, whose optimum holds several
-//! stiff curves.
+//! How far it reaches within a minute on random networks is in `docs/compare.md`.
 
-use super::relaxation::{Certificate, FixedProblem, Node, Rayleigh, RelaxParams, round_relaxed};
-use super::{Scorer, SimplifyError};
-use crate::rod::ActiveSet;
-use crate::stability::StabilityError;
+use super::SimplifyError;
+use crate::cancel::Cancel;
+use crate::stability::fixed::{FixedProblem, Node, Rayleigh};
+use crate::stability::{Analyzer, StabilityError};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::cmp::Ordering;
@@ -66,19 +59,10 @@ pub struct ExactParams {
     /// Stop after opening this many nodes (deterministic).
     pub max_nodes: usize,
     /// Relative optimality tolerance: a node is cut when its bound is at most
-    /// `incumbent + tolerance·|incumbent|` (the SPEC's tie tolerance by default).
+    /// `incumbent + tolerance·|incumbent|` (the greedy's tie tolerance by default).
     pub tolerance: f64,
-    /// Relax nodes (SPEC §7) with at least this many free curves when the cheap bounds do not
-    /// cut them (None: never relax; the cheap bounds alone).
-    pub relax_min_free: Option<usize>,
-    /// The relaxation's parameters.
-    pub relax: RelaxParams,
     /// Nodes opened per parallel wave (fixed, so the search does not depend on threads).
     pub wave: usize,
-    /// Also bound each opened node with its clamped certificates (one more eigen solve: the
-    /// low modes of `I` with the vertices free curves touch held fixed, see
-    /// [`FixedProblem::clamped_certificates`]) when its cheap bound does not cut it.
-    pub clamped: bool,
 }
 
 impl Default for ExactParams {
@@ -87,10 +71,7 @@ impl Default for ExactParams {
             time_limit: Some(60.0),
             max_nodes: 1_000_000,
             tolerance: 1e-7,
-            relax_min_free: None,
-            relax: RelaxParams::default(),
             wave: 8,
-            clamped: true,
         }
     }
 }
@@ -106,10 +87,8 @@ pub struct ExactInfo {
     pub bounds: usize,
     /// Eigen solves of `λ_fix` evaluations (connected structures not met before).
     pub eigen_solves: usize,
-    /// Eigen solves of relaxations and clamped certificates.
+    /// Eigen solves of clamped certificates.
     pub relax_solves: usize,
-    /// Nodes relaxed.
-    pub relaxations: usize,
     /// Wall time in seconds (not part of any deterministic output).
     pub seconds: f64,
 }
@@ -124,6 +103,8 @@ pub enum ExactStatus {
     NodeLimit,
     /// The time limit was hit: the answer is the best found, `upper` bounds the optimum.
     TimeLimit,
+    /// The search was cancelled: the answer is the best found, `upper` bounds the optimum.
+    Cancelled,
 }
 
 /// The exact solver's answer.
@@ -152,10 +133,10 @@ impl ExactOutcome {
         self.status == ExactStatus::Proven
     }
 
-    /// `λ_eq` of the answer (its own equilibrium), evaluated with the shared scorer.
-    pub fn lambda_eq(&self, scorer: &Scorer<'_>) -> Result<f64, StabilityError> {
-        let n = scorer.analyzer().network().rods.len();
-        scorer.lambda_eq(&ActiveSet::from_curves(n, &self.curves))
+    /// `λ_eq` of the answer (its own equilibrium), evaluated the way every search ranks a set
+    /// ([`Analyzer::lambda_eq`]).
+    pub fn lambda_eq(&self, analyzer: &Analyzer) -> Result<f64, StabilityError> {
+        analyzer.lambda_eq(&analyzer.set(&self.curves))
     }
 }
 
@@ -199,11 +180,8 @@ struct Opened {
     lambda: Option<f64>,
     /// Children with their bounds, in order.
     children: Vec<Open>,
-    /// Subsets rounded from a relaxation, with their `λ_fix`.
-    rounded: Vec<(Vec<usize>, f64)>,
     /// Bounds computed.
     bounds: usize,
-    relaxed: bool,
 }
 
 /// The smaller of two bounds, a NaN bound counting as no bound.
@@ -226,22 +204,63 @@ fn cut_level(incumbent: f64, tolerance: f64) -> f64 {
 
 /// Finds the feasible subset with the largest `λ_fix` (see the module documentation).
 /// `incumbents` are feasible subsets known beforehand (e.g. the greedy's answer); they only
-/// speed the search up.
+/// speed the search up. Once `cancel` is set the search stops between eigen solves with the
+/// best subset found and the bound of the nodes left open ([`ExactStatus::Cancelled`]).
 pub fn exact(
     problem: &FixedProblem<'_>,
     params: &ExactParams,
     incumbents: &[Vec<usize>],
+    cancel: &Cancel,
 ) -> Result<ExactOutcome, SimplifyError> {
     let start = Instant::now();
-    let n = problem.curve_count();
+    check(problem, params)?;
+    let solves0 = (problem.eigen_solves(), problem.relax_solves());
+    let mut search = Search {
+        problem,
+        params,
+        heap: BinaryHeap::new(),
+        best: Best::default(),
+        info: ExactInfo::default(),
+        seq: 0,
+    };
+    for s in incumbents {
+        if problem.feasible(s) {
+            let l = problem.lambda_fix(s)?;
+            search.best.consider(s, l);
+        }
+    }
+    // Search order: ascending σ_c, ties by id.
     let keep = problem.keep().to_vec();
+    let sigma = problem.span_bounds();
+    let mut order: Vec<usize> = (0..problem.curve_count())
+        .filter(|c| !keep.contains(c))
+        .collect();
+    order.sort_by(|&a, &b| sigma[a].total_cmp(&sigma[b]).then(a.cmp(&b)));
+    let root = Open {
+        free: fitting(problem, &keep, &order),
+        included: keep,
+        bound: f64::INFINITY,
+        inherited: Vec::new(),
+        seq: 0,
+    };
+    search.push(root);
+    let deadline = params.time_limit.map(Duration::from_secs_f64);
+    let status = search.run(|| deadline.is_some_and(|d| start.elapsed() >= d), cancel)?;
+    search.info.eigen_solves = problem.eigen_solves() - solves0.0;
+    search.info.relax_solves = problem.relax_solves() - solves0.1;
+    search.info.seconds = start.elapsed().as_secs_f64();
+    search.finish(status)
+}
+
+/// The problem's and the parameters' own errors: no feasible subset, no wave.
+fn check(problem: &FixedProblem<'_>, params: &ExactParams) -> Result<(), SimplifyError> {
     let budget = problem.budget();
-    if problem.length_of(&keep) > budget {
+    if problem.length_of(problem.keep()) > budget {
         return Err(SimplifyError::Params(format!(
             "no feasible subset: the keep list alone exceeds the budget {budget:.6}"
         )));
     }
-    if keep.is_empty() && problem.lengths().iter().all(|&l| l > budget) {
+    if problem.keep().is_empty() && problem.lengths().iter().all(|&l| l > budget) {
         return Err(SimplifyError::Params(format!(
             "no feasible subset: every curve is longer than the budget {budget:.6}"
         )));
@@ -251,125 +270,165 @@ pub fn exact(
             "exact: wave must be at least 1".into(),
         ));
     }
-    let solves0 = (problem.eigen_solves(), problem.relax_solves());
-    let deadline = params.time_limit.map(Duration::from_secs_f64);
+    Ok(())
+}
 
-    // Search order: ascending σ_c, ties by id.
-    let sigma = problem.span_bounds();
-    let mut order: Vec<usize> = (0..n).filter(|c| !keep.contains(c)).collect();
-    order.sort_by(|&a, &b| sigma[a].total_cmp(&sigma[b]).then(a.cmp(&b)));
+/// The best feasible subset met: its `λ_fix` and curves.
+#[derive(Debug)]
+pub(super) struct Best(pub(super) f64, pub(super) Vec<usize>);
 
-    let mut best: (f64, Vec<usize>) = (f64::NEG_INFINITY, Vec::new());
-    let consider = |best: &mut (f64, Vec<usize>), s: &[usize], l: f64| {
+impl Default for Best {
+    fn default() -> Self {
+        Best(f64::NEG_INFINITY, Vec::new())
+    }
+}
+
+impl Best {
+    /// Takes `s` when it beats the best (ties to the smaller list).
+    pub(super) fn consider(&mut self, s: &[usize], l: f64) {
         let mut s = s.to_vec();
         s.sort_unstable();
-        if l > best.0 || (l == best.0 && s < best.1) {
-            *best = (l, s);
+        if l > self.0 || (l == self.0 && s < self.1) {
+            *self = Best(l, s);
         }
-    };
-    for s in incumbents {
-        if problem.feasible(s) {
-            let l = problem.lambda_fix(s)?;
-            consider(&mut best, s, l);
+    }
+}
+
+/// The state of [`exact`]'s best-first search.
+struct Search<'p, 'a> {
+    problem: &'p FixedProblem<'a>,
+    params: &'p ExactParams,
+    heap: BinaryHeap<Open>,
+    /// The incumbent.
+    best: Best,
+    info: ExactInfo,
+    /// The next node's creation number.
+    seq: u64,
+}
+
+impl Search<'_, '_> {
+    fn level(&self) -> f64 {
+        cut_level(self.best.0, self.params.tolerance)
+    }
+
+    fn push(&mut self, mut node: Open) {
+        node.seq = self.seq;
+        self.seq += 1;
+        self.heap.push(node);
+    }
+
+    /// Opens waves of nodes until every node is opened or cut, or a limit is hit.
+    fn run(
+        &mut self,
+        out_of_time: impl Fn() -> bool,
+        cancel: &Cancel,
+    ) -> Result<ExactStatus, SimplifyError> {
+        loop {
+            let level = self.level();
+            // Drop what the incumbent cuts (the heap is ordered by bound: stop at the first
+            // cut; NaN bounds are never cut: `total_cmp` puts them on top).
+            if self.heap.peek().is_none_or(|o| o.bound <= level) {
+                self.info.cut += self.heap.len();
+                self.heap.clear();
+                return Ok(ExactStatus::Proven);
+            }
+            if self.info.nodes >= self.params.max_nodes {
+                return Ok(ExactStatus::NodeLimit);
+            }
+            if out_of_time() {
+                return Ok(ExactStatus::TimeLimit);
+            }
+            if cancel.is_cancelled() || self.wave(level, cancel)? {
+                return Ok(ExactStatus::Cancelled);
+            }
         }
     }
 
-    let mut info = ExactInfo::default();
-    let mut heap: BinaryHeap<Open> = BinaryHeap::new();
-    let mut seq = 0u64;
-    let root_free = fitting(problem, &keep, &order);
-    heap.push(Open {
-        included: keep.clone(),
-        free: root_free,
-        bound: f64::INFINITY,
-        inherited: Vec::new(),
-        seq,
-    });
-    seq += 1;
-    let mut status = ExactStatus::Proven;
-    loop {
-        let level = cut_level(best.0, params.tolerance);
-        // Drop what the incumbent cuts (the heap is ordered by bound: stop at the first cut).
-        if heap.peek().is_none_or(|o| o.bound <= level) {
-            // (NaN bounds are never cut: `total_cmp` puts them on top.)
-            info.cut += heap.len();
-            heap.clear();
-            break;
-        }
-        if info.nodes >= params.max_nodes {
-            status = ExactStatus::NodeLimit;
-            break;
-        }
-        if deadline.is_some_and(|d| start.elapsed() >= d) {
-            status = ExactStatus::TimeLimit;
-            break;
-        }
-        let mut wave = Vec::with_capacity(params.wave);
-        while wave.len() < params.wave && info.nodes + wave.len() < params.max_nodes {
-            match heap.peek() {
-                Some(o) if !(o.bound <= level) => wave.push(heap.pop().expect("peeked")),
+    /// Opens one wave of the best nodes in parallel and merges them in order; true when it was
+    /// cancelled (the nodes not opened go back on the heap).
+    fn wave(&mut self, level: f64, cancel: &Cancel) -> Result<bool, SimplifyError> {
+        let (max_nodes, size) = (self.params.max_nodes, self.params.wave);
+        let mut wave = Vec::with_capacity(size);
+        while wave.len() < size && self.info.nodes + wave.len() < max_nodes {
+            match self.heap.peek() {
+                Some(o) if !(o.bound <= level) => wave.push(self.heap.pop().expect("peeked")),
                 _ => break,
             }
         }
+        let problem = self.problem;
         let opened: Vec<Result<Opened, StabilityError>> = wave
             .par_iter()
-            .map(|o| open_node(problem, params, o))
+            .map(|o| open_node(problem, o, cancel))
             .collect();
+        let mut cancelled = false;
         for (o, r) in wave.into_iter().zip(opened) {
-            let r = r?;
-            info.nodes += 1;
-            info.bounds += r.bounds;
-            info.relaxations += usize::from(r.relaxed);
-            if let Some(l) = r.lambda {
-                consider(&mut best, &o.included, l);
-            }
-            for (s, l) in &r.rounded {
-                consider(&mut best, s, *l);
-            }
-            let level = cut_level(best.0, params.tolerance);
-            for mut child in r.children {
-                if child.bound <= level {
-                    info.cut += 1;
-                    continue;
+            match r {
+                Ok(r) => self.merge(&o, r),
+                Err(StabilityError::Cancelled) => {
+                    cancelled = true;
+                    self.heap.push(o);
                 }
-                child.seq = seq;
-                seq += 1;
-                heap.push(child);
+                Err(e) => return Err(e.into()),
+            }
+        }
+        Ok(cancelled)
+    }
+
+    /// Records an opened node: its structure as an incumbent, its children that
+    /// the incumbent does not cut on the heap.
+    fn merge(&mut self, o: &Open, r: Opened) {
+        self.info.nodes += 1;
+        self.info.bounds += r.bounds;
+        if let Some(l) = r.lambda {
+            self.best.consider(&o.included, l);
+        }
+        let level = self.level();
+        for child in r.children {
+            if child.bound <= level {
+                self.info.cut += 1;
+            } else {
+                self.push(child);
             }
         }
     }
-    let level = cut_level(best.0, params.tolerance);
-    let open_max = heap
-        .iter()
-        .map(|o| o.bound)
-        .fold(f64::NEG_INFINITY, f64::max);
-    let upper = if status == ExactStatus::Proven {
-        level.max(best.0)
-    } else {
-        open_max.max(level)
-    };
-    info.eigen_solves = problem.eigen_solves() - solves0.0;
-    info.relax_solves = problem.relax_solves() - solves0.1;
-    info.seconds = start.elapsed().as_secs_f64();
-    if best.1.is_empty() {
-        return Err(SimplifyError::Params(
-            "exact: no feasible subset was evaluated (node or time limit too small)".into(),
-        ));
+
+    /// The outcome: the incumbent, and the bound of what is left open.
+    fn finish(self, status: ExactStatus) -> Result<ExactOutcome, SimplifyError> {
+        let level = self.level();
+        let open_max = self
+            .heap
+            .iter()
+            .map(|o| o.bound)
+            .fold(f64::NEG_INFINITY, f64::max);
+        let Best(lambda_fix, curves) = self.best;
+        let upper = if status == ExactStatus::Proven {
+            level.max(lambda_fix)
+        } else {
+            open_max.max(level)
+        };
+        if curves.is_empty() {
+            if status == ExactStatus::Cancelled {
+                return Err(SimplifyError::Cancelled);
+            }
+            return Err(SimplifyError::Params(
+                "exact: no feasible subset was evaluated (node or time limit too small)".into(),
+            ));
+        }
+        let gap = if status == ExactStatus::Proven {
+            0.0
+        } else {
+            ((upper - lambda_fix) / upper.abs()).max(0.0)
+        };
+        Ok(ExactOutcome {
+            length: self.problem.length_of(&curves),
+            curves,
+            lambda_fix,
+            upper,
+            gap,
+            status,
+            info: self.info,
+        })
     }
-    let gap = if status == ExactStatus::Proven {
-        0.0
-    } else {
-        ((upper - best.0) / upper.abs()).max(0.0)
-    };
-    Ok(ExactOutcome {
-        length: problem.length_of(&best.1),
-        curves: best.1,
-        lambda_fix: best.0,
-        upper,
-        gap,
-        status,
-        info,
-    })
 }
 
 /// The curves of `order` that fit the budget left by `included` (and are not in it).
@@ -382,69 +441,52 @@ fn fitting(problem: &FixedProblem<'_>, included: &[usize], order: &[usize]) -> V
         .collect()
 }
 
-/// Opens a node: evaluates its structure, bounds it with its own certificates (and the
-/// relaxation when asked), and bounds each child with the node's certificates.
+/// Opens a node: evaluates its structure, bounds it with its own certificates and clamped
+/// ones, and bounds each child with the node's certificates and its parent's.
 fn open_node(
     problem: &FixedProblem<'_>,
-    params: &ExactParams,
     o: &Open,
+    cancel: &Cancel,
 ) -> Result<Opened, StabilityError> {
-    let mut bounds = 0;
-    let (lambda, mut certs) = if o.included.is_empty() {
-        (None, Vec::new())
-    } else {
+    cancel.check()?;
+    let mut opened = Opened {
+        lambda: None,
+        children: Vec::new(),
+        bounds: 0,
+    };
+    let mut certs: Vec<Arc<Rayleigh>> = Vec::new();
+    if !o.included.is_empty() {
         let comps = problem.evaluate(&o.included)?;
-        let lam = comps.iter().map(|c| c.lambda).fold(f64::INFINITY, f64::min);
-        let certs: Vec<Arc<Rayleigh>> = comps
+        opened.lambda = Some(comps.iter().map(|c| c.lambda).fold(f64::INFINITY, f64::min));
+        certs = comps
             .iter()
             .flat_map(|c| c.certificates.iter().cloned())
             .collect();
-        (Some(lam), certs)
-    };
-    let mut bound = o.bound;
-    let mut rounded = Vec::new();
-    let mut relaxed = false;
-    if o.free.is_empty() {
-        return Ok(Opened {
-            lambda,
-            children: Vec::new(),
-            rounded,
-            bounds,
-            relaxed,
-        });
     }
-    if !o.included.is_empty() {
+    if o.free.is_empty() {
+        return Ok(opened);
+    }
+    let mut bound = o.bound;
+    if let Some(lambda) = opened.lambda {
+        // The node's own certificates, then (one more eigen solve) the clamped ones: the low
+        // modes of `I` with the vertices free curves touch held fixed.
         let node = Node::new(problem, &o.included, &o.free);
         bound = min_bound(bound, problem.best_bound(&certs, &node));
-        bounds += 1;
-        if params.clamped && bound > lambda.unwrap_or(f64::NEG_INFINITY) {
+        opened.bounds += 1;
+        if bound > lambda {
+            cancel.check()?;
             let clamped = problem.clamped_certificates(&node)?;
             if !clamped.is_empty() {
                 bound = min_bound(bound, problem.best_bound(&clamped, &node));
-                bounds += 1;
+                opened.bounds += 1;
                 certs.extend(clamped);
-            }
-        }
-        if let Some(min_free) = params.relax_min_free {
-            if o.free.len() >= min_free && bound > lambda.unwrap_or(f64::NEG_INFINITY) {
-                let pool: Vec<Arc<Rayleigh>> = certs.iter().chain(&o.inherited).cloned().collect();
-                let r = problem.relax_node(&node, &params.relax, None, &pool)?;
-                relaxed = true;
-                bound = min_bound(bound, r.upper);
-                certs.extend(r.certificates.iter().cloned());
-                for s in round_relaxed(&r.alpha, problem.lengths(), problem.budget(), &o.included) {
-                    if problem.feasible(&s) && s != o.included {
-                        let l = problem.lambda_fix(&s)?;
-                        rounded.push((s, l));
-                    }
-                }
             }
         }
     }
     // Children (I + F[j], F[j+1..] that fits), bounded with this node's certificates and
     // the parent's.
     let pool: Vec<Arc<Rayleigh>> = certs.iter().chain(&o.inherited).cloned().collect();
-    let children: Vec<Open> = (0..o.free.len())
+    opened.children = (0..o.free.len())
         .into_par_iter()
         .map(|j| {
             let mut inc = o.included.clone();
@@ -462,49 +504,6 @@ fn open_node(
             }
         })
         .collect();
-    bounds += children.len();
-    Ok(Opened {
-        lambda,
-        children,
-        rounded,
-        bounds,
-        relaxed,
-    })
-}
-
-/// Tightens a [`Certificate`] with at most `max_nodes` nodes of the exact branch and bound
-/// (deterministic: no time limit), seeded with the certified subset and the best one found:
-/// the bound becomes the smaller of the relaxation's and the search's (the largest bound of
-/// the nodes left open, or the optimum when the search finished), and the best subset found
-/// is updated.
-pub fn tighten_certificate(
-    problem: &FixedProblem<'_>,
-    certificate: &mut Certificate,
-    max_nodes: usize,
-) -> Result<(), SimplifyError> {
-    if max_nodes == 0 {
-        return Ok(());
-    }
-    let params = ExactParams {
-        time_limit: None,
-        max_nodes,
-        ..ExactParams::default()
-    };
-    let seeds = [
-        certificate.curves.clone(),
-        certificate.best_found_curves.clone(),
-    ];
-    let o = exact(problem, &params, &seeds)?;
-    certificate.branch_and_bound_nodes = o.info.nodes;
-    if o.lambda_fix > certificate.best_found {
-        certificate.best_found = o.lambda_fix;
-        certificate.best_found_curves = o.curves.clone();
-    }
-    if o.upper < certificate.upper_bound {
-        certificate.upper_bound = o.upper.max(certificate.lambda_fix);
-    }
-    certificate.proven_optimum = o.proven();
-    let (l, u) = (certificate.lambda_fix, certificate.upper_bound);
-    certificate.ratio = (l > 0.0 && u > 0.0).then(|| l / u);
-    Ok(())
+    opened.bounds += opened.children.len();
+    Ok(opened)
 }

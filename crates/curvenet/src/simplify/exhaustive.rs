@@ -1,14 +1,18 @@
-//! Exhaustive search: `λ_eq` of every feasible subset, the exact optimum (paper §5).
+//! Exhaustive search: `λ_eq` of every feasible subset, the exact optimum for small networks
+//! (`docs/model.md`, *Searches beyond the greedy*).
 //!
 //! A subset is feasible when it holds the keep list, at least one curve, and its total rest
 //! length is within the budget. Subsets are enumerated depth-first over curve ids (a branch
 //! stops as soon as its length exceeds the budget) and evaluated in parallel with
-//! [`Scorer::lambda_eq`], the same evaluation the other searches use; [`exhaustive_fixed`]
+//! [`Analyzer::lambda_eq`], the same evaluation the other searches use; [`exhaustive_fixed`]
 //! does the same on `λ_fix` at the full network's equilibrium (the exact solver's objective).
+//! A cancelled search ([`Cancel`]) stops within one evaluation per thread and is an error:
+//! part of the subsets is no optimum.
 
-use super::relaxation::FixedProblem;
-use super::{Budget, Scorer, SimplifyError};
-use crate::rod::ActiveSet;
+use super::{Budget, SimplifyError};
+use crate::cancel::Cancel;
+use crate::stability::Analyzer;
+use crate::stability::fixed::FixedProblem;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -136,55 +140,51 @@ pub fn feasible_subsets(
 
 /// Runs the exhaustive search on `λ_eq` (each subset relaxed to its own equilibrium).
 pub fn exhaustive(
-    scorer: &Scorer<'_>,
+    analyzer: &Analyzer,
     params: &ExhaustiveParams,
+    cancel: &Cancel,
 ) -> Result<ExhaustiveOutcome, SimplifyError> {
-    let n = scorer.analyzer().network().rods.len();
-    score_all(
-        scorer.analyzer().network(),
-        params,
-        &|curves: &[usize]| {
-            scorer
-                .lambda_eq(&ActiveSet::from_curves(n, curves))
-                .unwrap_or(f64::NAN)
-        },
-    )
+    let score = |curves: &[usize]| {
+        analyzer
+            .lambda_eq(&analyzer.set(curves))
+            .unwrap_or(f64::NAN)
+    };
+    score_all(analyzer, params, &score, cancel)
 }
 
-/// Exhaustive search on the fixed-geometry objective `λ_fix(S | full network)` (SPEC §5, the
+/// Exhaustive search on the fixed-geometry objective `λ_fix(S | full network)` (the
 /// objective of [`super::exact`] and of the relaxation's bounds), with the problem's budget
 /// and keep list: every feasible subset is scored by [`FixedProblem::lambda_fix`], the same
 /// evaluation the exact solver uses. The outcome's `lambda` fields hold `λ_fix`.
 pub fn exhaustive_fixed(
     problem: &FixedProblem<'_>,
     max_subsets: usize,
+    cancel: &Cancel,
 ) -> Result<ExhaustiveOutcome, SimplifyError> {
     let params = ExhaustiveParams {
         budget: Budget::Length(problem.budget()),
         keep: problem.keep().to_vec(),
         max_subsets,
     };
-    score_all(
-        problem.analyzer().network(),
-        &params,
-        &|curves: &[usize]| problem.lambda_fix(curves).unwrap_or(f64::NAN),
-    )
+    let score = |curves: &[usize]| problem.lambda_fix(curves).unwrap_or(f64::NAN);
+    score_all(problem.analyzer(), &params, &score, cancel)
 }
 
 /// Enumerates the feasible subsets and scores each with `score` (in parallel).
 fn score_all(
-    net: &crate::network::Network,
+    analyzer: &Analyzer,
     params: &ExhaustiveParams,
     score: &(dyn Fn(&[usize]) -> f64 + Sync),
+    cancel: &Cancel,
 ) -> Result<ExhaustiveOutcome, SimplifyError> {
-    let n = net.rods.len();
+    let n = analyzer.curve_count();
     params.budget.validate().map_err(SimplifyError::Params)?;
     if let Some(&k) = params.keep.iter().find(|&&k| k >= n) {
         return Err(SimplifyError::Params(format!(
             "keep list names curve {k}, but there are {n} curves"
         )));
     }
-    let lengths = net.rest_lengths();
+    let lengths = analyzer.lengths();
     let budget = params.budget.length(lengths.iter().sum());
     let subsets = feasible_subsets(&lengths, budget, &params.keep, params.max_subsets)
         .map_err(SimplifyError::Params)?;
@@ -196,11 +196,16 @@ fn score_all(
     let all: Vec<SubsetScore> = subsets
         .into_par_iter()
         .map(|curves| SubsetScore {
-            length: net.total_length(&curves),
-            lambda: score(&curves),
+            length: analyzer.total_length(&curves),
+            lambda: if cancel.is_cancelled() {
+                f64::NAN
+            } else {
+                score(&curves)
+            },
             curves,
         })
         .collect();
+    cancel.check().map_err(|_| SimplifyError::Cancelled)?;
     let best = best_of(&all).expect("at least one subset");
     Ok(ExhaustiveOutcome { best, all })
 }

@@ -19,11 +19,10 @@
 //! where it ends (after the part step, if any).
 //!
 //! How moves are used ([`Strategy`]):
-//! - **single moves** ([`Strategy::FirstImprovement`], [`Strategy::BestImprovement`]): take a
-//!   move that raises `λ_eq` by more than the SPEC's tie tolerance (relative 1e-7), until no
-//!   move does. With first improvement, the list is evaluated in fixed-size chunks in parallel
-//!   and the first improving move of the first chunk that has one is taken; with best
-//!   improvement, the best move of the whole list (ties to the first).
+//! - **single moves** ([`Strategy::FirstImprovement`]): take a move that raises `λ_eq` by more
+//!   than the tie tolerance (relative 1e-7), until no move does: the list is evaluated in
+//!   fixed-size chunks in parallel and the first improving move of the first chunk that has
+//!   one is taken.
 //! - **variable depth** ([`Strategy::VariableDepth`], the default): descend by first
 //!   improvement to a local optimum `S`; from it, build a *chain* of moves in Kernighan and
 //!   Lin's manner, each the best move available at that point (largest `λ_eq`, values within
@@ -41,42 +40,26 @@
 //! one leaves the other long curve(s) in the set, as part of the structure or as a separate
 //! part, and `λ_eq` is still theirs; the move does not look better, and dropping them first
 //! does not either. The part step sees through that: swapping a long curve for a short one
-//! that touches nothing else yields the short curve alone at once. Measured on
-//! `curvenet compare`'s random geodesic networks (10 networks each of 10, 12 and 14 curves,
-//! budget 0.3; docs/compare.md), from the greedy's set alone, mean (min) share of the
-//! exhaustive optimum and distinct subsets evaluated per network:
-//!
-//! | search | N = 10 | N = 12 | N = 14 |
-//! |---|---|---|---|
-//! | single moves (first improvement), no parts | 39% (8%), 34 | 46% (0.4%), 38 | 37% (1%), 58 |
-//! | chains only (no descent first), no parts (†) | 51% (8%), 53 | 37% (0.4%), 75 | 38% (1%), 137 |
-//! | single moves with parts | 97% (72%), 30 | 98% (84%), 47 | 99.6% (96%), 53 |
-//! | chains only, with parts (†) | 100% (100%), 37 | 98% (84%), 72 | 96% (56%), 99 |
-//! | **descent, then chains, with parts** (default) | 100% (100%), 36 | 98% (84%), 57 | 100% (100%), 76 |
-//!
-//! (exhaustive search evaluates 115, 357 and 1,276 subsets; † measured during development, the
-//! others with the ignored test `explore` of `tests/local.rs`). Chains alone follow the best
-//! move, which can lead elsewhere than the first-improvement descent (one N = 14 network: 56%
-//! against 100%); descending first and chaining from the local optimum does at least as well
-//! as the descent on every network (by construction), and its chains escaped the descent's
-//! local optimum on two of the 30 networks (half spheres, whose curves all cross, so no part
-//! step helps). One network (N = 12, half sphere, optimum three curves disjoint from the
-//! greedy's three) stays at 84%: no chain of single moves from its local optimum leads there.
-//! On networks that fall apart less the gain is smaller: on 40 arch networks of the tests
-//! (9–10 chords of a dome, budget 0.3) the default reaches 84% of the optimum on average,
-//! single moves without parts 68%, the greedy 52%.
+//! that touches nothing else yields the short curve alone at once. Descending first and
+//! chaining from the local optimum does at least as well as the descent alone (by
+//! construction). The measurements of each variant against the exhaustive optimum are in
+//! `docs/benchmarks.md` (*Local search*).
 //!
 //! Every strategy is deterministic: moves are listed in a fixed order, sets are evaluated in
 //! parallel but chosen by their position in the list, and every evaluation is independent of
-//! the thread count. Every subset is evaluated with the shared [`Scorer::lambda_eq_parts`]
-//! (relaxed from the drawn state, connected parts cached in the scorer, so sets that share
+//! the thread count. Every subset is evaluated with the shared [`Analyzer::lambda_eq_parts`]
+//! (relaxed from the drawn state, connected parts cached in the analyzer, so sets that share
 //! parts cost only their new parts), the evaluation of the greedy's final set and of the
 //! exhaustive and random searches; the search also remembers every subset it evaluated, so
 //! sets met again (chains revisit their neighbours) cost nothing.
+//!
+//! Cancelled ([`Cancel`]), the search stops within one evaluation per thread and returns the
+//! best set it had reached ([`LocalOutcome::cancelled`]).
 
 use super::exhaustive::SubsetScore;
-use super::{Budget, Scorer, SimplifyError};
-use crate::rod::ActiveSet;
+use super::{Budget, SimplifyError};
+use crate::cancel::Cancel;
+use crate::stability::Analyzer;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashMap;
@@ -94,17 +77,14 @@ pub enum Strategy {
     VariableDepth,
     /// Single improving moves: the first improving move of the list.
     FirstImprovement,
-    /// Single improving moves: the best move of the list.
-    BestImprovement,
 }
 
 impl Strategy {
-    /// The name used in reports (`variable_depth`, `first_improvement`, `best_improvement`).
+    /// The name used in reports (`variable_depth`, `first_improvement`).
     pub fn name(self) -> &'static str {
         match self {
             Strategy::VariableDepth => "variable_depth",
             Strategy::FirstImprovement => "first_improvement",
-            Strategy::BestImprovement => "best_improvement",
         }
     }
 }
@@ -131,7 +111,7 @@ pub struct LocalParams {
     pub depth: Option<usize>,
     /// Cap on moves taken (kept moves; a chain's moves after its best set do not count).
     pub max_moves: usize,
-    /// Relative improvement a move (or a chain) must bring (the SPEC's tie tolerance); also
+    /// Relative improvement a move (or a chain) must bring (the greedy's tie tolerance); also
     /// the tolerance within which a chain's candidate moves are tied.
     pub tolerance: f64,
 }
@@ -245,10 +225,13 @@ pub struct LocalOutcome {
     /// Distinct subsets evaluated (the start included).
     pub evaluations: usize,
     /// Connected structures relaxed for the first time while the search ran (the expensive
-    /// part: the other evaluations were put together from the scorer's cache). Counted on the
-    /// scorer's cache, so a scorer that already evaluated other sets counts fewer.
+    /// part: the other evaluations were put together from the analyzer's cache). Counted on the
+    /// analyzer's cache, so an analyzer that already evaluated other sets counts fewer.
     #[serde(default)]
     pub structures: usize,
+    /// True when the search was cancelled: `best` is the best set reached by then.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub cancelled: bool,
 }
 
 /// What the search knows of an evaluated subset.
@@ -263,32 +246,36 @@ struct Entry {
 }
 
 /// `λ_eq` of subsets, each evaluated once per search.
-struct Evaluator<'s, 'a> {
-    scorer: &'s Scorer<'a>,
-    n: usize,
+struct Evaluator<'s> {
+    analyzer: &'s Analyzer,
     keep: Vec<usize>,
     tolerance: f64,
     memo: HashMap<Vec<usize>, Entry>,
+    cancel: &'s Cancel,
 }
 
-impl Evaluator<'_, '_> {
+/// The search was cancelled (its evaluations stopped part way).
+struct Stopped;
+
+impl Evaluator<'_> {
     /// Every set's entry: the new ones evaluated in parallel.
-    fn eval_all(&mut self, sets: &[Vec<usize>]) -> Vec<Entry> {
+    fn eval_all(&mut self, sets: &[Vec<usize>]) -> Result<Vec<Entry>, Stopped> {
         let mut fresh: Vec<&Vec<usize>> = Vec::new();
-        {
-            let mut seen = std::collections::HashSet::new();
-            for s in sets {
-                if !self.memo.contains_key(s) && seen.insert(s) {
-                    fresh.push(s);
-                }
+        let mut seen = std::collections::HashSet::new();
+        for s in sets {
+            if !self.memo.contains_key(s) && seen.insert(s) {
+                fresh.push(s);
             }
         }
-        let (scorer, n) = (self.scorer, self.n);
+        let (analyzer, cancel) = (self.analyzer, self.cancel);
         let (keep, tol) = (&self.keep, self.tolerance);
-        let entries: Vec<Entry> = fresh
+        let entries: Vec<Option<Entry>> = fresh
             .par_iter()
-            .map(
-                |s| match scorer.lambda_eq_parts(&ActiveSet::from_curves(n, s)) {
+            .map(|s| {
+                if cancel.is_cancelled() {
+                    return None;
+                }
+                Some(match analyzer.lambda_eq_parts(&analyzer.set(s)) {
                     Ok(parts) => {
                         let lambda = parts.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
                         let part = best_part(&parts, keep).filter(|p| improves(p.2, lambda, tol));
@@ -298,13 +285,22 @@ impl Evaluator<'_, '_> {
                         lambda: f64::NAN,
                         part: None,
                     },
-                },
-            )
+                })
+            })
             .collect();
+        let mut stopped = false;
         for (s, e) in fresh.into_iter().zip(entries) {
-            self.memo.insert(s.clone(), e);
+            match e {
+                Some(e) => {
+                    self.memo.insert(s.clone(), e);
+                }
+                None => stopped = true,
+            }
         }
-        sets.iter().map(|s| self.memo[s].clone()).collect()
+        if stopped {
+            return Err(Stopped);
+        }
+        Ok(sets.iter().map(|s| self.memo[s].clone()).collect())
     }
 }
 
@@ -406,24 +402,16 @@ fn best_position(vals: &[f64], tol: f64) -> Option<usize> {
 
 /// Runs the local search from `start` (a feasible subset).
 pub fn local_search(
-    scorer: &Scorer<'_>,
+    analyzer: &Analyzer,
     params: &LocalParams,
     start: &[usize],
+    cancel: &Cancel,
 ) -> Result<LocalOutcome, SimplifyError> {
-    let net = scorer.analyzer().network();
-    let n = net.rods.len();
-    params.budget.validate().map_err(SimplifyError::Params)?;
-    if !(params.tolerance >= 0.0 && params.tolerance.is_finite()) {
-        return Err(SimplifyError::Params(format!(
-            "local search tolerance must be a finite non-negative number, got {}",
-            params.tolerance
-        )));
-    }
-    let lengths = net.rest_lengths();
-    let budget = params.budget.length(lengths.iter().sum());
+    let (lengths, budget) = check(analyzer, params)?;
     let mut cur: Vec<usize> = start.to_vec();
     cur.sort_unstable();
     cur.dedup();
+    let n = lengths.len();
     if let Some(&c) = cur.iter().chain(&params.keep).find(|&&c| c >= n) {
         return Err(SimplifyError::Params(format!(
             "curve {c} does not exist ({n} curves)"
@@ -435,83 +423,161 @@ pub fn local_search(
             "local search needs a feasible starting subset".into(),
         ));
     }
-    let cached_before = scorer.cached_structures();
-    let tol = params.tolerance;
-    let mut ev = Evaluator {
-        scorer,
-        n,
-        keep: params.keep.clone(),
-        tolerance: tol,
-        memo: HashMap::new(),
+    let cached_before = analyzer.cached_structures();
+    let mut search = Search {
+        ev: Evaluator {
+            analyzer,
+            keep: params.keep.clone(),
+            tolerance: params.tolerance,
+            memo: HashMap::new(),
+            cancel,
+        },
+        params,
+        lengths: &lengths,
+        budget,
+        lambda: f64::NAN,
+        cur,
+        steps: Vec::new(),
+        rounds: 0,
+        chains: 0,
     };
-    let first = ev.eval_all(std::slice::from_ref(&cur)).remove(0);
-    let mut lambda = first.lambda;
-    let start_score = SubsetScore {
-        curves: cur.clone(),
-        length: length(&cur),
-        lambda,
+    let (start_score, cancelled) = match search.start() {
+        Ok(start) => (start, search.run().is_err()),
+        Err(Stopped) => return Err(SimplifyError::Cancelled),
     };
-    let mut steps = Vec::new();
-    if let Some(p) = first.part.filter(|_| params.parts) {
-        // The start falls apart and one of its parts alone is better.
-        steps.push(Step {
-            step: Move::Part(p.0),
-            lambda: p.2,
-            round: 0,
-        });
-        cur = p.1;
-        lambda = p.2;
+    Ok(LocalOutcome {
+        start: start_score,
+        best: SubsetScore {
+            length: length(&search.cur),
+            curves: search.cur,
+            lambda: search.lambda,
+        },
+        steps: search.steps,
+        rounds: search.rounds,
+        chains: search.chains,
+        evaluations: search.ev.memo.len(),
+        structures: analyzer.cached_structures().saturating_sub(cached_before),
+        cancelled,
+    })
+}
+
+/// The curves' lengths and the budget as a length, once the parameters are checked.
+fn check(analyzer: &Analyzer, params: &LocalParams) -> Result<(Vec<f64>, f64), SimplifyError> {
+    params.budget.validate().map_err(SimplifyError::Params)?;
+    if !(params.tolerance >= 0.0 && params.tolerance.is_finite()) {
+        return Err(SimplifyError::Params(format!(
+            "local search tolerance must be a finite non-negative number, got {}",
+            params.tolerance
+        )));
     }
-    let candidates = |ev: &mut Evaluator<'_, '_>, set: &[usize], moves: &[Move]| {
-        let sets: Vec<Vec<usize>> = moves.iter().map(|m| m.apply(set)).collect();
-        let entries = ev.eval_all(&sets);
-        moves
-            .iter()
-            .zip(sets)
-            .zip(entries)
-            .map(|((m, s), e)| Candidate::new(*m, s, e, params.parts))
-            .collect::<Vec<_>>()
-    };
-    let (mut rounds, mut chains) = (steps.len(), 0);
-    while steps.len() < params.max_moves {
-        let round = rounds;
-        rounds += 1;
-        // A scan of single moves (first improvement under variable depth too: the descent to
-        // a local optimum before any chain).
-        let first = params.strategy != Strategy::BestImprovement;
-        let moves = neighbourhood(&cur, &lengths, budget, params, None);
-        let chunk = if first { CHUNK } else { moves.len().max(1) };
-        let mut taken: Option<Candidate> = None;
-        for part in moves.chunks(chunk) {
-            let mut cands = candidates(&mut ev, &cur, part);
-            let values: Vec<f64> = cands.iter().map(Candidate::value).collect();
-            let pick = if first {
-                values.iter().position(|&v| improves(v, lambda, tol))
-            } else {
-                best_position(&values, 0.0).filter(|&i| improves(values[i], lambda, tol))
-            };
-            if let Some(i) = pick {
-                taken = Some(cands.swap_remove(i));
+    let lengths = analyzer.lengths();
+    let budget = params.budget.length(lengths.iter().sum());
+    Ok((lengths, budget))
+}
+
+/// The state of one local search.
+struct Search<'s> {
+    ev: Evaluator<'s>,
+    params: &'s LocalParams,
+    lengths: &'s [f64],
+    budget: f64,
+    /// The current set and its `λ_eq`.
+    cur: Vec<usize>,
+    lambda: f64,
+    steps: Vec<Step>,
+    rounds: usize,
+    chains: usize,
+}
+
+impl Search<'_> {
+    /// Evaluates the start (and takes its best part when it falls apart into a better one).
+    fn start(&mut self) -> Result<SubsetScore, Stopped> {
+        let first = self.ev.eval_all(std::slice::from_ref(&self.cur))?.remove(0);
+        self.lambda = first.lambda;
+        let start = SubsetScore {
+            curves: self.cur.clone(),
+            length: self.cur.iter().map(|&c| self.lengths[c]).sum(),
+            lambda: first.lambda,
+        };
+        if let Some(p) = first.part.filter(|_| self.params.parts) {
+            // The start falls apart and one of its parts alone is better.
+            self.steps.push(Step {
+                step: Move::Part(p.0),
+                lambda: p.2,
+                round: 0,
+            });
+            self.cur = p.1;
+            self.lambda = p.2;
+        }
+        self.rounds = self.steps.len();
+        Ok(start)
+    }
+
+    /// Rounds of single moves (and chains under variable depth) until none improves or the
+    /// move cap is hit.
+    fn run(&mut self) -> Result<(), Stopped> {
+        while self.steps.len() < self.params.max_moves {
+            let round = self.rounds;
+            self.rounds += 1;
+            if let Some(c) = self.scan()? {
+                self.take(std::slice::from_ref(&c), round);
+                continue;
+            }
+            if self.params.strategy != Strategy::VariableDepth {
+                break;
+            }
+            // A local optimum of single moves: a chain from it.
+            self.chains += 1;
+            if !self.chain(round)? {
                 break;
             }
         }
-        if let Some(c) = taken {
-            steps.extend(c.steps(round));
-            cur = c.end().to_vec();
-            lambda = c.value();
-            continue;
+        Ok(())
+    }
+
+    /// The moves from `set`, evaluated.
+    fn candidates(&mut self, set: &[usize], moves: &[Move]) -> Result<Vec<Candidate>, Stopped> {
+        let sets: Vec<Vec<usize>> = moves.iter().map(|m| m.apply(set)).collect();
+        let entries = self.ev.eval_all(&sets)?;
+        let parts = self.params.parts;
+        Ok(moves
+            .iter()
+            .zip(sets)
+            .zip(entries)
+            .map(|((m, s), e)| Candidate::new(*m, s, e, parts))
+            .collect())
+    }
+
+    /// A scan of single moves by first improvement (under variable depth too: the descent to
+    /// a local optimum before any chain): the improving move taken, if any.
+    fn scan(&mut self) -> Result<Option<Candidate>, Stopped> {
+        let (params, tol) = (self.params, self.params.tolerance);
+        let moves = neighbourhood(&self.cur, self.lengths, self.budget, params, None);
+        let cur = self.cur.clone();
+        for part in moves.chunks(CHUNK) {
+            let cands = self.candidates(&cur, part)?;
+            let pick = cands
+                .iter()
+                .position(|c| improves(c.value(), self.lambda, tol));
+            if let Some(i) = pick {
+                let mut cands = cands;
+                return Ok(Some(cands.swap_remove(i)));
+            }
         }
-        if params.strategy != Strategy::VariableDepth {
-            break;
-        }
-        // A local optimum of single moves: a chain from it.
-        chains += 1;
-        let mut set = cur.clone();
+        Ok(None)
+    }
+
+    /// A Kernighan–Lin chain from the current set; takes its best prefix when it improves
+    /// (true), else leaves the set (false).
+    fn chain(&mut self, round: usize) -> Result<bool, Stopped> {
+        let (params, tol) = (self.params, self.params.tolerance);
+        let n = self.lengths.len();
+        let mut set = self.cur.clone();
         let mut locked = vec![false; n];
         let mut chain: Vec<Candidate> = Vec::new();
         for _ in 0..params.depth.unwrap_or(n).max(1) {
-            let moves = neighbourhood(&set, &lengths, budget, params, Some(&locked));
-            let mut cands = candidates(&mut ev, &set, &moves);
+            let moves = neighbourhood(&set, self.lengths, self.budget, params, Some(&locked));
+            let mut cands = self.candidates(&set, &moves)?;
             let values: Vec<f64> = cands.iter().map(Candidate::value).collect();
             let Some(i) = best_position(&values, tol) else {
                 break;
@@ -527,47 +593,42 @@ pub fn local_search(
             .iter()
             .map(Candidate::value)
             .fold(f64::NEG_INFINITY, f64::max);
-        if !improves(top, lambda, tol) {
-            break;
+        if !improves(top, self.lambda, tol) {
+            return Ok(false);
         }
         // The shortest prefix within the tolerance of the chain's best.
         let floor = top - tol * top.abs();
         let end = chain
             .iter()
-            .position(|c| c.value() >= floor && improves(c.value(), lambda, tol))
+            .position(|c| c.value() >= floor && improves(c.value(), self.lambda, tol))
             .expect("the chain's best improves")
             + 1;
-        for c in &chain[..end] {
-            steps.extend(c.steps(round));
-        }
-        cur = chain[end - 1].end().to_vec();
-        lambda = chain[end - 1].value();
+        self.take(&chain[..end], round);
+        Ok(true)
     }
-    Ok(LocalOutcome {
-        start: start_score,
-        best: SubsetScore {
-            length: length(&cur),
-            curves: cur,
-            lambda,
-        },
-        steps,
-        rounds,
-        chains,
-        evaluations: ev.memo.len(),
-        structures: scorer.cached_structures().saturating_sub(cached_before),
-    })
+
+    /// Takes `moves` (in order) as round `round`'s.
+    fn take(&mut self, moves: &[Candidate], round: usize) {
+        for c in moves {
+            self.steps.extend(c.steps(round));
+        }
+        let last = moves.last().expect("a move");
+        self.cur = last.end().to_vec();
+        self.lambda = last.value();
+    }
 }
 
 /// Local search from several starts (e.g. the greedy's answer, then every curve alone, which
 /// reaches the small sets of short curves a greedy started from the full network misses): the
-/// best outcome, ties to the earliest start. Starts that are not feasible are skipped.
+/// best outcome, ties to the earliest start. Starts that are not feasible are skipped; a
+/// cancelled search ends the run with the best outcome so far.
 pub fn local_search_multi(
-    scorer: &Scorer<'_>,
+    analyzer: &Analyzer,
     params: &LocalParams,
     starts: &[Vec<usize>],
+    cancel: &Cancel,
 ) -> Result<LocalOutcome, SimplifyError> {
-    let net = scorer.analyzer().network();
-    let lengths = net.rest_lengths();
+    let lengths = analyzer.lengths();
     let budget = params.budget.length(lengths.iter().sum());
     let n = lengths.len();
     let mut best: Option<LocalOutcome> = None;
@@ -579,15 +640,31 @@ pub fn local_search_multi(
         if !feasible {
             continue;
         }
-        let o = local_search(scorer, params, s)?;
+        let o = match local_search(analyzer, params, s, cancel) {
+            Err(SimplifyError::Cancelled) => break,
+            o => o?,
+        };
+        let stop = o.cancelled;
         let better = best.as_ref().is_none_or(|b| {
             o.best.lambda > b.best.lambda || (b.best.lambda.is_nan() && !o.best.lambda.is_nan())
         });
         if better {
             best = Some(o);
         }
+        if stop {
+            break;
+        }
     }
-    best.ok_or_else(|| SimplifyError::Params("local search: no feasible start".into()))
+    match best {
+        Some(mut b) => {
+            b.cancelled |= cancel.is_cancelled();
+            Ok(b)
+        }
+        None if cancel.is_cancelled() => Err(SimplifyError::Cancelled),
+        None => Err(SimplifyError::Params(
+            "local search: no feasible start".into(),
+        )),
+    }
 }
 
 /// The moves from `cur` that stay feasible and move no `locked` curve, in the documented

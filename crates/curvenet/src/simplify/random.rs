@@ -1,17 +1,20 @@
-//! Random search: `λ_eq` of uniformly random feasible subsets (paper §5 baseline).
+//! Random search: `λ_eq` of uniformly random feasible subsets, the paper's baseline
+//! (`docs/model.md`, *Searches beyond the greedy*).
 //!
 //! Subsets are drawn by rejection: every curve outside the keep list is included with
 //! probability ½ and the draw is kept when it is feasible and new, which makes every
 //! feasible subset equally likely. When feasible subsets are too rare for rejection (under
 //! one in a million draws), the remaining draws fall back to random maximal subsets (curves in
 //! random order, added while the budget allows), and the outcome says so. The draws are made
-//! first, from a seeded generator, and then evaluated in parallel: the result depends only on
-//! the seed, unless a wall-clock limit cuts the evaluation short.
+//! first, from a seeded generator, and then evaluated in parallel, a few per thread at a
+//! time: the result depends only on the seed, unless a wall-clock limit or a cancellation
+//! ([`Cancel`]: the outcome says so) cuts the evaluation short.
 
 use super::exhaustive::{SubsetScore, best_of};
-use super::{Budget, Scorer, SimplifyError};
+use super::{Budget, SimplifyError};
+use crate::cancel::Cancel;
 use crate::rng::SplitMix64;
-use crate::rod::ActiveSet;
+use crate::stability::Analyzer;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashSet;
@@ -43,6 +46,8 @@ pub struct RandomOutcome {
     pub used_fallback: bool,
     /// True when every feasible subset was drawn before reaching the evaluation count.
     pub exhausted: bool,
+    /// True when the search was cancelled before every draw was evaluated.
+    pub cancelled: bool,
 }
 
 /// Draws up to `count` distinct feasible subsets.
@@ -109,18 +114,17 @@ pub fn draw_subsets(
 
 /// Runs the random search.
 pub fn random_search(
-    scorer: &Scorer<'_>,
+    analyzer: &Analyzer,
     params: &RandomParams,
+    cancel: &Cancel,
 ) -> Result<RandomOutcome, SimplifyError> {
-    let net = scorer.analyzer().network();
-    let n = net.rods.len();
     params.budget.validate().map_err(SimplifyError::Params)?;
     if params.evaluations == 0 {
         return Err(SimplifyError::Params(
             "random search needs at least one evaluation".into(),
         ));
     }
-    let lengths = net.rest_lengths();
+    let lengths = analyzer.lengths();
     let budget = params.budget.length(lengths.iter().sum());
     let (subsets, used_fallback, exhausted) = draw_subsets(
         &lengths,
@@ -137,33 +141,40 @@ pub fn random_search(
     let start = Instant::now();
     let mut evaluated = Vec::with_capacity(subsets.len());
     let batch = 4 * rayon::current_num_threads().max(1);
+    let mut cancelled = false;
     for chunk in subsets.chunks(batch) {
         if params.time_limit.is_some_and(|t| start.elapsed() >= t) {
+            break;
+        }
+        if cancel.is_cancelled() {
+            cancelled = true;
             break;
         }
         evaluated.extend(
             chunk
                 .par_iter()
-                .map(|curves| {
-                    let lambda = scorer
-                        .lambda_eq(&ActiveSet::from_curves(n, curves))
-                        .unwrap_or(f64::NAN);
-                    SubsetScore {
-                        curves: curves.clone(),
-                        length: net.total_length(curves),
-                        lambda,
-                    }
+                .map(|curves| SubsetScore {
+                    curves: curves.clone(),
+                    length: analyzer.total_length(curves),
+                    lambda: analyzer
+                        .lambda_eq(&analyzer.set(curves))
+                        .unwrap_or(f64::NAN),
                 })
                 .collect::<Vec<_>>(),
         );
     }
-    let best = best_of(&evaluated)
-        .ok_or_else(|| SimplifyError::Params("every evaluation failed".into()))?;
+    let Some(best) = best_of(&evaluated) else {
+        if cancelled {
+            return Err(SimplifyError::Cancelled);
+        }
+        return Err(SimplifyError::Params("every evaluation failed".into()));
+    };
     Ok(RandomOutcome {
         best,
         evaluated,
         used_fallback,
         exhausted,
+        cancelled,
     })
 }
 

@@ -20,15 +20,16 @@
 //! `result.json` holds no timings and depends only on the inputs, so it is byte-identical from
 //! run to run on one machine and build, whatever the thread count.
 
-use super::candidates::{Carried, CarriedVector};
+use super::GreedyParams;
+use super::certificate::Certificate;
 use super::greedy::{GreedyHooks, GreedyOutcome, IterationRecord, ResumePoint, StopReason};
 use super::local::{LocalOutcome, LocalParams, Step, Strategy};
-use super::relaxation::Certificate;
-use super::{Evaluation, GreedyParams};
 use crate::geom::Vec3;
 use crate::io::{self, Origin, Polyline};
 use crate::network::{BuildInfo, BuildParams, Network};
+use crate::stability::Evaluation;
 use crate::stability::StabilityParams;
+use crate::stability::candidates::{Carried, CarriedVector};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 

@@ -1,4 +1,4 @@
-//! Greedy simplification, the paper's Algorithm 1 (SPEC §6).
+//! Greedy simplification, the paper's Algorithm 1 (`docs/model.md`, *Greedy simplification*).
 //!
 //! ```text
 //! A := all curves
@@ -10,16 +10,20 @@
 //!     remove the c with the largest score (ties within 1e-7 → lowest id)
 //! ```
 //!
-//! Each relaxation starts from the previous equilibrium. Candidate scores use the local
-//! Hessians of `A`'s equilibrium, computed once per iteration, and are warm-started from
-//! `A`'s low modes. Every candidate's computation is deterministic and independent of the
-//! others, so the choice does not depend on the thread count.
+//! Each relaxation starts from the previous equilibrium, warm-started by what the previous
+//! iteration hands on ([`Candidates::hand_on`]). The candidates are scored at `A`'s
+//! equilibrium by the best-first search of [`search`], which asks the stability facade for
+//! bounds, tests and scores. Every candidate's computation is deterministic and independent
+//! of the others, so the choice does not depend on the thread count.
 
-use super::candidates::{CandidateContext, CandidateScore, CandidateTerms, Carried, PruneParams};
-use super::{Budget, Evaluation, Scorer, SimplifyError, Warm, Work, pick_best};
-use crate::rod::ActiveSet;
-use crate::solve::NewtonSummary;
-use crate::stability::Analyzer;
+mod search;
+
+pub use search::CandidateScore;
+
+use super::{Budget, SimplifyError, pick_best};
+use crate::stability::NewtonSummary;
+use crate::stability::candidates::{Candidates, Carried};
+use crate::stability::{ActiveSet, Analyzer, Evaluation, Prepare, Preset, Warm, Work};
 use faer::Mat;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -32,41 +36,21 @@ pub struct GreedyParams {
     pub budget: Budget,
     /// Curves that are never removed.
     pub keep: Vec<usize>,
-    /// Relative tolerance under which two scores tie (SPEC: 1e-7).
+    /// Relative tolerance under which two scores tie (1e-7: the ties between symmetric
+    /// curves, whose scores differ by round-off).
     pub tie_tolerance: f64,
-    /// Candidate pruning by Rayleigh–Ritz bounds.
-    #[serde(default)]
-    pub prune: PruneParams,
-    /// Low modes computed per iteration (the bounds' subspace; on the tower, 2 prune as well
-    /// as 4 or 6 for a third of the solves).
-    #[serde(default = "default_modes")]
-    pub modes: usize,
-    /// Start each iteration from the previous one's modes and the winner's factorization.
-    #[serde(default = "default_true")]
-    pub warm_start: bool,
     /// Stop after this many removals even if the budget is not met (None: no limit).
     #[serde(default)]
     pub max_removals: Option<usize>,
 }
 
-fn default_true() -> bool {
-    true
-}
-
-fn default_modes() -> usize {
-    2
-}
-
 impl GreedyParams {
-    /// A greedy with `budget`, no keep list and the SPEC's tie tolerance.
+    /// A greedy with `budget`, no keep list and the tie tolerance 1e-7.
     pub fn new(budget: Budget) -> Self {
         GreedyParams {
             budget,
             keep: Vec::new(),
             tie_tolerance: 1e-7,
-            prune: PruneParams::default(),
-            modes: default_modes(),
-            warm_start: true,
             max_removals: None,
         }
     }
@@ -80,7 +64,6 @@ impl GreedyParams {
                 curves.saturating_sub(1)
             ));
         }
-        self.prune.validate()?;
         if !(self.tie_tolerance >= 0.0 && self.tie_tolerance < 1e-2) {
             return Err(format!(
                 "tie tolerance must lie in [0, 1e-2), got {}",
@@ -132,6 +115,17 @@ pub enum StopReason {
     RemovalLimit,
 }
 
+impl std::fmt::Display for StopReason {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            StopReason::BudgetMet => "budget met",
+            StopReason::BudgetUnmet => "budget not met: only kept curves or one curve remain",
+            StopReason::NoScorableCandidate => "no candidate could be scored",
+            StopReason::RemovalLimit => "removal limit reached",
+        })
+    }
+}
+
 /// Time spent per phase (not part of the result: timings live in `timings.json`).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct GreedyTimings {
@@ -167,12 +161,10 @@ pub struct GreedyOutcome {
 }
 
 /// The estimate of the next structure's `λ_eq` its spectrum is shifted below
-/// ([`crate::simplify::Warm::lambda`]): the winner's score, or the current `λ_eq` when that is
-/// more than 5% lower. Relaxing can lower `λ` far below the fixed-geometry score (the tower:
-/// `λ_eq` at 0.63–0.99 of the score, so a shift at 0.9 × the score failed for 24 of its 26
-/// spectra, each failure a wasted factorization and a spectrum about zero), while `λ_eq` falls
-/// only a few percent per removal; where the two agree (roof, shells) the score is the
-/// nearer estimate.
+/// ([`Warm::lambda`]): the winner's score, or the current `λ_eq` when that is more than 5%
+/// lower. Relaxing can lower `λ` far below the fixed-geometry score, while `λ_eq` falls only
+/// a few percent per removal; where the two agree the score is the nearer estimate (a shift
+/// above `λ_eq` costs a wasted factorization and a spectrum about zero).
 fn spectrum_hint(score: f64, lambda: f64) -> f64 {
     if lambda > 0.0 && lambda < 0.95 * score {
         lambda
@@ -183,8 +175,8 @@ fn spectrum_hint(score: f64, lambda: f64) -> f64 {
 
 /// Whether the next iteration should use the test vectors carried over from this one: when
 /// this one settled at least `after` candidates by an inertia test or by a carried vector's
-/// bound ([`PruneParams::carry_after`]). A function of the recorded values, so a resumed run
-/// decides the same.
+/// bound ([`crate::stability::Tuning::carry_after`]). A function of the recorded values, so a
+/// resumed run decides the same.
 fn carried_pays(scores: &[CandidateScore], after: usize) -> bool {
     let settled = scores
         .iter()
@@ -269,91 +261,115 @@ fn run(
     hooks: &mut dyn GreedyHooks,
 ) -> Result<GreedyOutcome, SimplifyError> {
     let start = Instant::now();
-    let n = analyzer.network().rods.len();
+    let n = analyzer.curve_count();
     params.validate(n).map_err(SimplifyError::Params)?;
-    let total = analyzer.network().total_length(&(0..n).collect::<Vec<_>>());
-    let budget = params.budget.length(total);
-    let scorer = Scorer::new(analyzer).with_modes(params.modes);
+    let total = analyzer.total_length(&(0..n).collect::<Vec<_>>());
     let mut keep = vec![false; n];
     for &c in &params.keep {
         keep[c] = true;
     }
-    let mut timings = GreedyTimings::default();
-    let mut superset = None;
-    // The last winner's score, an estimate of the next `λ_eq` (see `Warm::lambda`).
-    let mut lambda_hint = None;
-    let mut carried: Carried = Vec::new();
-    let mut use_carried = false;
-
-    // What each iteration hands the next: its equilibrium (Newton's start), its low modes (the
-    // eigen solver's start) and the factorization of the winning candidate's Hessian, which is
-    // the next structure's Hessian at that start (Newton's first matrix).
-    // The previous structure's symbolic analysis serves the next relaxation (see
-    // `Scorer::evaluate_warm`); a pure function of that structure, recomputed on resume.
-    let (mut iterations, mut active, mut warm, mut warm_modes, mut next_factor) = match resume {
-        None => (Vec::new(), ActiveSet::all(n), None, None, None),
-        Some(r) => {
-            let last = r
-                .iterations
-                .last()
-                .ok_or_else(|| SimplifyError::Params("nothing to resume".into()))?;
-            let removed = last
-                .removed
-                .ok_or_else(|| SimplifyError::Params("the recorded run already finished".into()))?;
-            let prev = ActiveSet::from_curves(n, &last.curves);
-            // Recompute the winner's factorization: it depends only on the recorded state. A
-            // winner scored about a positive shift (the inertia test) passed none on.
-            let scored_about_zero = last
-                .candidates
-                .iter()
-                .find(|c| c.curve == removed)
-                .is_none_or(|c| c.shift.is_none());
-            let factor = if scored_about_zero {
-                let ctx =
-                    CandidateContext::new(&scorer, &prev, &r.displacement, r.modes.as_ref(), None);
-                ctx.score(removed).ok().map(|(_, f)| f)
-            } else {
-                None
-            };
-            superset = Some(analyzer.symbolic_for(&prev));
-            lambda_hint = last.score.map(|s| spectrum_hint(s, last.lambda));
-            if params.prune.enabled && params.prune.carry {
-                use_carried = carried_pays(&last.candidates, params.prune.carry_after);
-                carried = r.carried;
-            }
-            (
-                r.iterations,
-                prev.without(removed),
-                Some(r.displacement),
-                Some(r.modes),
-                factor,
-            )
-        }
+    let mut state = State {
+        analyzer,
+        params,
+        budget: params.budget.length(total),
+        keep,
+        timings: GreedyTimings::default(),
+        iterations: Vec::new(),
+        active: analyzer.all(),
+        warm: Warm::default(),
+        carried: Vec::new(),
+        use_carried: false,
     };
-
-    loop {
+    if let Some(r) = resume {
+        state.resume(r)?;
+    }
+    let stop = loop {
         if hooks.cancelled() {
             return Err(SimplifyError::Cancelled);
         }
+        if let Some(stop) = state.iteration(hooks)? {
+            break stop;
+        }
+    };
+    state.timings.total_seconds = start.elapsed().as_secs_f64();
+    Ok(GreedyOutcome {
+        iterations: state.iterations,
+        stop,
+        budget: state.budget,
+        timings: state.timings,
+    })
+}
+
+/// The greedy's state between iterations.
+struct State<'a> {
+    analyzer: &'a Analyzer,
+    params: &'a GreedyParams,
+    /// The budget as a length.
+    budget: f64,
+    /// Curves never removed.
+    keep: Vec<bool>,
+    timings: GreedyTimings,
+    iterations: Vec<IterationRecord>,
+    /// The structure of the next iteration.
+    active: ActiveSet,
+    /// What the previous iteration hands the next one's evaluation: its equilibrium
+    /// (Newton's start), its low modes (the eigen solver's start), its symbolic analysis and
+    /// the factorization of the winning candidate's Hessian, which is the next structure's
+    /// Hessian at that start (Newton's first matrix).
+    warm: Warm,
+    /// The test vectors handed on by the previous iteration's candidates.
+    carried: Carried,
+    use_carried: bool,
+}
+
+impl<'a> State<'a> {
+    /// Continues after the last recorded iteration of `r`, exactly as an uninterrupted run.
+    fn resume(&mut self, r: ResumePoint) -> Result<(), SimplifyError> {
+        let last = r
+            .iterations
+            .last()
+            .ok_or_else(|| SimplifyError::Params("nothing to resume".into()))?;
+        let removed = last
+            .removed
+            .ok_or_else(|| SimplifyError::Params("the recorded run already finished".into()))?;
+        let prev = self.analyzer.set(&last.curves);
+        // A winner scored about a positive shift (the inertia test) passed no factorization on.
+        let about_zero = last
+            .candidates
+            .iter()
+            .find(|c| c.curve == removed)
+            .is_none_or(|c| c.shift.is_none());
+        let hint = last.score.map(|s| spectrum_hint(s, last.lambda));
+        let tuning = self.analyzer.tuning();
+        if tuning.prune && tuning.carry {
+            self.use_carried = carried_pays(&last.candidates, tuning.carry_after);
+            self.carried = r.carried;
+        }
+        self.warm =
+            self.analyzer
+                .resume_warm(&prev, r.displacement, r.modes, removed, about_zero, hint);
+        self.active = prev.without(removed);
+        self.iterations = r.iterations;
+        Ok(())
+    }
+
+    /// One iteration: relaxes and records the structure, then (unless a stop applies) scores
+    /// its candidates and removes the winner. The stop reason once the run is over.
+    fn iteration(
+        &mut self,
+        hooks: &mut dyn GreedyHooks,
+    ) -> Result<Option<StopReason>, SimplifyError> {
+        let (analyzer, tuning) = (self.analyzer, self.analyzer.tuning());
         let t = Instant::now();
-        let relax_symbolic = superset.take();
-        let hints = if params.warm_start {
-            Warm {
-                factor: next_factor.take(),
-                modes: warm_modes.as_ref().map(|m: &Mat<f64>| m.as_ref()),
-                superset: relax_symbolic.as_ref(),
-                lambda: lambda_hint.take(),
-            }
-        } else {
-            Warm::default()
+        let warm = std::mem::take(&mut self.warm);
+        let preset = Preset::Greedy {
+            modes: tuning.modes,
         };
         // The candidates' terms (they need only the equilibrium) beside the spectrum.
-        let (eval, terms) = scorer.evaluate_warm_beside(&active, warm.as_deref(), hints, |u| {
-            CandidateTerms::compute(&scorer, &active, u)
-        })?;
-        timings.relax_seconds += t.elapsed().as_secs_f64();
-        timings.relax_work.add(eval.work);
-        let k = iterations.len();
+        let mut eval = analyzer.evaluate(&self.active, warm, preset, Prepare::Candidates)?;
+        self.timings.relax_seconds += t.elapsed().as_secs_f64();
+        self.timings.relax_work.add(eval.work);
+        let k = self.iterations.len();
         let mut record = IterationRecord {
             curves: eval.curves.clone(),
             length: eval.length,
@@ -361,101 +377,119 @@ fn run(
             eigenvalues: eval.spectrum.values.clone(),
             zero_modes: eval.spectrum.zero_modes,
             negative_modes: eval.spectrum.negative_modes,
-            newton: eval.newton.clone(),
+            newton: eval.newton.summary(),
             removed: None,
             score: None,
             candidates: Vec::new(),
             mode_file: format!("modes/{k:04}.bin"),
         };
-        let candidates: Vec<usize> = eval.curves.iter().copied().filter(|&c| !keep[c]).collect();
-        let stop = if eval.length <= budget {
-            Some(StopReason::BudgetMet)
-        } else if candidates.is_empty() || eval.curves.len() <= 1 {
-            Some(StopReason::BudgetUnmet)
-        } else if params.max_removals.is_some_and(|m| k >= m) {
-            Some(StopReason::RemovalLimit)
-        } else {
-            None
-        };
-        if let Some(stop) = stop {
-            hooks
-                .iteration(&record, &eval)
-                .map_err(SimplifyError::Hook)?;
-            iterations.push(record);
-            timings.total_seconds = start.elapsed().as_secs_f64();
-            return Ok(GreedyOutcome {
-                iterations,
-                stop,
-                budget,
-                timings,
-            });
+        let candidates: Vec<usize> = eval
+            .curves
+            .iter()
+            .copied()
+            .filter(|&c| !self.keep[c])
+            .collect();
+        if let Some(stop) = self.stop(&eval, &candidates) {
+            self.record(hooks, record, &eval)?;
+            return Ok(Some(stop));
         }
-
-        // Score every candidate at A's equilibrium.
-        let t = Instant::now();
-        let mut ctx = CandidateContext::of_evaluation_with(&scorer, &active, &eval, terms);
-        if use_carried {
-            ctx = ctx.with_carried(std::mem::take(&mut carried));
-        }
-        timings.locals_seconds += t.elapsed().as_secs_f64();
-        let t = Instant::now();
-        let shared: &dyn GreedyHooks = &*hooks;
-        let (scores, mut factors) =
-            ctx.score_all(&candidates, &params.prune, params.tie_tolerance, &|| {
-                shared.cancelled()
-            });
-        timings.candidates_seconds += t.elapsed().as_secs_f64();
-        timings.candidate_evaluations += scores.iter().filter(|s| !s.pruned).count();
-        timings.candidates_pruned += scores.iter().filter(|s| s.pruned).count();
-        timings.candidate_work.add(ctx.work());
-        if params.prune.enabled && params.prune.carry {
-            carried = ctx.take_carried();
-            use_carried = carried_pays(&scores, params.prune.carry_after);
-            hooks.carried(&carried).map_err(SimplifyError::Hook)?;
-        }
+        let scores = self.search(&mut eval, &candidates, hooks)?;
         if hooks.cancelled() {
             return Err(SimplifyError::Cancelled);
         }
+        let (ctx, scores) = scores;
         let pairs: Vec<(usize, f64)> = scores
             .iter()
             .filter_map(|s| s.score.map(|v| (s.curve, v)))
             .collect();
         record.candidates = scores;
-        let Some((chosen, score)) = pick_best(&pairs, params.tie_tolerance) else {
-            hooks
-                .iteration(&record, &eval)
-                .map_err(SimplifyError::Hook)?;
-            iterations.push(record);
-            timings.total_seconds = start.elapsed().as_secs_f64();
-            return Ok(GreedyOutcome {
-                iterations,
-                stop: StopReason::NoScorableCandidate,
-                budget,
-                timings,
-            });
+        let Some((chosen, score)) = pick_best(&pairs, self.params.tie_tolerance) else {
+            self.record(hooks, record, &eval)?;
+            return Ok(Some(StopReason::NoScorableCandidate));
         };
         record.removed = Some(chosen);
         record.score = Some(score);
+        self.record(hooks, record, &eval)?;
+        let hint = spectrum_hint(score, eval.lambda());
+        self.warm = ctx.hand_on(chosen, eval, hint);
+        self.active.remove(chosen);
+        Ok(None)
+    }
+
+    /// Why the run stops at structure `eval` with removable `candidates`, if it does.
+    fn stop(&self, eval: &Evaluation, candidates: &[usize]) -> Option<StopReason> {
+        let k = self.iterations.len();
+        if eval.length <= self.budget {
+            Some(StopReason::BudgetMet)
+        } else if candidates.is_empty() || eval.curves.len() <= 1 {
+            Some(StopReason::BudgetUnmet)
+        } else if self.params.max_removals.is_some_and(|m| k >= m) {
+            Some(StopReason::RemovalLimit)
+        } else {
+            None
+        }
+    }
+
+    /// Scores every candidate at the structure's equilibrium; hands the carried test vectors
+    /// to `hooks` and keeps them for the next iteration.
+    fn search(
+        &mut self,
+        eval: &mut Evaluation,
+        candidates: &[usize],
+        hooks: &mut dyn GreedyHooks,
+    ) -> Result<(Candidates<'a>, Vec<CandidateScore>), SimplifyError> {
+        let tuning = self.analyzer.tuning();
+        let t = Instant::now();
+        let carried = if self.use_carried {
+            std::mem::take(&mut self.carried)
+        } else {
+            Vec::new()
+        };
+        let mut ctx = Candidates::new(self.analyzer, &self.active, eval, carried);
+        self.timings.locals_seconds += t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let shared: &dyn GreedyHooks = &*hooks;
+        let tie = self.params.tie_tolerance;
+        let scores = search::score_all(&mut ctx, candidates, tuning, tie, &|| shared.cancelled());
+        self.timings.candidates_seconds += t.elapsed().as_secs_f64();
+        self.timings.candidate_evaluations += scores.iter().filter(|s| !s.pruned).count();
+        self.timings.candidates_pruned += scores.iter().filter(|s| s.pruned).count();
+        self.timings.candidate_work.add(ctx.work());
+        if tuning.prune && tuning.carry {
+            self.carried = ctx.take_carried();
+            self.use_carried = carried_pays(&scores, tuning.carry_after);
+            hooks.carried(&self.carried).map_err(SimplifyError::Hook)?;
+        }
+        Ok((ctx, scores))
+    }
+
+    /// Hands `record` to `hooks` and keeps it.
+    fn record(
+        &mut self,
+        hooks: &mut dyn GreedyHooks,
+        record: IterationRecord,
+        eval: &Evaluation,
+    ) -> Result<(), SimplifyError> {
         hooks
-            .iteration(&record, &eval)
+            .iteration(&record, eval)
             .map_err(SimplifyError::Hook)?;
-        iterations.push(record);
-        active.remove(chosen);
-        next_factor = factors
-            .iter()
-            .position(|f| f.0 == chosen)
-            .map(|i| factors.swap_remove(i).1);
-        let lambda_now = eval.lambda();
-        warm_modes = Some(eval.spectrum.vectors);
-        warm = Some(eval.displacement);
-        superset = Some(eval.symbolic);
-        lambda_hint = Some(spectrum_hint(score, lambda_now));
+        self.iterations.push(record);
+        Ok(())
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::spectrum_hint;
+    use super::{StopReason, spectrum_hint};
+
+    #[test]
+    fn stop_reasons_read_as_words() {
+        assert_eq!(StopReason::BudgetMet.to_string(), "budget met");
+        assert_eq!(
+            StopReason::RemovalLimit.to_string(),
+            "removal limit reached"
+        );
+    }
 
     #[test]
     fn the_spectrum_hint_is_the_lower_estimate_only_when_clearly_lower() {

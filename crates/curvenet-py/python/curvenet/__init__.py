@@ -1,0 +1,37 @@
+"""curvenet: stability-aware simplification of curve networks, from Python.
+
+>>> import curvenet
+>>> net = curvenet.example("roof")
+>>> net.analyze().lambda_eq            # λ_eq of the whole network
+>>> result = net.simplify()            # the greedy, to the example's budget
+>>> result.final_curves, result.lambdas
+
+See ``docs/python.md`` in the repository for a walk-through.
+"""
+
+from ._core import (
+    Analysis,
+    Iteration,
+    Network,
+    Result,
+    example,
+    example_names,
+    load,
+    open_run,
+)
+from ._errors import CurvenetError, InputError
+from ._native import __version__
+
+__all__ = [
+    "Analysis",
+    "CurvenetError",
+    "InputError",
+    "Iteration",
+    "Network",
+    "Result",
+    "__version__",
+    "example",
+    "example_names",
+    "load",
+    "open_run",
+]

@@ -1,0 +1,53 @@
+"""Bad input raises curvenet.InputError with the command line's message, file and line."""
+
+import pytest
+
+import curvenet
+
+
+def test_a_bad_number_names_the_file_and_line(cli, tmp_path):
+    f = tmp_path / "bad.txt"
+    f.write_text("CURVE 2\n0 0 0\n1 zero 0\n")
+    with pytest.raises(curvenet.InputError) as e:
+        curvenet.load(curves=[f])
+    assert isinstance(e.value, ValueError)
+    assert e.value.file == str(f) and e.value.line == 3
+    cli_err = cli("analyze", "--curves", f, check=False)
+    assert cli_err.returncode == 2
+    assert str(e.value) in cli_err.stderr
+
+
+def test_a_missing_file_and_bad_parameters(grid, tmp_path):
+    with pytest.raises(curvenet.InputError) as e:
+        curvenet.load(curves=[tmp_path / "missing.obj"])
+    assert e.value.file == str(tmp_path / "missing.obj")
+    with pytest.raises(curvenet.InputError, match="scale"):
+        curvenet.load(grid, scale=-1.0)
+    with pytest.raises(curvenet.InputError, match="supports"):
+        curvenet.load(grid, supports="glued")
+    with pytest.raises(curvenet.InputError, match="expected an \\(n, 3\\) array"):
+        curvenet.load([[0.0, 1.0], [2.0, 3.0]])
+    net = curvenet.load(grid)
+    with pytest.raises(curvenet.InputError, match="remove names curve 99"):
+        net.analyze(remove=[99])
+    with pytest.raises(curvenet.InputError, match="budget"):
+        net.simplify(1.5)
+    with pytest.raises(curvenet.InputError, match="keep list names curve 50"):
+        net.simplify(0.5, keep=[50])
+    with pytest.raises(curvenet.InputError, match="unknown example"):
+        curvenet.example("cathedral")
+    with pytest.raises(curvenet.InputError, match="not a folder"):
+        curvenet.open_run(tmp_path / "no-run")
+    with pytest.raises(curvenet.InputError, match="result.json"):
+        curvenet.open_run(tmp_path)
+
+
+def test_a_bad_array_curve_names_its_position():
+    import numpy as np
+
+    good = np.array([[0.0, 0, 0], [1, 0, 0]])
+    bad = np.array([[0.0, 0, 0], [np.nan, 0, 0]])
+    with pytest.raises(curvenet.InputError) as e:
+        curvenet.load([good, bad])
+    assert e.value.file == "<arrays>" and e.value.line == 2
+    assert "curve 1" in str(e.value)

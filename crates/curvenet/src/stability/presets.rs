@@ -1,0 +1,117 @@
+//! The eigen solver's presets: how accurate each kind of spectrum needs to be, derived from
+//! the user's [`EigenParams`] (never looser than them, except where a preset's accuracy is
+//! all its use needs).
+
+use super::Tuning;
+use crate::solve::eigen::EigenParams;
+use crate::solve::factor::SOLVE_GROUP;
+
+/// Residual tolerance of the lowest pair of the greedy's spectra (at least). Its value
+/// `λ_eq` comes out accurate to about the square of it over the relative gap to the next
+/// eigenvalue (1e-12 / gap), below what fixes the equilibrium itself (a benign change of
+/// Newton's path moves `λ_eq` by more).
+pub const SPECTRUM_TOL: f64 = 1e-6;
+
+/// Residual tolerance of the greedy spectra's other pairs: their vectors only span the
+/// candidates' bound subspace and the next spectrum's start (any subspace gives valid
+/// bounds); their values stay accurate to about 1e-8 / gap.
+pub const SPECTRUM_TRAILING_TOL: f64 = 1e-4;
+
+/// What a spectrum is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Preset {
+    /// A structure's analysis ([`super::Analyzer::analyze`]): the user's parameters as they
+    /// are.
+    Analysis,
+    /// The greedy's `λ_eq` spectra: `modes` pairs for the candidates' bounds, the lowest to
+    /// [`SPECTRUM_TOL`] (the record), the others to [`SPECTRUM_TRAILING_TOL`] (a subspace),
+    /// in blocks of a solver's column group solved side by side (the spectrum runs while a
+    /// core is idle).
+    Greedy {
+        /// Pairs computed.
+        modes: usize,
+    },
+    /// A candidate's score and a set's `λ_eq`: only `λ`, one converged pair in a block of two
+    /// that holds its neighbour (clustered smallest eigenvalues), its residual to 1e-8
+    /// (the value's error is about its square over the gap: ties are 1e-7 apart).
+    Score,
+    /// `λ_fix` of a set at the full network's equilibrium: four pairs (the certificates of
+    /// its low modes) to the user's tolerance, at most 1e-10.
+    Fixed,
+    /// One step of the relaxation (and the clamped certificates): as [`Preset::Fixed`], to
+    /// 1e-8 (the certificates are valid whatever the vectors).
+    Relaxation,
+}
+
+impl Preset {
+    /// The eigen parameters of this preset, from the user's `base`.
+    pub fn params(self, base: &EigenParams) -> EigenParams {
+        let mut p = base.clone();
+        match self {
+            Preset::Analysis => {}
+            Preset::Greedy { modes } => {
+                let k = modes.max(1);
+                p.count = k;
+                p.tol = p.tol.max(SPECTRUM_TOL);
+                p.trailing_tol = Some(SPECTRUM_TRAILING_TOL.max(p.tol));
+                p.block_size = SOLVE_GROUP.min(k);
+                p.solve_group = 1;
+                p.max_basis = p.max_basis.max(p.count + 6 * p.block_size);
+            }
+            Preset::Score => {
+                p.count = 1;
+                p.block_size = 2.min(p.block_size);
+                p.max_basis = p.max_basis.min(40);
+                p.tol = p.tol.max(1e-8);
+            }
+            Preset::Fixed | Preset::Relaxation => {
+                p.count = 4;
+                p.block_size = 4;
+                p.max_basis = p.max_basis.clamp(32, 48);
+                p.tol = base
+                    .tol
+                    .max(if self == Preset::Fixed { 1e-10 } else { 1e-8 });
+            }
+        }
+        p
+    }
+
+    /// [`Self::params`] for a factor storing `factor_values` values: beyond
+    /// [`Tuning::large_factor_values`] each column of a block is solved on a core of its own.
+    pub fn params_for(
+        self,
+        base: &EigenParams,
+        tuning: &Tuning,
+        factor_values: usize,
+    ) -> EigenParams {
+        let mut p = self.params(base);
+        if factor_values > tuning.large_factor_values {
+            p.solve_group = 1;
+        }
+        p
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_preset_is_valid_from_the_defaults() {
+        let base = EigenParams::default();
+        for p in [
+            Preset::Analysis,
+            Preset::Greedy { modes: 1 },
+            Preset::Greedy { modes: 6 },
+            Preset::Score,
+            Preset::Fixed,
+            Preset::Relaxation,
+        ] {
+            p.params(&base).validate().expect("valid");
+        }
+        assert_eq!(Preset::Analysis.params(&base), base);
+        let tuning = Tuning::default();
+        let large = Preset::Score.params_for(&base, &tuning, tuning.large_factor_values + 1);
+        assert_eq!(large.solve_group, 1);
+    }
+}

@@ -1,0 +1,72 @@
+//! `λ_eq` of any set of curves, the way every search ranks a subset: relaxed from the drawn
+//! state (path-independent, so the searches' answers compare), by connected parts, each part
+//! computed once per analyzer.
+
+use super::presets::Preset;
+use super::{Analyzer, StabilityError, StabilityParams};
+use crate::rod::ActiveSet;
+
+impl Analyzer {
+    /// `λ_eq(active)` relaxed from the drawn state.
+    ///
+    /// Curves that share no vertex are independent structures: the Hessian is block diagonal
+    /// and each part relaxes on its own, so `λ_eq` is the smallest `λ_eq` of the connected
+    /// parts. Each part's value is computed once and remembered (searches over subsets meet
+    /// the same parts again and again).
+    pub fn lambda_eq(&self, active: &ActiveSet) -> Result<f64, StabilityError> {
+        Ok(self
+            .lambda_eq_parts(active)?
+            .iter()
+            .map(|p| p.1)
+            .fold(f64::INFINITY, f64::min))
+    }
+
+    /// The connected parts of `active` ([`Self::components`]) with the `λ_eq` of each,
+    /// relaxed on its own (remembered); [`Self::lambda_eq`] is the smallest of them.
+    pub fn lambda_eq_parts(
+        &self,
+        active: &ActiveSet,
+    ) -> Result<Vec<(Vec<usize>, f64)>, StabilityError> {
+        if active.is_empty() {
+            return Err(StabilityError::Empty);
+        }
+        let mut parts = Vec::new();
+        for part in self.components(active) {
+            let cached = self.parts.lock().expect("cache lock").get(&part).copied();
+            let value = match cached {
+                Some(v) => v,
+                None => {
+                    let v = self.lambda_eq_connected(&part)?;
+                    self.parts
+                        .lock()
+                        .expect("cache lock")
+                        .insert(part.clone(), v);
+                    v
+                }
+            };
+            parts.push((part, value));
+        }
+        Ok(parts)
+    }
+
+    /// Connected structures whose `λ_eq` this analyzer has computed and remembers (each one
+    /// relaxation and one eigen solve; see [`Self::lambda_eq`]).
+    pub fn cached_structures(&self) -> usize {
+        self.parts.lock().expect("cache lock").len()
+    }
+
+    /// `λ_eq` of a connected structure, on its own network (the loose vertices deleted, so
+    /// the factorizations only see the structure's own unknowns).
+    fn lambda_eq_connected(&self, curves: &[usize]) -> Result<f64, StabilityError> {
+        let (network, _) = self.network().sub_network(curves);
+        let params = StabilityParams {
+            eigen: Preset::Score.params(&self.params().eigen),
+            ..self.params().clone()
+        };
+        let sub = Analyzer::new(network, params).map_err(StabilityError::Params)?;
+        let active = sub.all();
+        let mut u = vec![0.0; sub.model().dofs()];
+        sub.relax(&active, &mut u);
+        Ok(sub.spectrum(&active, &u, None)?.lambda())
+    }
+}
