@@ -217,9 +217,10 @@ pub struct PhysicsArgs {
     /// Rod radius (scene units).
     #[arg(long)]
     pub radius: Option<f64>,
-    /// Young's modulus.
+    /// Young's modulus: a number in the paper's mode (default 1); with a stress unit in the
+    /// physical mode (`--units`/`--material`, e.g. `210GPa`), overriding the material's.
     #[arg(long)]
-    pub young: Option<f64>,
+    pub young: Option<String>,
     /// Anchor weight µ (an anchor is a spring of stiffness 2µ).
     #[arg(long = "anchor-weight")]
     pub anchor_weight: Option<f64>,
@@ -304,6 +305,39 @@ pub struct AnalyzeArgs {
     /// Material and solver options.
     #[command(flatten)]
     pub physics: PhysicsArgs,
+    /// The physical mode.
+    #[command(flatten)]
+    pub physical: PhysicalModeArgs,
+}
+
+/// The physical mode: given `--units` or `--material`, `analyze` also reports the structure
+/// in physical terms (frequencies in Hz, deflections in scene units, stresses in MPa) with
+/// `--radius` (scene units) or `--tube` as the rods' section. See docs/units.md.
+#[derive(Debug, Args, Clone, Default)]
+pub struct PhysicalModeArgs {
+    /// The scene's length unit: mm, cm or m (turns on the physical mode).
+    #[arg(long)]
+    pub units: Option<String>,
+    /// Material preset: steel, aluminium, gfrp, timber (turns on the physical mode).
+    #[arg(long)]
+    pub material: Option<String>,
+    /// Density with its unit, overriding the material's (e.g. 7850kg/m3).
+    #[arg(long)]
+    pub density: Option<String>,
+    /// Strength (yield or failure stress) with its unit, overriding the material's (e.g.
+    /// 355MPa).
+    #[arg(long)]
+    pub strength: Option<String>,
+    /// A round tube section instead of a solid one: outer diameter x wall (e.g. 60x4, scene
+    /// units, or 60mmx4mm).
+    #[arg(long)]
+    pub tube: Option<String>,
+    /// Intensity of the worst-case distributed load (default 1kN/m).
+    #[arg(long)]
+    pub load: Option<String>,
+    /// Gravity in m/s2: a magnitude along -z (default 9.81) or gx,gy,gz.
+    #[arg(long, allow_hyphen_values = true)]
+    pub gravity: Option<String>,
 }
 
 /// `curvenet simplify`.

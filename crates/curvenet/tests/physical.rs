@@ -19,7 +19,7 @@ mod common;
 use common::{build, dense_hessian, polyline, rel_diff, straight_rod};
 use curvenet::geom::Vec3;
 use curvenet::material::{Physical, RestShape, Section, presets};
-use curvenet::physics::assembly_stresses;
+use curvenet::physics::{PhysicalParams, analyze_physical, assembly_stresses};
 use curvenet::rod::Network;
 use curvenet::rod::mass::{inverse_sqrt_coordinates, lumped_masses, scale_hessian};
 use curvenet::rod::physical::{masses_per_length, physical_rods, rigid_anchor_weight};
@@ -501,4 +501,52 @@ fn pre_bent_rods_in_the_dense_hessian_match_the_sparse_one() {
         }
     }
     assert!(m.energy(&u, &all) > 0.0);
+}
+
+#[test]
+fn physical_analysis_of_a_pinned_steel_beam_matches_the_textbook() {
+    // The whole physical analysis (its own model, rigid anchors, equilibrium, mass metric,
+    // self-weight) on a straight pinned rod: Euler–Bernoulli's first frequency and mid-span
+    // deflection, the rod's mass, no stress.
+    let phys = steel_mm(RADIUS);
+    let (ei, rho_a) = beam(&phys);
+    let net = straight_rod(
+        Vec3::ZERO,
+        Vec3::new(1.0, 0.0, 0.0),
+        LEN,
+        200,
+        Supports::Pinned,
+    );
+    let params = PhysicalParams::new(phys.clone());
+    let r = analyze_physical(&net, &params, &ActiveSet::all(1)).expect("analysis");
+    let f_want = PI / (2.0 * LEN * LEN) * (ei / rho_a).sqrt();
+    let f = r.first_frequency_hz.expect("stable");
+    let q = rho_a * -phys.gravity_scene()[2];
+    let w_want = 5.0 * q * LEN.powi(4) / (384.0 * ei);
+    let w = r.self_weight_max_deflection.expect("stable");
+    let mass_want = 7850.0 * PI * 0.01f64.powi(2) * 2.0;
+    println!(
+        "f₁ = {f:.5} Hz (textbook {f_want:.5} Hz, {:.2e}); self-weight {w:.5} mm (textbook \
+         {w_want:.5} mm, {:.2e}); mass {:.4} kg ({mass_want:.4}); frequencies {:?}",
+        rel_diff(f, f_want),
+        rel_diff(w, w_want),
+        r.mass_kg,
+        r.frequencies_hz
+    );
+    assert!(r.stable && r.equilibrium.converged, "{r:?}");
+    assert!(rel_diff(f, f_want) < 1e-3, "{f} vs {f_want}");
+    assert!(rel_diff(w, w_want) < 1e-2, "{w} vs {w_want}");
+    assert!(rel_diff(r.mass_kg, mass_want) < 1e-12);
+    // The second frequency is the other transverse direction's; the third is 4× the first.
+    let fs: Vec<f64> = r.frequencies_hz.iter().map(|f| f.unwrap()).collect();
+    assert!(rel_diff(fs[1], fs[0]) < 1e-6, "{fs:?}");
+    assert!(rel_diff(fs[2], 4.0 * fs[0]) < 1e-2, "{fs:?}");
+    assert!(r.assembly_max_bending_stress_mpa < 1e-6);
+    assert!(r.warnings.is_empty(), "{:?}", r.warnings);
+    // The worst-case distributed load of RMS 1 kN/m is the first mode's shape, sin(πs/L):
+    // peak √2 · q L⁴ / (π⁴ E I).
+    let d = r.load_max_deflection.expect("stable");
+    let q_load = phys.load_scene();
+    let d_want = 2f64.sqrt() * q_load * LEN.powi(4) / (PI.powi(4) * ei);
+    assert!(rel_diff(d.max, d_want) < 1e-2, "{} vs {d_want}", d.max);
 }

@@ -3,13 +3,36 @@
 use super::{load_inputs, print_warnings, stability_params};
 use crate::args::AnalyzeArgs;
 use crate::exit::usage;
+use curvenet::physics::{PhysicalOptions, analyze_physical};
 use curvenet::pipeline;
+use curvenet::rod::ActiveSet;
 use std::time::Instant;
 
 pub fn run(a: AnalyzeArgs) -> anyhow::Result<()> {
     let start = Instant::now();
     let inputs = load_inputs(&a.input, &a.physics)?;
-    let params = stability_params(&a.physics)?;
+    let p = &a.physical;
+    let options = PhysicalOptions {
+        units: p.units.clone(),
+        material: p.material.clone(),
+        young: a.physics.young.clone(),
+        density: p.density.clone(),
+        strength: p.strength.clone(),
+        radius: a.physics.radius.map(|r| r.to_string()),
+        tube: p.tube.clone(),
+        load: p.load.clone(),
+        gravity: p.gravity.clone(),
+    };
+    let physical = options
+        .resolve(inputs.file_units.as_deref(), &inputs.specs)
+        .map_err(usage)?;
+    // In the physical mode --young is the material's (with a unit); the paper's model keeps
+    // its own E.
+    let mut paper = a.physics.clone();
+    if physical.is_some() {
+        paper.young = None;
+    }
+    let params = stability_params(&paper)?;
     let n = inputs.curves.len();
     if let Some(&bad) = a.remove.iter().find(|&&c| c >= n) {
         return Err(usage(format!(
@@ -34,10 +57,35 @@ pub fn run(a: AnalyzeArgs) -> anyhow::Result<()> {
         inputs.warnings,
     )?;
     print_warnings(&out.report.warnings);
+    let physical = match physical {
+        Some(mut pp) => {
+            pp.frequencies = a.physics.eigen_count.max(1);
+            let mut active = ActiveSet::all(n);
+            for &c in &remove {
+                active.remove(c);
+            }
+            let r = analyze_physical(out.analyzer.network(), &pp, &active)?;
+            print_warnings(&r.warnings);
+            Some(r)
+        }
+        None => None,
+    };
     if a.json {
-        println!("{}", serde_json::to_string(&out.report)?);
+        match &physical {
+            // The report's own fields in their own order, then the physical object.
+            Some(r) => {
+                let report = serde_json::to_string(&out.report)?;
+                let body = report.strip_suffix('}').unwrap_or(&report);
+                let sep = if body.ends_with('{') { "" } else { "," };
+                println!("{body}{sep}\"physical\":{}}}", serde_json::to_string(r)?);
+            }
+            None => println!("{}", serde_json::to_string(&out.report)?),
+        }
     } else {
         print!("{}", out.report.to_text());
+        if let Some(r) = &physical {
+            print!("{}", r.to_text());
+        }
         println!("time: {:.3} s", start.elapsed().as_secs_f64());
     }
     Ok(())

@@ -42,7 +42,16 @@ pub fn stability_params(p: &PhysicsArgs) -> anyhow::Result<StabilityParams> {
     let d = Material::default();
     s.material = Material {
         radius: p.radius.unwrap_or(d.radius),
-        young: p.young.unwrap_or(d.young),
+        young: match &p.young {
+            Some(t) => t.trim().parse().map_err(|_| {
+                usage(format!(
+                    "--young {t:?}: the paper's mode takes a plain number (default 1); a modulus \
+                     with a unit such as 210GPa needs the physical mode (--units mm|cm|m and \
+                     --material NAME)"
+                ))
+            })?,
+            None => d.young,
+        },
         anchor_weight: p.anchor_weight.unwrap_or(d.anchor_weight),
     };
     s.eigen.count = p.eigen_count;
@@ -79,6 +88,11 @@ pub struct Inputs {
     pub description: InputDescription,
     /// The mesh, scaled, if one was given.
     pub mesh: Option<curvenet::io::TriMesh>,
+    /// Each curve's material, section and rest shape from the curve files (empty when no
+    /// file says anything).
+    pub specs: Vec<curvenet::material::CurveSpec>,
+    /// The length unit the curve files declare (the first that does).
+    pub file_units: Option<String>,
 }
 
 /// Reads and scales the inputs.
@@ -101,9 +115,15 @@ pub fn load_inputs(a: &InputArgs, p: &PhysicsArgs) -> anyhow::Result<Inputs> {
         mesh = Some(tri);
     }
     let mut curves = Vec::new();
+    let (mut specs, mut file_units) = (Vec::new(), None);
     for path in &a.curves {
         let f = io::read_curves(path)?;
         warnings.extend(f.warnings.iter().map(|w| w.to_string()));
+        if !f.specs.is_empty() {
+            specs.resize(curves.len(), Default::default());
+            specs.extend(f.specs);
+        }
+        file_units = file_units.or(f.units);
         curves.extend(f.curves);
     }
     pipeline::scale_curves(&mut curves, a.scale);
@@ -154,6 +174,8 @@ pub fn load_inputs(a: &InputArgs, p: &PhysicsArgs) -> anyhow::Result<Inputs> {
         warnings,
         description,
         mesh,
+        specs,
+        file_units,
     })
 }
 
