@@ -1,5 +1,9 @@
-//! Command-line arguments (clap derive). Names follow SPEC §10.
+//! Command-line arguments (clap derive). Subcommand and option names are fixed: scripts rely on them.
+//! Every numeric option is checked while it is parsed ([`crate::values`]).
 
+use crate::values::{
+    budget_fraction, count, extent, open_fraction, physical, positive, seconds, young,
+};
 use clap::{Args, Parser, Subcommand};
 use curvenet::rod::Supports;
 use std::path::PathBuf;
@@ -20,13 +24,13 @@ pub enum Command {
     Analyze(AnalyzeArgs),
     /// Simplify a network to a material budget with the greedy (paper Algorithm 1).
     Simplify(SimplifyArgs),
-    /// Run one of the paper's examples (SPEC §9) from the reference data.
+    /// Run one of the paper's examples (docs/model.md, "The paper's examples") from its input files.
     Example(ExampleArgs),
     /// Run the whole pipeline on a built-in scene: no input files needed.
     Demo(DemoArgs),
-    /// Time the greedy on the paper's examples and print a table (SPEC §10, issue 4).
+    /// Time the greedy on the paper's examples and print a table.
     Bench(BenchArgs),
-    /// Generate curves on a mesh: random geodesics or frame-field streamlines (SPEC §8).
+    /// Generate curves on a mesh: random geodesics or frame-field streamlines (docs/model.md, "Curve generation").
     Trace(TraceArgs),
     /// Greedy against exhaustive and random search on random networks (paper Fig. 10).
     Compare(CompareArgs),
@@ -61,7 +65,7 @@ pub struct ExportArgs {
     /// Output folder of a run (holding result.json).
     pub dir: PathBuf,
     /// Iteration to export (default: the final one).
-    #[arg(long)]
+    #[arg(long, allow_hyphen_values = true)]
     pub iteration: Option<usize>,
     /// obj, json, csv (points and fabrication table), network (reloadable network file) or all.
     #[arg(long, default_value = "all")]
@@ -76,27 +80,29 @@ pub struct ExportArgs {
 /// `curvenet compare`.
 #[derive(Debug, Args)]
 pub struct CompareArgs {
-    /// Numbers of curves N (comma-separated).
-    #[arg(long, value_delimiter = ',', default_value = "10,12,14,16")]
+    /// Numbers of curves N, comma-separated, each 2 to 30 (exhaustive search is exponential).
+    #[arg(long, value_delimiter = ',', default_value = "10,12,14,16", value_parser = count(2, 30), allow_hyphen_values = true)]
     pub sizes: Vec<usize>,
     /// Random networks per size.
-    #[arg(long, default_value_t = 10)]
+    #[arg(long, default_value_t = 10, value_parser = count(1, 10_000), allow_hyphen_values = true)]
     pub instances: usize,
-    /// Budget fraction.
-    #[arg(long, default_value_t = 0.3)]
+    /// Budget as a fraction of each network's total length, in (0, 1].
+    #[arg(long, default_value_t = 0.3, value_parser = budget_fraction, allow_hyphen_values = true)]
     pub budget: f64,
     /// Base seed.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_hyphen_values = true)]
     pub seed: u32,
-    /// Surfaces to trace on: mesh files, names of the reference's simple surfaces (1wave,
-    /// 2waves, half_sphere, sine_disk, leaf, from the data folder) or built-in surfaces.
+    /// Surfaces to trace on: mesh files, names of the paper's simple surfaces (1wave, 2waves,
+    /// half_sphere, sine_disk, leaf) or built-in surfaces (hill, tent, stadium, shell, dome,
+    /// saddle, wave).
     #[arg(
         long,
         value_delimiter = ',',
         default_value = "1wave,2waves,half_sphere,sine_disk,leaf"
     )]
     pub surfaces: Vec<String>,
-    /// Folder holding the reference data (for the simple surfaces).
+    /// Folder holding the paper's data (`meshes/`) to read the simple surfaces from instead of
+    /// the copies embedded in curvenet.
     #[arg(long)]
     pub data: Option<PathBuf>,
     /// Write the full report (every instance) as JSON.
@@ -106,7 +112,7 @@ pub struct CompareArgs {
     #[arg(long)]
     pub markdown: Option<PathBuf>,
     /// Time limit of the exact λ_fix solver per network, seconds.
-    #[arg(long = "exact-time-limit", default_value_t = 60.0)]
+    #[arg(long = "exact-time-limit", default_value_t = 60.0, value_parser = seconds, allow_hyphen_values = true)]
     pub exact_time_limit: f64,
 }
 
@@ -119,19 +125,19 @@ pub struct TraceArgs {
     pub mesh: PathBuf,
     /// Number of random geodesics (the reference's command-line scenes: loop 0,
     /// t ~ U[0,1], θ ~ U[π/6, 5π/6]).
-    #[arg(long, conflicts_with = "field")]
+    #[arg(long, conflicts_with = "field", value_parser = count(1, 100_000), allow_hyphen_values = true)]
     pub geodesics: Option<usize>,
     /// Seed of the reference's rand() for the geodesics.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_hyphen_values = true)]
     pub seed: u32,
     /// Trace streamlines of a smooth 2- or 3-direction field instead of geodesics.
-    #[arg(long, value_parser = clap::value_parser!(u32).range(2..=3))]
+    #[arg(long, value_parser = clap::value_parser!(u32).range(2..=3), allow_hyphen_values = true)]
     pub field: Option<u32>,
     /// Seeds along the boundary for streamlines.
-    #[arg(long, default_value_t = 40)]
+    #[arg(long, default_value_t = 40, value_parser = count(1, 100_000), allow_hyphen_values = true)]
     pub seeds: usize,
     /// Scale the mesh so its largest extent is this (the reference's scenes: 4000); 0 keeps it.
-    #[arg(long, default_value_t = 4000.0)]
+    #[arg(long, default_value_t = 4000.0, value_parser = extent, allow_hyphen_values = true)]
     pub extent: f64,
     /// Output curve file (.json, .obj or .txt).
     #[arg(long)]
@@ -151,7 +157,8 @@ pub struct BenchArgs {
         default_value = "tower,arcshell,roof,shell,kagome"
     )]
     pub examples: Vec<String>,
-    /// Folder holding the reference data.
+    /// Folder holding the paper's data (`meshes/`, `curves/`) to read instead of the copies
+    /// embedded in curvenet.
     #[arg(long)]
     pub data: Option<PathBuf>,
     /// Techniques to switch off, to measure what each contributes (comma-separated; the
@@ -160,15 +167,15 @@ pub struct BenchArgs {
     #[arg(long, value_delimiter = ',', value_parser = parse_technique)]
     pub off: Vec<curvenet::stability::Technique>,
     /// Low modes per iteration (the candidates' bound subspace; default: the greedy's).
-    #[arg(long)]
+    #[arg(long, value_parser = count(1, 64), allow_hyphen_values = true)]
     pub modes: Option<usize>,
     /// Worker threads (default: all cores).
-    #[arg(long)]
+    #[arg(long, value_parser = count(1, 1024), allow_hyphen_values = true)]
     pub threads: Option<usize>,
     /// Runs of each example, in rounds (every example once per round, so the machine's drift
     /// touches them alike); each row is the run with the median wall time, with the fastest
     /// and slowest beside it. The runs must agree bit for bit (removals and every `λ_eq`).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..))]
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1000), allow_hyphen_values = true)]
     pub repeat: u32,
     /// Print the rows as JSON lines too.
     #[arg(long)]
@@ -186,19 +193,19 @@ pub struct DemoArgs {
     #[arg(long, default_value = "dome")]
     pub surface: String,
     /// Number of random geodesics traced on it.
-    #[arg(long, default_value_t = 24)]
+    #[arg(long, default_value_t = 24, value_parser = count(1, 10_000), allow_hyphen_values = true)]
     pub geodesics: usize,
     /// Seed of the geodesics.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_hyphen_values = true)]
     pub seed: u32,
-    /// Target edge length h.
-    #[arg(long = "edge-length", default_value_t = 100.0)]
+    /// Target edge length h (the surface's largest extent is 4000).
+    #[arg(long = "edge-length", default_value_t = 100.0, value_parser = positive, allow_hyphen_values = true)]
     pub edge_length: f64,
     /// Output folder.
     #[arg(long, default_value = "out/demo")]
     pub out: PathBuf,
-    /// Budget as a fraction of the total length.
-    #[arg(long, default_value_t = 0.3)]
+    /// Budget as a fraction of the total length, in (0, 1].
+    #[arg(long, default_value_t = 0.3, value_parser = budget_fraction, allow_hyphen_values = true)]
     pub budget: f64,
     /// What runs after the greedy.
     #[command(flatten)]
@@ -214,21 +221,21 @@ pub struct PhysicsArgs {
     /// Supports of open curves.
     #[arg(long, value_parser = parse_supports)]
     pub supports: Option<Supports>,
-    /// Rod radius (scene units).
-    #[arg(long)]
+    /// Rod radius (scene units; default 2).
+    #[arg(long, value_parser = positive, allow_hyphen_values = true)]
     pub radius: Option<f64>,
-    /// Young's modulus: a number in the paper's mode (default 1); with a stress unit in the
-    /// physical mode (`--units`/`--material`, e.g. `210GPa`), overriding the material's.
-    #[arg(long)]
+    /// Young's modulus: a positive number in the paper's mode (default 1); with a stress unit
+    /// in the physical mode (`--units`/`--material`, e.g. `210GPa`), overriding the material's.
+    #[arg(long, value_parser = young, allow_hyphen_values = true)]
     pub young: Option<String>,
-    /// Anchor weight µ (an anchor is a spring of stiffness 2µ).
-    #[arg(long = "anchor-weight")]
+    /// Anchor weight µ (an anchor is a spring of stiffness 2µ; default 500).
+    #[arg(long = "anchor-weight", value_parser = positive, allow_hyphen_values = true)]
     pub anchor_weight: Option<f64>,
-    /// Number of smallest eigenvalues to report.
-    #[arg(long = "eigen-count", default_value_t = 4)]
+    /// Number of smallest eigenvalues to report (1 to 100).
+    #[arg(long = "eigen-count", default_value_t = 4, value_parser = count(1, 100), allow_hyphen_values = true)]
     pub eigen_count: usize,
-    /// Merge joints closer than this fraction of h (off by default; SPEC §11).
-    #[arg(long = "merge-joints")]
+    /// Merge joints closer than this fraction of h, in (0, 1) (off by default; docs/model.md, "Numerical hazards").
+    #[arg(long = "merge-joints", value_parser = open_fraction, allow_hyphen_values = true)]
     pub merge_joints: Option<f64>,
 }
 
@@ -244,24 +251,24 @@ pub struct InputArgs {
     #[arg(long, required = true)]
     pub curves: Vec<PathBuf>,
     /// Scale applied to the mesh and the curves.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, value_parser = positive, allow_hyphen_values = true)]
     pub scale: f64,
     /// Target edge length h (scene units, after scaling). Default: the median input segment.
-    #[arg(long = "edge-length")]
+    #[arg(long = "edge-length", value_parser = positive, allow_hyphen_values = true)]
     pub edge_length: Option<f64>,
 }
 
 /// Budget, keep list and output of a greedy run.
 #[derive(Debug, Args, Clone)]
 pub struct GreedyArgs {
-    /// Budget as a fraction of the total rest length of all curves.
-    #[arg(long, conflicts_with = "budget_length")]
+    /// Budget as a fraction of the total rest length of all curves, in (0, 1].
+    #[arg(long, conflicts_with = "budget_length", value_parser = budget_fraction, allow_hyphen_values = true)]
     pub budget: Option<f64>,
     /// Budget as an absolute rest length (scene units).
-    #[arg(long = "budget-length")]
+    #[arg(long = "budget-length", value_parser = positive, allow_hyphen_values = true)]
     pub budget_length: Option<f64>,
     /// Curves never to remove (comma-separated ids).
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub keep: Vec<usize>,
     /// Continue an interrupted run in the output folder.
     #[arg(long)]
@@ -280,8 +287,9 @@ pub struct AfterGreedyArgs {
     #[arg(long = "no-certificate")]
     pub no_certificate: bool,
     /// Branch and bound nodes spent tightening the certificate's bound (default: about
-    /// 1e6 / unknowns, e.g. 220 on the demo, 60 on the tower; 0: the relaxation's bound only).
-    #[arg(long = "certificate-nodes")]
+    /// 1e6 / unknowns, e.g. 220 on the demo, 60 on the tower; 0: the relaxation's bound only;
+    /// at most 100000).
+    #[arg(long = "certificate-nodes", value_parser = count(0, 100_000), allow_hyphen_values = true)]
     pub certificate_nodes: Option<usize>,
     /// After the greedy, run the local search from its final network (add / drop / swap
     /// moves with part steps, then variable-depth chains; `λ_eq` relaxed from the drawn state)
@@ -297,9 +305,9 @@ pub struct AnalyzeArgs {
     #[command(flatten)]
     pub input: InputArgs,
     /// Curves to remove before the analysis (comma-separated ids).
-    #[arg(long, value_delimiter = ',')]
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub remove: Vec<usize>,
-    /// Print one JSON object on stdout (SPEC §10).
+    /// Print one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
     /// Material and solver options.
@@ -316,27 +324,27 @@ pub struct AnalyzeArgs {
 #[derive(Debug, Args, Clone, Default)]
 pub struct PhysicalModeArgs {
     /// The scene's length unit: mm, cm or m (turns on the physical mode).
-    #[arg(long)]
+    #[arg(long, value_parser = physical("--units"), allow_hyphen_values = true)]
     pub units: Option<String>,
     /// Material preset: steel, aluminium, gfrp, timber (turns on the physical mode).
-    #[arg(long)]
+    #[arg(long, value_parser = physical("--material"), allow_hyphen_values = true)]
     pub material: Option<String>,
     /// Density with its unit, overriding the material's (e.g. 7850kg/m3).
-    #[arg(long)]
+    #[arg(long, value_parser = physical("--density"), allow_hyphen_values = true)]
     pub density: Option<String>,
     /// Strength (yield or failure stress) with its unit, overriding the material's (e.g.
     /// 355MPa).
-    #[arg(long)]
+    #[arg(long, value_parser = physical("--strength"), allow_hyphen_values = true)]
     pub strength: Option<String>,
     /// A round tube section instead of a solid one: outer diameter x wall (e.g. 60x4, scene
     /// units, or 60mmx4mm).
-    #[arg(long)]
+    #[arg(long, value_parser = physical("--tube"), allow_hyphen_values = true)]
     pub tube: Option<String>,
     /// Intensity of the worst-case distributed load (default 1kN/m).
-    #[arg(long)]
+    #[arg(long, value_parser = physical("--load"), allow_hyphen_values = true)]
     pub load: Option<String>,
     /// Gravity in m/s2: a magnitude along -z (default 9.81) or gx,gy,gz.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, value_parser = physical("--gravity"), allow_hyphen_values = true)]
     pub gravity: Option<String>,
 }
 
@@ -362,8 +370,8 @@ pub struct SimplifyArgs {
 pub struct ExampleArgs {
     /// Example name: hill, roof, kagome, stadium, tower, shell, bunny, tent, arcshell.
     pub name: String,
-    /// Folder holding the reference data (`meshes/`, `curves/`). Default: found next to
-    /// the repository (`../shared/reference-data`).
+    /// Folder holding the paper's data (`meshes/`, `curves/`) to read instead of the copies
+    /// embedded in curvenet.
     #[arg(long)]
     pub data: Option<PathBuf>,
     /// Output folder (default `out/NAME`).
@@ -372,8 +380,8 @@ pub struct ExampleArgs {
     /// Only build and analyse the full network; do not simplify.
     #[arg(long = "analyze-only")]
     pub analyze_only: bool,
-    /// Budget as a fraction of the total length (default: the example's).
-    #[arg(long)]
+    /// Budget as a fraction of the total length, in (0, 1] (default: the example's).
+    #[arg(long, value_parser = budget_fraction, allow_hyphen_values = true)]
     pub budget: Option<f64>,
     /// Continue an interrupted run in the output folder.
     #[arg(long)]

@@ -9,11 +9,6 @@ const BIN: &str = env!("CARGO_BIN_EXE_curvenet");
 
 #[test]
 fn the_bench_row_reports_wall_and_cpu_time_consistently() {
-    // The reference data beside the repository (the test's folder, upwards).
-    let Some(data) = curvenet::paper::default_data_dir() else {
-        eprintln!("reference data not found: skipping");
-        return;
-    };
     let out = Command::new(BIN)
         .args([
             "bench",
@@ -25,8 +20,6 @@ fn the_bench_row_reports_wall_and_cpu_time_consistently() {
             "--repeat",
             "2",
         ])
-        .arg("--data")
-        .arg(&data)
         .output()
         .expect("run curvenet bench");
     let stdout = String::from_utf8_lossy(&out.stdout);

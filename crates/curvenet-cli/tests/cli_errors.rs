@@ -209,7 +209,13 @@ fn empty_missing_binary_and_misnamed_files() {
         "empty.json",
         "",
         &[],
-        &["empty.json:1:", "invalid curvenet-curves JSON"],
+        &["empty.json:1:", "the file is empty"],
+    );
+    analyze_error(
+        "array.json",
+        "[1,2,3]",
+        &[],
+        &["array.json:1:", "expected a JSON object", "found an array"],
     );
     let garbage: Vec<u8> = (0..=255u8).cycle().skip(128).take(600).collect();
     expect_error(
@@ -220,7 +226,7 @@ fn empty_missing_binary_and_misnamed_files() {
     expect_error(
         &[],
         &["analyze", "--curves", "missing.txt"],
-        &["missing.txt:0:", "cannot read the file", "No such file"],
+        &["missing.txt: ", "cannot read the file", "No such file"],
     );
     // The I/O error is named once, not repeated as its own cause.
     let r = run(&[], &["analyze", "--curves", "missing.txt"]);
@@ -228,19 +234,19 @@ fn empty_missing_binary_and_misnamed_files() {
     expect_error(
         &[("folder.txt/x", b"")],
         &["analyze", "--curves", "folder.txt"],
-        &["folder.txt:0:", "it is a directory, not a file"],
+        &["folder.txt: ", "it is a directory, not a file"],
     );
     expect_error(
         &[("folder/x", b"")],
         &["analyze", "--curves", "folder"],
-        &["folder:0:", "it is a directory"],
+        &["folder: ", "it is a directory"],
     );
     analyze_error(
         "curves.csv",
         "0,0,0\n",
         &[],
         &[
-            "curves.csv:0:",
+            "curves.csv: ",
             "unsupported curve file extension",
             ".txt",
             ".obj",
@@ -390,7 +396,7 @@ fn mesh_errors_name_file_and_line() {
     expect_error(
         &[grid, ("meshdir.obj/x", b"")],
         &["analyze", "--mesh", "meshdir.obj", "--curves", "grid.txt"],
-        &["meshdir.obj:0:", "it is a directory"],
+        &["meshdir.obj: ", "it is a directory"],
     );
 }
 
@@ -405,21 +411,23 @@ fn nonsensical_numbers_are_usage_errors() {
         args.extend_from_slice(extra);
         expect_error(&grid, &args, parts);
     };
+    // Refused while the command line is parsed, naming the option (the fuzz test of
+    // tests/fuzz_options.rs tries every numeric option so).
     with(
         &["--scale", "0"],
-        &["--scale must be a positive number, got 0"],
+        &["invalid value '0' for '--scale <SCALE>': must be a positive number"],
     );
     with(
-        &["--scale=-2"],
-        &["--scale must be a positive number, got -2"],
+        &["--scale", "-2"],
+        &["invalid value '-2' for '--scale <SCALE>': must be a positive number"],
     );
     with(
         &["--scale", "NaN"],
-        &["--scale must be a positive number, got NaN"],
+        &["invalid value 'NaN' for '--scale <SCALE>': must be a finite number"],
     );
     with(
         &["--scale", "inf"],
-        &["--scale must be a positive number, got inf"],
+        &["invalid value 'inf' for '--scale <SCALE>': must be a finite number"],
     );
     with(
         &["--scale", "1e300", "--edge-length", "1e299"],
@@ -427,19 +435,19 @@ fn nonsensical_numbers_are_usage_errors() {
     );
     with(
         &["--scale", "1e-300"],
-        &["cannot choose the edge length", "--edge-length"],
+        &["grid.txt:1: --scale 1.000000e-300 makes curve 0 so small that its length underflows"],
     );
     with(
         &["--edge-length", "0"],
-        &["--edge-length must be a positive finite number", "got 0"],
+        &["'--edge-length <EDGE_LENGTH>': must be a positive number"],
     );
     with(
         &["--edge-length=-1"],
-        &["--edge-length must be a positive finite number", "got -1"],
+        &["'--edge-length <EDGE_LENGTH>': must be a positive number"],
     );
     with(
         &["--edge-length", "nan"],
-        &["--edge-length must be a positive finite number", "got NaN"],
+        &["'--edge-length <EDGE_LENGTH>': must be a finite number"],
     );
     with(
         &["--edge-length", "1e-9"],
@@ -451,11 +459,11 @@ fn nonsensical_numbers_are_usage_errors() {
     );
     with(
         &["--radius", "0"],
-        &["material radius must be a positive finite number"],
+        &["'--radius <RADIUS>': must be a positive number"],
     );
     with(
         &["--young", "nan"],
-        &["material young must be a positive finite number"],
+        &["'--young <YOUNG>': must be a finite number"],
     );
     with(
         &["--radius", "1e100"],
@@ -473,12 +481,12 @@ fn nonsensical_numbers_are_usage_errors() {
         ],
     );
     with(
-        &["--anchor-weight=-5"],
-        &["material anchor weight must be a positive finite number"],
+        &["--anchor-weight", "-5"],
+        &["'--anchor-weight <ANCHOR_WEIGHT>': must be a positive number"],
     );
     with(
         &["--merge-joints", "1.5"],
-        &["joint merging fraction must lie in (0, 1)"],
+        &["'--merge-joints <MERGE_JOINTS>': must lie strictly between 0 and 1"],
     );
     with(
         &["--supports", "glued"],
@@ -517,33 +525,25 @@ fn simplify_budgets_and_keep_lists_are_checked() {
         &[],
         &["give a budget: --budget FRACTION or --budget-length L"],
     );
-    with(
-        &["--budget", "0"],
-        &["budget fraction must lie in (0, 1], got 0"],
-    );
-    with(
-        &["--budget=-0.5"],
-        &["budget fraction must lie in (0, 1], got -0.5"],
-    );
-    with(
-        &["--budget", "1.5"],
-        &["budget fraction must lie in (0, 1], got 1.5"],
-    );
+    let fraction = "'--budget <BUDGET>': a budget fraction lies in (0, 1]";
+    with(&["--budget", "0"], &[fraction]);
+    with(&["--budget", "-0.5"], &[fraction]);
+    with(&["--budget", "1.5"], &[fraction]);
     with(
         &["--budget", "NaN"],
-        &["budget fraction must lie in (0, 1], got NaN"],
+        &["'--budget <BUDGET>': must be a finite number"],
     );
     with(
         &["--budget-length", "0"],
-        &["budget length must be a positive number, got 0"],
+        &["'--budget-length <BUDGET_LENGTH>': must be a positive number"],
     );
     with(
         &["--budget-length", "inf"],
-        &["budget length must be a positive number, got inf"],
+        &["'--budget-length <BUDGET_LENGTH>': must be a finite number"],
     );
     with(
         &["--budget", "0.5", "--keep", "1,9"],
-        &["keep list names curve 9", "4 curves (ids 0..3)"],
+        &["--keep names curve 9", "4 curves (ids 0..3)"],
     );
     with(
         &["--budget", "0.5", "--budget-length", "3"],
@@ -561,8 +561,33 @@ fn unknown_examples_and_missing_data_are_usage_errors() {
     expect_error(
         &[],
         &["example", "tower", "--data", "nodata", "--analyze-only"],
-        &["nodata/meshes/tower.obj:0:", "cannot read the file"],
+        &["--data nodata: no such folder"],
     );
+    expect_error(
+        &[("nodata/curves/x.txt", b"")],
+        &["example", "tower", "--data", "nodata", "--analyze-only"],
+        &["nodata/meshes/tower.obj: cannot read the file"],
+    );
+}
+
+/// `λ` of `example NAME --analyze-only --json` run in a fresh folder, with `extra` options.
+fn example_lambda(name: &str, extra: &[&str]) -> f64 {
+    let mut args = vec!["example", name, "--analyze-only", "--json"];
+    args.extend_from_slice(extra);
+    let r = run(&[], &args);
+    assert_eq!(r.code, 0, "{args:?}: {}", r.stderr);
+    let report: serde_json::Value = serde_json::from_str(&r.stdout).expect("one JSON object");
+    report["lambda"].as_f64().expect("lambda is a number")
+}
+
+#[test]
+fn the_paper_examples_run_from_any_folder_with_the_data_in_the_box() {
+    // The run's folder is a fresh temporary one: no `../shared` beside it, no files at all.
+    let embedded = example_lambda("tower", &[]);
+    let folder = concat!(env!("CARGO_MANIFEST_DIR"), "/../curvenet/data/paper");
+    let from_folder = example_lambda("tower", &["--data", folder]);
+    assert_eq!(embedded.to_bits(), from_folder.to_bits());
+    assert!((embedded - 2.301247e-9).abs() < 1e-14, "tower λ {embedded}");
 }
 
 #[test]
@@ -936,4 +961,173 @@ fn simplify_records_the_local_search_when_asked() {
     assert_eq!(r.code, 0, "{}", r.stderr);
     let result = std::fs::read_to_string(r.dir.join("out/result.json")).unwrap();
     assert!(!result.contains("local_search"), "{result}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// Found by trying the binary as a hostile user would
+
+#[test]
+fn time_limits_that_are_no_durations_are_refused_not_a_panic() {
+    for v in ["-1", "NaN", "inf", "1e30", "0"] {
+        expect_error(
+            &[],
+            &[
+                "compare",
+                "--sizes",
+                "4",
+                "--instances",
+                "1",
+                "--exact-time-limit",
+                v,
+            ],
+            &["invalid value", "'--exact-time-limit <EXACT_TIME_LIMIT>'"],
+        );
+    }
+}
+
+#[test]
+fn the_default_edge_length_follows_the_curves_lengths_not_their_sampling() {
+    // The grid plus one straight curve of length 2 drawn with 20,001 points: the median input
+    // segment (1e-4) would make a network of about 100,000 vertices; the curves' lengths give
+    // h = 2 / 50 and a few hundred.
+    let mut text = GRID.to_string();
+    text.push_str("CURVE 4\n");
+    for i in 0..=20_000 {
+        text.push_str(&format!("{} 0.25 0\n", -1.0 + 2.0 * i as f64 / 20_000.0));
+    }
+    let r = run(
+        &[("dense.txt", text.as_bytes())],
+        &[
+            "analyze",
+            "--curves",
+            "dense.txt",
+            "--radius",
+            "0.01",
+            "--json",
+        ],
+    );
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    let report: serde_json::Value = serde_json::from_str(&r.stdout).expect("JSON");
+    let vertices = report["vertices"].as_u64().expect("vertices");
+    assert!(vertices < 1000, "{vertices} vertices");
+    let median = report["edge_length"]["median"]
+        .as_f64()
+        .expect("median edge");
+    assert!((median - 0.04).abs() < 0.005, "median edge {median}");
+}
+
+#[test]
+fn a_budget_the_run_cannot_meet_is_a_warning() {
+    let r = run(
+        &[("grid.txt", GRID.as_bytes())],
+        &[
+            "simplify",
+            "--curves",
+            "grid.txt",
+            "--radius",
+            "0.01",
+            "--edge-length",
+            "0.25",
+            "--budget",
+            "1e-9",
+            "--no-certificate",
+            "--out",
+            "out",
+        ],
+    );
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert!(
+        r.stderr
+            .lines()
+            .any(|l| l.starts_with("warning: the budget")
+                && l.contains("was not met")
+                && l.contains("1 curve(s)")),
+        "{}",
+        r.stderr
+    );
+}
+
+#[test]
+fn output_paths_that_cannot_be_written_are_usage_errors_before_any_work() {
+    let grid = [
+        ("grid.txt", GRID.as_bytes()),
+        ("taken", b"a file".as_slice()),
+    ];
+    let mut args = vec!["simplify", "--curves", "grid.txt", "--budget", "0.5"];
+    args.extend_from_slice(QUIET);
+    args.extend_from_slice(&["--out", "taken"]);
+    expect_error(&grid, &args, &["--out taken: is a file, not a folder"]);
+    expect_error(
+        &[],
+        &[
+            "compare",
+            "--sizes",
+            "4",
+            "--instances",
+            "1",
+            "--surfaces",
+            "dome",
+            "--json",
+            "nowhere/report.json",
+        ],
+        &["--json nowhere/report.json: the folder nowhere does not exist"],
+    );
+    expect_error(
+        &[],
+        &[
+            "trace",
+            "--mesh",
+            "dome",
+            "--geodesics",
+            "2",
+            "--out",
+            "nowhere/x.json",
+        ],
+        &["--out nowhere/x.json: the folder nowhere does not exist"],
+    );
+}
+
+#[test]
+fn compare_with_a_budget_no_subset_meets_is_a_usage_error() {
+    expect_error(
+        &[],
+        &[
+            "compare",
+            "--sizes",
+            "4",
+            "--instances",
+            "1",
+            "--surfaces",
+            "dome",
+            "--budget",
+            "1e-9",
+        ],
+        &["--budget", "a larger --budget"],
+    );
+}
+
+#[test]
+fn reader_warnings_are_printed_once_with_one_prefix() {
+    // A mesh with a degenerate face: its reader's warning reads `file:line: warning: …`.
+    let mesh = "v 0 0 0\nv 1000 0 0\nv 0 1000 0\nv 2000 0 0\nv 1000 1000 0\n\
+                f 1 2 3\nf 2 5 3\nf 1 2 4\n";
+    let r = run(
+        &[("flat.obj", mesh.as_bytes())],
+        &[
+            "trace",
+            "--mesh",
+            "flat.obj",
+            "--geodesics",
+            "2",
+            "--out",
+            "x.json",
+        ],
+    );
+    assert!(r.stderr.contains("flat.obj:8: warning:"), "{}", r.stderr);
+    for line in r.stderr.lines() {
+        assert!(
+            line.matches("warning:").count() <= 1,
+            "warning printed twice: {line}"
+        );
+    }
 }

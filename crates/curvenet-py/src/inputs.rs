@@ -8,7 +8,7 @@ use numpy::ndarray::Array2;
 use numpy::{PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// One curve as Python sees it: `(points (n, 3), closed, label, file, line)`.
 pub type CurveTuple<'py> = (
@@ -196,18 +196,12 @@ pub fn example<'py>(
 ) -> PyResult<Bound<'py, PyDict>> {
     let supports: curvenet::rod::Supports =
         supports.parse().map_err(|e: String| errors::usage(py, e))?;
-    let data = match data.or_else(paper::default_data_dir) {
-        Some(d) => d,
-        None => {
-            return Err(errors::usage(
-                py,
-                "the paper's example files were not found; pass data=FOLDER (holding meshes/ and \
-                 curves/)",
-            ));
-        }
-    };
+    // The paper's inputs are embedded in curvenet; `data` names a folder to read instead.
     let ex = py
-        .detach(|| paper::load(name, Path::new(&data), supports))
+        .detach(|| match &data {
+            Some(d) => paper::load(name, d, supports),
+            None => paper::load_embedded(name, supports),
+        })
         .map_err(|e| match &e {
             paper::ExampleError::Input(i) => errors::input(py, i),
             _ => errors::usage(py, e.to_string()),

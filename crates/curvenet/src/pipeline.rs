@@ -16,8 +16,53 @@ pub fn scale_curves(curves: &mut [Polyline], s: f64) {
     }
 }
 
-/// Median input segment length over all curves (a default edge length that keeps the input's
-/// resolution).
+/// Edges along a curve of median length that the default edge length aims at.
+pub const DEFAULT_EDGES_PER_CURVE: f64 = 50.0;
+
+/// The most edges, over all curves together, the default edge length allows.
+pub const DEFAULT_MAX_EDGES: f64 = 100_000.0;
+
+/// Networks with more vertices than this are announced before they are built: their analysis
+/// takes minutes and gigabytes.
+pub const LARGE_NETWORK_VERTICES: f64 = 200_000.0;
+
+/// The default edge length `h`: the median curve length over [`DEFAULT_EDGES_PER_CURVE`], and
+/// no less than the total length over [`DEFAULT_MAX_EDGES`]. It depends on the curves' lengths,
+/// not on how densely they are sampled, so a curve drawn with 100,000 points does not make the
+/// network explode. `None` when the curves have no length (or a length out of range).
+pub fn default_edge_length(curves: &[Polyline]) -> Option<f64> {
+    let mut lengths: Vec<f64> = curves.iter().map(Polyline::length).collect();
+    lengths.sort_by(f64::total_cmp);
+    let median = *lengths.get(lengths.len() / 2)?;
+    let total: f64 = lengths.iter().sum();
+    let h = (median / DEFAULT_EDGES_PER_CURVE).max(total / DEFAULT_MAX_EDGES);
+    (h.is_finite() && h > 0.0).then_some(h)
+}
+
+/// About how many vertices the network of `curves` has at edge length `h`: each curve's
+/// `max(2, round(L / h))` edges (3 for a closed curve), plus one vertex at the end of an open
+/// curve. Joints split pieces (adding a few edges) and share vertices (removing some): the
+/// estimate is close for networks whose pieces are longer than `h`, and never far below the
+/// truth when `h` is small, which is when it matters.
+pub fn estimated_vertices(curves: &[Polyline], h: f64) -> f64 {
+    curves
+        .iter()
+        .map(|c| {
+            let min = if c.closed { 3.0 } else { 2.0 };
+            let edges = (c.length() / h).round().max(min);
+            if c.closed { edges } else { edges + 1.0 }
+        })
+        .sum()
+}
+
+/// The estimated vertex count of the network `curves` make at edge length `h` when it is above
+/// [`LARGE_NETWORK_VERTICES`] (a network to announce before it is built), else `None`.
+pub fn large_network(curves: &[Polyline], h: f64) -> Option<f64> {
+    let n = estimated_vertices(curves, h);
+    (n > LARGE_NETWORK_VERTICES).then_some(n)
+}
+
+/// Median input segment length over all curves.
 pub fn median_segment_length(curves: &[Polyline]) -> f64 {
     let mut lens: Vec<f64> = curves
         .iter()
@@ -43,7 +88,7 @@ pub struct AnalyzeOutput {
     pub build: BuildInfo,
     /// The analysis of the requested structure.
     pub analysis: Analysis,
-    /// The report of SPEC §10.
+    /// The report (what `curvenet analyze` prints).
     pub report: AnalysisReport,
 }
 
@@ -100,4 +145,45 @@ pub fn analyze(
 /// Convenience for tests: the network of `curves`.
 pub fn network(curves: &[Polyline], build: &BuildParams) -> Result<Network, PipelineError> {
     Ok(build_network(curves, build)?.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geom::Vec3;
+    use crate::io::Origin;
+
+    fn line(points: usize, length: f64) -> Polyline {
+        Polyline {
+            points: (0..points)
+                .map(|i| Vec3::new(length * i as f64 / (points - 1) as f64, 0.0, 0.0))
+                .collect(),
+            closed: false,
+            origin: Origin::new("<test>", 0),
+            label: None,
+        }
+    }
+
+    #[test]
+    fn the_default_edge_length_ignores_how_densely_curves_are_sampled() {
+        let sparse = vec![line(3, 100.0), line(3, 100.0), line(3, 200.0)];
+        let mut dense = sparse.clone();
+        dense[1] = line(100_000, 100.0);
+        assert_eq!(default_edge_length(&sparse), Some(2.0));
+        assert_eq!(default_edge_length(&dense), Some(2.0));
+        // Never more than about DEFAULT_MAX_EDGES edges in all: one huge curve among small ones.
+        let lopsided = vec![line(3, 1.0), line(3, 1.0), line(3, 1e7)];
+        let h = default_edge_length(&lopsided).unwrap();
+        assert!(estimated_vertices(&lopsided, h) <= DEFAULT_MAX_EDGES + 10.0);
+        assert_eq!(default_edge_length(&[]), None);
+    }
+
+    #[test]
+    fn large_networks_are_announced_with_their_vertex_count() {
+        let curves = vec![line(3, 1000.0); 4];
+        assert_eq!(estimated_vertices(&curves, 10.0), 4.0 * 101.0);
+        assert_eq!(large_network(&curves, 10.0), None);
+        let n = large_network(&curves, 0.01).expect("400,000 vertices are announced");
+        assert!((n - 400_004.0).abs() < 1.0, "{n}");
+    }
 }

@@ -554,8 +554,9 @@ fn unloaded_straight_rods_converge_at_once() {
     }
 }
 
-/// Curved rods have a drawn gradient far above the forces' natural scale: their relaxations
-/// are judged against their drawn state, exactly as without that scale.
+/// Curved rods have a drawn gradient far above the forces' natural scale (random arches: about
+/// 160 times), so their relaxations are judged against their drawn state, exactly as without
+/// that scale.
 #[test]
 fn curved_rods_are_judged_against_their_drawn_gradient() {
     let a = Analyzer::new(
@@ -567,7 +568,7 @@ fn curved_rods_are_judged_against_their_drawn_gradient() {
     let drawn = norm(&model.assemble(&vec![0.0; model.dofs()], &all, false).grad);
     let natural = model.natural_force_scale(&all);
     assert!(
-        natural > 0.0 && natural < 1e-3 * drawn,
+        natural > 0.0 && natural < 0.1 * drawn,
         "{natural:e} against {drawn:e}"
     );
 }

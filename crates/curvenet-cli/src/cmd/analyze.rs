@@ -33,6 +33,9 @@ pub fn run(a: AnalyzeArgs) -> anyhow::Result<()> {
         paper.young = None;
     }
     let params = stability_params(&paper)?;
+    // The input's warnings now, before the (possibly long) analysis; the analysis adds its own.
+    let shown = inputs.warnings.len();
+    print_warnings(&inputs.warnings);
     let n = inputs.curves.len();
     if let Some(&bad) = a.remove.iter().find(|&&c| c >= n) {
         return Err(usage(format!(
@@ -56,7 +59,7 @@ pub fn run(a: AnalyzeArgs) -> anyhow::Result<()> {
         &remove,
         inputs.warnings,
     )?;
-    print_warnings(&out.report.warnings);
+    print_warnings(out.report.warnings.get(shown..).unwrap_or_default());
     let physical = match physical {
         Some(mut pp) => {
             pp.frequencies = a.physics.eigen_count.max(1);

@@ -86,17 +86,13 @@ impl Row {
 }
 
 pub fn run(a: BenchArgs) -> anyhow::Result<()> {
-    let data = a
-        .data
-        .clone()
-        .or_else(paper::default_data_dir)
-        .ok_or_else(|| usage("reference data not found; pass --data DIR"))?;
+    let data = super::data_source(a.data.as_deref())?;
     let threads = a.threads.unwrap_or_else(rayon::current_num_threads);
     if a.worker {
         let [name] = a.examples.as_slice() else {
             return Err(usage("--worker runs exactly one example"));
         };
-        let ex = paper::load(name, &data, Default::default())?;
+        let ex = paper::load_from(name, &data, Default::default())?;
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()?;
@@ -106,7 +102,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
     }
     // Fail early, in this process, on an unknown example or missing data.
     for name in &a.examples {
-        paper::load(name, &data, Default::default())?;
+        paper::load_from(name, &data, Default::default())?;
     }
     let off: Vec<String> = a.off.iter().map(|t| t.name().to_string()).collect();
     println!(

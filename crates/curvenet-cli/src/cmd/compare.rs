@@ -5,31 +5,28 @@ use crate::args::CompareArgs;
 use crate::exit::usage;
 use curvenet::io;
 use curvenet::paper;
+use curvenet::simplify::SimplifyError;
 use curvenet::simplify::compare::{CompareParams, Surface, compare};
 use indicatif::{ProgressBar, ProgressStyle};
-use std::path::PathBuf;
-
-/// The reference's simple surfaces for random experiments.
-const SIMPLE: [&str; 5] = ["1wave", "2waves", "half_sphere", "sine_disk", "leaf"];
+use std::path::Path;
 
 pub fn run(a: CompareArgs) -> anyhow::Result<()> {
-    let data = a.data.clone().or_else(paper::default_data_dir);
+    let data = super::data_source(a.data.as_deref())?;
+    for (option, path) in [("--json", &a.json), ("--markdown", &a.markdown)] {
+        if let Some(p) = path {
+            super::writable_file(option, p)?;
+        }
+    }
     let mut surfaces = Vec::new();
     for name in &a.surfaces {
-        let path = match (&data, SIMPLE.contains(&name.as_str())) {
-            (Some(d), true) => d.join("meshes").join(format!("{name}.obj")),
-            (None, true) => {
-                return Err(usage(format!(
-                    "surface '{name}' is one of the reference's meshes, but the data folder was not \
-                     found; pass --data DIR or use built-in surfaces (--surfaces dome,hill,saddle,wave)"
-                )));
-            }
-            _ => PathBuf::from(name),
+        let mesh = if paper::SIMPLE_SURFACES.contains(&name.as_str()) {
+            data.read_mesh(&format!("{name}.obj"))?.mesh
+        } else {
+            read_mesh_arg(Path::new(name))?.mesh
         };
-        let m = read_mesh_arg(&path)?;
         surfaces.push(Surface {
             name: name.clone(),
-            mesh: m.mesh,
+            mesh,
         });
     }
     let params = CompareParams {
@@ -40,11 +37,6 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
         exact_time_limit: a.exact_time_limit,
         ..CompareParams::default()
     };
-    if params.sizes.iter().any(|n| !(2..=30).contains(n)) {
-        return Err(usage(
-            "--sizes must lie between 2 and 30 (exhaustive search is exponential)",
-        ));
-    }
     let bar = ProgressBar::new((params.sizes.len() * params.instances) as u64);
     bar.set_style(
         ProgressStyle::with_template(
@@ -52,7 +44,17 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
         )
         .expect("valid template"),
     );
-    let report = compare(&params, &surfaces, &|done, _| bar.set_position(done as u64))?;
+    let report = compare(&params, &surfaces, &|done, _| bar.set_position(done as u64)).map_err(
+        |e| match e {
+            // The parameters do not fit the networks traced (a budget no subset meets).
+            SimplifyError::Params(m) => usage(format!(
+                "compare with --budget {} and --sizes {:?}: {m}; a larger --budget or more \
+                 curves leave the searches a subset to find",
+                params.budget, params.sizes
+            )),
+            e => e.into(),
+        },
+    )?;
     bar.finish_and_clear();
     println!(
         "greedy, greedy + local search (and single moves), rounded relaxation, exact λ_fix, exhaustive and random \

@@ -36,6 +36,9 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
             a.surface
         )));
     }
+    super::print_warnings(
+        super::network_size_warning(&traced.curves, a.edge_length, true, 1.0).as_slice(),
+    );
     println!(
         "demo: {} random geodesics (seed {}) on the built-in '{}' surface, budget {} of the total length",
         traced.curves.len(),

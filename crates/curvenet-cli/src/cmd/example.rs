@@ -12,17 +12,10 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
-    let data = match a.data.clone().or_else(paper::default_data_dir) {
-        Some(d) => d,
-        None => {
-            return Err(usage(
-                "no --data folder given and ../shared/reference-data not found; pass --data DIR",
-            ));
-        }
-    };
+    let data = super::data_source(a.data.as_deref())?;
     let start = Instant::now();
     let supports = a.physics.supports.unwrap_or_default();
-    let ex = paper::load(&a.name, &data, supports)?;
+    let ex = paper::load_from(&a.name, &data, supports)?;
     let mut params = stability_params(&a.physics)?;
     params.tuning.prune = !a.no_prune;
     let build = BuildParams {

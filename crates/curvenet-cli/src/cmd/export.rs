@@ -41,9 +41,9 @@ pub fn run(a: ExportArgs) -> anyhow::Result<()> {
     let paths = write_exports(&run, k, format, Path::new(&out)).map_err(internal)?;
     let rec = run.record(k).map_err(usage)?;
     eprintln!(
-        "iteration {k}: {} curves, length {:.6}, λ_eq {:.6e}",
+        "iteration {k}: {} curves, length {}, λ_eq {:.6e}",
         rec.curves.len(),
-        rec.length,
+        super::fmt_length(rec.length),
         rec.lambda
     );
     for p in paths {

@@ -1,22 +1,26 @@
 //! Running the greedy from the command line: output folder, progress bar, Ctrl-C, summary.
 
-use super::print_warnings;
+use super::{fmt_length, print_warnings};
 use crate::args::GreedyArgs;
 use crate::exit::{ExitError, usage};
 use curvenet::cancel::Cancel;
+use curvenet::constraints::Constraints;
+use curvenet::constraints::answer::{Answer, NoAnswer, choose};
 use curvenet::io::{Polyline, TriMesh};
 use curvenet::network::{BuildParams, build_network};
+use curvenet::rod::ActiveSet;
 use curvenet::simplify::certificate::{
     Certificate, CertifyParams, certificate, tighten_certificate,
 };
 use curvenet::simplify::greedy::IterationRecord;
 use curvenet::simplify::local::{LocalParams, local_search};
 use curvenet::simplify::result::{
-    InputDescription, LocalSearchRecord, OutputWriter, RunSetup, read_f64_file, summary,
+    InputDescription, LocalSearchRecord, OutputWriter, RunSetup, evaluated_offer, greedy_offers,
+    read_f64_file, summary,
 };
 use curvenet::simplify::{Budget, GreedyParams, SimplifyError, StopReason, greedy};
 use curvenet::stability::fixed::FixedProblem;
-use curvenet::stability::{Analyzer, StabilityParams};
+use curvenet::stability::{Analyzer, Prepare, Preset, StabilityParams, Warm};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -64,6 +68,7 @@ pub fn budget_of(a: &GreedyArgs, default: Option<f64>) -> anyhow::Result<Budget>
 /// Builds the network, runs the greedy into `job.out` and prints a summary.
 pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     let start = Instant::now();
+    output_folder(&job.out)?;
     let (network, info) = build_network(&job.curves, &job.build)?;
     let n = network.rods.len();
     let params = GreedyParams {
@@ -76,13 +81,17 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     let mut warnings = Vec::new();
     if budget >= total {
         warnings.push(format!(
-            "the budget {budget:.6} is not below the total length {total:.6}: nothing will be removed"
+            "the budget {} is not below the total length {}: nothing will be removed",
+            fmt_length(budget),
+            fmt_length(total)
         ));
     }
     let kept_length = network.total_length(&job.keep);
     if kept_length > budget {
         warnings.push(format!(
-            "the keep list alone needs {kept_length:.6}, more than the budget {budget:.6}: the budget cannot be met"
+            "the keep list alone needs {}, more than the budget {}: the budget cannot be met",
+            fmt_length(kept_length),
+            fmt_length(budget)
         ));
     }
     if !info.isolated_curves.is_empty() {
@@ -171,11 +180,17 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         Err(e) => return Err(e.into()),
     };
     print_warnings(&curvenet::simplify::result::unrelaxed(&outcome.iterations));
+    print_warnings(budget_unmet(&outcome, budget).as_slice());
     let (local, local_seconds) = optional_step(job.local_search, "local search", || {
         local_search_of(&analyzer, &params, &outcome, &cancel)
     });
     stop_if_cancelled(&cancel, "the local search", &job.out)?;
+    let local_eval = local
+        .as_ref()
+        .and_then(|l| evaluate_curves(&analyzer, &l.curves, "local search's network"));
     writer.set_local_search(local);
+    let (answer, answer_state) = answer_of(&analyzer, &params, &outcome, local_eval);
+    writer.set_answer(answer, answer_state);
     let (certificate, certificate_seconds) = optional_step(job.certificate, "certificate", || {
         certificate_of(
             &analyzer,
@@ -218,6 +233,83 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         job.out.display()
     );
     Ok(())
+}
+
+/// Makes sure `out` is (or can be made) a folder, before any work: a file there, or a folder
+/// that cannot be created, is a usage error naming it.
+fn output_folder(out: &std::path::Path) -> anyhow::Result<()> {
+    if out.exists() && !out.is_dir() {
+        return Err(usage(format!(
+            "--out {}: is a file, not a folder; give a folder for the run's outputs",
+            out.display()
+        )));
+    }
+    std::fs::create_dir_all(out).map_err(|e| {
+        usage(format!(
+            "--out {}: cannot create the folder: {e}",
+            out.display()
+        ))
+    })
+}
+
+/// The warning of a run that ended without meeting its budget: what it ended at and why.
+fn budget_unmet(outcome: &curvenet::simplify::GreedyOutcome, budget: f64) -> Option<String> {
+    let last = outcome.iterations.last()?;
+    let why = match outcome.stop {
+        StopReason::BudgetMet => return None,
+        StopReason::BudgetUnmet if last.curves.len() == 1 => {
+            "a single curve is left, and it alone is longer than the budget"
+        }
+        StopReason::BudgetUnmet => "only curves of the keep list are left",
+        StopReason::NoScorableCandidate => "no curve could be scored for removal",
+        StopReason::RemovalLimit => "the removal limit was reached",
+    };
+    Some(format!(
+        "the budget {} was not met: the run ended at {} curve(s) of total length {} ({why}); \
+         the final network is over the budget",
+        fmt_length(budget),
+        last.curves.len(),
+        fmt_length(last.length)
+    ))
+}
+
+/// The run's answer among the greedy's iterations and the local search's network (when it
+/// ran, evaluated in full), and the answer's equilibrium when it is not a greedy iteration.
+fn answer_of(
+    analyzer: &Analyzer,
+    params: &GreedyParams,
+    outcome: &curvenet::simplify::GreedyOutcome,
+    local: Option<curvenet::stability::Evaluation>,
+) -> (Result<Answer, NoAnswer>, Option<Vec<f64>>) {
+    let net = analyzer.network();
+    let n = net.rods.len();
+    let budget = params
+        .budget
+        .length(net.total_length(&(0..n).collect::<Vec<_>>()));
+    let constraints = Constraints::none(net, budget, &params.keep);
+    let mut offers = greedy_offers(&outcome.iterations);
+    if let Some(e) = &local {
+        offers.push(evaluated_offer("local_search", e));
+    }
+    let choice = choose(&constraints, &offers, 0);
+    let state = match (&choice.answer, local) {
+        (Ok(a), Some(e)) if a.iteration.is_none() => Some(e.displacement),
+        _ => None,
+    };
+    (choice.answer, state)
+}
+
+/// `curves` relaxed and its spectrum computed (a warning and `None` when that fails).
+fn evaluate_curves(
+    analyzer: &Analyzer,
+    curves: &[usize],
+    what: &str,
+) -> Option<curvenet::stability::Evaluation> {
+    let active = ActiveSet::from_curves(analyzer.network().rods.len(), curves);
+    analyzer
+        .evaluate(&active, Warm::default(), Preset::Analysis, Prepare::Nothing)
+        .map_err(|e| print_warnings(&[format!("the {what} could not be evaluated: {e}")]))
+        .ok()
 }
 
 /// The local search (its default: descent with part steps, then variable-depth chains) from

@@ -16,10 +16,10 @@ use crate::args::{Cli, Command, InputArgs, PhysicsArgs};
 use crate::exit::usage;
 use curvenet::io::{self, Polyline, TriMesh};
 use curvenet::network::{BuildParams, checks};
-use curvenet::pipeline;
 use curvenet::rod::Material;
 use curvenet::simplify::result::InputDescription;
 use curvenet::stability::StabilityParams;
+use curvenet::{paper, pipeline};
 
 /// Runs the parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
@@ -34,6 +34,21 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Export(a) => export::run(a),
         Command::Bench(a) => bench::run(a),
     }
+}
+
+/// Where the paper's files are read from: the folder `--data` names (which must exist), or the
+/// copies embedded in curvenet.
+pub fn data_source(folder: Option<&std::path::Path>) -> anyhow::Result<paper::DataSource> {
+    if let Some(dir) = folder {
+        if !dir.is_dir() {
+            return Err(usage(format!(
+                "--data {}: no such folder (it should hold meshes/ and curves/; without --data \
+                 the paper's files embedded in curvenet are used)",
+                dir.display()
+            )));
+        }
+    }
+    Ok(paper::DataSource::folder_or_embedded(folder))
 }
 
 /// Stability parameters from the shared options (defaults where unset).
@@ -97,12 +112,6 @@ pub struct Inputs {
 
 /// Reads and scales the inputs.
 pub fn load_inputs(a: &InputArgs, p: &PhysicsArgs) -> anyhow::Result<Inputs> {
-    if !(a.scale.is_finite() && a.scale > 0.0) {
-        return Err(usage(format!(
-            "--scale must be a positive number, got {}",
-            a.scale
-        )));
-    }
     let mut warnings = Vec::new();
     let mut mesh = None;
     if let Some(m) = &a.mesh {
@@ -129,23 +138,20 @@ pub fn load_inputs(a: &InputArgs, p: &PhysicsArgs) -> anyhow::Result<Inputs> {
     pipeline::scale_curves(&mut curves, a.scale);
     check_scaled(&curves, mesh.as_ref(), a)?;
     let h = match a.edge_length {
-        Some(h) if !(h.is_finite() && h > 0.0) => {
-            return Err(usage(format!(
-                "--edge-length must be a positive finite number (scene units), got {h}"
-            )));
-        }
         Some(h) => h,
-        None => {
-            let h = pipeline::median_segment_length(&curves);
-            if !(h.is_finite() && h > 0.0) {
-                return Err(usage(format!(
-                    "cannot choose the edge length: the median input segment is {h:e} long \
-                     (coordinates out of range); give --edge-length or another --scale"
-                )));
-            }
-            h
-        }
+        None => pipeline::default_edge_length(&curves).ok_or_else(|| {
+            usage(
+                "cannot choose the edge length: the curves' lengths are out of range; give \
+                 --edge-length or another --scale",
+            )
+        })?,
     };
+    warnings.extend(network_size_warning(
+        &curves,
+        h,
+        a.edge_length.is_some(),
+        a.scale,
+    ));
     if let Some(m) = &mesh {
         let name = a
             .mesh
@@ -179,6 +185,33 @@ pub fn load_inputs(a: &InputArgs, p: &PhysicsArgs) -> anyhow::Result<Inputs> {
     })
 }
 
+/// The warning about a very large network at edge length `h` (given as `--edge-length` when
+/// `given`, else the default), before it is built. (One too large to build is refused by the
+/// build itself.)
+pub fn network_size_warning(
+    curves: &[Polyline],
+    h: f64,
+    given: bool,
+    scale: f64,
+) -> Option<String> {
+    let what = if given {
+        format!("--edge-length {h:e}")
+    } else {
+        format!("the default edge length {h:e}")
+    };
+    let scaled = if scale == 1.0 {
+        String::new()
+    } else {
+        format!(" (curves scaled by --scale {scale})")
+    };
+    pipeline::large_network(curves, h).map(|n| {
+        format!(
+            "{what} makes a large network, about {n:.0} vertices{scaled}: its analysis takes \
+             minutes and gigabytes of memory (a larger --edge-length makes it smaller)"
+        )
+    })
+}
+
 /// Rejects a `--scale` that pushes coordinates out of the floating-point range, naming the first
 /// curve (file and line) or the mesh it breaks.
 fn check_scaled(curves: &[Polyline], mesh: Option<&TriMesh>, a: &InputArgs) -> anyhow::Result<()> {
@@ -190,6 +223,19 @@ fn check_scaled(curves: &[Polyline], mesh: Option<&TriMesh>, a: &InputArgs) -> a
         return Err(usage(format!(
             "{}: --scale {} makes the coordinates of curve {c} overflow; choose a smaller scale",
             curve.origin, a.scale
+        )));
+    }
+    // Points that still differ but whose distances underflow: the scale shrank the curve away.
+    if let Some((c, curve)) = curves
+        .iter()
+        .enumerate()
+        .find(|(_, c)| c.length() == 0.0 && c.points.windows(2).any(|w| w[0] != w[1]))
+    {
+        return Err(usage(format!(
+            "{}: --scale {} makes curve {c} so small that its length underflows to 0; choose \
+             a larger scale",
+            curve.origin,
+            fmt_length(a.scale)
         )));
     }
     if mesh.is_some_and(|m| m.vertices.iter().any(|p| !p.is_finite())) {
@@ -204,6 +250,43 @@ fn check_scaled(curves: &[Polyline], mesh: Option<&TriMesh>, a: &InputArgs) -> a
     Ok(())
 }
 
+/// A length (or any value of a scene's size) with seven significant digits, in scientific
+/// notation when it is very small or very large: `26791.22`, `0.0001234568`, `1.234568e-9`.
+/// (A fixed number of decimals prints the lengths of a tiny scene as `0.000000`.)
+pub fn fmt_length(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return x.to_string();
+    }
+    let e = x.abs().log10().floor();
+    if !(-4.0..15.0).contains(&e) {
+        return format!("{x:.6e}");
+    }
+    format!("{x:.*}", (6.0 - e).max(0.0) as usize)
+}
+
+/// Checks, before any work, that `path` (the value of `option`) can be written: not a folder,
+/// in a folder that exists.
+pub fn writable_file(option: &str, path: &std::path::Path) -> anyhow::Result<()> {
+    if path.is_dir() {
+        return Err(usage(format!(
+            "{option} {}: is a folder; give a file name",
+            path.display()
+        )));
+    }
+    let parent = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(std::path::Path::new("."));
+    if !parent.is_dir() {
+        return Err(usage(format!(
+            "{option} {}: the folder {} does not exist",
+            path.display(),
+            parent.display()
+        )));
+    }
+    Ok(())
+}
+
 /// Prints warnings on stderr, one per line: `warning: …`, or as they are when they already read
 /// `file:line: warning: …` (the findings of the readers).
 pub fn print_warnings(warnings: &[String]) {
@@ -213,5 +296,20 @@ pub fn print_warnings(warnings: &[String]) {
         } else {
             eprintln!("warning: {w}");
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fmt_length;
+
+    #[test]
+    fn lengths_keep_seven_significant_digits_at_any_scale() {
+        assert_eq!(fmt_length(26791.215185), "26791.22");
+        assert_eq!(fmt_length(8.0), "8.000000");
+        assert_eq!(fmt_length(0.00012345678), "0.0001234568");
+        assert_eq!(fmt_length(1.2345678e-9), "1.234568e-9");
+        assert_eq!(fmt_length(2.5e20), "2.500000e20");
+        assert_eq!(fmt_length(0.0), "0");
     }
 }

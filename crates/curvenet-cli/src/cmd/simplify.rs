@@ -8,6 +8,13 @@ pub fn run(a: SimplifyArgs) -> anyhow::Result<()> {
     let inputs = load_inputs(&a.input, &a.physics)?;
     print_warnings(&inputs.warnings);
     let params = stability_params(&a.physics)?;
+    let n = inputs.curves.len();
+    if let Some(&bad) = a.greedy.keep.iter().find(|&&c| c >= n) {
+        return Err(crate::exit::usage(format!(
+            "--keep names curve {bad}, but the input has {n} curves (ids 0..{})",
+            n.saturating_sub(1)
+        )));
+    }
     run_greedy(GreedyJob {
         curves: inputs.curves,
         build: inputs.build,

@@ -7,19 +7,16 @@ use curvenet::io;
 use curvenet::trace::{Generator, generate, scale_to_extent};
 
 pub fn run(a: TraceArgs) -> anyhow::Result<()> {
-    let input = read_mesh_arg(&a.mesh)?;
-    for w in &input.warnings {
-        eprintln!("warning: {w}");
+    super::writable_file("--out", &a.out)?;
+    if let Some(m) = &a.mesh_out {
+        super::writable_file("--mesh-out", m)?;
     }
+    let input = read_mesh_arg(&a.mesh)?;
+    super::print_warnings(&input.warnings);
     let (mesh, scale) = if a.extent > 0.0 {
         scale_to_extent(&input.mesh, a.extent)
-    } else if a.extent == 0.0 {
-        (input.mesh.clone(), 1.0)
     } else {
-        return Err(usage(format!(
-            "--extent must be positive or 0, got {}",
-            a.extent
-        )));
+        (input.mesh.clone(), 1.0)
     };
     let generator = match (a.geodesics, a.field) {
         (Some(count), None) => Generator::Random {
@@ -35,14 +32,17 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
     let out =
         generate(&mesh, &generator).map_err(|e| usage(format!("{}: {e}", input.description)))?;
     if out.curves.is_empty() {
+        let why = out
+            .failures
+            .first()
+            .map_or_else(String::new, |f| format!("; first failure: {f}"));
         return Err(usage(format!(
-            "{}: no curve could be traced ({} failed)",
-            input.description, out.failed
+            "{}: no curve could be traced ({} attempt(s): {} rejected, {} failed{why}); try more \
+             seeds, another seed or another surface",
+            input.description, out.attempts, out.rejected, out.failed
         )));
     }
-    for f in out.failures.iter().take(5) {
-        eprintln!("warning: {f}");
-    }
+    super::print_warnings(&out.failures[..out.failures.len().min(5)]);
     let text = match a
         .out
         .extension()
@@ -68,14 +68,14 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
     }
     let total: f64 = out.curves.iter().map(|c| c.length()).sum();
     println!(
-        "{}: {} curves ({} attempts, {} rejected, {} failed), total length {:.1} at scale {:.6}; written to {}",
+        "{}: {} curves ({} attempts, {} rejected, {} failed), total length {} at scale {}; written to {}",
         input.description,
         out.curves.len(),
         out.attempts,
         out.rejected,
         out.failed,
-        total,
-        scale,
+        super::fmt_length(total),
+        super::fmt_length(scale),
         a.out.display()
     );
     Ok(())

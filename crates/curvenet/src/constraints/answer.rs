@@ -238,6 +238,35 @@ fn no_answer(constraints: &Constraints, offers: &[Offer]) -> NoAnswer {
     }
 }
 
+impl Answer {
+    /// One line for summaries: where it comes from, its size, length and `λ_eq`, and the
+    /// tightest margins beyond the budget's.
+    pub fn describe(&self) -> String {
+        let place = self.iteration.map_or_else(
+            || format!("the {}'s network", self.source.replace('_', " ")),
+            |k| format!("the {}'s iteration {k}", self.source.replace('_', " ")),
+        );
+        let m = &self.margins;
+        let mut s = format!(
+            "{place}, {} curves, length {:.6} ({:.1}% of the budget), λ_eq {:.6e}",
+            self.curves.len(),
+            self.length,
+            100.0 * m.budget.value / m.budget.limit,
+            self.lambda
+        );
+        let named = [
+            ("largest gap", m.max_gap.as_ref()),
+            ("largest deviation", m.max_deviation.as_ref()),
+        ];
+        for (what, margin) in named {
+            if let Some(g) = margin {
+                s.push_str(&format!("; {what} {:.6} (limit {:.6})", g.value, g.limit));
+            }
+        }
+        s
+    }
+}
+
 impl NoAnswer {
     /// Lines for summaries: the reason, then the smallest stable network.
     pub fn describe(&self) -> String {
@@ -286,8 +315,10 @@ mod tests {
     fn the_best_stable_feasible_network_is_the_answer() {
         let net = network(&pavilion(4, false, 0.0));
         let l = net.rest_lengths();
-        let total: f64 = l.iter().sum();
-        let c = Constraints::none(&net, 0.5 * total, &[]);
+        // The budget holds the ring with two arches, not the whole pavilion.
+        let budget = (l[0] + l[1].max(l[3]) + l[2].max(l[3])) * (1.0 + 1e-9);
+        assert!(budget < l.iter().sum::<f64>());
+        let c = Constraints::none(&net, budget, &[]);
         let offers = vec![
             offer("greedy", &[0, 1, 2], &l, 1e-9, 0),
             offer("local_search", &[0, 1, 3], &l, 3e-9, 0),
@@ -314,8 +345,10 @@ mod tests {
     fn a_mechanism_is_never_the_answer_and_the_smallest_stable_network_is_named() {
         let net = network(&pavilion(4, false, 0.0));
         let l = net.rest_lengths();
-        let total: f64 = l.iter().sum();
-        let c = Constraints::none(&net, 0.3 * total, &[]);
+        // The budget holds the ring with one arch: only the mechanism of the path.
+        let budget = (l[0] + l[1]) * (1.0 + 1e-9);
+        assert!(budget < l[0] + l[1] + l[2].min(l[3]));
+        let c = Constraints::none(&net, budget, &[]);
         let mut path = vec![
             offer("greedy", &[0, 1, 2, 3, 4], &l, 4e-9, 0),
             offer("greedy", &[0, 1, 2, 3], &l, 2e-9, 0),

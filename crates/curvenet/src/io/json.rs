@@ -127,17 +127,34 @@ pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError
     let json_error = |e: serde_json::Error| {
         InputError::parse(file, e.line(), format!("invalid curvenet-curves JSON: {e}"))
     };
-    let header: Header = serde_json::from_str(text).map_err(json_error)?;
-    // serde also builds structs from arrays; the format wants an object.
+    // The format is one object; say so before serde does (it also builds structs from arrays,
+    // and would then complain about "trailing characters").
     let body = text.trim_start();
-    if !body.starts_with('{') {
-        let line = 1 + text[..text.len() - body.len()].matches('\n').count();
+    let line = 1 + text[..text.len() - body.len()].matches('\n').count();
+    if body.is_empty() {
         return Err(InputError::parse(
             file,
             line,
-            format!("expected a JSON object with \"format\": \"{FORMAT}\""),
+            format!("the file is empty; expected a JSON object with \"format\": \"{FORMAT}\""),
         ));
     }
+    if !body.starts_with('{') {
+        let found = match body.as_bytes()[0] {
+            b'[' => "an array",
+            b'"' => "a string",
+            b'-' | b'0'..=b'9' => "a number",
+            _ => "something else",
+        };
+        return Err(InputError::parse(
+            file,
+            line,
+            format!(
+                "expected a JSON object with \"format\": \"{FORMAT}\" and \"curves\", found \
+                 {found}"
+            ),
+        ));
+    }
+    let header: Header = serde_json::from_str(text).map_err(json_error)?;
     let located = locate(text).unwrap_or_default();
     match header.format {
         Some(serde_json::Value::String(f)) if f == FORMAT => {}
@@ -693,8 +710,8 @@ mod tests {
 
     #[test]
     fn empty_file() {
-        assert_err("", 1, "EOF while parsing");
-        assert_err("\n\n  ", 3, "EOF while parsing");
+        assert_err("", 1, "the file is empty");
+        assert_err("\n\n  ", 3, "the file is empty");
     }
 
     #[test]
@@ -735,6 +752,9 @@ mod tests {
         assert!(e.to_string().len() < 200, "{e}");
         assert_err("\n[1, 2]", 2, "expected a JSON object");
         assert_err("[\"curvenet-curves\", 1]", 1, "expected a JSON object");
+        // Not "trailing characters": an array of any length is named for what it is.
+        assert_err("[1,2,3]", 1, "found an array");
+        assert_err("3", 1, "found a number");
     }
 
     #[test]

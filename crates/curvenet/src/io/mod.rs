@@ -70,9 +70,14 @@ impl Origin {
     }
 }
 
+/// `file:line`, or `file` alone when the line is unknown (0): a whole-file finding.
 impl fmt::Display for Origin {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}:{}", self.file, self.line)
+        if self.line == 0 {
+            write!(f, "{}", self.file)
+        } else {
+            write!(f, "{}:{}", self.file, self.line)
+        }
     }
 }
 
@@ -123,11 +128,11 @@ pub struct TriMesh {
 }
 
 /// An input error. Every variant names the file and (where it has one) the line, and displays
-/// as `file:line: message` (line 0 when no line applies).
+/// as `file:line: message`, or `file: message` when no line applies.
 #[derive(Debug, thiserror::Error)]
 pub enum InputError {
     /// The file could not be read.
-    #[error("{file}:0: cannot read the file: {source}")]
+    #[error("{file}: cannot read the file: {source}")]
     Io {
         /// The file name.
         file: String,
@@ -136,7 +141,7 @@ pub enum InputError {
         source: std::io::Error,
     },
     /// The file extension does not name a format this reader knows.
-    #[error("{file}:0: {message}")]
+    #[error("{file}: {message}")]
     UnsupportedFormat {
         /// The file name.
         file: String,
@@ -144,7 +149,7 @@ pub enum InputError {
         message: String,
     },
     /// The content is malformed or invalid.
-    #[error("{file}:{line}: {message}")]
+    #[error("{}: {message}", Origin::new(file.as_str(), *line))]
     Parse {
         /// The file name.
         file: String,

@@ -53,22 +53,13 @@ pub(super) fn assert_same_curves(expected: &[Polyline], actual: &[Polyline]) {
     }
 }
 
-/// The path of a file of the shared reference data, or `None` (with a message) when the data
-/// are not there. Looks at `/work/shared/reference-data`, then at `shared/reference-data` next
-/// to the repository holding this crate.
+/// The path of a file of the paper's data shipped in this crate (`data/paper/KIND/NAME`).
 pub(super) fn reference_file(kind: &str, name: &str) -> Option<PathBuf> {
-    let candidates = [
-        PathBuf::from("/work/shared/reference-data"),
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/reference-data"),
-    ];
-    let found = candidates
-        .iter()
-        .map(|dir| dir.join(kind).join(name))
-        .find(|p| p.is_file());
-    if found.is_none() {
-        eprintln!("skipping: reference data {kind}/{name} not found");
-    }
-    found
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("data/paper")
+        .join(kind)
+        .join(name);
+    p.is_file().then_some(p)
 }
 
 /// A fresh, empty directory for one test.
@@ -113,6 +104,12 @@ fn errors_display_file_and_line() {
     assert_eq!(e.message(), "curve 3 is bad");
     let e = InputError::parse("a.txt", 0, "somewhere");
     assert_eq!(e.line(), None);
+    // A whole-file error names the file alone, not a line 0.
+    assert_eq!(e.to_string(), "a.txt: somewhere");
+    assert_eq!(
+        InputWarning::new("a.txt", 0, "empty").to_string(),
+        "a.txt: warning: empty"
+    );
     let w = InputWarning::new("a.txt", 4, "close points");
     assert_eq!(w.to_string(), "a.txt:4: warning: close points");
 }
@@ -137,7 +134,7 @@ fn read_curves_dispatches_on_the_extension() {
     assert!(matches!(e, InputError::UnsupportedFormat { .. }));
     assert!(
         e.to_string()
-            .contains("c.csv:0: unsupported curve file extension"),
+            .contains("c.csv: unsupported curve file extension"),
         "{e}"
     );
     let e = read_curves(&dir.join("noext")).unwrap_err();
@@ -145,8 +142,7 @@ fn read_curves_dispatches_on_the_extension() {
     let e = read_curves(&dir.join("missing.txt")).unwrap_err();
     assert!(matches!(e, InputError::Io { .. }));
     assert!(
-        e.to_string()
-            .contains("missing.txt:0: cannot read the file"),
+        e.to_string().contains("missing.txt: cannot read the file"),
         "{e}"
     );
     assert_eq!(e.line(), None);
@@ -173,7 +169,7 @@ fn directories_are_refused_whatever_their_name() {
         assert!(matches!(e, InputError::Io { .. }), "{e}");
         assert!(
             e.to_string().ends_with(&format!(
-                "{name}:0: cannot read the file: it is a directory, not a file"
+                "{name}: cannot read the file: it is a directory, not a file"
             )),
             "{e}"
         );

@@ -86,27 +86,15 @@ impl PhysicalOptions {
             .map_err(|e| format!("--material: {e}"))?;
         let mut modified = false;
         if let Some(t) = &self.young {
-            material.young_pa = positive(
-                parse_quantity(t, Quantity::Stress, "--young", None)?,
-                "--young",
-                t,
-            )?;
+            material.young_pa = quantity("--young", t)?;
             modified = true;
         }
         if let Some(t) = &self.density {
-            material.density_kg_m3 = positive(
-                parse_quantity(t, Quantity::Density, "--density", None)?,
-                "--density",
-                t,
-            )?;
+            material.density_kg_m3 = quantity("--density", t)?;
             modified = true;
         }
         if let Some(t) = &self.strength {
-            material.strength_pa = positive(
-                parse_quantity(t, Quantity::Stress, "--strength", None)?,
-                "--strength",
-                t,
-            )?;
+            material.strength_pa = quantity("--strength", t)?;
             modified = true;
         }
         if modified {
@@ -135,11 +123,7 @@ impl PhysicalOptions {
         })?;
         let mut physical = Physical::uniform(units, material, section);
         if let Some(t) = &self.load {
-            physical.load_n_per_m = positive(
-                parse_quantity(t, Quantity::LineLoad, "--load", None)?,
-                "--load",
-                t,
-            )?;
+            physical.load_n_per_m = quantity("--load", t)?;
         }
         if let Some(t) = &self.gravity {
             physical.gravity = parse_gravity(t)?;
@@ -152,12 +136,62 @@ impl PhysicalOptions {
     }
 }
 
-/// `v` when it is positive, else a message naming the option.
-fn positive(v: f64, what: &str, text: &str) -> Result<f64, String> {
-    if v > 0.0 {
-        Ok(v)
+/// The quantity, SI unit and largest accepted value of each option written with a unit. The
+/// bounds lie far beyond any material (diamond's modulus is 1.2e12 Pa, osmium's density
+/// 22 590 kg/m³) and keep every stiffness, mass and load within floating-point range.
+const QUANTITIES: &[(&str, Quantity, &str, f64)] = &[
+    ("--young", Quantity::Stress, "Pa", 1e13),
+    ("--density", Quantity::Density, "kg/m3", 1e6),
+    ("--strength", Quantity::Stress, "Pa", 1e13),
+    ("--load", Quantity::LineLoad, "N/m", 1e12),
+];
+
+/// The largest gravity component accepted, m/s² (about 1000 g).
+pub const MAX_GRAVITY: f64 = 1e4;
+
+/// `option`'s value (one of `--young`, `--density`, `--strength`, `--load`) in SI: a positive
+/// number with its unit, at most the option's bound.
+fn quantity(option: &str, text: &str) -> Result<f64, String> {
+    let &(_, kind, si, max) = QUANTITIES
+        .iter()
+        .find(|q| q.0 == option)
+        .expect("an option written with a unit");
+    let v = parse_quantity(text, kind, option, None)?;
+    if !(v > 0.0) {
+        Err(format!("{option} {text:?} must be positive"))
+    } else if v > max {
+        Err(format!(
+            "{option} {text:?} is {v:e} {si}, beyond any material (at most {max:e} {si})"
+        ))
     } else {
-        Err(format!("{what} {text:?} must be positive"))
+        Ok(v)
+    }
+}
+
+/// Checks one physical-mode option's text alone (`name` as on the command line, e.g.
+/// `--density`), as [`PhysicalOptions::resolve`] reads it: a front end calls it while the
+/// command line is parsed, so a bad value is refused before any work. `--young` here is the
+/// physical mode's (with a unit); options this module does not know pass.
+///
+/// # Errors
+///
+/// The message [`PhysicalOptions::resolve`] would give for the value.
+pub fn check_option(name: &str, text: &str) -> Result<(), String> {
+    match name {
+        "--units" => text
+            .parse::<LengthUnit>()
+            .map(|_| ())
+            .map_err(|e| format!("--units: {e}")),
+        "--material" => presets::preset(text)
+            .map(|_| ())
+            .map_err(|e| format!("--material: {e}")),
+        "--tube" => SectionSpec::parse_tube(text, "--tube")?
+            .resolve(LengthUnit::Metre)
+            .validate()
+            .map_err(|e| format!("--tube: {e}")),
+        "--gravity" => parse_gravity(text).map(|_| ()),
+        _ if QUANTITIES.iter().any(|q| q.0 == name) => quantity(name, text).map(|_| ()),
+        _ => Ok(()),
     }
 }
 
@@ -165,7 +199,15 @@ fn positive(v: f64, what: &str, text: &str) -> Result<f64, String> {
 /// (`gx,gy,gz`), m/s², bare or with `m/s2`.
 fn parse_gravity(text: &str) -> Result<[f64; 3], String> {
     let parts: Vec<&str> = text.split(',').collect();
-    let g = |t: &str| parse_quantity(t, Quantity::Acceleration, "--gravity", Some(1.0));
+    let g = |t: &str| {
+        let v = parse_quantity(t, Quantity::Acceleration, "--gravity", Some(1.0))?;
+        if v.abs() > MAX_GRAVITY {
+            return Err(format!(
+                "--gravity {text:?}: {v:e} m/s2 is beyond {MAX_GRAVITY:e} m/s2 (about 1000 g)"
+            ));
+        }
+        Ok(v)
+    };
     match parts.as_slice() {
         [one] => {
             let v = g(one)?;

@@ -128,6 +128,17 @@ impl RunFolder {
         self.result.iterations.len() - 1
     }
 
+    /// The iteration the run's pictures and viewer show first: the answer's when it is one of
+    /// the greedy's iterations, else the last.
+    pub fn shown_index(&self) -> usize {
+        self.result
+            .answer
+            .as_ref()
+            .and_then(|a| a.iteration)
+            .filter(|&k| k < self.iteration_count())
+            .unwrap_or_else(|| self.last_index())
+    }
+
     /// The record of iteration `k`.
     pub fn record(&self, k: usize) -> Result<&IterationRecord, String> {
         self.result.iterations.get(k).ok_or_else(|| {
@@ -478,14 +489,35 @@ pub fn points_csv(run: &RunFolder, k: usize) -> Result<String, String> {
 /// The fabrication table of iteration `k`: one row per kept rod.
 pub fn fabrication_csv(run: &RunFolder, k: usize) -> Result<String, String> {
     let rec = run.record(k)?;
+    Ok(fabrication_table(
+        run,
+        &format!("iteration {k}"),
+        &rec.curves,
+        rec.length,
+    ))
+}
+
+/// The fabrication table of the run's answer (the network to build), `None` when the run
+/// has none.
+pub fn answer_fabrication_csv(run: &RunFolder) -> Option<String> {
+    let a = run.result.answer.as_ref()?;
+    let what = match a.iteration {
+        Some(k) => format!("the answer (iteration {k})"),
+        None => format!("the answer (the {}'s network)", a.source.replace('_', " ")),
+    };
+    Some(fabrication_table(run, &what, &a.curves, a.length))
+}
+
+/// The fabrication table of the network `curves` of `run` (`what` names it in the header).
+fn fabrication_table(run: &RunFolder, what: &str, curves: &[usize], length: f64) -> String {
     let net = &run.network;
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "# curvenet fabrication table: iteration {k} of {}, {} rods, total rest length {}; scene units",
+        "# curvenet fabrication table: {what} of {}, {} rods, total rest length {}; scene units",
         run.dir.display(),
-        rec.curves.len(),
-        num(rec.length)
+        curves.len(),
+        num(length)
     );
     out.push_str(
         "# cut_length = rest_length: rods are straight at rest and their rest length is the sum of the rest\n\
@@ -497,9 +529,9 @@ pub fn fabrication_csv(run: &RunFolder, k: usize) -> Result<String, String> {
     out.push_str(
         "curve,rest_length,cut_length,closed,vertices,joint_count,joints,start_support,end_support\n",
     );
-    for &c in &rec.curves {
+    for &c in curves {
         let rod = &net.rods[c];
-        let joints = rod_joints(net, c, &rec.curves);
+        let joints = rod_joints(net, c, curves);
         let cells: Vec<String> = joints
             .iter()
             .map(|j| {
@@ -521,7 +553,7 @@ pub fn fabrication_csv(run: &RunFolder, k: usize) -> Result<String, String> {
             end_support(rod, false)
         );
     }
-    Ok(out)
+    out
 }
 
 /// The value of `format` in a network file.

@@ -24,7 +24,7 @@
 //! `final.png`, `mode.png`, `lambda.png` ([`super::render`], [`super::plot`]), `viewer.html`
 //! and `fabrication.csv` (the final network, [`super::export::fabrication_csv`]).
 
-use super::export::{RunFolder, fabrication_csv, rod_joints, rod_supports};
+use super::export::{RunFolder, answer_fabrication_csv, rod_joints, rod_supports};
 use super::plot::lambda_plot;
 use super::render::{mode_picture, network_picture};
 use crate::rod::ActiveSet;
@@ -289,6 +289,8 @@ pub fn viewer_data(run: &RunFolder, options: &ViewerOptions) -> Result<Value, St
         "format": "curvenet-viewer",
         "version": 1,
         "title": title_of(run),
+        "start": run.shown_index(),
+        "answer": r.answer.is_some(),
         "setup": {
             "example": s.input.example,
             "mesh": s.input.mesh,
@@ -387,9 +389,10 @@ pub fn write_viewer(run: &RunFolder, path: &Path, options: &ViewerOptions) -> Re
     crate::io::write_atomic(path, html.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// Writes `final.png`, `mode.png` (the last iteration) and `lambda.png` into the run folder.
+/// Writes `final.png`, `mode.png` (the answer's iteration, else the last: see
+/// [`RunFolder::shown_index`]) and `lambda.png` into the run folder.
 pub fn write_pictures(run: &RunFolder) -> Result<Vec<PathBuf>, String> {
-    let k = run.last_index();
+    let k = run.shown_index();
     let mut out = Vec::new();
     let p = run.dir.join("final.png");
     network_picture(run, k)?.write_png(&p)?;
@@ -412,8 +415,9 @@ pub struct RunOutputs {
     pub warnings: Vec<String>,
 }
 
-/// Writes the pictures, `viewer.html` and `fabrication.csv` of the final network into the
-/// run folder `dir`.
+/// Writes the pictures, `viewer.html` and `fabrication.csv` of the answer into the run folder
+/// `dir`. A run without an answer gets no fabrication table (a warning says why): its
+/// networks within the budget are not something to build.
 pub fn write_run_outputs(dir: &Path) -> Result<RunOutputs, String> {
     let run = RunFolder::open(dir)?;
     let mut out = RunOutputs {
@@ -425,9 +429,25 @@ pub fn write_run_outputs(dir: &Path) -> Result<RunOutputs, String> {
     write_viewer(&run, &p, &ViewerOptions::default())?;
     out.files.push(p);
     let p = dir.join("fabrication.csv");
-    let csv = fabrication_csv(&run, run.last_index())?;
-    crate::io::write_atomic(&p, csv.as_bytes()).map_err(|e| format!("{}: {e}", p.display()))?;
-    out.files.push(p);
+    match answer_fabrication_csv(&run) {
+        Some(csv) => {
+            crate::io::write_atomic(&p, csv.as_bytes())
+                .map_err(|e| format!("{}: {e}", p.display()))?;
+            out.files.push(p);
+        }
+        None => {
+            if p.exists() {
+                std::fs::remove_file(&p).map_err(|e| format!("{}: {e}", p.display()))?;
+            }
+            let why = run
+                .result
+                .no_answer
+                .as_ref()
+                .map_or_else(|| "the run has no answer".to_string(), |n| n.reason.clone());
+            out.warnings
+                .push(format!("no fabrication table: nothing to build ({why})"));
+        }
+    }
     Ok(out)
 }
 

@@ -10,7 +10,9 @@
 //! DIR/states/carried.bin  the candidates' test vectors the last iteration handed on (resume
 //!                         state, see `carried_bytes`; removed when the run completes)
 //! DIR/iterations/KKKK.obj the network of iteration K at equilibrium, one polyline per curve
-//! DIR/final.obj           the final network at equilibrium
+//! DIR/final.obj           the greedy's final network at equilibrium
+//! DIR/answer.obj          the answer (the network to build) at equilibrium; absent when
+//!                         no stable network within the budget was found
 //! DIR/mesh.obj            the surface the curves were drawn on, in scene units (if known)
 //! DIR/summary.txt         a short text summary
 //! ```
@@ -24,6 +26,8 @@ use super::GreedyParams;
 use super::certificate::Certificate;
 use super::greedy::{GreedyHooks, GreedyOutcome, IterationRecord, ResumePoint, StopReason};
 use super::local::{LocalOutcome, LocalParams, Step, Strategy};
+use crate::constraints::Constraints;
+use crate::constraints::answer::{Answer, NoAnswer, Offer, choose};
 use crate::geom::Vec3;
 use crate::io::{self, Origin, Polyline};
 use crate::network::{BuildInfo, BuildParams, Network};
@@ -186,6 +190,15 @@ pub struct ResultFile {
     /// not run).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub local_search: Option<LocalSearchRecord>,
+    /// The network to build: the best stable network meeting the budget and every constraint
+    /// among those the run's searches evaluated; `null` when there is none (see
+    /// [`Self::no_answer`]) or while the run is in progress.
+    #[serde(default)]
+    pub answer: Option<Answer>,
+    /// Why there is no answer, and the run's smallest stable network (present only when the
+    /// run completed without an answer).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub no_answer: Option<NoAnswer>,
 }
 
 impl ResultFile {
@@ -269,6 +282,10 @@ fn io_err(path: &Path, e: std::io::Error) -> String {
     format!("{}: {e}", path.display())
 }
 
+/// An answer given to [`OutputWriter::set_answer`] and its equilibrium (when it is not one of
+/// the greedy's iterations).
+type GivenAnswer = (Result<Answer, NoAnswer>, Option<Vec<f64>>);
+
 /// Writes a run's folder as the greedy goes (a [`GreedyHooks`]).
 ///
 /// The files are written on a background thread ([`io::BackgroundWriter`]), in the order the
@@ -285,6 +302,9 @@ pub struct OutputWriter<'a> {
     cancel: Option<&'a std::sync::atomic::AtomicBool>,
     /// Called after each iteration (e.g. to move a progress bar).
     progress: Option<&'a (dyn Fn(&IterationRecord) + Sync)>,
+    /// The answer given by [`Self::set_answer`], with its equilibrium when it is not one of
+    /// the greedy's iterations.
+    answer: Option<GivenAnswer>,
 }
 
 impl std::fmt::Debug for OutputWriter<'_> {
@@ -321,6 +341,8 @@ impl<'a> OutputWriter<'a> {
             final_network: None,
             certificate: None,
             local_search: None,
+            answer: None,
+            no_answer: None,
         };
         let w = OutputWriter {
             dir: dir.to_path_buf(),
@@ -330,6 +352,7 @@ impl<'a> OutputWriter<'a> {
             warnings: Vec::new(),
             cancel: None,
             progress: None,
+            answer: None,
         };
         w.write_result()?;
         Ok(w)
@@ -384,6 +407,7 @@ impl<'a> OutputWriter<'a> {
                 warnings,
                 cancel: None,
                 progress: None,
+                answer: None,
             },
             point,
         ))
@@ -444,6 +468,14 @@ impl<'a> OutputWriter<'a> {
         self.result.local_search = record;
     }
 
+    /// Sets the answer (written by [`Self::finish`], with `answer.obj`). `state` is the
+    /// answer's equilibrium displacements, needed when it is not one of the greedy's
+    /// iterations (whose states the folder holds). Without it, [`Self::finish`] chooses among
+    /// the greedy's iterations with no constraint but the budget and the keep list.
+    pub fn set_answer(&mut self, answer: Result<Answer, NoAnswer>, state: Option<Vec<f64>>) {
+        self.answer = Some((answer, state));
+    }
+
     /// Finishes the run: final record, `result.json` complete, `final.obj`, `timings.json`,
     /// `summary.txt`.
     pub fn finish(
@@ -452,6 +484,18 @@ impl<'a> OutputWriter<'a> {
         timings: &serde_json::Value,
     ) -> Result<(), String> {
         self.result.iterations = outcome.iterations.clone();
+        let (answer, answer_state) = self.answer.take().unwrap_or_else(|| {
+            let keep = &self.result.setup.greedy.keep;
+            let c = Constraints::none(self.network, self.result.budget, keep);
+            (
+                choose(&c, &greedy_offers(&outcome.iterations), 0).answer,
+                None,
+            )
+        });
+        (self.result.answer, self.result.no_answer) = match answer {
+            Ok(a) => (Some(a), None),
+            Err(n) => (None, Some(n)),
+        };
         self.result.complete = true;
         self.result.stop = Some(outcome.stop);
         let last = outcome.iterations.last().ok_or("no iteration recorded")?;
@@ -466,6 +510,23 @@ impl<'a> OutputWriter<'a> {
         let u = read_f64_file(&self.dir.join(format!("states/{k:04}.bin")))?;
         let obj = io::curves_to_obj(&network_polylines(self.network, &last.curves, Some(&u)));
         self.write("final.obj", obj)?;
+        let answer_path = self.dir.join("answer.obj");
+        match &self.result.answer {
+            Some(a) => {
+                let u = match (a.iteration, answer_state) {
+                    (_, Some(u)) => u,
+                    (Some(k), None) => read_f64_file(&self.dir.join(format!("states/{k:04}.bin")))?,
+                    (None, None) => return Err("the answer's equilibrium is not known".into()),
+                };
+                let obj = io::curves_to_obj(&network_polylines(self.network, &a.curves, Some(&u)));
+                self.write("answer.obj", obj)?;
+            }
+            // A folder run again (--force, --resume) keeps no answer of an earlier run.
+            None if answer_path.exists() => {
+                std::fs::remove_file(&answer_path).map_err(|e| io_err(&answer_path, e))?;
+            }
+            None => {}
+        }
         let mut t = serde_json::to_vec_pretty(timings).map_err(|e| e.to_string())?;
         t.push(b'\n');
         self.write("timings.json", t)?;
@@ -717,7 +778,46 @@ pub fn summary(r: &ResultFile) -> String {
     if let Some(c) = &r.certificate {
         let _ = writeln!(s, "{}", c.describe());
     }
+    if let Some(a) = &r.answer {
+        let _ = writeln!(s, "answer (the network to build): {}", a.describe());
+    } else if let Some(n) = &r.no_answer {
+        let _ = writeln!(s, "{}", n.describe());
+    }
     s
+}
+
+/// The networks of the greedy's path, offered as the run's answer in the order they were
+/// recorded (`source` "greedy", with their iteration).
+pub fn greedy_offers(iterations: &[IterationRecord]) -> Vec<Offer> {
+    iterations
+        .iter()
+        .enumerate()
+        .map(|(k, it)| Offer {
+            source: "greedy".into(),
+            iteration: Some(k),
+            curves: it.curves.clone(),
+            length: it.length,
+            lambda: it.lambda,
+            zero_modes: it.zero_modes,
+            negative_modes: it.negative_modes,
+            deviation: None,
+        })
+        .collect()
+}
+
+/// A network another search found, evaluated in full (`λ_eq`, its modes), offered as the
+/// run's answer.
+pub fn evaluated_offer(source: &str, eval: &Evaluation) -> Offer {
+    Offer {
+        source: source.into(),
+        iteration: None,
+        curves: eval.curves.clone(),
+        length: eval.length,
+        lambda: eval.lambda(),
+        zero_modes: eval.spectrum.zero_modes,
+        negative_modes: eval.spectrum.negative_modes,
+        deviation: None,
+    }
 }
 
 #[cfg(test)]

@@ -929,8 +929,7 @@ fn builtin_surfaces_carry_random_geodesics() {
     }
 }
 
-/// The reference meshes' directory: `$CURVENET_DATA/meshes`, or `shared/reference-data/meshes`
-/// found upwards from the crate.
+/// The paper's meshes shipped in this crate (`data/paper/meshes`), or `$CURVENET_DATA/meshes`.
 fn reference_meshes() -> Option<PathBuf> {
     if let Some(d) = std::env::var_os("CURVENET_DATA") {
         let p = PathBuf::from(d).join("meshes");
@@ -938,16 +937,7 @@ fn reference_meshes() -> Option<PathBuf> {
             return Some(p);
         }
     }
-    let mut dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    loop {
-        let cand = dir.join("shared/reference-data/meshes");
-        if cand.is_dir() {
-            return Some(cand);
-        }
-        if !dir.pop() {
-            return None;
-        }
-    }
+    Some(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/paper/meshes"))
 }
 
 #[test]

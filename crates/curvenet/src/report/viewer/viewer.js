@@ -240,7 +240,7 @@
 
   // ---------- UI state ----------
   const ui = {
-    k: its.length - 1, shape: 'equilibrium', overlay: false, deform: 'mode', amp: 0.25, animate: true,
+    k: Number.isInteger(D.start) && D.start < its.length ? D.start : its.length - 1, shape: 'equilibrium', overlay: false, deform: 'mode', amp: 0.25, animate: true,
     mesh: !!meshBuf, removed: true, supports: true,
   };
   const cam = { target: [0, 0, 0], dist: 1.6 * size, yaw: -60 * Math.PI / 180, pitch: 25 * Math.PI / 180 };
@@ -433,7 +433,8 @@
   function updateText() {
     const it = its[ui.k];
     const s = D.setup;
-    $('stat-iter').textContent = `${ui.k} of ${its.length - 1}` + (ui.k === its.length - 1 ? ' (final)' : '');
+    $('stat-iter').textContent = `${ui.k} of ${its.length - 1}` + (ui.k === its.length - 1 ? ' (final)' : '')
+      + (ui.k === D.start && D.answer ? ' (the answer)' : '');
     $('stat-curves').textContent = `${it.curves.length} of ${rods.length}`;
     $('stat-length').textContent = `${sci(it.length, 6)} (${(100 * it.length / s.total_length).toFixed(1)}%; budget ${sci(s.budget, 6)})`;
     $('stat-lambda').textContent = sci(it.lambda, 5) + (it.negative_modes ? ` (${it.negative_modes} negative)` : '') + (it.zero_modes ? ` (${it.zero_modes} zero)` : '');
