@@ -7,11 +7,13 @@
 mod args;
 mod cmd;
 mod exit;
+mod signals;
 mod values;
 
 use clap::Parser;
 
 fn main() {
+    signals::install();
     let cli = args::Cli::parse();
     let result = cmd::run(cli);
     std::process::exit(exit::report(result));

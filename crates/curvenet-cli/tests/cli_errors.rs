@@ -858,7 +858,11 @@ fn simplify_warnings_reach_stderr_and_result_json() {
         "{}",
         r.stderr
     );
-    assert!(r.stderr.contains("cross nothing"), "{}", r.stderr);
+    assert!(
+        r.stderr.contains("curves that cross nothing: 4\n"),
+        "{}",
+        r.stderr
+    );
     let result = std::fs::read_to_string(r.dir.join("out/result.json")).unwrap();
     let result: serde_json::Value = serde_json::from_str(&result).unwrap();
     let warnings = result["setup"]["network"]["warnings"].as_array().unwrap();
@@ -1031,6 +1035,7 @@ fn a_budget_the_run_cannot_meet_is_a_warning() {
             "--budget",
             "1e-9",
             "--no-certificate",
+            "--local-search",
             "--out",
             "out",
         ],
@@ -1045,6 +1050,14 @@ fn a_budget_the_run_cannot_meet_is_a_warning() {
         "{}",
         r.stderr
     );
+    // The local search cannot start: said in words, and no time is printed for it.
+    assert!(
+        r.stderr.contains("no local search: ") && r.stderr.contains("(budget not met"),
+        "{}",
+        r.stderr
+    );
+    assert!(!r.stderr.contains("BudgetUnmet"), "{}", r.stderr);
+    assert!(!r.stdout.contains("local search time"), "{}", r.stdout);
 }
 
 #[test]

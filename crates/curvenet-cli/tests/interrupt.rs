@@ -1,15 +1,20 @@
-//! Ctrl-C on the real binary (issue 7): `curvenet simplify` interrupted by SIGINT part-way
-//! exits with code 130 keeping the iterations it finished, and `--resume` then writes a
-//! `result.json` byte-identical to the one of an uninterrupted run.
+//! Signals on the real binary. SIGINT and SIGTERM alike stop every long stage (the greedy, the
+//! local search, the certificate, the comparison's searches) within about a second with exit
+//! code 130, keeping what was recorded; `--resume` then writes a `result.json` byte-identical
+//! to the one of an uninterrupted run.
 
 #![cfg(unix)]
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
 /// The binary under test.
 const BIN: &str = env!("CARGO_BIN_EXE_curvenet");
+
+/// The longest a stage may take to stop after a signal. The stages poll their token every
+/// fraction of a second; the margin is for a loaded machine.
+const STOP_WITHIN: Duration = Duration::from_secs(3);
 
 /// A fresh temporary folder, removed on drop.
 struct TempDir(PathBuf);
@@ -29,37 +34,9 @@ impl Drop for TempDir {
     }
 }
 
-/// The arguments of one `simplify` run of `curves` into `out`.
-fn simplify_args(curves: &Path, out: &Path) -> Vec<String> {
-    [
-        "simplify",
-        "--mesh",
-        "dome",
-        "--curves",
-        curves.to_str().unwrap(),
-        "--edge-length",
-        "100",
-        "--budget",
-        "0.3",
-        "--out",
-        out.to_str().unwrap(),
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect()
-}
-
-/// Completed iterations in a run folder (the states the greedy saved).
-fn saved_iterations(out: &Path) -> usize {
-    std::fs::read_dir(out.join("iterations"))
-        .map(|d| d.filter_map(Result::ok).count())
-        .unwrap_or(0)
-}
-
-#[test]
-fn sigint_keeps_finished_iterations_and_resume_matches_an_uninterrupted_run() {
-    let tmp = TempDir::new("sigint");
-    let curves = tmp.0.join("curves.json");
+/// 24 geodesics traced on the built-in dome, in `dir/curves.json`.
+fn dome_curves(dir: &Path) -> PathBuf {
+    let curves = dir.join("curves.json");
     let status = Command::new(BIN)
         .args([
             "trace",
@@ -77,19 +54,111 @@ fn sigint_keeps_finished_iterations_and_resume_matches_an_uninterrupted_run() {
         .status()
         .expect("trace runs");
     assert!(status.success(), "trace failed");
+    curves
+}
 
-    // The reference: an uninterrupted run.
-    let full = tmp.0.join("full");
+/// The arguments of one `simplify` run of `curves` into `out`, then `extra`.
+fn simplify_args(curves: &Path, out: &Path, extra: &[&str]) -> Vec<String> {
+    [
+        "simplify",
+        "--mesh",
+        "dome",
+        "--curves",
+        curves.to_str().unwrap(),
+        "--edge-length",
+        "100",
+        "--budget",
+        "0.3",
+        "--out",
+        out.to_str().unwrap(),
+    ]
+    .iter()
+    .chain(extra)
+    .map(|s| s.to_string())
+    .collect()
+}
+
+/// Runs the binary to its end, asserting exit 0.
+fn run_ok(args: &[String]) -> Output {
     let out = Command::new(BIN)
-        .args(simplify_args(&curves, &full))
+        .args(args)
         .output()
-        .expect("simplify runs");
+        .expect("curvenet runs");
     assert_eq!(
         out.status.code(),
         Some(0),
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    out
+}
+
+/// Completed iterations in a run folder (the states the greedy saved).
+fn saved_iterations(out: &Path) -> usize {
+    std::fs::read_dir(out.join("iterations"))
+        .map(|d| d.filter_map(Result::ok).count())
+        .unwrap_or(0)
+}
+
+/// Starts the binary with stderr captured.
+fn start(args: &[String]) -> Child {
+    Command::new(BIN)
+        .args(args)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("curvenet starts")
+}
+
+/// Waits until `ready` holds, failing if the child ends first.
+fn wait_until(child: &mut Child, ready: impl Fn() -> bool) {
+    let start = Instant::now();
+    while !ready() {
+        assert!(start.elapsed() < Duration::from_secs(120), "no progress");
+        assert!(
+            child.try_wait().expect("wait").is_none(),
+            "finished before it could be interrupted"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+/// Sends `signal` ("INT", "TERM") to the child and waits for it: its output and how long it
+/// took to stop.
+fn interrupt(child: Child, signal: &str) -> (Output, Duration) {
+    let kill = Command::new("kill")
+        .args([&format!("-{signal}"), &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(kill.success());
+    let sent = Instant::now();
+    let out = child.wait_with_output().expect("curvenet ends");
+    (out, sent.elapsed())
+}
+
+/// Asserts a run stopped by a signal exited 130 within [`STOP_WITHIN`], saying how to go on.
+fn assert_cancelled(out: &Output, took: Duration, stage: &str) {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    println!(
+        "{stage}: stopped {:.3} s after the signal, exit {:?}",
+        took.as_secs_f64(),
+        out.status.code()
+    );
+    assert_eq!(out.status.code(), Some(130), "{stderr}");
+    assert!(took < STOP_WITHIN, "{stage} took {took:?} to stop");
+    assert!(
+        stderr.contains("--resume"),
+        "tells how to continue: {stderr}"
+    );
+}
+
+/// A greedy run interrupted by `signal` once it has saved two iterations keeps them, and
+/// `--resume` gives the uninterrupted run's result.json.
+fn greedy_interrupted_by(signal: &str) {
+    let tmp = TempDir::new(&format!("greedy-{signal}"));
+    let curves = dome_curves(&tmp.0);
+    let full = tmp.0.join("full");
+    run_ok(&simplify_args(&curves, &full, &[]));
     let reference = std::fs::read(full.join("result.json")).expect("result.json");
     let total = saved_iterations(&full);
     assert!(
@@ -97,66 +166,122 @@ fn sigint_keeps_finished_iterations_and_resume_matches_an_uninterrupted_run() {
         "the run is long enough to interrupt ({total} iterations)"
     );
 
-    // Interrupt a second run once it has saved two iterations (and before it is done).
     let cut = tmp.0.join("cut");
-    let mut child = Command::new(BIN)
-        .args(simplify_args(&curves, &cut))
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("simplify starts");
-    let start = Instant::now();
-    while saved_iterations(&cut) < 2 {
-        assert!(start.elapsed() < Duration::from_secs(120), "no progress");
-        assert!(
-            child.try_wait().expect("wait").is_none(),
-            "finished before it could be cut"
-        );
-        std::thread::sleep(Duration::from_millis(5));
-    }
-    let kill = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .expect("kill runs");
-    assert!(kill.success());
-    let at = saved_iterations(&cut);
-    let out = child.wait_with_output().expect("simplify ends");
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    println!(
-        "SIGINT sent with {at} iteration(s) saved after {:.2} s; exit {:?}",
-        start.elapsed().as_secs_f64(),
-        out.status.code()
-    );
+    let mut child = start(&simplify_args(&curves, &cut, &[]));
+    wait_until(&mut child, || saved_iterations(&cut) >= 2);
+    let (out, took) = interrupt(child, signal);
     if out.status.code() == Some(0) {
         // The signal came after the last iteration: nothing to resume, same result.
         assert_eq!(std::fs::read(cut.join("result.json")).unwrap(), reference);
         return;
     }
-    assert_eq!(out.status.code(), Some(130), "{stderr}");
-    assert!(
-        stderr.contains("--resume"),
-        "tells how to continue: {stderr}"
-    );
+    assert_cancelled(&out, took, "the greedy");
     let kept = saved_iterations(&cut);
     assert!(
         (2..=total).contains(&kept),
         "kept {kept} of {total} iterations"
     );
 
-    // Resume: the same result.json, byte for byte.
-    let mut args = simplify_args(&curves, &cut);
-    args.push("--resume".into());
-    let out = Command::new(BIN).args(args).output().expect("resume runs");
-    assert_eq!(
-        out.status.code(),
-        Some(0),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    run_ok(&simplify_args(&curves, &cut, &["--resume"]));
     let resumed = std::fs::read(cut.join("result.json")).expect("result.json");
     assert!(
         resumed == reference,
         "resumed result.json differs from the uninterrupted one"
     );
     assert_eq!(saved_iterations(&cut), total);
+}
+
+#[test]
+fn sigint_during_the_greedy_keeps_its_iterations_and_resume_matches_an_uninterrupted_run() {
+    greedy_interrupted_by("INT");
+}
+
+#[test]
+fn sigterm_during_the_greedy_keeps_its_iterations_and_resume_matches_an_uninterrupted_run() {
+    greedy_interrupted_by("TERM");
+}
+
+/// A run interrupted by `signal` in the stage after the greedy (the greedy's last iteration
+/// saved, the run not finished) stops at once, and `--resume` finishes it with the
+/// uninterrupted run's result.json.
+fn stage_after_the_greedy_interrupted_by(signal: &str, stage: &str, extra: &[&str]) {
+    let tmp = TempDir::new(&format!("after-{signal}"));
+    let curves = dome_curves(&tmp.0);
+    let full = tmp.0.join("full");
+    run_ok(&simplify_args(&curves, &full, extra));
+    let reference = std::fs::read(full.join("result.json")).expect("result.json");
+    let total = saved_iterations(&full);
+
+    let cut = tmp.0.join("cut");
+    let mut child = start(&simplify_args(&curves, &cut, extra));
+    wait_until(&mut child, || saved_iterations(&cut) >= total);
+    // Into the stage (it takes seconds on this network).
+    std::thread::sleep(Duration::from_millis(300));
+    let (out, took) = interrupt(child, signal);
+    assert_cancelled(&out, took, stage);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains(stage), "names the stage: {stderr}");
+    assert!(
+        !std::fs::read_to_string(cut.join("result.json"))
+            .expect("result.json kept")
+            .is_empty()
+    );
+
+    run_ok(&simplify_args(
+        &curves,
+        &cut,
+        &[extra, &["--resume"]].concat(),
+    ));
+    let resumed = std::fs::read(cut.join("result.json")).expect("result.json");
+    assert!(
+        resumed == reference,
+        "resumed result.json differs from the uninterrupted one"
+    );
+}
+
+#[test]
+fn sigterm_during_the_local_search_stops_it_at_once_and_resume_finishes_the_run() {
+    stage_after_the_greedy_interrupted_by(
+        "TERM",
+        "the local search",
+        &["--local-search", "--no-certificate"],
+    );
+}
+
+#[test]
+fn sigint_during_the_certificate_stops_it_at_once_and_resume_finishes_the_run() {
+    stage_after_the_greedy_interrupted_by("INT", "the certificate", &[]);
+}
+
+#[test]
+fn sigterm_during_a_comparison_stops_it_at_once_and_writes_no_report() {
+    let tmp = TempDir::new("compare");
+    let json = tmp.0.join("compare.json");
+    let mut child = start(
+        &[
+            "compare",
+            "--sizes",
+            "16",
+            "--instances",
+            "3",
+            "--json",
+            json.to_str().unwrap(),
+        ]
+        .map(String::from),
+    );
+    std::thread::sleep(Duration::from_secs(1));
+    assert!(child.try_wait().expect("wait").is_none(), "still searching");
+    let (out, took) = interrupt(child, "TERM");
+    println!(
+        "compare: stopped {:.3} s after the signal",
+        took.as_secs_f64()
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(130),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(took < STOP_WITHIN, "took {took:?} to stop");
+    assert!(!json.exists(), "no report of a cancelled comparison");
 }

@@ -1,8 +1,9 @@
-//! Running the greedy from the command line: output folder, progress bar, Ctrl-C, summary.
+//! Running the greedy from the command line: output folder, progress bar, signals, summary.
 
 use super::{fmt_length, print_warnings};
 use crate::args::GreedyArgs;
 use crate::exit::{ExitError, usage};
+use crate::signals::{self, Stage};
 use curvenet::cancel::Cancel;
 use curvenet::constraints::Constraints;
 use curvenet::constraints::answer::{Answer, NoAnswer, choose};
@@ -23,11 +24,7 @@ use curvenet::stability::fixed::FixedProblem;
 use curvenet::stability::{Analyzer, Prepare, Preset, StabilityParams, Warm};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
-
-/// Set by the Ctrl-C handler.
-static CANCEL: AtomicBool = AtomicBool::new(false);
 
 /// Everything a greedy run needs.
 pub struct GreedyJob {
@@ -96,8 +93,8 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     }
     if !info.isolated_curves.is_empty() {
         warnings.push(format!(
-            "curves that cross nothing: {:?}",
-            info.isolated_curves
+            "curves that cross nothing: {}",
+            list(&info.isolated_curves)
         ));
     }
     print_warnings(&warnings);
@@ -138,13 +135,8 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         );
     }
 
-    // The greedy polls `CANCEL` through its writer; the stages after it poll `cancel`.
-    let cancel = Cancel::new();
-    let on_signal = cancel.clone();
-    let _ = ctrlc::set_handler(move || {
-        CANCEL.store(true, Ordering::Relaxed);
-        on_signal.cancel();
-    });
+    // The greedy polls the signal flag through its writer; the stages after it poll the token.
+    let cancel = signals::token();
     let bar = ProgressBar::new(1000);
     bar.set_style(
         ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:40} {percent}% of the length to remove, ETA {eta} {msg}")
@@ -161,15 +153,17 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
             message: e,
         })?;
     }
-    let mut writer = writer.with_cancel(&CANCEL).with_progress(&progress);
+    let mut writer = writer.with_cancel(signals::flag()).with_progress(&progress);
+    let stage = Stage::start();
     let outcome = greedy(&analyzer, &params, resume_point, &mut writer);
+    drop(stage);
     bar.finish_and_clear();
     let outcome = match outcome {
         Ok(o) => o,
         Err(SimplifyError::Cancelled) => {
             let done = writer.result().iterations.len();
             return Err(ExitError {
-                code: 130,
+                code: signals::CANCELLED,
                 message: format!(
                     "cancelled: {done} iteration(s) kept in {}; rerun with --resume to continue",
                     job.out.display()
@@ -182,6 +176,7 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     print_warnings(&curvenet::simplify::result::unrelaxed(&outcome.iterations));
     print_warnings(budget_unmet(&outcome, budget).as_slice());
     let (local, local_seconds) = optional_step(job.local_search, "local search", || {
+        let _stage = Stage::start();
         local_search_of(&analyzer, &params, &outcome, &cancel)
     });
     stop_if_cancelled(&cancel, "the local search", &job.out)?;
@@ -192,6 +187,7 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     let (answer, answer_state) = answer_of(&analyzer, &params, &outcome, local_eval);
     writer.set_answer(answer, answer_state);
     let (certificate, certificate_seconds) = optional_step(job.certificate, "certificate", || {
+        let _stage = Stage::start();
         certificate_of(
             &analyzer,
             &job.out,
@@ -221,10 +217,10 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         Err(e) => print_warnings(&[format!("pictures and viewer not written: {e}")]),
     }
     print!("{}", summary(writer.result()));
-    if job.local_search {
+    if writer.result().local_search.is_some() {
         println!("local search time: {local_seconds:.2} s");
     }
-    if job.certificate {
+    if writer.result().certificate.is_some() {
         println!("certificate time: {certificate_seconds:.2} s");
     }
     println!(
@@ -326,7 +322,7 @@ fn local_search_of(
         .ok_or_else(|| anyhow::anyhow!("no iteration"))?;
     if outcome.stop != StopReason::BudgetMet {
         anyhow::bail!(
-            "the greedy's final network does not meet the budget (stop: {:?})",
+            "it starts from a network within the budget, and the greedy ended over it ({})",
             outcome.stop
         );
     }
@@ -338,16 +334,17 @@ fn local_search_of(
     LocalSearchRecord::new(&local, &o).ok_or_else(|| anyhow::anyhow!("λ_eq could not be evaluated"))
 }
 
-/// Exit 130 once Ctrl-C was pressed during `stage`: the greedy's iterations stay recorded in
-/// `out`.
+/// Exit 130 once a signal came during `stage`: the greedy's iterations stay recorded in `out`,
+/// and `--resume` goes on from them.
 fn stop_if_cancelled(cancel: &Cancel, stage: &str, out: &std::path::Path) -> anyhow::Result<()> {
     if !cancel.is_cancelled() {
         return Ok(());
     }
     Err(ExitError {
-        code: 130,
+        code: signals::CANCELLED,
         message: format!(
-            "cancelled during {stage}: the greedy's iterations are kept in {}",
+            "cancelled during {stage}: the greedy's iterations are kept in {}; rerun with \
+             --resume to continue",
             out.display()
         ),
     }
@@ -355,7 +352,8 @@ fn stop_if_cancelled(cancel: &Cancel, stage: &str, out: &std::path::Path) -> any
 }
 
 /// Runs an optional step after the greedy when `on`: its result, or `None` with a warning
-/// when it fails (the greedy's results stand either way), and the seconds it took.
+/// when it fails (the greedy's results stand either way; a cancelled step is no failure), and
+/// the seconds it took.
 fn optional_step<T>(
     on: bool,
     what: &str,
@@ -364,7 +362,11 @@ fn optional_step<T>(
     let start = Instant::now();
     let result = if on {
         run()
-            .map_err(|e| print_warnings(&[format!("no {what}: {e}")]))
+            .map_err(|e| {
+                if !signals::cancelled() {
+                    print_warnings(&[format!("no {what}: {e}")]);
+                }
+            })
             .ok()
     } else {
         None
@@ -405,4 +407,12 @@ fn certificate_of(
     let nodes = nodes.unwrap_or_else(|| (1e6 / analyzer.model().dofs().max(1) as f64) as usize);
     tighten_certificate(&problem, &mut c, nodes.min(100_000), cancel)?;
     Ok(c)
+}
+
+/// Curve ids as a user reads them: `3, 5, 8`.
+fn list(ids: &[usize]) -> String {
+    ids.iter()
+        .map(usize::to_string)
+        .collect::<Vec<_>>()
+        .join(", ")
 }
