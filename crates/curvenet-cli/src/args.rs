@@ -320,7 +320,8 @@ pub struct AnalyzeArgs {
 
 /// The physical mode: given `--units` or `--material`, `analyze` also reports the structure
 /// in physical terms (frequencies in Hz, deflections in scene units, stresses in MPa) with
-/// `--radius` (scene units) or `--tube` as the rods' section. See docs/units.md.
+/// `--radius` (scene units) or `--tube` as the rods' section, and `simplify`/`example` record
+/// them for every iteration. See docs/units.md.
 #[derive(Debug, Args, Clone, Default)]
 pub struct PhysicalModeArgs {
     /// The scene's length unit: mm, cm or m (turns on the physical mode).
@@ -363,6 +364,9 @@ pub struct SimplifyArgs {
     /// Material and solver options.
     #[command(flatten)]
     pub physics: PhysicsArgs,
+    /// The physical mode (every iteration also records its physical numbers).
+    #[command(flatten)]
+    pub physical: PhysicalModeArgs,
 }
 
 /// `curvenet example`.
@@ -398,6 +402,9 @@ pub struct ExampleArgs {
     /// Material and solver options.
     #[command(flatten)]
     pub physics: PhysicsArgs,
+    /// The physical mode (every iteration also records its physical numbers).
+    #[command(flatten)]
+    pub physical: PhysicalModeArgs,
 }
 
 fn parse_supports(s: &str) -> Result<Supports, String> {

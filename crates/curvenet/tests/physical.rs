@@ -550,3 +550,64 @@ fn physical_analysis_of_a_pinned_steel_beam_matches_the_textbook() {
     let d_want = 2f64.sqrt() * q_load * LEN.powi(4) / (PI.powi(4) * ei);
     assert!(rel_diff(d.max, d_want) < 1e-2, "{} vs {d_want}", d.max);
 }
+
+/// The greedy in the physical mode chooses as in the paper's mode (its objective is the
+/// paper's λ) and records every iteration's physical numbers: those of the physical analysis
+/// of that iteration's structure.
+#[test]
+fn the_greedy_records_each_iterations_physical_numbers() {
+    use curvenet::simplify::greedy::{NoHooks, greedy};
+    use curvenet::simplify::{Budget, GreedyParams};
+    use curvenet::stability::{Analyzer, StabilityParams};
+    // A 3 × 3 grid of gently arched curves, 3 m square, drawn in millimetres.
+    let mut curves = Vec::new();
+    for i in 0..3 {
+        let c = -1000.0 + 1000.0 * i as f64;
+        let arch = |t: f64| 300.0 * (1.0 - (t / 1500.0).powi(2));
+        let pts =
+            |f: &dyn Fn(f64) -> Vec3| (0..=12).map(|k| f(-1500.0 + 250.0 * k as f64)).collect();
+        curves.push(polyline(
+            pts(&|t| Vec3::new(t, c, arch(t) + arch(c))),
+            false,
+        ));
+        curves.push(polyline(
+            pts(&|t| Vec3::new(c, t, arch(t) + arch(c))),
+            false,
+        ));
+    }
+    let net = build(&curves, 125.0, Supports::Clamped);
+    let params = GreedyParams::new(Budget::Fraction(0.6));
+    let paper = Analyzer::new(net.clone(), StabilityParams::default()).unwrap();
+    let plain = greedy(&paper, &params, None, &mut NoHooks).expect("paper greedy");
+    let physical = PhysicalParams::new(steel_mm(RADIUS));
+    let analyzer = Analyzer::new(net.clone(), StabilityParams::default())
+        .unwrap()
+        .with_physical(physical.clone())
+        .unwrap();
+    let run = greedy(&analyzer, &params, None, &mut NoHooks).expect("physical greedy");
+    assert!(plain.iterations.len() > 1);
+    assert_eq!(run.iterations.len(), plain.iterations.len());
+    for (a, b) in run.iterations.iter().zip(&plain.iterations) {
+        assert_eq!(
+            (&a.curves, a.removed, a.lambda),
+            (&b.curves, b.removed, b.lambda)
+        );
+        assert!(b.physical.is_none());
+        let p = a.physical.as_ref().expect("physical numbers per iteration");
+        let mut active = ActiveSet::all(net.rods.len());
+        for c in 0..net.rods.len() {
+            if !a.curves.contains(&c) {
+                active.remove(c);
+            }
+        }
+        let report = analyze_physical(&net, &physical, &active).unwrap();
+        assert_eq!(p, &report.summary());
+        assert!(p.stable && p.first_frequency_hz.unwrap() > 0.0 && p.mass_kg > 0.0);
+    }
+    // Removing curves takes mass away.
+    let mass = |k: usize| run.iterations[k].physical.as_ref().unwrap().mass_kg;
+    assert!(mass(run.iterations.len() - 1) < mass(0));
+    // The paper's mode writes no physical field.
+    let json = serde_json::to_string(&plain.iterations[0]).unwrap();
+    assert!(!json.contains("physical"));
+}

@@ -1,9 +1,9 @@
 //! `curvenet analyze`: build, relax and measure one network (or what `--remove` leaves).
 
-use super::{load_inputs, print_warnings, stability_params};
+use super::{load_inputs, physical_mode, print_warnings, stability_params};
 use crate::args::AnalyzeArgs;
 use crate::exit::usage;
-use curvenet::physics::{PhysicalOptions, analyze_physical};
+use curvenet::physics::{PhysicalParams, PhysicalReport, analyze_physical};
 use curvenet::pipeline;
 use curvenet::rod::ActiveSet;
 use std::time::Instant;
@@ -11,27 +11,12 @@ use std::time::Instant;
 pub fn run(a: AnalyzeArgs) -> anyhow::Result<()> {
     let start = Instant::now();
     let inputs = load_inputs(&a.input, &a.physics)?;
-    let p = &a.physical;
-    let options = PhysicalOptions {
-        units: p.units.clone(),
-        material: p.material.clone(),
-        young: a.physics.young.clone(),
-        density: p.density.clone(),
-        strength: p.strength.clone(),
-        radius: a.physics.radius.map(|r| r.to_string()),
-        tube: p.tube.clone(),
-        load: p.load.clone(),
-        gravity: p.gravity.clone(),
-    };
-    let physical = options
-        .resolve(inputs.file_units.as_deref(), &inputs.specs)
-        .map_err(usage)?;
-    // In the physical mode --young is the material's (with a unit); the paper's model keeps
-    // its own E.
-    let mut paper = a.physics.clone();
-    if physical.is_some() {
-        paper.young = None;
-    }
+    let (physical, paper) = physical_mode(
+        &a.physics,
+        &a.physical,
+        inputs.file_units.as_deref(),
+        &inputs.specs,
+    )?;
     let params = stability_params(&paper)?;
     // The input's warnings now, before the (possibly long) analysis; the analysis adds its own.
     let shown = inputs.warnings.len();
@@ -61,29 +46,17 @@ pub fn run(a: AnalyzeArgs) -> anyhow::Result<()> {
     )?;
     print_warnings(out.report.warnings.get(shown..).unwrap_or_default());
     let physical = match physical {
-        Some(mut pp) => {
-            pp.frequencies = a.physics.eigen_count.max(1);
+        Some(pp) => {
             let mut active = ActiveSet::all(n);
             for &c in &remove {
                 active.remove(c);
             }
-            let r = analyze_physical(out.analyzer.network(), &pp, &active)?;
-            print_warnings(&r.warnings);
-            Some(r)
+            Some(physical_report(out.analyzer.network(), &pp, &active)?)
         }
         None => None,
     };
     if a.json {
-        match &physical {
-            // The report's own fields in their own order, then the physical object.
-            Some(r) => {
-                let report = serde_json::to_string(&out.report)?;
-                let body = report.strip_suffix('}').unwrap_or(&report);
-                let sep = if body.ends_with('{') { "" } else { "," };
-                println!("{body}{sep}\"physical\":{}}}", serde_json::to_string(r)?);
-            }
-            None => println!("{}", serde_json::to_string(&out.report)?),
-        }
+        println!("{}", report_json(&out.report, physical.as_ref())?);
     } else {
         print!("{}", out.report.to_text());
         if let Some(r) = &physical {
@@ -92,4 +65,33 @@ pub fn run(a: AnalyzeArgs) -> anyhow::Result<()> {
         println!("time: {:.3} s", start.elapsed().as_secs_f64());
     }
     Ok(())
+}
+
+/// The physical analysis of `active`, its warnings printed.
+pub(super) fn physical_report(
+    network: &curvenet::rod::Network,
+    params: &PhysicalParams,
+    active: &ActiveSet,
+) -> anyhow::Result<PhysicalReport> {
+    let r = analyze_physical(network, params, active)?;
+    print_warnings(&r.warnings);
+    Ok(r)
+}
+
+/// `--json`'s line: the report's own fields in their own order (as in the paper's mode), then
+/// the physical object when there is one.
+pub(super) fn report_json(
+    report: &curvenet::report::AnalysisReport,
+    physical: Option<&PhysicalReport>,
+) -> anyhow::Result<String> {
+    let text = serde_json::to_string(report)?;
+    let Some(r) = physical else {
+        return Ok(text);
+    };
+    let body = text.strip_suffix('}').unwrap_or(&text);
+    let sep = if body.ends_with('{') { "" } else { "," };
+    Ok(format!(
+        "{body}{sep}\"physical\":{}}}",
+        serde_json::to_string(r)?
+    ))
 }

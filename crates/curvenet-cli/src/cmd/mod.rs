@@ -12,10 +12,11 @@ mod surface;
 mod trace;
 mod view;
 
-use crate::args::{Cli, Command, InputArgs, PhysicsArgs};
+use crate::args::{Cli, Command, InputArgs, PhysicalModeArgs, PhysicsArgs};
 use crate::exit::usage;
 use curvenet::io::{self, Polyline, TriMesh};
 use curvenet::network::{BuildParams, checks};
+use curvenet::physics::{PhysicalOptions, PhysicalParams};
 use curvenet::rod::Material;
 use curvenet::simplify::result::InputDescription;
 use curvenet::stability::StabilityParams;
@@ -49,6 +50,39 @@ pub fn data_source(folder: Option<&std::path::Path>) -> anyhow::Result<paper::Da
         }
     }
     Ok(paper::DataSource::folder_or_embedded(folder))
+}
+
+/// The physical mode from the options: its parameters (`None` in the paper's mode) and the
+/// options the paper's model is built from. In the physical mode `--radius` and `--young`
+/// describe the physical rods, so the paper's model (its `λ`, the searches' objective) keeps
+/// its defaults and chooses as without the physical options. `file_units` and `specs` come
+/// from the curve files.
+pub fn physical_mode(
+    physics: &PhysicsArgs,
+    p: &PhysicalModeArgs,
+    file_units: Option<&str>,
+    specs: &[curvenet::material::CurveSpec],
+) -> anyhow::Result<(Option<PhysicalParams>, PhysicsArgs)> {
+    let options = PhysicalOptions {
+        units: p.units.clone(),
+        material: p.material.clone(),
+        young: physics.young.clone(),
+        density: p.density.clone(),
+        strength: p.strength.clone(),
+        radius: physics.radius.map(|r| r.to_string()),
+        tube: p.tube.clone(),
+        load: p.load.clone(),
+        gravity: p.gravity.clone(),
+    };
+    let physical = options.resolve(file_units, specs).map_err(usage)?;
+    let mut paper = physics.clone();
+    let physical = physical.map(|mut pp| {
+        paper.young = None;
+        paper.radius = None;
+        pp.frequencies = physics.eigen_count.clamp(1, 50);
+        pp
+    });
+    Ok((physical, paper))
 }
 
 /// Stability parameters from the shared options (defaults where unset).

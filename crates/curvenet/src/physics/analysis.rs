@@ -155,6 +155,56 @@ pub struct PhysicalReport {
     pub warnings: Vec<String>,
 }
 
+/// The physical numbers of one structure as a search records them per iteration
+/// (result.json's `physical` of each iteration; [`PhysicalReport`] is the whole analysis).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PhysicalSummary {
+    /// No zero or negative mode among the computed ones.
+    pub stable: bool,
+    /// The structure's mass, kg.
+    pub mass_kg: f64,
+    /// The lowest eigenvalue `μ` of `H v = μ M v`, s⁻².
+    pub mu_min: f64,
+    /// The first natural frequency, Hz (absent when unstable).
+    pub first_frequency_hz: Option<f64>,
+    /// The largest deflection under the worst-case distributed load, scene units (absent
+    /// when unstable).
+    pub load_max_deflection: Option<f64>,
+    /// The largest deflection under self-weight, scene units (absent when unstable).
+    pub self_weight_max_deflection: Option<f64>,
+    /// The largest bending stress of the assembly, MPa.
+    pub assembly_max_bending_stress_mpa: f64,
+    /// The largest axial stress of the assembly, MPa.
+    pub assembly_max_axial_stress_mpa: f64,
+    /// The largest utilisation (stress over strength; above 1 a rod breaks).
+    pub max_utilisation: Option<f64>,
+    /// The curves whose assembly stress exceeds their strength, ascending.
+    pub overstressed_curves: Vec<usize>,
+}
+
+impl PhysicalReport {
+    /// What a search records of this analysis per iteration.
+    pub fn summary(&self) -> PhysicalSummary {
+        PhysicalSummary {
+            stable: self.stable,
+            mass_kg: self.mass_kg,
+            mu_min: self.mu_min,
+            first_frequency_hz: self.first_frequency_hz,
+            load_max_deflection: self.load_max_deflection.map(|d| d.max),
+            self_weight_max_deflection: self.self_weight_max_deflection,
+            assembly_max_bending_stress_mpa: self.assembly_max_bending_stress_mpa,
+            assembly_max_axial_stress_mpa: self.assembly_max_axial_stress_mpa,
+            max_utilisation: self.max_utilisation.as_ref().map(|u| u.value),
+            overstressed_curves: self
+                .curves
+                .iter()
+                .filter(|c| c.utilisation() > 1.0)
+                .map(|c| c.curve)
+                .collect(),
+        }
+    }
+}
+
 /// Why a physical analysis failed.
 #[derive(Debug, thiserror::Error)]
 pub enum PhysicsError {

@@ -12,6 +12,8 @@ pub mod loads;
 pub mod options;
 pub mod stress;
 
-pub use analysis::{PhysicalParams, PhysicalReport, PhysicsError, analyze_physical};
+pub use analysis::{
+    PhysicalParams, PhysicalReport, PhysicalSummary, PhysicsError, analyze_physical,
+};
 pub use options::PhysicalOptions;
 pub use stress::{CurveStress, StressAt, Stresses, assembly_stresses};

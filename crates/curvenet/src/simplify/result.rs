@@ -847,6 +847,7 @@ mod tests {
             score: None,
             candidates: Vec::new(),
             mode_file: String::new(),
+            physical: None,
         }
     }
 

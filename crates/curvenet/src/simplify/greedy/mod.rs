@@ -21,6 +21,7 @@ mod search;
 pub use search::CandidateScore;
 
 use super::{Budget, SimplifyError, pick_best};
+use crate::physics::PhysicalSummary;
 use crate::stability::NewtonSummary;
 use crate::stability::candidates::{Candidates, Carried};
 use crate::stability::{ActiveSet, Analyzer, Evaluation, Prepare, Preset, Warm, Work};
@@ -99,6 +100,9 @@ pub struct IterationRecord {
     pub candidates: Vec<CandidateScore>,
     /// Side file holding the worst-case mode (relative to the output folder).
     pub mode_file: String,
+    /// The structure's physical numbers in the physical mode (absent in the paper's mode).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub physical: Option<PhysicalSummary>,
 }
 
 /// Why the greedy stopped.
@@ -382,6 +386,7 @@ impl<'a> State<'a> {
             score: None,
             candidates: Vec::new(),
             mode_file: format!("modes/{k:04}.bin"),
+            physical: analyzer.physical_summary(&self.active)?,
         };
         let candidates: Vec<usize> = eval
             .curves
