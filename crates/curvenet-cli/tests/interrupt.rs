@@ -285,3 +285,27 @@ fn sigterm_during_a_comparison_stops_it_at_once_and_writes_no_report() {
     assert!(took < STOP_WITHIN, "took {took:?} to stop");
     assert!(!json.exists(), "no report of a cancelled comparison");
 }
+
+#[test]
+fn resume_draws_the_pictures_a_signal_stopped() {
+    // A signal while the pictures are drawn ends the process at once: the run is complete
+    // (result.json finished) but its pictures and viewer page are missing.
+    let tmp = TempDir::new("pictures");
+    let curves = dome_curves(&tmp.0);
+    let out = tmp.0.join("out");
+    run_ok(&simplify_args(&curves, &out, &["--no-certificate"]));
+    let result = std::fs::read(out.join("result.json")).expect("result.json");
+    for f in ["viewer.html", "final.png", "mode.png"] {
+        std::fs::remove_file(out.join(f)).expect("written by the run");
+    }
+    let resumed = run_ok(&simplify_args(
+        &curves,
+        &out,
+        &["--no-certificate", "--resume"],
+    ));
+    assert!(String::from_utf8_lossy(&resumed.stderr).contains("already complete"));
+    for f in ["viewer.html", "final.png", "mode.png"] {
+        assert!(out.join(f).is_file(), "{f} drawn again");
+    }
+    assert_eq!(std::fs::read(out.join("result.json")).unwrap(), result);
+}

@@ -120,6 +120,10 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         print_warnings(w.warnings());
         if p.is_none() && w.result().complete {
             eprintln!("{}: the run is already complete", job.out.display());
+            // A run stopped while its pictures were drawn is complete without them.
+            if !job.out.join("viewer.html").is_file() {
+                write_pictures(&job.out);
+            }
             print!("{}", summary(w.result()));
             return Ok(());
         }
@@ -221,12 +225,7 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         code: 1,
         message: e,
     })?;
-    // Pictures, viewer page and fabrication table: a failure here leaves the run's results
-    // intact, so it is a warning.
-    match curvenet::report::viewer::write_run_outputs(&job.out) {
-        Ok(o) => print_warnings(&o.warnings),
-        Err(e) => print_warnings(&[format!("pictures and viewer not written: {e}")]),
-    }
+    write_pictures(&job.out);
     print!("{}", summary(writer.result()));
     if let Some(line) = physical_line(writer.result().iterations.last()) {
         println!("{line}");
@@ -272,6 +271,15 @@ fn physical_line(last: Option<&IterationRecord>) -> Option<String> {
     Some(line)
 }
 
+/// Writes the pictures, viewer page (last) and fabrication table of the finished run in `out`.
+/// A failure leaves the run's results intact, so it is a warning.
+fn write_pictures(out: &std::path::Path) {
+    match curvenet::report::viewer::write_run_outputs(out) {
+        Ok(o) => print_warnings(&o.warnings),
+        Err(e) => print_warnings(&[format!("pictures and viewer not written: {e}")]),
+    }
+}
+
 /// Makes sure `out` is (or can be made) a folder, before any work: a file there, or a folder
 /// that cannot be created, is a usage error naming it.
 fn output_folder(out: &std::path::Path) -> anyhow::Result<()> {
@@ -300,6 +308,7 @@ fn budget_unmet(outcome: &curvenet::simplify::GreedyOutcome, budget: f64) -> Opt
         StopReason::BudgetUnmet => "only curves of the keep list are left",
         StopReason::NoScorableCandidate => "no curve could be scored for removal",
         StopReason::RemovalLimit => "the removal limit was reached",
+        StopReason::Blocked => "the design constraints allow no further removal",
     };
     Some(format!(
         "the budget {} was not met: the run ended at {} curve(s) of total length {} ({why}); \

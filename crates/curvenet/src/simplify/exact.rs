@@ -36,10 +36,18 @@
 //! so the search (and its answer) does not depend on the thread count. Only the time limit,
 //! when it is hit, makes the run timing-dependent; the outcome says so.
 //!
+//! # Design constraints
+//!
+//! Under design constraints ([`exact_constrained`]) the tree is the same (every subset is
+//! still the `I` of one node, and a bound on all of a node's subsets bounds its feasible ones),
+//! but only the sets that meet every constraint but `--max-deviation` become incumbents: the
+//! answer is the constrained optimum of `λ_fix`, proved like the unconstrained one.
+//!
 //! How far it reaches within a minute on random networks is in `docs/compare.md`.
 
 use super::SimplifyError;
 use crate::cancel::Cancel;
+use crate::constraints::Constraints;
 use crate::stability::fixed::{FixedProblem, Node, Rayleigh};
 use crate::stability::{Analyzer, StabilityError};
 use rayon::prelude::*;
@@ -212,19 +220,51 @@ pub fn exact(
     incumbents: &[Vec<usize>],
     cancel: &Cancel,
 ) -> Result<ExactOutcome, SimplifyError> {
+    run(problem, params, None, incumbents, cancel)
+}
+
+/// [`exact`] over the sets that meet the design `constraints` (bound to the problem's
+/// network, budget and keep list): the constrained optimum of `λ_fix`. `incumbents` that do
+/// not meet them are ignored.
+pub fn exact_constrained(
+    problem: &FixedProblem<'_>,
+    params: &ExactParams,
+    constraints: &Constraints,
+    incumbents: &[Vec<usize>],
+    cancel: &Cancel,
+) -> Result<ExactOutcome, SimplifyError> {
+    super::exhaustive::check_binding(
+        constraints,
+        problem.curve_count(),
+        problem.budget(),
+        problem.keep(),
+    )?;
+    let active = constraints.is_active().then_some(constraints);
+    run(problem, params, active, incumbents, cancel)
+}
+
+/// The search of [`exact`], under `constraints` when given.
+fn run(
+    problem: &FixedProblem<'_>,
+    params: &ExactParams,
+    constraints: Option<&Constraints>,
+    incumbents: &[Vec<usize>],
+    cancel: &Cancel,
+) -> Result<ExactOutcome, SimplifyError> {
     let start = Instant::now();
     check(problem, params)?;
     let solves0 = (problem.eigen_solves(), problem.relax_solves());
     let mut search = Search {
         problem,
         params,
+        constraints,
         heap: BinaryHeap::new(),
         best: Best::default(),
         info: ExactInfo::default(),
         seq: 0,
     };
     for s in incumbents {
-        if problem.feasible(s) {
+        if problem.feasible(s) && search.admits(s) {
             let l = problem.lambda_fix(s)?;
             search.best.consider(s, l);
         }
@@ -298,6 +338,8 @@ impl Best {
 struct Search<'p, 'a> {
     problem: &'p FixedProblem<'a>,
     params: &'p ExactParams,
+    /// Design constraints an incumbent must meet.
+    constraints: Option<&'p Constraints>,
     heap: BinaryHeap<Open>,
     /// The incumbent.
     best: Best,
@@ -309,6 +351,11 @@ struct Search<'p, 'a> {
 impl Search<'_, '_> {
     fn level(&self) -> f64 {
         cut_level(self.best.0, self.params.tolerance)
+    }
+
+    /// Whether `s` may be an incumbent: it meets the design constraints, if any.
+    fn admits(&self, s: &[usize]) -> bool {
+        self.constraints.is_none_or(|c| c.check(s).is_ok())
     }
 
     fn push(&mut self, mut node: Open) {
@@ -379,7 +426,9 @@ impl Search<'_, '_> {
     fn merge(&mut self, o: &Open, r: Opened) {
         self.info.nodes += 1;
         self.info.bounds += r.bounds;
-        if let Some(l) = r.lambda {
+        if let Some(l) = r.lambda
+            && self.admits(&o.included)
+        {
             self.best.consider(&o.included, l);
         }
         let level = self.level();

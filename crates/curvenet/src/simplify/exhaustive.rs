@@ -6,11 +6,15 @@
 //! stops as soon as its length exceeds the budget) and evaluated in parallel with
 //! [`Analyzer::lambda_eq`], the same evaluation the other searches use; [`exhaustive_fixed`]
 //! does the same on `λ_fix` at the full network's equilibrium (the exact solver's objective).
+//! Under design constraints ([`exhaustive_constrained`]) the subsets are the feasible sets of
+//! [`Constraints::feasible_subsets`] (whole units, every constraint but `--max-deviation`,
+//! which the run's answer checks on each equilibrium), so the best is the constrained optimum.
 //! A cancelled search ([`Cancel`]) stops within one evaluation per thread and is an error:
 //! part of the subsets is no optimum.
 
 use super::{Budget, SimplifyError};
 use crate::cancel::Cancel;
+use crate::constraints::Constraints;
 use crate::stability::Analyzer;
 use crate::stability::fixed::FixedProblem;
 use rayon::prelude::*;
@@ -149,7 +153,47 @@ pub fn exhaustive(
             .lambda_eq(&analyzer.set(curves))
             .unwrap_or(f64::NAN)
     };
-    score_all(analyzer, params, &score, cancel)
+    score_all(analyzer, params, None, &score, cancel)
+}
+
+/// [`exhaustive`] over the sets that meet the design `constraints` (bound to `analyzer`'s
+/// network, `params`' budget and keep list): the constrained optimum of `λ_eq`.
+pub fn exhaustive_constrained(
+    analyzer: &Analyzer,
+    params: &ExhaustiveParams,
+    constraints: &Constraints,
+    cancel: &Cancel,
+) -> Result<ExhaustiveOutcome, SimplifyError> {
+    let score = |curves: &[usize]| {
+        analyzer
+            .lambda_eq(&analyzer.set(curves))
+            .unwrap_or(f64::NAN)
+    };
+    score_all(analyzer, params, Some(constraints), &score, cancel)
+}
+
+/// Checks that `constraints` were bound to a network of `n` curves, the budget `budget` (a
+/// length) and the keep list `keep`.
+pub(super) fn check_binding(
+    constraints: &Constraints,
+    n: usize,
+    budget: f64,
+    keep: &[usize],
+) -> Result<(), SimplifyError> {
+    let sorted = |k: &[usize]| {
+        let mut k = k.to_vec();
+        k.sort_unstable();
+        k.dedup();
+        k
+    };
+    let same_budget = (constraints.budget() - budget).abs() <= 1e-12 * budget.abs().max(1.0);
+    if constraints.curve_count() != n || sorted(keep) != sorted(constraints.keep()) || !same_budget
+    {
+        return Err(SimplifyError::Params(
+            "the constraints were bound to another network, budget or keep list".into(),
+        ));
+    }
+    Ok(())
 }
 
 /// Exhaustive search on the fixed-geometry objective `λ_fix(S | full network)` (the
@@ -167,13 +211,15 @@ pub fn exhaustive_fixed(
         max_subsets,
     };
     let score = |curves: &[usize]| problem.lambda_fix(curves).unwrap_or(f64::NAN);
-    score_all(problem.analyzer(), &params, &score, cancel)
+    score_all(problem.analyzer(), &params, None, &score, cancel)
 }
 
-/// Enumerates the feasible subsets and scores each with `score` (in parallel).
+/// Enumerates the feasible subsets (under `constraints` when given) and scores each with
+/// `score` (in parallel).
 fn score_all(
     analyzer: &Analyzer,
     params: &ExhaustiveParams,
+    constraints: Option<&Constraints>,
     score: &(dyn Fn(&[usize]) -> f64 + Sync),
     cancel: &Cancel,
 ) -> Result<ExhaustiveOutcome, SimplifyError> {
@@ -186,12 +232,21 @@ fn score_all(
     }
     let lengths = analyzer.lengths();
     let budget = params.budget.length(lengths.iter().sum());
-    let subsets = feasible_subsets(&lengths, budget, &params.keep, params.max_subsets)
-        .map_err(SimplifyError::Params)?;
+    let subsets = match constraints {
+        Some(c) => {
+            check_binding(c, n, budget, &params.keep)?;
+            c.feasible_subsets(params.max_subsets)
+        }
+        None => feasible_subsets(&lengths, budget, &params.keep, params.max_subsets),
+    }
+    .map_err(SimplifyError::Params)?;
     if subsets.is_empty() {
-        return Err(SimplifyError::Params(format!(
-            "no feasible subset: the keep list alone exceeds the budget {budget:.6}"
-        )));
+        return Err(SimplifyError::Params(match constraints {
+            Some(_) => format!("no subset meets the constraints within the budget {budget:.6}"),
+            None => {
+                format!("no feasible subset: the keep list alone exceeds the budget {budget:.6}")
+            }
+        }));
     }
     let all: Vec<SubsetScore> = subsets
         .into_par_iter()

@@ -45,6 +45,13 @@
 //! construction). The measurements of each variant against the exhaustive optimum are in
 //! `docs/benchmarks.md` (*Local search*).
 //!
+//! **Under design constraints** ([`local_search_constrained`]) the moves add, drop and swap
+//! whole units (a group or a symmetry orbit; [`Constraints::neighbours`]), each recorded by
+//! its unit's smallest curve, and only to sets that meet every constraint but
+//! `--max-deviation` (which the run's answer checks on each equilibrium); a part step is taken
+//! only when the part alone meets them too. A chain locks every curve of a unit it moved.
+//! Without constraints the moves are exactly those above.
+//!
 //! Every strategy is deterministic: moves are listed in a fixed order, sets are evaluated in
 //! parallel but chosen by their position in the list, and every evaluation is independent of
 //! the thread count. Every subset is evaluated with the shared [`Analyzer::lambda_eq_parts`]
@@ -59,6 +66,7 @@
 use super::exhaustive::SubsetScore;
 use super::{Budget, SimplifyError};
 use crate::cancel::Cancel;
+use crate::constraints::{Constraints, UnitMove};
 use crate::stability::Analyzer;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -248,6 +256,8 @@ struct Entry {
 /// `λ_eq` of subsets, each evaluated once per search.
 struct Evaluator<'s> {
     analyzer: &'s Analyzer,
+    /// Design constraints a part must meet to be stepped to.
+    constraints: Option<&'s Constraints>,
     keep: Vec<usize>,
     tolerance: f64,
     memo: HashMap<Vec<usize>, Entry>,
@@ -268,7 +278,7 @@ impl Evaluator<'_> {
             }
         }
         let (analyzer, cancel) = (self.analyzer, self.cancel);
-        let (keep, tol) = (&self.keep, self.tolerance);
+        let (keep, tol, constraints) = (&self.keep, self.tolerance, self.constraints);
         let entries: Vec<Option<Entry>> = fresh
             .par_iter()
             .map(|s| {
@@ -278,7 +288,9 @@ impl Evaluator<'_> {
                 Some(match analyzer.lambda_eq_parts(&analyzer.set(s)) {
                     Ok(parts) => {
                         let lambda = parts.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
-                        let part = best_part(&parts, keep).filter(|p| improves(p.2, lambda, tol));
+                        let part = best_part(&parts, keep)
+                            .filter(|p| improves(p.2, lambda, tol))
+                            .filter(|p| constraints.is_none_or(|c| c.check(&p.1).is_ok()));
                         Entry { lambda, part }
                     }
                     Err(_) => Entry {
@@ -407,6 +419,37 @@ pub fn local_search(
     start: &[usize],
     cancel: &Cancel,
 ) -> Result<LocalOutcome, SimplifyError> {
+    search_from(analyzer, params, None, start, cancel)
+}
+
+/// [`local_search`] under the design `constraints` (bound to `analyzer`'s network, `params`'
+/// budget and keep list): moves of whole units, to sets that meet the constraints; `start`
+/// must meet them.
+pub fn local_search_constrained(
+    analyzer: &Analyzer,
+    params: &LocalParams,
+    constraints: &Constraints,
+    start: &[usize],
+    cancel: &Cancel,
+) -> Result<LocalOutcome, SimplifyError> {
+    let (lengths, budget) = check(analyzer, params)?;
+    super::exhaustive::check_binding(constraints, lengths.len(), budget, &params.keep)?;
+    search_from(analyzer, params, active(constraints), start, cancel)
+}
+
+/// Constraints that ask for something (`None`: the search without them).
+fn active(constraints: &Constraints) -> Option<&Constraints> {
+    constraints.is_active().then_some(constraints)
+}
+
+/// The local search from `start`, under `constraints` when given.
+fn search_from(
+    analyzer: &Analyzer,
+    params: &LocalParams,
+    constraints: Option<&Constraints>,
+    start: &[usize],
+    cancel: &Cancel,
+) -> Result<LocalOutcome, SimplifyError> {
     let (lengths, budget) = check(analyzer, params)?;
     let mut cur: Vec<usize> = start.to_vec();
     cur.sort_unstable();
@@ -423,16 +466,23 @@ pub fn local_search(
             "local search needs a feasible starting subset".into(),
         ));
     }
+    if let Some(Err(v)) = constraints.map(|c| c.check(&cur)) {
+        return Err(SimplifyError::Params(format!(
+            "local search needs a starting subset that meets the constraints: {v}"
+        )));
+    }
     let cached_before = analyzer.cached_structures();
     let mut search = Search {
         ev: Evaluator {
             analyzer,
+            constraints,
             keep: params.keep.clone(),
             tolerance: params.tolerance,
             memo: HashMap::new(),
             cancel,
         },
         params,
+        constraints,
         lengths: &lengths,
         budget,
         lambda: f64::NAN,
@@ -479,6 +529,7 @@ fn check(analyzer: &Analyzer, params: &LocalParams) -> Result<(Vec<f64>, f64), S
 struct Search<'s> {
     ev: Evaluator<'s>,
     params: &'s LocalParams,
+    constraints: Option<&'s Constraints>,
     lengths: &'s [f64],
     budget: f64,
     /// The current set and its `λ_eq`.
@@ -535,27 +586,38 @@ impl Search<'_> {
         Ok(())
     }
 
-    /// The moves from `set`, evaluated.
-    fn candidates(&mut self, set: &[usize], moves: &[Move]) -> Result<Vec<Candidate>, Stopped> {
-        let sets: Vec<Vec<usize>> = moves.iter().map(|m| m.apply(set)).collect();
+    /// The moves (with the sets they lead to), evaluated.
+    fn candidates(&mut self, moves: &[(Move, Vec<usize>)]) -> Result<Vec<Candidate>, Stopped> {
+        let sets: Vec<Vec<usize>> = moves.iter().map(|m| m.1.clone()).collect();
         let entries = self.ev.eval_all(&sets)?;
         let parts = self.params.parts;
         Ok(moves
             .iter()
             .zip(sets)
             .zip(entries)
-            .map(|((m, s), e)| Candidate::new(*m, s, e, parts))
+            .map(|((m, s), e)| Candidate::new(m.0, s, e, parts))
             .collect())
+    }
+
+    /// The moves from `set` that stay feasible and move no `locked` curve, in the
+    /// documented order, with the sets they lead to.
+    fn moves(&self, set: &[usize], locked: Option<&[bool]>) -> Vec<(Move, Vec<usize>)> {
+        match self.constraints {
+            Some(c) => unit_moves(c, set, self.params, locked),
+            None => neighbourhood(set, self.lengths, self.budget, self.params, locked)
+                .into_iter()
+                .map(|m| (m, m.apply(set)))
+                .collect(),
+        }
     }
 
     /// A scan of single moves by first improvement (under variable depth too: the descent to
     /// a local optimum before any chain): the improving move taken, if any.
     fn scan(&mut self) -> Result<Option<Candidate>, Stopped> {
-        let (params, tol) = (self.params, self.params.tolerance);
-        let moves = neighbourhood(&self.cur, self.lengths, self.budget, params, None);
-        let cur = self.cur.clone();
+        let tol = self.params.tolerance;
+        let moves = self.moves(&self.cur, None);
         for part in moves.chunks(CHUNK) {
-            let cands = self.candidates(&cur, part)?;
+            let cands = self.candidates(part)?;
             let pick = cands
                 .iter()
                 .position(|c| improves(c.value(), self.lambda, tol));
@@ -576,15 +638,22 @@ impl Search<'_> {
         let mut locked = vec![false; n];
         let mut chain: Vec<Candidate> = Vec::new();
         for _ in 0..params.depth.unwrap_or(n).max(1) {
-            let moves = neighbourhood(&set, self.lengths, self.budget, params, Some(&locked));
-            let mut cands = self.candidates(&set, &moves)?;
+            let moves = self.moves(&set, Some(&locked));
+            let mut cands = self.candidates(&moves)?;
             let values: Vec<f64> = cands.iter().map(Candidate::value).collect();
             let Some(i) = best_position(&values, tol) else {
                 break;
             };
             let c = cands.swap_remove(i);
             for x in c.step.curves().into_iter().flatten() {
-                locked[x] = true;
+                match self.constraints {
+                    Some(cs) => {
+                        for &y in &cs.units()[cs.unit_of(x)] {
+                            locked[y] = true;
+                        }
+                    }
+                    None => locked[x] = true,
+                }
             }
             set = c.end().to_vec();
             chain.push(c);
@@ -628,6 +697,31 @@ pub fn local_search_multi(
     starts: &[Vec<usize>],
     cancel: &Cancel,
 ) -> Result<LocalOutcome, SimplifyError> {
+    multi(analyzer, params, None, starts, cancel)
+}
+
+/// [`local_search_multi`] under the design `constraints`: starts that do not meet them are
+/// skipped.
+pub fn local_search_multi_constrained(
+    analyzer: &Analyzer,
+    params: &LocalParams,
+    constraints: &Constraints,
+    starts: &[Vec<usize>],
+    cancel: &Cancel,
+) -> Result<LocalOutcome, SimplifyError> {
+    let (lengths, budget) = check(analyzer, params)?;
+    super::exhaustive::check_binding(constraints, lengths.len(), budget, &params.keep)?;
+    multi(analyzer, params, active(constraints), starts, cancel)
+}
+
+/// The local search from several starts, under `constraints` when given.
+fn multi(
+    analyzer: &Analyzer,
+    params: &LocalParams,
+    constraints: Option<&Constraints>,
+    starts: &[Vec<usize>],
+    cancel: &Cancel,
+) -> Result<LocalOutcome, SimplifyError> {
     let lengths = analyzer.lengths();
     let budget = params.budget.length(lengths.iter().sum());
     let n = lengths.len();
@@ -636,11 +730,12 @@ pub fn local_search_multi(
         let feasible = !s.is_empty()
             && s.iter().all(|&c| c < n)
             && s.iter().map(|&c| lengths[c]).sum::<f64>() <= budget
-            && params.keep.iter().all(|k| s.contains(k));
+            && params.keep.iter().all(|k| s.contains(k))
+            && constraints.is_none_or(|c| c.check(s).is_ok());
         if !feasible {
             continue;
         }
-        let o = match local_search(analyzer, params, s, cancel) {
+        let o = match search_from(analyzer, params, constraints, s, cancel) {
             Err(SimplifyError::Cancelled) => break,
             o => o?,
         };
@@ -665,6 +760,34 @@ pub fn local_search_multi(
             "local search: no feasible start".into(),
         )),
     }
+}
+
+/// The unit moves from `cur` under `constraints` ([`Constraints::neighbours`]), each named by
+/// its units' smallest curves; a unit is locked when its curves are.
+fn unit_moves(
+    constraints: &Constraints,
+    cur: &[usize],
+    params: &LocalParams,
+    locked: Option<&[bool]>,
+) -> Vec<(Move, Vec<usize>)> {
+    let units = constraints.units();
+    let unit_locked: Option<Vec<bool>> = locked.map(|l| units.iter().map(|u| l[u[0]]).collect());
+    constraints
+        .neighbours(cur, params.add_back, params.drop, unit_locked.as_deref())
+        .into_iter()
+        .map(|(m, set)| {
+            let first = |u: usize| units[u][0];
+            let m = match m {
+                UnitMove::Add(u) => Move::Add(first(u)),
+                UnitMove::Drop(u) => Move::Drop(first(u)),
+                UnitMove::Swap { out, into } => Move::Swap {
+                    out: first(out),
+                    into: first(into),
+                },
+            };
+            (m, set)
+        })
+        .collect()
 }
 
 /// The moves from `cur` that stay feasible and move no `locked` curve, in the documented

@@ -19,6 +19,8 @@
 
 pub mod certificate;
 pub mod compare;
+#[cfg(test)]
+mod constrained_tests;
 pub mod exact;
 pub mod exhaustive;
 pub mod greedy;
@@ -27,7 +29,9 @@ pub mod random;
 pub mod result;
 
 pub use crate::stability::Budget;
-pub use greedy::{GreedyHooks, GreedyOutcome, GreedyParams, StopReason, greedy};
+pub use greedy::{
+    GreedyHooks, GreedyOutcome, GreedyParams, StopReason, greedy, greedy_constrained,
+};
 
 use crate::stability::StabilityError;
 

@@ -9,10 +9,15 @@
 //! first, from a seeded generator, and then evaluated in parallel, a few per thread at a
 //! time: the result depends only on the seed, unless a wall-clock limit or a cancellation
 //! ([`Cancel`]: the outcome says so) cuts the evaluation short.
+//!
+//! Under design constraints ([`random_search_constrained`]) the draws are whole units and
+//! only sets meeting every constraint but `--max-deviation` are kept
+//! ([`Constraints::draw_subsets`]; without constraints, the same draws from the same seed).
 
 use super::exhaustive::{SubsetScore, best_of};
 use super::{Budget, SimplifyError};
 use crate::cancel::Cancel;
+use crate::constraints::Constraints;
 use crate::rng::SplitMix64;
 use crate::stability::Analyzer;
 use rayon::prelude::*;
@@ -118,6 +123,27 @@ pub fn random_search(
     params: &RandomParams,
     cancel: &Cancel,
 ) -> Result<RandomOutcome, SimplifyError> {
+    search(analyzer, params, None, cancel)
+}
+
+/// [`random_search`] over the sets that meet the design `constraints` (bound to `analyzer`'s
+/// network, `params`' budget and keep list).
+pub fn random_search_constrained(
+    analyzer: &Analyzer,
+    params: &RandomParams,
+    constraints: &Constraints,
+    cancel: &Cancel,
+) -> Result<RandomOutcome, SimplifyError> {
+    search(analyzer, params, Some(constraints), cancel)
+}
+
+/// The random search, under `constraints` when given.
+fn search(
+    analyzer: &Analyzer,
+    params: &RandomParams,
+    constraints: Option<&Constraints>,
+    cancel: &Cancel,
+) -> Result<RandomOutcome, SimplifyError> {
     params.budget.validate().map_err(SimplifyError::Params)?;
     if params.evaluations == 0 {
         return Err(SimplifyError::Params(
@@ -126,13 +152,19 @@ pub fn random_search(
     }
     let lengths = analyzer.lengths();
     let budget = params.budget.length(lengths.iter().sum());
-    let (subsets, used_fallback, exhausted) = draw_subsets(
-        &lengths,
-        budget,
-        &params.keep,
-        params.evaluations,
-        params.seed,
-    );
+    let (subsets, used_fallback, exhausted) = match constraints {
+        Some(c) => {
+            super::exhaustive::check_binding(c, lengths.len(), budget, &params.keep)?;
+            c.draw_subsets(params.evaluations, params.seed)
+        }
+        None => draw_subsets(
+            &lengths,
+            budget,
+            &params.keep,
+            params.evaluations,
+            params.seed,
+        ),
+    };
     if subsets.is_empty() {
         return Err(SimplifyError::Params(format!(
             "no feasible subset at budget {budget:.6}"

@@ -844,6 +844,7 @@ mod tests {
                 chord_steps: 0,
             },
             removed: None,
+            removed_group: Vec::new(),
             score: None,
             candidates: Vec::new(),
             mode_file: String::new(),

@@ -10,6 +10,16 @@
 //!     remove the c with the largest score (ties within 1e-7 → lowest id)
 //! ```
 //!
+//! **Under design constraints** ([`greedy_constrained`]) the candidates are the removable
+//! units of `A` ([`Constraints::removal_candidates`]: a group or a symmetry orbit is removed
+//! as a whole, and no removal may leave a set that breaks a constraint other than the budget);
+//! a unit `U` is scored by `λ_fix(A \ U | A)`. When every unit is one curve the candidates are
+//! searched as above; when some unit holds several curves every unit is scored exactly
+//! ([`Candidates::score_set`]; the single-curve bounds do not apply to sets). The run stops,
+//! budget unmet, when the constraints allow no further removal ([`StopReason::Blocked`]).
+//! `--max-deviation` needs each network's equilibrium and does not steer the removals: the
+//! run's answer honours it. Without constraints the run is the one above, bit for bit.
+//!
 //! Each relaxation starts from the previous equilibrium, warm-started by what the previous
 //! iteration hands on ([`Candidates::hand_on`]). The candidates are scored at `A`'s
 //! equilibrium by the best-first search of [`search`], which asks the stability facade for
@@ -21,11 +31,13 @@ mod search;
 pub use search::CandidateScore;
 
 use super::{Budget, SimplifyError, pick_best};
+use crate::constraints::Constraints;
 use crate::physics::PhysicalSummary;
 use crate::stability::NewtonSummary;
-use crate::stability::candidates::{Candidates, Carried};
+use crate::stability::candidates::{Candidates, Carried, Outcome};
 use crate::stability::{ActiveSet, Analyzer, Evaluation, Prepare, Preset, Warm, Work};
 use faer::Mat;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -92,8 +104,13 @@ pub struct IterationRecord {
     pub negative_modes: usize,
     /// The equilibrium solve.
     pub newton: NewtonSummary,
-    /// The curve removed next (`None` on the last iteration).
+    /// The curve removed next (`None` on the last iteration); for a group removed as a
+    /// whole, its smallest curve.
     pub removed: Option<usize>,
+    /// Every curve removed next when a group of several curves is removed as a whole
+    /// (ascending; empty for a single curve).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub removed_group: Vec<usize>,
     /// Its score `λ_fix` (`None` on the last iteration).
     pub score: Option<f64>,
     /// Every candidate's score, by curve id.
@@ -117,6 +134,8 @@ pub enum StopReason {
     NoScorableCandidate,
     /// The removal limit was reached.
     RemovalLimit,
+    /// `L(A) > V` and the design constraints allow no further removal.
+    Blocked,
 }
 
 impl std::fmt::Display for StopReason {
@@ -126,6 +145,9 @@ impl std::fmt::Display for StopReason {
             StopReason::BudgetUnmet => "budget not met: only kept curves or one curve remain",
             StopReason::NoScorableCandidate => "no candidate could be scored",
             StopReason::RemovalLimit => "removal limit reached",
+            StopReason::Blocked => {
+                "budget not met: the design constraints allow no further removal"
+            }
         })
     }
 }
@@ -249,7 +271,41 @@ pub fn greedy(
     resume: Option<ResumePoint>,
     hooks: &mut dyn GreedyHooks,
 ) -> Result<GreedyOutcome, SimplifyError> {
-    let outcome = run(analyzer, params, resume, hooks);
+    finish(run(analyzer, params, None, resume, hooks), hooks)
+}
+
+/// Runs the greedy under the design `constraints` (bound to `analyzer`'s network, the budget
+/// and the keep list of `params`): only whole units are removed and every network recorded
+/// after the first meets every constraint but the budget and `--max-deviation` (see the
+/// module documentation). Constraints that ask for nothing give [`greedy`]'s run exactly.
+///
+/// # Errors
+///
+/// As [`greedy`]; [`SimplifyError::Params`] when `constraints` were bound to another
+/// network, budget or keep list.
+pub fn greedy_constrained(
+    analyzer: &Analyzer,
+    params: &GreedyParams,
+    constraints: &Constraints,
+    resume: Option<ResumePoint>,
+    hooks: &mut dyn GreedyHooks,
+) -> Result<GreedyOutcome, SimplifyError> {
+    let n = analyzer.curve_count();
+    let total = analyzer.total_length(&(0..n).collect::<Vec<_>>());
+    if let Err(e) =
+        super::exhaustive::check_binding(constraints, n, params.budget.length(total), &params.keep)
+    {
+        return finish(Err(e), hooks);
+    }
+    let active = constraints.is_active().then_some(constraints);
+    finish(run(analyzer, params, active, resume, hooks), hooks)
+}
+
+/// Flushes `hooks` after a run ([`greedy`]).
+fn finish(
+    outcome: Result<GreedyOutcome, SimplifyError>,
+    hooks: &mut dyn GreedyHooks,
+) -> Result<GreedyOutcome, SimplifyError> {
     let flushed = hooks.flush().map_err(SimplifyError::Hook);
     // The run's own error first: a failed write that stopped it is reported as such.
     let outcome = outcome?;
@@ -261,6 +317,7 @@ pub fn greedy(
 fn run(
     analyzer: &Analyzer,
     params: &GreedyParams,
+    constraints: Option<&Constraints>,
     resume: Option<ResumePoint>,
     hooks: &mut dyn GreedyHooks,
 ) -> Result<GreedyOutcome, SimplifyError> {
@@ -275,6 +332,7 @@ fn run(
     let mut state = State {
         analyzer,
         params,
+        constraints,
         budget: params.budget.length(total),
         keep,
         timings: GreedyTimings::default(),
@@ -308,6 +366,8 @@ fn run(
 struct State<'a> {
     analyzer: &'a Analyzer,
     params: &'a GreedyParams,
+    /// Design constraints that ask for something (`None`: the paper's run).
+    constraints: Option<&'a Constraints>,
     /// The budget as a length.
     budget: f64,
     /// Curves never removed.
@@ -338,11 +398,13 @@ impl<'a> State<'a> {
             .ok_or_else(|| SimplifyError::Params("the recorded run already finished".into()))?;
         let prev = self.analyzer.set(&last.curves);
         // A winner scored about a positive shift (the inertia test) passed no factorization on.
+        // Nor did an iteration whose units were scored as sets (one holds several curves).
         let about_zero = last
             .candidates
             .iter()
             .find(|c| c.curve == removed)
-            .is_none_or(|c| c.shift.is_none());
+            .is_none_or(|c| c.shift.is_none())
+            && last.candidates.iter().all(|c| c.group.is_empty());
         let hint = last.score.map(|s| spectrum_hint(s, last.lambda));
         let tuning = self.analyzer.tuning();
         if tuning.prune && tuning.carry {
@@ -353,6 +415,9 @@ impl<'a> State<'a> {
             self.analyzer
                 .resume_warm(&prev, r.displacement, r.modes, removed, about_zero, hint);
         self.active = prev.without(removed);
+        for &c in &last.removed_group {
+            self.active.remove(c);
+        }
         self.iterations = r.iterations;
         Ok(())
     }
@@ -383,26 +448,40 @@ impl<'a> State<'a> {
             negative_modes: eval.spectrum.negative_modes,
             newton: eval.newton.summary(),
             removed: None,
+            removed_group: Vec::new(),
             score: None,
             candidates: Vec::new(),
             mode_file: format!("modes/{k:04}.bin"),
             physical: analyzer.physical_summary(&self.active)?,
         };
-        let candidates: Vec<usize> = eval
-            .curves
-            .iter()
-            .copied()
-            .filter(|&c| !self.keep[c])
-            .collect();
+        // The removable units (each named by its smallest curve); `None`: every curve not kept.
+        let units = self.constraints.map(|c| {
+            c.removal_candidates(&eval.curves)
+                .into_iter()
+                .map(|u| c.units()[u].clone())
+                .collect::<Vec<_>>()
+        });
+        let candidates: Vec<usize> = match &units {
+            Some(units) => units.iter().map(|u| u[0]).collect(),
+            None => eval
+                .curves
+                .iter()
+                .copied()
+                .filter(|&c| !self.keep[c])
+                .collect(),
+        };
         if let Some(stop) = self.stop(&eval, &candidates) {
             self.record(hooks, record, &eval)?;
             return Ok(Some(stop));
         }
-        let scores = self.search(&mut eval, &candidates, hooks)?;
+        let groups = units.filter(|units| units.iter().any(|u| u.len() > 1));
+        let (ctx, scores) = match &groups {
+            Some(units) => self.score_units(&mut eval, units, &*hooks),
+            None => self.search(&mut eval, &candidates, hooks)?,
+        };
         if hooks.cancelled() {
             return Err(SimplifyError::Cancelled);
         }
-        let (ctx, scores) = scores;
         let pairs: Vec<(usize, f64)> = scores
             .iter()
             .filter_map(|s| s.score.map(|v| (s.curve, v)))
@@ -414,10 +493,26 @@ impl<'a> State<'a> {
         };
         record.removed = Some(chosen);
         record.score = Some(score);
+        let removed = match &groups {
+            Some(units) => units
+                .iter()
+                .find(|u| u[0] == chosen)
+                .expect("the winner is a unit")
+                .clone(),
+            None => vec![chosen],
+        };
+        if removed.len() > 1 {
+            record.removed_group = removed.clone();
+        }
         self.record(hooks, record, &eval)?;
         let hint = spectrum_hint(score, eval.lambda());
-        self.warm = ctx.hand_on(chosen, eval, hint);
-        self.active.remove(chosen);
+        self.warm = match groups {
+            Some(_) => ctx.hand_on_set(eval, hint),
+            None => ctx.hand_on(chosen, eval, hint),
+        };
+        for c in removed {
+            self.active.remove(c);
+        }
         Ok(None)
     }
 
@@ -426,6 +521,8 @@ impl<'a> State<'a> {
         let k = self.iterations.len();
         if eval.length <= self.budget {
             Some(StopReason::BudgetMet)
+        } else if candidates.is_empty() && self.constraints.is_some() {
+            Some(StopReason::Blocked)
         } else if candidates.is_empty() || eval.curves.len() <= 1 {
             Some(StopReason::BudgetUnmet)
         } else if self.params.max_removals.is_some_and(|m| k >= m) {
@@ -466,6 +563,36 @@ impl<'a> State<'a> {
             hooks.carried(&self.carried).map_err(SimplifyError::Hook)?;
         }
         Ok((ctx, scores))
+    }
+
+    /// Scores every unit of `units` (some hold several curves) exactly, in parallel: the
+    /// score of removing the unit as a whole, recorded under its smallest curve.
+    fn score_units(
+        &mut self,
+        eval: &mut Evaluation,
+        units: &[Vec<usize>],
+        hooks: &dyn GreedyHooks,
+    ) -> (Candidates<'a>, Vec<CandidateScore>) {
+        let t = Instant::now();
+        let ctx = Candidates::new(self.analyzer, &self.active, eval, Vec::new());
+        self.timings.locals_seconds += t.elapsed().as_secs_f64();
+        let t = Instant::now();
+        let scores: Vec<CandidateScore> = units
+            .par_iter()
+            .map(|u| {
+                if hooks.cancelled() {
+                    return CandidateScore::of_group(u, Outcome::Failed("cancelled".into()));
+                }
+                CandidateScore::of_group(u, ctx.score_set(u))
+            })
+            .collect();
+        self.timings.candidates_seconds += t.elapsed().as_secs_f64();
+        self.timings.candidate_evaluations += scores.len();
+        self.timings.candidate_work.add(ctx.work());
+        // No test vectors are carried over a set's removal.
+        self.carried = Vec::new();
+        self.use_carried = false;
+        (ctx, scores)
     }
 
     /// Hands `record` to `hooks` and keeps it.

@@ -48,6 +48,10 @@ pub struct CandidateScore {
     /// The failure, if any.
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub error: Option<String>,
+    /// Under design constraints, when the candidate is a group removed as a whole: its curves
+    /// (ascending; `curve` is the smallest). Empty for a single curve.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub group: Vec<usize>,
 }
 
 impl CandidateScore {
@@ -62,7 +66,23 @@ impl CandidateScore {
             below: None,
             shift: None,
             error: None,
+            group: Vec::new(),
         }
+    }
+
+    /// The exact score of removing the unit `curves` as a whole (several curves: recorded as
+    /// its group).
+    pub(super) fn of_group(curves: &[usize], outcome: Outcome) -> Self {
+        let mut s = CandidateScore::new(curves[0]);
+        if curves.len() > 1 {
+            s.group = curves.to_vec();
+        }
+        match outcome {
+            Outcome::Scored { score, .. } => s.score = Some(score),
+            Outcome::Below(_) => s.error = Some("no exact score".into()),
+            Outcome::Failed(e) => s.error = Some(e),
+        }
+        s
     }
 }
 

@@ -289,6 +289,21 @@ impl<'a> Candidates<'a> {
     }
 }
 
+impl Candidates<'_> {
+    /// What the evaluation of the structure without a removed set (scored by
+    /// [`Self::score_set`]) may reuse: `eval`'s equilibrium, low modes and symbolic analysis,
+    /// and the estimate `lambda` of its `λ_eq`; no factorization (a set's score keeps none).
+    pub fn hand_on_set(&self, eval: Evaluation, lambda: f64) -> Warm {
+        Warm {
+            start: Some(eval.displacement),
+            factor: None,
+            modes: Some(eval.spectrum.vectors),
+            superset: Some(eval.symbolic),
+            lambda: Some(lambda),
+        }
+    }
+}
+
 impl Analyzer {
     /// What a greedy resumed after recording structure `prev` (equilibrium `u`, low `modes`)
     /// and its removal of `winner` hands the next evaluation — the same as an uninterrupted
@@ -376,6 +391,48 @@ mod tests {
             );
             assert!(r.value <= ctx.bound(c).value + ctx.bound(c).margin);
         }
+    }
+
+    /// A set's score is the score of its removal: one curve's equals the single-curve score,
+    /// and a pair's equals the score of the second curve in the structure without the first,
+    /// at the same (fixed) equilibrium.
+    #[test]
+    fn a_set_is_scored_as_its_removal() {
+        use super::Outcome;
+        let an = dome_analyzer();
+        let active = an.all();
+        let mut eval = an
+            .evaluate(&active, Warm::default(), GREEDY, Prepare::Candidates)
+            .expect("evaluates");
+        let ctx = Candidates::new(&an, &active, &mut eval, Vec::new());
+        let set_score = |s: &[usize]| match ctx.score_set(s) {
+            Outcome::Scored { score, .. } => score,
+            o => panic!("{s:?}: {o:?}"),
+        };
+        for c in [0, 2, 4] {
+            let (exact, _) = ctx.score(c).expect("scores");
+            let (a, b) = (set_score(&[c]), exact.lambda());
+            assert!((a - b).abs() <= 1e-8 * b.abs(), "curve {c}: {a:e} vs {b:e}");
+        }
+        for (a, b) in [(0, 1), (1, 4), (2, 5)] {
+            let first = active.without(a);
+            let at = Candidates::at(
+                &an,
+                &first,
+                &eval.displacement,
+                eval.spectrum.vectors.as_ref(),
+            );
+            let (exact, _) = at.score(b).expect("scores");
+            let (x, y) = (set_score(&[a, b]), exact.lambda());
+            assert!(
+                (x - y).abs() <= 1e-8 * y.abs(),
+                "{{{a}, {b}}}: {x:e} vs {y:e}"
+            );
+        }
+        assert!(matches!(
+            ctx.score_set(&active.curves()),
+            Outcome::Failed(_)
+        ));
     }
 
     /// One factorization proves a score below a shift exactly when it is: shifts 0.1% above

@@ -103,6 +103,43 @@ impl Candidates<'_> {
         }
     }
 
+    /// The score of removing the whole set `removed` at once (a group of curves kept or removed
+    /// together): `λ_fix(A \ U | A)`, the smallest eigenvalue of `H_{A∖U}` at `A`'s
+    /// equilibrium, about zero and warm-started from the iteration's modes. The single-curve
+    /// bounds, tests and carried vectors do not apply to a set: every set is scored exactly.
+    /// Its factorization is not kept (a set's winner hands on no factorization).
+    pub fn score_set(&self, removed: &[usize]) -> Outcome {
+        let mut active = self.active.clone();
+        for &c in removed {
+            active.remove(c);
+        }
+        if active.is_empty() {
+            return Outcome::Failed(StabilityError::Empty.to_string());
+        }
+        let model = self.analyzer.model();
+        let mut h = Vec::new();
+        model.hessian_from_locals(&self.locals, &active, &mut h);
+        let warm = restrict(self.modes.as_ref(), &model.vertex_mask(&active));
+        let r = super::super::numerics::factored(
+            model.pattern(),
+            &h,
+            &self.symbolic,
+            Some(warm.as_ref()),
+            &self.analyzer.eigen(Preset::Score, &self.symbolic),
+        );
+        match r {
+            Ok((sp, _)) => {
+                self.count(&sp);
+                Outcome::Scored {
+                    score: sp.lambda(),
+                    shift: None,
+                    threshold: sp.zero_threshold,
+                }
+            }
+            Err(e) => Outcome::Failed(StabilityError::from(e).to_string()),
+        }
+    }
+
     /// Makes `sigma` the inertia tests' shift: factors `H_A − σI` for their factorizations
     /// to copy from when the candidates `alive` would save more than it costs (each saves
     /// the share of its factorization its curve cannot reach,

@@ -1,0 +1,301 @@
+//! Every search under design constraints against brute force on small networks: each returns
+//! only sets that meet the constraints, the exhaustive search and the exact search find the
+//! constrained optimum, and without constraints the constrained entry points are the plain
+//! searches.
+
+use super::exact::{ExactParams, exact, exact_constrained};
+use super::exhaustive::{ExhaustiveParams, exhaustive, exhaustive_constrained};
+use super::local::{LocalParams, local_search_multi, local_search_multi_constrained};
+use super::random::{RandomParams, random_search, random_search_constrained};
+use super::{Budget, GreedyParams, StopReason, greedy, greedy_constrained};
+use crate::cancel::Cancel;
+use crate::constraints::testing::{grid, network, pavilion, square_mesh};
+use crate::constraints::{ConstraintParams, Constraints, SymmetryOption, parse_groups};
+use crate::io::TriMesh;
+use crate::network::Network;
+use crate::simplify::greedy::NoHooks;
+use crate::stability::fixed::FixedProblem;
+use crate::stability::{Analyzer, StabilityParams};
+
+/// A small network, its constraints and the budget fraction they were bound to.
+struct Case {
+    name: &'static str,
+    analyzer: Analyzer,
+    constraints: Constraints,
+    fraction: f64,
+    keep: Vec<usize>,
+}
+
+fn case(
+    name: &'static str,
+    net: Network,
+    mesh: Option<&TriMesh>,
+    params: ConstraintParams,
+    fraction: f64,
+    keep: &[usize],
+) -> Case {
+    let total: f64 = net.rest_lengths().iter().sum();
+    let constraints =
+        Constraints::new(&net, mesh, &params, fraction * total, keep).expect("feasible");
+    assert!(
+        constraints.is_active(),
+        "{name}: constraints ask for something"
+    );
+    let analyzer = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
+    Case {
+        name,
+        analyzer,
+        constraints,
+        fraction,
+        keep: keep.to_vec(),
+    }
+}
+
+/// Pavilions (ring, three arches, three short arches) under a rotation, groups, connectivity
+/// with a number of curves; a grid of lines over a square under a largest gap.
+fn cases() -> Vec<Case> {
+    let pav = || network(&pavilion(3, true, 0.0));
+    let mesh = square_mesh(500.0, 0.0, 8);
+    vec![
+        case(
+            "rotate:3",
+            pav(),
+            None,
+            ConstraintParams {
+                symmetry: SymmetryOption::Rotate(3),
+                ..Default::default()
+            },
+            0.55,
+            &[],
+        ),
+        case(
+            "groups",
+            pav(),
+            None,
+            ConstraintParams {
+                groups: parse_groups("a: 1 4\nb: 2 5\n", "g.txt").expect("parses"),
+                ..Default::default()
+            },
+            0.4,
+            &[],
+        ),
+        case(
+            "connected, min-curves 2",
+            pav(),
+            None,
+            ConstraintParams {
+                connected: true,
+                min_curves: Some(2),
+                ..Default::default()
+            },
+            0.35,
+            &[],
+        ),
+        case(
+            "max-gap",
+            network(&grid(500.0, 3)),
+            Some(&mesh),
+            ConstraintParams {
+                max_gap: Some(420.0),
+                ..Default::default()
+            },
+            0.7,
+            &[],
+        ),
+    ]
+}
+
+/// Every non-empty subset of `n` curves that meets the constraints (budget and keep list
+/// included).
+fn feasible(c: &Constraints) -> Vec<Vec<usize>> {
+    let n = c.curve_count();
+    let mut out: Vec<Vec<usize>> = (1u32..(1 << n))
+        .map(|m| (0..n).filter(|i| m & (1 << i) != 0).collect::<Vec<_>>())
+        .filter(|s| c.check(s).is_ok())
+        .collect();
+    out.sort();
+    out
+}
+
+fn sorted(mut v: Vec<Vec<usize>>) -> Vec<Vec<usize>> {
+    v.sort();
+    v
+}
+
+#[test]
+fn exhaustive_search_finds_the_constrained_optimum() {
+    for k in cases() {
+        let brute = feasible(&k.constraints);
+        assert!(!brute.is_empty(), "{}", k.name);
+        let mut params = ExhaustiveParams::new(Budget::Fraction(k.fraction));
+        params.keep = k.keep.clone();
+        let o = exhaustive_constrained(&k.analyzer, &params, &k.constraints, &Cancel::new())
+            .expect("runs");
+        let sets: Vec<Vec<usize>> = o.all.iter().map(|s| s.curves.clone()).collect();
+        assert_eq!(sorted(sets), brute, "{}: exactly the feasible sets", k.name);
+        // The optimum over the feasible sets, evaluated one by one.
+        let best = brute
+            .iter()
+            .map(|s| k.analyzer.lambda_eq(&k.analyzer.set(s)).expect("evaluates"))
+            .fold(f64::NEG_INFINITY, f64::max);
+        assert!(
+            (o.best.lambda - best).abs() <= 1e-7 * best.abs(),
+            "{}: {} vs {best}",
+            k.name,
+            o.best.lambda
+        );
+        assert!(k.constraints.check(&o.best.curves).is_ok());
+    }
+}
+
+#[test]
+fn the_greedy_removes_whole_units_and_keeps_the_constraints() {
+    for k in cases() {
+        let mut params = GreedyParams::new(Budget::Fraction(k.fraction));
+        params.keep = k.keep.clone();
+        let g = greedy_constrained(&k.analyzer, &params, &k.constraints, None, &mut NoHooks)
+            .expect("runs");
+        let c = &k.constraints;
+        assert!(g.iterations.len() >= 2, "{}: nothing removed", k.name);
+        for (i, w) in g.iterations.windows(2).enumerate() {
+            let removed: Vec<usize> = w[0]
+                .curves
+                .iter()
+                .copied()
+                .filter(|x| !w[1].curves.contains(x))
+                .collect();
+            let unit = &c.units()[c.unit_of(removed[0])];
+            assert_eq!(
+                &removed, unit,
+                "{}: iteration {i} removes a whole unit",
+                k.name
+            );
+            assert_eq!(w[0].removed, Some(unit[0]));
+            if unit.len() > 1 {
+                assert_eq!(&w[0].removed_group, unit);
+            }
+            // The removal was the best-scored of the removable units.
+            let units = c.removal_candidates(&w[0].curves);
+            let named: Vec<usize> = units.iter().map(|&u| c.units()[u][0]).collect();
+            let scored: Vec<usize> = w[0].candidates.iter().map(|s| s.curve).collect();
+            assert_eq!(scored, named, "{}: iteration {i}'s candidates", k.name);
+        }
+        let last = g.iterations.last().expect("an iteration");
+        match g.stop {
+            StopReason::BudgetMet => {
+                assert!(c.check(&last.curves).is_ok(), "{}: the final set", k.name)
+            }
+            StopReason::Blocked => {
+                assert!(c.removal_candidates(&last.curves).is_empty(), "{}", k.name)
+            }
+            s => panic!("{}: unexpected stop {s:?}", k.name),
+        }
+    }
+}
+
+#[test]
+fn random_and_local_searches_return_only_feasible_sets() {
+    for k in cases() {
+        let c = &k.constraints;
+        let best = feasible(c)
+            .iter()
+            .map(|s| k.analyzer.lambda_eq(&k.analyzer.set(s)).expect("evaluates"))
+            .fold(f64::NEG_INFINITY, f64::max);
+        let params = RandomParams {
+            budget: Budget::Fraction(k.fraction),
+            keep: k.keep.clone(),
+            evaluations: 12,
+            seed: 7,
+            time_limit: None,
+        };
+        let r = random_search_constrained(&k.analyzer, &params, c, &Cancel::new()).expect("runs");
+        assert!(
+            r.evaluated.iter().all(|s| c.check(&s.curves).is_ok()),
+            "{}",
+            k.name
+        );
+        assert!(r.best.lambda <= best * (1.0 + 1e-7));
+        // The local search from every feasible unit alone and from the random search's best.
+        let mut starts: Vec<Vec<usize>> = c.units().to_vec();
+        starts.push(r.best.curves.clone());
+        let mut lp = LocalParams::new(Budget::Fraction(k.fraction));
+        lp.keep = k.keep.clone();
+        let o = local_search_multi_constrained(&k.analyzer, &lp, c, &starts, &Cancel::new())
+            .expect("runs");
+        assert!(
+            c.check(&o.best.curves).is_ok(),
+            "{}: {:?}",
+            k.name,
+            o.best.curves
+        );
+        assert!(o.best.lambda >= r.best.lambda * (1.0 - 1e-7) || r.best.lambda <= 0.0);
+        assert!(o.best.lambda <= best * (1.0 + 1e-7), "{}", k.name);
+    }
+}
+
+#[test]
+fn the_exact_search_finds_the_constrained_optimum_of_the_fixed_objective() {
+    for k in cases() {
+        let c = &k.constraints;
+        let problem =
+            FixedProblem::new(&k.analyzer, Budget::Fraction(k.fraction), &k.keep).expect("problem");
+        let brute = feasible(c)
+            .iter()
+            .map(|s| problem.lambda_fix(s).expect("evaluates"))
+            .fold(f64::NEG_INFINITY, f64::max);
+        let params = ExactParams {
+            time_limit: None,
+            ..ExactParams::default()
+        };
+        let o = exact_constrained(&problem, &params, c, &[], &Cancel::new()).expect("runs");
+        assert!(c.check(&o.curves).is_ok(), "{}: {:?}", k.name, o.curves);
+        assert!(
+            (o.lambda_fix - brute).abs() <= 1e-6 * brute.abs(),
+            "{}: {} vs {brute}",
+            k.name,
+            o.lambda_fix
+        );
+    }
+}
+
+/// Constraints that ask for nothing leave every search as it is.
+#[test]
+fn without_constraints_the_constrained_searches_are_the_plain_ones() {
+    let net = network(&pavilion(3, false, 0.0));
+    let total: f64 = net.rest_lengths().iter().sum();
+    let none = Constraints::none(&net, 0.5 * total, &[]);
+    let an = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
+    let budget = Budget::Fraction(0.5);
+    let gp = GreedyParams::new(budget);
+    let a = greedy(&an, &gp, None, &mut NoHooks).expect("runs");
+    let b = greedy_constrained(&an, &gp, &none, None, &mut NoHooks).expect("runs");
+    assert_eq!(a.iterations, b.iterations);
+    let ep = ExhaustiveParams::new(budget);
+    let cancel = Cancel::new();
+    let a = exhaustive(&an, &ep, &cancel).expect("runs");
+    let b = exhaustive_constrained(&an, &ep, &none, &cancel).expect("runs");
+    assert_eq!(a.all, b.all);
+    let rp = RandomParams {
+        budget,
+        keep: Vec::new(),
+        evaluations: 5,
+        seed: 3,
+        time_limit: None,
+    };
+    let a = random_search(&an, &rp, &cancel).expect("runs");
+    let b = random_search_constrained(&an, &rp, &none, &cancel).expect("runs");
+    assert_eq!(a.evaluated, b.evaluated);
+    let lp = LocalParams::new(budget);
+    let starts = vec![vec![0], vec![1], vec![2]];
+    let a = local_search_multi(&an, &lp, &starts, &cancel).expect("runs");
+    let b = local_search_multi_constrained(&an, &lp, &none, &starts, &cancel).expect("runs");
+    assert_eq!(a, b);
+    let problem = FixedProblem::new(&an, budget, &[]).expect("problem");
+    let ex = ExactParams::default();
+    let a = exact(&problem, &ex, &[], &cancel).expect("runs");
+    let b = exact_constrained(&problem, &ex, &none, &[], &cancel).expect("runs");
+    assert_eq!((a.curves, a.lambda_fix), (b.curves, b.lambda_fix));
+    // Constraints bound to another budget are refused.
+    let other = Constraints::none(an.network(), 0.4 * total, &[]);
+    assert!(greedy_constrained(&an, &gp, &other, None, &mut NoHooks).is_err());
+}
