@@ -10,9 +10,9 @@ use curvenet::io::{Polyline, TriMesh};
 use curvenet::network::{BuildInfo, BuildParams, build_network, checks};
 use curvenet::pipeline;
 use curvenet::rod::{Material, Supports};
+use curvenet::run_folder::{InputDescription, LocalSearchRecord, OutputWriter, RunSetup};
 use curvenet::simplify::greedy::IterationRecord;
 use curvenet::simplify::local::{LocalParams, local_search};
-use curvenet::simplify::result::{InputDescription, LocalSearchRecord, OutputWriter, RunSetup};
 use curvenet::simplify::{Budget, GreedyParams, SimplifyError, StopReason, greedy};
 use curvenet::stability::{Analyzer, StabilityParams};
 use numpy::{PyArray1, PyArray2};
@@ -498,7 +498,7 @@ impl Job<'_> {
             }
             Err(e) => return Err(JobError::Failed(e.to_string())),
         };
-        warnings.extend(curvenet::simplify::result::unrelaxed(&outcome.iterations));
+        warnings.extend(curvenet::run_folder::unrelaxed(&outcome.iterations));
         let local_start = Instant::now();
         if self.local_search {
             match local_search_of(&analyzer, &self.params, &outcome) {

@@ -3,8 +3,9 @@
 
 use crate::arrays::{points, xyz};
 use crate::errors;
-use curvenet::report::export::{ExportFormat, RunFolder, export_files, write_exports};
-use curvenet::simplify::result::network_polylines;
+use curvenet::report::export::{ExportFormat, export_files, write_exports};
+use curvenet::run_folder::RunFolder;
+use curvenet::run_folder::network_polylines;
 use numpy::PyArray2;
 use pyo3::prelude::*;
 use std::path::PathBuf;

@@ -9,7 +9,8 @@
 //! 3. [`rod`]: the elastic energy of the network (stretching, bending, anchors);
 //! 4. [`solve`]: sparse Cholesky, Newton equilibrium, shift-and-invert eigen solver;
 //! 5. [`stability`]: the worst-case stability `λ` of a network or of any sub-structure;
-//! 6. [`report`]: the JSON objects and text of the command line.
+//! 6. [`run_folder`]: the folder a simplification run writes as it goes, and reads back;
+//! 7. [`report`]: the JSON objects and text of the command line, exports, pictures, viewer.
 //!
 //! [`constraints`] holds what a designer asks beyond the budget (groups, symmetry, a connected
 //! structure, a number of curves, the surface's largest gap, the equilibrium's largest
@@ -17,7 +18,8 @@
 //!
 //! [`trace`] generates curves on a mesh (geodesics, frame-field streamlines) and holds the
 //! built-in surfaces; [`paper`] holds the paper's example set-ups, [`builtin`] scenes made in
-//! code, and [`pipeline`] the glue that runs the stages in order.
+//! code, [`pipeline`] the glue that runs the stages in order and [`experiments`] the harnesses
+//! that measure the searches against each other.
 //!
 //! [`units`] and [`material`] describe the physical mode (the scene's length unit, materials,
 //! cross-sections, rest shapes) at the bottom of the stack, beside [`geom`].
@@ -27,6 +29,7 @@
 pub mod builtin;
 pub mod cancel;
 pub mod constraints;
+pub mod experiments;
 pub mod geom;
 pub mod io;
 pub mod material;
@@ -38,6 +41,7 @@ pub mod profile;
 pub mod report;
 pub mod rng;
 pub mod rod;
+pub mod run_folder;
 pub mod simplify;
 pub mod solve;
 pub mod sparse;

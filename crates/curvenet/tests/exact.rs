@@ -225,7 +225,7 @@ fn limits_return_the_best_found_with_a_gap() {
 #[test]
 #[ignore]
 fn exact_scaling() {
-    use curvenet::simplify::compare::{CompareParams, instance_network};
+    use curvenet::experiments::compare::{CompareParams, instance_network};
     let Some(data) = common::data_dir() else {
         return;
     };

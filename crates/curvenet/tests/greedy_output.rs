@@ -1,4 +1,4 @@
-//! The output folder of a greedy run (SPEC §10), written by `simplify::result::OutputWriter`.
+//! The output folder of a greedy run, written by `run_folder::OutputWriter`.
 //!
 //! On small networks (random crossing arches, 9 arches at budget 0.3: 7 removals; the dome,
 //! 2×4 arcs: 6 removals), in temporary folders that are removed afterwards:
@@ -21,8 +21,8 @@ mod common;
 use common::random_arches;
 use curvenet::network::{BuildInfo, BuildParams, Network, build_network};
 use curvenet::rod::Supports;
+use curvenet::run_folder::{InputDescription, OutputWriter, ResultFile, RunSetup};
 use curvenet::simplify::greedy::{GreedyHooks, GreedyOutcome, IterationRecord};
-use curvenet::simplify::result::{InputDescription, OutputWriter, ResultFile, RunSetup};
 use curvenet::simplify::{Budget, GreedyParams, SimplifyError, greedy};
 use curvenet::stability::Evaluation;
 use curvenet::stability::{Analyzer, StabilityParams};

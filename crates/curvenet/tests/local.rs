@@ -252,7 +252,7 @@ fn default_search_reaches_the_optimum() {
 #[test]
 #[ignore]
 fn explore() {
-    use curvenet::simplify::compare::{CompareParams, instance_network};
+    use curvenet::experiments::compare::{CompareParams, instance_network};
     let Some(data) = common::data_dir() else {
         return;
     };

@@ -14,11 +14,11 @@ use curvenet::geom::Vec3;
 use curvenet::io::{self, Origin, Polyline, TriMesh};
 use curvenet::network::{BuildParams, build_network};
 use curvenet::report::export::{
-    self, ExportFormat, NetworkFile, RunFolder, load_network, parse_curve_label,
-    parse_network_file, read_network_file,
+    self, ExportFormat, NetworkFile, load_network, parse_curve_label, parse_network_file,
+    read_network_file,
 };
 use curvenet::rod::{ActiveSet, Supports};
-use curvenet::simplify::result::{InputDescription, OutputWriter, RunSetup};
+use curvenet::run_folder::{InputDescription, OutputWriter, RunFolder, RunSetup, positions_at};
 use curvenet::simplify::{Budget, GreedyParams, greedy};
 use curvenet::stability::{Analyzer, StabilityParams};
 use curvenet::trace::{Generator, builtin_surface, generate, scale_to_extent};
@@ -228,7 +228,7 @@ fn network_file_round_trip_gives_the_same_lambda() {
     );
     let loaded = load_network(&path).expect("loads");
     assert_eq!(loaded.rods.len(), rec.curves.len());
-    let kept_vertices = export::positions_at(&loaded, None).len();
+    let kept_vertices = positions_at(&loaded, None).len();
     assert!(kept_vertices < net.positions.len());
     let active = ActiveSet::from_curves(n, &rec.curves);
     let a = original.analyze(&active, None).expect("analysis");
@@ -282,7 +282,7 @@ fn obj_json_and_csv_exports_of_a_ring_and_two_lines() {
     );
     let k = 0;
     let u = run.displacement(k).expect("state");
-    let eq = export::positions_at(net, Some(&u));
+    let eq = positions_at(net, Some(&u));
 
     // OBJ: one `o` and one `l` per curve, the ring's `l` repeating its first index; the
     // points read back at equilibrium, bit for bit.

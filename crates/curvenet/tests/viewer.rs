@@ -13,14 +13,14 @@
 //! - `write_run_outputs` writes the pictures, the page and the fabrication table.
 
 use curvenet::network::{BuildParams, build_network};
-use curvenet::report::export::RunFolder;
 use curvenet::report::plot::PLOT_SIZE;
 use curvenet::report::render::{KEPT, PICTURE_SIZE};
 use curvenet::report::viewer::{
     self, ViewerOptions, decode_f32, decode_i16, gravity_deflection, viewer_html,
 };
 use curvenet::rod::{ActiveSet, Supports};
-use curvenet::simplify::result::{InputDescription, OutputWriter, RunSetup};
+use curvenet::run_folder::RunFolder;
+use curvenet::run_folder::{InputDescription, OutputWriter, RunSetup};
 use curvenet::simplify::{Budget, GreedyParams, greedy};
 use curvenet::stability::{Analyzer, StabilityParams};
 use curvenet::trace::{Generator, builtin_surface, generate, scale_to_extent};

@@ -3,10 +3,10 @@
 use super::surface::read_mesh_arg;
 use crate::args::CompareArgs;
 use crate::exit::usage;
+use curvenet::experiments::compare::{CompareParams, Surface, compare};
 use curvenet::io;
 use curvenet::paper;
 use curvenet::simplify::SimplifyError;
-use curvenet::simplify::compare::{CompareParams, Surface, compare};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::Path;
 

@@ -7,8 +7,8 @@ use super::stability_params;
 use crate::args::DemoArgs;
 use crate::exit::usage;
 use curvenet::network::BuildParams;
+use curvenet::run_folder::InputDescription;
 use curvenet::simplify::Budget;
-use curvenet::simplify::result::InputDescription;
 use curvenet::trace::{Generator, SURFACE_NAMES, builtin_surface, generate, scale_to_extent};
 
 pub fn run(a: DemoArgs) -> anyhow::Result<()> {

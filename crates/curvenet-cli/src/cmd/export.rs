@@ -3,7 +3,8 @@
 
 use crate::args::ExportArgs;
 use crate::exit::{ExitError, usage};
-use curvenet::report::export::{ExportFormat, RunFolder, export_files, write_exports};
+use curvenet::report::export::{ExportFormat, export_files, write_exports};
+use curvenet::run_folder::RunFolder;
 use std::path::Path;
 
 pub fn run(a: ExportArgs) -> anyhow::Result<()> {

@@ -11,15 +11,15 @@ use curvenet::io::{Polyline, TriMesh};
 use curvenet::network::{BuildParams, build_network};
 use curvenet::physics::PhysicalParams;
 use curvenet::rod::ActiveSet;
+use curvenet::run_folder::{
+    InputDescription, LocalSearchRecord, OutputWriter, RunSetup, evaluated_offer, greedy_offers,
+    read_f64_file, summary,
+};
 use curvenet::simplify::certificate::{
     Certificate, CertifyParams, certificate, tighten_certificate,
 };
 use curvenet::simplify::greedy::IterationRecord;
 use curvenet::simplify::local::{LocalParams, local_search};
-use curvenet::simplify::result::{
-    InputDescription, LocalSearchRecord, OutputWriter, RunSetup, evaluated_offer, greedy_offers,
-    read_f64_file, summary,
-};
 use curvenet::simplify::{Budget, GreedyParams, SimplifyError, StopReason, greedy};
 use curvenet::stability::fixed::FixedProblem;
 use curvenet::stability::{Analyzer, Prepare, Preset, StabilityParams, Warm};
@@ -188,7 +188,7 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         }
         Err(e) => return Err(e.into()),
     };
-    print_warnings(&curvenet::simplify::result::unrelaxed(&outcome.iterations));
+    print_warnings(&curvenet::run_folder::unrelaxed(&outcome.iterations));
     print_warnings(budget_unmet(&outcome, budget).as_slice());
     let (local, local_seconds) = optional_step(job.local_search, "local search", || {
         let _stage = Stage::start();

@@ -18,7 +18,7 @@ use curvenet::io::{self, Polyline, TriMesh};
 use curvenet::network::{BuildParams, checks};
 use curvenet::physics::{PhysicalOptions, PhysicalParams};
 use curvenet::rod::Material;
-use curvenet::simplify::result::InputDescription;
+use curvenet::run_folder::InputDescription;
 use curvenet::stability::StabilityParams;
 use curvenet::{paper, pipeline};
 

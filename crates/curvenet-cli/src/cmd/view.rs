@@ -2,8 +2,8 @@
 
 use crate::args::ViewArgs;
 use crate::exit::{ExitError, usage};
-use curvenet::report::export::RunFolder;
 use curvenet::report::viewer::{ViewerOptions, write_pictures, write_viewer};
+use curvenet::run_folder::RunFolder;
 
 pub fn run(a: ViewArgs) -> anyhow::Result<()> {
     let run = RunFolder::open(&a.dir).map_err(usage)?;

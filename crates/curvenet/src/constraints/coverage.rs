@@ -25,10 +25,10 @@
 //! over the samples by [`Coverage::gap`].
 
 use super::CurveSet;
+use crate::geom::point_segment_distance;
 use crate::geom::{Aabb, Vec3};
 use crate::io::TriMesh;
 use crate::network::Network;
-use crate::network::checks::point_segment_distance;
 use rayon::prelude::*;
 
 /// The most samples taken of a surface (the spacing grows to stay below it).

@@ -32,9 +32,9 @@
 //! the largest whose orbits the budget allows.
 
 use super::CurveSet;
+use crate::geom::point_segment_distance;
 use crate::geom::{Aabb, Vec3};
 use crate::network::Network;
-use crate::network::checks::point_segment_distance;
 use crate::network::crossings::UnionFind;
 use serde::{Deserialize, Serialize};
 use std::fmt;

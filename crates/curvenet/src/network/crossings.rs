@@ -1,4 +1,4 @@
-//! Crossing detection between input polylines (SPEC §2.2–2.3).
+//! Crossing detection between input polylines (`docs/model.md`, *Network construction*).
 //!
 //! Two curves cross where two of their segments come closer than `tol = 1e-3 · ℓ`, `ℓ` the
 //! larger of the two curves' median input segment lengths; a curve crosses itself where two of
@@ -8,7 +8,7 @@
 //! Hits that join the same two curves within one local segment length along both are one
 //! crossing (a crossing at a polyline vertex is seen by up to four segment pairs).
 
-use crate::geom::{Aabb, Vec3, segment_closest_points};
+use crate::geom::{Aabb, Bvh, Vec3, segment_closest_points};
 
 /// A curve prepared for crossing detection: its points, arc lengths and tolerance.
 #[derive(Clone, Debug)]
@@ -150,155 +150,33 @@ impl Crossing {
 struct SegRef {
     curve: u32,
     seg: u32,
-    bbox: Aabb,
-}
-
-/// A bounding-volume hierarchy over segment boxes, for overlap queries.
-struct Bvh {
-    nodes: Vec<BvhNode>,
-    items: Vec<u32>,
-}
-
-#[derive(Clone, Copy)]
-struct BvhNode {
-    bbox: Aabb,
-    /// Leaf: `start..end` in `items`; inner: children `left`, `left + 1`-th built node.
-    start: u32,
-    end: u32,
-    left: u32,
-    right: u32,
-    leaf: bool,
-}
-
-impl Bvh {
-    const LEAF: usize = 4;
-
-    fn build(boxes: &[Aabb]) -> Bvh {
-        let mut items: Vec<u32> = (0..boxes.len() as u32).collect();
-        let mut nodes = Vec::with_capacity(2 * boxes.len() / Self::LEAF + 1);
-        if !boxes.is_empty() {
-            Self::build_node(boxes, &mut items, 0, boxes.len(), &mut nodes);
-        }
-        Bvh { nodes, items }
-    }
-
-    fn build_node(
-        boxes: &[Aabb],
-        items: &mut [u32],
-        start: usize,
-        end: usize,
-        nodes: &mut Vec<BvhNode>,
-    ) -> u32 {
-        let mut bbox = Aabb::EMPTY;
-        let mut centers = Aabb::EMPTY;
-        for &i in &items[start..end] {
-            let b = boxes[i as usize];
-            bbox.add(b.min);
-            bbox.add(b.max);
-            centers.add((b.min + b.max) * 0.5);
-        }
-        let id = nodes.len() as u32;
-        nodes.push(BvhNode {
-            bbox,
-            start: start as u32,
-            end: end as u32,
-            left: 0,
-            right: 0,
-            leaf: true,
-        });
-        if end - start <= Self::LEAF {
-            return id;
-        }
-        let ext = centers.extent();
-        let axis = if ext.x >= ext.y && ext.x >= ext.z {
-            0
-        } else if ext.y >= ext.z {
-            1
-        } else {
-            2
-        };
-        let mid = (start + end) / 2;
-        let key = |i: &u32| {
-            let b = boxes[*i as usize];
-            (b.min[axis] + b.max[axis], *i)
-        };
-        items[start..end].select_nth_unstable_by(mid - start, |a, b| {
-            let (ka, ia) = key(a);
-            let (kb, ib) = key(b);
-            ka.total_cmp(&kb).then(ia.cmp(&ib))
-        });
-        let left = Self::build_node(boxes, items, start, mid, nodes);
-        let right = Self::build_node(boxes, items, mid, end, nodes);
-        let node = &mut nodes[id as usize];
-        node.leaf = false;
-        node.left = left;
-        node.right = right;
-        id
-    }
-
-    /// Calls `f` for every item whose box overlaps `q`.
-    fn query(&self, boxes: &[Aabb], q: &Aabb, mut f: impl FnMut(u32)) {
-        if self.nodes.is_empty() {
-            return;
-        }
-        let mut stack = vec![0u32];
-        while let Some(n) = stack.pop() {
-            let node = &self.nodes[n as usize];
-            if !overlaps(&node.bbox, q) {
-                continue;
-            }
-            if node.leaf {
-                for &i in &self.items[node.start as usize..node.end as usize] {
-                    if overlaps(&boxes[i as usize], q) {
-                        f(i);
-                    }
-                }
-            } else {
-                stack.push(node.right);
-                stack.push(node.left);
-            }
-        }
-    }
-}
-
-fn overlaps(a: &Aabb, b: &Aabb) -> bool {
-    a.min.x <= b.max.x
-        && b.min.x <= a.max.x
-        && a.min.y <= b.max.y
-        && b.min.y <= a.max.y
-        && a.min.z <= b.max.z
-        && b.min.z <= a.max.z
 }
 
 /// All crossings between the curves (and of curves with themselves), merged per curve pair,
 /// in a deterministic order (by curve pair, then along the first curve).
 ///
-/// `factor` is the relative tolerance (`1e-3` in SPEC §2).
+/// `factor` is the relative tolerance (`1e-3` by default, [`super::BuildParams`]).
 pub fn find_crossings(curves: &[CurveGeometry], factor: f64) -> Vec<Crossing> {
     // Flat list of segments with boxes inflated by their own curve's tolerance: two segments
     // closer than max(tol_a, tol_b) then always have overlapping boxes.
     let mut segs = Vec::new();
+    let mut boxes = Vec::new();
     for (c, g) in curves.iter().enumerate() {
         let tol = g.tolerance(factor);
         for k in 0..g.segment_count() {
             let (p, q) = g.segment(k);
-            let mut bbox = Aabb::of_points([&p, &q]);
-            let pad = Vec3::new(tol, tol, tol);
-            bbox.min -= pad;
-            bbox.max += pad;
             segs.push(SegRef {
                 curve: c as u32,
                 seg: k as u32,
-                bbox,
             });
+            boxes.push(Aabb::of_points([&p, &q]).inflated(tol));
         }
     }
-    let boxes: Vec<Aabb> = segs.iter().map(|s| s.bbox).collect();
-    let bvh = Bvh::build(&boxes);
+    let bvh = Bvh::new(boxes);
 
     let mut hits = Vec::new();
     for (i, si) in segs.iter().enumerate() {
-        bvh.query(&boxes, &si.bbox, |j| {
+        bvh.overlapping(bvh.item_box(i as u32), |j| {
             let j = j as usize;
             if j <= i {
                 return;

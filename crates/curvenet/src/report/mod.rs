@@ -2,8 +2,8 @@
 //!
 //! - [`AnalysisReport`]: what `curvenet analyze` and `example --analyze-only` print.
 //! - [`UnitsNote`]: what the material constants mean against the scene's size.
-//! - [`export`]: reading a run folder; OBJ / JSON / CSV / fabrication exports; the reloadable
-//!   network file ([`export::load_network`]).
+//! - [`export`]: OBJ / JSON / CSV / fabrication exports of a run folder
+//!   ([`crate::run_folder::RunFolder`]); the reloadable network file ([`export::load_network`]).
 //! - [`render`], [`plot`]: software-rasterised pictures (`final.png`, `mode.png`, `lambda.png`).
 //! - [`viewer`]: the self-contained WebGL viewer page (`curvenet view`) and
 //!   [`viewer::write_run_outputs`], called after every greedy run.

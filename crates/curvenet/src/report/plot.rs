@@ -6,7 +6,7 @@
 //! label when the values are very small or very large.
 
 use super::render::{INK, Image, KEPT, REMOVED, Rgb, fmt_sci, rgb8, text_width};
-use crate::simplify::result::ResultFile;
+use crate::run_folder::ResultFile;
 
 /// Size of `lambda.png`.
 pub const PLOT_SIZE: (usize, usize) = (960, 800);

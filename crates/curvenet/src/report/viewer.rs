@@ -24,10 +24,11 @@
 //! `final.png`, `mode.png`, `lambda.png` ([`super::render`], [`super::plot`]), `viewer.html`
 //! and `fabrication.csv` (the final network, [`super::export::fabrication_csv`]).
 
-use super::export::{RunFolder, answer_fabrication_csv, rod_joints, rod_supports};
+use super::export::{answer_fabrication_csv, rod_joints, rod_supports};
 use super::plot::lambda_plot;
 use super::render::{mode_picture, network_picture};
 use crate::rod::ActiveSet;
+use crate::run_folder::RunFolder;
 use crate::solve::Cholesky;
 use crate::stability::Analyzer;
 use rayon::prelude::*;

@@ -10,7 +10,9 @@
 //! - [`exact`]: branch and bound for the optimum of `λ_fix`, with a proof;
 //! - [`certificate`]: certified upper bounds on the best `λ_fix` from the continuous
 //!   relaxation;
-//! - [`result`]: the `result.json` schema, written and read back.
+//!
+//! The run folder a greedy run writes is [`crate::run_folder`]; the experiments that compare
+//! the searches are [`crate::experiments`].
 //!
 //! These modules are the searches' policy: which set to evaluate next, what to prune, who
 //! wins. Every number comes from the stability facade ([`crate::stability`]), which evaluates
@@ -18,7 +20,6 @@
 //! Every long search polls a [`crate::cancel::Cancel`] token and stops within a second.
 
 pub mod certificate;
-pub mod compare;
 #[cfg(test)]
 mod constrained_tests;
 pub mod exact;
@@ -26,7 +27,6 @@ pub mod exhaustive;
 pub mod greedy;
 pub mod local;
 pub mod random;
-pub mod result;
 
 pub use crate::stability::Budget;
 pub use greedy::{

@@ -252,7 +252,7 @@ pub fn positions_of(net: &Network, u: &[f64]) -> Vec<f64> {
 }
 
 /// The simple surfaces `curvenet compare` traces on (from the reference data in `data`),
-/// scaled to a largest extent of 4000, as `simplify::compare::instance_network` takes them.
+/// scaled to a largest extent of 4000, as `experiments::compare::instance_network` takes them.
 pub fn compare_surfaces(data: &std::path::Path) -> Vec<(String, curvenet::io::TriMesh)> {
     ["1wave", "2waves", "half_sphere", "sine_disk", "leaf"]
         .iter()

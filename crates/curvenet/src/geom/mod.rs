@@ -1,8 +1,15 @@
-//! Small fixed-size geometry: 3-vectors and axis-aligned boxes.
+//! Small fixed-size geometry: 3-vectors, axis-aligned boxes, closest points ([`closest`]) and
+//! the bounding-volume hierarchy ([`bvh`]) that crossing detection and the input checks share.
 //!
 //! Everything else in the crate builds on these few types; they are plain `Copy` values with the
 //! arithmetic operators a reader expects, so the energy and construction code reads like the
-//! formulas in `SPEC.md`.
+//! formulas of `docs/model.md`.
+
+pub mod bvh;
+pub mod closest;
+
+pub use bvh::Bvh;
+pub use closest::{closest_point_on_triangle, point_segment_distance, segment_closest_points};
 
 use serde::{Deserialize, Serialize};
 use std::ops::{Add, AddAssign, Div, Index, IndexMut, Mul, Neg, Sub, SubAssign};
@@ -255,57 +262,45 @@ impl Aabb {
         let e = self.extent();
         e.x.max(e.y).max(e.z)
     }
-}
 
-/// Closest points of segments `[p0, p1]` and `[q0, q1]`.
-///
-/// Returns `(s, t, distance)` with the closest points `p0 + s (p1 - p0)` and `q0 + t (q1 - q0)`,
-/// `s, t ∈ [0, 1]`. Degenerate (zero-length) segments are handled as points; parallel segments
-/// give one of the closest pairs. This is the classic clamped two-parameter minimisation
-/// (Ericson, *Real-Time Collision Detection*, §5.1.9), written here for this crate.
-pub fn segment_closest_points(p0: Vec3, p1: Vec3, q0: Vec3, q1: Vec3) -> (f64, f64, f64) {
-    let d1 = p1 - p0;
-    let d2 = q1 - q0;
-    let r = p0 - q0;
-    let a = d1.norm2();
-    let e = d2.norm2();
-    let f = d2.dot(r);
-    let tiny = f64::MIN_POSITIVE.sqrt();
-    let (s, t);
-    if a <= tiny && e <= tiny {
-        s = 0.0;
-        t = 0.0;
-    } else if a <= tiny {
-        s = 0.0;
-        t = (f / e).clamp(0.0, 1.0);
-    } else {
-        let c = d1.dot(r);
-        if e <= tiny {
-            t = 0.0;
-            s = (-c / a).clamp(0.0, 1.0);
-        } else {
-            let b = d1.dot(d2);
-            let denom = a * e - b * b;
-            let mut s0 = if denom > 1e-14 * a * e {
-                ((b * f - c * e) / denom).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let mut t0 = (b * s0 + f) / e;
-            if t0 < 0.0 {
-                t0 = 0.0;
-                s0 = (-c / a).clamp(0.0, 1.0);
-            } else if t0 > 1.0 {
-                t0 = 1.0;
-                s0 = ((b - c) / a).clamp(0.0, 1.0);
-            }
-            s = s0;
-            t = t0;
+    /// True when the two boxes share a point (boundaries included).
+    pub fn overlaps(&self, o: &Aabb) -> bool {
+        self.min.x <= o.max.x
+            && o.min.x <= self.max.x
+            && self.min.y <= o.max.y
+            && o.min.y <= self.max.y
+            && self.min.z <= o.max.z
+            && o.min.z <= self.max.z
+    }
+
+    /// True when the box holds `p` (boundary included).
+    pub fn contains(&self, p: Vec3) -> bool {
+        self.min.x <= p.x
+            && p.x <= self.max.x
+            && self.min.y <= p.y
+            && p.y <= self.max.y
+            && self.min.z <= p.z
+            && p.z <= self.max.z
+    }
+
+    /// Distance from `p` to the box (0 inside).
+    pub fn distance_to(&self, p: Vec3) -> f64 {
+        Vec3::new(
+            (self.min.x - p.x).max(p.x - self.max.x).max(0.0),
+            (self.min.y - p.y).max(p.y - self.max.y).max(0.0),
+            (self.min.z - p.z).max(p.z - self.max.z).max(0.0),
+        )
+        .norm()
+    }
+
+    /// The box grown by `r` on every side.
+    pub fn inflated(&self, r: f64) -> Aabb {
+        let pad = Vec3::new(r, r, r);
+        Aabb {
+            min: self.min - pad,
+            max: self.max + pad,
         }
     }
-    let cp = p0 + d1 * s;
-    let cq = q0 + d2 * t;
-    (s, t, cp.dist(cq))
 }
 
 #[cfg(test)]
@@ -321,70 +316,5 @@ mod tests {
         let b = Vec3::new(-0.7, 0.4, 1.1);
         let c = a.cross(b);
         assert!(c.dot(a).abs() < 1e-12 && c.dot(b).abs() < 1e-12);
-    }
-
-    #[test]
-    fn crossing_segments_meet() {
-        let (s, t, d) = segment_closest_points(
-            Vec3::new(-1.0, 0.0, 0.0),
-            Vec3::new(1.0, 0.0, 0.0),
-            Vec3::new(0.5, -1.0, 0.1),
-            Vec3::new(0.5, 1.0, 0.1),
-        );
-        assert!((s - 0.75).abs() < 1e-12);
-        assert!((t - 0.5).abs() < 1e-12);
-        assert!((d - 0.1).abs() < 1e-12);
-    }
-
-    #[test]
-    fn closest_points_match_brute_force() {
-        // Deterministic pseudo-random segments against a dense parameter sampling.
-        let mut seed = 12345u64;
-        let mut rnd = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((seed >> 11) as f64) / ((1u64 << 53) as f64) * 2.0 - 1.0
-        };
-        for _ in 0..200 {
-            let p0 = Vec3::new(rnd(), rnd(), rnd());
-            let p1 = Vec3::new(rnd(), rnd(), rnd());
-            let q0 = Vec3::new(rnd(), rnd(), rnd());
-            let q1 = Vec3::new(rnd(), rnd(), rnd());
-            let (_, _, d) = segment_closest_points(p0, p1, q0, q1);
-            let mut best = f64::INFINITY;
-            let n = 200;
-            for i in 0..=n {
-                for j in 0..=n {
-                    let a = p0.lerp(p1, i as f64 / n as f64);
-                    let b = q0.lerp(q1, j as f64 / n as f64);
-                    best = best.min(a.dist(b));
-                }
-            }
-            assert!(
-                d <= best + 1e-12,
-                "closest distance {d} above sampled {best}"
-            );
-            assert!(
-                d >= best - 2e-2,
-                "closest distance {d} far below sampled {best}"
-            );
-        }
-    }
-
-    #[test]
-    fn parallel_and_degenerate_segments() {
-        let (_, _, d) = segment_closest_points(
-            Vec3::new(0.0, 0.0, 0.0),
-            Vec3::new(1.0, 0.0, 0.0),
-            Vec3::new(0.5, 1.0, 0.0),
-            Vec3::new(2.0, 1.0, 0.0),
-        );
-        assert!((d - 1.0).abs() < 1e-12);
-        let p = Vec3::new(0.2, 0.3, 0.4);
-        let (_, t, d) =
-            segment_closest_points(p, p, Vec3::new(0.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0));
-        assert!((t - 0.2).abs() < 1e-12);
-        assert!((d - 0.5).abs() < 1e-12);
     }
 }

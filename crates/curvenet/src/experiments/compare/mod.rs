@@ -1,0 +1,160 @@
+//! The paper's quantitative experiment (Fig. 10): greedy against exhaustive and random search
+//! on random networks.
+//!
+//! For every size `N` and instance `i`, `N` random geodesics are traced on one of the given
+//! surfaces (scaled to a largest extent of 4000, the reference's command-line scenes), built
+//! at `h = 100` with clamped supports, and simplified to the budget by
+//! - the greedy (its final set re-evaluated with [`crate::stability::Analyzer::lambda_eq`],
+//!   like every other set),
+//! - exhaustive search (every feasible subset: the optimum and the greedy's percentile),
+//! - random search with as many evaluations as the greedy spent (every candidate of every
+//!   iteration, as the paper's greedy evaluates them, plus one per iteration),
+//! - the greedy followed by the local search of [`crate::simplify::local`]: its default
+//!   (first-improvement descent with part steps, then variable-depth chains) and, for
+//!   comparison, single improving moves (first improvement, no part steps), each from the
+//!   greedy's final set alone, each with an analyzer of its own so its time and the structures it
+//!   relaxed are its own (no help from the other searches' cache),
+//! - the multi-start local search: single moves from the greedy's set and from every curve
+//!   alone, the best outcome,
+//! - the rounded relaxation: the best `λ_fix` among the roundings of the relaxed faces'
+//!   solutions (and the faces' first curves) of [`crate::simplify::certificate::certify`], re-evaluated on
+//!   `λ_eq`; the same run gives the certified upper bound on `λ_fix`,
+//! - the exact optimum of `λ_fix` ([`crate::simplify::exact`]), checked against exhaustive
+//!   search over `λ_fix`, and the `λ_eq` of its answer.
+//!
+//! Every `λ_eq` ratio is against the exhaustive optimum of `λ_eq`; the `λ_fix` figures are at
+//! the full network's equilibrium. Everything is seeded; the report depends only on the
+//! parameters. The figures measured with it are in `docs/compare.md`.
+//!
+//! - [`instance`]: one network's figures ([`InstanceResult`]);
+//! - [`summary`]: the figures per size ([`SizeSummary`]) and the report ([`CompareReport`]).
+
+pub mod instance;
+pub mod summary;
+
+pub use instance::{InstanceResult, instance_network};
+pub use summary::{CompareReport, SizeSummary};
+
+use crate::io::TriMesh;
+use crate::simplify::{Budget, SimplifyError};
+use crate::trace::scale_to_extent;
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// Parameters of the experiment.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CompareParams {
+    /// Numbers of curves `N`.
+    pub sizes: Vec<usize>,
+    /// Instances per size.
+    pub instances: usize,
+    /// Budget fraction.
+    pub budget: f64,
+    /// Base seed.
+    pub seed: u32,
+    /// Edge length `h` (scene units, surfaces at extent 4000).
+    pub edge_length: f64,
+    /// Largest number of feasible subsets exhaustive search may evaluate.
+    pub max_subsets: usize,
+    /// Time limit of the exact solver per instance, seconds.
+    #[serde(default = "default_exact_time")]
+    pub exact_time_limit: f64,
+}
+
+fn default_exact_time() -> f64 {
+    60.0
+}
+
+impl Default for CompareParams {
+    fn default() -> Self {
+        CompareParams {
+            sizes: vec![10, 12, 14, 16],
+            instances: 10,
+            budget: 0.3,
+            seed: 1,
+            edge_length: 100.0,
+            max_subsets: 200_000,
+            exact_time_limit: default_exact_time(),
+        }
+    }
+}
+
+/// A named surface to trace on.
+#[derive(Clone, Debug)]
+pub struct Surface {
+    /// Name for reports.
+    pub name: String,
+    /// The mesh (any scale; it is scaled to extent 4000).
+    pub mesh: TriMesh,
+}
+
+impl CompareParams {
+    /// Checks the parameters: sizes within 2..=30 (exhaustive search is exponential), at least
+    /// one instance, a budget fraction in `(0, 1]`, a positive edge length and subset limit, a
+    /// finite non-negative time limit.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.sizes.is_empty() || self.sizes.iter().any(|n| !(2..=30).contains(n)) {
+            return Err(format!(
+                "sizes must be given and lie between 2 and 30 (exhaustive search is \
+                 exponential), got {:?}",
+                self.sizes
+            ));
+        }
+        if self.instances == 0 {
+            return Err("instances must be at least 1".into());
+        }
+        Budget::Fraction(self.budget).validate()?;
+        if !(self.edge_length.is_finite() && self.edge_length > 0.0) {
+            return Err(format!(
+                "edge length must be a positive number, got {}",
+                self.edge_length
+            ));
+        }
+        if self.max_subsets == 0 {
+            return Err("the subset limit must be at least 1".into());
+        }
+        if !(self.exact_time_limit.is_finite() && self.exact_time_limit >= 0.0) {
+            return Err(format!(
+                "the exact solver's time limit must be a finite number of seconds, at least 0, \
+                 got {}",
+                self.exact_time_limit
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Runs the experiment; `progress(done, total)` is called after each instance.
+pub fn compare(
+    params: &CompareParams,
+    surfaces: &[Surface],
+    progress: &dyn Fn(usize, usize),
+) -> Result<CompareReport, SimplifyError> {
+    if surfaces.is_empty() {
+        return Err(SimplifyError::Params("compare needs surfaces".into()));
+    }
+    params.validate().map_err(SimplifyError::Params)?;
+    let scaled: Vec<(String, TriMesh)> = surfaces
+        .iter()
+        .map(|s| (s.name.clone(), scale_to_extent(&s.mesh, 4000.0).0))
+        .collect();
+    let total = params.sizes.len() * params.instances;
+    let mut instances = Vec::new();
+    let mut summary = Vec::new();
+    for &n in &params.sizes {
+        let start = Instant::now();
+        let mut rows = Vec::new();
+        for i in 0..params.instances {
+            rows.push(instance::run(&scaled, n, i, params)?);
+            progress(instances.len() + rows.len(), total);
+        }
+        summary.push(SizeSummary::of(n, &rows, start.elapsed().as_secs_f64()));
+        instances.extend(rows);
+    }
+    Ok(CompareReport {
+        params: params.clone(),
+        surfaces: scaled.into_iter().map(|s| s.0).collect(),
+        instances,
+        summary,
+    })
+}

@@ -1,0 +1,7 @@
+//! Experiment harnesses: measurements that run the searches against each other, outside the
+//! algorithm tree (they use [`crate::simplify`] like any caller).
+//!
+//! - [`compare`]: the paper's Fig. 10, greedy against exhaustive and random search on random
+//!   networks (`curvenet compare`).
+
+pub mod compare;

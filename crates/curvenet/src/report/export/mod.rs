@@ -1,0 +1,127 @@
+//! Exports of a run's networks for other tools: one recorded iteration `K` of a
+//! [`RunFolder`] (the final one by default) in the formats of `curvenet export`.
+//!
+//! - [`curves`]: OBJ polylines and curvenet-curves JSON;
+//! - [`tables`]: the points table and the fabrication table (CSV);
+//! - [`network_file`]: the reloadable network file;
+//! - [`rods`]: what the tables and the viewer say about a rod (arc lengths, supports, joints).
+//!
+//!
+//! | function | file | content |
+//! |---|---|---|
+//! | [`curves_obj`] | `curves_KKKK.obj`, `curves_KKKK_rest.obj` | OBJ polylines (`v` + `l`, closed curves repeat their first index; `o curve N` names), at equilibrium or at rest |
+//! | [`curves_json`] | `curves_KKKK.json`, `curves_KKKK_equilibrium.json` | curvenet-curves JSON ([`crate::io::read_curves`] reads it back) at rest or at equilibrium; each curve's label is `id=N; rest_length=L; closed=B; supports=S` |
+//! | [`points_csv`] | `points_KKKK.csv` | one row per network vertex of every kept curve: arc length, rest and equilibrium positions |
+//! | [`fabrication_csv`] | `fabrication_KKKK.csv` | one row per kept rod: rest (= cut) length, the joints along it (arc length and the rods met there), end supports |
+//! | [`network_json`] | `network_KKKK.json` | the kept structure at network resolution (`"format": "curvenet-network"`): rest positions, rods with vertex lists, rest lengths and anchors, supports, material, equilibrium displacements; [`load_network`] reads it back |
+//!
+//! The network file holds everything the energy depends on, bit for bit (numbers in Rust's
+//! shortest round-trip form), so analysing the loaded network gives the `λ` of the exported
+//! structure again with no resampling. Its vertices are the kept rods' vertices in their
+//! original order, renumbered from 0; its rods are the kept curves in ascending id order,
+//! renumbered from 0, each with its original `id`.
+
+pub mod curves;
+pub mod network_file;
+pub mod rods;
+pub mod tables;
+
+pub use curves::{curves_json, curves_obj, parse_curve_label};
+pub use network_file::{
+    NETWORK_FORMAT, NETWORK_VERSION, NetworkFile, NetworkFileRod, joints_of, load_network,
+    network_file, network_json, parse_network_file, read_network_file,
+};
+pub use rods::{RodJoint, arc_lengths, end_support, rod_joints, rod_supports};
+pub use tables::{answer_fabrication_csv, fabrication_csv, points_csv};
+
+use crate::io;
+use crate::run_folder::RunFolder;
+use std::path::{Path, PathBuf};
+
+/// Formats of `curvenet export`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ExportFormat {
+    /// OBJ polylines at equilibrium and at rest.
+    Obj,
+    /// curvenet-curves JSON at rest and at equilibrium.
+    Json,
+    /// The points table and the fabrication table.
+    Csv,
+    /// The network file.
+    Network,
+    /// All of the above.
+    All,
+}
+
+impl std::str::FromStr for ExportFormat {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        Ok(match s {
+            "obj" => ExportFormat::Obj,
+            "json" => ExportFormat::Json,
+            "csv" => ExportFormat::Csv,
+            "network" => ExportFormat::Network,
+            "all" => ExportFormat::All,
+            _ => {
+                return Err(format!(
+                    "unknown export format '{s}' (expected obj, json, csv, network or all)"
+                ));
+            }
+        })
+    }
+}
+
+/// The files of `format` for iteration `k`: `(file name, content)` pairs, each format's main
+/// file first (OBJ at equilibrium, JSON at rest, the fabrication table, the network file).
+pub fn export_files(
+    run: &RunFolder,
+    k: usize,
+    format: ExportFormat,
+) -> Result<Vec<(String, String)>, String> {
+    use ExportFormat::*;
+    run.record(k)?;
+    let mut out = Vec::new();
+    if matches!(format, Obj | All) {
+        out.push((format!("curves_{k:04}.obj"), curves_obj(run, k, false)?));
+        out.push((format!("curves_{k:04}_rest.obj"), curves_obj(run, k, true)?));
+    }
+    if matches!(format, Json | All) {
+        out.push((format!("curves_{k:04}.json"), curves_json(run, k, true)?));
+        out.push((
+            format!("curves_{k:04}_equilibrium.json"),
+            curves_json(run, k, false)?,
+        ));
+    }
+    if matches!(format, Csv | All) {
+        out.push((format!("fabrication_{k:04}.csv"), fabrication_csv(run, k)?));
+        out.push((format!("points_{k:04}.csv"), points_csv(run, k)?));
+    }
+    if matches!(format, Network | All) {
+        out.push((format!("network_{k:04}.json"), network_json(run, k)?));
+    }
+    Ok(out)
+}
+
+/// Writes the files of `format` for iteration `k` into the folder `out` (created if needed);
+/// returns their paths.
+pub fn write_exports(
+    run: &RunFolder,
+    k: usize,
+    format: ExportFormat,
+    out: &Path,
+) -> Result<Vec<PathBuf>, String> {
+    let files = export_files(run, k, format)?;
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let mut paths = Vec::new();
+    for (name, text) in files {
+        let p = out.join(name);
+        io::write_atomic(&p, text.as_bytes()).map_err(|e| format!("{}: {e}", p.display()))?;
+        paths.push(p);
+    }
+    Ok(paths)
+}
+
+/// A number in Rust's shortest round-trip form.
+fn num(v: f64) -> String {
+    format!("{v:?}")
+}

@@ -1,0 +1,116 @@
+//! The points table and the fabrication table (CSV) of an iteration.
+
+use super::num;
+use super::rods::{arc_lengths, end_support, rod_joints};
+use crate::run_folder::{RunFolder, positions_at};
+use std::fmt::Write as _;
+
+/// CSV of every network vertex of the curves of iteration `k`: arc length along the curve,
+/// rest and equilibrium positions.
+pub fn points_csv(run: &RunFolder, k: usize) -> Result<String, String> {
+    let rec = run.record(k)?;
+    let net = &run.network;
+    let eq = positions_at(net, Some(&run.displacement(k)?));
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "# curvenet export: iteration {k}, {} curves; one row per network vertex along each curve (scene units)",
+        rec.curves.len()
+    );
+    let _ = writeln!(
+        out,
+        "# s = arc length at rest from the curve's first vertex; a closed curve does not repeat its first point"
+    );
+    out.push_str("curve,point,vertex,closed,s,x_rest,y_rest,z_rest,x_eq,y_eq,z_eq\n");
+    for &c in &rec.curves {
+        let rod = &net.rods[c];
+        let s = arc_lengths(rod);
+        for (i, &v) in rod.vertices.iter().enumerate() {
+            let p = net.positions[v as usize];
+            let q = eq[v as usize];
+            let _ = writeln!(
+                out,
+                "{c},{i},{v},{},{},{},{},{},{},{},{}",
+                rod.closed,
+                num(s[i]),
+                num(p.x),
+                num(p.y),
+                num(p.z),
+                num(q.x),
+                num(q.y),
+                num(q.z)
+            );
+        }
+    }
+    Ok(out)
+}
+
+/// The fabrication table of iteration `k`: one row per kept rod.
+pub fn fabrication_csv(run: &RunFolder, k: usize) -> Result<String, String> {
+    let rec = run.record(k)?;
+    Ok(fabrication_table(
+        run,
+        &format!("iteration {k}"),
+        &rec.curves,
+        rec.length,
+    ))
+}
+
+/// The fabrication table of the run's answer (the network to build), `None` when the run
+/// has none.
+pub fn answer_fabrication_csv(run: &RunFolder) -> Option<String> {
+    let a = run.result.answer.as_ref()?;
+    let what = match a.iteration {
+        Some(k) => format!("the answer (iteration {k})"),
+        None => format!("the answer (the {}'s network)", a.source.replace('_', " ")),
+    };
+    Some(fabrication_table(run, &what, &a.curves, a.length))
+}
+
+/// The fabrication table of the network `curves` of `run` (`what` names it in the header).
+fn fabrication_table(run: &RunFolder, what: &str, curves: &[usize], length: f64) -> String {
+    let net = &run.network;
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "# curvenet fabrication table: {what} of {}, {} rods, total rest length {}; scene units",
+        run.dir.display(),
+        curves.len(),
+        num(length)
+    );
+    out.push_str(
+        "# cut_length = rest_length: rods are straight at rest and their rest length is the sum of the rest\n\
+         # edge lengths; no allowance is added for joints, overlaps or end fixings\n\
+         # joints: 's:a+b' entries separated by ';' = arc length s along the rod (from its first vertex, at rest)\n\
+         # and the ids of the kept rods that meet there (the rod's own id where it crosses itself)\n\
+         # start_support/end_support: pinned (end vertex anchored), clamped (end vertex and its neighbour), none\n",
+    );
+    out.push_str(
+        "curve,rest_length,cut_length,closed,vertices,joint_count,joints,start_support,end_support\n",
+    );
+    for &c in curves {
+        let rod = &net.rods[c];
+        let joints = rod_joints(net, c, curves);
+        let cells: Vec<String> = joints
+            .iter()
+            .map(|j| {
+                let ids: Vec<String> = j.meets.iter().map(usize::to_string).collect();
+                format!("{}:{}", num(j.s), ids.join("+"))
+            })
+            .collect();
+        let l = rod.rest_length();
+        let _ = writeln!(
+            out,
+            "{c},{},{},{},{},{},{},{},{}",
+            num(l),
+            num(l),
+            rod.closed,
+            rod.vertices.len(),
+            joints.len(),
+            cells.join(";"),
+            end_support(rod, true),
+            end_support(rod, false)
+        );
+    }
+    out
+}

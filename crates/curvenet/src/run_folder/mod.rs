@@ -1,0 +1,114 @@
+//! The run folder: what a simplification run writes as it goes, and how it is read back.
+//!
+//! ```text
+//! DIR/result.json         every iteration so far; "complete": true once the run finished
+//! DIR/timings.json        wall times (kept apart so result.json is reproducible)
+//! DIR/network.json        the locked network (rest positions, rods, rest lengths, anchors)
+//! DIR/modes/KKKK.bin      worst-case mode of iteration K: 3·V little-endian f64
+//! DIR/states/KKKK.bin     equilibrium displacements of iteration K: 3·V little-endian f64
+//! DIR/states/KKKK.modes.bin all low modes of iteration K, column after column (resume state)
+//! DIR/states/carried.bin  the candidates' test vectors the last iteration handed on (resume
+//!                         state, see [`carried`]; removed when the run completes)
+//! DIR/iterations/KKKK.obj the network of iteration K at equilibrium, one polyline per curve
+//! DIR/final.obj           the greedy's final network at equilibrium
+//! DIR/answer.obj          the answer (the network to build) at equilibrium; absent when
+//!                         no stable network within the budget was found
+//! DIR/mesh.obj            the surface the curves were drawn on, in scene units (if known)
+//! DIR/summary.txt         a short text summary
+//! ```
+//!
+//! - [`schema`]: `result.json` and its parts ([`ResultFile`], [`RunSetup`], …);
+//! - [`writer`]: [`OutputWriter`], the greedy's hooks that write the folder as the run goes, and
+//!   continue an interrupted run ([`OutputWriter::resume`]);
+//! - [`carried`]: the carried test vectors' file;
+//! - [`reader`]: [`RunFolder`], a finished or interrupted folder read back and checked, for the
+//!   exports, pictures and viewer of [`crate::report`];
+//! - [`summary`]: `summary.txt` and the warnings a run's record calls for;
+//! - [`answer`]: the networks a run offers as its answer ([`greedy_offers`],
+//!   [`evaluated_offer`]).
+//!
+//! Every file is written atomically (temporary file + rename), and `result.json` is rewritten
+//! after each iteration, so an interrupted run keeps everything it finished and can resume.
+//! `result.json` holds no timings and depends only on the inputs, so it is byte-identical from
+//! run to run on one machine and build, whatever the thread count.
+
+pub mod answer;
+pub mod carried;
+pub mod reader;
+pub mod schema;
+pub mod summary;
+pub mod writer;
+
+pub use answer::{evaluated_offer, greedy_offers};
+pub use reader::{RunFolder, check_network};
+pub use schema::{FinalRecord, InputDescription, LocalSearchRecord, ResultFile, RunSetup, VERSION};
+pub use summary::{summary, unrelaxed};
+pub use writer::OutputWriter;
+
+use crate::geom::Vec3;
+use crate::io::{Origin, Polyline};
+use crate::network::Network;
+use std::path::Path;
+
+/// Writes a vector of f64 as little-endian bytes.
+pub fn f64_bytes(v: &[f64]) -> Vec<u8> {
+    v.iter().flat_map(|x| x.to_le_bytes()).collect()
+}
+
+/// Reads a file of little-endian f64.
+pub fn read_f64_file(path: &Path) -> Result<Vec<f64>, String> {
+    let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    if bytes.len() % 8 != 0 {
+        return Err(format!(
+            "{}: truncated file ({} bytes is not a whole number of f64)",
+            path.display(),
+            bytes.len()
+        ));
+    }
+    Ok(bytes
+        .chunks_exact(8)
+        .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
+        .collect())
+}
+
+/// Positions of all vertices at displacements `u` (`None`: the rest state).
+pub fn positions_at(net: &Network, u: Option<&[f64]>) -> Vec<Vec3> {
+    net.positions
+        .iter()
+        .enumerate()
+        .map(|(i, &p)| match u {
+            Some(u) => p + Vec3::new(u[3 * i], u[3 * i + 1], u[3 * i + 2]),
+            None => p,
+        })
+        .collect()
+}
+
+/// The polylines of `curves` of `network` with vertices at `positions` (see [`positions_at`]),
+/// each labelled by `label(curve)`.
+pub fn curve_polylines(
+    network: &Network,
+    curves: &[usize],
+    positions: &[Vec3],
+    label: impl Fn(usize) -> String,
+) -> Vec<Polyline> {
+    curves
+        .iter()
+        .map(|&c| {
+            let r = &network.rods[c];
+            Polyline {
+                points: r.vertices.iter().map(|&v| positions[v as usize]).collect(),
+                closed: r.closed,
+                origin: Origin::new("network", 0),
+                label: Some(label(c)),
+            }
+        })
+        .collect()
+}
+
+/// The polylines of `curves` of `network` at displacements `u` (the rest state for `None`),
+/// labelled `curve N`.
+pub fn network_polylines(network: &Network, curves: &[usize], u: Option<&[f64]>) -> Vec<Polyline> {
+    curve_polylines(network, curves, &positions_at(network, u), |c| {
+        format!("curve {c}")
+    })
+}

@@ -1,0 +1,225 @@
+//! [`RunFolder`]: a run folder read back and checked, for the exports, pictures and viewer.
+//!
+//! [`RunFolder::open`] reads `result.json`, `network.json` and the optional `mesh.obj`, and
+//! checks every index, length and number, so a missing or corrupt folder gives a clear error
+//! naming the file, never a panic. The iterations' side files (`states/KKKK.bin`, the mode
+//! files) are read on demand.
+
+use super::read_f64_file;
+use super::schema::ResultFile;
+use crate::io::{self, TriMesh};
+use crate::network::Network;
+use crate::simplify::greedy::IterationRecord;
+use std::path::{Path, PathBuf};
+
+/// A run's output folder, read and checked.
+#[derive(Clone, Debug)]
+pub struct RunFolder {
+    /// The folder.
+    pub dir: PathBuf,
+    /// `result.json`.
+    pub result: ResultFile,
+    /// `network.json`.
+    pub network: Network,
+    /// `mesh.obj`, when the folder has a readable one.
+    pub mesh: Option<TriMesh>,
+    /// Problems that did not stop the reading (an unreadable `mesh.obj`, …).
+    pub warnings: Vec<String>,
+}
+
+impl RunFolder {
+    /// Reads `dir/result.json`, `dir/network.json` and (if present) `dir/mesh.obj`, and checks
+    /// that they agree. Side files of the iterations are read on demand.
+    pub fn open(dir: &Path) -> Result<RunFolder, String> {
+        if !dir.is_dir() {
+            return Err(format!(
+                "{}: not a folder (expected the output folder of a run, holding result.json)",
+                dir.display()
+            ));
+        }
+        let result = ResultFile::read(dir)?;
+        let net_path = dir.join("network.json");
+        let text = std::fs::read_to_string(&net_path)
+            .map_err(|e| format!("{}: {e}", net_path.display()))?;
+        let network: Network = serde_json::from_str(&text)
+            .map_err(|e| format!("{}:{}: {e}", net_path.display(), e.line()))?;
+        check_network(&network).map_err(|e| format!("{}: {e}", net_path.display()))?;
+        let n = network.rods.len();
+        if result.iterations.is_empty() {
+            return Err(format!(
+                "{}: no iteration recorded yet",
+                dir.join("result.json").display()
+            ));
+        }
+        for (k, it) in result.iterations.iter().enumerate() {
+            if it.curves.is_empty() {
+                return Err(format!(
+                    "{}: iteration {k} has no curves",
+                    dir.join("result.json").display()
+                ));
+            }
+            if let Some(&c) = it.curves.iter().chain(it.removed.iter()).find(|&&c| c >= n) {
+                return Err(format!(
+                    "{}: iteration {k} names curve {c}, but network.json has {n} curves",
+                    dir.join("result.json").display()
+                ));
+            }
+        }
+        let mut warnings = Vec::new();
+        let mesh_path = dir.join("mesh.obj");
+        let mesh = if mesh_path.is_file() {
+            match io::read_mesh(&mesh_path) {
+                Ok(m) if !m.mesh.faces.is_empty() => Some(m.mesh),
+                Ok(_) => {
+                    warnings.push(format!("{}: no faces; ignored", mesh_path.display()));
+                    None
+                }
+                Err(e) => {
+                    warnings.push(format!("{e}; the surface is left out"));
+                    None
+                }
+            }
+        } else {
+            None
+        };
+        if !result.complete {
+            warnings.push(format!(
+                "{}: the run is not complete; showing the {} iteration(s) recorded",
+                dir.display(),
+                result.iterations.len()
+            ));
+        }
+        Ok(RunFolder {
+            dir: dir.to_path_buf(),
+            result,
+            network,
+            mesh,
+            warnings,
+        })
+    }
+
+    /// Number of recorded iterations.
+    pub fn iteration_count(&self) -> usize {
+        self.result.iterations.len()
+    }
+
+    /// Index of the last recorded iteration (the final network of a complete run).
+    pub fn last_index(&self) -> usize {
+        self.result.iterations.len() - 1
+    }
+
+    /// The iteration the run's pictures and viewer show first: the answer's when it is one of
+    /// the greedy's iterations, else the last.
+    pub fn shown_index(&self) -> usize {
+        self.result
+            .answer
+            .as_ref()
+            .and_then(|a| a.iteration)
+            .filter(|&k| k < self.iteration_count())
+            .unwrap_or_else(|| self.last_index())
+    }
+
+    /// The record of iteration `k`.
+    pub fn record(&self, k: usize) -> Result<&IterationRecord, String> {
+        self.result.iterations.get(k).ok_or_else(|| {
+            format!(
+                "{}: no iteration {k} (the run recorded iterations 0 to {})",
+                self.dir.display(),
+                self.last_index()
+            )
+        })
+    }
+
+    fn vector_file(&self, rel: &str) -> Result<Vec<f64>, String> {
+        let path = self.dir.join(rel);
+        let v = read_f64_file(&path)?;
+        if v.len() != self.network.dofs() {
+            return Err(format!(
+                "{}: {} values, expected 3·V = {} for network.json",
+                path.display(),
+                v.len(),
+                self.network.dofs()
+            ));
+        }
+        if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+            return Err(format!("{}: value {i} is not finite", path.display()));
+        }
+        Ok(v)
+    }
+
+    /// Equilibrium displacements of iteration `k` (`states/KKKK.bin`, 3·V values).
+    pub fn displacement(&self, k: usize) -> Result<Vec<f64>, String> {
+        self.record(k)?;
+        self.vector_file(&format!("states/{k:04}.bin"))
+    }
+
+    /// Worst-case mode of iteration `k` (its `mode_file`, 3·V values).
+    pub fn mode(&self, k: usize) -> Result<Vec<f64>, String> {
+        let rec = self.record(k)?;
+        self.vector_file(&rec.mode_file)
+    }
+}
+
+/// Checks that a network is consistent: finite positions, indices in range, one positive
+/// rest length per edge, enough vertices per rod. Everything the energy model indexes.
+pub fn check_network(net: &Network) -> Result<(), String> {
+    let nv = net.positions.len();
+    if nv == 0 || net.rods.is_empty() {
+        return Err("the network has no vertices or no rods".into());
+    }
+    if let Some(i) = net.positions.iter().position(|p| !p.is_finite()) {
+        return Err(format!("position of vertex {i} is not finite"));
+    }
+    for (c, rod) in net.rods.iter().enumerate() {
+        let m = rod.vertices.len();
+        let min = if rod.closed { 3 } else { 2 };
+        if m < min {
+            return Err(format!("rod {c} has {m} vertices (at least {min} needed)"));
+        }
+        let edges = if rod.closed { m } else { m - 1 };
+        if rod.rest_lengths.len() != edges {
+            return Err(format!(
+                "rod {c} has {} rest lengths for {edges} edges",
+                rod.rest_lengths.len()
+            ));
+        }
+        if let Some(j) = rod
+            .rest_lengths
+            .iter()
+            .position(|&l| !(l.is_finite() && l > 0.0))
+        {
+            return Err(format!(
+                "rod {c}: rest length of edge {j} is {} (must be positive and finite)",
+                rod.rest_lengths[j]
+            ));
+        }
+        if let Some(&v) = rod
+            .vertices
+            .iter()
+            .chain(&rod.anchors)
+            .find(|&&v| v as usize >= nv)
+        {
+            return Err(format!(
+                "rod {c} names vertex {v}, but the network has {nv} vertices"
+            ));
+        }
+        if let Some(&v) = rod.anchors.iter().find(|v| !rod.vertices.contains(v)) {
+            return Err(format!("rod {c} anchors vertex {v}, which is not on it"));
+        }
+        if let Some(j) = (0..edges).find(|&j| {
+            let (a, b) = rod.edge(j);
+            a == b
+        }) {
+            return Err(format!("rod {c}: edge {j} joins a vertex to itself"));
+        }
+    }
+    for (j, joint) in net.joints.iter().enumerate() {
+        if joint.vertex as usize >= nv {
+            return Err(format!("joint {j} names vertex {}", joint.vertex));
+        }
+        if let Some(&c) = joint.curves.iter().find(|&&c| c as usize >= net.rods.len()) {
+            return Err(format!("joint {j} names curve {c}"));
+        }
+    }
+    Ok(())
+}
