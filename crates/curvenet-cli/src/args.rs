@@ -1,7 +1,9 @@
 //! Command-line arguments (clap derive). Subcommand and option names are fixed: scripts rely on them.
 //! Every numeric option is checked while it is parsed ([`crate::values`]).
 
-use crate::values::{budget_fraction, count, extent, open_fraction, positive, seconds};
+use crate::values::{
+    budget_fraction, count, extent, open_fraction, physical, positive, seconds, young,
+};
 use clap::{Args, Parser, Subcommand};
 use curvenet::constraints::SymmetryOption;
 use curvenet::rod::Supports;
@@ -226,9 +228,10 @@ pub struct PhysicsArgs {
     /// Rod radius (scene units; default 2).
     #[arg(long, value_parser = positive, allow_hyphen_values = true)]
     pub radius: Option<f64>,
-    /// Young's modulus (default 1).
-    #[arg(long, value_parser = positive, allow_hyphen_values = true)]
-    pub young: Option<f64>,
+    /// Young's modulus: a positive number in the paper's mode (default 1); with a stress unit
+    /// in the physical mode (`--units`/`--material`, e.g. `210GPa`), overriding the material's.
+    #[arg(long, value_parser = young, allow_hyphen_values = true)]
+    pub young: Option<String>,
     /// Anchor weight µ (an anchor is a spring of stiffness 2µ; default 500).
     #[arg(long = "anchor-weight", value_parser = positive, allow_hyphen_values = true)]
     pub anchor_weight: Option<f64>,
@@ -350,6 +353,40 @@ pub struct AnalyzeArgs {
     /// Material and solver options.
     #[command(flatten)]
     pub physics: PhysicsArgs,
+    /// The physical mode.
+    #[command(flatten)]
+    pub physical: PhysicalModeArgs,
+}
+
+/// The physical mode: given `--units` or `--material`, `analyze` also reports the structure
+/// in physical terms (frequencies in Hz, deflections in scene units, stresses in MPa) with
+/// `--radius` (scene units) or `--tube` as the rods' section, and `simplify`/`example` record
+/// them for every iteration. See docs/units.md.
+#[derive(Debug, Args, Clone, Default)]
+pub struct PhysicalModeArgs {
+    /// The scene's length unit: mm, cm or m (turns on the physical mode).
+    #[arg(long, value_parser = physical("--units"), allow_hyphen_values = true)]
+    pub units: Option<String>,
+    /// Material preset: steel, aluminium, gfrp, timber (turns on the physical mode).
+    #[arg(long, value_parser = physical("--material"), allow_hyphen_values = true)]
+    pub material: Option<String>,
+    /// Density with its unit, overriding the material's (e.g. 7850kg/m3).
+    #[arg(long, value_parser = physical("--density"), allow_hyphen_values = true)]
+    pub density: Option<String>,
+    /// Strength (yield or failure stress) with its unit, overriding the material's (e.g.
+    /// 355MPa).
+    #[arg(long, value_parser = physical("--strength"), allow_hyphen_values = true)]
+    pub strength: Option<String>,
+    /// A round tube section instead of a solid one: outer diameter x wall (e.g. 60x4, scene
+    /// units, or 60mmx4mm).
+    #[arg(long, value_parser = physical("--tube"), allow_hyphen_values = true)]
+    pub tube: Option<String>,
+    /// Intensity of the worst-case distributed load (default 1kN/m).
+    #[arg(long, value_parser = physical("--load"), allow_hyphen_values = true)]
+    pub load: Option<String>,
+    /// Gravity in m/s2: a magnitude along -z (default 9.81) or gx,gy,gz.
+    #[arg(long, value_parser = physical("--gravity"), allow_hyphen_values = true)]
+    pub gravity: Option<String>,
 }
 
 /// `curvenet simplify`.
@@ -367,6 +404,9 @@ pub struct SimplifyArgs {
     /// Material and solver options.
     #[command(flatten)]
     pub physics: PhysicsArgs,
+    /// The physical mode (every iteration also records its physical numbers).
+    #[command(flatten)]
+    pub physical: PhysicalModeArgs,
 }
 
 /// `curvenet example`.
@@ -405,6 +445,9 @@ pub struct ExampleArgs {
     /// Material and solver options.
     #[command(flatten)]
     pub physics: PhysicsArgs,
+    /// The physical mode (every iteration also records its physical numbers).
+    #[command(flatten)]
+    pub physical: PhysicalModeArgs,
 }
 
 fn parse_supports(s: &str) -> Result<Supports, String> {

@@ -89,6 +89,22 @@ pub fn seconds(s: &str) -> Result<f64, String> {
     }
 }
 
+/// `--young`: a positive number (the paper's mode), or a positive modulus with a stress unit
+/// (`210GPa`, the physical mode); kept as written, for the mode to read.
+pub fn young(s: &str) -> Result<String, String> {
+    if s.trim().parse::<f64>().is_ok() || curvenet::units::split_number(s).1.is_empty() {
+        positive(s).map(|_| s.trim().to_string())
+    } else {
+        curvenet::physics::options::check_option("--young", s).map(|()| s.trim().to_string())
+    }
+}
+
+/// A physical-mode option (`--units`, `--material`, `--density`, `--strength`, `--tube`,
+/// `--load`, `--gravity`), checked as the physical mode reads it and kept as written.
+pub fn physical(name: &'static str) -> impl Fn(&str) -> Result<String, String> + Clone {
+    move |s: &str| curvenet::physics::options::check_option(name, s).map(|()| s.trim().to_string())
+}
+
 /// An integer in `lo..=hi` (a count), as `usize`.
 pub fn count(lo: u64, hi: u64) -> impl TypedValueParser<Value = usize> {
     RangedU64ValueParser::<usize>::new().range(lo..=hi)
@@ -115,6 +131,22 @@ mod tests {
         assert!(open_fraction("1").is_err() && open_fraction("0").is_err());
         assert!(seconds("-1").is_err() && seconds("1e30").is_err() && seconds("0").is_err());
         assert_eq!(seconds("60"), Ok(60.0));
+        assert_eq!(young("2.5").as_deref(), Ok("2.5"));
+        assert_eq!(young("210GPa").as_deref(), Ok("210GPa"));
+        for bad in [
+            "nan", "inf", "-1", "0", "210kg/m3", "-210GPa", "1e30GPa", "abc",
+        ] {
+            assert!(young(bad).is_err(), "{bad}");
+        }
+        assert!(
+            young("nan")
+                .unwrap_err()
+                .contains("must be a finite number")
+        );
+        assert!(physical("--density")("7850kg/m3").is_ok());
+        assert!(physical("--density")("-1kg/m3").is_err());
+        assert!(physical("--units")("inch").is_err());
+        assert!(physical("--gravity")("1e9").is_err());
         assert!(
             positive("-1")
                 .unwrap_err()

@@ -46,6 +46,11 @@ enum Rule {
     Seed,
     /// Comma-separated curve ids (each below the grid's 4 curves, or the run is refused).
     Ids,
+    /// A quantity that needs its unit suffix (`7850kg/m3`) or a section (`60x4`): no hostile
+    /// value (bare numbers, garbage) is one.
+    WithUnit,
+    /// Gravity along -z, m/s²: in [0, 1e4].
+    Gravity,
 }
 
 impl Rule {
@@ -66,6 +71,8 @@ impl Rule {
                 .parse::<i64>()
                 .is_ok_and(|v| (0..=u32::MAX as i64).contains(&v)),
             Rule::Ids => value.split(',').all(|s| s.parse::<usize>().is_ok()),
+            Rule::WithUnit => false,
+            Rule::Gravity => float.is_some_and(|v| (0.0..=1e4).contains(&v)),
         }
     }
 }
@@ -92,6 +99,17 @@ const ANALYZE: &[&str] = &[
     "0.01",
     "--edge-length",
     "0.25",
+];
+const ANALYZE_PHYSICAL: &[&str] = &[
+    "analyze",
+    "--curves",
+    "grid.txt",
+    "--radius",
+    "0.01",
+    "--edge-length",
+    "0.25",
+    "--units",
+    "m",
 ];
 const SIMPLIFY: &[&str] = &[
     "simplify",
@@ -171,6 +189,13 @@ fn options() -> Vec<Opt> {
         o("--eigen-count", Count(1, 100), ANALYZE),
         o("--merge-joints", OpenFraction, ANALYZE),
         o("--remove", Ids, ANALYZE),
+        o("--young", WithUnit, ANALYZE_PHYSICAL),
+        o("--density", WithUnit, ANALYZE_PHYSICAL),
+        o("--strength", WithUnit, ANALYZE_PHYSICAL),
+        o("--load", WithUnit, ANALYZE_PHYSICAL),
+        o("--tube", WithUnit, ANALYZE_PHYSICAL),
+        o("--gravity", Gravity, ANALYZE_PHYSICAL),
+        o("--radius", Positive, ANALYZE_PHYSICAL),
         o("--budget", Fraction, SIMPLIFY),
         o("--budget-length", Positive, SIMPLIFY),
         o("--keep", Ids, SIMPLIFY),

@@ -21,6 +21,9 @@
 //! code, [`pipeline`] the glue that runs the stages in order and [`experiments`] the harnesses
 //! that measure the searches against each other.
 //!
+//! [`units`] and [`material`] describe the physical mode (the scene's length unit, materials,
+//! cross-sections, rest shapes) at the bottom of the stack, beside [`geom`].
+//!
 //! See `ARCHITECTURE.md` at the repository root for the map and `SPEC.md` for the model.
 
 pub mod builtin;
@@ -29,8 +32,10 @@ pub mod constraints;
 pub mod experiments;
 pub mod geom;
 pub mod io;
+pub mod material;
 pub mod network;
 pub mod paper;
+pub mod physics;
 pub mod pipeline;
 pub mod profile;
 pub mod report;
@@ -42,3 +47,4 @@ pub mod solve;
 pub mod sparse;
 pub mod stability;
 pub mod trace;
+pub mod units;

@@ -1,15 +1,23 @@
 //! `curvenet analyze`: build, relax and measure one network (or what `--remove` leaves).
 
-use super::{load_inputs, print_warnings, stability_params};
+use super::{load_inputs, physical_mode, print_warnings, stability_params};
 use crate::args::AnalyzeArgs;
 use crate::exit::usage;
+use curvenet::physics::{PhysicalParams, PhysicalReport, analyze_physical};
 use curvenet::pipeline;
+use curvenet::rod::ActiveSet;
 use std::time::Instant;
 
 pub fn run(a: AnalyzeArgs) -> anyhow::Result<()> {
     let start = Instant::now();
     let inputs = load_inputs(&a.input, &a.physics)?;
-    let params = stability_params(&a.physics)?;
+    let (physical, paper) = physical_mode(
+        &a.physics,
+        &a.physical,
+        inputs.file_units.as_deref(),
+        &inputs.specs,
+    )?;
+    let params = stability_params(&paper)?;
     // The input's warnings now, before the (possibly long) analysis; the analysis adds its own.
     let shown = inputs.warnings.len();
     print_warnings(&inputs.warnings);
@@ -37,11 +45,53 @@ pub fn run(a: AnalyzeArgs) -> anyhow::Result<()> {
         inputs.warnings,
     )?;
     print_warnings(out.report.warnings.get(shown..).unwrap_or_default());
+    let physical = match physical {
+        Some(pp) => {
+            let mut active = ActiveSet::all(n);
+            for &c in &remove {
+                active.remove(c);
+            }
+            Some(physical_report(out.analyzer.network(), &pp, &active)?)
+        }
+        None => None,
+    };
     if a.json {
-        println!("{}", serde_json::to_string(&out.report)?);
+        println!("{}", report_json(&out.report, physical.as_ref())?);
     } else {
         print!("{}", out.report.to_text());
+        if let Some(r) = &physical {
+            print!("{}", r.to_text());
+        }
         println!("time: {:.3} s", start.elapsed().as_secs_f64());
     }
     Ok(())
+}
+
+/// The physical analysis of `active`, its warnings printed.
+pub(super) fn physical_report(
+    network: &curvenet::rod::Network,
+    params: &PhysicalParams,
+    active: &ActiveSet,
+) -> anyhow::Result<PhysicalReport> {
+    let r = analyze_physical(network, params, active)?;
+    print_warnings(&r.warnings);
+    Ok(r)
+}
+
+/// `--json`'s line: the report's own fields in their own order (as in the paper's mode), then
+/// the physical object when there is one.
+pub(super) fn report_json(
+    report: &curvenet::report::AnalysisReport,
+    physical: Option<&PhysicalReport>,
+) -> anyhow::Result<String> {
+    let text = serde_json::to_string(report)?;
+    let Some(r) = physical else {
+        return Ok(text);
+    };
+    let body = text.strip_suffix('}').unwrap_or(&text);
+    let sep = if body.ends_with('{') { "" } else { "," };
+    Ok(format!(
+        "{body}{sep}\"physical\":{}}}",
+        serde_json::to_string(r)?
+    ))
 }

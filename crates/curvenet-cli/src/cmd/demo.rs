@@ -55,6 +55,7 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
             ..BuildParams::default()
         },
         stability: stability_params(&a.physics)?,
+        physical: None,
         input: InputDescription {
             example: Some(format!("demo:{}:{}:{}", a.surface, a.geodesics, a.seed)),
             mesh: Some(format!("builtin:{}", a.surface)),

@@ -16,7 +16,8 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
     let start = Instant::now();
     let supports = a.physics.supports.unwrap_or_default();
     let ex = paper::load_from(&a.name, &data, supports)?;
-    let mut params = stability_params(&a.physics)?;
+    let (physical, paper) = super::physical_mode(&a.physics, &a.physical, None, &[])?;
+    let mut params = stability_params(&paper)?;
     params.tuning.prune = !a.no_prune;
     let build = BuildParams {
         merge_joints_below: a.physics.merge_joints,
@@ -26,14 +27,28 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
     if a.analyze_only {
         let out = pipeline::analyze(&ex.curves, &build, &params, &[], warnings)?;
         print_warnings(&out.report.warnings);
+        let physical = match &physical {
+            Some(pp) => {
+                let net = out.analyzer.network();
+                let all = curvenet::rod::ActiveSet::all(net.rods.len());
+                Some(super::analyze::physical_report(net, pp, &all)?)
+            }
+            None => None,
+        };
         if a.json {
-            println!("{}", serde_json::to_string(&out.report)?);
+            println!(
+                "{}",
+                super::analyze::report_json(&out.report, physical.as_ref())?
+            );
         } else {
             println!(
                 "example {} (paper: {} curves, {} vertices)",
                 ex.setup.name, ex.setup.paper.curves_in, ex.setup.paper.vertices
             );
             print!("{}", out.report.to_text());
+            if let Some(r) = &physical {
+                print!("{}", r.to_text());
+            }
             println!("time: {:.3} s", start.elapsed().as_secs_f64());
         }
         return Ok(());
@@ -45,6 +60,7 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
         curves: ex.curves,
         build,
         stability: params,
+        physical,
         input: InputDescription {
             example: Some(ex.setup.name.to_string()),
             mesh: Some(format!("meshes/{}", ex.setup.mesh)),

@@ -9,6 +9,7 @@ use curvenet::constraints::answer::{Answer, NoAnswer, choose};
 use curvenet::constraints::{ConstraintError, ConstraintParams, Constraints};
 use curvenet::io::{Polyline, TriMesh};
 use curvenet::network::{BuildParams, build_network};
+use curvenet::physics::PhysicalParams;
 use curvenet::rod::ActiveSet;
 use curvenet::run_folder::{
     InputDescription, LocalSearchRecord, OutputWriter, RunSetup, evaluated_offer, greedy_offers,
@@ -31,6 +32,8 @@ pub struct GreedyJob {
     pub curves: Vec<Polyline>,
     pub build: BuildParams,
     pub stability: StabilityParams,
+    /// The physical mode's parameters: every iteration also records its physical numbers.
+    pub physical: Option<PhysicalParams>,
     pub input: InputDescription,
     pub budget: Budget,
     pub keep: Vec<usize>,
@@ -130,7 +133,10 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         total_length: total,
         constraints: job.constraints.clone(),
     };
-    let analyzer = Analyzer::new(network, job.stability).map_err(usage)?;
+    let mut analyzer = Analyzer::new(network, job.stability).map_err(usage)?;
+    if let Some(p) = job.physical {
+        analyzer = analyzer.with_physical(p).map_err(usage)?;
+    }
     let net = analyzer.network();
     let (writer, resume_point) = if job.resume && job.out.join("result.json").is_file() {
         let (w, p) = OutputWriter::resume(&job.out, net, &setup).map_err(usage)?;
@@ -172,7 +178,12 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     let progress = |r: &IterationRecord| {
         let done = ((total - r.length) / (total - budget).max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
         bar.set_position((done * 1000.0) as u64);
-        bar.set_message(format!("{} curves, λ {:.4e}", r.curves.len(), r.lambda));
+        let f1 = match r.physical.as_ref().map(|p| p.first_frequency_hz) {
+            Some(Some(f)) => format!(", f₁ {f:.3} Hz"),
+            Some(None) => ", unstable".to_string(),
+            None => String::new(),
+        };
+        bar.set_message(format!("{} curves, λ {:.4e}{f1}", r.curves.len(), r.lambda));
     };
     if let Some(mesh) = &job.mesh {
         writer.write_mesh(mesh).map_err(|e| ExitError {
@@ -245,6 +256,9 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     })?;
     write_pictures(&job.out);
     print!("{}", summary(writer.result()));
+    if let Some(line) = physical_line(writer.result().iterations.last()) {
+        println!("{line}");
+    }
     if writer.result().local_search.is_some() {
         println!("local search time: {local_seconds:.2} s");
     }
@@ -257,6 +271,33 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         job.out.display()
     );
     Ok(())
+}
+
+/// The last network's physical numbers in one line (the physical mode only).
+fn physical_line(last: Option<&IterationRecord>) -> Option<String> {
+    let p = last?.physical.as_ref()?;
+    let opt = |v: Option<f64>, unit: &str| {
+        v.map_or("none (unstable)".into(), |v| format!("{v:.4} {unit}"))
+    };
+    let mut line = format!(
+        "physical (last network): first frequency {}, self-weight deflection {}, worst-load \
+         deflection {}, assembly bending stress {:.1} MPa, mass {:.2} kg",
+        opt(p.first_frequency_hz, "Hz"),
+        opt(p.self_weight_max_deflection, "(scene units)"),
+        opt(p.load_max_deflection, "(scene units)"),
+        p.assembly_max_bending_stress_mpa,
+        p.mass_kg
+    );
+    if let Some(u) = p.max_utilisation {
+        line.push_str(&format!(", utilisation {u:.3}"));
+    }
+    if !p.overstressed_curves.is_empty() {
+        line.push_str(&format!(
+            ", curves that would break when bent: {}",
+            list(&p.overstressed_curves)
+        ));
+    }
+    Some(line)
 }
 
 /// Writes the pictures, viewer page (last) and fabrication table of the finished run in `out`.

@@ -12,10 +12,11 @@ mod surface;
 mod trace;
 mod view;
 
-use crate::args::{Cli, Command, InputArgs, PhysicsArgs};
+use crate::args::{Cli, Command, InputArgs, PhysicalModeArgs, PhysicsArgs};
 use crate::exit::usage;
 use curvenet::io::{self, Polyline, TriMesh};
 use curvenet::network::{BuildParams, checks};
+use curvenet::physics::{PhysicalOptions, PhysicalParams};
 use curvenet::rod::Material;
 use curvenet::run_folder::InputDescription;
 use curvenet::stability::StabilityParams;
@@ -51,13 +52,55 @@ pub fn data_source(folder: Option<&std::path::Path>) -> anyhow::Result<paper::Da
     Ok(paper::DataSource::folder_or_embedded(folder))
 }
 
+/// The physical mode from the options: its parameters (`None` in the paper's mode) and the
+/// options the paper's model is built from. In the physical mode `--radius` and `--young`
+/// describe the physical rods, so the paper's model (its `λ`, the searches' objective) keeps
+/// its defaults and chooses as without the physical options. `file_units` and `specs` come
+/// from the curve files.
+pub fn physical_mode(
+    physics: &PhysicsArgs,
+    p: &PhysicalModeArgs,
+    file_units: Option<&str>,
+    specs: &[curvenet::material::CurveSpec],
+) -> anyhow::Result<(Option<PhysicalParams>, PhysicsArgs)> {
+    let options = PhysicalOptions {
+        units: p.units.clone(),
+        material: p.material.clone(),
+        young: physics.young.clone(),
+        density: p.density.clone(),
+        strength: p.strength.clone(),
+        radius: physics.radius.map(|r| r.to_string()),
+        tube: p.tube.clone(),
+        load: p.load.clone(),
+        gravity: p.gravity.clone(),
+    };
+    let physical = options.resolve(file_units, specs).map_err(usage)?;
+    let mut paper = physics.clone();
+    let physical = physical.map(|mut pp| {
+        paper.young = None;
+        paper.radius = None;
+        pp.frequencies = physics.eigen_count.clamp(1, 50);
+        pp
+    });
+    Ok((physical, paper))
+}
+
 /// Stability parameters from the shared options (defaults where unset).
 pub fn stability_params(p: &PhysicsArgs) -> anyhow::Result<StabilityParams> {
     let mut s = StabilityParams::default();
     let d = Material::default();
     s.material = Material {
         radius: p.radius.unwrap_or(d.radius),
-        young: p.young.unwrap_or(d.young),
+        young: match &p.young {
+            Some(t) => t.trim().parse().map_err(|_| {
+                usage(format!(
+                    "--young {t:?}: the paper's mode takes a plain number (default 1); a modulus \
+                     with a unit such as 210GPa needs the physical mode (--units mm|cm|m and \
+                     --material NAME)"
+                ))
+            })?,
+            None => d.young,
+        },
         anchor_weight: p.anchor_weight.unwrap_or(d.anchor_weight),
     };
     s.eigen.count = p.eigen_count;
@@ -96,6 +139,11 @@ pub struct Inputs {
     pub mesh: Option<curvenet::io::TriMesh>,
     /// The groups the curve files name (each curve's JSON `"group"`, in id order), as groups.
     pub groups: Vec<curvenet::constraints::Group>,
+    /// Each curve's material, section and rest shape from the curve files (empty when no
+    /// file says anything).
+    pub specs: Vec<curvenet::material::CurveSpec>,
+    /// The length unit the curve files declare (the first that does).
+    pub file_units: Option<String>,
 }
 
 /// Reads and scales the inputs.
@@ -113,6 +161,7 @@ pub fn load_inputs(a: &InputArgs, p: &PhysicsArgs) -> anyhow::Result<Inputs> {
     }
     let mut curves = Vec::new();
     let (mut tags, mut origins) = (Vec::new(), Vec::new());
+    let (mut specs, mut file_units) = (Vec::new(), None);
     for path in &a.curves {
         let f = io::read_curves(path)?;
         warnings.extend(f.warnings.iter().map(|w| w.to_string()));
@@ -124,6 +173,11 @@ pub fn load_inputs(a: &InputArgs, p: &PhysicsArgs) -> anyhow::Result<Inputs> {
                 .chain(std::iter::repeat(None))
                 .take(f.curves.len()),
         );
+        if !f.specs.is_empty() {
+            specs.resize(curves.len(), Default::default());
+            specs.extend(f.specs);
+        }
+        file_units = file_units.or(f.units);
         curves.extend(f.curves);
     }
     let groups = curvenet::constraints::groups::groups_of_tags(&tags, &origins);
@@ -173,6 +227,8 @@ pub fn load_inputs(a: &InputArgs, p: &PhysicsArgs) -> anyhow::Result<Inputs> {
         description,
         mesh,
         groups,
+        specs,
+        file_units,
     })
 }
 

@@ -1,13 +1,19 @@
 //! `curvenet simplify`: the greedy on a user's own mesh and curves.
 
 use super::greedy_run::{GreedyJob, run_greedy};
-use super::{load_inputs, print_warnings, stability_params};
+use super::{load_inputs, physical_mode, print_warnings, stability_params};
 use crate::args::SimplifyArgs;
 
 pub fn run(a: SimplifyArgs) -> anyhow::Result<()> {
     let inputs = load_inputs(&a.input, &a.physics)?;
     print_warnings(&inputs.warnings);
-    let params = stability_params(&a.physics)?;
+    let (physical, paper) = physical_mode(
+        &a.physics,
+        &a.physical,
+        inputs.file_units.as_deref(),
+        &inputs.specs,
+    )?;
+    let params = stability_params(&paper)?;
     let n = inputs.curves.len();
     if let Some(&bad) = a.greedy.keep.iter().find(|&&c| c >= n) {
         return Err(crate::exit::usage(format!(
@@ -20,6 +26,7 @@ pub fn run(a: SimplifyArgs) -> anyhow::Result<()> {
         curves: inputs.curves,
         build: inputs.build,
         stability: params,
+        physical,
         input: inputs.description,
         budget: super::greedy_run::budget_of(&a.greedy, None)?,
         keep: a.greedy.keep.clone(),

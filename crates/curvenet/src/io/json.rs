@@ -7,6 +7,9 @@
 //!   "units": "m",
 //!   "curves": [
 //!     {"label": "ring", "closed": true, "points": [[0, 0, 0], [1, 0, 0], [0, 1, 0]]},
+//!     {"points": [[0, 0, 0], [2, 0, 1], [4, 0, 0]],
+//!      "material": "aluminium", "section": {"outer_diameter": 60, "wall": 4},
+//!      "rest": "pre-bent"},
 //!     {"label": "arch 1", "group": "arches", "points": [[0, 0, 0], [0, 1, 1], [0, 2, 0]]}
 //!   ]
 //! }
@@ -15,7 +18,10 @@
 //! `units`, `label`, `closed` and `group` are optional; without `closed` the curve is closed when
 //! its last point repeats its first. Curves with the same `group` (a name, or an integer) are kept
 //! or removed together by the searches ([`CurveFile::groups`]). Unknown fields are errors (a
-//! misspelt `"close"` must not pass silently).
+//! misspelt `"close"` must not pass silently). `units` (`mm`, `cm` or `m`) is the scene's length
+//! unit when the command line does not give one. A curve's optional `material`, `section` and
+//! `rest` set its material, its cross-section and its rest shape (`straight`, the default, or
+//! `pre-bent`); their forms are in [`crate::material::spec`].
 //!
 //! `serde_json` validates the document and reports syntax and type errors with their line and
 //! column. Its number parsing may be off by one unit in the last place, so a light scan of the
@@ -26,6 +32,7 @@
 use super::checks::{Closure, RawCurve, finish_curve, push_number, shorten};
 use super::{CurveFile, InputError, Polyline};
 use crate::geom::Vec3;
+use crate::material::CurveSpec;
 use serde::Deserialize;
 use serde::de::IgnoredAny;
 use std::fmt::Write as _;
@@ -55,8 +62,8 @@ struct Document {
     _format: IgnoredAny,
     #[serde(rename = "version")]
     _version: IgnoredAny,
-    #[serde(rename = "units", default)]
-    _units: Option<String>,
+    #[serde(default)]
+    units: Option<String>,
     curves: Vec<JsonCurve>,
 }
 
@@ -64,7 +71,7 @@ struct Document {
 #[derive(Deserialize)]
 #[serde(
     deny_unknown_fields,
-    expecting = "a curve object with \"points\" and optional \"label\", \"closed\" and \"group\""
+    expecting = "a curve object with \"points\" and optional \"label\", \"closed\", \"group\", \"material\", \"section\" and \"rest\""
 )]
 struct JsonCurve {
     #[serde(default)]
@@ -72,6 +79,12 @@ struct JsonCurve {
     points: Vec<[f64; 3]>,
     #[serde(default)]
     closed: Option<bool>,
+    #[serde(default)]
+    material: Option<serde_json::Value>,
+    #[serde(default)]
+    section: Option<serde_json::Value>,
+    #[serde(default)]
+    rest: Option<serde_json::Value>,
     #[serde(default)]
     group: Option<GroupTag>,
 }
@@ -194,11 +207,19 @@ pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError
 
     let mut warnings = Vec::new();
     let mut curves = Vec::with_capacity(document.curves.len());
+    let mut specs = Vec::with_capacity(document.curves.len());
     let mut groups = Vec::with_capacity(document.curves.len());
     for (index, curve) in document.curves.into_iter().enumerate() {
         groups.push(curve.group.map(|g| g.0));
         let loc = located.curves.get(index);
         let curve_line = loc.map_or(0, |c| c.line);
+        let spec = CurveSpec::from_json(
+            curve.material.as_ref(),
+            curve.section.as_ref(),
+            curve.rest.as_ref(),
+        )
+        .map_err(|e| InputError::parse(file, curve_line.max(1), format!("curve {index}: {e}")))?;
+        specs.push(spec);
         let points = curve
             .points
             .iter()
@@ -224,10 +245,15 @@ pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError
         };
         curves.push(finish_curve(raw, file, &mut warnings)?);
     }
+    if specs.iter().all(CurveSpec::is_empty) {
+        specs.clear();
+    }
     Ok(CurveFile {
         curves,
         warnings,
+        specs,
         groups,
+        units: document.units,
     })
 }
 

@@ -43,6 +43,7 @@ pub use points::{PointCurve, curves_from_points};
 pub use reference::{curves_to_reference_text, parse_reference_curves};
 
 use crate::geom::Vec3;
+use crate::material::CurveSpec;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::fs;
@@ -231,6 +232,11 @@ pub struct CurveFile {
     pub curves: Vec<Polyline>,
     /// Non-fatal findings, in file order.
     pub warnings: Vec<InputWarning>,
+    /// What the file says about each curve's material, section and rest shape (curvenet's
+    /// JSON format only): one per curve, or empty when the file says nothing.
+    pub specs: Vec<CurveSpec>,
+    /// The length unit the file declares (JSON `"units"`), as written.
+    pub units: Option<String>,
     /// Each curve's group (the JSON format's `"group"`; `None` for every curve of the other
     /// formats): curves of one group are kept or removed together. Aligned with `curves`.
     pub groups: Vec<Option<String>>,

@@ -129,6 +129,8 @@ pub fn parse_obj_polylines(text: &str, file: &str) -> Result<CurveFile, InputErr
         curves,
         warnings,
         groups,
+        specs: Vec::new(),
+        units: None,
     })
 }
 

@@ -50,6 +50,8 @@ pub fn curves_from_points(file: &str, curves: Vec<PointCurve>) -> Result<CurveFi
         curves: out,
         warnings,
         groups,
+        specs: Vec::new(),
+        units: None,
     })
 }
 

@@ -103,6 +103,8 @@ pub fn parse_reference_curves(text: &str, file: &str) -> Result<CurveFile, Input
         curves,
         warnings,
         groups,
+        specs: Vec::new(),
+        units: None,
     })
 }
 

@@ -1,20 +1,29 @@
 //! Rod energy: the material, the supports and the discrete elastic rod terms (`docs/model.md`,
 //! *Energy*).
 //!
-//! - [`terms`]: the local stretching, bending and anchor terms with exact derivatives;
+//! - [`terms`]: the local stretching, bending and anchor terms with exact derivatives (and the
+//!   bending term of a pre-bent rod);
 //! - [`network`]: the rod network as data (what [`crate::network`] builds from curves);
 //! - [`model`]: the flat list of all terms of a network and its sparse assembly, with the
-//!   ability to leave out any set of curves (a structure: `docs/model.md`, *Stability*).
+//!   ability to leave out any set of curves (a structure: `docs/model.md`, *Stability*), every
+//!   rod with its own stiffnesses and rest shape ([`RodStiffness`]);
+//! - [`physical`]: those stiffnesses from materials and sections, and rigid supports, in the
+//!   physical mode; [`mass`]: the lumped mass matrix and the scaling to `H v = μ M v`.
 
 mod active;
+mod jet;
+pub mod mass;
 pub mod model;
 pub mod network;
+pub mod physical;
+mod prebent;
 pub mod terms;
 
 pub use active::ActiveSet;
 pub use model::{Assembly, EnergyModel};
 pub use network::{Joint, Network, Rod};
 
+use crate::material::RestShape;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
@@ -69,6 +78,27 @@ impl Material {
             }
         }
         Ok(())
+    }
+}
+
+/// One rod's stiffnesses and rest shape, as the energy uses them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RodStiffness {
+    /// Stretching stiffness `k_s` (`E A`).
+    pub ks: f64,
+    /// Bending stiffness `k_b` (`E I`).
+    pub kb: f64,
+    /// Straight at rest (the paper) or pre-bent to its drawn shape.
+    pub rest: RestShape,
+}
+
+impl From<&Material> for RodStiffness {
+    fn from(m: &Material) -> Self {
+        RodStiffness {
+            ks: m.ks(),
+            kb: m.kb(),
+            rest: RestShape::Straight,
+        }
     }
 }
 

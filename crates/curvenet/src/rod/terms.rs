@@ -1,5 +1,6 @@
 //! The three local energy terms of a discrete elastic rod without twist (`docs/model.md`,
-//! *Energy*), each with its exact gradient and Hessian.
+//! *Energy*), each with its exact gradient and Hessian, and the bending term of a pre-bent rod
+//! ([`bend_rest`], bending measured from the drawn shape; its doc explains the form chosen).
 //!
 //! Every term acts on a few vertices; the result is a [`Local`] value with the energy, the
 //! gradient over the term's `D = 3·(vertex count)` coordinates (vertex-major: `x0.x, x0.y, x0.z,
@@ -7,6 +8,10 @@
 //! stability analysis needs the true Hessian.
 
 use crate::geom::Vec3;
+
+pub use super::prebent::{
+    RestBend, bend_rest, bend_rest_energy, bend_rest_energy_grad, bend_strain, rest_bend,
+};
 
 /// Energy, gradient and Hessian of one term over its `D` coordinates.
 #[derive(Clone, Debug, PartialEq)]
@@ -20,7 +25,7 @@ pub struct Local<const D: usize> {
 }
 
 impl<const D: usize> Local<D> {
-    fn zero() -> Self {
+    pub(crate) fn zero() -> Self {
         Local {
             energy: 0.0,
             grad: [0.0; D],

@@ -119,6 +119,7 @@ mod tests {
             score: None,
             candidates: Vec::new(),
             mode_file: String::new(),
+            physical: None,
         }
     }
 

@@ -3,6 +3,7 @@
 use super::presets::Preset;
 use super::{StabilityError, StabilityParams, Tuning};
 use crate::network::Network;
+use crate::physics::{PhysicalParams, PhysicalSummary, PhysicsError, analyze_physical};
 use crate::rod::{ActiveSet, EnergyModel};
 use crate::solve::eigen::Spectrum;
 use crate::solve::{Cholesky, Equilibrium, NewtonInfo, SymbolicFactor};
@@ -20,6 +21,8 @@ pub struct Analyzer {
     params: StabilityParams,
     /// `λ_eq` of connected sets already evaluated ([`Self::lambda_eq`]).
     pub(super) parts: Mutex<HashMap<Vec<usize>, f64>>,
+    /// The physical mode's parameters ([`Self::with_physical`]); `None` in the paper's mode.
+    physical: Option<PhysicalParams>,
 }
 
 impl Analyzer {
@@ -34,7 +37,46 @@ impl Analyzer {
             symbolic,
             params,
             parts: Mutex::default(),
+            physical: None,
         })
+    }
+
+    /// The analyzer in the physical mode: the searches also record each structure's physical
+    /// numbers ([`Self::physical_summary`]). The objective (`λ_eq`, of the paper's model) is
+    /// unchanged.
+    ///
+    /// # Errors
+    ///
+    /// Invalid physical parameters.
+    pub fn with_physical(mut self, physical: PhysicalParams) -> Result<Self, String> {
+        physical.validate()?;
+        self.physical = Some(physical);
+        Ok(self)
+    }
+
+    /// The physical mode's parameters (`None` in the paper's mode).
+    pub fn physical(&self) -> Option<&PhysicalParams> {
+        self.physical.as_ref()
+    }
+
+    /// The physical numbers of the structure `active` in the physical mode (`None` in the
+    /// paper's mode): its own model's equilibrium, frequencies, deflections and stresses.
+    ///
+    /// # Errors
+    ///
+    /// The physical analysis failed (its eigen solver).
+    pub fn physical_summary(
+        &self,
+        active: &ActiveSet,
+    ) -> Result<Option<PhysicalSummary>, StabilityError> {
+        let Some(p) = &self.physical else {
+            return Ok(None);
+        };
+        match analyze_physical(&self.network, p, active) {
+            Ok(r) => Ok(Some(r.summary())),
+            Err(PhysicsError::Eigen(e)) => Err(StabilityError::Eigen(e)),
+            Err(e) => Err(StabilityError::Params(e.to_string())),
+        }
     }
 
     /// The network.

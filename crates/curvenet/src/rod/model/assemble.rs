@@ -12,11 +12,11 @@ impl EnergyModel {
         for (_, r) in self.active_terms(active) {
             for t in &self.stretch[r.stretch.clone()] {
                 let (x0, x1) = t.local(u);
-                e += terms::stretch_energy(x0, x1, t.rest, self.ks);
+                e += terms::stretch_energy(x0, x1, t.rest, t.ks);
             }
             for t in &self.bend[r.bend.clone()] {
                 let (x0, x1, x2) = t.local(u);
-                e += terms::bend_energy(x0, x1, x2, t.r0, t.r1, self.kb);
+                e += self.bend_energy(t, x0, x1, x2);
             }
             for t in &self.anchor[r.anchor.clone()] {
                 e += terms::anchor_energy(vec3(u, t.v), t.offset, self.mu);
@@ -60,7 +60,7 @@ impl EnergyModel {
             for k in r.stretch.clone() {
                 let t = &self.stretch[k];
                 let (x0, x1) = t.local(u);
-                let l = terms::stretch(x0, x1, t.rest, self.ks);
+                let l = terms::stretch(x0, x1, t.rest, t.ks);
                 out.energy += l.energy;
                 scatter_grad(&mut out.grad, &t.v, &l.grad);
                 if hessian {
@@ -72,12 +72,12 @@ impl EnergyModel {
                 let (x0, x1, x2) = t.local(u);
                 if !hessian {
                     // The gradient alone: a third of the bending term's work.
-                    let (energy, grad) = terms::bend_energy_grad(x0, x1, x2, t.r0, t.r1, self.kb);
+                    let (energy, grad) = self.bend_energy_grad(t, x0, x1, x2);
                     out.energy += energy;
                     scatter_grad(&mut out.grad, &t.v, &grad);
                     continue;
                 }
-                let l = terms::bend(x0, x1, x2, t.r0, t.r1, self.kb);
+                let l = self.bend_local(t, x0, x1, x2);
                 out.energy += l.energy;
                 scatter_grad(&mut out.grad, &t.v, &l.grad);
                 self.scatter_hess(&mut out.hess, &t.v, &self.bend_pos[k], &l.hess);

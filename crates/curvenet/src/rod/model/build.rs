@@ -1,16 +1,27 @@
 //! Building an [`EnergyModel`]: the terms of every rod, the Hessian's block pattern over the
 //! vertices they couple, and each term's block positions in it.
 
-use super::{AnchorTerm, BendTerm, EnergyModel, RodTerms, StretchTerm};
+use super::{AnchorTerm, BendTerm, EnergyModel, RodTerms, STRAIGHT, StretchTerm};
 use crate::geom::Vec3;
-use crate::rod::{Material, Network};
+use crate::material::RestShape;
+use crate::rod::terms::{self, RestBend};
+use crate::rod::{Material, Network, RodStiffness};
 use crate::sparse::Pattern;
 
 impl EnergyModel {
-    /// Collects the terms of `network` with `material` and builds the Hessian pattern.
+    /// Collects the terms of `network` with `material` (every rod alike, straight at rest)
+    /// and builds the Hessian pattern.
     pub fn new(network: &Network, material: &Material) -> Self {
+        let rods = vec![RodStiffness::from(material); network.rods.len()];
+        Self::with_rods(network, &rods, material.anchor_weight)
+    }
+
+    /// Collects the terms of `network`, rod `i` with the stiffnesses and rest shape
+    /// `rods[i]`, anchors of weight `anchor_weight`, and builds the Hessian pattern.
+    pub fn with_rods(network: &Network, rods: &[RodStiffness], anchor_weight: f64) -> Self {
+        assert_eq!(rods.len(), network.rods.len(), "one stiffness per rod");
         let n_vertices = network.positions.len();
-        let terms = collect_terms(network);
+        let terms = collect_terms(network, rods);
         let curve_vertices = network
             .rods
             .iter()
@@ -38,27 +49,26 @@ impl EnergyModel {
             .iter()
             .map(|t| block_positions(&t.v, pos))
             .collect();
-        let ks = material.ks();
-        let mu = material.anchor_weight;
+        let mu = anchor_weight;
         // A loose vertex's diagonal: the stiffest scale in the model, far above the low
-        // spectrum that stability is about.
-        let min_rest = terms
+        // spectrum that stability is about. (ks / rest is monotone in rest, so with one ks
+        // this is exactly ks over the shortest edge.)
+        let stiffest = terms
             .stretch
             .iter()
-            .map(|t| t.rest)
-            .fold(f64::INFINITY, f64::min);
-        let loose_diagonal = if min_rest.is_finite() {
-            (ks / min_rest).max(2.0 * mu)
+            .map(|t| t.ks / t.rest)
+            .fold(f64::NEG_INFINITY, f64::max);
+        let loose_diagonal = if stiffest.is_finite() {
+            stiffest.max(2.0 * mu)
         } else {
             1.0
         };
         EnergyModel {
             n_vertices,
-            ks,
-            kb: material.kb(),
             mu,
             stretch: terms.stretch,
             bend: terms.bend,
+            bend_rest: terms.bend_rest,
             anchor: terms.anchor,
             rods: terms.rods,
             vertex_curves: network.vertex_curves(),
@@ -75,21 +85,24 @@ impl EnergyModel {
 struct Terms {
     stretch: Vec<StretchTerm>,
     bend: Vec<BendTerm>,
+    bend_rest: Vec<RestBend>,
     anchor: Vec<AnchorTerm>,
     rods: Vec<RodTerms>,
 }
 
 /// The stretching term of every edge, the bending term of every interior vertex (every vertex
-/// of a closed rod) and the anchor of every supported vertex, rod after rod.
-fn collect_terms(network: &Network) -> Terms {
+/// of a closed rod) and the anchor of every supported vertex, rod after rod, rod `i` with the
+/// stiffnesses and rest shape `stiffness[i]`.
+fn collect_terms(network: &Network, stiffness: &[RodStiffness]) -> Terms {
     let p = &network.positions;
     let mut t = Terms {
         stretch: Vec::new(),
         bend: Vec::new(),
+        bend_rest: Vec::new(),
         anchor: Vec::new(),
         rods: Vec::with_capacity(network.rods.len()),
     };
-    for rod in &network.rods {
+    for (rod, k) in network.rods.iter().zip(stiffness) {
         let (s0, b0, a0) = (t.stretch.len(), t.bend.len(), t.anchor.len());
         let m = rod.vertices.len();
         let ne = rod.edge_count();
@@ -98,6 +111,7 @@ fn collect_terms(network: &Network) -> Terms {
             t.stretch.push(StretchTerm {
                 v: [a, b],
                 rest: rod.rest_lengths[j],
+                ks: k.ks,
                 e: p[b as usize] - p[a as usize],
             });
         }
@@ -112,12 +126,23 @@ fn collect_terms(network: &Network) -> Terms {
             let v1 = rod.vertices[i];
             let v2 = rod.vertices[(i + 1) % m];
             let x1 = p[v1 as usize];
+            let (r0, r1) = (rod.rest_lengths[prev], rod.rest_lengths[next]);
+            let (a, b) = (p[v0 as usize] - x1, p[v2 as usize] - x1);
+            let rest = match k.rest {
+                RestShape::Straight => STRAIGHT,
+                RestShape::PreBent => {
+                    t.bend_rest.push(terms::rest_bend(-a, b, r0, r1));
+                    (t.bend_rest.len() - 1) as u32
+                }
+            };
             t.bend.push(BendTerm {
                 v: [v0, v1, v2],
-                r0: rod.rest_lengths[prev],
-                r1: rod.rest_lengths[next],
-                a: p[v0 as usize] - x1,
-                b: p[v2 as usize] - x1,
+                rest,
+                r0,
+                r1,
+                kb: k.kb,
+                a,
+                b,
             });
         }
         for &v in &rod.anchors {
@@ -127,6 +152,7 @@ fn collect_terms(network: &Network) -> Terms {
             });
         }
         t.rods.push(RodTerms {
+            kb: k.kb,
             stretch: s0..t.stretch.len(),
             bend: b0..t.bend.len(),
             anchor: a0..t.anchor.len(),

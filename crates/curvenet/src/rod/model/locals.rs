@@ -63,7 +63,7 @@ impl EnergyModel {
                     return [[0.0; 6]; 6];
                 }
                 let (x0, x1) = t.local(u);
-                let mut h = terms::stretch(x0, x1, t.rest, self.ks).hess;
+                let mut h = terms::stretch(x0, x1, t.rest, t.ks).hess;
                 if project {
                     terms::project_psd_stretch(&mut h);
                 }
@@ -79,7 +79,7 @@ impl EnergyModel {
                     return [[0.0; 9]; 9];
                 }
                 let (x0, x1, x2) = t.local(u);
-                let mut h = terms::bend(x0, x1, x2, t.r0, t.r1, self.kb).hess;
+                let mut h = self.bend_local(t, x0, x1, x2).hess;
                 if project {
                     terms::project_psd_bend(&mut h);
                 }

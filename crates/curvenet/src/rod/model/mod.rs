@@ -23,28 +23,38 @@ mod locals;
 pub use locals::{LocalHessians, Terms};
 
 use super::ActiveSet;
+use super::terms::{self, RestBend};
 use crate::geom::Vec3;
 use crate::sparse::Pattern;
 use std::ops::Range;
 
-/// A stretching term (one edge). `e` is the rest edge vector `X1 − X0`.
+/// A stretching term (one edge) with its rod's stiffness `ks`. `e` is the rest edge vector
+/// `X1 − X0`.
 #[derive(Clone, Copy, Debug)]
 struct StretchTerm {
     v: [u32; 2],
     rest: f64,
+    ks: f64,
     e: Vec3,
 }
 
-/// A bending term (one interior vertex and its two edges). `a = X0 − X1`, `b = X2 − X1` are the
-/// rest offsets of the outer vertices from the centre.
+/// A bending term (one interior vertex and its two edges) with its rod's stiffness `kb`.
+/// `a = X0 − X1`, `b = X2 − X1` are the rest offsets of the outer vertices from the centre.
+/// `rest` indexes the drawn shape of a pre-bent rod's term in `EnergyModel::bend_rest`
+/// (`STRAIGHT` for a rod straight at rest).
 #[derive(Clone, Copy, Debug)]
 struct BendTerm {
     v: [u32; 3],
+    rest: u32,
     r0: f64,
     r1: f64,
+    kb: f64,
     a: Vec3,
     b: Vec3,
 }
+
+/// [`BendTerm::rest`] of a term of a rod straight at rest.
+const STRAIGHT: u32 = u32::MAX;
 
 /// An anchor spring on a supported vertex; `offset` is its target minus its rest position
 /// (zero when the anchor holds the vertex where it was drawn).
@@ -78,9 +88,10 @@ impl BendTerm {
     }
 }
 
-/// Index ranges of one rod's terms in the model's term lists.
+/// Index ranges of one rod's terms in the model's term lists, and its bending stiffness.
 #[derive(Clone, Debug, Default)]
 struct RodTerms {
+    kb: f64,
     stretch: Range<usize>,
     bend: Range<usize>,
     anchor: Range<usize>,
@@ -101,11 +112,11 @@ pub struct Assembly {
 #[derive(Clone, Debug)]
 pub struct EnergyModel {
     n_vertices: usize,
-    ks: f64,
-    kb: f64,
     mu: f64,
     stretch: Vec<StretchTerm>,
     bend: Vec<BendTerm>,
+    /// The drawn shapes of the pre-bent rods' bending terms.
+    bend_rest: Vec<RestBend>,
     anchor: Vec<AnchorTerm>,
     rods: Vec<RodTerms>,
     /// For every vertex, the curves through it.
@@ -122,6 +133,45 @@ pub struct EnergyModel {
 }
 
 impl EnergyModel {
+    /// The drawn shape of bending term `t`, when its rod is pre-bent.
+    #[inline]
+    fn rest_of(&self, t: &BendTerm) -> Option<&RestBend> {
+        (t.rest != STRAIGHT).then(|| &self.bend_rest[t.rest as usize])
+    }
+
+    /// Bending term `t`'s energy, gradient and Hessian at the local positions `x0, x1, x2`.
+    #[inline]
+    fn bend_local(&self, t: &BendTerm, x0: Vec3, x1: Vec3, x2: Vec3) -> terms::Local<9> {
+        match self.rest_of(t) {
+            None => terms::bend(x0, x1, x2, t.r0, t.r1, t.kb),
+            Some(rest) => terms::bend_rest(x0, x1, x2, t.r0, t.r1, t.kb, rest),
+        }
+    }
+
+    /// Bending term `t`'s energy and gradient at the local positions `x0, x1, x2` (a third of
+    /// the work of [`Self::bend_local`]).
+    #[inline]
+    fn bend_energy_grad(&self, t: &BendTerm, x0: Vec3, x1: Vec3, x2: Vec3) -> (f64, [f64; 9]) {
+        match self.rest_of(t) {
+            None => terms::bend_energy_grad(x0, x1, x2, t.r0, t.r1, t.kb),
+            Some(rest) => terms::bend_rest_energy_grad(x0, x1, x2, t.r0, t.r1, t.kb, rest),
+        }
+    }
+
+    /// Bending term `t`'s energy at the local positions `x0, x1, x2`.
+    #[inline]
+    fn bend_energy(&self, t: &BendTerm, x0: Vec3, x1: Vec3, x2: Vec3) -> f64 {
+        match self.rest_of(t) {
+            None => terms::bend_energy(x0, x1, x2, t.r0, t.r1, t.kb),
+            Some(rest) => terms::bend_rest_energy(x0, x1, x2, t.r0, t.r1, t.kb, rest),
+        }
+    }
+
+    /// The anchor weight `µ` (an anchor is a spring of stiffness `2µ`).
+    pub fn anchor_weight(&self) -> f64 {
+        self.mu
+    }
+
     /// Number of vertices.
     pub fn vertex_count(&self) -> usize {
         self.n_vertices
@@ -143,26 +193,26 @@ impl EnergyModel {
     }
 
     /// The natural scale of the forces in structure `active`, the scale below which residual
-    /// forces are negligible: the bending force `k_b / L²` of its longest curve (Euler's
+    /// forces are negligible: the smallest bending force `k_b / L²` of its curves (Euler's
     /// buckling load without its `π²`, the force under which the structure's softest members
-    /// give way) at each of its vertices, as a norm over them (`k_b / L² · √V`). A drawn state
-    /// with forces (curved rods, anchors out of place) has a gradient far above it; unloaded
-    /// straight rods have only round-off.
+    /// give way; with one material, that of the longest curve) at each of its vertices, as a
+    /// norm over them (`k_b / L² · √V`). A drawn state with forces (curved rods, anchors out
+    /// of place) has a gradient far above it; unloaded straight rods have only round-off.
     pub fn natural_force_scale(&self, active: &ActiveSet) -> f64 {
-        let longest = self
+        // kb / (L L) is monotone in L, so with one kb the minimum is exactly the longest
+        // curve's value.
+        let softest = self
             .active_terms(active)
-            .map(|(_, r)| {
-                self.stretch[r.stretch.clone()]
-                    .iter()
-                    .map(|t| t.rest)
-                    .sum::<f64>()
+            .filter_map(|(_, r)| {
+                let l: f64 = self.stretch[r.stretch.clone()].iter().map(|t| t.rest).sum();
+                (l > 0.0).then(|| r.kb / (l * l))
             })
-            .fold(0.0, f64::max);
+            .fold(f64::INFINITY, f64::min);
         let held = self.vertex_mask(active).iter().filter(|&&h| h).count();
-        if !(longest > 0.0) {
+        if !softest.is_finite() {
             return 0.0;
         }
-        self.kb / (longest * longest) * (held as f64).sqrt()
+        softest * (held as f64).sqrt()
     }
 
     /// The diagonal value placed on loose vertices' coordinates.

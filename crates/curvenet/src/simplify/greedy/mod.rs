@@ -32,6 +32,7 @@ pub use search::CandidateScore;
 
 use super::{Budget, SimplifyError, pick_best};
 use crate::constraints::Constraints;
+use crate::physics::PhysicalSummary;
 use crate::stability::NewtonSummary;
 use crate::stability::candidates::{Candidates, Carried, Outcome};
 use crate::stability::{ActiveSet, Analyzer, Evaluation, Prepare, Preset, Warm, Work};
@@ -116,6 +117,9 @@ pub struct IterationRecord {
     pub candidates: Vec<CandidateScore>,
     /// Side file holding the worst-case mode (relative to the output folder).
     pub mode_file: String,
+    /// The structure's physical numbers in the physical mode (absent in the paper's mode).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub physical: Option<PhysicalSummary>,
 }
 
 /// Why the greedy stopped.
@@ -440,6 +444,7 @@ impl<'a> State<'a> {
             score: None,
             candidates: Vec::new(),
             mode_file: format!("modes/{k:04}.bin"),
+            physical: analyzer.physical_summary(&self.active)?,
         };
         // The removable units (each named by its smallest curve); `None`: every curve not kept.
         let units = self.constraints.map(|c| {

@@ -1,0 +1,371 @@
+//! Materials, cross-sections and rest shapes of the physical mode.
+//!
+//! The paper's model works in scene units with `E = 1`, `r = 2` ([`crate::rod::Material`]).
+//! Declaring the scene's length unit or a material turns on the *physical mode*, described by
+//! a [`Physical`]: the unit ([`crate::units::LengthUnit`]), a material
+//! ([`PhysicalMaterial`]: Young's modulus, density, strength, in SI; [`presets`]) and a
+//! cross-section ([`Section`], scene units) for every curve, with per-curve overrides from
+//! the curve file ([`spec`]), and the loads (gravity, a line load). [`Physical::scene_rod`]
+//! turns one curve's description into the numbers the energy and the mass matrix use, in the
+//! scene's consistent unit system (N, ℓ, s; see [`crate::units`]): `k_s = E A`, `k_b = E I`,
+//! mass per length `ρ A`.
+//!
+//! The rest shape of a curve ([`RestShape`]: straight, as in the paper, or pre-bent to its
+//! drawn shape) is independent of the mode.
+
+pub mod presets;
+pub mod section;
+pub mod spec;
+
+pub use section::Section;
+pub use spec::{CurveSpec, MaterialSpec, SectionSpec};
+
+use crate::units::{LengthUnit, STANDARD_GRAVITY};
+use serde::{Deserialize, Serialize};
+
+/// A material in SI units.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PhysicalMaterial {
+    /// The preset it came from (`steel`), with ` (modified)` when an override changed it, or
+    /// `custom`.
+    pub name: String,
+    /// Young's modulus, Pa.
+    pub young_pa: f64,
+    /// Density, kg/m³.
+    pub density_kg_m3: f64,
+    /// The stress at which the material yields or breaks, Pa: what stresses are compared with.
+    pub strength_pa: f64,
+}
+
+impl PhysicalMaterial {
+    /// Checks that every value is a positive finite number.
+    pub fn validate(&self) -> Result<(), String> {
+        for (what, v, unit) in [
+            ("Young's modulus", self.young_pa, "Pa"),
+            ("density", self.density_kg_m3, "kg/m³"),
+            ("strength", self.strength_pa, "Pa"),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(format!(
+                    "the {what} of material '{}' must be a positive number, got {v:e} {unit}",
+                    self.name
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The rest shape of a rod.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum RestShape {
+    /// Straight at rest and bent into its drawn shape (the paper's model): the drawn network
+    /// is not in equilibrium.
+    #[default]
+    #[serde(rename = "straight")]
+    Straight,
+    /// Made in its drawn shape (rest curvature = the drawn curvature): in equilibrium where it
+    /// was drawn, stiff against leaving it. See `rod::terms::bend_rest`.
+    #[serde(rename = "pre-bent")]
+    PreBent,
+}
+
+impl RestShape {
+    /// The name used in files and on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            RestShape::Straight => "straight",
+            RestShape::PreBent => "pre-bent",
+        }
+    }
+}
+
+impl std::str::FromStr for RestShape {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s.trim() {
+            "straight" => Ok(RestShape::Straight),
+            "pre-bent" | "prebent" | "pre_bent" => Ok(RestShape::PreBent),
+            other => Err(format!(
+                "unknown rest shape '{other}' (expected straight or pre-bent)"
+            )),
+        }
+    }
+}
+
+/// One curve's material or section, where it differs from the run's.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CurveOverride {
+    /// Curve id.
+    pub curve: usize,
+    /// Its material, when not the run's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<PhysicalMaterial>,
+    /// Its section (scene units), when not the run's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub section: Option<Section>,
+}
+
+/// The physical mode of a run: units, materials, sections and loads.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Physical {
+    /// The scene's length unit.
+    pub units: LengthUnit,
+    /// Every curve's material, unless overridden.
+    pub material: PhysicalMaterial,
+    /// Every curve's section (scene units), unless overridden.
+    pub section: Section,
+    /// Per-curve overrides, ascending by curve.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub curves: Vec<CurveOverride>,
+    /// Gravity, m/s² (default 9.81 along −z).
+    pub gravity: [f64; 3],
+    /// Intensity of the distributed load of the worst-case deflection, N/m.
+    pub load_n_per_m: f64,
+}
+
+/// One rod's numbers in the scene's unit system (N, ℓ, s).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SceneRod {
+    /// Stretching stiffness `k_s = E A`, N.
+    pub ks: f64,
+    /// Bending stiffness `k_b = E I`, N·ℓ².
+    pub kb: f64,
+    /// Mass per length `ρ A`, (N·s²/ℓ)/ℓ.
+    pub mass_per_length: f64,
+    /// Young's modulus, N/ℓ².
+    pub young: f64,
+    /// Distance from the axis to the outer fibre, ℓ.
+    pub outer_radius: f64,
+    /// Strength, N/ℓ².
+    pub strength: f64,
+}
+
+/// Default intensity of the worst-case distributed load, N/m (1 kN/m).
+pub const DEFAULT_LOAD_N_PER_M: f64 = 1000.0;
+
+impl Physical {
+    /// The physical mode with one material and section for every curve, standard gravity
+    /// along −z and the default line load.
+    pub fn uniform(units: LengthUnit, material: PhysicalMaterial, section: Section) -> Self {
+        Physical {
+            units,
+            material,
+            section,
+            curves: Vec::new(),
+            gravity: [0.0, 0.0, -STANDARD_GRAVITY],
+            load_n_per_m: DEFAULT_LOAD_N_PER_M,
+        }
+    }
+
+    /// Checks every material and section, the gravity and the load.
+    pub fn validate(&self) -> Result<(), String> {
+        self.material.validate()?;
+        self.section.validate()?;
+        for o in &self.curves {
+            if let Some(m) = &o.material {
+                m.validate()
+                    .map_err(|e| format!("curve {}: {e}", o.curve))?;
+            }
+            if let Some(s) = &o.section {
+                s.validate()
+                    .map_err(|e| format!("curve {}: {e}", o.curve))?;
+            }
+        }
+        if self.curves.windows(2).any(|w| w[0].curve >= w[1].curve) {
+            return Err("per-curve overrides must be in ascending curve order".into());
+        }
+        if !self.gravity.iter().all(|g| g.is_finite()) {
+            return Err(format!("gravity must be finite, got {:?}", self.gravity));
+        }
+        if !(self.load_n_per_m.is_finite() && self.load_n_per_m > 0.0) {
+            return Err(format!(
+                "the distributed load must be a positive number, got {} N/m",
+                self.load_n_per_m
+            ));
+        }
+        Ok(())
+    }
+
+    fn override_of(&self, curve: usize) -> Option<&CurveOverride> {
+        self.curves
+            .binary_search_by_key(&curve, |o| o.curve)
+            .ok()
+            .map(|i| &self.curves[i])
+    }
+
+    /// Curve `curve`'s material.
+    pub fn curve_material(&self, curve: usize) -> &PhysicalMaterial {
+        self.override_of(curve)
+            .and_then(|o| o.material.as_ref())
+            .unwrap_or(&self.material)
+    }
+
+    /// Curve `curve`'s section (scene units).
+    pub fn curve_section(&self, curve: usize) -> &Section {
+        self.override_of(curve)
+            .and_then(|o| o.section.as_ref())
+            .unwrap_or(&self.section)
+    }
+
+    /// Curve `curve`'s numbers in the scene's unit system.
+    pub fn scene_rod(&self, curve: usize) -> SceneRod {
+        let m = self.curve_material(curve);
+        let s = self.curve_section(curve);
+        let u = self.units;
+        let young = u.stress_to_scene(m.young_pa);
+        SceneRod {
+            ks: young * s.area(),
+            kb: young * s.second_moment(),
+            mass_per_length: u.density_to_scene(m.density_kg_m3) * s.area(),
+            young,
+            outer_radius: s.outer_radius(),
+            strength: u.stress_to_scene(m.strength_pa),
+        }
+    }
+
+    /// Gravity in the scene's ℓ/s².
+    pub fn gravity_scene(&self) -> [f64; 3] {
+        self.gravity.map(|g| self.units.acceleration_to_scene(g))
+    }
+
+    /// The worst-case load's intensity in the scene's N/ℓ.
+    pub fn load_scene(&self) -> f64 {
+        self.units.line_load_to_scene(self.load_n_per_m)
+    }
+
+    /// Applies the per-curve specs of the curve files (`specs[c]` for curve `c`; shorter
+    /// lists leave the remaining curves alone): a spec's material starts from its preset, or
+    /// from the run's material, and takes its overrides; a spec's section replaces the run's.
+    ///
+    /// # Errors
+    ///
+    /// A message naming the curve for an unknown preset or an invalid value.
+    pub fn with_curve_specs(mut self, specs: &[CurveSpec]) -> Result<Self, String> {
+        let mut curves = Vec::new();
+        for (c, spec) in specs.iter().enumerate() {
+            let material = match &spec.material {
+                Some(m) => Some(
+                    m.resolve(&self.material)
+                        .map_err(|e| format!("curve {c}: {e}"))?,
+                ),
+                None => None,
+            };
+            let section = match &spec.section {
+                Some(s) => Some(s.resolve(self.units)),
+                None => None,
+            };
+            if material.is_some() || section.is_some() {
+                curves.push(CurveOverride {
+                    curve: c,
+                    material,
+                    section,
+                });
+            }
+        }
+        self.curves = curves;
+        self.validate()?;
+        Ok(self)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn steel_mm() -> Physical {
+        Physical::uniform(
+            LengthUnit::Millimetre,
+            presets::preset("steel").unwrap(),
+            Section::Solid { radius: 10.0 },
+        )
+    }
+
+    #[test]
+    fn a_steel_rod_in_millimetres() {
+        let p = steel_mm();
+        assert!(p.validate().is_ok());
+        let r = p.scene_rod(3);
+        // E A = 210 000 N/mm² · 314.16 mm² = 6.597e7 N; E I = 210 000 · 7853.98 = 1.649e9 N mm².
+        assert!((r.ks / 6.597_345e7 - 1.0).abs() < 1e-6, "{}", r.ks);
+        assert!((r.kb / 1.649_336e9 - 1.0).abs() < 1e-6, "{}", r.kb);
+        // ρ A = 7.85e-9 t/mm³ · 314.16 mm² = 2.466e-6 t/mm = 2.466 kg/m.
+        let kg_per_m = p.units.mass_to_kg(r.mass_per_length) / p.units.metres();
+        assert!((kg_per_m - 2.466_150).abs() < 1e-5, "{kg_per_m}");
+        assert_eq!(r.strength, 355.0);
+        assert_eq!(p.gravity_scene(), [0.0, 0.0, -9810.0]);
+        assert!((p.load_scene() - 1.0).abs() < 1e-12);
+        // The same rod in metres has the same physics: E I in N·m².
+        let m = Physical::uniform(
+            LengthUnit::Metre,
+            presets::preset("steel").unwrap(),
+            Section::Solid { radius: 0.01 },
+        );
+        let rm = m.scene_rod(0);
+        assert!((rm.kb / (r.kb * 1e-6) - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn per_curve_specs_override_the_run() {
+        let specs = vec![
+            CurveSpec::default(),
+            CurveSpec {
+                material: Some(MaterialSpec {
+                    preset: Some("aluminium".into()),
+                    ..MaterialSpec::default()
+                }),
+                section: Some(SectionSpec::Tube {
+                    outer_diameter: spec::Length::Scene(60.0),
+                    wall: spec::Length::Metres(0.004),
+                }),
+                rest: None,
+            },
+            CurveSpec {
+                material: Some(MaterialSpec {
+                    strength_pa: Some(460e6),
+                    ..MaterialSpec::default()
+                }),
+                ..CurveSpec::default()
+            },
+        ];
+        let p = steel_mm().with_curve_specs(&specs).unwrap();
+        assert_eq!(p.curves.len(), 2);
+        assert_eq!(p.curve_material(0).name, "steel");
+        assert_eq!(p.curve_material(1).name, "aluminium");
+        assert_eq!(
+            *p.curve_section(1),
+            Section::Tube {
+                outer_diameter: 60.0,
+                wall: 4.0
+            }
+        );
+        assert_eq!(p.curve_material(2).name, "steel (modified)");
+        assert_eq!(p.curve_material(2).strength_pa, 460e6);
+        assert_eq!(p.curve_material(2).young_pa, 210e9);
+        assert_eq!(*p.curve_section(2), Section::Solid { radius: 10.0 });
+        assert_eq!(p.curve_material(7).name, "steel");
+        let bad = vec![CurveSpec {
+            material: Some(MaterialSpec {
+                density_kg_m3: Some(-1.0),
+                ..MaterialSpec::default()
+            }),
+            ..CurveSpec::default()
+        }];
+        let e = steel_mm().with_curve_specs(&bad).unwrap_err();
+        assert!(e.contains("curve 0") && e.contains("density"), "{e}");
+    }
+
+    #[test]
+    fn rest_shapes_parse() {
+        assert_eq!("pre-bent".parse::<RestShape>(), Ok(RestShape::PreBent));
+        assert_eq!("straight".parse::<RestShape>(), Ok(RestShape::Straight));
+        assert!("curly".parse::<RestShape>().is_err());
+        assert_eq!(
+            serde_json::to_string(&RestShape::PreBent).unwrap(),
+            "\"pre-bent\""
+        );
+    }
+}

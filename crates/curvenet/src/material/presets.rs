@@ -1,0 +1,106 @@
+//! Material presets: the values `--material NAME` stands for, with their sources.
+//!
+//! Each value is a nominal design value from a standard (or, for glass fibre, from the
+//! gridshells built with it); `docs/units.md` lists them with the same sources. A real product
+//! differs: override any of them with `--young`, `--density`, `--strength`.
+//!
+//! | preset | E | ρ | strength | source |
+//! |---|---|---|---|---|
+//! | `steel` | 210 GPa | 7850 kg/m³ | 355 MPa (S355 yield) | EN 1993-1-1 §3.2.6 (E), EN 1991-1-1 Table A.4 (ρ), EN 10025-2 (S355, t ≤ 16 mm) |
+//! | `aluminium` | 70 GPa | 2700 kg/m³ | 240 MPa (EN AW-6061 T6 proof stress) | EN 1999-1-1 §3.2.5 (E, ρ), Table 3.2b (f₀) |
+//! | `gfrp` | 25 GPa | 1850 kg/m³ | 400 MPa (pultruded glass-fibre tube, failure stress) | Douthe, Baverel & Caron 2006 (J. IASS 47(1)); du Peloux et al. 2016 (the Solidays gridshell) |
+//! | `timber` | 11 GPa | 420 kg/m³ | 24 MPa (C24 bending strength, characteristic) | EN 338:2016 Table 1 (C24: E₀,mean, ρ_mean, f_m,k) |
+
+use super::PhysicalMaterial;
+
+/// One preset: its name, the other names it answers to, and its values in SI.
+struct Preset {
+    name: &'static str,
+    aliases: &'static [&'static str],
+    young_pa: f64,
+    density_kg_m3: f64,
+    strength_pa: f64,
+}
+
+const PRESETS: &[Preset] = &[
+    Preset {
+        name: "steel",
+        aliases: &["s355"],
+        young_pa: 210e9,
+        density_kg_m3: 7850.0,
+        strength_pa: 355e6,
+    },
+    Preset {
+        name: "aluminium",
+        aliases: &["aluminum", "al", "6061-t6"],
+        young_pa: 70e9,
+        density_kg_m3: 2700.0,
+        strength_pa: 240e6,
+    },
+    Preset {
+        name: "gfrp",
+        aliases: &["glass-fibre", "glass-fiber", "fibreglass", "fiberglass"],
+        young_pa: 25e9,
+        density_kg_m3: 1850.0,
+        strength_pa: 400e6,
+    },
+    Preset {
+        name: "timber",
+        aliases: &["wood", "c24"],
+        young_pa: 11e9,
+        density_kg_m3: 420.0,
+        strength_pa: 24e6,
+    },
+];
+
+/// The preset names, for help and messages.
+pub fn names() -> Vec<&'static str> {
+    PRESETS.iter().map(|p| p.name).collect()
+}
+
+/// The preset called `name` (or one of its aliases, any case).
+///
+/// # Errors
+///
+/// A message listing the presets when there is none by that name.
+pub fn preset(name: &str) -> Result<PhysicalMaterial, String> {
+    let key = name.trim().to_ascii_lowercase();
+    PRESETS
+        .iter()
+        .find(|p| p.name == key || p.aliases.contains(&key.as_str()))
+        .map(|p| PhysicalMaterial {
+            name: p.name.to_owned(),
+            young_pa: p.young_pa,
+            density_kg_m3: p.density_kg_m3,
+            strength_pa: p.strength_pa,
+        })
+        .ok_or_else(|| {
+            format!(
+                "unknown material '{}' (expected one of: {})",
+                name.trim(),
+                names().join(", ")
+            )
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn presets_are_found_by_name_and_alias() {
+        let s = preset("steel").unwrap();
+        assert_eq!(
+            (s.young_pa, s.density_kg_m3, s.strength_pa),
+            (210e9, 7850.0, 355e6)
+        );
+        assert_eq!(preset("Aluminum").unwrap().name, "aluminium");
+        assert_eq!(preset("glass-fibre").unwrap().name, "gfrp");
+        assert_eq!(preset(" wood ").unwrap().name, "timber");
+        let e = preset("unobtainium").unwrap_err();
+        assert!(e.contains("unobtainium") && e.contains("steel, aluminium, gfrp, timber"));
+        for n in names() {
+            assert!(preset(n).unwrap().validate().is_ok());
+        }
+    }
+}

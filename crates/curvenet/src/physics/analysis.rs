@@ -1,0 +1,428 @@
+//! The physical analysis of one structure: its rods' stiffnesses from materials and sections,
+//! rigid supports, the equilibrium the rods are bent into, and what a structural designer
+//! reads off it (natural frequencies, deflections, stresses, utilisation).
+//!
+//! The steps, all in the scene's consistent unit system (N, ℓ, s):
+//! 1. the energy with `k_s = E A`, `k_b = E I` per rod, each rod straight or pre-bent at rest,
+//!    and anchors scaled to stay rigid next to the stiffest rod
+//!    ([`crate::rod::physical::rigid_anchor_weight`]);
+//! 2. Newton's method from the drawn state to the equilibrium the rods are bent into;
+//! 3. the lowest pairs of `H v = μ M v` (`M` the lumped mass matrix), solved as
+//!    `M^{-1/2} H M^{-1/2} ṽ = μ ṽ`: the natural frequencies `√μ / 2π`;
+//! 4. the lowest pair of `H v = μ_L Λ v` (`Λ` the lumped lengths): the worst-case
+//!    distributed load of the given intensity and its largest deflection
+//!    ([`super::loads::worst_load_deflection`]);
+//! 5. the self-weight deflection, linearised at the equilibrium: `H u = M g`;
+//! 6. the stresses of the equilibrium ([`super::stress::assembly_stresses`]) and the warnings
+//!    (curves that would break when bent, units that imply absurd dimensions).
+//!
+//! An unstable equilibrium (a zero or negative `μ`) has no frequency and no linear
+//! deflection: those numbers are absent and a warning says why.
+
+use super::checks::{near_joint, overstress_warnings, units_warnings};
+use super::loads::{
+    frequencies_hz, held_vertices, lumped_lengths, max_displacement, self_weight,
+    worst_load_deflection,
+};
+use super::stress::{CurveStress, StressAt, assembly_stresses};
+use crate::material::{Physical, PhysicalMaterial, RestShape};
+use crate::rod::mass::{inverse_sqrt_coordinates, lumped_masses, scale_hessian};
+use crate::rod::physical::{masses_per_length, physical_rods, rigid_anchor_weight};
+use crate::rod::{ActiveSet, EnergyModel, Network};
+use crate::solve::eigen::{EigenOptions, EigenParams, Spectrum, smallest_eigenpairs};
+use crate::solve::{
+    Backend, Cholesky, Equilibrium, NewtonParams, NewtonSummary, SolverTuning, SymbolicFactor,
+};
+use serde::{Deserialize, Serialize};
+
+/// What a physical analysis needs beyond the network.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PhysicalParams {
+    /// Units, materials, sections and loads.
+    pub physical: Physical,
+    /// Each curve's rest shape (straight where shorter).
+    pub rest: Vec<RestShape>,
+    /// How many natural frequencies to report.
+    pub frequencies: usize,
+    /// What an equilibrium is.
+    pub newton: NewtonParams,
+}
+
+impl PhysicalParams {
+    /// The analysis of `physical` with straight rods, four frequencies and the default
+    /// equilibrium tolerance.
+    pub fn new(physical: Physical) -> Self {
+        PhysicalParams {
+            physical,
+            rest: Vec::new(),
+            frequencies: 4,
+            newton: NewtonParams::default(),
+        }
+    }
+
+    /// Checks the parameters.
+    pub fn validate(&self) -> Result<(), String> {
+        self.physical.validate()?;
+        if self.frequencies == 0 || self.frequencies > 50 {
+            return Err(format!(
+                "the number of frequencies must lie in 1..=50, got {}",
+                self.frequencies
+            ));
+        }
+        self.newton.validate()
+    }
+}
+
+/// The largest utilisation (combined stress over strength) and where it occurs.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Utilisation {
+    /// Combined outer-fibre stress over the material's strength (above 1: the rod breaks).
+    pub value: f64,
+    /// The curve.
+    pub curve: usize,
+    /// The vertex.
+    pub vertex: usize,
+    /// "at joint J" or "near joint J" (empty when the curve has no joint).
+    pub near: String,
+    /// The combined stress there, MPa.
+    pub stress_mpa: f64,
+    /// The curve's strength, MPa.
+    pub strength_mpa: f64,
+}
+
+/// A largest deflection and where it occurs.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Deflection {
+    /// The largest vertex displacement, scene units.
+    pub max: f64,
+    /// The vertex.
+    pub vertex: usize,
+}
+
+/// The physical answers about one structure (`analyze --json`'s `physical` object).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PhysicalReport {
+    /// The scene's length unit (`mm`, `cm`, `m`).
+    pub units: String,
+    /// The run's material (curves may override it).
+    pub material: PhysicalMaterial,
+    /// The run's section, in words.
+    pub section: String,
+    /// The structure's mass, kg.
+    pub mass_kg: f64,
+    /// The anchor weight `µ` used (scene units, N/ℓ): rigid next to the rods.
+    pub anchor_weight: f64,
+    /// The solve of the equilibrium the rods are bent into.
+    pub equilibrium: NewtonSummary,
+    /// No zero or negative mode among the computed ones.
+    pub stable: bool,
+    /// Zero modes (mechanisms) among the computed ones.
+    pub zero_modes: usize,
+    /// Negative modes among the computed ones.
+    pub negative_modes: usize,
+    /// The lowest eigenvalue `μ` of `H v = μ M v`, s⁻².
+    pub mu_min: f64,
+    /// The first natural frequency, Hz (absent when unstable).
+    pub first_frequency_hz: Option<f64>,
+    /// The lowest natural frequencies, Hz (`null` for a zero or negative mode).
+    pub frequencies_hz: Vec<Option<f64>>,
+    /// Intensity of the worst-case distributed load, N/m.
+    pub load_n_per_m: f64,
+    /// The largest deflection under the worst-case distributed load of that intensity, scene
+    /// units (absent when unstable).
+    pub load_max_deflection: Option<Deflection>,
+    /// Gravity, m/s².
+    pub gravity_m_s2: [f64; 3],
+    /// The largest deflection under self-weight, scene units (linearised at the
+    /// equilibrium; absent when unstable).
+    pub self_weight_max_deflection: Option<f64>,
+    /// Where it occurs.
+    pub self_weight_vertex: Option<usize>,
+    /// The largest bending stress `E r κ` of the assembly (the equilibrium the rods were
+    /// bent into), MPa.
+    pub assembly_max_bending_stress_mpa: f64,
+    /// Where it occurs.
+    pub assembly_max_bending_stress_at: Option<StressAt>,
+    /// The largest axial stress of the assembly, MPa.
+    pub assembly_max_axial_stress_mpa: f64,
+    /// Where it occurs (its curve).
+    pub assembly_max_axial_stress_at: Option<StressAt>,
+    /// The largest utilisation and where it occurs.
+    pub max_utilisation: Option<Utilisation>,
+    /// Every curve's largest stresses.
+    pub curves: Vec<CurveStress>,
+    /// Curves that would break when bent, units that look wrong, instability.
+    pub warnings: Vec<String>,
+}
+
+/// The physical numbers of one structure as a search records them per iteration
+/// (result.json's `physical` of each iteration; [`PhysicalReport`] is the whole analysis).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PhysicalSummary {
+    /// No zero or negative mode among the computed ones.
+    pub stable: bool,
+    /// The structure's mass, kg.
+    pub mass_kg: f64,
+    /// The lowest eigenvalue `μ` of `H v = μ M v`, s⁻².
+    pub mu_min: f64,
+    /// The first natural frequency, Hz (absent when unstable).
+    pub first_frequency_hz: Option<f64>,
+    /// The largest deflection under the worst-case distributed load, scene units (absent
+    /// when unstable).
+    pub load_max_deflection: Option<f64>,
+    /// The largest deflection under self-weight, scene units (absent when unstable).
+    pub self_weight_max_deflection: Option<f64>,
+    /// The largest bending stress of the assembly, MPa.
+    pub assembly_max_bending_stress_mpa: f64,
+    /// The largest axial stress of the assembly, MPa.
+    pub assembly_max_axial_stress_mpa: f64,
+    /// The largest utilisation (stress over strength; above 1 a rod breaks).
+    pub max_utilisation: Option<f64>,
+    /// The curves whose assembly stress exceeds their strength, ascending.
+    pub overstressed_curves: Vec<usize>,
+}
+
+impl PhysicalReport {
+    /// What a search records of this analysis per iteration.
+    pub fn summary(&self) -> PhysicalSummary {
+        PhysicalSummary {
+            stable: self.stable,
+            mass_kg: self.mass_kg,
+            mu_min: self.mu_min,
+            first_frequency_hz: self.first_frequency_hz,
+            load_max_deflection: self.load_max_deflection.map(|d| d.max),
+            self_weight_max_deflection: self.self_weight_max_deflection,
+            assembly_max_bending_stress_mpa: self.assembly_max_bending_stress_mpa,
+            assembly_max_axial_stress_mpa: self.assembly_max_axial_stress_mpa,
+            max_utilisation: self.max_utilisation.as_ref().map(|u| u.value),
+            overstressed_curves: self
+                .curves
+                .iter()
+                .filter(|c| c.utilisation() > 1.0)
+                .map(|c| c.curve)
+                .collect(),
+        }
+    }
+}
+
+/// Why a physical analysis failed.
+#[derive(Debug, thiserror::Error)]
+pub enum PhysicsError {
+    /// Bad parameters.
+    #[error("invalid physical parameters: {0}")]
+    Params(String),
+    /// The eigen solver failed.
+    #[error(transparent)]
+    Eigen(#[from] crate::solve::eigen::EigenError),
+}
+
+/// The physical analysis of the structure `active` of `network` (see the module's docs).
+pub fn analyze_physical(
+    network: &Network,
+    params: &PhysicalParams,
+    active: &ActiveSet,
+) -> Result<PhysicalReport, PhysicsError> {
+    params.validate().map_err(PhysicsError::Params)?;
+    let phys = &params.physical;
+    let n = network.rods.len();
+    let rods = physical_rods(phys, n, &params.rest);
+    let anchor_weight = rigid_anchor_weight(network, &rods);
+    let model = EnergyModel::with_rods(network, &rods, anchor_weight);
+    let symbolic = SymbolicFactor::new(model.pattern(), Backend::default());
+    let mut u = vec![0.0; model.dofs()];
+    let relaxed = Equilibrium {
+        model: &model,
+        active,
+        symbolic: &symbolic,
+        params: &params.newton,
+        tuning: &SolverTuning::default(),
+    }
+    .relax(&mut u, None);
+    let hess = relaxed.hess;
+    let held = held_vertices(network, active);
+    let keep: Vec<bool> = held.iter().flat_map(|&h| [h; 3]).collect();
+    let count = params
+        .frequencies
+        .min(keep.iter().filter(|&&k| k).count().max(1));
+    let lowest = |metric: &[f64], count: usize| -> Result<Spectrum, PhysicsError> {
+        let mut scaled = hess.clone();
+        scale_hessian(
+            model.pattern(),
+            &mut scaled,
+            &inverse_sqrt_coordinates(metric),
+        );
+        let eigen = EigenParams {
+            count,
+            ..EigenParams::default()
+        };
+        let options = EigenOptions {
+            keep: Some(&keep),
+            ..EigenOptions::default()
+        };
+        let found = smallest_eigenpairs(&symbolic, model.pattern(), &scaled, &eigen, options)?;
+        Ok(found
+            .expect("a shift below zero always gives pairs")
+            .spectrum)
+    };
+
+    // Natural frequencies: H v = μ M v.
+    let masses = lumped_masses(network, &masses_per_length(phys, n), active);
+    let modes = lowest(&masses, count)?;
+    let threshold = modes.zero_threshold;
+    let stable = modes.zero_modes == 0 && modes.negative_modes == 0 && modes.lambda() > threshold;
+    let frequencies = frequencies_hz(&modes.values, threshold);
+    let mut warnings = Vec::new();
+    if !stable {
+        warnings.push(format!(
+            "the structure is not stable in the physical mode ({} zero and {} negative modes \
+             among the {} lowest; μ_min = {:.3e} s⁻²): it has no natural frequency and no \
+             linear deflection",
+            modes.zero_modes,
+            modes.negative_modes,
+            modes.values.len(),
+            modes.lambda()
+        ));
+    }
+    if !relaxed.info.converged {
+        warnings.push(format!(
+            "the equilibrium was not reached in the physical mode ({:?} after {} iterations, \
+             |∇E| / g₀ = {:.1e}): its numbers are those of the last state",
+            relaxed.info.stop, relaxed.info.iterations, relaxed.info.grad_rel
+        ));
+    }
+
+    // The worst-case distributed load: H v = μ_L Λ v, v = Λ^{-1/2} ṽ.
+    let load_max_deflection = if stable {
+        let lengths = lumped_lengths(network, active);
+        let s = inverse_sqrt_coordinates(&lengths);
+        let pair = lowest(&lengths, 1)?;
+        let v: Vec<f64> = (0..s.len()).map(|i| s[i] * pair.vectors[(i, 0)]).collect();
+        let (vertex, max) =
+            worst_load_deflection(pair.lambda(), &v, &lengths, &held, phys.load_scene());
+        Some(Deflection { max, vertex })
+    } else {
+        None
+    };
+
+    // Self-weight, linearised at the equilibrium: H u = M g.
+    let self_weight_deflection = if stable {
+        Cholesky::factorize(&symbolic, model.pattern(), &hess, 0.0, None)
+            .ok()
+            .map(|factor| {
+                let mut w = self_weight(network, phys, active);
+                factor.solve_vec(&mut w);
+                max_displacement(&w, &held)
+            })
+    } else {
+        None
+    };
+
+    let stresses = assembly_stresses(network, phys, &params.rest, active, &u);
+    warnings.extend(overstress_warnings(&stresses, network, phys));
+    warnings.extend(units_warnings(network, phys));
+    let max_utilisation = stresses.max_utilisation().map(|c| Utilisation {
+        value: c.utilisation(),
+        curve: c.curve,
+        vertex: c.vertex,
+        near: near_joint(network, c.curve, c.vertex),
+        stress_mpa: c.combined_mpa,
+        strength_mpa: c.strength_mpa,
+    });
+    let bending = stresses.max_bending();
+    let axial = stresses.max_axial();
+    let mass_kg = phys.units.mass_to_kg(
+        masses
+            .iter()
+            .zip(&held)
+            .filter(|(_, h)| **h)
+            .map(|(m, _)| m)
+            .sum(),
+    );
+    Ok(PhysicalReport {
+        units: phys.units.symbol().to_string(),
+        material: phys.material.clone(),
+        section: phys.section.describe(),
+        mass_kg,
+        anchor_weight,
+        equilibrium: relaxed.info.summary(),
+        stable,
+        zero_modes: modes.zero_modes,
+        negative_modes: modes.negative_modes,
+        mu_min: modes.lambda(),
+        first_frequency_hz: frequencies.first().copied().flatten(),
+        frequencies_hz: frequencies,
+        load_n_per_m: phys.load_n_per_m,
+        load_max_deflection,
+        gravity_m_s2: phys.gravity,
+        self_weight_max_deflection: self_weight_deflection.map(|d| d.1),
+        self_weight_vertex: self_weight_deflection.map(|d| d.0),
+        assembly_max_bending_stress_mpa: bending.map_or(0.0, |s| s.mpa),
+        assembly_max_bending_stress_at: bending,
+        assembly_max_axial_stress_mpa: axial.map_or(0.0, |s| s.mpa),
+        assembly_max_axial_stress_at: axial,
+        max_utilisation,
+        curves: stresses.curves,
+        warnings,
+    })
+}
+
+impl PhysicalReport {
+    /// The report as text lines for `analyze`'s summary.
+    pub fn to_text(&self) -> String {
+        let u = &self.units;
+        let mut s = String::new();
+        let mut line = |l: String| {
+            s.push_str(&l);
+            s.push('\n');
+        };
+        line(format!(
+            "physical: {} (E {:.4} GPa, ρ {:.0} kg/m³, strength {:.0} MPa), {}, units {u}, mass \
+             {:.3} kg",
+            self.material.name,
+            self.material.young_pa / 1e9,
+            self.material.density_kg_m3,
+            self.material.strength_pa / 1e6,
+            self.section,
+            self.mass_kg
+        ));
+        line(format!(
+            "  stable: {} (zero modes {}, negative modes {}), μ_min {:.6e} s⁻²",
+            if self.stable { "yes" } else { "NO" },
+            self.zero_modes,
+            self.negative_modes,
+            self.mu_min
+        ));
+        let freqs: Vec<String> = self
+            .frequencies_hz
+            .iter()
+            .map(|f| f.map_or("none".into(), |f| format!("{f:.4}")))
+            .collect();
+        line(format!("  natural frequencies (Hz): {}", freqs.join(", ")));
+        match self.load_max_deflection {
+            Some(d) => line(format!(
+                "  worst-case load {:.3} kN/m: max deflection {:.4e} {u} at vertex {}",
+                self.load_n_per_m / 1e3,
+                d.max,
+                d.vertex
+            )),
+            None => line("  worst-case load: no linear deflection (unstable)".into()),
+        }
+        match (self.self_weight_max_deflection, self.self_weight_vertex) {
+            (Some(d), Some(v)) => line(format!(
+                "  self-weight max deflection {d:.4e} {u} at vertex {v}"
+            )),
+            _ => line("  self-weight: no linear deflection (unstable)".into()),
+        }
+        line(format!(
+            "  assembly stress: bending max {:.2} MPa, axial max {:.2} MPa",
+            self.assembly_max_bending_stress_mpa, self.assembly_max_axial_stress_mpa
+        ));
+        if let Some(m) = &self.max_utilisation {
+            line(format!(
+                "  max utilisation {:.3} ({:.1} MPa / {:.0} MPa) on curve {} {} (vertex {})",
+                m.value, m.stress_mpa, m.strength_mpa, m.curve, m.near, m.vertex
+            ));
+        }
+        s
+    }
+}

@@ -1,0 +1,228 @@
+//! The physical mode's options as a user writes them (`--units`, `--material`, `--young`,
+//! `--density`, `--strength`, `--radius`, `--tube`, `--load`, `--gravity`), turned into
+//! [`PhysicalParams`]: one place for the command line and any other front end.
+
+use super::analysis::PhysicalParams;
+use crate::material::{CurveSpec, Physical, SectionSpec, presets};
+use crate::rod::Material;
+use crate::units::{LengthUnit, Quantity, STANDARD_GRAVITY, parse_quantity};
+
+/// The material of `--units` without `--material`.
+pub const DEFAULT_MATERIAL: &str = "steel";
+
+/// The physical mode's options, as text (`None`: not given).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PhysicalOptions {
+    /// `--units mm|cm|m`: the scene's length unit.
+    pub units: Option<String>,
+    /// `--material NAME`: a preset.
+    pub material: Option<String>,
+    /// `--young` with a stress unit (`210GPa`).
+    pub young: Option<String>,
+    /// `--density` with a density unit (`7850kg/m3`).
+    pub density: Option<String>,
+    /// `--strength` with a stress unit (`355MPa`).
+    pub strength: Option<String>,
+    /// `--radius`: a solid round section (scene units, or with a length unit).
+    pub radius: Option<String>,
+    /// `--tube DxT`: a round tube, outer diameter × wall.
+    pub tube: Option<String>,
+    /// `--load`: the worst-case distributed load's intensity (`1kN/m`).
+    pub load: Option<String>,
+    /// `--gravity`: `9.81` (along −z) or `gx,gy,gz`, m/s².
+    pub gravity: Option<String>,
+}
+
+impl PhysicalOptions {
+    /// True when an option that turns on the physical mode is given (`--units` or
+    /// `--material`).
+    pub fn is_physical(&self) -> bool {
+        self.units.is_some() || self.material.is_some()
+    }
+
+    /// The physical parameters, or `None` in the paper's mode. `file_units` is a length unit
+    /// a curve file declared (used when `--units` is not given; `--units` wins), `specs` the
+    /// curve files' per-curve material, section and rest shape (curve `c` at `specs[c]`).
+    ///
+    /// # Errors
+    ///
+    /// A message naming the option for an unknown unit or material, a value without its unit
+    /// or with another quantity's, a non-positive value, or a missing section.
+    pub fn resolve(
+        &self,
+        file_units: Option<&str>,
+        specs: &[CurveSpec],
+    ) -> Result<Option<PhysicalParams>, String> {
+        if !self.is_physical() {
+            for (name, given) in [
+                ("--density", &self.density),
+                ("--strength", &self.strength),
+                ("--tube", &self.tube),
+                ("--load", &self.load),
+                ("--gravity", &self.gravity),
+            ] {
+                if given.is_some() {
+                    return Err(format!(
+                        "{name} belongs to the physical mode: give --units mm|cm|m and/or \
+                         --material NAME ({})",
+                        presets::names().join(", ")
+                    ));
+                }
+            }
+            return Ok(None);
+        }
+        let units: LengthUnit = match (&self.units, file_units) {
+            (Some(u), _) => u.parse().map_err(|e| format!("--units: {e}"))?,
+            (None, Some(u)) => u
+                .parse()
+                .map_err(|e| format!("the curve file's units: {e}"))?,
+            (None, None) => {
+                return Err(
+                    "--material needs the scene's length unit: give --units mm|cm|m".into(),
+                );
+            }
+        };
+        let mut material = presets::preset(self.material.as_deref().unwrap_or(DEFAULT_MATERIAL))
+            .map_err(|e| format!("--material: {e}"))?;
+        let mut modified = false;
+        if let Some(t) = &self.young {
+            material.young_pa = quantity("--young", t)?;
+            modified = true;
+        }
+        if let Some(t) = &self.density {
+            material.density_kg_m3 = quantity("--density", t)?;
+            modified = true;
+        }
+        if let Some(t) = &self.strength {
+            material.strength_pa = quantity("--strength", t)?;
+            modified = true;
+        }
+        if modified {
+            material.name = format!("{} (modified)", material.name);
+        }
+        let section = match (&self.radius, &self.tube) {
+            (Some(_), Some(_)) => return Err("give --radius or --tube, not both".into()),
+            (Some(r), None) => SectionSpec::Solid {
+                radius: crate::material::spec::Length::parse(r, "--radius")?,
+            },
+            (None, Some(t)) => SectionSpec::parse_tube(t, "--tube")?,
+            (None, None) => SectionSpec::Solid {
+                radius: crate::material::spec::Length::Scene(Material::default().radius),
+            },
+        }
+        .resolve(units);
+        section.validate().map_err(|e| {
+            format!(
+                "{}: {e}",
+                if self.tube.is_some() {
+                    "--tube"
+                } else {
+                    "--radius"
+                }
+            )
+        })?;
+        let mut physical = Physical::uniform(units, material, section);
+        if let Some(t) = &self.load {
+            physical.load_n_per_m = quantity("--load", t)?;
+        }
+        if let Some(t) = &self.gravity {
+            physical.gravity = parse_gravity(t)?;
+        }
+        let physical = physical.with_curve_specs(specs)?;
+        physical.validate()?;
+        let mut params = PhysicalParams::new(physical);
+        params.rest = specs.iter().map(|s| s.rest.unwrap_or_default()).collect();
+        Ok(Some(params))
+    }
+}
+
+/// The quantity, SI unit and largest accepted value of each option written with a unit. The
+/// bounds lie far beyond any material (diamond's modulus is 1.2e12 Pa, osmium's density
+/// 22 590 kg/m³) and keep every stiffness, mass and load within floating-point range.
+const QUANTITIES: &[(&str, Quantity, &str, f64)] = &[
+    ("--young", Quantity::Stress, "Pa", 1e13),
+    ("--density", Quantity::Density, "kg/m3", 1e6),
+    ("--strength", Quantity::Stress, "Pa", 1e13),
+    ("--load", Quantity::LineLoad, "N/m", 1e12),
+];
+
+/// The largest gravity component accepted, m/s² (about 1000 g).
+pub const MAX_GRAVITY: f64 = 1e4;
+
+/// `option`'s value (one of `--young`, `--density`, `--strength`, `--load`) in SI: a positive
+/// number with its unit, at most the option's bound.
+fn quantity(option: &str, text: &str) -> Result<f64, String> {
+    let &(_, kind, si, max) = QUANTITIES
+        .iter()
+        .find(|q| q.0 == option)
+        .expect("an option written with a unit");
+    let v = parse_quantity(text, kind, option, None)?;
+    if !(v > 0.0) {
+        Err(format!("{option} {text:?} must be positive"))
+    } else if v > max {
+        Err(format!(
+            "{option} {text:?} is {v:e} {si}, beyond any material (at most {max:e} {si})"
+        ))
+    } else {
+        Ok(v)
+    }
+}
+
+/// Checks one physical-mode option's text alone (`name` as on the command line, e.g.
+/// `--density`), as [`PhysicalOptions::resolve`] reads it: a front end calls it while the
+/// command line is parsed, so a bad value is refused before any work. `--young` here is the
+/// physical mode's (with a unit); options this module does not know pass.
+///
+/// # Errors
+///
+/// The message [`PhysicalOptions::resolve`] would give for the value.
+pub fn check_option(name: &str, text: &str) -> Result<(), String> {
+    match name {
+        "--units" => text
+            .parse::<LengthUnit>()
+            .map(|_| ())
+            .map_err(|e| format!("--units: {e}")),
+        "--material" => presets::preset(text)
+            .map(|_| ())
+            .map_err(|e| format!("--material: {e}")),
+        "--tube" => SectionSpec::parse_tube(text, "--tube")?
+            .resolve(LengthUnit::Metre)
+            .validate()
+            .map_err(|e| format!("--tube: {e}")),
+        "--gravity" => parse_gravity(text).map(|_| ()),
+        _ if QUANTITIES.iter().any(|q| q.0 == name) => quantity(name, text).map(|_| ()),
+        _ => Ok(()),
+    }
+}
+
+/// `--gravity`: one value (its magnitude along −z; 0 turns self-weight off) or three
+/// (`gx,gy,gz`), m/s², bare or with `m/s2`.
+fn parse_gravity(text: &str) -> Result<[f64; 3], String> {
+    let parts: Vec<&str> = text.split(',').collect();
+    let g = |t: &str| {
+        let v = parse_quantity(t, Quantity::Acceleration, "--gravity", Some(1.0))?;
+        if v.abs() > MAX_GRAVITY {
+            return Err(format!(
+                "--gravity {text:?}: {v:e} m/s2 is beyond {MAX_GRAVITY:e} m/s2 (about 1000 g)"
+            ));
+        }
+        Ok(v)
+    };
+    match parts.as_slice() {
+        [one] => {
+            let v = g(one)?;
+            if v < 0.0 {
+                return Err(format!(
+                    "--gravity {text:?}: one value is the magnitude along -z (give gx,gy,gz for \
+                     another direction)"
+                ));
+            }
+            Ok([0.0, 0.0, -v])
+        }
+        [x, y, z] => Ok([g(x)?, g(y)?, g(z)?]),
+        _ => Err(format!(
+            "--gravity {text:?}: expected one value (along -z, default {STANDARD_GRAVITY}) or \
+             three (gx,gy,gz) in m/s2"
+        )),
+    }
+}

@@ -1,0 +1,162 @@
+//! The physical mode's options as written (`--units`, `--material`, `--young`, …): what they
+//! resolve to, and the messages bad values get.
+
+use curvenet::material::Section;
+use curvenet::physics::PhysicalOptions;
+use curvenet::units::LengthUnit;
+
+fn steel_mm() -> PhysicalOptions {
+    PhysicalOptions {
+        units: Some("mm".into()),
+        material: Some("steel".into()),
+        radius: Some("10".into()),
+        ..Default::default()
+    }
+}
+
+#[test]
+fn paper_mode_without_units_or_material() {
+    assert_eq!(PhysicalOptions::default().resolve(None, &[]), Ok(None));
+    let stray = PhysicalOptions {
+        density: Some("7850kg/m3".into()),
+        ..Default::default()
+    };
+    let e = stray.resolve(None, &[]).unwrap_err();
+    assert!(e.contains("--density") && e.contains("--units"), "{e}");
+}
+
+#[test]
+fn steel_in_millimetres() {
+    let p = steel_mm().resolve(None, &[]).unwrap().unwrap();
+    assert_eq!(p.physical.units, LengthUnit::Millimetre);
+    assert_eq!(p.physical.material.young_pa, 210e9);
+    assert_eq!(p.physical.section, Section::Solid { radius: 10.0 });
+    assert_eq!(p.physical.load_n_per_m, 1000.0);
+    assert_eq!(p.physical.gravity, [0.0, 0.0, -9.81]);
+    let o = PhysicalOptions {
+        young: Some("200 GPa".into()),
+        radius: None,
+        tube: Some("60x4".into()),
+        load: Some("2kN/m".into()),
+        gravity: Some("0,-9.81,0".into()),
+        ..steel_mm()
+    };
+    let p = o.resolve(None, &[]).unwrap().unwrap();
+    assert_eq!(p.physical.material.young_pa, 200e9);
+    assert_eq!(p.physical.material.name, "steel (modified)");
+    assert_eq!(
+        p.physical.section,
+        Section::Tube {
+            outer_diameter: 60.0,
+            wall: 4.0
+        }
+    );
+    assert_eq!(p.physical.load_n_per_m, 2000.0);
+    assert_eq!(p.physical.gravity, [0.0, -9.81, 0.0]);
+    // A radius with a unit in a metre scene.
+    let o = PhysicalOptions {
+        units: Some("m".into()),
+        radius: Some("10mm".into()),
+        ..steel_mm()
+    };
+    let p = o.resolve(None, &[]).unwrap().unwrap();
+    assert_eq!(p.physical.section, Section::Solid { radius: 0.01 });
+}
+
+#[test]
+fn bad_values_name_their_option() {
+    let cases: [(PhysicalOptions, &[&str]); 10] = [
+        (
+            PhysicalOptions {
+                material: Some("unobtainium".into()),
+                ..steel_mm()
+            },
+            &["--material", "unobtainium", "steel"],
+        ),
+        (
+            PhysicalOptions {
+                units: Some("furlong".into()),
+                ..steel_mm()
+            },
+            &["--units", "furlong"],
+        ),
+        (
+            PhysicalOptions {
+                density: Some("-7850kg/m3".into()),
+                ..steel_mm()
+            },
+            &["--density", "positive"],
+        ),
+        (
+            PhysicalOptions {
+                young: Some("210kg/m3".into()),
+                ..steel_mm()
+            },
+            &["--young", "density"],
+        ),
+        (
+            PhysicalOptions {
+                strength: Some("355".into()),
+                ..steel_mm()
+            },
+            &["--strength", "needs a unit"],
+        ),
+        (
+            PhysicalOptions {
+                tube: Some("60".into()),
+                ..steel_mm()
+            },
+            &["--radius", "--tube"],
+        ),
+        (
+            PhysicalOptions {
+                radius: None,
+                tube: Some("60x40".into()),
+                ..steel_mm()
+            },
+            &["--tube"],
+        ),
+        (
+            PhysicalOptions {
+                radius: Some("-1".into()),
+                ..steel_mm()
+            },
+            &["--radius"],
+        ),
+        (
+            PhysicalOptions {
+                load: Some("1kN".into()),
+                ..steel_mm()
+            },
+            &["--load"],
+        ),
+        (
+            PhysicalOptions {
+                units: None,
+                ..steel_mm()
+            },
+            &["--units"],
+        ),
+    ];
+    for (o, words) in cases {
+        let e = o.resolve(None, &[]).unwrap_err();
+        for w in words {
+            assert!(e.contains(w), "{e:?} should name {w:?}");
+        }
+    }
+    // The curve file's units stand in for --units.
+    let o = PhysicalOptions {
+        units: None,
+        ..steel_mm()
+    };
+    let p = o.resolve(Some("m"), &[]).unwrap().unwrap();
+    assert_eq!(p.physical.units, LengthUnit::Metre);
+    // --units alone: steel, the paper's radius 2.
+    let o = PhysicalOptions {
+        units: Some("mm".into()),
+        ..Default::default()
+    };
+    let p = o.resolve(None, &[]).unwrap().unwrap();
+    assert_eq!(p.physical.material.name, "steel");
+    assert_eq!(p.physical.section, Section::Solid { radius: 2.0 });
+}
