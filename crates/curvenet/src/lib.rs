@@ -24,7 +24,7 @@
 //! [`units`] and [`material`] describe the physical mode (the scene's length unit, materials,
 //! cross-sections, rest shapes) at the bottom of the stack, beside [`geom`].
 //!
-//! See `ARCHITECTURE.md` at the repository root for the map and `SPEC.md` for the model.
+//! See `ARCHITECTURE.md` at the repository root for the map and `docs/model.md` for the model.
 
 pub mod builtin;
 pub mod cancel;

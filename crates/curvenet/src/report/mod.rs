@@ -1,4 +1,4 @@
-//! Reports: the JSON objects of SPEC §10 and their text renderings.
+//! Reports: the JSON objects of docs/formats.md and their text renderings.
 //!
 //! - [`AnalysisReport`]: what `curvenet analyze` and `example --analyze-only` print.
 //! - [`UnitsNote`]: what the material constants mean against the scene's size.
@@ -22,7 +22,7 @@ use std::fmt::Write as _;
 /// Summary of a Newton solve for reports (what results record of it).
 pub use crate::solve::NewtonSummary;
 
-/// The rod radius against the scene: SPEC §3 asks to say what the units imply.
+/// The rod radius against the scene: what the units imply.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct UnitsNote {
     /// Rod radius.
@@ -119,7 +119,7 @@ fn mode_peak(network: &Network, analysis: &Analysis) -> Option<ModePeak> {
     })
 }
 
-/// The object printed by `analyze --json` (SPEC §10).
+/// The object printed by `analyze --json` (docs/formats.md).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct AnalysisReport {
     /// Curves in the network (before removal).

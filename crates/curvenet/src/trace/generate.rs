@@ -1,4 +1,4 @@
-//! The paper's curve generators, with the reference's conventions (SPEC §8, §9).
+//! The paper's curve generators, with the reference's conventions.
 //!
 //! Every geodesic generator draws with [`MsvcRand`], the reference's Windows `rand()`:
 //! `srand(seed)` once, then `U[a, b] = rand() / RAND_MAX · (b − a) + a` per draw. Each curve is
@@ -11,7 +11,7 @@
 //! | [`Generator::Tent`] | 0 | `U[0, 1]` | `U[π/6, 5π/6]` | `t` then `θ`, per attempt |
 //! | [`Generator::Random`] (command-line scenes) | 0 | `U[0, 1]` | `U[π/6, 5π/6]` | `t` then `θ` |
 //!
-//! Reading of the order of draws (SPEC §8 taken literally, as the reference's loops do): the
+//! Reading of the order of draws (as the reference's loops do): the
 //! draws of curve `i` happen just before curve `i` is traced, and nothing else draws in
 //! between, so the sequence of values does not depend on how traces end. A trace that fails
 //! (length cap, non-manifold element…) consumes its draws, is counted in
@@ -21,13 +21,13 @@
 //! more than `ground_tolerance` above or below `z = 0` (the reference's test, `|z| > 5e-3` in
 //! file units) and keeps drawing until `count` curves are accepted.
 //!
-//! The generators trace on the mesh as given. SPEC §9 traces hill, bunny and tent in file
+//! The generators trace on the mesh as given. The examples trace hill, bunny and tent in file
 //! units (unscaled); the reference traces the stadium on its ×30 mesh, which gives the same
 //! curves scaled (geodesics do not depend on scale; only the tent's ground tolerance does).
 //! For command-line scenes scale the mesh first with
 //! [`scale_to_extent`](super::scale_to_extent)`(mesh, 4000.0)`, as the reference does.
 //!
-//! Measured with curvenet's network rules (SPEC §2) on the regenerated curves: hill 6313
+//! Measured with curvenet's network rules on the regenerated curves: hill 6313
 //! vertices (paper 6319), tent 6123 (paper 6107, 112 curves), stadium 6644 when built at
 //! scale 1 with `h = 50` (paper 6646; the set-up's ×30 gives 177,932), bunny 31,286 (paper
 //! 25,442).
@@ -102,7 +102,7 @@ pub enum Generator {
 }
 
 impl Generator {
-    /// The generator of a paper example (SPEC §9): hill (70 geodesics, seed 2), stadium (100,
+    /// The generator of a paper example: hill (70 geodesics, seed 2), stadium (100,
     /// seed 4), bunny (75, seed 9), tent (66, seed 2, ground tolerance 5e-3).
     pub fn paper(name: &str) -> Option<Generator> {
         match name {

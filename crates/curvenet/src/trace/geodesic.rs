@@ -1,4 +1,5 @@
-//! Straightest geodesics shot from the boundary (SPEC §8, paper Fig. 3.1).
+//! Straightest geodesics shot from the boundary (the paper's Fig. 3.1; docs/model.md,
+//! *Curve generation*).
 //!
 //! A geodesic starts at arc-length fraction `t` of a boundary loop (see
 //! [`MeshTopology::point_on_loop`] for the reference's conventions), leaves at angle `θ` from

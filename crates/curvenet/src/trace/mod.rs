@@ -1,4 +1,4 @@
-//! Curves traced on a triangle mesh (SPEC §8): geodesics shot from the boundary, frame-field
+//! Curves traced on a triangle mesh: geodesics shot from the boundary, frame-field
 //! streamlines, the paper's generators and a few built-in surfaces.
 //!
 //! One file per role:
@@ -17,7 +17,7 @@
 //! why (a non-manifold edge on the path, no boundary, a degenerate triangle, a runaway curve…).
 //!
 //! Units: everything is in the mesh's own units. The paper's generators are defined on the
-//! reference's meshes as SPEC §9 uses them (hill, bunny and tent traced in file units).
+//! reference's meshes as the examples use them (hill, bunny and tent traced in file units).
 
 pub mod field;
 pub mod generate;

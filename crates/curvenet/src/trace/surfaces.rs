@@ -69,7 +69,7 @@ pub fn builtin_surface(name: &str) -> Option<TriMesh> {
 
 /// Scales `mesh` about the origin so that its largest bounding-box side becomes `extent`;
 /// returns the scaled mesh and the factor used. The reference scales command-line scenes this
-/// way to a largest extent of 4000 (SPEC §8).
+/// way to a largest extent of 4000.
 ///
 /// A mesh without positive finite extent (no vertices, all at one point) or a non-positive or
 /// non-finite `extent` cannot be scaled meaningfully: the mesh is returned unchanged with

@@ -6,7 +6,7 @@
 //! are recorded, not rejected. Tracing fails with a clear [`TraceError`] only when a curve
 //! actually reaches such a place.
 //!
-//! # Boundary loops (SPEC §8, the reference's convention)
+//! # Boundary loops (the reference's convention)
 //!
 //! A boundary edge is an edge with exactly one face. Loops are listed in increasing order of
 //! their smallest vertex index; each starts at that vertex and follows the boundary edges in
@@ -33,7 +33,7 @@ pub struct BoundaryLoop {
     pub vertices: Vec<usize>,
     /// Cumulative arc length at each vertex (`arc[0] = 0`), without the closing edge.
     pub arc: Vec<f64>,
-    /// Length without the closing edge: the length the parameter `t` refers to (SPEC §8).
+    /// Length without the closing edge: the length the parameter `t` refers to.
     pub open_length: f64,
     /// Full length, closing edge included (equal to `open_length` for an open chain).
     pub length: f64,
@@ -405,7 +405,7 @@ impl MeshTopology {
     }
 
     /// The point at arc-length fraction `t` of boundary loop `loop_index`, with the reference's
-    /// conventions (SPEC §8): `t` is a fraction of the loop's length *without* its closing edge;
+    /// conventions: `t` is a fraction of the loop's length *without* its closing edge;
     /// `t = 0` and `t = 1` (exactly) become 0.001 and 0.999; a point falling exactly on a loop
     /// vertex moves back along its edge by 5% of the edge's length.
     ///
