@@ -8,7 +8,8 @@
 //!    ([`crate::rod::physical::rigid_anchor_weight`]);
 //! 2. Newton's method from the drawn state to the equilibrium the rods are bent into;
 //! 3. the lowest pairs of `H v = μ M v` (`M` the lumped mass matrix), solved as
-//!    `M^{-1/2} H M^{-1/2} ṽ = μ ṽ`: the natural frequencies `√μ / 2π`;
+//!    `M^{-1/2} H M^{-1/2} ṽ = μ ṽ`: the natural frequencies `√μ / 2π`, zero and negative
+//!    modes judged in the identity metric ([`super::inertia`]);
 //! 4. the lowest pair of `H v = μ_L Λ v` (`Λ` the lumped lengths): the worst-case
 //!    distributed load of the given intensity and its largest deflection
 //!    ([`super::loads::worst_load_deflection`]);
@@ -20,6 +21,7 @@
 //! deflection: those numbers are absent and a warning says why.
 
 use super::checks::{near_joint, overstress_warnings, units_warnings};
+use super::inertia::classify;
 use super::loads::{
     frequencies_hz, held_vertices, lumped_lengths, max_displacement, self_weight,
     worst_load_deflection,
@@ -268,17 +270,24 @@ pub fn analyze_physical(
     // Natural frequencies: H v = μ M v.
     let masses = lumped_masses(network, &masses_per_length(phys, n), active);
     let modes = lowest(&masses, count)?;
-    let threshold = modes.zero_threshold;
-    let stable = modes.zero_modes == 0 && modes.negative_modes == 0 && modes.lambda() > threshold;
-    let frequencies = frequencies_hz(&modes.values, threshold);
+    let signs = classify(
+        &modes,
+        model.pattern(),
+        &hess,
+        &inverse_sqrt_coordinates(&masses),
+        &keep,
+        EigenParams::default().zero_factor,
+    );
+    let stable = signs.stable();
+    let frequencies = frequencies_hz(&modes.values, &signs.positive);
     let mut warnings = Vec::new();
     if !stable {
         warnings.push(format!(
             "the structure is not stable in the physical mode ({} zero and {} negative modes \
              among the {} lowest; μ_min = {:.3e} s⁻²): it has no natural frequency and no \
              linear deflection",
-            modes.zero_modes,
-            modes.negative_modes,
+            signs.zero,
+            signs.negative,
             modes.values.len(),
             modes.lambda()
         ));
@@ -346,8 +355,8 @@ pub fn analyze_physical(
         anchor_weight,
         equilibrium: relaxed.info.summary(),
         stable,
-        zero_modes: modes.zero_modes,
-        negative_modes: modes.negative_modes,
+        zero_modes: signs.zero,
+        negative_modes: signs.negative,
         mu_min: modes.lambda(),
         first_frequency_hz: frequencies.first().copied().flatten(),
         frequencies_hz: frequencies,

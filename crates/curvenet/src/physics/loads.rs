@@ -56,11 +56,13 @@ pub fn held_vertices(network: &Network, active: &ActiveSet) -> Vec<bool> {
     held
 }
 
-/// `√μ / 2π` of each eigenvalue `μ` of the mass metric (Hz); `None` for a zero or negative
-/// one (a mechanism or an unstable equilibrium has no frequency).
-pub fn frequencies_hz(mu: &[f64], zero_threshold: f64) -> Vec<Option<f64>> {
+/// `√μ / 2π` of each eigenvalue `μ` of the mass metric (Hz) that `positive` marks; `None`
+/// for a zero or negative one (a mechanism or an unstable equilibrium has no frequency:
+/// [`super::inertia::classify`] tells which).
+pub fn frequencies_hz(mu: &[f64], positive: &[bool]) -> Vec<Option<f64>> {
     mu.iter()
-        .map(|&m| (m > zero_threshold).then(|| m.sqrt() / std::f64::consts::TAU))
+        .zip(positive)
+        .map(|(&m, &p)| p.then(|| m.sqrt() / std::f64::consts::TAU))
         .collect()
 }
 
@@ -105,7 +107,10 @@ mod tests {
 
     #[test]
     fn frequencies_and_peaks() {
-        let f = frequencies_hz(&[-1.0, 0.0, 4.0 * std::f64::consts::PI.powi(2)], 1e-12);
+        let f = frequencies_hz(
+            &[-1.0, 0.0, 4.0 * std::f64::consts::PI.powi(2)],
+            &[false, false, true],
+        );
         assert_eq!(f[0], None);
         assert_eq!(f[1], None);
         assert!((f[2].unwrap() - 1.0).abs() < 1e-12);

@@ -1,13 +1,15 @@
 //! Physical answers about a network in the physical mode: the whole analysis of a structure
 //! ([`analysis`]: frequencies, deflections, stresses, utilisation, warnings), the options as a
 //! user writes them ([`options`]), the loads and metrics ([`loads`]), stresses in the
-//! equilibrium the rods were bent into ([`stress`]) and the warnings ([`checks`]).
+//! equilibrium the rods were bent into ([`stress`]), which modes are zero or negative
+//! ([`inertia`]) and the warnings ([`checks`]).
 //!
 //! Every number is in the scene's consistent unit system (N, ℓ, s; see [`crate::units`]) until
 //! it is reported: stresses in MPa, deflections in scene units, frequencies in hertz.
 
 pub mod analysis;
 pub mod checks;
+pub mod inertia;
 pub mod loads;
 pub mod options;
 pub mod stress;
