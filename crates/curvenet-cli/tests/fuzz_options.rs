@@ -135,6 +135,7 @@ const SIMPLIFY_CERT: &[&str] = &[
     "0.25",
     "--budget",
     "0.6",
+    "--certify",
     "--out",
     "out",
 ];

@@ -250,7 +250,7 @@ fn sigterm_during_the_local_search_stops_it_at_once_and_resume_finishes_the_run(
 
 #[test]
 fn sigint_during_the_certificate_stops_it_at_once_and_resume_finishes_the_run() {
-    stage_after_the_greedy_interrupted_by("INT", "the certificate", &[]);
+    stage_after_the_greedy_interrupted_by("INT", "the certificate", &["--certify"]);
 }
 
 #[test]

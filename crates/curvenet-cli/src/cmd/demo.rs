@@ -65,7 +65,7 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
         budget,
         keep: Vec::new(),
         out: a.out,
-        certificate: !a.after.no_certificate,
+        certificate: a.after.certify,
         certificate_nodes: a.after.certificate_nodes,
         local_search: a.after.local_search,
         resume: false,

@@ -78,7 +78,7 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
             .out
             .clone()
             .unwrap_or_else(|| PathBuf::from("out").join(&a.name)),
-        certificate: !a.after.no_certificate,
+        certificate: a.after.certify,
         certificate_nodes: a.after.certificate_nodes,
         local_search: a.after.local_search,
         resume: a.resume,

@@ -229,6 +229,11 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         .and_then(|l| evaluate_curves(&analyzer, &l.curves, "local search's network"));
     writer.set_local_search(local);
     let (answer, answer_state) = answer_of(&constraints, &outcome, local_eval);
+    // The certificate is of the answer (the greedy's final network when there is none).
+    let certified = match &answer {
+        Ok(a) => Some(a.curves.clone()),
+        Err(_) => outcome.iterations.last().map(|it| it.curves.clone()),
+    };
     writer.set_answer(answer, answer_state);
     let (certificate, certificate_seconds) = optional_step(job.certificate, "certificate", || {
         let _stage = Stage::start();
@@ -237,6 +242,7 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
             &job.out,
             &params,
             &outcome,
+            certified.as_deref().unwrap_or_default(),
             job.certificate_nodes,
             &cancel,
         )
@@ -447,21 +453,19 @@ fn optional_step<T>(
     (result, start.elapsed().as_secs_f64())
 }
 
-/// The fixed-geometry certificate of the greedy's final network: `λ_fix` at the full
-/// network's equilibrium (iteration 0's state) against the relaxation's certified bound.
+/// The fixed-geometry certificate of `curves` (the answer): `λ_fix` at the full network's
+/// equilibrium (iteration 0's state) against the relaxation's certified bound on any network
+/// within the budget.
 fn certificate_of(
     analyzer: &Analyzer,
     out: &std::path::Path,
     params: &GreedyParams,
     outcome: &curvenet::simplify::GreedyOutcome,
+    curves: &[usize],
     nodes: Option<usize>,
     cancel: &Cancel,
 ) -> anyhow::Result<Certificate> {
     let n = analyzer.network().rods.len();
-    let last = outcome
-        .iterations
-        .last()
-        .ok_or_else(|| anyhow::anyhow!("no iteration"))?;
     let full_state = outcome
         .iterations
         .first()
@@ -471,10 +475,10 @@ fn certificate_of(
         Some(u) => FixedProblem::with_displacement(analyzer, u, params.budget, &params.keep)?,
         None => FixedProblem::new(analyzer, params.budget, &params.keep)?,
     };
-    if !problem.feasible(&last.curves) {
+    if curves.is_empty() || !problem.feasible(curves) {
         anyhow::bail!("the final network does not meet the budget");
     }
-    let mut c = certificate(&problem, &last.curves, &CertifyParams::default(), cancel)?;
+    let mut c = certificate(&problem, curves, &CertifyParams::default(), cancel)?;
     // Branch and bound nodes: as given, or about 1e6 unknowns' worth of eigen solves
     // (≈ 220 nodes on the demo's network, ≈ 60 on the tower's).
     let nodes = nodes.unwrap_or_else(|| (1e6 / analyzer.model().dofs().max(1) as f64) as usize);

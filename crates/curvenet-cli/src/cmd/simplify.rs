@@ -31,7 +31,7 @@ pub fn run(a: SimplifyArgs) -> anyhow::Result<()> {
         budget: super::greedy_run::budget_of(&a.greedy, None)?,
         keep: a.greedy.keep.clone(),
         out: a.out.clone(),
-        certificate: !a.greedy.after.no_certificate,
+        certificate: a.greedy.after.certify,
         certificate_nodes: a.greedy.after.certificate_nodes,
         local_search: a.greedy.after.local_search,
         resume: a.greedy.resume,

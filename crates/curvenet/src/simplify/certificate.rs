@@ -117,23 +117,36 @@ pub struct Certificate {
 }
 
 impl Certificate {
-    /// One line for summaries.
+    /// What the certificate guarantees, in plain words, for summaries: the bound no network
+    /// within the budget can exceed (on `λ_fix`, the stability at the full network's
+    /// equilibrium shape) and the share of it the certified network reaches.
     pub fn describe(&self) -> String {
-        let ratio = self
-            .ratio
-            .map_or_else(|| "n/a".to_string(), |r| format!("{:.1}%", 100.0 * r));
         let note = if self.proven_optimum {
-            " (proven optimal by branch and bound)"
+            " (the bound is the proven optimum: branch and bound finished)"
         } else if self.cancelled {
             " (cancelled part way: a looser bound)"
         } else {
             ""
         };
+        let reach = match self.ratio {
+            Some(r) => format!(
+                "the certified network {:?} has λ_fix {:.6e}, {:.1}% of that bound (within \
+                 {:.1}% of it)",
+                self.curves,
+                self.lambda_fix,
+                100.0 * r,
+                100.0 * (1.0 - r)
+            ),
+            None => format!(
+                "the certified network {:?} has λ_fix {:.6e}: no guarantee",
+                self.curves, self.lambda_fix
+            ),
+        };
         format!(
-            "certificate (fixed geometry, λ_fix at the full network's equilibrium): λ_fix {:.6e}, \
-             certified upper bound on any feasible subset {:.6e}, guaranteed ratio {ratio}; best \
-             λ_fix found while bounding {:.6e} {:?}{note}",
-            self.lambda_fix, self.upper_bound, self.best_found, self.best_found_curves,
+            "certificate: no network within the budget can exceed λ_fix = {:.6e} (stability \
+             at the full network's equilibrium shape, not relaxed){note}; {reach}; the best \
+             λ_fix met while bounding is {:.6e} {:?}",
+            self.upper_bound, self.best_found, self.best_found_curves,
         )
     }
 }
