@@ -73,24 +73,11 @@ pub fn classify(
     signs
 }
 
-/// `‖H‖₁` of the principal submatrix of the coordinates `keep` marks (symmetric, upper
-/// triangle stored).
+/// `‖H‖₁` of the principal submatrix of the coordinates `keep` marks.
 fn held_norm1(pattern: &Pattern, values: &[f64], keep: &[bool]) -> f64 {
-    let mut col = vec![0.0; pattern.n];
-    for j in (0..pattern.n).filter(|&j| keep[j]) {
-        for k in pattern.col_ptr[j]..pattern.col_ptr[j + 1] {
-            let i = pattern.row_idx[k];
-            if !keep[i] {
-                continue;
-            }
-            let a = values[k].abs();
-            col[j] += a;
-            if i != j {
-                col[i] += a;
-            }
-        }
-    }
-    col.into_iter().fold(0.0, f64::max)
+    let (sub, slots, _) = pattern.principal(keep);
+    let held: Vec<f64> = slots.iter().map(|&k| values[k]).collect();
+    sub.sym_norm1(&held)
 }
 
 #[cfg(test)]
