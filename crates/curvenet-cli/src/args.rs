@@ -39,6 +39,48 @@ pub enum Command {
     View(ViewArgs),
     /// Export a recorded network of a run (OBJ, JSON, CSV, fabrication table, network file).
     Export(ExportArgs),
+    /// Serve a network over a local JSON API: remove and restore curves, see λ follow.
+    #[cfg(feature = "serve")]
+    Serve(ServeArgs),
+}
+
+/// `curvenet serve`.
+#[cfg(feature = "serve")]
+#[derive(Debug, Args)]
+pub struct ServeArgs {
+    /// One of the paper's examples instead of input files: hill, roof, kagome, stadium, tower,
+    /// shell, bunny, tent, arcshell.
+    #[arg(long, conflicts_with_all = ["curves", "mesh", "scale", "edge_length"])]
+    pub example: Option<String>,
+    /// Folder holding the paper's data (`meshes/`, `curves/`) for `--example`, instead of the
+    /// copies embedded in curvenet.
+    #[arg(long, requires = "example")]
+    pub data: Option<PathBuf>,
+    /// Surface mesh: an OBJ file or a built-in surface name.
+    #[arg(long)]
+    pub mesh: Option<PathBuf>,
+    /// Curve files (.txt reference format, .obj polylines, .json); repeat for several files.
+    #[arg(long, required_unless_present = "example")]
+    pub curves: Vec<PathBuf>,
+    /// Scale applied to the mesh and the curves.
+    #[arg(long, default_value_t = 1.0, value_parser = positive, allow_hyphen_values = true)]
+    pub scale: f64,
+    /// Target edge length h (scene units, after scaling). Default: the median input segment.
+    #[arg(long = "edge-length", value_parser = positive, allow_hyphen_values = true)]
+    pub edge_length: Option<f64>,
+    /// Curves removed at the start (comma-separated ids).
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    pub remove: Vec<usize>,
+    /// Address to listen on. Anything but a loopback address makes the server reachable
+    /// from other machines.
+    #[arg(long, default_value = "127.0.0.1")]
+    pub host: String,
+    /// Port to listen on (0: any free port).
+    #[arg(long, default_value_t = 8765)]
+    pub port: u16,
+    /// Material and solver options.
+    #[command(flatten)]
+    pub physics: PhysicsArgs,
 }
 
 /// `curvenet view`.

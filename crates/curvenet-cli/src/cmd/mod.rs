@@ -7,6 +7,8 @@ mod demo;
 mod example;
 mod export;
 mod greedy_run;
+#[cfg(feature = "serve")]
+mod serve;
 mod simplify;
 mod surface;
 mod trace;
@@ -34,6 +36,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::View(a) => view::run(a),
         Command::Export(a) => export::run(a),
         Command::Bench(a) => bench::run(a),
+        #[cfg(feature = "serve")]
+        Command::Serve(a) => serve::run(a),
     }
 }
 

@@ -1,0 +1,249 @@
+//! The HTTP API: routes, handlers and the JSON errors every bad request gets.
+
+use crate::design::{Design, DesignError, Edited, Summary};
+use axum::Router;
+use axum::body::Bytes;
+use axum::extract::rejection::BytesRejection;
+use axum::extract::{DefaultBodyLimit, State};
+use axum::http::{Method, StatusCode, Uri, header};
+use axum::response::{Html, IntoResponse, Response};
+use axum::routing::{get, post};
+use serde::Serialize;
+use serde::de::DeserializeOwned;
+use std::sync::Arc;
+
+/// The largest request body accepted (a list of every curve id of a large network fits).
+pub const BODY_LIMIT: usize = 1 << 20;
+
+/// The router of the API over `design`.
+pub fn router(design: Arc<Design>) -> Router {
+    Router::new()
+        .route("/", get(index))
+        .route("/api/state", get(state))
+        .route("/api/set", post(set))
+        .route("/api/toggle", post(toggle))
+        .route("/api/mode", get(mode))
+        .route("/api/network", get(network))
+        .fallback(not_found)
+        .method_not_allowed_fallback(method_not_allowed)
+        .layer(DefaultBodyLimit::max(BODY_LIMIT))
+        .with_state(design)
+}
+
+/// An error answered as `{"error": message}` with its status.
+#[derive(Debug)]
+pub struct ApiError {
+    status: StatusCode,
+    message: String,
+}
+
+impl ApiError {
+    fn new(status: StatusCode, message: impl Into<String>) -> Self {
+        ApiError {
+            status,
+            message: message.into(),
+        }
+    }
+}
+
+impl IntoResponse for ApiError {
+    fn into_response(self) -> Response {
+        let body = serde_json::json!({ "error": self.message });
+        (self.status, axum::Json(body)).into_response()
+    }
+}
+
+impl From<DesignError> for ApiError {
+    fn from(e: DesignError) -> Self {
+        let status = match e {
+            DesignError::UnknownCurve { .. } | DesignError::Empty => {
+                StatusCode::UNPROCESSABLE_ENTITY
+            }
+            DesignError::Analysis(_) => StatusCode::INTERNAL_SERVER_ERROR,
+        };
+        ApiError::new(status, e.to_string())
+    }
+}
+
+/// A handler's answer: JSON or an [`ApiError`].
+type ApiResult<T> = Result<axum::Json<T>, ApiError>;
+
+/// The body of `POST /api/set`.
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SetBody {
+    curves: Vec<usize>,
+}
+
+/// The body of `POST /api/toggle`.
+#[derive(serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ToggleBody {
+    curve: usize,
+}
+
+/// A summary with the server-side time of its computation.
+#[derive(Serialize)]
+struct EditAnswer {
+    #[serde(flatten)]
+    summary: Summary,
+    elapsed_ms: f64,
+}
+
+impl From<Edited> for EditAnswer {
+    fn from(e: Edited) -> Self {
+        EditAnswer {
+            summary: e.summary,
+            elapsed_ms: e.elapsed.as_secs_f64() * 1e3,
+        }
+    }
+}
+
+/// `GET /api/mode`: the current structure's worst-case mode and equilibrium, for drawing.
+#[derive(Serialize)]
+struct ModeAnswer {
+    curves: Vec<usize>,
+    lambda: f64,
+    status: crate::design::Status,
+    /// The unit eigenvector of `λ`, 3 numbers per vertex.
+    mode: Vec<f64>,
+    /// Displacements from the rest state at equilibrium, 3 numbers per vertex.
+    displacement: Vec<f64>,
+}
+
+/// `GET /api/network`: the network's geometry, for drawing.
+#[derive(Serialize)]
+struct NetworkAnswer {
+    /// Rest positions, 3 numbers per vertex.
+    positions: Vec<f64>,
+    /// Each curve's vertices in order (a closed curve's last edge returns to its first).
+    curves: Vec<Vec<u32>>,
+    /// Which curves are closed.
+    closed: Vec<bool>,
+    /// Each curve's rest length.
+    lengths: Vec<f64>,
+}
+
+/// The JSON of `body`, or a 400 naming what is wrong with it (a 413 when it is too large).
+fn parse<T: DeserializeOwned>(body: Result<Bytes, BytesRejection>) -> Result<T, ApiError> {
+    let body = body.map_err(|r| ApiError::new(r.status(), r.body_text()))?;
+    let malformed = |e: serde_json::Error| {
+        ApiError::new(StatusCode::BAD_REQUEST, format!("malformed JSON body: {e}"))
+    };
+    // An object, not the array serde would also read a struct from.
+    let value: serde_json::Value = serde_json::from_slice(&body).map_err(malformed)?;
+    if !value.is_object() {
+        return Err(ApiError::new(
+            StatusCode::BAD_REQUEST,
+            "malformed JSON body: expected an object such as {\"curves\": [0, 1]}",
+        ));
+    }
+    serde_json::from_value(value).map_err(malformed)
+}
+
+/// Runs `f` on the design off the async runtime (the analyses take up to seconds).
+async fn blocking<T: Send + 'static>(
+    design: Arc<Design>,
+    f: impl FnOnce(&Design) -> Result<T, DesignError> + Send + 'static,
+) -> Result<T, ApiError> {
+    tokio::task::spawn_blocking(move || f(&design))
+        .await
+        .map_err(|e| {
+            ApiError::new(
+                StatusCode::INTERNAL_SERVER_ERROR,
+                format!("the computation stopped: {e}"),
+            )
+        })?
+        .map_err(ApiError::from)
+}
+
+async fn index() -> Html<&'static str> {
+    Html(INDEX)
+}
+
+async fn state(State(design): State<Arc<Design>>) -> ApiResult<Summary> {
+    let s = blocking(design, |d| Ok(d.current().summary.clone())).await?;
+    Ok(axum::Json(s))
+}
+
+async fn set(
+    State(design): State<Arc<Design>>,
+    body: Result<Bytes, BytesRejection>,
+) -> ApiResult<EditAnswer> {
+    let SetBody { curves } = parse(body)?;
+    let e = blocking(design, move |d| d.set(&curves)).await?;
+    Ok(axum::Json(e.into()))
+}
+
+async fn toggle(
+    State(design): State<Arc<Design>>,
+    body: Result<Bytes, BytesRejection>,
+) -> ApiResult<EditAnswer> {
+    let ToggleBody { curve } = parse(body)?;
+    let e = blocking(design, move |d| d.toggle(curve)).await?;
+    Ok(axum::Json(e.into()))
+}
+
+async fn mode(State(design): State<Arc<Design>>) -> ApiResult<ModeAnswer> {
+    let m = blocking(design, |d| {
+        let c = d.current();
+        Ok(ModeAnswer {
+            curves: c.summary.curves.clone(),
+            lambda: c.summary.lambda,
+            status: c.summary.status,
+            mode: c.mode.clone(),
+            displacement: c.displacement.clone(),
+        })
+    })
+    .await?;
+    Ok(axum::Json(m))
+}
+
+async fn network(State(design): State<Arc<Design>>) -> ApiResult<NetworkAnswer> {
+    let n = blocking(design, |d| {
+        let net = d.analyzer().network();
+        Ok(NetworkAnswer {
+            positions: net.rest_coordinates(),
+            curves: net.rods.iter().map(|r| r.vertices.clone()).collect(),
+            closed: net.rods.iter().map(|r| r.closed).collect(),
+            lengths: net.rest_lengths(),
+        })
+    })
+    .await?;
+    Ok(axum::Json(n))
+}
+
+async fn not_found(method: Method, uri: Uri) -> ApiError {
+    ApiError::new(
+        StatusCode::NOT_FOUND,
+        format!(
+            "no such endpoint: {method} {}; the API is GET /api/state, POST /api/set, \
+             POST /api/toggle, GET /api/mode, GET /api/network",
+            uri.path()
+        ),
+    )
+}
+
+async fn method_not_allowed(method: Method, uri: Uri) -> Response {
+    let allowed = if uri.path().starts_with("/api/set") || uri.path().starts_with("/api/toggle") {
+        "POST"
+    } else {
+        "GET"
+    };
+    let mut r = ApiError::new(
+        StatusCode::METHOD_NOT_ALLOWED,
+        format!("{method} {}: use {allowed}", uri.path()),
+    )
+    .into_response();
+    if let Ok(v) = header::HeaderValue::from_str(allowed) {
+        r.headers_mut().insert(header::ALLOW, v);
+    }
+    r
+}
+
+/// The page at `/` until the viewer is served: what the API offers.
+const INDEX: &str = "<!doctype html><meta charset=utf-8><title>curvenet serve</title>\
+<h1>curvenet serve</h1><p>The JSON API of this network: \
+<a href=/api/state>GET /api/state</a>, POST /api/set <code>{\"curves\":[…]}</code>, \
+POST /api/toggle <code>{\"curve\":id}</code>, <a href=/api/mode>GET /api/mode</a>, \
+<a href=/api/network>GET /api/network</a>.</p>";

@@ -1,0 +1,72 @@
+//! `curvenet serve`: a network's stability over a local JSON API, following a designer's
+//! edits.
+//!
+//! A [`Design`] holds the network's [`curvenet::stability::Analyzer`] and the current
+//! structure behind one lock; [`api::router`] answers HTTP requests about it (docs/serve.md),
+//! running every analysis off the async runtime; [`Server`] binds a socket and serves the
+//! router on a tokio runtime of its own. The core library stays free of tokio: only this
+//! crate (and the command line's `serve` feature) depends on it.
+
+pub mod api;
+pub mod design;
+
+pub use api::router;
+pub use design::{Design, DesignError, Edited, Evaluated, Status, Summary};
+
+use std::net::SocketAddr;
+use std::sync::Arc;
+
+/// A bound server: the socket is listening once [`Server::bind`] returns (a busy port fails
+/// before any analysis), and [`Server::run`] serves a design on it.
+#[derive(Debug)]
+pub struct Server {
+    runtime: tokio::runtime::Runtime,
+    listener: tokio::net::TcpListener,
+}
+
+impl Server {
+    /// Binds `addr` (port 0: any free port).
+    ///
+    /// # Errors
+    ///
+    /// The runtime cannot start or the address cannot be bound.
+    pub fn bind(addr: SocketAddr) -> std::io::Result<Self> {
+        let runtime = tokio::runtime::Builder::new_multi_thread()
+            .worker_threads(2)
+            .enable_all()
+            .build()?;
+        let listener = runtime.block_on(tokio::net::TcpListener::bind(addr))?;
+        Ok(Server { runtime, listener })
+    }
+
+    /// The address the server listens on.
+    ///
+    /// # Errors
+    ///
+    /// The socket's address cannot be read.
+    pub fn local_addr(&self) -> std::io::Result<SocketAddr> {
+        self.listener.local_addr()
+    }
+
+    /// Serves requests about `design` until the process ends (or the listener fails).
+    ///
+    /// # Errors
+    ///
+    /// The listener failed.
+    pub fn run(self, design: Design) -> std::io::Result<()> {
+        let Server { runtime, listener } = self;
+        let app = router(Arc::new(design));
+        runtime.block_on(async move { axum::serve(listener, app).await })
+    }
+}
+
+/// The URL to announce for a server listening on `addr`: a loopback address in place of an
+/// unspecified one (`0.0.0.0` listens on loopback too).
+pub fn url(addr: SocketAddr) -> String {
+    let ip = match addr.ip() {
+        std::net::IpAddr::V4(ip) if ip.is_unspecified() => std::net::Ipv4Addr::LOCALHOST.into(),
+        std::net::IpAddr::V6(ip) if ip.is_unspecified() => std::net::Ipv6Addr::LOCALHOST.into(),
+        ip => ip,
+    };
+    format!("http://{}", SocketAddr::new(ip, addr.port()))
+}
