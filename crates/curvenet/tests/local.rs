@@ -367,7 +367,7 @@ fn max_deviation_excludes_exactly_the_networks_over_it() {
         assert!(devs[0] < devs[devs.len() - 1], "deviations all equal");
         // Just below the unconstrained optimum's deviation when it is not the smallest, else
         // the median: either way some subsets are in, some out.
-        let below = devs.iter().copied().filter(|&d| d < opt_free.2).last();
+        let below = devs.iter().copied().rfind(|&d| d < opt_free.2);
         let limit = match below {
             Some(b) => 0.5 * (b + opt_free.2),
             None => {
