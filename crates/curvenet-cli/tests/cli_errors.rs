@@ -1107,6 +1107,15 @@ fn a_budget_the_run_cannot_meet_is_a_warning() {
     );
     assert!(!r.stderr.contains("BudgetUnmet"), "{}", r.stderr);
     assert!(!r.stdout.contains("local search time"), "{}", r.stdout);
+    // The stop reason in words on stdout and in summary.txt, never Rust debug text.
+    let summary = std::fs::read_to_string(r.dir.join("out/summary.txt")).expect("summary.txt");
+    for text in [&r.stdout, &summary] {
+        assert!(text.contains("stop: budget not met"), "{text}");
+        assert!(
+            !text.contains("Some(") && !text.contains("BudgetUnmet"),
+            "{text}"
+        );
+    }
 }
 
 #[test]

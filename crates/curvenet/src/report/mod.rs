@@ -196,7 +196,7 @@ impl AnalysisReport {
         let sp = &analysis.spectrum;
         if !analysis.newton.converged {
             warnings.push(format!(
-                "equilibrium not reached: Newton stopped ({:?}) after {} iterations at relative \
+                "equilibrium not reached: Newton stopped ({}) after {} iterations at relative \
                  gradient {:.3e}; λ is measured where it stopped",
                 analysis.newton.stop, analysis.newton.iterations, analysis.newton.grad_rel
             ));
@@ -315,7 +315,7 @@ impl AnalysisReport {
         let n = &self.newton;
         let _ = writeln!(
             s,
-            "equilibrium: {} Newton iterations, {:?}, relative gradient {:.3e}",
+            "equilibrium: {} Newton iterations, {}, relative gradient {:.3e}",
             n.iterations, n.stop, n.grad_rel
         );
         let _ = writeln!(s, "lambda (λ_eq): {:.6e}", self.lambda);
