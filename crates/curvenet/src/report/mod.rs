@@ -167,6 +167,15 @@ pub struct AnalysisReport {
 }
 
 impl AnalysisReport {
+    /// Drops the units note's warning: in the physical mode the paper's model keeps its
+    /// default radius as a stand-in, and the physical analysis checks the real section against
+    /// the scene instead.
+    pub fn drop_units_warning(&mut self) {
+        if let Some(w) = self.units.warning.take() {
+            self.warnings.retain(|x| *x != w);
+        }
+    }
+
     /// Assembles the report of `analysis` of structure `active` of `network`.
     pub fn new(
         network: &Network,
