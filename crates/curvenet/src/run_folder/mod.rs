@@ -39,7 +39,7 @@ pub mod schema;
 pub mod summary;
 pub mod writer;
 
-pub use answer::{evaluated_offer, greedy_offers};
+pub use answer::{evaluated_offer, greedy_offers, measure_greedy_deviations};
 pub use reader::{RunFolder, check_network};
 pub use schema::{FinalRecord, InputDescription, LocalSearchRecord, ResultFile, RunSetup, VERSION};
 pub use summary::{summary, unrelaxed};

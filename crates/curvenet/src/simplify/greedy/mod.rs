@@ -18,7 +18,7 @@
 //! ([`Candidates::score_set`]; the single-curve bounds do not apply to sets). The run stops,
 //! budget unmet, when the constraints allow no further removal ([`StopReason::Blocked`]).
 //! `--max-deviation` needs each network's equilibrium and does not steer the removals: the
-//! run's answer honours it. Without constraints the run is the one above, bit for bit.
+//! run's answer measures it on each recorded iteration's equilibrium and honours it. Without constraints the run is the one above, bit for bit.
 //!
 //! Each relaxation starts from the previous equilibrium, warm-started by what the previous
 //! iteration hands on ([`Candidates::hand_on`]). The candidates are scored at `A`'s
