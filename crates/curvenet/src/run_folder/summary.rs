@@ -73,10 +73,7 @@ pub fn summary(r: &ResultFile) -> String {
         .filter_map(|i| i.removed.map(|c| c.to_string()))
         .collect();
     let _ = writeln!(s, "removed in order: {}", removed.join(", "));
-    let stop = r.stop.map_or_else(
-        || "not yet (the run is incomplete)".to_owned(),
-        |x| x.to_string(),
-    );
+    let stop = r.stop.map_or("not finished".to_string(), |s| s.to_string());
     let _ = writeln!(s, "iterations: {}; stop: {stop}", r.iterations.len());
     for line in unrelaxed(&r.iterations) {
         let _ = writeln!(s, "warning: {line}");
