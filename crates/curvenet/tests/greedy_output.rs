@@ -488,6 +488,9 @@ fn output_folder_holds_the_contracted_files() {
     );
     let summary = std::fs::read_to_string(d.join("summary.txt")).expect("summary.txt");
     assert!(summary.contains("λ_eq") && summary.contains("removed in order"));
+    // The stop reason in words, not as code.
+    assert!(summary.contains("; stop: budget met\n"), "{summary}");
+    assert!(!summary.contains("Some("), "{summary}");
     println!(
         "output folder: {n_it} iterations, {} keys in result.json",
         all.len()

@@ -73,7 +73,8 @@ pub fn summary(r: &ResultFile) -> String {
         .filter_map(|i| i.removed.map(|c| c.to_string()))
         .collect();
     let _ = writeln!(s, "removed in order: {}", removed.join(", "));
-    let _ = writeln!(s, "iterations: {}; stop: {:?}", r.iterations.len(), r.stop);
+    let stop = r.stop.map_or("not finished".to_string(), |s| s.to_string());
+    let _ = writeln!(s, "iterations: {}; stop: {stop}", r.iterations.len());
     for line in unrelaxed(&r.iterations) {
         let _ = writeln!(s, "warning: {line}");
     }
