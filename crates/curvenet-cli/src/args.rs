@@ -157,6 +157,12 @@ pub struct CompareArgs {
     /// Time limit of the exact λ_fix solver per network, seconds.
     #[arg(long = "exact-time-limit", default_value_t = 60.0, value_parser = seconds, allow_hyphen_values = true)]
     pub exact_time_limit: f64,
+    /// Instead of the sizes' table: N networks drawn afresh (8–18 curves, budgets 0.1–0.5,
+    /// the surfaces in rotation, each its own seed), the greedy and the greedy + local search
+    /// against the exact optimum (exhaustive search, on networks of at most 14 curves and 3000
+    /// feasible subsets; the others are listed as skipped).
+    #[arg(long, value_name = "N", value_parser = count(1, 10_000), allow_hyphen_values = true, conflicts_with_all = ["sizes", "instances", "budget", "exact_time_limit"])]
+    pub fresh: Option<usize>,
 }
 
 /// `curvenet trace`.

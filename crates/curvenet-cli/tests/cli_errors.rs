@@ -761,6 +761,33 @@ fn units_that_make_the_radius_absurd_are_warned_about() {
         ],
     );
     assert!(report["units"]["warning"].is_string(), "{report}");
+    // In the physical mode `--radius` is the real section's: the paper model's stand-in
+    // radius 2 is not the user's and is not warned about (2 m curves of 10 mm steel rods).
+    let r = run(
+        &grid,
+        &[
+            "analyze",
+            "--json",
+            "--curves",
+            "grid.txt",
+            "--edge-length",
+            "0.25",
+            "--units",
+            "m",
+            "--material",
+            "steel",
+            "--radius",
+            "0.01",
+        ],
+    );
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert!(!r.stderr.contains("rod radius 2"), "{}", r.stderr);
+    let physical: serde_json::Value = serde_json::from_str(&r.stdout).expect("one JSON object");
+    assert!(physical["units"]["warning"].is_null(), "{physical}");
+    assert!(
+        !physical["warnings"].to_string().contains("rod radius 2"),
+        "{physical}"
+    );
     // A radius far too thin for the curves.
     expect_warnings(
         &grid,
@@ -1080,6 +1107,15 @@ fn a_budget_the_run_cannot_meet_is_a_warning() {
     );
     assert!(!r.stderr.contains("BudgetUnmet"), "{}", r.stderr);
     assert!(!r.stdout.contains("local search time"), "{}", r.stdout);
+    // The stop reason in words on stdout and in summary.txt, never Rust debug text.
+    let summary = std::fs::read_to_string(r.dir.join("out/summary.txt")).expect("summary.txt");
+    for text in [&r.stdout, &summary] {
+        assert!(text.contains("stop: budget not met"), "{text}");
+        assert!(
+            !text.contains("Some(") && !text.contains("BudgetUnmet"),
+            "{text}"
+        );
+    }
 }
 
 #[test]

@@ -1,6 +1,8 @@
 //! Design constraints through the real `curvenet` binary: groups (a file and the JSON curves'
 //! own), symmetry, connectivity, number of curves and the largest gap reach every search;
-//! bad values and combinations nothing can satisfy exit 2 before any work, naming why.
+//! the largest deviation is measured on the answer, and a limit no network meets leaves no
+//! answer, saying why; bad values and combinations nothing can satisfy exit 2 before any
+//! work, naming why.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -223,4 +225,60 @@ fn the_tower_keeps_its_symmetry() {
             assert_eq!(its[k]["removed_group"], serde_json::json!(gone));
         }
     }
+}
+
+/// Three bent arches (reference text format), clamped at their ends: 0 and 1 in planes
+/// `y = ∓0.5`, 2 across them (crossing both at height 1). Bent rods with straight rest shapes,
+/// so every network sags from its designed shape at equilibrium.
+fn arches() -> String {
+    let mut s = String::new();
+    for (i, y) in [-0.5f64, 0.5].into_iter().enumerate() {
+        s.push_str(&format!("CURVE {i}\n"));
+        for k in 0..=8 {
+            let x = -1.0 + 0.25 * k as f64;
+            s.push_str(&format!("{x} {y} {}\n", (1.0 - x * x).max(0.0).sqrt()));
+        }
+    }
+    s.push_str("CURVE 2\n");
+    let r = 1.25f64.sqrt();
+    let ys = [-r, -1.0, -0.75, -0.5, -0.25, 0.0, 0.25, 0.5, 0.75, 1.0, r];
+    for y in ys {
+        s.push_str(&format!("0 {y} {}\n", (1.25 - y * y).max(0.0).sqrt()));
+    }
+    s
+}
+
+#[test]
+fn max_deviation_is_measured_and_an_impossible_one_leaves_no_answer() {
+    let d = Dir::new("deviation");
+    std::fs::write(d.0.join("arches.txt"), arches()).unwrap();
+    // A generous limit: the answer's margin is its measured deviation, within the limit.
+    let (code, text) = simplify(
+        &d.0,
+        "arches.txt",
+        &["--max-deviation", "1000", "--local-search"],
+    );
+    assert_eq!(code, 0, "{text}");
+    let r = result(&d.0);
+    let m = &r["answer"]["margins"]["max_deviation"];
+    let value = m["value"]
+        .as_f64()
+        .unwrap_or_else(|| panic!("{}", r["answer"]));
+    assert!(value > 1e-6 && value <= 1000.0, "{m}");
+    assert_eq!(m["met"], true);
+    // A limit below every network's deviation: no answer, and the reason says why.
+    let deviation = format!("{:e}", value * 1e-6);
+    let d = Dir::new("deviation-none");
+    std::fs::write(d.0.join("arches.txt"), arches()).unwrap();
+    let (code, text) = simplify(
+        &d.0,
+        "arches.txt",
+        &["--max-deviation", &deviation, "--local-search"],
+    );
+    assert_eq!(code, 0, "{text}");
+    let r = result(&d.0);
+    assert!(r["answer"].is_null(), "{}", r["answer"]);
+    let reason = r["no_answer"]["reason"].as_str().unwrap();
+    assert!(reason.contains("--max-deviation"), "{reason}");
+    assert!(text.contains("no answer"), "{text}");
 }

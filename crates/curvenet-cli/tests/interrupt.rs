@@ -1,7 +1,7 @@
 //! Signals on the real binary. SIGINT and SIGTERM alike stop every long stage (the greedy, the
 //! local search, the certificate, the comparison's searches) within about a second with exit
 //! code 130, keeping what was recorded; `--resume` then writes a `result.json` byte-identical
-//! to the one of an uninterrupted run.
+//! to the one of an uninterrupted run, also after SIGKILL (again and again).
 
 #![cfg(unix)]
 
@@ -152,8 +152,9 @@ fn assert_cancelled(out: &Output, took: Duration, stage: &str) {
     );
 }
 
-/// A greedy run interrupted by `signal` once it has saved two iterations keeps them, and
-/// `--resume` gives the uninterrupted run's result.json.
+/// A greedy run interrupted by `signal` once it has saved six iterations (past the first
+/// iterations that hand test vectors on to the next) keeps them, and `--resume` gives the
+/// uninterrupted run's result.json.
 fn greedy_interrupted_by(signal: &str) {
     let tmp = TempDir::new(&format!("greedy-{signal}"));
     let curves = dome_curves(&tmp.0);
@@ -168,7 +169,7 @@ fn greedy_interrupted_by(signal: &str) {
 
     let cut = tmp.0.join("cut");
     let mut child = start(&simplify_args(&curves, &cut, &[]));
-    wait_until(&mut child, || saved_iterations(&cut) >= 2);
+    wait_until(&mut child, || saved_iterations(&cut) >= 6);
     let (out, took) = interrupt(child, signal);
     if out.status.code() == Some(0) {
         // The signal came after the last iteration: nothing to resume, same result.
@@ -178,7 +179,7 @@ fn greedy_interrupted_by(signal: &str) {
     assert_cancelled(&out, took, "the greedy");
     let kept = saved_iterations(&cut);
     assert!(
-        (2..=total).contains(&kept),
+        (6..=total).contains(&kept),
         "kept {kept} of {total} iterations"
     );
 
@@ -199,6 +200,58 @@ fn sigint_during_the_greedy_keeps_its_iterations_and_resume_matches_an_uninterru
 #[test]
 fn sigterm_during_the_greedy_keeps_its_iterations_and_resume_matches_an_uninterrupted_run() {
     greedy_interrupted_by("TERM");
+}
+
+#[test]
+fn sigkill_again_and_again_during_the_greedy_then_resume_matches_an_uninterrupted_run() {
+    let tmp = TempDir::new("greedy-KILL");
+    let curves = dome_curves(&tmp.0);
+    let full = tmp.0.join("full");
+    run_ok(&simplify_args(&curves, &full, &[]));
+    let reference = std::fs::read(full.join("result.json")).expect("result.json");
+
+    // Killed (no handler runs) a few iterations further each time, then resumed, until the
+    // run finishes: each kill lands wherever the run happens to be, writing or computing.
+    let cut = tmp.0.join("cut");
+    let mut kills = 0;
+    let mut extra: &[&str] = &[];
+    loop {
+        let before = saved_iterations(&cut);
+        let mut child = start(&simplify_args(&curves, &cut, extra));
+        extra = &["--resume"];
+        let started = Instant::now();
+        let ended = loop {
+            if child.try_wait().expect("wait").is_some() {
+                break true;
+            }
+            if saved_iterations(&cut) >= before + 3 {
+                break false;
+            }
+            assert!(started.elapsed() < Duration::from_secs(120), "no progress");
+            std::thread::sleep(Duration::from_millis(5));
+        };
+        if !ended {
+            child.kill().expect("SIGKILL");
+            kills += 1;
+        }
+        let out = child.wait_with_output().expect("curvenet ends");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !stderr.contains("warning"),
+            "a resume after a kill goes on without warnings: {stderr}"
+        );
+        if ended {
+            assert_eq!(out.status.code(), Some(0), "{stderr}");
+            break;
+        }
+    }
+    println!("killed {kills} times, resumed each time");
+    assert!(kills >= 2, "the run was killed {kills} times");
+    let resumed = std::fs::read(cut.join("result.json")).expect("result.json");
+    assert!(
+        resumed == reference,
+        "resumed result.json differs from the uninterrupted one"
+    );
 }
 
 /// A run interrupted by `signal` in the stage after the greedy (the greedy's last iteration

@@ -565,7 +565,7 @@ fn local_search_of(
     let last = outcome.iterations.last().ok_or("no iteration")?;
     if outcome.stop != StopReason::BudgetMet {
         return Err(format!(
-            "the greedy's final network does not meet the budget (stop: {:?})",
+            "the greedy's final network does not meet the budget (stop: {})",
             outcome.stop
         ));
     }

@@ -111,8 +111,9 @@ pub fn setup(name: &str) -> Option<Setup> {
         "kagome" => Setup {
             name: "kagome",
             mesh: "kagome.obj",
-            mesh_scale: 60.0,
-            // The curves are not scaled: they do not sit on the scaled mesh.
+            // The reference scales this mesh by 60 but not its curves, which then float far from
+            // it; the curves lie on the mesh as it is, so neither is scaled.
+            mesh_scale: 1.0,
             curves: vec![("kagome_114_regular.txt", 1.0)],
             generated: None,
             generated_scale: 1.0,

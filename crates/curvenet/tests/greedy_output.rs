@@ -6,8 +6,9 @@
 //! - determinism: the same run inside rayon pools of 1 and 2 threads writes byte-identical
 //!   `result.json`, `modes/*.bin`, `states/*.bin`, `iterations/*.obj`, `final.obj`,
 //!   `summary.txt` and `network.json` (only `timings.json` may differ);
-//! - resume: a run whose hooks cancel after k = 1 or k = 3 iterations returns
-//!   `SimplifyError::Cancelled` and leaves an incomplete `result.json` with k iterations; then
+//! - resume: a run stopped after any k recorded iterations (cancelled between iterations,
+//!   cancelled once iteration k handed on its test vectors, or its record failing to be
+//!   written) leaves an incomplete `result.json` with k iterations; then
 //!   `OutputWriter::resume` + `greedy(.., Some(point), ..)` + `finish` gives a `result.json`
 //!   byte-identical to an uninterrupted run's (`complete`, `stop`, `final` included), and the
 //!   same side files;
@@ -231,15 +232,33 @@ fn result_is_byte_identical_across_thread_counts() {
     }
 }
 
-/// Hooks that write the folder and cancel the run after `after` iterations.
-struct CancelAfter<'a> {
-    writer: OutputWriter<'a>,
-    after: usize,
-    seen: usize,
+/// How a test run into a folder stops early, once `after` iterations are recorded.
+#[derive(Clone, Copy, Debug)]
+enum Stop {
+    /// Cancelled between iterations.
+    Between,
+    /// Cancelled once the next iteration has handed on its test vectors, before it is
+    /// recorded (a signal during its candidate search).
+    AfterCarried,
+    /// The next iteration's record cannot be written (a full disk), after its test vectors
+    /// were.
+    FailedWrite,
 }
 
-impl GreedyHooks for CancelAfter<'_> {
+/// Hooks that write the folder and stop the run after `after` iterations, as `how` says.
+struct StopAfter<'a> {
+    writer: OutputWriter<'a>,
+    after: usize,
+    how: Stop,
+    seen: usize,
+    carried_next: bool,
+}
+
+impl GreedyHooks for StopAfter<'_> {
     fn iteration(&mut self, record: &IterationRecord, eval: &Evaluation) -> Result<(), String> {
+        if matches!(self.how, Stop::FailedWrite) && self.seen >= self.after {
+            return Err("result.json: No space left on device".into());
+        }
         self.writer.iteration(record, eval)?;
         self.seen += 1;
         Ok(())
@@ -249,11 +268,17 @@ impl GreedyHooks for CancelAfter<'_> {
         &mut self,
         carried: &curvenet::stability::candidates::Carried,
     ) -> Result<(), String> {
+        self.carried_next = self.seen >= self.after;
         self.writer.carried(carried)
     }
 
     fn cancelled(&self) -> bool {
-        self.seen >= self.after || self.writer.cancelled()
+        let stop = match self.how {
+            Stop::Between => self.seen >= self.after,
+            Stop::AfterCarried => self.carried_next,
+            Stop::FailedWrite => false,
+        };
+        stop || self.writer.cancelled()
     }
 
     fn flush(&mut self) -> Result<(), String> {
@@ -261,23 +286,34 @@ impl GreedyHooks for CancelAfter<'_> {
     }
 }
 
-/// A run into `dir` whose hooks cancel it after `after` iterations; checks that it reports the
-/// cancellation. The folder is flushed and the writer dropped when it returns.
-fn cancelled_run(s: &Scene, dir: &Path, after: usize) {
+/// A run into `dir` stopped as `how` says after `after` iterations; checks that it reports
+/// the stop. The folder is flushed and the writer dropped when it returns.
+fn stopped_run(s: &Scene, dir: &Path, after: usize, how: Stop) {
     let budget = s.params.budget.length(s.setup.total_length);
     let writer = OutputWriter::create(dir, s.analyzer.network(), s.setup.clone(), budget)
         .expect("output folder");
-    let mut hooks = CancelAfter {
+    let mut hooks = StopAfter {
         writer,
         after,
+        how,
         seen: 0,
+        carried_next: false,
     };
     let r = greedy(&s.analyzer, &s.params, None, None, &mut hooks);
+    let expected = match how {
+        Stop::FailedWrite => matches!(r, Err(SimplifyError::Hook(_))),
+        _ => matches!(r, Err(SimplifyError::Cancelled)),
+    };
     assert!(
-        matches!(r, Err(SimplifyError::Cancelled)),
-        "after = {after}: expected a cancelled run, got {:?}",
+        expected,
+        "after = {after}, {how:?}: expected a stopped run, got {:?}",
         r.map(|g| g.stop)
     );
+}
+
+/// A run into `dir` cancelled between iterations after `after` of them.
+fn cancelled_run(s: &Scene, dir: &Path, after: usize) {
+    stopped_run(s, dir, after, Stop::Between);
 }
 
 #[test]
@@ -285,10 +321,11 @@ fn resumed_run_writes_the_same_result_as_an_uninterrupted_one() {
     let s = arches_scene();
     let full = TempDir::new("full");
     let g_full = full_run(&s, full.path());
+    let n = g_full.iterations.len();
     assert!(
-        g_full.iterations.len() >= 6,
+        n >= 6,
         "the network needs at least 5 removals, got {}",
-        g_full.iterations.len() - 1
+        n - 1
     );
     // The run hands test vectors between iterations and uses them (their bounds are
     // recorded): a resumed run must read them back to continue identically.
@@ -299,33 +336,48 @@ fn resumed_run_writes_the_same_result_as_an_uninterrupted_one() {
         .filter(|c| c.extended_bound.is_some())
         .count();
     assert!(extended > 0, "the run used no carried vector");
-    for k in [1, 3] {
-        let dir = TempDir::new(&format!("resume{k}"));
-        cancelled_run(&s, dir.path(), k);
-        // The interrupted folder: k iterations, incomplete.
-        let partial = ResultFile::read(dir.path()).expect("partial result.json");
-        assert!(!partial.complete && partial.stop.is_none() && partial.final_network.is_none());
-        assert_eq!(partial.iterations.len(), k);
-        // Read back exactly as recorded (f64 values included).
-        assert_same_json(
-            &partial.iterations[..],
-            &g_full.iterations[..k],
-            &format!("k = {k}: iterations read back from result.json"),
-        );
+    // From every recorded iteration that removed a curve, however the run stopped there.
+    for k in 1..n {
+        for how in [Stop::Between, Stop::AfterCarried, Stop::FailedWrite] {
+            if matches!(how, Stop::AfterCarried) && k == n - 1 {
+                // The last iteration searches no candidate: it hands nothing on.
+                continue;
+            }
+            let what = format!("k = {k}, {how:?}");
+            let dir = TempDir::new(&format!("resume{k}"));
+            stopped_run(&s, dir.path(), k, how);
+            // The interrupted folder: k iterations, incomplete.
+            let partial = ResultFile::read(dir.path()).expect("partial result.json");
+            assert!(!partial.complete && partial.stop.is_none() && partial.final_network.is_none());
+            assert_eq!(partial.iterations.len(), k, "{what}");
+            // Read back exactly as recorded (f64 values included).
+            assert_same_json(
+                &partial.iterations[..],
+                &g_full.iterations[..k],
+                &format!("{what}: iterations read back from result.json"),
+            );
 
-        let (mut writer, point) = OutputWriter::resume(dir.path(), s.analyzer.network(), &s.setup)
-            .unwrap_or_else(|e| panic!("k = {k}: resume failed: {e}"));
-        let point = point.expect("an interrupted run has a point to resume from");
-        assert_eq!(point.iterations.len(), k);
-        let g =
-            greedy(&s.analyzer, &s.params, None, Some(point), &mut writer).expect("resumed greedy");
-        writer.finish(&g, &timings_json(&g)).expect("finish");
-        assert_eq!(g.stop, g_full.stop);
-        assert_eq!(g.iterations.len(), g_full.iterations.len());
+            let (mut writer, point) =
+                OutputWriter::resume(dir.path(), s.analyzer.network(), &s.setup)
+                    .unwrap_or_else(|e| panic!("{what}: resume failed: {e}"));
+            assert!(
+                writer.warnings().is_empty(),
+                "{what}: {:?}",
+                writer.warnings()
+            );
+            let point = point.expect("an interrupted run has a point to resume from");
+            assert_eq!(point.iterations.len(), k);
+            let g = greedy(&s.analyzer, &s.params, None, Some(point), &mut writer)
+                .expect("resumed greedy");
+            writer.finish(&g, &timings_json(&g)).expect("finish");
+            assert_eq!(g.stop, g_full.stop);
+            assert_eq!(g.iterations.len(), n);
 
-        // result.json (complete, stop and final included) and every side file, byte for byte.
-        assert_same_folders(full.path(), dir.path(), &format!("resume after {k}"));
-        println!("resume after {k} iteration(s): identical output");
+            // result.json (complete, stop and final included) and every side file, byte for
+            // byte.
+            assert_same_folders(full.path(), dir.path(), &format!("resume after {what}"));
+        }
+        println!("resume after {k} iteration(s), however stopped: identical output");
     }
 }
 
@@ -436,6 +488,9 @@ fn output_folder_holds_the_contracted_files() {
     );
     let summary = std::fs::read_to_string(d.join("summary.txt")).expect("summary.txt");
     assert!(summary.contains("λ_eq") && summary.contains("removed in order"));
+    // The stop reason in words, not as code.
+    assert!(summary.contains("; stop: budget met\n"), "{summary}");
+    assert!(!summary.contains("Some("), "{summary}");
     println!(
         "output folder: {n_it} iterations, {} keys in result.json",
         all.len()
@@ -478,11 +533,12 @@ fn a_damaged_carried_vectors_file_is_a_warning_on_resume_and_the_removals_stay()
     let full = TempDir::new("carried-full");
     let g_full = full_run(&s, full.path());
     let removals = |g: &GreedyOutcome| g.iterations.iter().map(|i| i.removed).collect::<Vec<_>>();
-    // Damaged (cut in half), and absent: only the first is worth a warning.
+    // Damaged (cut in half), and absent: each is a warning naming the file.
     for damage in [true, false] {
         let dir = TempDir::new(&format!("carried-{damage}"));
         cancelled_run(&s, dir.path(), 2);
-        let carried = dir.path().join("states/carried.bin");
+        // Iteration 1 is the last recorded: its vectors are in slot 1.
+        let carried = dir.path().join("states/carried.1.bin");
         let bytes = std::fs::read(&carried).expect("the run saved its carried vectors");
         if damage {
             std::fs::write(&carried, &bytes[..bytes.len() / 2]).unwrap();
@@ -493,16 +549,10 @@ fn a_damaged_carried_vectors_file_is_a_warning_on_resume_and_the_removals_stay()
             .expect("a damaged side file does not stop a resume");
         let point = point.expect("a point to resume from");
         assert!(point.carried.is_empty());
-        if damage {
-            assert_eq!(writer.warnings().len(), 1, "{:?}", writer.warnings());
-            let w = &writer.warnings()[0];
-            assert!(
-                w.contains("states/carried.bin") && w.contains("damaged"),
-                "{w}"
-            );
-        } else {
-            assert!(writer.warnings().is_empty(), "{:?}", writer.warnings());
-        }
+        assert_eq!(writer.warnings().len(), 1, "{:?}", writer.warnings());
+        let w = &writer.warnings()[0];
+        let why = if damage { "damaged" } else { "missing" };
+        assert!(w.contains("states/carried.1.bin") && w.contains(why), "{w}");
         let g =
             greedy(&s.analyzer, &s.params, None, Some(point), &mut writer).expect("resumed greedy");
         writer.finish(&g, &timings_json(&g)).expect("finish");

@@ -315,3 +315,153 @@ fn explore() {
         }
     }
 }
+
+/// `--max-deviation` against brute force on small networks: each feasible subset relaxed in
+/// full on the whole network (its largest vertex displacement measured on that equilibrium)
+/// and by parts (the searches' evaluation) agree; with a limit between the smallest and the
+/// largest deviation, the exhaustive search keeps exactly the subsets within it and finds
+/// their optimum, the local search (from the greedy's set and from every curve alone) ends
+/// within it and never above that optimum, and the answer chosen among every subset is that
+/// optimum, its margin the measured deviation.
+#[test]
+fn max_deviation_excludes_exactly_the_networks_over_it() {
+    use curvenet::constraints::answer::{Offer, choose};
+    use curvenet::constraints::{ConstraintParams, Constraints, max_displacement};
+    use curvenet::stability::{Prepare, Preset, Warm};
+    for (seed, n, h, fraction) in [(31u64, 7usize, 70.0, 0.4), (42, 8, 80.0, 0.3)] {
+        let an = Analyzer::new(arches(seed, n, h), StabilityParams::default()).expect("an");
+        let net = an.network().clone();
+        let budget = Budget::Fraction(fraction);
+        let lengths = net.rest_lengths();
+        let cap = budget.length(lengths.iter().sum());
+        let free = Constraints::none(&net, cap, &[]);
+        let subsets = free.feasible_subsets(10_000).expect("small");
+        // Brute force: every subset relaxed on the whole network from the drawn state.
+        // (curves, λ_eq, deviation by parts, zero and negative modes, deviation in full)
+        let brute: Vec<(Vec<usize>, f64, f64, usize, f64)> = subsets
+            .iter()
+            .map(|s| {
+                let active = curvenet::rod::ActiveSet::from_curves(n, s);
+                let e = an
+                    .evaluate(&active, Warm::default(), Preset::Analysis, Prepare::Nothing)
+                    .expect("evaluates");
+                let d = max_displacement(&net, s, &e.displacement);
+                let by_parts = an.deviation(&active).expect("parts");
+                let zero = e.spectrum.zero_modes + e.spectrum.negative_modes;
+                // A mechanism's equilibrium is not unique; a stable one's is.
+                if zero == 0 && e.lambda() > 0.0 {
+                    assert!(
+                        (by_parts - d).abs() <= 1e-6 * d.max(1e-9),
+                        "seed {seed} {s:?}: deviation {d} in full, {by_parts} by parts"
+                    );
+                }
+                (s.clone(), e.lambda(), by_parts, zero, d)
+            })
+            .collect();
+        let opt_free = brute
+            .iter()
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .expect("some");
+        let mut devs: Vec<f64> = brute.iter().map(|b| b.2).collect();
+        devs.sort_by(f64::total_cmp);
+        assert!(devs[0] < devs[devs.len() - 1], "deviations all equal");
+        // Just below the unconstrained optimum's deviation when it is not the smallest, else
+        // the median: either way some subsets are in, some out.
+        let below = devs.iter().copied().rfind(|&d| d < opt_free.2);
+        let limit = match below {
+            Some(b) => 0.5 * (b + opt_free.2),
+            None => {
+                let m = devs.len() / 2;
+                0.5 * (devs[m - 1] + devs[m])
+            }
+        };
+        let within: Vec<&(Vec<usize>, f64, f64, usize, f64)> =
+            brute.iter().filter(|b| b.2 <= limit).collect();
+        assert!(!within.is_empty() && within.len() < brute.len());
+        let best_within = within
+            .iter()
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .expect("some");
+        let p = ConstraintParams {
+            max_deviation: Some(limit),
+            ..Default::default()
+        };
+        let c = Constraints::new(&net, None, &p, cap, &[]).expect("feasible");
+        // Exhaustive: exactly the subsets within the limit, their optimum.
+        let ex = exhaustive(
+            &fresh(&an),
+            &ExhaustiveParams::new(budget),
+            Some(&c),
+            &Cancel::never(),
+        )
+        .expect("exhaustive");
+        let mut kept: Vec<Vec<usize>> = ex.all.iter().map(|s| s.curves.clone()).collect();
+        kept.sort();
+        let mut expected: Vec<Vec<usize>> = within.iter().map(|b| b.0.clone()).collect();
+        expected.sort();
+        assert_eq!(kept, expected, "seed {seed}: limit {limit}");
+        let tie = |v: f64, w: f64| (v - w).abs() <= 1e-6 * w.abs();
+        assert!(tie(ex.best.lambda, best_within.1), "seed {seed}");
+        // Local search: ends within the limit, never above the constrained optimum.
+        let g = greedy(&an, &GreedyParams::new(budget), None, None, &mut NoHooks).expect("greedy");
+        let start = g.iterations.last().expect("one").curves.clone();
+        let mut starts = vec![start.clone()];
+        starts.extend((0..n).map(|i| vec![i]));
+        for params in [LocalParams::new(budget), LocalParams::single_moves(budget)] {
+            for from in &starts {
+                if c.check(from).is_err() {
+                    continue;
+                }
+                let o = local_search(&fresh(&an), &params, Some(&c), from, &Cancel::never())
+                    .expect("local search");
+                let d = brute
+                    .iter()
+                    .find(|b| b.0 == o.best.curves)
+                    .expect("a subset")
+                    .2;
+                let start_d = brute.iter().find(|b| &b.0 == from).expect("a subset").2;
+                if start_d <= limit || !o.steps.is_empty() {
+                    assert!(d <= limit, "seed {seed} from {from:?}: {d} over {limit}");
+                    assert!(o.within_deviation(Some(&c)));
+                    assert!(o.best.lambda <= best_within.1 * (1.0 + 1e-6));
+                } else {
+                    assert!(!o.within_deviation(Some(&c)), "seed {seed} from {from:?}");
+                }
+            }
+        }
+        // The answer among every subset (brute-force deviations): the constrained optimum.
+        let offers: Vec<Offer> = brute
+            .iter()
+            .map(|b| Offer {
+                source: "exhaustive".into(),
+                iteration: None,
+                curves: b.0.clone(),
+                length: b.0.iter().map(|&i| lengths[i]).sum(),
+                lambda: b.1,
+                zero_modes: b.3,
+                negative_modes: 0,
+                deviation: Some(b.4),
+            })
+            .collect();
+        let a = choose(&c, &offers, 0).answer.expect("an answer");
+        let stable_within = brute
+            .iter()
+            .filter(|b| b.4 <= limit && b.3 == 0 && b.1 > 0.0)
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .expect("a stable subset within the limit");
+        assert_eq!(a.curves, stable_within.0, "seed {seed}");
+        let m = a.margins.max_deviation.expect("measured");
+        assert!(m.met && m.value == stable_within.4 && m.limit == limit);
+        println!(
+            "seed {seed}: {} subsets, deviations {:.3e}..{:.3e}, limit {limit:.3e}: {} within; \
+             optimum {:.4e} (deviation {:.3e}) → {:.4e} within",
+            brute.len(),
+            devs[0],
+            devs[devs.len() - 1],
+            within.len(),
+            opt_free.1,
+            opt_free.2,
+            best_within.1
+        );
+    }
+}

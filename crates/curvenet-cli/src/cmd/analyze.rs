@@ -37,13 +37,16 @@ pub fn run(a: AnalyzeArgs) -> anyhow::Result<()> {
             "--remove would remove every curve; nothing is left to analyse",
         ));
     }
-    let out = pipeline::analyze(
+    let mut out = pipeline::analyze(
         &inputs.curves,
         &inputs.build,
         &params,
         &remove,
         inputs.warnings,
     )?;
+    if physical.is_some() {
+        out.report.drop_units_warning();
+    }
     print_warnings(out.report.warnings.get(shown..).unwrap_or_default());
     let physical = match physical {
         Some(pp) => {

@@ -1,9 +1,10 @@
-//! `curvenet compare`: the paper's Fig. 10 experiment.
+//! `curvenet compare`: the paper's Fig. 10 experiment, or (`--fresh N`) the searches that give
+//! a run's answer on networks drawn afresh.
 
 use super::surface::read_mesh_arg;
 use crate::args::CompareArgs;
 use crate::exit::usage;
-use curvenet::experiments::compare::{CompareParams, Surface, compare};
+use curvenet::experiments::compare::{CompareParams, FreshParams, Surface, compare, fresh};
 use curvenet::io;
 use curvenet::paper;
 use curvenet::simplify::SimplifyError;
@@ -28,6 +29,9 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
             name: name.clone(),
             mesh,
         });
+    }
+    if let Some(networks) = a.fresh {
+        return run_fresh(&a, networks, surfaces);
     }
     let params = CompareParams {
         sizes: a.sizes.clone(),
@@ -63,6 +67,37 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
         params.instances,
         report.surfaces.join(", ")
     );
+    print!("{}", report.markdown());
+    if let Some(p) = &a.json {
+        let mut text = serde_json::to_vec_pretty(&report)?;
+        text.push(b'\n');
+        io::write_atomic(p, &text).map_err(|e| usage(format!("{}: {e}", p.display())))?;
+    }
+    if let Some(p) = &a.markdown {
+        io::write_atomic(p, report.markdown().as_bytes())
+            .map_err(|e| usage(format!("{}: {e}", p.display())))?;
+    }
+    Ok(())
+}
+
+/// `compare --fresh N`: the report of [`fresh`] printed, and written as asked.
+fn run_fresh(a: &CompareArgs, networks: usize, surfaces: Vec<Surface>) -> anyhow::Result<()> {
+    let params = FreshParams {
+        networks,
+        seed: a.seed,
+        ..FreshParams::default()
+    };
+    let surfaces: Vec<(String, curvenet::io::TriMesh)> =
+        surfaces.into_iter().map(|s| (s.name, s.mesh)).collect();
+    let bar = ProgressBar::new(networks as u64);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} networks, ETA {eta}",
+        )
+        .expect("valid template"),
+    );
+    let report = fresh(&params, &surfaces, &|done, _| bar.set_position(done as u64))?;
+    bar.finish_and_clear();
     print!("{}", report.markdown());
     if let Some(p) = &a.json {
         let mut text = serde_json::to_vec_pretty(&report)?;

@@ -25,7 +25,10 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
     };
     let warnings: Vec<String> = ex.warnings.iter().map(|w| w.to_string()).collect();
     if a.analyze_only {
-        let out = pipeline::analyze(&ex.curves, &build, &params, &[], warnings)?;
+        let mut out = pipeline::analyze(&ex.curves, &build, &params, &[], warnings)?;
+        if physical.is_some() {
+            out.report.drop_units_warning();
+        }
         print_warnings(&out.report.warnings);
         let physical = match &physical {
             Some(pp) => {

@@ -13,7 +13,7 @@ use curvenet::physics::PhysicalParams;
 use curvenet::rod::ActiveSet;
 use curvenet::run_folder::{
     InputDescription, LocalSearchRecord, OutputWriter, RunSetup, evaluated_offer, greedy_offers,
-    read_f64_file, summary,
+    measure_greedy_deviations, read_f64_file, summary,
 };
 use curvenet::simplify::certificate::{
     Certificate, CertifyParams, certificate, tighten_certificate,
@@ -228,7 +228,7 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         .as_ref()
         .and_then(|l| evaluate_curves(&analyzer, &l.curves, "local search's network"));
     writer.set_local_search(local);
-    let (answer, answer_state) = answer_of(&constraints, &outcome, local_eval);
+    let (answer, answer_state) = answer_of(&analyzer, &constraints, &outcome, local_eval, &job.out);
     // The certificate is of the answer (the greedy's final network when there is none).
     let certified = match &answer {
         Ok(a) => Some(a.curves.clone()),
@@ -356,14 +356,26 @@ fn budget_unmet(outcome: &curvenet::simplify::GreedyOutcome, budget: f64) -> Opt
 
 /// The run's answer among the greedy's iterations and the local search's network (when it
 /// ran, evaluated in full), and the answer's equilibrium when it is not a greedy iteration.
+/// With `--max-deviation`, each greedy iteration's deviation is measured on its state in the
+/// run folder `out`.
 fn answer_of(
+    analyzer: &Analyzer,
     constraints: &Constraints,
     outcome: &curvenet::simplify::GreedyOutcome,
     local: Option<curvenet::stability::Evaluation>,
+    out: &std::path::Path,
 ) -> (Result<Answer, NoAnswer>, Option<Vec<f64>>) {
     let mut offers = greedy_offers(&outcome.iterations);
+    if constraints.params().max_deviation.is_some()
+        && let Err(e) = measure_greedy_deviations(&mut offers, out, analyzer.network())
+    {
+        print_warnings(&[format!(
+            "the greedy's deviations could not all be measured ({e}); iterations left \
+             unmeasured are not offered as the answer"
+        )]);
+    }
     if let Some(e) = &local {
-        offers.push(evaluated_offer("local_search", e));
+        offers.push(evaluated_offer("local_search", e, analyzer.network()));
     }
     let choice = choose(constraints, &offers, 0);
     let state = match (&choice.answer, local) {

@@ -126,6 +126,11 @@ fn disqualified(constraints: &Constraints, offer: &Offer) -> Option<String> {
     if let Err(v) = constraints.check(&offer.curves) {
         return Some(format!("it does not meet the constraints ({v})"));
     }
+    if constraints.params().max_deviation.is_some() && offer.deviation.is_none() {
+        return Some(
+            "its equilibrium's deviation from the designed shape was not measured".to_owned(),
+        );
+    }
     if let Some(d) = offer.deviation
         && !constraints.deviation_ok(d)
     {

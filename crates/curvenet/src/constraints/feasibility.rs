@@ -92,8 +92,9 @@ impl Constraints {
         self.analyse_gap(&free, forced_length)?;
         if let Some(d) = self.params.max_deviation {
             self.notes.push(format!(
-                "--max-deviation {}: checked on every network a search relaxes (the largest \
-                 displacement of a vertex at equilibrium)",
+                "--max-deviation {}: measured on the equilibrium of every network the greedy \
+                 records and the local search evaluates (the largest displacement of a vertex \
+                 from its designed place); a network over it is never the answer",
                 num(d)
             ));
         }

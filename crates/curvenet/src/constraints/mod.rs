@@ -28,9 +28,10 @@
 //! [`answer`] chooses the network to build among those the searches evaluated: the best
 //! stable one that meets every constraint, and the alternatives beside it.
 //!
-//! `--max-deviation` is the one constraint that needs an equilibrium: it is checked on every
-//! network a search evaluates ([`max_displacement`], the largest displacement of a vertex of
-//! the structure), never up front.
+//! `--max-deviation` is the one constraint that needs an equilibrium, so it is never checked
+//! up front: the largest displacement of a vertex of the structure ([`max_displacement`]) is
+//! measured on each iteration the greedy records, on every set the local and exhaustive
+//! searches evaluate, and on the answer, and a network over the limit is never the answer.
 
 pub mod answer;
 pub mod bits;

@@ -294,7 +294,7 @@ pub fn analyze_physical(
     }
     if !relaxed.info.converged {
         warnings.push(format!(
-            "the equilibrium was not reached in the physical mode ({:?} after {} iterations, \
+            "the equilibrium was not reached in the physical mode ({} after {} iterations, \
              |∇E| / g₀ = {:.1e}): its numbers are those of the last state",
             relaxed.info.stop, relaxed.info.iterations, relaxed.info.grad_rel
         ));

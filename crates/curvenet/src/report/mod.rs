@@ -167,6 +167,15 @@ pub struct AnalysisReport {
 }
 
 impl AnalysisReport {
+    /// Drops the units note's warning: in the physical mode the paper's model keeps its
+    /// default radius as a stand-in, and the physical analysis checks the real section against
+    /// the scene instead.
+    pub fn drop_units_warning(&mut self) {
+        if let Some(w) = self.units.warning.take() {
+            self.warnings.retain(|x| *x != w);
+        }
+    }
+
     /// Assembles the report of `analysis` of structure `active` of `network`.
     pub fn new(
         network: &Network,
@@ -187,7 +196,7 @@ impl AnalysisReport {
         let sp = &analysis.spectrum;
         if !analysis.newton.converged {
             warnings.push(format!(
-                "equilibrium not reached: Newton stopped ({:?}) after {} iterations at relative \
+                "equilibrium not reached: Newton stopped ({}) after {} iterations at relative \
                  gradient {:.3e}; λ is measured where it stopped",
                 analysis.newton.stop, analysis.newton.iterations, analysis.newton.grad_rel
             ));
@@ -306,7 +315,7 @@ impl AnalysisReport {
         let n = &self.newton;
         let _ = writeln!(
             s,
-            "equilibrium: {} Newton iterations, {:?}, relative gradient {:.3e}",
+            "equilibrium: {} Newton iterations, {}, relative gradient {:.3e}",
             n.iterations, n.stop, n.grad_rel
         );
         let _ = writeln!(s, "lambda (λ_eq): {:.6e}", self.lambda);

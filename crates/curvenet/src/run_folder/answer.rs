@@ -1,8 +1,12 @@
 //! The networks a run offers as its answer (see [`crate::constraints::answer::choose`]).
 
+use super::read_f64_file;
 use crate::constraints::answer::Offer;
+use crate::constraints::max_displacement;
+use crate::network::Network;
 use crate::simplify::greedy::IterationRecord;
 use crate::stability::Evaluation;
+use std::path::Path;
 
 /// The networks of the greedy's path, offered as the run's answer in the order they were
 /// recorded (`source` "greedy", with their iteration).
@@ -23,9 +27,33 @@ pub fn greedy_offers(iterations: &[IterationRecord]) -> Vec<Offer> {
         .collect()
 }
 
-/// A network another search found, evaluated in full (`λ_eq`, its modes), offered as the
-/// run's answer.
-pub fn evaluated_offer(source: &str, eval: &Evaluation) -> Offer {
+/// Measures the largest displacement at equilibrium (`--max-deviation`) of each of the
+/// greedy's `offers` ([`greedy_offers`]) on its iteration's state in the run folder `dir`.
+///
+/// # Errors
+///
+/// A state file that cannot be read or does not match `network` (the offers measured so far
+/// keep their deviation; the others stay unmeasured, which disqualifies them).
+pub fn measure_greedy_deviations(
+    offers: &mut [Offer],
+    dir: &Path,
+    network: &Network,
+) -> Result<(), String> {
+    let dofs = 3 * network.positions.len();
+    for o in offers.iter_mut() {
+        let Some(k) = o.iteration else { continue };
+        let u = read_f64_file(&dir.join(format!("states/{k:04}.bin")))?;
+        if u.len() < dofs {
+            return Err(format!("states/{k:04}.bin does not match the network"));
+        }
+        o.deviation = Some(max_displacement(network, &o.curves, &u));
+    }
+    Ok(())
+}
+
+/// A network another search found, evaluated in full (`λ_eq`, its modes, its equilibrium's
+/// largest displacement), offered as the run's answer.
+pub fn evaluated_offer(source: &str, eval: &Evaluation, network: &Network) -> Offer {
     Offer {
         source: source.into(),
         iteration: None,
@@ -34,6 +62,6 @@ pub fn evaluated_offer(source: &str, eval: &Evaluation) -> Offer {
         lambda: eval.lambda(),
         zero_modes: eval.spectrum.zero_modes,
         negative_modes: eval.spectrum.negative_modes,
-        deviation: None,
+        deviation: Some(max_displacement(network, &eval.curves, &eval.displacement)),
     }
 }

@@ -1,18 +1,28 @@
-//! `states/carried.bin`: the test vectors the candidates of the last recorded iteration hand
-//! the next one (`docs/model.md`, *Greedy simplification*). A resumed run needs them to go on
-//! exactly as an uninterrupted one.
+//! `states/carried.0.bin`, `states/carried.1.bin`: the test vectors the candidates of an
+//! iteration hand the next one (`docs/model.md`, *Greedy simplification*). A resumed run needs
+//! those of the last recorded iteration to go on exactly as an uninterrupted one.
+//!
+//! Iteration `k` hands its vectors on before it is recorded, into slot `k mod 2`: a run
+//! stopped (a signal, a kill, a failed write) between the two leaves the slot of the last
+//! recorded iteration, `k − 1`, untouched, and that slot is overwritten only once iteration
+//! `k + 1` starts handing on, after iteration `k` is recorded (the run folder's files are
+//! written in order).
 
 use crate::stability::candidates::{Carried, CarriedVector};
 use std::path::Path;
 
-/// The carried test vectors' file (see [`carried_bytes`]).
-pub const CARRIED_FILE: &str = "states/carried.bin";
+/// The carried test vectors' files, one slot per parity of the iteration (see [`carried_bytes`]).
+pub const CARRIED_FILES: [&str; 2] = ["states/carried.0.bin", "states/carried.1.bin"];
 
-/// The carried test vectors to resume after iteration `k` with: those of `CARRIED_FILE` if
-/// they belong to iteration `k`, else none. Absent (a run without them) or newer (a run
-/// stopped between writing them and its record) is normal; unreadable, damaged or older is
-/// a warning: the run goes on with the same removals, its bounds start afresh, so its
-/// `result.json` will differ from an uninterrupted run's in the recorded bounds.
+/// The file holding the vectors iteration `k` hands on.
+pub fn carried_file(k: usize) -> &'static str {
+    CARRIED_FILES[k % 2]
+}
+
+/// The carried test vectors to resume after iteration `k` with: those of [`carried_file`]`(k)`
+/// if they belong to iteration `k`. Anything else (absent, unreadable, damaged, of another
+/// iteration) is a warning: the run goes on with the same removals, its bounds start afresh,
+/// so its `result.json` will differ from an uninterrupted run's in the recorded bounds.
 pub fn read_carried(
     dir: &Path,
     curves: usize,
@@ -20,31 +30,39 @@ pub fn read_carried(
     k: usize,
     warnings: &mut Vec<String>,
 ) -> Carried {
-    let path = dir.join(CARRIED_FILE);
-    let consequence = "the run goes on without the carried test vectors (the same removals; \
-                       the recorded bounds will differ from an uninterrupted run's)";
+    let path = dir.join(carried_file(k));
+    let consequence = "the run goes on without them: the same removals, but the recorded \
+                       bounds will differ from an uninterrupted run's in the last digits";
     let bytes = match std::fs::read(&path) {
         Ok(b) => b,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Vec::new(),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            warnings.push(format!(
+                "{}: missing (the test vectors iteration {k} handed on); {consequence}",
+                path.display()
+            ));
+            return Vec::new();
+        }
         Err(e) => {
-            warnings.push(format!("{}: {e}; {consequence}", path.display()));
+            warnings.push(format!(
+                "{}: cannot be read ({e}); {consequence}",
+                path.display()
+            ));
             return Vec::new();
         }
     };
     match carried_from_bytes(&bytes, curves, dofs) {
         Some((iteration, carried)) if iteration == k => carried,
-        Some((iteration, _)) if iteration > k => Vec::new(),
         Some((iteration, _)) => {
             warnings.push(format!(
-                "{}: holds the vectors of iteration {iteration}, not of the last recorded one \
-                 ({k}); {consequence}",
+                "{}: holds the test vectors of iteration {iteration}, not of iteration {k}, \
+                 the last recorded; {consequence}",
                 path.display()
             ));
             Vec::new()
         }
         None => {
             warnings.push(format!(
-                "{}: damaged ({} bytes, not the vectors of {curves} curves with {dofs} \
+                "{}: damaged ({} bytes, not the test vectors of {curves} curves with {dofs} \
                  unknowns); {consequence}",
                 path.display(),
                 bytes.len()
@@ -54,8 +72,8 @@ pub fn read_carried(
     }
 }
 
-/// `carried.bin`: the index of the iteration that handed the vectors on (u64), the curve count
-/// (u64), then per curve a flag byte (1: a vector follows) and, with a vector, its value
+/// The carried vectors' file: the index of the iteration that handed the vectors on (u64), the
+/// curve count (u64; 0 when it handed none on), then per curve a flag byte (1: a vector follows) and, with a vector, its value
 /// (f64) and its coordinates (f32 each, the network's degrees of freedom); little-endian.
 pub fn carried_bytes(iteration: usize, carried: &Carried) -> Vec<u8> {
     let mut out = Vec::new();
@@ -90,11 +108,12 @@ pub fn carried_from_bytes(bytes: &[u8], curves: usize, dofs: usize) -> Option<(u
     let mut b = bytes;
     let u64_of = |s: &[u8]| u64::from_le_bytes(s.try_into().unwrap_or([0; 8]));
     let iteration = u64_of(take(&mut b, 8)?) as usize;
-    if u64_of(take(&mut b, 8)?) as usize != curves {
+    let count = u64_of(take(&mut b, 8)?) as usize;
+    if count != curves && count != 0 {
         return None;
     }
-    let mut carried = Vec::with_capacity(curves);
-    for _ in 0..curves {
+    let mut carried = Vec::with_capacity(count);
+    for _ in 0..count {
         match take(&mut b, 1)?[0] {
             0 => carried.push(None),
             1 => {
@@ -147,5 +166,41 @@ mod tests {
         let mut bad_flag = bytes.clone();
         bad_flag[16] = 2;
         assert_eq!(carried_from_bytes(&bad_flag, 3, 6), None);
+        // None handed on: an empty list, whatever the network.
+        let none = carried_bytes(4, &Vec::new());
+        assert_eq!(carried_from_bytes(&none, 3, 6), Some((4, Vec::new())));
+    }
+
+    #[test]
+    fn the_vectors_of_the_last_recorded_iteration_are_read_and_anything_else_warns() {
+        use super::{CarriedVector, carried_bytes, carried_file, read_carried};
+        let dir = std::env::temp_dir().join(format!("curvenet-carried-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("states")).unwrap();
+        let v = vec![Some(CarriedVector {
+            value: 1.0,
+            vector: vec![0.5; 3],
+        })];
+        // Iteration 5 recorded; iteration 6 handed its vectors on before a kill.
+        std::fs::write(dir.join(carried_file(5)), carried_bytes(5, &v)).unwrap();
+        std::fs::write(dir.join(carried_file(6)), carried_bytes(6, &v)).unwrap();
+        let mut warnings = Vec::new();
+        assert_eq!(read_carried(&dir, 1, 3, 5, &mut warnings), v);
+        assert!(warnings.is_empty(), "{warnings:?}");
+        // Resuming after iteration 6 (recorded) and 7 (its slot holds iteration 5's): a
+        // warning naming the file and the iterations.
+        assert_eq!(read_carried(&dir, 1, 3, 6, &mut warnings), v);
+        assert_eq!(read_carried(&dir, 1, 3, 7, &mut warnings), Vec::new());
+        assert_eq!(warnings.len(), 1, "{warnings:?}");
+        assert!(
+            warnings[0].contains("carried.1.bin")
+                && warnings[0].contains("iteration 5, not of iteration 7"),
+            "{}",
+            warnings[0]
+        );
+        // Missing: a warning too.
+        std::fs::remove_file(dir.join(carried_file(6))).unwrap();
+        assert_eq!(read_carried(&dir, 1, 3, 6, &mut warnings), Vec::new());
+        assert!(warnings[1].contains("missing"), "{}", warnings[1]);
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -7,8 +7,8 @@
 //! DIR/modes/KKKK.bin      worst-case mode of iteration K: 3·V little-endian f64
 //! DIR/states/KKKK.bin     equilibrium displacements of iteration K: 3·V little-endian f64
 //! DIR/states/KKKK.modes.bin all low modes of iteration K, column after column (resume state)
-//! DIR/states/carried.bin  the candidates' test vectors the last iteration handed on (resume
-//!                         state, see [`carried`]; removed when the run completes)
+//! DIR/states/carried.P.bin the candidates' test vectors an iteration of parity P handed on
+//!                         (resume state, see [`carried`]; removed when the run completes)
 //! DIR/iterations/KKKK.obj the network of iteration K at equilibrium, one polyline per curve
 //! DIR/final.obj           the greedy's final network at equilibrium
 //! DIR/answer.obj          the answer (the network to build) at equilibrium; absent when
@@ -39,7 +39,7 @@ pub mod schema;
 pub mod summary;
 pub mod writer;
 
-pub use answer::{evaluated_offer, greedy_offers};
+pub use answer::{evaluated_offer, greedy_offers, measure_greedy_deviations};
 pub use reader::{RunFolder, check_network};
 pub use schema::{FinalRecord, InputDescription, LocalSearchRecord, ResultFile, RunSetup, VERSION};
 pub use summary::{summary, unrelaxed};

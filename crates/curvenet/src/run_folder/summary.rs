@@ -14,7 +14,7 @@ pub fn unrelaxed(iterations: &[IterationRecord]) -> Vec<String> {
         .map(|(k, r)| {
             format!(
                 "iteration {k} ({} curves): the relaxation stopped short of equilibrium \
-                 ({:?} after {} Newton steps, relative gradient {:.1e}); its λ_eq is that of \
+                 ({} after {} Newton steps, relative gradient {:.1e}); its λ_eq is that of \
                  an unrelaxed state",
                 r.curves.len(),
                 r.newton.stop,
@@ -73,7 +73,8 @@ pub fn summary(r: &ResultFile) -> String {
         .filter_map(|i| i.removed.map(|c| c.to_string()))
         .collect();
     let _ = writeln!(s, "removed in order: {}", removed.join(", "));
-    let _ = writeln!(s, "iterations: {}; stop: {:?}", r.iterations.len(), r.stop);
+    let stop = r.stop.map_or("not finished".to_string(), |s| s.to_string());
+    let _ = writeln!(s, "iterations: {}; stop: {stop}", r.iterations.len());
     for line in unrelaxed(&r.iterations) {
         let _ = writeln!(s, "warning: {line}");
     }
@@ -138,7 +139,7 @@ mod tests {
             lines[0]
         );
         assert!(
-            lines[0].contains("MaxIterations after 200 Newton steps"),
+            lines[0].contains("iteration limit reached after 200 Newton steps"),
             "{}",
             lines[0]
         );

@@ -1,7 +1,7 @@
 //! [`OutputWriter`]: the greedy's hooks that write the run folder as the run goes.
 
 use super::answer::greedy_offers;
-use super::carried::{CARRIED_FILE, carried_bytes, read_carried};
+use super::carried::{CARRIED_FILES, carried_bytes, carried_file, read_carried};
 use super::schema::{FinalRecord, LocalSearchRecord, ResultFile, RunSetup, VERSION};
 use super::summary::summary;
 use super::{f64_bytes, network_polylines, read_f64_file};
@@ -172,8 +172,8 @@ impl<'a> OutputWriter<'a> {
         self
     }
 
-    /// What [`Self::resume`] found that the run can go on without (a damaged or stale
-    /// carried-vectors file); empty for a new run.
+    /// What [`Self::resume`] found that the run can go on without (the carried test vectors
+    /// of the last recorded iteration missing, damaged or stale); empty for a new run.
     pub fn warnings(&self) -> &[String] {
         &self.warnings
     }
@@ -274,10 +274,12 @@ impl<'a> OutputWriter<'a> {
         self.write("timings.json", t)?;
         self.write("summary.txt", summary(&self.result))?;
         self.flush()?;
-        // Only a resume needs it.
-        let carried = self.dir.join(CARRIED_FILE);
-        if carried.exists() {
-            std::fs::remove_file(&carried).map_err(|e| io_err(&carried, e))?;
+        // Only a resume needs them.
+        for f in CARRIED_FILES {
+            let carried = self.dir.join(f);
+            if carried.exists() {
+                std::fs::remove_file(&carried).map_err(|e| io_err(&carried, e))?;
+            }
         }
         Ok(())
     }
@@ -285,9 +287,10 @@ impl<'a> OutputWriter<'a> {
 
 impl GreedyHooks for OutputWriter<'_> {
     fn carried(&mut self, carried: &Carried) -> Result<(), String> {
-        // Handed on by the iteration about to be recorded as number `len`.
+        // Handed on by the iteration about to be recorded as number `len`: its own slot, so
+        // the last recorded iteration's survives until this one is recorded.
         let k = self.result.iterations.len();
-        self.write(CARRIED_FILE, carried_bytes(k, carried))
+        self.write(carried_file(k), carried_bytes(k, carried))
     }
 
     fn iteration(&mut self, record: &IterationRecord, eval: &Evaluation) -> Result<(), String> {

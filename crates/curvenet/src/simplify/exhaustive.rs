@@ -7,8 +7,9 @@
 //! [`Analyzer::lambda_eq`], the same evaluation the other searches use; [`exhaustive_fixed`]
 //! does the same on `λ_fix` at the full network's equilibrium (the exact solver's objective).
 //! Under design constraints (the `constraints` of [`exhaustive`]) the subsets are the feasible sets of
-//! [`Constraints::feasible_subsets`] (whole units, every constraint but `--max-deviation`,
-//! which the run's answer checks on each equilibrium), so the best is the constrained optimum.
+//! [`Constraints::feasible_subsets`] (whole units, every constraint but `--max-deviation`),
+//! and with `--max-deviation` those whose equilibrium moves a vertex farther than it allows
+//! ([`Analyzer::parts_of`]) are dropped, so the best is the constrained optimum.
 //! A cancelled search ([`Cancel`]) stops within one evaluation per thread and is an error:
 //! part of the subsets is no optimum.
 
@@ -151,13 +152,24 @@ pub fn exhaustive(
     constraints: Option<&Constraints>,
     cancel: &Cancel,
 ) -> Result<ExhaustiveOutcome, SimplifyError> {
-    let score = |curves: &[usize]| {
-        analyzer
-            .lambda_eq(&analyzer.set(curves))
-            .unwrap_or(f64::NAN)
+    let limited = constraints.filter(|c| c.params().max_deviation.is_some());
+    let score = |curves: &[usize]| match analyzer.parts_of(&analyzer.set(curves)) {
+        Ok(parts) => {
+            let deviation = parts.iter().map(|p| p.deviation).fold(0.0, f64::max);
+            if limited.is_some_and(|c| !c.deviation_ok(deviation)) {
+                OVER_DEVIATION
+            } else {
+                parts.iter().map(|p| p.lambda).fold(f64::INFINITY, f64::min)
+            }
+        }
+        Err(_) => f64::NAN,
     };
     score_all(analyzer, params, constraints, &score, cancel)
 }
+
+/// The score of a subset whose equilibrium moves a vertex farther than `--max-deviation`
+/// allows: dropped from the outcome.
+const OVER_DEVIATION: f64 = f64::NEG_INFINITY;
 
 /// Checks that `constraints` were bound to a network of `n` curves, the budget `budget` (a
 /// length) and the keep list `keep`.
@@ -248,7 +260,15 @@ fn score_all(
         })
         .collect();
     cancel.check().map_err(|_| SimplifyError::Cancelled)?;
-    let best = best_of(&all).expect("at least one subset");
+    let mut all = all;
+    all.retain(|s| s.lambda != OVER_DEVIATION);
+    let Some(best) = best_of(&all) else {
+        return Err(SimplifyError::Params(if all.is_empty() {
+            "no subset within the budget keeps its equilibrium within --max-deviation".into()
+        } else {
+            "no subset could be evaluated".into()
+        }));
+    };
     Ok(ExhaustiveOutcome { best, all })
 }
 

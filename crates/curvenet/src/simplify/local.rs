@@ -48,8 +48,11 @@
 //! **Under design constraints** (the `constraints` of [`local_search`]) the moves add, drop and swap
 //! whole units (a group or a symmetry orbit; [`Constraints::neighbours`]), each recorded by
 //! its unit's smallest curve, and only to sets that meet every constraint but
-//! `--max-deviation` (which the run's answer checks on each equilibrium); a part step is taken
-//! only when the part alone meets them too. A chain locks every curve of a unit it moved.
+//! `--max-deviation`; a part step is taken only when the part alone meets them too. A set
+//! whose equilibrium (relaxed from the drawn
+//! state, by parts: [`Analyzer::parts_of`]) moves a vertex farther than `--max-deviation`
+//! allows ranks below every set within it: the search may start there, never moves to one,
+//! and a chain never passes through one. A chain locks every curve of a unit it moved.
 //! Without constraints the moves are exactly those above.
 //!
 //! Every strategy is deterministic: moves are listed in a fixed order, sets are evaluated in
@@ -240,6 +243,20 @@ pub struct LocalOutcome {
     /// True when the search was cancelled: `best` is the best set reached by then.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub cancelled: bool,
+    /// With `--max-deviation`: the largest displacement of a vertex of `best` at its
+    /// equilibrium (over the limit only when no set within it was reached).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub deviation: Option<f64>,
+}
+
+impl LocalOutcome {
+    /// Whether `best` meets `--max-deviation` (always without it).
+    pub fn within_deviation(&self, constraints: Option<&Constraints>) -> bool {
+        match (constraints, self.deviation) {
+            (Some(c), Some(d)) => c.deviation_ok(d),
+            _ => true,
+        }
+    }
 }
 
 /// What the search knows of an evaluated subset.
@@ -247,6 +264,9 @@ pub struct LocalOutcome {
 struct Entry {
     /// `λ_eq` (NaN when the evaluation failed).
     lambda: f64,
+    /// What the search ranks it by: `λ_eq`, or −∞ when its equilibrium moves a vertex farther
+    /// than `--max-deviation` allows (a set the search may leave but never reach).
+    value: f64,
     /// When the subset falls apart into separate structures: the best sub-structure made of
     /// its parts that holds the keep list (its name for [`Move::Part`], its curves, its
     /// `λ_eq`), if better than the subset.
@@ -285,16 +305,34 @@ impl Evaluator<'_> {
                 if cancel.is_cancelled() {
                     return None;
                 }
-                Some(match analyzer.lambda_eq_parts(&analyzer.set(s)) {
+                Some(match analyzer.parts_of(&analyzer.set(s)) {
                     Ok(parts) => {
-                        let lambda = parts.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
-                        let part = best_part(&parts, keep)
-                            .filter(|p| improves(p.2, lambda, tol))
-                            .filter(|p| constraints.is_none_or(|c| c.check(&p.1).is_ok()));
-                        Entry { lambda, part }
+                        let lambda = parts.iter().map(|p| p.lambda).fold(f64::INFINITY, f64::min);
+                        let deviation = parts.iter().map(|p| p.deviation).fold(0.0, f64::max);
+                        let within = constraints.is_none_or(|c| c.deviation_ok(deviation));
+                        let value = if within { lambda } else { f64::NEG_INFINITY };
+                        let values: Vec<(Vec<usize>, f64)> =
+                            parts.iter().map(|p| (p.curves.clone(), p.lambda)).collect();
+                        let part = best_part(&values, keep)
+                            .filter(|p| improves(p.2, value, tol))
+                            .filter(|p| constraints.is_none_or(|c| c.check(&p.1).is_ok()))
+                            .filter(|p| {
+                                let dev = parts
+                                    .iter()
+                                    .filter(|q| q.curves.iter().all(|x| p.1.contains(x)))
+                                    .map(|q| q.deviation)
+                                    .fold(0.0, f64::max);
+                                constraints.is_none_or(|c| c.deviation_ok(dev))
+                            });
+                        Entry {
+                            lambda,
+                            value,
+                            part,
+                        }
                     }
                     Err(_) => Entry {
                         lambda: f64::NAN,
+                        value: f64::NAN,
                         part: None,
                     },
                 })
@@ -345,7 +383,10 @@ fn best_part(parts: &[(Vec<usize>, f64)], keep: &[usize]) -> Option<(usize, Vec<
 struct Candidate {
     step: Move,
     set: Vec<usize>,
+    /// The set's `λ_eq`.
     lambda: f64,
+    /// The set's rank ([`Entry::value`]).
+    value: f64,
     part: Option<(usize, Vec<usize>, f64)>,
 }
 
@@ -355,13 +396,14 @@ impl Candidate {
             step,
             set,
             lambda: entry.lambda,
+            value: entry.value,
             part: entry.part.filter(|_| parts),
         }
     }
 
-    /// `λ_eq` where it ends.
+    /// The rank where it ends (`λ_eq`, or −∞ over `--max-deviation`).
     fn value(&self) -> f64 {
-        self.part.as_ref().map_or(self.lambda, |p| p.2)
+        self.part.as_ref().map_or(self.value, |p| p.2)
     }
 
     /// The set where it ends.
@@ -487,12 +529,26 @@ fn search_from(
         Ok(start) => (start, search.run().is_err()),
         Err(Stopped) => return Err(SimplifyError::Cancelled),
     };
+    // A start over `--max-deviation` that no move left: its own `λ_eq`.
+    let lambda = if search.lambda == f64::NEG_INFINITY {
+        search
+            .ev
+            .memo
+            .get(&search.cur)
+            .map_or(f64::NAN, |e| e.lambda)
+    } else {
+        search.lambda
+    };
+    let deviation = constraints
+        .filter(|c| c.params().max_deviation.is_some())
+        .and_then(|_| analyzer.deviation(&analyzer.set(&search.cur)).ok());
     Ok(LocalOutcome {
         start: start_score,
+        deviation,
         best: SubsetScore {
             length: length(&search.cur),
             curves: search.cur,
-            lambda: search.lambda,
+            lambda,
         },
         steps: search.steps,
         rounds: search.rounds,
@@ -524,7 +580,8 @@ struct Search<'s> {
     constraints: Option<&'s Constraints>,
     lengths: &'s [f64],
     budget: f64,
-    /// The current set and its `λ_eq`.
+    /// The current set and its rank ([`Entry::value`]: its `λ_eq` once a set within
+    /// `--max-deviation` is reached).
     cur: Vec<usize>,
     lambda: f64,
     steps: Vec<Step>,
@@ -536,7 +593,7 @@ impl Search<'_> {
     /// Evaluates the start (and takes its best part when it falls apart into a better one).
     fn start(&mut self) -> Result<SubsetScore, Stopped> {
         let first = self.ev.eval_all(std::slice::from_ref(&self.cur))?.remove(0);
-        self.lambda = first.lambda;
+        self.lambda = first.value;
         let start = SubsetScore {
             curves: self.cur.clone(),
             length: self.cur.iter().map(|&c| self.lengths[c]).sum(),
@@ -725,7 +782,14 @@ fn multi(
         };
         let stop = o.cancelled;
         let better = best.as_ref().is_none_or(|b| {
-            o.best.lambda > b.best.lambda || (b.best.lambda.is_nan() && !o.best.lambda.is_nan())
+            let (ow, bw) = (
+                o.within_deviation(constraints),
+                b.within_deviation(constraints),
+            );
+            (ow && !bw)
+                || (ow == bw
+                    && (o.best.lambda > b.best.lambda
+                        || (b.best.lambda.is_nan() && !o.best.lambda.is_nan())))
         });
         if better {
             best = Some(o);

@@ -113,6 +113,19 @@ pub enum NewtonStop {
     NonFinite,
 }
 
+impl std::fmt::Display for NewtonStop {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            NewtonStop::Converged => "converged",
+            NewtonStop::RoundoffFloor => "converged to round-off",
+            NewtonStop::MaxIterations => "iteration limit reached",
+            NewtonStop::Stalled => "stalled",
+            NewtonStop::LineSearchFailed => "no step reduced the energy",
+            NewtonStop::NonFinite => "non-finite energy",
+        })
+    }
+}
+
 /// What a Newton solve did.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct NewtonInfo {

@@ -19,8 +19,9 @@ pub struct Analyzer {
     model: EnergyModel,
     symbolic: Arc<SymbolicFactor>,
     params: StabilityParams,
-    /// `λ_eq` of connected sets already evaluated ([`Self::lambda_eq`]).
-    pub(super) parts: Mutex<HashMap<Vec<usize>, f64>>,
+    /// `λ_eq` of connected sets already evaluated, with their equilibrium's largest
+    /// displacement ([`Self::lambda_eq`], [`Self::parts_of`]).
+    pub(super) parts: Mutex<HashMap<Vec<usize>, (f64, f64)>>,
     /// The physical mode's parameters ([`Self::with_physical`]); `None` in the paper's mode.
     physical: Option<PhysicalParams>,
 }

@@ -13,7 +13,7 @@
 //! |---|---|---|
 //! | `λ_eq` of a structure, with its mode's curves and gravity deflection | [`Analyzer::analyze`] | reports |
 //! | `λ_eq` of a structure, warm-started, to a preset's accuracy | [`Analyzer::evaluate`] ([`Warm`], [`Preset`], [`Prepare`]) | the greedy's iterations |
-//! | `λ_eq` of any set, relaxed from the drawn state, by connected parts, cached | [`Analyzer::lambda_eq`], [`Analyzer::lambda_eq_parts`] | local, exhaustive, random searches |
+//! | `λ_eq` of any set, relaxed from the drawn state, by connected parts, cached (with each part's largest displacement) | [`Analyzer::lambda_eq`], [`Analyzer::lambda_eq_parts`], [`Analyzer::parts_of`], [`Analyzer::deviation`] | local, exhaustive, random searches |
 //! | the equilibrium alone; the spectrum at given displacements (`λ_fix`) | [`Analyzer::relax`], [`Analyzer::spectrum`] | tests, the certificate's start |
 //! | bounds, scores and inertia tests of one structure's candidate removals | [`candidates::Candidates`] ([`candidates::Test`], [`candidates::Outcome`], [`candidates::Carried`]) | the greedy's candidate search |
 //! | `λ_fix` of any set at the full network's equilibrium; certified bounds on nodes of subsets; the relaxation of a node | [`fixed::FixedProblem`] ([`fixed::Node`], [`fixed::Rayleigh`]) | the certificate, the exact search |
@@ -61,6 +61,7 @@ pub use analyzer::Analyzer;
 pub use evaluate::{Evaluation, Prepare, Warm, Work};
 pub use params::{Budget, GravityParams, StabilityParams, Technique, Tuning};
 pub use presets::{Preset, SPECTRUM_TOL, SPECTRUM_TRAILING_TOL};
+pub use subsets::Part;
 
 pub use crate::rod::ActiveSet;
 pub use crate::solve::eigen::{EigenParams, Spectrum};

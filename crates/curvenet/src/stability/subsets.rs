@@ -1,6 +1,7 @@
 //! `λ_eq` of any set of curves, the way every search ranks a subset: relaxed from the drawn
 //! state (path-independent, so the searches' answers compare), by connected parts, each part
-//! computed once per analyzer.
+//! computed once per analyzer, with its equilibrium's largest displacement (the
+//! `--max-deviation` of the part: a set's is the largest of its parts').
 
 use super::presets::Preset;
 use super::{Analyzer, StabilityError, StabilityParams};
@@ -27,13 +28,23 @@ impl Analyzer {
         &self,
         active: &ActiveSet,
     ) -> Result<Vec<(Vec<usize>, f64)>, StabilityError> {
+        Ok(self
+            .parts_of(active)?
+            .into_iter()
+            .map(|p| (p.curves, p.lambda))
+            .collect())
+    }
+
+    /// The connected parts of `active` ([`Self::components`]), each relaxed on its own
+    /// (remembered) with its `λ_eq` and its equilibrium's largest displacement.
+    pub fn parts_of(&self, active: &ActiveSet) -> Result<Vec<Part>, StabilityError> {
         if active.is_empty() {
             return Err(StabilityError::Empty);
         }
         let mut parts = Vec::new();
         for part in self.components(active) {
             let cached = self.parts.lock().expect("cache lock").get(&part).copied();
-            let value = match cached {
+            let (lambda, deviation) = match cached {
                 Some(v) => v,
                 None => {
                     let v = self.lambda_eq_connected(&part)?;
@@ -44,9 +55,23 @@ impl Analyzer {
                     v
                 }
             };
-            parts.push((part, value));
+            parts.push(Part {
+                curves: part,
+                lambda,
+                deviation,
+            });
         }
         Ok(parts)
+    }
+
+    /// The largest displacement of a vertex of `active` at its equilibrium relaxed from the
+    /// drawn state (by parts, as [`Self::lambda_eq`]; remembered).
+    pub fn deviation(&self, active: &ActiveSet) -> Result<f64, StabilityError> {
+        Ok(self
+            .parts_of(active)?
+            .iter()
+            .map(|p| p.deviation)
+            .fold(0.0, f64::max))
     }
 
     /// Connected structures whose `λ_eq` this analyzer has computed and remembers (each one
@@ -56,8 +81,9 @@ impl Analyzer {
     }
 
     /// `λ_eq` of a connected structure, on its own network (the loose vertices deleted, so
-    /// the factorizations only see the structure's own unknowns).
-    fn lambda_eq_connected(&self, curves: &[usize]) -> Result<f64, StabilityError> {
+    /// the factorizations only see the structure's own unknowns), and the largest
+    /// displacement of a vertex at that equilibrium.
+    fn lambda_eq_connected(&self, curves: &[usize]) -> Result<(f64, f64), StabilityError> {
         let (network, _) = self.network().sub_network(curves);
         let params = StabilityParams {
             eigen: Preset::Score.params(&self.params().eigen),
@@ -67,6 +93,32 @@ impl Analyzer {
         let active = sub.all();
         let mut u = vec![0.0; sub.model().dofs()];
         sub.relax(&active, &mut u);
-        Ok(sub.spectrum(&active, &u, None)?.lambda())
+        let lambda = sub.spectrum(&active, &u, None)?.lambda();
+        Ok((lambda, largest_displacement(sub.network(), &u)))
     }
+}
+
+/// A connected part of a set of curves, relaxed on its own.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Part {
+    /// Its curves, ascending.
+    pub curves: Vec<usize>,
+    /// Its `λ_eq`.
+    pub lambda: f64,
+    /// The largest displacement of one of its vertices at its equilibrium (scene units).
+    pub deviation: f64,
+}
+
+/// `max_v |u_v|` over the vertices of `network`'s rods (3 displacements per vertex).
+fn largest_displacement(network: &crate::network::Network, u: &[f64]) -> f64 {
+    let mut worst = 0.0f64;
+    for rod in &network.rods {
+        for &v in &rod.vertices {
+            let i = 3 * v as usize;
+            if let Some(d) = u.get(i..i + 3) {
+                worst = worst.max((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt());
+            }
+        }
+    }
+    worst
 }

@@ -27,11 +27,16 @@
 //! parameters. The figures measured with it are in `docs/compare.md`.
 //!
 //! - [`instance`]: one network's figures ([`InstanceResult`]);
-//! - [`summary`]: the figures per size ([`SizeSummary`]) and the report ([`CompareReport`]).
+//! - [`summary`]: the figures per size ([`SizeSummary`]) and the report ([`CompareReport`]);
+//! - [`fresh`]: the generalisation measurement on networks drawn afresh (sizes, budgets,
+//!   surfaces and seeds varied), the searches that give a run's answer against the optimum
+//!   ([`fresh()`], [`FreshReport`]).
 
+pub mod fresh;
 pub mod instance;
 pub mod summary;
 
+pub use fresh::{FreshParams, FreshReport, FreshRow, fresh};
 pub use instance::{InstanceResult, instance_network};
 pub use summary::{CompareReport, SizeSummary};
 

@@ -18,7 +18,7 @@
 //! ([`Candidates::score_set`]; the single-curve bounds do not apply to sets). The run stops,
 //! budget unmet, when the constraints allow no further removal ([`StopReason::Blocked`]).
 //! `--max-deviation` needs each network's equilibrium and does not steer the removals: the
-//! run's answer honours it. Without constraints the run is the one above, bit for bit.
+//! run's answer measures it on each recorded iteration's equilibrium and honours it. Without constraints the run is the one above, bit for bit.
 //!
 //! Each relaxation starts from the previous equilibrium, warm-started by what the previous
 //! iteration hands on ([`Candidates::hand_on`]). The candidates are scored at `A`'s
@@ -219,9 +219,10 @@ pub trait GreedyHooks: Sync {
     /// Called once per iteration with its record, its evaluation (mode, equilibrium), and
     /// the number of iterations done; an error stops the run.
     fn iteration(&mut self, record: &IterationRecord, eval: &Evaluation) -> Result<(), String>;
-    /// Called right before [`Self::iteration`] of an iteration whose candidates were searched,
-    /// with the test vectors it hands the next iteration: a resumed run needs them to continue
-    /// exactly as an uninterrupted one ([`ResumePoint::carried`]).
+    /// Called before [`Self::iteration`] of an iteration whose candidates were searched, with
+    /// the test vectors it hands the next iteration (possibly none): a resumed run needs them
+    /// to continue exactly as an uninterrupted one ([`ResumePoint::carried`]). A run stopped
+    /// between the two calls has not recorded the iteration.
     fn carried(&mut self, carried: &Carried) -> Result<(), String> {
         let _ = carried;
         Ok(())
@@ -469,8 +470,10 @@ impl<'a> State<'a> {
         let groups = units.filter(|units| units.iter().any(|u| u.len() > 1));
         let (ctx, scores) = match &groups {
             Some(units) => self.score_units(&mut eval, units, &*hooks),
-            None => self.search(&mut eval, &candidates, hooks)?,
+            None => self.search(&mut eval, &candidates, hooks),
         };
+        // Before the record, so a resume from it finds them (possibly none).
+        hooks.carried(&self.carried).map_err(SimplifyError::Hook)?;
         if hooks.cancelled() {
             return Err(SimplifyError::Cancelled);
         }
@@ -524,14 +527,14 @@ impl<'a> State<'a> {
         }
     }
 
-    /// Scores every candidate at the structure's equilibrium; hands the carried test vectors
-    /// to `hooks` and keeps them for the next iteration.
+    /// Scores every candidate at the structure's equilibrium; keeps the carried test vectors
+    /// for the next iteration.
     fn search(
         &mut self,
         eval: &mut Evaluation,
         candidates: &[usize],
-        hooks: &mut dyn GreedyHooks,
-    ) -> Result<(Candidates<'a>, Vec<CandidateScore>), SimplifyError> {
+        hooks: &dyn GreedyHooks,
+    ) -> (Candidates<'a>, Vec<CandidateScore>) {
         let tuning = self.analyzer.tuning();
         let t = Instant::now();
         let carried = if self.use_carried {
@@ -542,9 +545,8 @@ impl<'a> State<'a> {
         let mut ctx = Candidates::new(self.analyzer, &self.active, eval, carried);
         self.timings.locals_seconds += t.elapsed().as_secs_f64();
         let t = Instant::now();
-        let shared: &dyn GreedyHooks = &*hooks;
         let tie = self.params.tie_tolerance;
-        let scores = search::score_all(&mut ctx, candidates, tuning, tie, &|| shared.cancelled());
+        let scores = search::score_all(&mut ctx, candidates, tuning, tie, &|| hooks.cancelled());
         self.timings.candidates_seconds += t.elapsed().as_secs_f64();
         self.timings.candidate_evaluations += scores.iter().filter(|s| !s.pruned).count();
         self.timings.candidates_pruned += scores.iter().filter(|s| s.pruned).count();
@@ -552,9 +554,8 @@ impl<'a> State<'a> {
         if tuning.prune && tuning.carry {
             self.carried = ctx.take_carried();
             self.use_carried = carried_pays(&scores, tuning.carry_after);
-            hooks.carried(&self.carried).map_err(SimplifyError::Hook)?;
         }
-        Ok((ctx, scores))
+        (ctx, scores)
     }
 
     /// Scores every unit of `units` (some hold several curves) exactly, in parallel: the

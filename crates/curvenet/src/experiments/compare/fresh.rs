@@ -1,0 +1,419 @@
+//! The generalisation measurement (`curvenet compare --fresh N`): networks drawn afresh, each
+//! with its own surface, size, budget and seed, and the searches that produce a run's answer
+//! (the greedy, then the local search from its final network) against the exact optimum of
+//! `λ_eq` (exhaustive search).
+//!
+//! Network `k` of `N`: a SplitMix64 stream seeded by the base seed and `k` draws the number of
+//! curves (uniform in `min_curves..=max_curves`), the budget (uniform in
+//! `[min_budget, max_budget]`, rounded to 0.01) and the tracing seed; the surfaces are taken in
+//! rotation. The curves are random geodesics ([`Generator::Random`]) on the surface scaled to
+//! extent 4000, built at `h = 100` with clamped supports (as [`super::compare`]'s). A network
+//! whose tracing or build fails is drawn again (up to 20 times).
+//!
+//! Exhaustive search is exponential: it runs on networks of at most `exhaustive_max_curves`
+//! curves whose feasible subsets number at most `max_subsets`; the others are reported as
+//! skipped (with the greedy's and the local search's figures, no ratio). The report gives, over
+//! the networks decided, the mean of (greedy + local search) / optimum and how many reach the
+//! optimum (within the relative tolerance 1e-6: the searches and exhaustive search share one
+//! evaluation, so an optimum found is the same number).
+
+use crate::cancel::Cancel;
+use crate::constraints::Constraints;
+use crate::io::TriMesh;
+use crate::network::{BuildParams, Network, build_network};
+use crate::rng::SplitMix64;
+use crate::rod::ActiveSet;
+use crate::simplify::exhaustive::{ExhaustiveParams, exhaustive};
+use crate::simplify::greedy::{GreedyParams, NoHooks, greedy};
+use crate::simplify::local::{LocalParams, local_search};
+use crate::simplify::{Budget, SimplifyError, StopReason};
+use crate::stability::{Analyzer, StabilityParams};
+use crate::trace::{Generator, generate, scale_to_extent};
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// Relative tolerance under which a search's `λ_eq` is the optimum.
+pub const REACHED: f64 = 1e-6;
+
+/// Parameters of the measurement.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FreshParams {
+    /// Networks to draw.
+    pub networks: usize,
+    /// Base seed.
+    pub seed: u32,
+    /// Fewest curves of a network.
+    pub min_curves: usize,
+    /// Most curves of a network.
+    pub max_curves: usize,
+    /// Smallest budget fraction.
+    pub min_budget: f64,
+    /// Largest budget fraction.
+    pub max_budget: f64,
+    /// Edge length `h` (scene units, surfaces at extent 4000).
+    pub edge_length: f64,
+    /// Exhaustive search only on networks of at most this many curves.
+    pub exhaustive_max_curves: usize,
+    /// … and at most this many feasible subsets.
+    pub max_subsets: usize,
+}
+
+impl Default for FreshParams {
+    fn default() -> Self {
+        FreshParams {
+            networks: 100,
+            seed: 1,
+            min_curves: 8,
+            max_curves: 18,
+            min_budget: 0.1,
+            max_budget: 0.5,
+            edge_length: 100.0,
+            exhaustive_max_curves: 14,
+            max_subsets: 3000,
+        }
+    }
+}
+
+impl FreshParams {
+    /// Checks the parameters.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.networks == 0 {
+            return Err("--fresh needs at least one network".into());
+        }
+        if !(2 <= self.min_curves && self.min_curves <= self.max_curves && self.max_curves <= 40) {
+            return Err(format!(
+                "the numbers of curves must satisfy 2 ≤ {} ≤ {} ≤ 40",
+                self.min_curves, self.max_curves
+            ));
+        }
+        if !(0.0 < self.min_budget && self.min_budget <= self.max_budget && self.max_budget <= 1.0)
+        {
+            return Err(format!(
+                "the budgets must satisfy 0 < {} ≤ {} ≤ 1",
+                self.min_budget, self.max_budget
+            ));
+        }
+        if !(self.edge_length.is_finite() && self.edge_length > 0.0) {
+            return Err(format!(
+                "edge length must be a positive number, got {}",
+                self.edge_length
+            ));
+        }
+        if self.max_subsets == 0 {
+            return Err("the subset limit must be at least 1".into());
+        }
+        Ok(())
+    }
+}
+
+/// One network's figures.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct FreshRow {
+    /// Its place in the draw.
+    pub index: usize,
+    /// Surface traced on.
+    pub surface: String,
+    /// Seed of the geodesics.
+    pub seed: u32,
+    /// Curves.
+    pub n: usize,
+    /// Budget fraction.
+    pub budget: f64,
+    /// Vertices of the network.
+    pub vertices: usize,
+    /// `λ_eq` of the greedy's final network (relaxed from the drawn state).
+    pub greedy: f64,
+    /// Whether the greedy met the budget (the local search starts only from a network within
+    /// it).
+    pub greedy_within: bool,
+    /// `λ_eq` of greedy + local search (the greedy's when the local search could not start).
+    pub local: f64,
+    /// Its curves.
+    pub local_curves: Vec<usize>,
+    /// The exact optimum of `λ_eq` (`None`: exhaustive search skipped).
+    pub optimum: Option<f64>,
+    /// Its curves.
+    pub optimum_curves: Vec<usize>,
+    /// Feasible subsets (counted even when skipped).
+    pub feasible: usize,
+    /// Why exhaustive search was skipped.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub skipped: Option<String>,
+    /// Wall time of the greedy and the local search (seconds).
+    pub search_seconds: f64,
+    /// Wall time of exhaustive search (seconds).
+    pub exhaustive_seconds: f64,
+}
+
+impl FreshRow {
+    /// (greedy + local search) / optimum, when decided.
+    pub fn ratio(&self) -> Option<f64> {
+        self.optimum.map(|o| ratio(self.local, o))
+    }
+
+    /// Whether greedy + local search reached the optimum, when decided.
+    pub fn reached(&self) -> Option<bool> {
+        self.optimum.map(|o| self.local >= o - REACHED * o.abs())
+    }
+}
+
+/// A search's `λ_eq` over the optimum's, 0 when it found nothing stable.
+fn ratio(v: f64, opt: f64) -> f64 {
+    if v.is_finite() && opt > 0.0 {
+        (v / opt).max(0.0)
+    } else {
+        0.0
+    }
+}
+
+/// The measurement's report.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FreshReport {
+    /// Parameters.
+    pub params: FreshParams,
+    /// Surfaces used.
+    pub surfaces: Vec<String>,
+    /// Every network.
+    pub rows: Vec<FreshRow>,
+}
+
+impl FreshReport {
+    /// Networks whose optimum exhaustive search decided.
+    pub fn decided(&self) -> Vec<&FreshRow> {
+        self.rows.iter().filter(|r| r.optimum.is_some()).collect()
+    }
+
+    /// Mean (greedy + local search) / optimum over the decided networks.
+    pub fn mean_ratio(&self) -> f64 {
+        mean(self.decided().iter().filter_map(|r| r.ratio()))
+    }
+
+    /// Decided networks where greedy + local search reached the optimum.
+    pub fn reached(&self) -> usize {
+        self.decided()
+            .iter()
+            .filter(|r| r.reached() == Some(true))
+            .count()
+    }
+
+    /// The summary and the per-network table, as Markdown.
+    pub fn markdown(&self) -> String {
+        let p = &self.params;
+        let decided = self.decided();
+        let greedy_mean = mean(
+            decided
+                .iter()
+                .map(|r| ratio(r.greedy, r.optimum.unwrap_or(f64::NAN))),
+        );
+        let greedy_reached = decided
+            .iter()
+            .filter(|r| r.optimum.is_some_and(|o| r.greedy >= o - REACHED * o.abs()))
+            .count();
+        let mut s = format!(
+            "{} networks drawn afresh (seed {}; {}–{} curves, budgets {:.2}–{:.2}, surfaces {}); \
+             exhaustive search on {} of them (at most {} curves and {} feasible subsets; {} \
+             skipped).\n\n\
+             | search | mean % of the optimum λ_eq | optimum reached |\n|---|---|---|\n\
+             | greedy | {:.1}% | {}/{} ({:.1}%) |\n\
+             | greedy + local search | {:.1}% | {}/{} ({:.1}%) |\n",
+            self.rows.len(),
+            p.seed,
+            p.min_curves,
+            p.max_curves,
+            p.min_budget,
+            p.max_budget,
+            self.surfaces.join(", "),
+            decided.len(),
+            p.exhaustive_max_curves,
+            p.max_subsets,
+            self.rows.len() - decided.len(),
+            100.0 * greedy_mean,
+            greedy_reached,
+            decided.len(),
+            percent(greedy_reached, decided.len()),
+            100.0 * self.mean_ratio(),
+            self.reached(),
+            decided.len(),
+            percent(self.reached(), decided.len()),
+        );
+        s.push_str(
+            "\n| # | surface | curves | budget | feasible subsets | greedy | greedy + local search | optimum λ_eq |\n\
+             |---|---|---|---|---|---|---|---|\n",
+        );
+        for r in &self.rows {
+            let (g, l, o) = match r.optimum {
+                Some(o) => (
+                    format!("{:.1}%", 100.0 * ratio(r.greedy, o)),
+                    format!("{:.1}%", 100.0 * ratio(r.local, o)),
+                    format!("{o:.4e}"),
+                ),
+                None => (
+                    format!("{:.4e}", r.greedy),
+                    format!("{:.4e}", r.local),
+                    format!("skipped ({})", r.skipped.as_deref().unwrap_or("")),
+                ),
+            };
+            s.push_str(&format!(
+                "| {} | {} | {} | {:.2} | {} | {g} | {l} | {o} |\n",
+                r.index, r.surface, r.n, r.budget, r.feasible
+            ));
+        }
+        s
+    }
+}
+
+fn mean(values: impl Iterator<Item = f64>) -> f64 {
+    let (sum, count) = values.fold((0.0, 0usize), |(s, c), v| (s + v, c + 1));
+    if count == 0 {
+        f64::NAN
+    } else {
+        sum / count as f64
+    }
+}
+
+fn percent(part: usize, whole: usize) -> f64 {
+    if whole == 0 {
+        f64::NAN
+    } else {
+        100.0 * part as f64 / whole as f64
+    }
+}
+
+/// Runs the measurement on `surfaces` (names and meshes, any scale); `progress(done, total)`
+/// after each network.
+pub fn fresh(
+    params: &FreshParams,
+    surfaces: &[(String, TriMesh)],
+    progress: &dyn Fn(usize, usize),
+) -> Result<FreshReport, SimplifyError> {
+    params.validate().map_err(SimplifyError::Params)?;
+    if surfaces.is_empty() {
+        return Err(SimplifyError::Params("--fresh needs surfaces".into()));
+    }
+    let scaled: Vec<(String, TriMesh)> = surfaces
+        .iter()
+        .map(|(name, m)| (name.clone(), scale_to_extent(m, 4000.0).0))
+        .collect();
+    let mut rows = Vec::with_capacity(params.networks);
+    for k in 0..params.networks {
+        rows.push(row(params, &scaled, k)?);
+        progress(k + 1, params.networks);
+    }
+    Ok(FreshReport {
+        params: params.clone(),
+        surfaces: scaled.into_iter().map(|s| s.0).collect(),
+        rows,
+    })
+}
+
+/// Network `k`: its draw (surface, curves, budget, seed) and the network built.
+fn draw(
+    params: &FreshParams,
+    scaled: &[(String, TriMesh)],
+    k: usize,
+) -> Result<(FreshRow, Network), SimplifyError> {
+    let mut rng = SplitMix64::new(
+        u64::from(params.seed)
+            .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+            .wrapping_add(k as u64),
+    );
+    let (name, mesh) = &scaled[k % scaled.len()];
+    let span = (params.max_curves - params.min_curves + 1) as u64;
+    for _ in 0..20 {
+        let n = params.min_curves + rng.below(span) as usize;
+        let budget = (100.0 * rng.uniform(params.min_budget, params.max_budget)).round() / 100.0;
+        let budget = budget.clamp(params.min_budget, params.max_budget);
+        let seed = rng.next_u64() as u32;
+        let Ok(traced) = generate(mesh, &Generator::Random { count: n, seed }) else {
+            continue;
+        };
+        if traced.curves.len() != n {
+            continue;
+        }
+        let build = BuildParams {
+            edge_length: params.edge_length,
+            ..BuildParams::default()
+        };
+        if let Ok((net, _)) = build_network(&traced.curves, &build) {
+            let row = FreshRow {
+                index: k,
+                surface: name.clone(),
+                seed,
+                n,
+                budget,
+                vertices: net.vertex_count(),
+                ..FreshRow::default()
+            };
+            return Ok((row, net));
+        }
+    }
+    Err(SimplifyError::Params(format!(
+        "network {k}: could not build a network on {name} after 20 tries"
+    )))
+}
+
+/// Network `k`'s figures.
+fn row(
+    params: &FreshParams,
+    scaled: &[(String, TriMesh)],
+    k: usize,
+) -> Result<FreshRow, SimplifyError> {
+    let (mut row, network) = draw(params, scaled, k)?;
+    let analyzer =
+        Analyzer::new(network, StabilityParams::default()).map_err(SimplifyError::Params)?;
+    let budget = Budget::Fraction(row.budget);
+    let never = Cancel::never();
+    let t = Instant::now();
+    let g = greedy(
+        &analyzer,
+        &GreedyParams::new(budget),
+        None,
+        None,
+        &mut NoHooks,
+    )?;
+    let last = g.iterations.last().expect("one iteration at least");
+    row.greedy = analyzer.lambda_eq(&ActiveSet::from_curves(row.n, &last.curves))?;
+    row.greedy_within = g.stop == StopReason::BudgetMet;
+    (row.local, row.local_curves) = (row.greedy, last.curves.clone());
+    if row.greedy_within {
+        let o = local_search(
+            &analyzer,
+            &LocalParams::new(budget),
+            None,
+            &last.curves,
+            &never,
+        )?;
+        if o.best.lambda.is_finite() {
+            (row.local, row.local_curves) = (o.best.lambda, o.best.curves);
+        }
+    }
+    row.search_seconds = t.elapsed().as_secs_f64();
+    let lengths = analyzer.lengths();
+    let cap = budget.length(lengths.iter().sum());
+    row.feasible = Constraints::none(analyzer.network(), cap, &[])
+        .feasible_subsets(params.max_subsets)
+        .map_or(params.max_subsets + 1, |s| s.len());
+    if row.n > params.exhaustive_max_curves {
+        row.skipped = Some(format!("{} curves", row.n));
+        return Ok(row);
+    }
+    if row.feasible > params.max_subsets {
+        row.skipped = Some(format!("over {} feasible subsets", params.max_subsets));
+        return Ok(row);
+    }
+    let t = Instant::now();
+    let ex = exhaustive(
+        &analyzer,
+        &ExhaustiveParams {
+            budget,
+            keep: Vec::new(),
+            max_subsets: params.max_subsets,
+        },
+        None,
+        &never,
+    )?;
+    row.exhaustive_seconds = t.elapsed().as_secs_f64();
+    row.optimum = Some(ex.best.lambda);
+    row.optimum_curves = ex.best.curves;
+    Ok(row)
+}
