@@ -41,14 +41,17 @@ pub struct AppState {
     pub design: Arc<Design>,
     /// The greedy runs on it.
     pub greedy: Arc<Runner>,
+    /// What is served, for the page's title: an example's name, the curve files, a run folder.
+    pub name: Arc<str>,
 }
 
 impl AppState {
-    /// The state of `design`, no greedy run yet.
-    pub fn new(design: Design) -> Self {
+    /// The state of `design` named `name`, no greedy run yet.
+    pub fn new(design: Design, name: &str) -> Self {
         AppState {
             design: Arc::new(design),
             greedy: Arc::new(Runner::default()),
+            name: name.into(),
         }
     }
 }
@@ -218,8 +221,14 @@ pub(crate) async fn off_runtime<T: Send + 'static>(
     })?
 }
 
-async fn index() -> Html<&'static str> {
-    Html(INDEX)
+/// `GET /`: the app page over the current structure.
+async fn index(State(app): State<AppState>) -> Result<Html<String>, ApiError> {
+    let page = off_runtime(move || {
+        crate::app::page(&app.design, &app.name)
+            .map_err(|e| ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, e))
+    })
+    .await?;
+    Ok(Html(page))
 }
 
 async fn state(State(design): State<Arc<Design>>) -> ApiResult<Summary> {
@@ -304,14 +313,3 @@ async fn method_not_allowed(method: Method, uri: Uri) -> Response {
     }
     r
 }
-
-/// The page at `/` until the viewer is served: what the API offers.
-const INDEX: &str = "<!doctype html><meta charset=utf-8><title>curvenet serve</title>\
-<h1>curvenet serve</h1><p>The JSON API of this network: \
-<a href=/api/state>GET /api/state</a>, POST /api/set <code>{\"curves\":[…]}</code>, \
-POST /api/toggle <code>{\"curve\":id}</code>, <a href=/api/mode>GET /api/mode</a>, \
-<a href=/api/network>GET /api/network</a>, POST /api/greedy <code>{\"budget\":0.5}</code>, \
-<a href=/api/greedy>GET /api/greedy</a>, <a href=/api/greedy/iterations>GET \
-/api/greedy/iterations</a>, POST /api/greedy/step <code>{\"iteration\":k}</code>, \
-POST /api/greedy/cancel, <a href=\"/api/export?format=obj\">GET /api/export?format=obj</a> \
-(csv, json).</p>";

@@ -4,12 +4,14 @@
 //! A [`Design`] holds the network's [`curvenet::stability::Analyzer`] and the current
 //! structure behind one lock; a [`Runner`] runs the greedy on it, one run at a time on a
 //! thread of its own ([`greedy`]); [`export`] writes the current structure as a file;
-//! [`api::router`] answers HTTP requests about them (docs/serve.md), running every analysis
+//! [`api::router`] answers HTTP requests about them (docs/serve.md) and serves the page of
+//! [`app`] at `/` (the viewer grown into a design tool), running every analysis
 //! off the async runtime; [`Server`] binds a socket and serves the
 //! router on a tokio runtime of its own. The core library stays free of tokio: only this
 //! crate (and the command line's `serve` feature) depends on it.
 
 pub mod api;
+pub mod app;
 pub mod design;
 pub mod export;
 pub mod greedy;
@@ -58,7 +60,7 @@ impl Server {
     ///
     /// The listener failed.
     pub fn run(self, design: Design) -> std::io::Result<()> {
-        self.serve(AppState::new(design))
+        self.serve(AppState::new(design, "network"))
     }
 
     /// Serves requests about `app` (a design and its greedy) until the process ends (or the

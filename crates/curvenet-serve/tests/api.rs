@@ -207,3 +207,43 @@ fn concurrent_clients_each_get_the_state_of_their_own_set() {
     let i = sets.iter().position(|s| *s == curves_of(&last)).unwrap();
     assert_eq!(last["lambda"], answers[i]["lambda"]);
 }
+
+#[test]
+fn the_page_is_the_viewer_in_app_mode_and_loads_nothing_from_outside() {
+    let (curves, build) = dome();
+    let addr = serve(&curves, &build);
+    ok(addr, "POST", "/api/toggle", "{\"curve\":5}");
+    let (status, head, page) = common::request_full(addr, "GET", "/", b"");
+    assert_eq!(status, 200, "{page}");
+    assert!(head.to_ascii_lowercase().contains("text/html"), "{head}");
+    assert!(page.contains("<title>curvenet serve: network</title>"));
+    assert!(page.contains("\"app\":true"));
+    assert!(
+        page.contains("api/toggle"),
+        "the app's script is in the page"
+    );
+    assert!(!page.contains("http://") && !page.contains("https://"));
+    // The live structure embedded is the current one.
+    let data = page
+        .split("<script id=\"curvenet-data\" type=\"application/json\">")
+        .nth(1)
+        .and_then(|rest| rest.split("</script>").next())
+        .expect("the page's data");
+    let data: Value = serde_json::from_str(&data.replace("<\\/", "</")).unwrap();
+    let live = &data["iterations"][0];
+    let state = ok(addr, "GET", "/api/state", "");
+    assert_eq!(live["curves"], state["curves"]);
+    assert_eq!(live["lambda"], state["lambda"]);
+    assert_eq!(data["rods"].as_array().unwrap().len(), curves.len());
+    let coords = data["iterations"][0]["mode"]["full"]
+        .as_array()
+        .unwrap()
+        .len();
+    assert_eq!(
+        coords,
+        ok(addr, "GET", "/api/mode", "")["mode"]
+            .as_array()
+            .unwrap()
+            .len()
+    );
+}

@@ -27,6 +27,16 @@ pub fn run(a: ServeArgs) -> anyhow::Result<()> {
             "cannot listen on {addr}: {e} (choose another --port, or --port 0 for any free one)"
         ))
     })?;
+    let name = match (&a.run, &a.example) {
+        (Some(dir), _) => dir.display().to_string(),
+        (None, Some(example)) => example.clone(),
+        (None, None) => a
+            .curves
+            .iter()
+            .map(|c| c.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", "),
+    };
     let (analyzer, kept, runner) = match &a.run {
         Some(dir) => from_run(dir, &a.remove)?,
         None => {
@@ -52,6 +62,7 @@ pub fn run(a: ServeArgs) -> anyhow::Result<()> {
     let app = AppState {
         design: Arc::new(design),
         greedy: Arc::new(runner),
+        name: name.into(),
     };
     server.serve(app)?;
     Ok(())

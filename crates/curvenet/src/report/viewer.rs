@@ -20,6 +20,9 @@
 //! mode, gravity deflection) as base64 `i16` with one scale per array, over the vertices of
 //! that iteration's curves only (ascending vertex index). A few MB for the paper's tower.
 //!
+//! [`app_html`] is the same page in its app mode, which `curvenet serve` answers at `/`: one
+//! live structure, and `report/viewer/app.js` editing it over the server's JSON API.
+//!
 //! [`write_run_outputs`] writes everything a finished run gets besides the result files:
 //! `final.png`, `mode.png`, `lambda.png` ([`super::render`], [`super::plot`]), `viewer.html`
 //! and `fabrication.csv` (the final network, [`super::export::fabrication_csv`]).
@@ -27,6 +30,7 @@
 use super::export::{answer_fabrication_csv, rod_joints, rod_supports};
 use super::plot::lambda_plot;
 use super::render::{mode_picture, network_picture};
+use crate::network::Network;
 use crate::rod::ActiveSet;
 use crate::run_folder::RunFolder;
 use crate::solve::Cholesky;
@@ -38,6 +42,7 @@ use std::path::{Path, PathBuf};
 const TEMPLATE: &str = include_str!("viewer/viewer.html");
 const SCRIPT: &str = include_str!("viewer/viewer.js");
 const STYLE: &str = include_str!("viewer/viewer.css");
+const APP_SCRIPT: &str = include_str!("viewer/app.js");
 
 /// Standard base64 (with padding) of `bytes`.
 pub fn base64(bytes: &[u8]) -> String {
@@ -211,26 +216,7 @@ pub fn viewer_data(run: &RunFolder, options: &ViewerOptions) -> Result<Value, St
     } else {
         vec![None; n]
     };
-    let all: Vec<usize> = (0..net.rods.len()).collect();
-    let rods: Vec<Value> = net
-        .rods
-        .iter()
-        .enumerate()
-        .map(|(c, rod)| {
-            let joints: Vec<Value> = rod_joints(net, c, &all)
-                .iter()
-                .map(|j| json!([j.index, round6(j.s), j.vertex, j.meets]))
-                .collect();
-            json!({
-                "v": rod.vertices,
-                "closed": rod.closed,
-                "length": round6(rod.rest_length()),
-                "anchors": rod.anchors,
-                "supports": rod_supports(rod),
-                "joints": joints,
-            })
-        })
-        .collect();
+    let rods = rods_json(net);
     // When each curve was removed.
     let mut removed_at: Vec<Option<usize>> = vec![None; net.rods.len()];
     for (k, it) in r.iterations.iter().enumerate() {
@@ -313,6 +299,30 @@ pub fn viewer_data(run: &RunFolder, options: &ViewerOptions) -> Result<Value, St
     }))
 }
 
+/// The viewer's description of every rod of `net`: vertices, closed, rest length, anchors,
+/// supports and joints.
+fn rods_json(net: &Network) -> Vec<Value> {
+    let all: Vec<usize> = (0..net.rods.len()).collect();
+    net.rods
+        .iter()
+        .enumerate()
+        .map(|(c, rod)| {
+            let joints: Vec<Value> = rod_joints(net, c, &all)
+                .iter()
+                .map(|j| json!([j.index, round6(j.s), j.vertex, j.meets]))
+                .collect();
+            json!({
+                "v": rod.vertices,
+                "closed": rod.closed,
+                "length": round6(rod.rest_length()),
+                "anchors": rod.anchors,
+                "supports": rod_supports(rod),
+                "joints": joints,
+            })
+        })
+        .collect()
+}
+
 fn round6(v: f64) -> f64 {
     if v == 0.0 || !v.is_finite() {
         return v;
@@ -346,15 +356,48 @@ pub fn viewer_html(run: &RunFolder, options: &ViewerOptions) -> Result<String, S
     // Inside <script>, "</" could close the element: JSON allows "\/" for "/".
     let json = json.replace("</", "<\\/");
     let title = html_escape(&title_of(run));
-    Ok(fill_template(
+    Ok(page(&title, &json, ""))
+}
+
+/// The page `curvenet serve` answers at `/`: the viewer in its app mode, with the app's script
+/// (`report/viewer/app.js`) that edits the structure over the server's JSON API. The data is
+/// the run page's with one live structure in place of the iterations: `setup` as a run's
+/// (`total_length`, `material`, ...; `budget` null), `live` as an iteration's with `u` and
+/// `mode` given in full (`{"full": [3 numbers per vertex]}`).
+pub fn app_html(net: &Network, title: &str, setup: Value, live: Value) -> Result<String, String> {
+    let data = json!({
+        "format": "curvenet-viewer",
+        "version": 1,
+        "app": true,
+        "title": title,
+        "start": 0,
+        "answer": false,
+        "setup": setup,
+        "positions": encode_f32(net.positions.iter().flat_map(|p| p.to_array())),
+        "rods": rods_json(net),
+        "removed_at": vec![None::<usize>; net.rods.len()],
+        "iterations": [live],
+        "mesh": null,
+    });
+    let json = serde_json::to_string(&data).map_err(|e| e.to_string())?;
+    let json = json.replace("</", "<\\/");
+    let script = format!("<script>\n{APP_SCRIPT}\n</script>");
+    Ok(page(&html_escape(title), &json, &script))
+}
+
+/// The viewer's template filled: `title` (escaped), the data's JSON (`</` escaped) and the app's
+/// script element (empty for a run's page).
+fn page(title: &str, json: &str, app: &str) -> String {
+    fill_template(
         TEMPLATE,
         &[
-            ("TITLE", &title),
+            ("TITLE", title),
             ("STYLE", STYLE),
             ("SCRIPT", SCRIPT),
-            ("DATA", &json),
+            ("DATA", json),
+            ("APP", app),
         ],
-    ))
+    )
 }
 
 /// Replaces every `{{NAME}}` of `template` (and only of the template: values are not scanned)

@@ -1,12 +1,14 @@
 // curvenet viewer: a small hand-written WebGL viewer for one run's output folder.
 // The data (format "curvenet-viewer", version 1) is embedded in the page by `curvenet view`;
-// nothing is loaded from the network.
+// nothing is loaded from the network. In app mode (`D.app`, the page `curvenet serve` answers)
+// it shows one live structure that app.js replaces after each edit (`showLive`), and a click on
+// a curve is handed to app.js (`onPick`).
 (function () {
   'use strict';
 
   const state = {
     ready: false, error: null, frames: 0, iteration: 0, selected: null,
-    setIteration: null, pick: null,
+    setIteration: null, pick: null, onPick: null, showLive: null,
   };
   window.curvenet = state;
 
@@ -72,6 +74,7 @@
     for (const c of it.curves) for (const v of rods[c].v) on[v] = 1;
     const expand = (o) => {
       if (!o) return null;
+      if (o.full) return Float32Array.from(o.full);
       const q = i16(o);
       const out = new Float32Array(3 * V);
       let j = 0;
@@ -89,7 +92,13 @@
     cache.set(k, f);
     return f;
   }
-  function maxNorm(o) { return o ? o.max || 0 : 0; }
+  function maxNorm(o) {
+    if (!o) return 0;
+    if (!o.full) return o.max || 0;
+    let m = 0;
+    for (let i = 0; i + 2 < o.full.length; i += 3) m = Math.max(m, Math.hypot(o.full[i], o.full[i + 1], o.full[i + 2]));
+    return m;
+  }
 
   // ---------- formatting ----------
   const sci = (x, d) => (x === null || x === undefined) ? '–'
@@ -248,6 +257,7 @@
 
   // ---------- geometry of the current state ----------
   let lineBuf = null, pointBuf = null, pickable = [], dispScale = 0;
+  const drawn = new Map();
   function build() {
     const f = fields(ui.k);
     const eq = ui.shape === 'equilibrium';
@@ -256,6 +266,7 @@
     dispScale = disp && dmax > 0 ? 0.25 * size / dmax : 0;
     const segs = [];
     pickable = [];
+    drawn.clear();
     const pos = (v, useU) => {
       const b = [restC[3 * v], restC[3 * v + 1], restC[3 * v + 2]];
       if (useU && f.u) { b[0] += f.u[3 * v]; b[1] += f.u[3 * v + 1]; b[2] += f.u[3 * v + 2]; }
@@ -283,9 +294,11 @@
       const kept = f.kept.has(c);
       const sel = state.selected === c;
       if (kept) {
+        drawn.set(c, 'kept');
         addCurve(c, eq, true, sel ? 5 : 3, sel ? () => C.selected : magColor, true);
         if (ui.overlay) addCurve(c, !eq, false, 1.5, () => C.overlay, false);
       } else if (ui.removed || sel) {
+        drawn.set(c, 'removed');
         addCurve(c, false, false, sel ? 4 : 1.5, () => sel ? C.selected : C.removed, true);
       }
     }
@@ -433,11 +446,15 @@
   function updateText() {
     const it = its[ui.k];
     const s = D.setup;
-    $('stat-iter').textContent = `${ui.k} of ${its.length - 1}` + (ui.k === its.length - 1 ? ' (final)' : '')
+    $('stat-iter').textContent = D.app ? 'the current structure'
+      : `${ui.k} of ${its.length - 1}` + (ui.k === its.length - 1 ? ' (final)' : '')
       + (ui.k === D.start && D.answer ? ' (the answer)' : '');
     $('stat-curves').textContent = `${it.curves.length} of ${rods.length}`;
-    $('stat-length').textContent = `${sci(it.length, 6)} (${(100 * it.length / s.total_length).toFixed(1)}%; budget ${sci(s.budget, 6)})`;
+    $('stat-length').textContent = `${sci(it.length, 6)} (${(100 * it.length / s.total_length).toFixed(1)}%`
+      + (s.budget ? `; budget ${sci(s.budget, 6)})` : ' of the whole network)');
     $('stat-lambda').textContent = sci(it.lambda, 5) + (it.negative_modes ? ` (${it.negative_modes} negative)` : '') + (it.zero_modes ? ` (${it.zero_modes} zero)` : '');
+    $('stat-status').textContent = it.status
+      || (it.negative_modes ? 'unstable' : (it.zero_modes ? 'mechanism' : 'stable'));
     $('stat-eigen').textContent = it.eigenvalues.map((x) => sci(x, 3)).join(', ');
     $('stat-removed').textContent = it.removed === null ? 'none (last iteration)' : `curve ${it.removed} (λ_fix ${sci(it.score, 4)})`;
     state.iteration = ui.k;
@@ -490,8 +507,10 @@
     const f = fields(ui.k);
     const kept = f.kept.has(c);
     const ra = D.removed_at[c];
-    const status = kept ? '<span class="kept">kept</span> at this iteration'
-      : `<span class="gone">removed</span> after iteration ${ra}`;
+    const status = D.app
+      ? (kept ? '<span class="kept">kept</span> (click to remove)' : '<span class="gone">removed</span> (click to restore)')
+      : (kept ? '<span class="kept">kept</span> at this iteration'
+        : `<span class="gone">removed</span> after iteration ${ra}`);
     let rows = '';
     for (const j of r.joints) {
       const v = j[2];
@@ -540,12 +559,14 @@
     build();
     return state.selected;
   };
-  // Where curve c's middle vertex is drawn (CSS pixels in the canvas), for tests and tools.
-  state.screenPointOf = (c) => {
+  // Where curve c's vertex at fraction t of its vertex list (default its middle one) is drawn
+  // (CSS pixels in the canvas), for tests and tools.
+  state.screenPointOf = (c, t) => {
     const it = pickable.find((x) => x.c === c);
     if (!it) return null;
     const { m } = mvp();
-    const i = Math.floor(it.P.length / 2);
+    const i = t === undefined ? Math.floor(it.P.length / 2)
+      : Math.min(it.P.length - 1, Math.max(0, Math.round(t * (it.P.length - 1))));
     const x = it.P[i][0] + lastAmp * it.D[i][0], y = it.P[i][1] + lastAmp * it.D[i][1], z = it.P[i][2] + lastAmp * it.D[i][2];
     const cw = m[3] * x + m[7] * y + m[11] * z + m[15];
     if (!(cw > 0)) return null;
@@ -553,6 +574,16 @@
     return [(cx * 0.5 + 0.5) * canvas.clientWidth, (0.5 - cy * 0.5) * canvas.clientHeight];
   };
   state.keptCurves = () => its[ui.k].curves.slice();
+  // How curve c is drawn: 'kept', 'removed', or null when it is not drawn.
+  state.drawnAs = (c) => drawn.get(c) || null;
+  // App mode: the live structure replaced (fields as an iteration's, with full-length `u` and
+  // `mode` arrays), drawn at once.
+  state.showLive = (it) => {
+    its[0] = it;
+    cache.clear();
+    ui.k = 0;
+    build();
+  };
 
   // ---------- events ----------
   const slider = $('iter');
@@ -607,7 +638,8 @@
   canvas.addEventListener('pointerup', (ev) => {
     if (drag && Math.hypot(ev.clientX - drag.x0, ev.clientY - drag.y0) < 5 && ev.button === 0) {
       const r = canvas.getBoundingClientRect();
-      state.pick(ev.clientX - r.left, ev.clientY - r.top);
+      const c = state.pick(ev.clientX - r.left, ev.clientY - r.top);
+      if (c !== null && state.onPick) state.onPick(c);
     }
     drag = null;
   });
@@ -630,8 +662,12 @@
     `${rods.length} curves, ${V} vertices`,
     `supports ${s.supports}`,
     `r ${s.material.radius}, E ${s.material.young}, µ ${s.material.anchor_weight}`,
-    s.complete ? `stop: ${s.stop}` : 'run not complete',
+    D.app ? 'live: the server computes each edit' : (s.complete ? `stop: ${s.stop}` : 'run not complete'),
   ].filter(Boolean).join(' · ');
+  if (D.app) {
+    for (const el of [$('iter'), $('chart'), $('stat-removed').parentElement]) el.hidden = true;
+    $('help').textContent = 'left drag: orbit · right drag or shift+drag: pan · wheel: zoom · click a curve to remove or restore it';
+  }
 
   build();
   state.ready = true;

@@ -1,0 +1,159 @@
+// Opens the app `curvenet serve` answers at / in a real browser (Debian's headless Chromium
+// through playwright-core) and uses it: a click on a curve removes it (λ changes, the curve is
+// drawn as removed), a short greedy from the budget slider runs to its end, a step through its
+// iterations, undo. No console errors, and no request but to the server.
+//
+// Run from this folder:  npm ci && npm test
+// Environment: CURVENET_BIN = a built `curvenet` binary (default: target/release/curvenet,
+// built with `cargo build --release -p curvenet-cli`), CHROMIUM = the browser (default
+// /usr/bin/chromium), BROWSER_DEMO = the folder of the screenshot (default target/browser-demo).
+
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { execFileSync, spawn } from 'node:child_process';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import readline from 'node:readline';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+
+const here = path.dirname(fileURLToPath(import.meta.url));
+const root = path.resolve(here, '..', '..');
+const outDir = path.resolve(root, process.env.BROWSER_DEMO || 'target/browser-demo');
+const browserPath = process.env.CHROMIUM || '/usr/bin/chromium';
+
+function binary() {
+  if (process.env.CURVENET_BIN) return process.env.CURVENET_BIN;
+  execFileSync('cargo', ['build', '--quiet', '--release', '--locked', '-p', 'curvenet-cli'], { cwd: root, stdio: 'inherit' });
+  return path.join(root, 'target', 'release', 'curvenet');
+}
+
+// Starts `curvenet serve` on a free port; resolves with the process and the URL it prints first.
+function serve(args) {
+  const proc = spawn(binary(), ['serve', ...args, '--port', '0'], { cwd: root, stdio: ['ignore', 'pipe', 'inherit'] });
+  return new Promise((resolve, reject) => {
+    const lines = readline.createInterface({ input: proc.stdout });
+    lines.once('line', (url) => resolve({ proc, url: url.trim() }));
+    proc.once('exit', (code) => reject(new Error(`curvenet serve exited with ${code}`)));
+  });
+}
+
+// Waits until the app has made `n` edits (or failed: its message is the assertion's).
+async function edited(page, n) {
+  await page.waitForFunction((n) => {
+    const a = window.curvenet.app;
+    return (a.edits >= n && !a.busy) || a.error;
+  }, n, { timeout: 60_000 });
+  const a = await page.evaluate(() => ({ edits: window.curvenet.app.edits, error: window.curvenet.app.error }));
+  assert.equal(a.error, null);
+  assert.equal(a.edits, n);
+}
+
+test('the app of curvenet serve works in headless Chromium', { timeout: 600_000 }, async () => {
+  fs.mkdirSync(outDir, { recursive: true });
+  const { proc, url } = await serve(['--example', 'tower']);
+  assert.match(url, /^http:\/\/127\.0\.0\.1:\d+$/);
+  const userDir = fs.mkdtempSync(path.join(os.tmpdir(), 'curvenet-chromium-'));
+  const context = await chromium.launchPersistentContext(userDir, {
+    executablePath: browserPath,
+    headless: true,
+    viewport: { width: 1280, height: 800 },
+    args: [
+      '--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+      '--disable-background-networking', '--disable-component-update', '--disable-sync',
+      '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
+    ],
+  });
+  const problems = [];
+  const foreign = [];
+  try {
+    const page = context.pages()[0] || await context.newPage();
+    page.on('console', (m) => { if (m.type() === 'error') problems.push(`console: ${m.text()}`); });
+    page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
+    page.on('request', (r) => { if (!r.url().startsWith(url + '/')) foreign.push(r.url()); });
+    await page.goto(url + '/');
+    await page.waitForFunction(() => window.curvenet && (window.curvenet.error || (window.curvenet.app && window.curvenet.app.ready)), null, { timeout: 60_000 });
+    assert.equal(await page.evaluate(() => window.curvenet.error), null);
+    const html = await page.content();
+    assert.ok(!/https?:\/\/(?!127\.0\.0\.1)/.test(html), 'the page references no outside URL');
+    await page.waitForFunction(() => window.curvenet.frames > 2, null, { timeout: 30_000 });
+    const all = await page.evaluate(() => window.curvenet.keptCurves());
+    const lambda0 = await page.textContent('#stat-lambda');
+    assert.equal(await page.textContent('#stat-status'), 'stable');
+
+    // Click a kept curve: it is removed, λ changes, and it is drawn as removed.
+    await page.click('#animate');
+    await page.waitForTimeout(100);
+    // A kept curve drawn well inside the canvas, right of the panel.
+    const p = await page.evaluate(() => {
+      const cv = window.curvenet;
+      const left = document.getElementById('panel').getBoundingClientRect().right + 20;
+      const w = window.innerWidth, h = window.innerHeight;
+      for (const t of [0.4, 0.3, 0.6, 0.2, 0.7]) {
+        for (const c of cv.keptCurves()) {
+          const q = cv.screenPointOf(c, t);
+          if (q && q[0] > left && q[0] < w - 380 && q[1] > 40 && q[1] < h - 40) return q;
+        }
+      }
+      return null;
+    });
+    assert.ok(p, 'a kept curve is on screen');
+    await page.mouse.click(p[0], p[1]);
+    await edited(page, 1);
+    const picked = await page.evaluate(() => window.curvenet.selected);
+    assert.equal(typeof picked, 'number');
+    const afterClick = await page.evaluate(() => window.curvenet.keptCurves());
+    assert.deepEqual(afterClick, all.filter((c) => c !== picked));
+    assert.equal(await page.evaluate((c) => window.curvenet.drawnAs(c), picked), 'removed');
+    assert.notEqual(await page.textContent('#stat-lambda'), lambda0, 'λ changes');
+    assert.match(await page.textContent('#info'), /removed/);
+    const server = await (await page.request.get(url + '/api/state')).json();
+    assert.deepEqual(server.curves, afterClick, 'the server holds the edit');
+
+    // A short greedy from the budget slider, then its last iteration.
+    await page.fill('#budget', '0.9');
+    await page.click('#run-greedy');
+    await page.waitForFunction(() => {
+      const a = window.curvenet.app;
+      return a.greedy && a.greedy.status !== 'running' && a.steps.length > 0 && !document.getElementById('greedy-steps').hidden;
+    }, null, { timeout: 120_000 });
+    const greedy = await page.evaluate(() => window.curvenet.app.greedy);
+    assert.equal(greedy.status, 'done', JSON.stringify(greedy));
+    assert.match(await page.textContent('#greedy-progress'), /done/);
+    const steps = await page.evaluate(() => window.curvenet.app.steps);
+    const last = steps[steps.length - 1];
+    assert.ok(last.length <= 0.9 * steps[0].length, 'the last iteration meets the budget');
+    await page.fill('#greedy-iter', String(steps.length - 1));
+    await edited(page, 2);
+    assert.deepEqual(await page.evaluate(() => window.curvenet.keptCurves()), last.curves);
+
+    // Undo: back to the structure of the click; redo: the greedy's again.
+    await page.click('#undo');
+    await edited(page, 3);
+    assert.deepEqual(await page.evaluate(() => window.curvenet.keptCurves()), afterClick);
+    assert.equal(await page.evaluate((c) => window.curvenet.drawnAs(c), picked), 'removed');
+    await page.click('#undo');
+    await edited(page, 4);
+    assert.deepEqual(await page.evaluate(() => window.curvenet.keptCurves()), all);
+    assert.equal(await page.textContent('#stat-lambda'), lambda0, 'undo gives the first λ back');
+    assert.equal(await page.evaluate((c) => window.curvenet.drawnAs(c), picked), 'kept');
+    assert.ok(await page.isDisabled('#undo'));
+    await page.keyboard.press('Control+y');
+    await edited(page, 5);
+    assert.deepEqual(await page.evaluate(() => window.curvenet.keptCurves()), afterClick);
+
+    // The save links answer files.
+    const obj = await page.request.get(url + (await page.getAttribute('#save-obj', 'href')).replace(/^/, '/'));
+    assert.equal(obj.status(), 200);
+    assert.match(await obj.text(), /^# curvenet export/);
+
+    await page.screenshot({ path: path.join(outDir, 'serve.png') });
+    assert.deepEqual(foreign, [], 'the page made no request but to the server');
+    assert.deepEqual(problems, [], 'no console errors');
+  } finally {
+    await context.close();
+    fs.rmSync(userDir, { recursive: true, force: true });
+    proc.kill('SIGTERM');
+  }
+});
