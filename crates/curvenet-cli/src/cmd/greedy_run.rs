@@ -218,6 +218,7 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         Err(e) => return Err(e.into()),
     };
     print_warnings(&curvenet::run_folder::unrelaxed(&outcome.iterations));
+    print_warnings(&curvenet::run_folder::unstable(&outcome.iterations));
     print_warnings(budget_unmet(&outcome, budget).as_slice());
     let (local, local_seconds) = optional_step(job.local_search, "local search", || {
         let _stage = Stage::start();

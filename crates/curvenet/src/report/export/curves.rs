@@ -4,7 +4,7 @@ use super::num;
 use super::rods::rod_supports;
 use crate::io;
 use crate::network::Network;
-use crate::run_folder::{RunFolder, curve_polylines, positions_at};
+use crate::run_folder::{RunFolder, curve_polylines, positions_at, record_instability};
 
 fn label(net: &Network, c: usize) -> String {
     let rod = &net.rods[c];
@@ -34,6 +34,9 @@ pub fn curves_obj(run: &RunFolder, k: usize, rest: bool) -> Result<String, Strin
             "equilibrium"
         }
     );
+    if let Some(w) = record_instability(rec) {
+        out.push_str(&format!("# {}\n", super::unstable_header(&w)));
+    }
     out.push_str(&io::curves_to_obj(&curve_polylines(
         &run.network,
         &rec.curves,
