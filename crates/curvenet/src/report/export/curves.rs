@@ -25,12 +25,17 @@ pub fn curves_obj(run: &RunFolder, k: usize, rest: bool) -> Result<String, Strin
     } else {
         Some(run.displacement(k)?)
     };
-    Ok(structure_obj(
+    let mut obj = structure_obj(
         &run.network,
         &rec.curves,
         u.as_deref(),
         &format!("iteration {k}"),
-    ))
+    );
+    if let Some(w) = record_instability(rec) {
+        let first = obj.find('\n').map_or(obj.len(), |i| i + 1);
+        obj.insert_str(first, &format!("# {}\n", super::unstable_header(&w)));
+    }
+    Ok(obj)
 }
 
 /// OBJ polylines of `curves` of `net` at displacements `u` (`None`: the designed rest state);
@@ -47,9 +52,6 @@ pub fn structure_obj(net: &Network, curves: &[usize], u: Option<&[f64]>, what: &
             "equilibrium"
         }
     );
-    if let Some(w) = record_instability(rec) {
-        out.push_str(&format!("# {}\n", super::unstable_header(&w)));
-    }
     out.push_str(&io::curves_to_obj(&curve_polylines(
         net,
         curves,
