@@ -3,6 +3,7 @@
 //! JSON API. Self-contained: it loads nothing but this server's API.
 
 use crate::design::Design;
+use curvenet::run_folder::instability;
 use serde_json::{Value, json};
 
 /// The page of `design`, titled after `name` (what is served: an example, files, a run).
@@ -29,11 +30,13 @@ pub fn page(design: &Design, name: &str) -> Result<String, String> {
     curvenet::report::viewer::app_html(net, &title, setup, live(design))
 }
 
-/// The current structure as the viewer's live structure: the summary's numbers, the
-/// equilibrium displacements and the worst-case mode in full.
+/// The current structure as the viewer's live structure: the summary's numbers (an unstable
+/// structure named as such), the equilibrium displacements and the worst-case mode in full.
 pub fn live(design: &Design) -> Value {
     let c = design.current();
     let mut v = serde_json::to_value(&c.summary).unwrap_or_else(|_| json!({}));
+    let s = &c.summary;
+    v["unstable"] = json!(instability(s.lambda, s.zero_modes, s.negative_modes));
     v["removed"] = Value::Null;
     v["score"] = Value::Null;
     v["u"] = json!({ "full": c.displacement });

@@ -2,6 +2,7 @@
 //! `curvenet export` (its writers, [`curvenet::report::export`]).
 
 use crate::design::Design;
+use curvenet::run_folder::instability;
 
 /// A format of `GET /api/export?format=…`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -41,7 +42,9 @@ impl Format {
     }
 }
 
-/// The file of the current structure of `design` in `format`: its name and its content.
+/// The file of the current structure of `design` in `format`: its name and its content. The
+/// OBJ and the fabrication table of an unstable structure carry the warning of
+/// `curvenet export` on their second line.
 pub fn export(design: &Design, format: Format) -> (String, String) {
     let current = design.current();
     let net = design.analyzer().network();
@@ -49,15 +52,33 @@ pub fn export(design: &Design, format: Format) -> (String, String) {
     let n = net.rods.len();
     let what = format!("the served structure ({} of {n} curves)", curves.len());
     let stem = format!("curvenet_{}_of_{n}", curves.len());
-    use curvenet::report::export::{fabrication_table, structure_json, structure_obj};
+    use curvenet::report::export::{
+        fabrication_table, structure_json, structure_obj, unstable_header,
+    };
+    let s = &current.summary;
+    // An unstable structure's files say so on their second line (as `curvenet export`'s).
+    let warn = |text: String| match instability(s.lambda, s.zero_modes, s.negative_modes) {
+        Some(why) => {
+            let first = text.find('\n').map_or(text.len(), |i| i + 1);
+            let mut text = text;
+            text.insert_str(first, &format!("# {}\n", unstable_header(&why)));
+            text
+        }
+        None => text,
+    };
     match format {
         Format::Obj => (
             format!("{stem}.obj"),
-            structure_obj(net, curves, Some(&current.displacement), &what),
+            warn(structure_obj(
+                net,
+                curves,
+                Some(&current.displacement),
+                &what,
+            )),
         ),
         Format::Csv => (
             format!("{stem}_fabrication.csv"),
-            fabrication_table(net, &what, curves, current.summary.length),
+            warn(fabrication_table(net, &what, curves, s.length)),
         ),
         Format::Json => (format!("{stem}.json"), structure_json(net, curves, None)),
     }

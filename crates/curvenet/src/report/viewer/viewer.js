@@ -452,7 +452,9 @@
     $('stat-curves').textContent = `${it.curves.length} of ${rods.length}`;
     $('stat-length').textContent = `${sci(it.length, 6)} (${(100 * it.length / s.total_length).toFixed(1)}%`
       + (s.budget ? `; budget ${sci(s.budget, 6)})` : ' of the whole network)');
-    $('stat-lambda').textContent = sci(it.lambda, 5) + (it.negative_modes ? ` (${it.negative_modes} negative)` : '') + (it.zero_modes ? ` (${it.zero_modes} zero)` : '');
+    // An unstable network (zero or negative modes) is named as such beside its numbers.
+    $('stat-lambda').textContent = sci(it.lambda, 5) + (it.unstable ? ` — ${it.unstable}` : '');
+    $('stat-lambda').classList.toggle('unstable', !!it.unstable);
     $('stat-status').textContent = it.status
       || (it.negative_modes ? 'unstable' : (it.zero_modes ? 'mechanism' : 'stable'));
     $('stat-eigen').textContent = it.eigenvalues.map((x) => sci(x, 3)).join(', ');
