@@ -2,16 +2,20 @@
 //! edits.
 //!
 //! A [`Design`] holds the network's [`curvenet::stability::Analyzer`] and the current
-//! structure behind one lock; [`api::router`] answers HTTP requests about it (docs/serve.md),
+//! structure behind one lock, each edit warm-started from the current equilibrium and every
+//! structure analysed kept in a [`cache::Cache`]; [`api::router`] answers HTTP requests about it (docs/serve.md),
 //! running every analysis off the async runtime; [`Server`] binds a socket and serves the
-//! router on a tokio runtime of its own. The core library stays free of tokio: only this
+//! router on a tokio runtime of its own; [`bench`] measures edit latencies against cold
+//! analyses. The core library stays free of tokio: only this
 //! crate (and the command line's `serve` feature) depends on it.
 
 pub mod api;
+pub mod bench;
+pub mod cache;
 pub mod design;
 
 pub use api::router;
-pub use design::{Design, DesignError, Edited, Evaluated, Status, Summary};
+pub use design::{Design, DesignError, Edited, Evaluated, Source, Status, Summary};
 
 use std::net::SocketAddr;
 use std::sync::Arc;
