@@ -85,6 +85,14 @@ pub struct ServeArgs {
     /// Port to listen on (0: any free port).
     #[arg(long, default_value_t = 8765)]
     pub port: u16,
+    /// Measure instead of serving: a fixed sequence of single-curve removals and restores,
+    /// each edit's time at the server printed beside a cold analysis of the same structure
+    /// (docs/serve.md, *Benchmark*).
+    #[arg(long)]
+    pub bench: bool,
+    /// Curves the benchmark removes (each is restored later).
+    #[arg(long = "bench-removals", default_value_t = 12, requires = "bench", value_parser = count(1, 1000))]
+    pub bench_removals: usize,
     /// Material and solver options.
     #[command(flatten)]
     pub physics: PhysicsArgs,
