@@ -268,6 +268,11 @@ pub struct DemoArgs {
     /// Output folder.
     #[arg(long, default_value = "out/demo")]
     pub out: PathBuf,
+    /// Run into a non-empty folder that is not a curvenet run's (the run's own files are
+    /// replaced, the others kept). A curvenet run's folder needs no --force: a fresh run
+    /// there removes the earlier run's files first.
+    #[arg(long)]
+    pub force: bool,
     /// Budget as a fraction of the total length, in (0, 1].
     #[arg(long, default_value_t = 0.3, value_parser = budget_fraction, allow_hyphen_values = true)]
     pub budget: f64,
@@ -340,6 +345,11 @@ pub struct GreedyArgs {
     /// Continue an interrupted run in the output folder.
     #[arg(long)]
     pub resume: bool,
+    /// Run into a non-empty folder that is not a curvenet run's (the run's own files are
+    /// replaced, the others kept). A curvenet run's folder needs no --force: a fresh run
+    /// there removes the earlier run's files first.
+    #[arg(long)]
+    pub force: bool,
     /// What runs after the greedy.
     #[command(flatten)]
     pub after: AfterGreedyArgs,
@@ -498,6 +508,11 @@ pub struct ExampleArgs {
     /// Continue an interrupted run in the output folder.
     #[arg(long)]
     pub resume: bool,
+    /// Run into a non-empty folder that is not a curvenet run's (the run's own files are
+    /// replaced, the others kept). A curvenet run's folder needs no --force: a fresh run
+    /// there removes the earlier run's files first.
+    #[arg(long)]
+    pub force: bool,
     /// What runs after the greedy.
     #[command(flatten)]
     pub after: AfterGreedyArgs,
