@@ -163,6 +163,11 @@ pub struct CompareArgs {
     /// feasible subsets; the others are listed as skipped).
     #[arg(long, value_name = "N", value_parser = count(1, 10_000), allow_hyphen_values = true, conflicts_with_all = ["sizes", "instances", "budget", "exact_time_limit"])]
     pub fresh: Option<usize>,
+    /// What the searches maximise: lambda (the paper's λ_eq) or frequency (the first natural
+    /// frequency, μ_min of the mass metric); frequency needs --fresh (the sizes' table also
+    /// runs the rounded relaxation and the exact λ_fix solver, which bound λ_fix only).
+    #[arg(long, default_value = "lambda", value_parser = parse_objective)]
+    pub objective: curvenet::stability::Objective,
 }
 
 /// `curvenet trace`.
@@ -256,6 +261,11 @@ pub struct DemoArgs {
     /// Budget as a fraction of the total length, in (0, 1].
     #[arg(long, default_value_t = 0.3, value_parser = budget_fraction, allow_hyphen_values = true)]
     pub budget: f64,
+    /// What every search maximises: lambda (the paper's λ_eq, the smallest eigenvalue of the
+    /// Hessian at equilibrium) or frequency (the first natural frequency: μ_min of H v = μ M v
+    /// with the lumped mass; in the paper's mode with unit density). See docs/units.md.
+    #[arg(long, default_value = "lambda", value_parser = parse_objective)]
+    pub objective: curvenet::stability::Objective,
     /// What runs after the greedy.
     #[command(flatten)]
     pub after: AfterGreedyArgs,
@@ -454,6 +464,11 @@ pub struct SimplifyArgs {
     /// Output folder.
     #[arg(long)]
     pub out: PathBuf,
+    /// What every search maximises: lambda (the paper's λ_eq, the smallest eigenvalue of the
+    /// Hessian at equilibrium) or frequency (the first natural frequency: μ_min of H v = μ M v
+    /// with the lumped mass; in the paper's mode with unit density). See docs/units.md.
+    #[arg(long, default_value = "lambda", value_parser = parse_objective)]
+    pub objective: curvenet::stability::Objective,
     /// Material and solver options.
     #[command(flatten)]
     pub physics: PhysicsArgs,
@@ -486,6 +501,11 @@ pub struct ExampleArgs {
     /// Evaluate every candidate (no pruning by bounds); for measurements.
     #[arg(long = "no-prune")]
     pub no_prune: bool,
+    /// What every search maximises: lambda (the paper's λ_eq, the smallest eigenvalue of the
+    /// Hessian at equilibrium) or frequency (the first natural frequency: μ_min of H v = μ M v
+    /// with the lumped mass; in the paper's mode with unit density). See docs/units.md.
+    #[arg(long, default_value = "lambda", value_parser = parse_objective)]
+    pub objective: curvenet::stability::Objective,
     /// What runs after the greedy.
     #[command(flatten)]
     pub after: AfterGreedyArgs,
@@ -504,6 +524,11 @@ pub struct ExampleArgs {
 }
 
 fn parse_supports(s: &str) -> Result<Supports, String> {
+    s.parse()
+}
+
+/// `--objective`'s value.
+fn parse_objective(s: &str) -> Result<curvenet::stability::Objective, String> {
     s.parse()
 }
 

@@ -57,6 +57,8 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
         return Ok(());
     }
     print_warnings(&warnings);
+    // The objective is what the searches maximise (the analysis above reports both).
+    params.objective = a.objective;
     let budget = Budget::Fraction(a.budget.unwrap_or(ex.setup.budget_fraction));
     budget.validate().map_err(usage)?;
     run_greedy(GreedyJob {

@@ -11,6 +11,7 @@ use curvenet::io::{Polyline, TriMesh};
 use curvenet::network::{BuildParams, build_network};
 use curvenet::physics::PhysicalParams;
 use curvenet::rod::ActiveSet;
+use curvenet::run_folder::schema::objective_name;
 use curvenet::run_folder::{
     InputDescription, LocalSearchRecord, OutputWriter, RunSetup, evaluated_offer, greedy_offers,
     measure_greedy_deviations, read_f64_file, summary,
@@ -22,7 +23,7 @@ use curvenet::simplify::greedy::IterationRecord;
 use curvenet::simplify::local::{LocalParams, local_search};
 use curvenet::simplify::{Budget, GreedyParams, SimplifyError, StopReason, greedy};
 use curvenet::stability::fixed::FixedProblem;
-use curvenet::stability::{Analyzer, Prepare, Preset, StabilityParams, Warm};
+use curvenet::stability::{Analyzer, Objective, Prepare, Preset, StabilityParams, Warm};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::PathBuf;
 use std::time::Instant;
@@ -70,6 +71,16 @@ pub fn budget_of(a: &GreedyArgs, default: Option<f64>) -> anyhow::Result<Budget>
 /// Builds the network, runs the greedy into `job.out` and prints a summary.
 pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     let start = Instant::now();
+    let objective = job.stability.objective;
+    if job.certificate && objective != Objective::Lambda {
+        return Err(usage(format!(
+            "--certify with --objective {}: the certificate bounds λ_fix, the paper's \
+             objective at the full network's equilibrium, and its relaxation does not model \
+             the mass metric of the first natural frequency (it changes with the set of \
+             curves); drop --certify, or use --objective lambda",
+            objective.name()
+        )));
+    }
     output_folder(&job.out)?;
     let (network, info) = build_network(&job.curves, &job.build)?;
     let n = network.rods.len();
@@ -422,7 +433,10 @@ fn local_search_of(
         ..LocalParams::new(params.budget)
     };
     let o = local_search(analyzer, &local, Some(constraints), &last.curves, cancel)?;
-    LocalSearchRecord::new(&local, &o).ok_or_else(|| anyhow::anyhow!("λ_eq could not be evaluated"))
+    let mut record = LocalSearchRecord::new(&local, &o)
+        .ok_or_else(|| anyhow::anyhow!("λ_eq could not be evaluated"))?;
+    record.objective = objective_name(analyzer.objective()).into();
+    Ok(record)
 }
 
 /// Exit 130 once a signal came during `stage`: the greedy's iterations stay recorded in `out`,

@@ -59,7 +59,7 @@ mod subsets;
 pub use analysis::{Analysis, CurveShare, GravityDeflection};
 pub use analyzer::Analyzer;
 pub use evaluate::{Evaluation, Prepare, Warm, Work};
-pub use params::{Budget, GravityParams, StabilityParams, Technique, Tuning};
+pub use params::{Budget, GravityParams, Objective, StabilityParams, Technique, Tuning};
 pub use presets::{Preset, SPECTRUM_TOL, SPECTRUM_TRAILING_TOL};
 pub use subsets::Part;
 
