@@ -11,11 +11,13 @@
 //!   tests makes the removals of the greedy scoring every candidate exactly, each removal the
 //!   candidate of the largest `μ_fix` of the exact scores; the searches' answers do not
 //!   depend on the thread count;
+//! - on a pinned straight rod in the paper's mode `λ₁ ≈ k_b (π/L)⁴ h` halves with `h` while
+//!   `μ₁ → k_b (π/L)⁴ / (ρ A)` (the table of docs/units.md, printed with `--nocapture`);
 //! - the certificate and the exact `λ_fix` search refuse the objective, saying why.
 
 mod common;
 
-use common::{build, dense_hessian, random_arches, rel_diff};
+use common::{build, dense_hessian, random_arches, rel_diff, straight_rod};
 use curvenet::cancel::Cancel;
 use curvenet::material::{Physical, Section, presets};
 use curvenet::network::Network;
@@ -30,6 +32,7 @@ use curvenet::simplify::{Budget, GreedyParams, StopReason, greedy};
 use curvenet::solve::lanczos::smallest_eigenpairs_dense;
 use curvenet::stability::fixed::FixedProblem;
 use curvenet::stability::{Analyzer, Objective, Prepare, Preset, StabilityParams, Warm};
+use curvenet::geom::Vec3;
 use curvenet::units::LengthUnit;
 use faer::Mat;
 use std::f64::consts::PI;
@@ -263,4 +266,34 @@ fn the_fixed_geometry_searches_refuse_the_frequency_objective() {
     let e = FixedProblem::new(&an, Budget::Fraction(0.5), &[]).expect_err("refused");
     let e = e.to_string();
     assert!(e.contains("mass metric") && e.contains("frequency"), "{e}");
+}
+
+#[test]
+fn mu_converges_where_lambda_scales_with_h() {
+    const L: f64 = 1000.0;
+    let paper = StabilityParams::default();
+    let m = &paper.material;
+    let (kb, rho_a) = (m.kb(), PI * m.radius.powi(2));
+    let limit = kb * (PI / L).powi(4) / rho_a;
+    println!("| edges | h | λ_eq | λ_eq / (k_b (π/L)⁴ h) | μ_min | μ_min / (k_b (π/L)⁴ / ρA) |");
+    println!("|---|---|---|---|---|---|");
+    let mut last = (0.0, 0.0);
+    for n in [25usize, 50, 100, 200, 400] {
+        let h = L / n as f64;
+        let net = straight_rod(Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0), L, n, Supports::Pinned);
+        let lambda = Analyzer::new(net.clone(), paper.clone())
+            .unwrap()
+            .lambda_eq(&ActiveSet::all(1))
+            .unwrap();
+        let mu = Analyzer::new(net, frequency())
+            .unwrap()
+            .lambda_eq(&ActiveSet::all(1))
+            .unwrap();
+        let (rl, rm) = (lambda / (kb * (PI / L).powi(4) * h), mu / limit);
+        println!("| {n} | {h} | {lambda:.4e} | {rl:.4} | {mu:.4e} | {rm:.5} |");
+        last = (rl, rm);
+    }
+    // λ/h and μ both reach their beam limits; λ itself kept halving with h.
+    assert!((last.0 - 1.0).abs() < 0.01, "{last:?}");
+    assert!((last.1 - 1.0).abs() < 0.01, "{last:?}");
 }
