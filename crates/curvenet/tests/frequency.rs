@@ -19,6 +19,7 @@ mod common;
 
 use common::{build, dense_hessian, random_arches, rel_diff, straight_rod};
 use curvenet::cancel::Cancel;
+use curvenet::geom::Vec3;
 use curvenet::material::{Physical, Section, presets};
 use curvenet::network::Network;
 use curvenet::physics::{PhysicalParams, analyze_physical};
@@ -32,7 +33,6 @@ use curvenet::simplify::{Budget, GreedyParams, StopReason, greedy};
 use curvenet::solve::lanczos::smallest_eigenpairs_dense;
 use curvenet::stability::fixed::FixedProblem;
 use curvenet::stability::{Analyzer, Objective, Prepare, Preset, StabilityParams, Warm};
-use curvenet::geom::Vec3;
 use curvenet::units::LengthUnit;
 use faer::Mat;
 use std::f64::consts::PI;
