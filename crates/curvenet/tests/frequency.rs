@@ -297,3 +297,108 @@ fn mu_converges_where_lambda_scales_with_h() {
     assert!((last.0 - 1.0).abs() < 0.01, "{last:?}");
     assert!((last.1 - 1.0).abs() < 0.01, "{last:?}");
 }
+
+/// How often the two objectives choose differently on the paper's examples at their budgets
+/// (docs/units.md): the greedy's removals and final sets under `λ_eq` and under `μ_min`, and
+/// each final set's `λ_eq` and first frequency (both relaxed from the drawn state). Slow
+/// (minutes): `cargo test --release -p curvenet --test frequency -- --ignored --nocapture`;
+/// `CURVENET_EXAMPLES=tower,roof` picks the examples.
+#[test]
+#[ignore]
+fn objectives_on_the_paper_examples() {
+    let names = std::env::var("CURVENET_EXAMPLES")
+        .unwrap_or_else(|_| "tower,arcshell,shell,roof,kagome".into());
+    println!(
+        "| example | curves | removals (λ / f) | first differing removal | removals that differ | \
+         final sets | λ_eq (λ's / f's) | f₁ (λ's / f's) | seconds (λ / f) |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for name in names.split(',') {
+        let ex = curvenet::paper::load_embedded(name, Supports::default()).expect("example");
+        let (net, _) = curvenet::network::build_network(&ex.curves, &ex.build).expect("builds");
+        let params = GreedyParams {
+            keep: ex.setup.keep.clone(),
+            ..GreedyParams::new(Budget::Fraction(ex.setup.budget_fraction))
+        };
+        let paper = Analyzer::new(net.clone(), StabilityParams::default()).unwrap();
+        let freq = Analyzer::new(net.clone(), frequency()).unwrap();
+        let timed = |an: &Analyzer| {
+            let t = std::time::Instant::now();
+            let g = greedy(an, &params, None, None, &mut NoHooks).expect("greedy");
+            (g, t.elapsed().as_secs_f64())
+        };
+        let (gl, tl) = timed(&paper);
+        let (gf, tf) = timed(&freq);
+        let removals = |g: &GreedyOutcome| -> Vec<usize> {
+            g.iterations.iter().filter_map(|i| i.removed).collect()
+        };
+        let (rl, rf) = (removals(&gl), removals(&gf));
+        let first = rl.iter().zip(&rf).position(|(a, b)| a != b);
+        let differ = rl.iter().zip(&rf).filter(|(a, b)| a != b).count()
+            + rl.len().abs_diff(rf.len());
+        let (fl, ff) = (
+            &gl.iterations.last().unwrap().curves,
+            &gf.iterations.last().unwrap().curves,
+        );
+        let lambda = |c: &[usize]| paper.lambda_eq(&paper.set(c)).unwrap();
+        let f1 = |c: &[usize]| freq.lambda_eq(&freq.set(c)).unwrap().sqrt() / (2.0 * PI);
+        println!(
+            "| {name} | {} → {} / {} | {} / {} | {} | {differ} | {} | {:.4e} / {:.4e} | {:.4e} / \
+             {:.4e} | {tl:.1} / {tf:.1} |",
+            net.rods.len(),
+            fl.len(),
+            ff.len(),
+            rl.len(),
+            rf.len(),
+            first.map_or("none".into(), |k| (k + 1).to_string()),
+            if fl == ff { "same" } else { "differ" },
+            lambda(fl),
+            lambda(ff),
+            f1(fl),
+            f1(ff),
+        );
+    }
+}
+
+/// The same on `curvenet compare --fresh`'s random networks: how often the exhaustive optimum
+/// and the greedy + local search's answer differ between the objectives. Slow: run as above;
+/// `CURVENET_FRESH=N` networks (default 40).
+#[test]
+#[ignore]
+fn objectives_on_fresh_random_networks() {
+    use curvenet::experiments::compare::{FreshParams, fresh};
+    let networks = std::env::var("CURVENET_FRESH")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(40);
+    let surfaces: Vec<(String, curvenet::io::TriMesh)> = curvenet::paper::SIMPLE_SURFACES
+        .iter()
+        .map(|s| {
+            let m = curvenet::paper::DataSource::Embedded
+                .read_mesh(&format!("{s}.obj"))
+                .expect("surface");
+            (s.to_string(), m.mesh)
+        })
+        .collect();
+    let run = |objective| {
+        let params = FreshParams {
+            networks,
+            objective,
+            ..FreshParams::default()
+        };
+        fresh(&params, &surfaces, &|_, _| {}).expect("fresh")
+    };
+    let (l, f) = (run(Objective::Lambda), run(Objective::Frequency));
+    let (mut optimum, mut optimum_differ, mut local_differ) = (0, 0, 0);
+    for (a, b) in l.rows.iter().zip(&f.rows) {
+        local_differ += usize::from(a.local_curves != b.local_curves);
+        if a.optimum.is_some() && b.optimum.is_some() {
+            optimum += 1;
+            optimum_differ += usize::from(a.optimum_curves != b.optimum_curves);
+        }
+    }
+    println!(
+        "{networks} networks: greedy + local search's sets differ in {local_differ}; exhaustive \
+         optima differ in {optimum_differ} of {optimum}"
+    );
+}
