@@ -334,8 +334,8 @@ fn objectives_on_the_paper_examples() {
         };
         let (rl, rf) = (removals(&gl), removals(&gf));
         let first = rl.iter().zip(&rf).position(|(a, b)| a != b);
-        let differ = rl.iter().zip(&rf).filter(|(a, b)| a != b).count()
-            + rl.len().abs_diff(rf.len());
+        let differ =
+            rl.iter().zip(&rf).filter(|(a, b)| a != b).count() + rl.len().abs_diff(rf.len());
         let (fl, ff) = (
             &gl.iterations.last().unwrap().curves,
             &gf.iterations.last().unwrap().curves,

@@ -18,7 +18,6 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
     let ex = paper::load_from(&a.name, &data, supports)?;
     let (physical, paper) = super::physical_mode(&a.physics, &a.physical, None, &[])?;
     let mut params = stability_params(&paper)?;
-    params.tuning.prune = !a.no_prune;
     let build = BuildParams {
         merge_joints_below: a.physics.merge_joints,
         ..ex.build.clone()
@@ -57,7 +56,7 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
         return Ok(());
     }
     print_warnings(&warnings);
-    // The objective is what the searches maximise (the analysis above reports both).
+    // What the searches maximise (the analysis above is the paper's).
     params.objective = a.objective;
     let budget = Budget::Fraction(a.budget.unwrap_or(ex.setup.budget_fraction));
     budget.validate().map_err(usage)?;
