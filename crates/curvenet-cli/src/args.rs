@@ -178,6 +178,11 @@ pub struct CompareArgs {
     /// feasible subsets; the others are listed as skipped).
     #[arg(long, value_name = "N", value_parser = count(1, 10_000), allow_hyphen_values = true, conflicts_with_all = ["sizes", "instances", "budget", "exact_time_limit"])]
     pub fresh: Option<usize>,
+    /// What the searches maximise: lambda (the paper's λ_eq) or frequency (the first natural
+    /// frequency, μ_min of the mass metric); frequency needs --fresh (the sizes' table also
+    /// runs the rounded relaxation and the exact λ_fix solver, which bound λ_fix only).
+    #[arg(long, default_value = "lambda", value_parser = parse_objective)]
+    pub objective: curvenet::stability::Objective,
 }
 
 /// `curvenet trace`.
@@ -276,6 +281,11 @@ pub struct DemoArgs {
     /// Budget as a fraction of the total length, in (0, 1].
     #[arg(long, default_value_t = 0.3, value_parser = budget_fraction, allow_hyphen_values = true)]
     pub budget: f64,
+    /// What every search maximises: lambda (the paper's λ_eq, the smallest eigenvalue of the
+    /// Hessian at equilibrium) or frequency (the first natural frequency: μ_min of H v = μ M v
+    /// with the lumped mass; in the paper's mode with unit density). See docs/units.md.
+    #[arg(long, default_value = "lambda", value_parser = parse_objective)]
+    pub objective: curvenet::stability::Objective,
     /// What runs after the greedy.
     #[command(flatten)]
     pub after: AfterGreedyArgs,
@@ -479,6 +489,11 @@ pub struct SimplifyArgs {
     /// Output folder.
     #[arg(long)]
     pub out: PathBuf,
+    /// What every search maximises: lambda (the paper's λ_eq, the smallest eigenvalue of the
+    /// Hessian at equilibrium) or frequency (the first natural frequency: μ_min of H v = μ M v
+    /// with the lumped mass; in the paper's mode with unit density). See docs/units.md.
+    #[arg(long, default_value = "lambda", value_parser = parse_objective)]
+    pub objective: curvenet::stability::Objective,
     /// Material and solver options.
     #[command(flatten)]
     pub physics: PhysicsArgs,
@@ -508,6 +523,11 @@ pub struct ExampleArgs {
     /// Continue an interrupted run in the output folder.
     #[arg(long)]
     pub resume: bool,
+    /// What every search maximises: lambda (the paper's λ_eq, the smallest eigenvalue of the
+    /// Hessian at equilibrium) or frequency (the first natural frequency: μ_min of H v = μ M v
+    /// with the lumped mass; in the paper's mode with unit density). See docs/units.md.
+    #[arg(long, default_value = "lambda", value_parser = parse_objective)]
+    pub objective: curvenet::stability::Objective,
     /// Run into a non-empty folder that is not a curvenet run's (the run's own files are
     /// replaced, the others kept). A curvenet run's folder needs no --force: a fresh run
     /// there removes the earlier run's files first.
@@ -531,6 +551,11 @@ pub struct ExampleArgs {
 }
 
 fn parse_supports(s: &str) -> Result<Supports, String> {
+    s.parse()
+}
+
+/// `--objective`'s value.
+fn parse_objective(s: &str) -> Result<curvenet::stability::Objective, String> {
     s.parse()
 }
 

@@ -552,6 +552,64 @@ fn simplify_budgets_and_keep_lists_are_checked() {
 }
 
 #[test]
+fn objectives_are_checked_and_searches_that_cannot_honour_one_say_why() {
+    let grid = [("grid.txt", GRID.as_bytes())];
+    let simplify = |extra: &[&str]| {
+        let mut args = vec!["simplify", "--curves", "grid.txt", "--out", "out"];
+        args.extend_from_slice(QUIET);
+        args.extend_from_slice(&["--budget", "0.6"]);
+        args.extend_from_slice(extra);
+        args.iter().map(|s| s.to_string()).collect::<Vec<_>>()
+    };
+    let args = simplify(&["--objective", "freq"]);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    expect_error(
+        &grid,
+        &args,
+        &[
+            "--objective",
+            "unknown objective \"freq\"",
+            "lambda",
+            "frequency",
+        ],
+    );
+    let args = simplify(&["--objective", "frequency", "--certify"]);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    expect_error(
+        &grid,
+        &args,
+        &["--certify with --objective frequency", "mass metric"],
+    );
+    expect_error(
+        &[],
+        &["compare", "--objective", "frequency", "--sizes", "4"],
+        &["--objective frequency needs --fresh", "exact λ_fix"],
+    );
+    // With the objective frequency the run records it, and μ_min with its frequency.
+    let args = simplify(&["--objective", "frequency", "--local-search"]);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let r = run(&grid, &args);
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    assert!(
+        r.stdout.contains("objective the first natural frequency"),
+        "{}",
+        r.stdout
+    );
+    let result = std::fs::read_to_string(r.dir.join("out/result.json")).unwrap();
+    let result: serde_json::Value = serde_json::from_str(&result).unwrap();
+    assert_eq!(result["objective"], "frequency");
+    assert_eq!(result["setup"]["stability"]["objective"], "frequency");
+    assert_eq!(result["local_search"]["objective"], "frequency");
+    for it in result["iterations"].as_array().unwrap() {
+        let mu = it["lambda"].as_f64().unwrap();
+        let f = it["first_frequency"]
+            .as_f64()
+            .expect("a stable grid has a frequency");
+        assert!((f - mu.sqrt() / (2.0 * std::f64::consts::PI)).abs() <= 1e-12 * f);
+    }
+}
+
+#[test]
 fn unknown_examples_and_missing_data_are_usage_errors() {
     expect_error(
         &[],

@@ -33,6 +33,14 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
     if let Some(networks) = a.fresh {
         return run_fresh(&a, networks, surfaces);
     }
+    if a.objective != curvenet::stability::Objective::Lambda {
+        return Err(usage(format!(
+            "--objective {} needs --fresh: the sizes' table also runs the rounded relaxation \
+             and the exact λ_fix solver, which bound λ_fix, the paper's objective at the full \
+             network's equilibrium, and do not model the mass metric",
+            a.objective.name()
+        )));
+    }
     let params = CompareParams {
         sizes: a.sizes.clone(),
         instances: a.instances,
@@ -69,6 +77,7 @@ fn run_fresh(a: &CompareArgs, networks: usize, surfaces: Vec<Surface>) -> anyhow
     let params = FreshParams {
         networks,
         seed: a.seed,
+        objective: a.objective,
         ..FreshParams::default()
     };
     let surfaces: Vec<(String, curvenet::io::TriMesh)> =

@@ -54,7 +54,10 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
             merge_joints_below: a.physics.merge_joints,
             ..BuildParams::default()
         },
-        stability: stability_params(&a.physics)?,
+        stability: curvenet::stability::StabilityParams {
+            objective: a.objective,
+            ..stability_params(&a.physics)?
+        },
         physical: None,
         input: InputDescription {
             example: Some(format!("demo:{}:{}:{}", a.surface, a.geodesics, a.seed)),

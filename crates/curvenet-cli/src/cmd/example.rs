@@ -17,7 +17,7 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
     let supports = a.physics.supports.unwrap_or_default();
     let ex = paper::load_from(&a.name, &data, supports)?;
     let (physical, paper) = super::physical_mode(&a.physics, &a.physical, None, &[])?;
-    let params = stability_params(&paper)?;
+    let mut params = stability_params(&paper)?;
     let build = BuildParams {
         merge_joints_below: a.physics.merge_joints,
         ..ex.build.clone()
@@ -56,6 +56,8 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
         return Ok(());
     }
     print_warnings(&warnings);
+    // What the searches maximise (the analysis above is the paper's).
+    params.objective = a.objective;
     let budget = Budget::Fraction(a.budget.unwrap_or(ex.setup.budget_fraction));
     budget.validate().map_err(usage)?;
     run_greedy(GreedyJob {

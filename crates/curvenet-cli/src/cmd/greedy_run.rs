@@ -12,6 +12,7 @@ use curvenet::network::{BuildInfo, BuildParams, Network, build_network};
 use curvenet::physics::PhysicalParams;
 use curvenet::rod::ActiveSet;
 use curvenet::run_folder::folder::{FolderError, FolderLock, FreshStart, fresh_start};
+use curvenet::run_folder::schema::objective_name;
 use curvenet::run_folder::{
     InputDescription, LocalSearchRecord, OutputWriter, ResultFile, RunSetup, evaluated_offer,
     greedy_offers, measure_greedy_deviations, read_f64_file, summary,
@@ -23,7 +24,7 @@ use curvenet::simplify::greedy::{IterationRecord, ResumePoint};
 use curvenet::simplify::local::{LocalParams, local_search};
 use curvenet::simplify::{Budget, GreedyOutcome, GreedyParams, SimplifyError, StopReason, greedy};
 use curvenet::stability::fixed::FixedProblem;
-use curvenet::stability::{Analyzer, Prepare, Preset, StabilityParams, Warm};
+use curvenet::stability::{Analyzer, Objective, Prepare, Preset, StabilityParams, Warm};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -73,6 +74,16 @@ pub fn budget_of(a: &GreedyArgs, default: Option<f64>) -> anyhow::Result<Budget>
 /// Builds the network, runs the greedy into `job.out` and prints a summary.
 pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     let start = Instant::now();
+    let objective = job.stability.objective;
+    if job.certificate && objective != Objective::Lambda {
+        return Err(usage(format!(
+            "--certify with --objective {}: the certificate bounds λ_fix, the paper's \
+             objective at the full network's equilibrium, and its relaxation does not model \
+             the mass metric of the first natural frequency (it changes with the set of \
+             curves); drop --certify, or use --objective lambda",
+            objective.name()
+        )));
+    }
     // Held to the end of the run: another run into the folder is refused meanwhile.
     let (_lock, fresh) = output_folder(&job.out, job.resume, job.force)?;
     let (network, info) = build_network(&job.curves, &job.build)?;
@@ -551,7 +562,10 @@ fn local_search_of(
         ..LocalParams::new(params.budget)
     };
     let o = local_search(analyzer, &local, Some(constraints), &last.curves, cancel)?;
-    LocalSearchRecord::new(&local, &o).ok_or_else(|| anyhow::anyhow!("λ_eq could not be evaluated"))
+    let mut record = LocalSearchRecord::new(&local, &o)
+        .ok_or_else(|| anyhow::anyhow!("λ_eq could not be evaluated"))?;
+    record.objective = objective_name(analyzer.objective()).into();
+    Ok(record)
 }
 
 /// Exit 130 once a signal came during `stage`: the greedy's iterations stay recorded in `out`,

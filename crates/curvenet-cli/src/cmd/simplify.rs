@@ -13,7 +13,8 @@ pub fn run(a: SimplifyArgs) -> anyhow::Result<()> {
         inputs.file_units.as_deref(),
         &inputs.specs,
     )?;
-    let params = stability_params(&paper)?;
+    let mut params = stability_params(&paper)?;
+    params.objective = a.objective;
     let n = inputs.curves.len();
     if let Some(&bad) = a.greedy.keep.iter().find(|&&c| c >= n) {
         return Err(crate::exit::usage(format!(

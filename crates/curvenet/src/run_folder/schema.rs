@@ -10,6 +10,14 @@ use crate::stability::StabilityParams;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
+/// `result.json`'s name of what the searches maximised.
+pub fn objective_name(objective: crate::stability::Objective) -> &'static str {
+    match objective {
+        crate::stability::Objective::Lambda => "lambda_eq",
+        crate::stability::Objective::Frequency => "frequency",
+    }
+}
+
 /// The format version of `result.json`.
 pub const VERSION: u32 = 1;
 
@@ -64,7 +72,8 @@ pub struct FinalRecord {
 /// The local search run after the greedy (`--local-search`), from the greedy's final network.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct LocalSearchRecord {
-    /// The objective: always `lambda_eq`, every subset relaxed from the drawn state (the
+    /// The objective: `lambda_eq` (or `frequency`: the values are then `μ_min`), every subset
+    /// relaxed from the drawn state (the
     /// evaluation of exhaustive search and `curvenet compare`; the greedy's own `λ_eq` is
     /// relaxed along its path, so it can differ slightly).
     pub objective: String,
@@ -149,7 +158,9 @@ pub struct ResultFile {
     pub version: u32,
     /// The set-up.
     pub setup: RunSetup,
-    /// The objective reported per iteration.
+    /// The objective reported per iteration ([`objective_name`]): `lambda_eq` (the paper's),
+    /// or `frequency`, with which each iteration's `lambda` holds `μ_min` of the mass-metric
+    /// problem and `first_frequency` its frequency `√μ_min / 2π`.
     pub objective: String,
     /// The budget `V` as a length.
     pub budget: f64,

@@ -109,9 +109,20 @@ pub fn summary(r: &ResultFile) -> String {
     let mut s = String::new();
     let first = r.iterations.first();
     let last = r.iterations.last();
+    let frequency = r.setup.stability.objective == crate::stability::Objective::Frequency;
+    let (objective, value) = if frequency {
+        ("the first natural frequency, μ_min", "μ_min")
+    } else {
+        ("λ_eq", "λ_eq")
+    };
+    let freq = |it: &IterationRecord| match (frequency, it.first_frequency) {
+        (false, _) => String::new(),
+        (true, Some(f)) => format!(", f₁ {f:.6e}"),
+        (true, None) => String::new(),
+    };
     let _ = writeln!(
         s,
-        "curvenet greedy simplification (objective λ_eq, supports {})",
+        "curvenet greedy simplification (objective {objective}, supports {})",
         r.setup.build.supports.name()
     );
     if let Some(ex) = &r.setup.input.example {
@@ -131,18 +142,20 @@ pub fn summary(r: &ResultFile) -> String {
     if let (Some(f), Some(l)) = (first, last) {
         let _ = writeln!(
             s,
-            "start: {} curves, length {:.6}, λ_eq {:.6e}{}",
+            "start: {} curves, length {:.6}, {value} {:.6e}{}{}",
             f.curves.len(),
             f.length,
             f.lambda,
+            freq(f),
             unstable_suffix(f)
         );
         let _ = writeln!(
             s,
-            "final: {} curves, length {:.6}, λ_eq {:.6e}{}",
+            "final: {} curves, length {:.6}, {value} {:.6e}{}{}",
             l.curves.len(),
             l.length,
             l.lambda,
+            freq(l),
             unstable_suffix(l)
         );
         let _ = writeln!(s, "kept curves: {:?}", l.curves);
@@ -204,6 +217,7 @@ mod tests {
             candidates: Vec::new(),
             mode_file: String::new(),
             physical: None,
+            first_frequency: None,
         }
     }
 

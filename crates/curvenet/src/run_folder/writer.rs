@@ -82,8 +82,8 @@ impl<'a> OutputWriter<'a> {
         io::write_atomic(&net_path, &net_json).map_err(|e| io_err(&net_path, e))?;
         let result = ResultFile {
             version: VERSION,
+            objective: super::schema::objective_name(setup.stability.objective).into(),
             setup,
-            objective: "lambda_eq".into(),
             budget,
             complete: false,
             stop: None,

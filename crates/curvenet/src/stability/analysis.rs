@@ -72,8 +72,11 @@ impl Analyzer {
         let symbolic = self.symbolic_for(active);
         let newton = self.relax_from(active, &mut u, None, &symbolic).0;
         let h = model.assemble(&u, active, true).hess;
-        let spectrum =
-            super::numerics::spectrum(model.pattern(), &h, &symbolic, None, &self.params().eigen)?;
+        let (spectrum, ()) = self.in_metric(active, &h, |h| {
+            let params = &self.params().eigen;
+            let s = super::numerics::spectrum(model.pattern(), h, &symbolic, None, params)?;
+            Ok((s, ()))
+        })?;
         let mode_curves = self.mode_curves(active, spectrum.vectors.col(0).iter().copied());
         let gravity = self.gravity(active, &h);
         Ok(Analysis {

@@ -1,10 +1,13 @@
 //! [`Analyzer`]: one network's energy model, symbolic analysis and caches.
 
 use super::presets::Preset;
-use super::{StabilityError, StabilityParams, Tuning};
+use super::{Objective, StabilityError, StabilityParams, Tuning};
 use crate::network::Network;
+use crate::physics::inertia::classify;
 use crate::physics::{PhysicalParams, PhysicalSummary, PhysicsError, analyze_physical};
-use crate::rod::{ActiveSet, EnergyModel};
+use crate::rod::mass::{inverse_sqrt_coordinates, lumped_masses, scale_hessian};
+use crate::rod::physical::{masses_per_length, physical_rods, rigid_anchor_weight};
+use crate::rod::{ActiveSet, EnergyModel, RodStiffness};
 use crate::solve::eigen::Spectrum;
 use crate::solve::{Cholesky, Equilibrium, NewtonInfo, SymbolicFactor};
 use faer::MatRef;
@@ -24,35 +27,162 @@ pub struct Analyzer {
     pub(super) parts: Mutex<HashMap<Vec<usize>, (f64, f64)>>,
     /// The physical mode's parameters ([`Self::with_physical`]); `None` in the paper's mode.
     physical: Option<PhysicalParams>,
+    /// The frequency objective's model: the mass metric, and in the physical mode the rods'
+    /// own stiffnesses (`None`: the paper's `λ_eq`).
+    metric: Option<Metric>,
+}
+
+/// What the frequency objective ([`Objective::Frequency`]) adds to an analyzer: the mass
+/// per unit length of every rod, and the energy's constants when they are not the paper
+/// material's (the physical mode), so that the analyzer of a sub-network has the same model.
+#[derive(Clone, Debug)]
+struct Metric {
+    mass_per_length: Vec<f64>,
+    /// Per-rod stiffnesses and the anchor weight (the physical mode).
+    rods: Option<(Vec<RodStiffness>, f64)>,
 }
 
 impl Analyzer {
     /// Builds the energy model and the symbolic factorization of `network`.
+    ///
+    /// With [`Objective::Frequency`] the spectra are those of the mass metric with unit
+    /// density (`ρ A = π r²` per unit length: the paper's model has no material), until
+    /// [`Self::with_physical`] gives the rods' own.
     pub fn new(network: Network, params: StabilityParams) -> Result<Self, String> {
         params.validate()?;
-        let model = EnergyModel::new(&network, &params.material);
+        let metric = (params.objective == Objective::Frequency).then(|| Metric {
+            mass_per_length: vec![
+                std::f64::consts::PI * params.material.radius.powi(2);
+                network.rods.len()
+            ],
+            rods: None,
+        });
+        Ok(Self::build(network, params, metric))
+    }
+
+    fn build(network: Network, params: StabilityParams, metric: Option<Metric>) -> Self {
+        let model = match metric.as_ref().and_then(|m| m.rods.as_ref()) {
+            Some((rods, anchor)) => EnergyModel::with_rods(&network, rods, *anchor),
+            None => EnergyModel::new(&network, &params.material),
+        };
         let symbolic = SymbolicFactor::new(model.pattern(), params.tuning.solver.backend);
-        Ok(Analyzer {
+        Analyzer {
             network,
             model,
             symbolic,
             params,
             parts: Mutex::default(),
             physical: None,
-        })
+            metric,
+        }
     }
 
     /// The analyzer in the physical mode: the searches also record each structure's physical
-    /// numbers ([`Self::physical_summary`]). The objective (`λ_eq`, of the paper's model) is
-    /// unchanged.
+    /// numbers ([`Self::physical_summary`]). With the objective `λ_eq` the searches' model
+    /// stays the paper's; with [`Objective::Frequency`] it becomes the structure's own (per-rod
+    /// `E A`, `E I`, rest shapes, rigid anchors, the rods' `ρ A`), so the objective is the
+    /// physical analysis' `μ_min`: its first natural frequency is `√μ_min / 2π` Hz.
     ///
     /// # Errors
     ///
     /// Invalid physical parameters.
     pub fn with_physical(mut self, physical: PhysicalParams) -> Result<Self, String> {
         physical.validate()?;
+        if self.metric.is_some() {
+            let n = self.network.rods.len();
+            let rods = physical_rods(&physical.physical, n, &physical.rest);
+            let anchor = rigid_anchor_weight(&self.network, &rods);
+            let metric = Metric {
+                mass_per_length: masses_per_length(&physical.physical, n),
+                rods: Some((rods, anchor)),
+            };
+            self = Self::build(self.network, self.params, Some(metric));
+        }
         self.physical = Some(physical);
         Ok(self)
+    }
+
+    /// Whether the spectra are the mass metric's (the frequency objective).
+    pub(super) fn mass_metric(&self) -> bool {
+        self.metric.is_some()
+    }
+
+    /// What the searches maximise.
+    pub fn objective(&self) -> Objective {
+        self.params.objective
+    }
+
+    /// The analyzer of `network`, the sub-network of `curves` (in that order) of this one,
+    /// with the same model: the paper's material, or the same rods, anchor weight and masses
+    /// under the frequency objective.
+    pub(super) fn for_sub_network(
+        &self,
+        network: Network,
+        curves: &[usize],
+        params: StabilityParams,
+    ) -> Result<Self, String> {
+        params.validate()?;
+        let metric = self.metric.as_ref().map(|m| Metric {
+            mass_per_length: curves.iter().map(|&c| m.mass_per_length[c]).collect(),
+            rods: m
+                .rods
+                .as_ref()
+                .map(|(r, a)| (curves.iter().map(|&c| r[c]).collect(), *a)),
+        });
+        Ok(Self::build(network, params, metric))
+    }
+
+    /// The objective's metric for structure `active`: `1/√m` per coordinate, `m` the lumped
+    /// masses ([`crate::rod::mass`]); `None` for `λ_eq` (the identity metric).
+    pub(super) fn metric_scale(&self, active: &ActiveSet) -> Option<Vec<f64>> {
+        let m = self.metric.as_ref()?;
+        let masses = lumped_masses(&self.network, &m.mass_per_length, active);
+        Some(inverse_sqrt_coordinates(&masses))
+    }
+
+    /// Hessian values `h` of structure `active` in the objective's metric, in place
+    /// (`M^{-1/2} H M^{-1/2}` under the frequency objective, unchanged for `λ_eq`); the scale
+    /// used, if any.
+    pub(super) fn to_metric(&self, active: &ActiveSet, h: &mut [f64]) -> Option<Vec<f64>> {
+        let s = self.metric_scale(active)?;
+        scale_hessian(self.model.pattern(), h, &s);
+        Some(s)
+    }
+
+    /// The spectrum of `h` (the unscaled Hessian values of `active`) computed in the
+    /// objective's metric with `compute`: for `λ_eq` as it is; under the frequency objective
+    /// on `M^{-1/2} H M^{-1/2}`, its zero and negative modes judged in the identity metric as
+    /// `λ_eq`'s are (each mode's Rayleigh quotient in `H` against the band `C ε ‖H‖₁`:
+    /// near-massless vertices cannot widen the band; the signs are `H`'s by Sylvester's law).
+    pub(super) fn in_metric<T>(
+        &self,
+        active: &ActiveSet,
+        h: &[f64],
+        compute: impl FnOnce(&[f64]) -> Result<(Spectrum, T), StabilityError>,
+    ) -> Result<(Spectrum, T), StabilityError> {
+        let Some(s) = self.metric_scale(active) else {
+            return compute(h);
+        };
+        let mut scaled = h.to_vec();
+        scale_hessian(self.model.pattern(), &mut scaled, &s);
+        let (mut spectrum, extra) = compute(&scaled)?;
+        let keep: Vec<bool> = self
+            .model
+            .vertex_mask(active)
+            .iter()
+            .flat_map(|&m| [m; 3])
+            .collect();
+        let signs = classify(
+            &spectrum,
+            self.model.pattern(),
+            h,
+            &s,
+            &keep,
+            self.params.eigen.zero_factor,
+        );
+        spectrum.zero_modes = signs.zero;
+        spectrum.negative_modes = signs.negative;
+        Ok((spectrum, extra))
     }
 
     /// The physical mode's parameters (`None` in the paper's mode).
@@ -208,13 +338,14 @@ impl Analyzer {
             return Err(StabilityError::Empty);
         }
         let h = self.model.assemble(u, active, true).hess;
-        Ok(super::numerics::spectrum(
-            self.model.pattern(),
-            &h,
-            &self.symbolic_for(active),
-            warm_start,
-            &preset.params(&self.params.eigen),
-        )?)
+        let symbolic = self.symbolic_for(active);
+        let params = preset.params(&self.params.eigen);
+        let (spectrum, ()) = self.in_metric(active, &h, |h| {
+            let s =
+                super::numerics::spectrum(self.model.pattern(), h, &symbolic, warm_start, &params)?;
+            Ok((s, ()))
+        })?;
+        Ok(spectrum)
     }
 
     /// The eigen parameters of `preset` for factors of `symbolic`.

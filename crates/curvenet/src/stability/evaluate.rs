@@ -39,7 +39,7 @@ pub struct Evaluation {
 }
 
 impl Evaluation {
-    /// `λ_eq`.
+    /// `λ_eq` (`μ_min` under the frequency objective: the objective's value).
     pub fn lambda(&self) -> f64 {
         self.spectrum.lambda()
     }
@@ -118,7 +118,8 @@ impl Work {
 impl Analyzer {
     /// `λ_eq(active)`: relaxes from `warm`'s start (warm-started as it says, unless
     /// [`super::Tuning::warm_start`] is off) and computes the spectrum to the accuracy of
-    /// `preset`, preparing `prepare` beside it.
+    /// `preset`, preparing `prepare` beside it. Under the frequency objective the spectrum is
+    /// the mass metric's ([`super::Objective::Frequency`]): `lambda()` is `μ_min`.
     pub fn evaluate(
         &self,
         active: &ActiveSet,
@@ -152,21 +153,23 @@ impl Analyzer {
             .modes
             .map(|w| restrict(w.as_ref(), &model.vertex_mask(active)));
         let params = preset.params(&self.params().eigen);
-        let spectrum = || -> Result<_, StabilityError> {
-            let modes = modes.as_ref().map(|w| w.as_ref());
-            // About a shift right below the expected λ when one is known: a successful
-            // Cholesky of `H − σI` proves no eigenvalue lies below σ, and shift-and-invert
-            // separates the clustered smallest eigenvalues far better there than about zero.
-            // Otherwise, or if λ turns out below σ, about zero.
-            let shifted = match warm.lambda.map(|l| self.tuning().spectrum_shift * l) {
-                Some(sigma) if sigma > 0.0 && sigma.is_finite() => {
-                    numerics::above(model.pattern(), &h, &symbolic, modes, &params, sigma, None)?
-                }
-                _ => None,
-            };
-            Ok(match shifted {
-                Some(pair) => pair,
-                None => numerics::factored(model.pattern(), &h, &symbolic, modes, &params)?,
+        let spectrum = || {
+            self.in_metric(active, &h, |h| {
+                let modes = modes.as_ref().map(|w| w.as_ref());
+                // About a shift right below the expected λ when one is known: a successful
+                // Cholesky of `H − σI` proves no eigenvalue lies below σ, and shift-and-invert
+                // separates the clustered smallest eigenvalues far better there than about zero.
+                // Otherwise, or if λ turns out below σ, about zero.
+                let shifted = match warm.lambda.map(|l| self.tuning().spectrum_shift * l) {
+                    Some(sigma) if sigma > 0.0 && sigma.is_finite() => {
+                        numerics::above(model.pattern(), h, &symbolic, modes, &params, sigma, None)?
+                    }
+                    _ => None,
+                };
+                Ok(match shifted {
+                    Some(pair) => pair,
+                    None => numerics::factored(model.pattern(), h, &symbolic, modes, &params)?,
+                })
             })
         };
         let terms = || (prepare == Prepare::Candidates).then(|| Terms::compute(self, active, &u));

@@ -19,6 +19,9 @@ pub struct StabilityParams {
     pub eigen: EigenParams,
     /// Gravity load for the deflection report.
     pub gravity: GravityParams,
+    /// What the searches maximise (recorded only when it is not the paper's `λ_eq`).
+    #[serde(skip_serializing_if = "Objective::is_lambda")]
+    pub objective: Objective,
     /// Knobs that change only the work (and round-off), never what is computed.
     pub tuning: Tuning,
 }
@@ -37,6 +40,57 @@ impl StabilityParams {
     pub fn without(mut self, technique: Technique) -> Self {
         self.tuning = self.tuning.without(technique);
         self
+    }
+}
+
+/// What every search maximises.
+///
+/// - [`Objective::Lambda`] (the paper): `λ_eq`, the smallest eigenvalue of the Hessian at
+///   equilibrium in the identity metric.
+/// - [`Objective::Frequency`]: `μ_min`, the smallest eigenvalue of `H v = μ M v` with the
+///   lumped mass matrix `M` (each vertex `ρ A` times half its adjacent rest edges), solved as
+///   `M^{-1/2} H M^{-1/2}`. The first natural frequency is `√μ_min / 2π`. In the physical mode
+///   `H` is the structure's own (per-rod `E A`, `E I`, rigid anchors) and `ρ A` the rods'; in
+///   the paper's mode the paper's `H` with unit density (`ρ A = π r²`), so the objective needs
+///   no material. Unlike `λ_eq`, which scales with the edge length, `μ_min` converges as the
+///   edges shrink.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Objective {
+    /// The paper's `λ_eq`.
+    #[default]
+    Lambda,
+    /// The first natural frequency: `μ_min` of the mass-metric problem.
+    Frequency,
+}
+
+impl Objective {
+    /// The paper's objective.
+    pub fn is_lambda(&self) -> bool {
+        *self == Objective::Lambda
+    }
+
+    /// The name a user writes (`--objective`) and `result.json` records.
+    pub fn name(self) -> &'static str {
+        match self {
+            Objective::Lambda => "lambda",
+            Objective::Frequency => "frequency",
+        }
+    }
+}
+
+impl std::str::FromStr for Objective {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "lambda" => Ok(Objective::Lambda),
+            "frequency" => Ok(Objective::Frequency),
+            _ => Err(format!(
+                "unknown objective {s:?}; one of lambda (the paper's λ_eq), frequency (the first \
+                 natural frequency)"
+            )),
+        }
     }
 }
 
@@ -367,6 +421,17 @@ mod tests {
         assert!(t.validate().is_ok(), "0 switches it off");
         t.restrict_share = 1.5;
         assert!(t.validate().is_err());
+    }
+
+    #[test]
+    fn objectives_parse_by_name() {
+        assert_eq!("lambda".parse::<Objective>(), Ok(Objective::Lambda));
+        assert_eq!("frequency".parse::<Objective>(), Ok(Objective::Frequency));
+        let e = "freq".parse::<Objective>().expect_err("unknown");
+        assert!(e.contains("one of lambda"), "{e}");
+        // The paper's objective is not written into a run's set-up.
+        let json = serde_json::to_string(&StabilityParams::default()).expect("serializes");
+        assert!(!json.contains("objective"), "{json}");
     }
 
     #[test]

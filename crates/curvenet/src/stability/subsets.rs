@@ -80,7 +80,9 @@ impl Analyzer {
         self.parts.lock().expect("cache lock").len()
     }
 
-    /// `λ_eq` of a connected structure, on its own network (the loose vertices deleted, so
+    /// `λ_eq` (or under the frequency objective `μ_min`: the lumped mass of a vertex comes
+    /// from the curves through it, so `M` is block diagonal over the parts too) of a
+    /// connected structure, on its own network (the loose vertices deleted, so
     /// the factorizations only see the structure's own unknowns), and the largest
     /// displacement of a vertex at that equilibrium.
     fn lambda_eq_connected(&self, curves: &[usize]) -> Result<(f64, f64), StabilityError> {
@@ -89,7 +91,9 @@ impl Analyzer {
             eigen: Preset::Score.params(&self.params().eigen),
             ..self.params().clone()
         };
-        let sub = Analyzer::new(network, params).map_err(StabilityError::Params)?;
+        let sub = self
+            .for_sub_network(network, curves, params)
+            .map_err(StabilityError::Params)?;
         let active = sub.all();
         let mut u = vec![0.0; sub.model().dofs()];
         sub.relax(&active, &mut u);

@@ -27,7 +27,7 @@ use crate::simplify::exhaustive::{ExhaustiveParams, exhaustive};
 use crate::simplify::greedy::{GreedyParams, NoHooks, greedy};
 use crate::simplify::local::{LocalParams, local_search};
 use crate::simplify::{Budget, SimplifyError, StopReason};
-use crate::stability::{Analyzer, StabilityParams};
+use crate::stability::{Analyzer, Objective, StabilityParams};
 use crate::trace::{Generator, generate, scale_to_extent};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -56,6 +56,10 @@ pub struct FreshParams {
     pub exhaustive_max_curves: usize,
     /// … and at most this many feasible subsets.
     pub max_subsets: usize,
+    /// What the searches maximise (the figures are its values: `μ_min` under the frequency
+    /// objective).
+    #[serde(default, skip_serializing_if = "Objective::is_lambda")]
+    pub objective: Objective,
 }
 
 impl Default for FreshParams {
@@ -70,6 +74,7 @@ impl Default for FreshParams {
             edge_length: 100.0,
             exhaustive_max_curves: 14,
             max_subsets: 3000,
+            objective: Objective::Lambda,
         }
     }
 }
@@ -359,8 +364,11 @@ fn row(
     k: usize,
 ) -> Result<FreshRow, SimplifyError> {
     let (mut row, network) = draw(params, scaled, k)?;
-    let analyzer =
-        Analyzer::new(network, StabilityParams::default()).map_err(SimplifyError::Params)?;
+    let stability = StabilityParams {
+        objective: params.objective,
+        ..StabilityParams::default()
+    };
+    let analyzer = Analyzer::new(network, stability).map_err(SimplifyError::Params)?;
     let budget = Budget::Fraction(row.budget);
     let never = Cancel::never();
     let t = Instant::now();

@@ -35,7 +35,7 @@ use crate::constraints::Constraints;
 use crate::physics::PhysicalSummary;
 use crate::stability::NewtonSummary;
 use crate::stability::candidates::{Candidates, Carried, Outcome};
-use crate::stability::{ActiveSet, Analyzer, Evaluation, Prepare, Preset, Warm, Work};
+use crate::stability::{ActiveSet, Analyzer, Evaluation, Objective, Prepare, Preset, Warm, Work};
 use faer::Mat;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -120,6 +120,12 @@ pub struct IterationRecord {
     /// The structure's physical numbers in the physical mode (absent in the paper's mode).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub physical: Option<PhysicalSummary>,
+    /// Under the frequency objective (`lambda`, `eigenvalues` and `score` are then those of
+    /// the mass metric, `μ`): the first natural frequency `√μ_min / 2π` (Hz in the physical
+    /// mode; in the paper's mode per the scene's unit of time, unit density); absent when
+    /// the structure is not stable, and under the objective `λ_eq`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub first_frequency: Option<f64>,
 }
 
 /// Why the greedy stopped.
@@ -197,6 +203,15 @@ fn spectrum_hint(score: f64, lambda: f64) -> f64 {
     } else {
         score
     }
+}
+
+/// Under the frequency objective, the first natural frequency `√μ_min / 2π` of a stable
+/// structure evaluated as `eval`.
+fn first_frequency(analyzer: &Analyzer, eval: &Evaluation) -> Option<f64> {
+    let s = &eval.spectrum;
+    let stable = s.zero_modes == 0 && s.negative_modes == 0 && s.lambda() > 0.0;
+    (analyzer.objective() == Objective::Frequency && stable)
+        .then(|| s.lambda().sqrt() / (2.0 * std::f64::consts::PI))
 }
 
 /// Whether the next iteration should use the test vectors carried over from this one: when
@@ -446,6 +461,7 @@ impl<'a> State<'a> {
             candidates: Vec::new(),
             mode_file: format!("modes/{k:04}.bin"),
             physical: analyzer.physical_summary(&self.active)?,
+            first_frequency: first_frequency(analyzer, &eval),
         };
         // The removable units (each named by its smallest curve); `None`: every curve not kept.
         let units = self.constraints.map(|c| {

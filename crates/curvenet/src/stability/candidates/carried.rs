@@ -43,7 +43,7 @@ impl Candidates<'_> {
 
     /// Whether candidate `c` has a vector carried over from the previous iteration.
     pub fn has_carried(&self, c: usize) -> bool {
-        self.carried.get(c).is_some_and(Option::is_some)
+        !self.analyzer.mass_metric() && self.carried.get(c).is_some_and(Option::is_some)
     }
 
     /// Records `v` as candidate `c`'s best test vector so far.

@@ -232,13 +232,14 @@ impl<'a> Candidates<'a> {
 
     /// Whether refined bounds can be computed (a preconditioner is known).
     pub fn refinable(&self) -> bool {
-        self.preconditioner.is_some()
+        self.preconditioner.is_some() && !self.analyzer.mass_metric()
     }
 
     /// The preconditioner's shift `σ > 0` (its factorization is of `H_A − σI`), if positive.
     pub fn preconditioner_shift(&self) -> Option<f64> {
         self.preconditioner
             .as_ref()
+            .filter(|_| !self.analyzer.mass_metric())
             .map(|f| -f.shift)
             .filter(|s| s.is_finite() && *s > 0.0)
     }
@@ -275,10 +276,17 @@ impl<'a> Candidates<'a> {
     /// when it was scored about zero (the next structure's Hessian at that start), and the
     /// estimate `lambda` of its `λ_eq`.
     pub fn hand_on(&self, winner: usize, eval: Evaluation, lambda: f64) -> Warm {
-        let factor = self.kept.lock().ok().and_then(|mut kept| {
-            let i = kept.iter().position(|k| k.0 == winner)?;
-            Some(kept.swap_remove(i).2)
-        });
+        // In the mass metric a score's factorization is not of the Hessian Newton needs.
+        let metric = self.analyzer.mass_metric();
+        let factor = self
+            .kept
+            .lock()
+            .ok()
+            .filter(|_| !metric)
+            .and_then(|mut kept| {
+                let i = kept.iter().position(|k| k.0 == winner)?;
+                Some(kept.swap_remove(i).2)
+            });
         Warm {
             start: Some(eval.displacement),
             factor,
@@ -318,7 +326,7 @@ impl Analyzer {
         about_zero: bool,
         lambda: Option<f64>,
     ) -> Warm {
-        let factor = if about_zero {
+        let factor = if about_zero && !self.mass_metric() {
             let ctx = Candidates::at(self, prev, &u, modes.as_ref());
             ctx.score(winner).ok().map(|(_, f)| f)
         } else {

@@ -119,6 +119,7 @@ impl Candidates<'_> {
         let model = self.analyzer.model();
         let mut h = Vec::new();
         model.hessian_from_locals(&self.locals, &active, &mut h);
+        self.analyzer.to_metric(&active, &mut h);
         let warm = restrict(self.modes.as_ref(), &model.vertex_mask(&active));
         let r = super::super::numerics::factored(
             model.pattern(),
@@ -158,7 +159,10 @@ impl Candidates<'_> {
             saving += 1.0 - share;
         }
         let t = self.analyzer.tuning();
-        let factor = (t.reuse && saving >= t.reuse_min_saving)
+        // In the mass metric a removal rescales whole rows of its vertices' neighbours too:
+        // no reference to copy from.
+        let reuse = t.reuse && !self.analyzer.mass_metric();
+        let factor = (reuse && saving >= t.reuse_min_saving)
             .then(|| self.reference(sigma))
             .flatten();
         self.reference = Some((sigma, factor));
@@ -176,6 +180,7 @@ impl Candidates<'_> {
         let model = self.analyzer.model();
         let mut h = Vec::new();
         model.hessian_from_locals(&self.locals, &active, &mut h);
+        self.analyzer.to_metric(&active, &mut h);
         let warm = restrict(warm, &model.vertex_mask(&active));
         let r = super::super::numerics::factored(
             model.pattern(),
@@ -276,12 +281,14 @@ impl Candidates<'_> {
     }
 
     /// `H_{A∖c}`: `H_A` with the entries of `c`'s terms summed again (the same values as a
-    /// whole assembly).
+    /// whole assembly), in the objective's metric (`M_{A∖c}^{-1/2} H_{A∖c} M_{A∖c}^{-1/2}`
+    /// under the frequency objective).
     fn candidate_hessian(&self, c: usize) -> Vec<f64> {
         let mut h = Vec::new();
         self.analyzer
             .model()
             .hessian_without(&self.locals, &self.active, &self.h, c, &mut h);
+        self.analyzer.to_metric(&self.active.without(c), &mut h);
         h
     }
 

@@ -184,6 +184,15 @@ impl<'a> FixedProblem<'a> {
         keep: &[usize],
     ) -> Result<Self, StabilityError> {
         budget.validate().map_err(StabilityError::Params)?;
+        if analyzer.objective() != super::Objective::Lambda {
+            return Err(StabilityError::Params(format!(
+                "the certificate and the exact search bound λ_fix, the paper's objective at \
+                 the full network's equilibrium: their relaxation does not model the {} \
+                 objective's mass metric, which changes with the set of curves (use the \
+                 objective lambda for them)",
+                analyzer.objective().name()
+            )));
+        }
         let model = analyzer.model();
         let n = analyzer.curve_count();
         if n == 0 {
