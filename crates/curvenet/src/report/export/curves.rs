@@ -20,44 +20,59 @@ fn label(net: &Network, c: usize) -> String {
 /// designed rest state. One `o curve N` object and one `l` record per curve.
 pub fn curves_obj(run: &RunFolder, k: usize, rest: bool) -> Result<String, String> {
     let rec = run.record(k)?;
-    let pos = if rest {
-        positions_at(&run.network, None)
+    let u = if rest {
+        None
     } else {
-        positions_at(&run.network, Some(&run.displacement(k)?))
+        Some(run.displacement(k)?)
     };
+    Ok(structure_obj(
+        &run.network,
+        &rec.curves,
+        u.as_deref(),
+        &format!("iteration {k}"),
+    ))
+}
+
+/// OBJ polylines of `curves` of `net` at displacements `u` (`None`: the designed rest state);
+/// `what` names the structure in the header line. One `o curve N` object and one `l` record
+/// per curve.
+pub fn structure_obj(net: &Network, curves: &[usize], u: Option<&[f64]>, what: &str) -> String {
+    let pos = positions_at(net, u);
     let mut out = format!(
-        "# curvenet export: iteration {k}, {} curves, {} state, scene units\n",
-        rec.curves.len(),
-        if rest {
+        "# curvenet export: {what}, {} curves, {} state, scene units\n",
+        curves.len(),
+        if u.is_none() {
             "rest (designed)"
         } else {
             "equilibrium"
         }
     );
     out.push_str(&io::curves_to_obj(&curve_polylines(
-        &run.network,
-        &rec.curves,
+        net,
+        curves,
         &pos,
         |c| format!("curve {c}"),
     )));
-    Ok(out)
+    out
 }
 
 /// curvenet-curves JSON of the curves of iteration `k`, at rest or at equilibrium; labels
 /// carry `id`, `rest_length`, `closed` and `supports`.
 pub fn curves_json(run: &RunFolder, k: usize, rest: bool) -> Result<String, String> {
     let rec = run.record(k)?;
-    let pos = if rest {
-        positions_at(&run.network, None)
+    let u = if rest {
+        None
     } else {
-        positions_at(&run.network, Some(&run.displacement(k)?))
+        Some(run.displacement(k)?)
     };
-    Ok(io::curves_to_json(&curve_polylines(
-        &run.network,
-        &rec.curves,
-        &pos,
-        |c| label(&run.network, c),
-    )))
+    Ok(structure_json(&run.network, &rec.curves, u.as_deref()))
+}
+
+/// curvenet-curves JSON of `curves` of `net` at displacements `u` (`None`: at rest); labels
+/// carry `id`, `rest_length`, `closed` and `supports`.
+pub fn structure_json(net: &Network, curves: &[usize], u: Option<&[f64]>) -> String {
+    let pos = positions_at(net, u);
+    io::curves_to_json(&curve_polylines(net, curves, &pos, |c| label(net, c)))
 }
 
 /// Parses a label written by [`curves_json`] into `(id, rest_length, closed, supports)`.

@@ -2,6 +2,7 @@
 
 use super::num;
 use super::rods::{arc_lengths, end_support, rod_joints};
+use crate::network::Network;
 use crate::run_folder::{RunFolder, positions_at};
 use std::fmt::Write as _;
 
@@ -49,8 +50,8 @@ pub fn points_csv(run: &RunFolder, k: usize) -> Result<String, String> {
 pub fn fabrication_csv(run: &RunFolder, k: usize) -> Result<String, String> {
     let rec = run.record(k)?;
     Ok(fabrication_table(
-        run,
-        &format!("iteration {k}"),
+        &run.network,
+        &format!("iteration {k} of {}", run.dir.display()),
         &rec.curves,
         rec.length,
     ))
@@ -64,17 +65,21 @@ pub fn answer_fabrication_csv(run: &RunFolder) -> Option<String> {
         Some(k) => format!("the answer (iteration {k})"),
         None => format!("the answer (the {}'s network)", a.source.replace('_', " ")),
     };
-    Some(fabrication_table(run, &what, &a.curves, a.length))
+    Some(fabrication_table(
+        &run.network,
+        &format!("{what} of {}", run.dir.display()),
+        &a.curves,
+        a.length,
+    ))
 }
 
-/// The fabrication table of the network `curves` of `run` (`what` names it in the header).
-fn fabrication_table(run: &RunFolder, what: &str, curves: &[usize], length: f64) -> String {
-    let net = &run.network;
+/// The fabrication table of the structure `curves` of `net`, of total rest length `length`
+/// (`what` names it in the header): one row per kept rod.
+pub fn fabrication_table(net: &Network, what: &str, curves: &[usize], length: f64) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "# curvenet fabrication table: {what} of {}, {} rods, total rest length {}; scene units",
-        run.dir.display(),
+        "# curvenet fabrication table: {what}, {} rods, total rest length {}; scene units",
         curves.len(),
         num(length)
     );
