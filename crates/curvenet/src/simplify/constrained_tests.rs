@@ -384,8 +384,14 @@ fn the_local_searchs_single_unit_starts_meet_the_constraints() {
             with_singles.push(name);
         }
         if o.given_searched {
-            let alone = local_search_multi(&k.analyzer, &lp, Some(c), &[start.clone()], &never)
-                .expect("runs");
+            let alone = local_search_multi(
+                &k.analyzer,
+                &lp,
+                Some(c),
+                std::slice::from_ref(&start),
+                &never,
+            )
+            .expect("runs");
             assert!(o.best.lambda >= alone.best.lambda, "{name}");
         }
         // Every curve at once is over the budget: skipped, the single units still searched
