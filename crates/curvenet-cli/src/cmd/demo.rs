@@ -69,6 +69,7 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
         certificate_nodes: a.after.certificate_nodes,
         local_search: a.after.local_search,
         resume: false,
+        force: a.force,
         mesh: Some(mesh),
         constraints: super::constraint_params(&a.constraints, Vec::new())?,
     })

@@ -84,6 +84,7 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
         certificate_nodes: a.after.certificate_nodes,
         local_search: a.after.local_search,
         resume: a.resume,
+        force: a.force,
         mesh: Some(ex.mesh),
         constraints: super::constraint_params(&a.constraints, Vec::new())?,
     })

@@ -30,6 +30,7 @@ pub fn run(a: ExportArgs) -> anyhow::Result<()> {
         }
         curvenet::io::write_atomic(&out, text.as_bytes())
             .map_err(|e| usage(format!("{}: {e}", out.display())))?;
+        warn_unstable(k, run.record(k).map_err(usage)?);
         println!("{}", out.display());
         return Ok(());
     }
@@ -47,8 +48,16 @@ pub fn run(a: ExportArgs) -> anyhow::Result<()> {
         super::fmt_length(rec.length),
         rec.lambda
     );
+    warn_unstable(k, rec);
     for p in paths {
         println!("{}", p.display());
     }
     Ok(())
+}
+
+/// The warning of an export of an unstable network (its files say so in their headers too).
+fn warn_unstable(k: usize, rec: &curvenet::simplify::greedy::IterationRecord) {
+    if let Some(w) = curvenet::run_folder::record_instability(rec) {
+        super::print_warnings(&[format!("iteration {k} is {w}: it cannot stand as built")]);
+    }
 }

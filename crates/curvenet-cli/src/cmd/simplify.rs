@@ -35,6 +35,7 @@ pub fn run(a: SimplifyArgs) -> anyhow::Result<()> {
         certificate_nodes: a.greedy.after.certificate_nodes,
         local_search: a.greedy.after.local_search,
         resume: a.greedy.resume,
+        force: a.greedy.force,
         mesh: inputs.mesh,
         constraints,
     })

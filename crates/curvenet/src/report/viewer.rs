@@ -75,7 +75,7 @@ pub fn base64_decode(s: &str) -> Option<Vec<u8>> {
         } as u32)
     };
     let s = s.as_bytes();
-    if s.len() % 4 != 0 {
+    if !s.len().is_multiple_of(4) {
         return None;
     }
     let mut out = Vec::with_capacity(s.len() / 4 * 3);
@@ -265,6 +265,7 @@ pub fn viewer_data(run: &RunFolder, options: &ViewerOptions) -> Result<Value, St
                 "eigenvalues": it.eigenvalues,
                 "zero_modes": it.zero_modes,
                 "negative_modes": it.negative_modes,
+                "unstable": crate::run_folder::record_instability(it),
                 "removed": it.removed,
                 "score": it.score,
                 "newton_iterations": it.newton.iterations,

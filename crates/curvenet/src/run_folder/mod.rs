@@ -15,12 +15,15 @@
 //!                         no stable network within the budget was found
 //! DIR/mesh.obj            the surface the curves were drawn on, in scene units (if known)
 //! DIR/summary.txt         a short text summary
+//! DIR/.curvenet.lock      locked by the run writing the folder (see [`folder`])
 //! ```
 //!
 //! - [`schema`]: `result.json` and its parts ([`ResultFile`], [`RunSetup`], …);
 //! - [`writer`]: [`OutputWriter`], the greedy's hooks that write the folder as the run goes, and
 //!   continue an interrupted run ([`OutputWriter::resume`]);
 //! - [`carried`]: the carried test vectors' file;
+//! - [`folder`]: the folder's lock (one run at a time), a fresh run starting clean, stale
+//!   temporary files;
 //! - [`reader`]: [`RunFolder`], a finished or interrupted folder read back and checked, for the
 //!   exports, pictures and viewer of [`crate::report`];
 //! - [`summary`]: `summary.txt` and the warnings a run's record calls for;
@@ -34,6 +37,7 @@
 
 pub mod answer;
 pub mod carried;
+pub mod folder;
 pub mod reader;
 pub mod schema;
 pub mod summary;
@@ -42,7 +46,7 @@ pub mod writer;
 pub use answer::{evaluated_offer, greedy_offers, measure_greedy_deviations};
 pub use reader::{RunFolder, check_network};
 pub use schema::{FinalRecord, InputDescription, LocalSearchRecord, ResultFile, RunSetup, VERSION};
-pub use summary::{summary, unrelaxed};
+pub use summary::{instability, record_instability, summary, unrelaxed, unstable};
 pub use writer::OutputWriter;
 
 use crate::geom::Vec3;

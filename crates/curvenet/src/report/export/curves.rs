@@ -4,7 +4,7 @@ use super::num;
 use super::rods::rod_supports;
 use crate::io;
 use crate::network::Network;
-use crate::run_folder::{RunFolder, curve_polylines, positions_at};
+use crate::run_folder::{RunFolder, curve_polylines, positions_at, record_instability};
 
 fn label(net: &Network, c: usize) -> String {
     let rod = &net.rods[c];
@@ -25,12 +25,17 @@ pub fn curves_obj(run: &RunFolder, k: usize, rest: bool) -> Result<String, Strin
     } else {
         Some(run.displacement(k)?)
     };
-    Ok(structure_obj(
+    let mut obj = structure_obj(
         &run.network,
         &rec.curves,
         u.as_deref(),
         &format!("iteration {k}"),
-    ))
+    );
+    if let Some(w) = record_instability(rec) {
+        let first = obj.find('\n').map_or(obj.len(), |i| i + 1);
+        obj.insert_str(first, &format!("# {}\n", super::unstable_header(&w)));
+    }
+    Ok(obj)
 }
 
 /// OBJ polylines of `curves` of `net` at displacements `u` (`None`: the designed rest state);

@@ -248,7 +248,10 @@ pub fn network_file(run: &RunFolder, k: usize) -> Result<NetworkFile, String> {
         run.result.setup.stability.material,
         Some(&u),
     );
-    f.source = Some(format!("{} iteration {k}", run.dir.display()));
+    let unstable = crate::run_folder::record_instability(rec).map_or_else(String::new, |w| {
+        format!(" ({})", super::unstable_header(&w))
+    });
+    f.source = Some(format!("{} iteration {k}{unstable}", run.dir.display()));
     f.iteration = Some(k);
     f.lambda = Some(rec.lambda);
     Ok(f)

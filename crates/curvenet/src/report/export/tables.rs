@@ -3,7 +3,7 @@
 use super::num;
 use super::rods::{arc_lengths, end_support, rod_joints};
 use crate::network::Network;
-use crate::run_folder::{RunFolder, positions_at};
+use crate::run_folder::{RunFolder, positions_at, record_instability};
 use std::fmt::Write as _;
 
 /// CSV of every network vertex of the curves of iteration `k`: arc length along the curve,
@@ -18,6 +18,9 @@ pub fn points_csv(run: &RunFolder, k: usize) -> Result<String, String> {
         "# curvenet export: iteration {k}, {} curves; one row per network vertex along each curve (scene units)",
         rec.curves.len()
     );
+    if let Some(w) = record_instability(rec) {
+        let _ = writeln!(out, "# {}", super::unstable_header(&w));
+    }
     let _ = writeln!(
         out,
         "# s = arc length at rest from the curve's first vertex; a closed curve does not repeat its first point"
@@ -49,12 +52,17 @@ pub fn points_csv(run: &RunFolder, k: usize) -> Result<String, String> {
 /// The fabrication table of iteration `k`: one row per kept rod.
 pub fn fabrication_csv(run: &RunFolder, k: usize) -> Result<String, String> {
     let rec = run.record(k)?;
-    Ok(fabrication_table(
+    let mut table = fabrication_table(
         &run.network,
         &format!("iteration {k} of {}", run.dir.display()),
         &rec.curves,
         rec.length,
-    ))
+    );
+    if let Some(w) = record_instability(rec) {
+        let first = table.find('\n').map_or(table.len(), |i| i + 1);
+        table.insert_str(first, &format!("# {}\n", super::unstable_header(&w)));
+    }
+    Ok(table)
 }
 
 /// The fabrication table of the run's answer (the network to build), `None` when the run

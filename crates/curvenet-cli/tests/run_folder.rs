@@ -1,0 +1,338 @@
+//! The run folder on the real binary: unstable recorded networks named wherever their numbers
+//! appear, the folder's lock, a fresh run into an old folder, and `--resume` comparing inputs by
+//! content.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// The binary under test.
+const BIN: &str = env!("CARGO_BIN_EXE_curvenet");
+
+/// A flat 2 × 2 grid of straight curves crossing at four points (reference text format).
+const GRID: &str = "CURVE 0\n-1 -0.5 0\n0 -0.5 0\n1 -0.5 0\n\
+                    CURVE 1\n-1 0.5 0\n0 0.5 0\n1 0.5 0\n\
+                    CURVE 2\n-0.5 -1 0\n-0.5 0 0\n-0.5 1 0\n\
+                    CURVE 3\n0.5 -1 0\n0.5 0 0\n0.5 1 0\n";
+
+/// A single free closed loop: nothing holds it, so it has zero modes (a mechanism).
+const LOOP: &str = "CURVE loop\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 0\n";
+
+/// A fresh temporary folder, removed on drop.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new() -> Self {
+        static COUNTER: AtomicUsize = AtomicUsize::new(0);
+        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+        let dir = std::env::temp_dir().join(format!("curvenet-runf-{}-{n}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).expect("temporary folder");
+        TempDir(dir)
+    }
+
+    fn write(&self, name: &str, text: &str) -> PathBuf {
+        let p = self.0.join(name);
+        std::fs::write(&p, text).expect("input written");
+        p
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// Runs the binary in `dir` with `args`.
+fn run_in(dir: &Path, args: &[&str]) -> Output {
+    Command::new(BIN)
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("curvenet runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn read(p: impl AsRef<Path>) -> String {
+    let p = p.as_ref();
+    std::fs::read_to_string(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+#[test]
+fn a_free_loop_simplified_is_named_unstable_wherever_its_numbers_appear() {
+    let tmp = TempDir::new();
+    tmp.write("loop.txt", LOOP);
+    let o = run_in(
+        &tmp.0,
+        &[
+            "simplify",
+            "--curves",
+            "loop.txt",
+            "--edge-length",
+            "0.1",
+            "--radius",
+            "0.01",
+            "--budget",
+            "0.5",
+            "--out",
+            "out",
+        ],
+    );
+    let (err, out) = (stderr(&o), stdout(&o));
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    // stderr: a warning naming the final network unstable.
+    assert!(
+        err.contains("warning: the final network (iteration 0, 1 curves")
+            && err.contains("unstable: ")
+            && err.contains("zero mode"),
+        "{err}"
+    );
+    // stdout and summary.txt: the numbers come with the word.
+    let summary = read(tmp.0.join("out/summary.txt"));
+    for text in [&out, &summary] {
+        let final_line = text
+            .lines()
+            .find(|l| l.starts_with("final: "))
+            .unwrap_or_else(|| panic!("no final line: {text}"));
+        assert!(final_line.contains("(unstable: "), "{final_line}");
+        assert!(text.contains("warning: the final network"), "{text}");
+    }
+    // The run's OBJ files, the viewer's data and every export's header.
+    assert!(read(tmp.0.join("out/final.obj")).starts_with("# WARNING: this network is unstable"));
+    assert!(read(tmp.0.join("out/iterations/0000.obj")).starts_with("# WARNING"));
+    let viewer = read(tmp.0.join("out/viewer.html"));
+    assert!(viewer.contains("\"unstable\":\"unstable: "), "viewer data");
+    assert!(
+        !tmp.0.join("out/fabrication.csv").exists(),
+        "nothing to build"
+    );
+    let o = run_in(
+        &tmp.0,
+        &["export", "out", "--format", "all", "--out", "exported"],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("iteration 0 is unstable: "),
+        "{}",
+        stderr(&o)
+    );
+    for f in [
+        "curves_0000.obj",
+        "curves_0000_rest.obj",
+        "fabrication_0000.csv",
+        "points_0000.csv",
+        "network_0000.json",
+    ] {
+        let text = read(tmp.0.join("exported").join(f));
+        let head: String = text.lines().take(5).collect::<Vec<_>>().join("\n");
+        assert!(
+            head.contains("WARNING: this network is unstable: "),
+            "{f}: {head}"
+        );
+    }
+}
+
+#[test]
+fn arcshell_s_final_mechanism_is_named_unstable() {
+    // The greedy's final 8-curve network has λ_eq ≈ -2e-15 and one zero mode.
+    let tmp = TempDir::new();
+    let o = run_in(
+        &tmp.0,
+        &["example", "arcshell", "--no-certificate", "--out", "out"],
+    );
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert!(
+        err.contains("warning: the final network (iteration 59, 8 curves")
+            && err.contains("unstable: 1 zero mode, a mechanism"),
+        "{err}"
+    );
+    let summary = read(tmp.0.join("out/summary.txt"));
+    assert!(
+        summary.contains("final: 8 curves") && summary.contains("(unstable: 1 zero mode"),
+        "{summary}"
+    );
+    assert!(read(tmp.0.join("out/final.obj")).starts_with("# WARNING"));
+}
+
+#[test]
+fn a_stable_grid_says_nothing_of_instability() {
+    let tmp = TempDir::new();
+    tmp.write("grid.txt", GRID);
+    let o = run_in(
+        &tmp.0,
+        &[
+            "simplify",
+            "--curves",
+            "grid.txt",
+            "--edge-length",
+            "0.25",
+            "--radius",
+            "0.01",
+            "--budget",
+            "0.9",
+            "--out",
+            "out",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("unstable"), "{}", stderr(&o));
+    assert!(!read(tmp.0.join("out/summary.txt")).contains("unstable"));
+    assert!(!read(tmp.0.join("out/final.obj")).contains("WARNING"));
+}
+
+/// `simplify` of the grid in `dir` into `out` with `budget`, then `extra`.
+fn simplify_grid(dir: &Path, out: &str, budget: &str, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "simplify",
+        "--curves",
+        "grid.txt",
+        "--edge-length",
+        "0.25",
+        "--radius",
+        "0.01",
+        "--budget",
+        budget,
+        "--out",
+        out,
+    ];
+    args.extend_from_slice(extra);
+    run_in(dir, &args)
+}
+
+/// The names in a folder, sorted.
+fn names(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .map(|d| {
+            d.filter_map(Result::ok)
+                .map(|e| e.file_name().to_string_lossy().into_owned())
+                .collect()
+        })
+        .unwrap_or_default();
+    v.sort();
+    v
+}
+
+#[test]
+fn a_fresh_run_into_an_old_run_s_folder_starts_clean() {
+    let tmp = TempDir::new();
+    tmp.write("grid.txt", GRID);
+    let o = simplify_grid(&tmp.0, "out", "0.5", &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let long = names(&tmp.0.join("out/iterations"));
+    // Stale files of an earlier run: more iterations than the new run makes, a temporary file.
+    std::fs::write(tmp.0.join("out/iterations/0099.obj"), "stale").unwrap();
+    std::fs::write(tmp.0.join("out/.result.json.tmp.1.0"), "stale").unwrap();
+    let o = simplify_grid(&tmp.0, "out", "0.9", &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stderr(&o).contains("a fresh run"), "{}", stderr(&o));
+    let short = names(&tmp.0.join("out/iterations"));
+    assert!(short.len() < long.len(), "{short:?} vs {long:?}");
+    for d in ["iterations", "modes"] {
+        let n = names(&tmp.0.join("out").join(d)).len();
+        assert_eq!(n, short.len(), "{d}: only the new run's iterations");
+    }
+    assert!(
+        !names(&tmp.0.join("out"))
+            .iter()
+            .any(|n| n.contains(".tmp."))
+    );
+    let result: serde_json::Value =
+        serde_json::from_str(&read(tmp.0.join("out/result.json"))).unwrap();
+    assert_eq!(result["iterations"].as_array().unwrap().len(), short.len());
+}
+
+#[test]
+fn a_non_empty_folder_that_is_no_run_s_is_refused_unless_forced() {
+    let tmp = TempDir::new();
+    tmp.write("grid.txt", GRID);
+    std::fs::create_dir_all(tmp.0.join("mine")).unwrap();
+    tmp.write("mine/notes.txt", "my notes");
+    let o = simplify_grid(&tmp.0, "mine", "0.9", &[]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("--out mine: the folder is not empty and is not a curvenet run's")
+            && stderr(&o).contains("notes.txt")
+            && stderr(&o).contains("--force"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!tmp.0.join("mine/result.json").exists(), "no work done");
+    let o = simplify_grid(&tmp.0, "mine", "0.9", &["--force"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(read(tmp.0.join("mine/notes.txt")), "my notes");
+    assert!(tmp.0.join("mine/result.json").is_file());
+}
+
+#[test]
+fn a_folder_another_run_holds_is_refused() {
+    use std::process::Stdio;
+    let tmp = TempDir::new();
+    // A run long enough to overlap: 24 geodesics on the built-in dome.
+    let t = run_in(
+        &tmp.0,
+        &[
+            "trace",
+            "--mesh",
+            "dome",
+            "--geodesics",
+            "24",
+            "--seed",
+            "1",
+            "--out",
+            "dome.json",
+        ],
+    );
+    assert_eq!(t.status.code(), Some(0), "{}", stderr(&t));
+    let args = [
+        "simplify",
+        "--mesh",
+        "dome",
+        "--curves",
+        "dome.json",
+        "--edge-length",
+        "100",
+        "--budget",
+        "0.3",
+        "--out",
+        "out",
+    ];
+    let mut first = Command::new(BIN)
+        .args(args)
+        .current_dir(&tmp.0)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("curvenet starts");
+    let started = std::time::Instant::now();
+    while !tmp.0.join("out/result.json").is_file() {
+        assert!(started.elapsed().as_secs() < 60, "the first run writes");
+        assert!(first.try_wait().unwrap().is_none(), "the first run ended");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let second = run_in(&tmp.0, &args);
+    let still_running = first.try_wait().unwrap().is_none();
+    first.kill().expect("SIGKILL");
+    let _ = first.wait();
+    assert!(
+        still_running,
+        "the first run ended before the second started"
+    );
+    assert_eq!(second.status.code(), Some(2), "{}", stderr(&second));
+    assert!(
+        stderr(&second).contains("--out out: another curvenet run is writing in this folder"),
+        "{}",
+        stderr(&second)
+    );
+    // The lock goes with the process, however it ended: the killed run resumes.
+    let resumed = run_in(&tmp.0, &[&args[..], &["--resume"]].concat());
+    assert_eq!(resumed.status.code(), Some(0), "{}", stderr(&resumed));
+}
