@@ -1060,7 +1060,20 @@ fn simplify_records_the_local_search_when_asked() {
     assert!(end >= start, "{l}");
     assert!(l["length"].as_f64().unwrap() <= result["budget"].as_f64().unwrap());
     let moves = l["moves"].as_array().unwrap();
-    assert_eq!(moves.is_empty(), l["curves"] == l["start_curves"], "{l}");
+    assert_eq!(moves.is_empty(), l["curves"] == l["from_curves"], "{l}");
+    // The greedy's set first, then single curves; the best search came from one of them.
+    let starts = l["starts"].as_array().unwrap();
+    assert_eq!(starts[0]["curves"], l["start_curves"], "{l}");
+    assert!((2..=4).contains(&starts.len()), "{l}");
+    assert!(
+        starts[1..]
+            .iter()
+            .all(|s| s["curves"].as_array().unwrap().len() == 1)
+    );
+    assert!(
+        starts.iter().any(|s| s["curves"] == l["from_curves"]),
+        "{l}"
+    );
     for key in ["rounds", "chains", "evaluations", "structures"] {
         assert!(l[key].as_u64().is_some(), "{key}: {l}");
     }
@@ -1157,9 +1170,10 @@ fn a_budget_the_run_cannot_meet_is_a_warning() {
         "{}",
         r.stderr
     );
-    // The local search cannot start: said in words, and no time is printed for it.
+    // The local search cannot start (no curve fits either): said in words, and no time is
+    // printed for it.
     assert!(
-        r.stderr.contains("no local search: ") && r.stderr.contains("(budget not met"),
+        r.stderr.contains("no local search: ") && r.stderr.contains("no feasible start"),
         "{}",
         r.stderr
     );
@@ -1214,6 +1228,42 @@ fn output_paths_that_cannot_be_written_are_usage_errors_before_any_work() {
         ],
         &["--out nowhere/x.json: the folder nowhere does not exist"],
     );
+}
+
+#[test]
+fn compare_fresh_reports_its_networks_and_checks_its_count() {
+    // Seed 5: three small networks (9–12 curves), each decided by exhaustive search.
+    let args = [
+        "compare",
+        "--fresh",
+        "3",
+        "--seed",
+        "5",
+        "--json",
+        "fresh.json",
+    ];
+    let r = run(&[], &args);
+    assert_eq!(r.code, 0, "{}\n{}", r.stderr, r.stdout);
+    assert!(!r.stderr.contains("panicked"), "{}", r.stderr);
+    assert!(
+        r.stdout.contains("3 networks drawn afresh") && r.stdout.contains("greedy + local search"),
+        "{}",
+        r.stdout
+    );
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(r.dir.join("fresh.json")).unwrap()).unwrap();
+    let rows = report["rows"].as_array().expect("rows");
+    assert_eq!(rows.len(), 3);
+    for row in rows {
+        // Greedy + local search is never below the greedy, nor above the optimum.
+        let (g, l) = (row["greedy"].as_f64(), row["local"].as_f64());
+        assert!(l >= g || g.is_none(), "{row}");
+        let o = row["optimum"].as_f64().expect("decided");
+        assert!(l.expect("a λ") <= o * (1.0 + 1e-6), "{row}");
+    }
+    for v in ["0", "-1", "x"] {
+        expect_error(&[], &["compare", "--fresh", v], &["--fresh <N>"]);
+    }
 }
 
 #[test]

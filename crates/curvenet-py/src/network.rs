@@ -13,7 +13,7 @@ use curvenet::rod::{Material, Supports};
 use curvenet::run_folder::{InputDescription, LocalSearchRecord, OutputWriter, RunSetup};
 use curvenet::simplify::greedy::IterationRecord;
 use curvenet::simplify::local::{LocalParams, local_search};
-use curvenet::simplify::{Budget, GreedyParams, SimplifyError, StopReason, greedy};
+use curvenet::simplify::{Budget, GreedyParams, SimplifyError, greedy};
 use curvenet::stability::{Analyzer, StabilityParams};
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
@@ -556,19 +556,14 @@ impl Cancelling {
     }
 }
 
-/// The local search from the greedy's final network, with the run's budget and keep list.
+/// The local search from the greedy's final network (when it is within the budget) and from
+/// the best single curves, with the run's budget and keep list.
 fn local_search_of(
     analyzer: &Analyzer,
     params: &GreedyParams,
     outcome: &curvenet::simplify::GreedyOutcome,
 ) -> Result<LocalSearchRecord, String> {
     let last = outcome.iterations.last().ok_or("no iteration")?;
-    if outcome.stop != StopReason::BudgetMet {
-        return Err(format!(
-            "the greedy's final network does not meet the budget (stop: {})",
-            outcome.stop
-        ));
-    }
     let local = LocalParams {
         keep: params.keep.clone(),
         ..LocalParams::new(params.budget)
@@ -581,5 +576,6 @@ fn local_search_of(
         &curvenet::cancel::Cancel::never(),
     )
     .map_err(|e| e.to_string())?;
-    LocalSearchRecord::new(&local, &o).ok_or_else(|| "λ_eq could not be evaluated".to_string())
+    LocalSearchRecord::new(&local, &o, &last.curves)
+        .ok_or_else(|| "λ_eq could not be evaluated".to_string())
 }

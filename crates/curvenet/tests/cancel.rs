@@ -17,7 +17,7 @@ use curvenet::rod::Supports;
 use curvenet::simplify::certificate::{CertifyParams, certify};
 use curvenet::simplify::exact::{ExactParams, ExactStatus, exact};
 use curvenet::simplify::exhaustive::{ExhaustiveParams, exhaustive};
-use curvenet::simplify::local::{LocalParams, local_search};
+use curvenet::simplify::local::{LocalParams, local_search, local_search_multi};
 use curvenet::simplify::random::{RandomParams, random_search};
 use curvenet::simplify::{Budget, SimplifyError};
 use curvenet::stability::fixed::FixedProblem;
@@ -74,7 +74,15 @@ fn a_cancelled_local_search_returns_its_best_set_so_far() {
         .filter(|&c| lengths[c] <= cap)
         .take(1)
         .collect();
-    let full = local_search(&an, &params, None, &start, &Cancel::never()).expect("runs");
+    // The search from the start alone: the default searches from it first.
+    let full = local_search_multi(
+        &an,
+        &params,
+        None,
+        std::slice::from_ref(&start),
+        &Cancel::never(),
+    )
+    .expect("runs");
     assert!(!full.cancelled);
     assert!(full.structures > 40, "long enough ({})", full.structures);
 
@@ -89,6 +97,10 @@ fn a_cancelled_local_search_returns_its_best_set_so_far() {
         panic!("the search ended before it was cancelled");
     };
     assert!(o.cancelled, "says it was cancelled");
+    assert_eq!(
+        o.start.curves, start,
+        "cancelled during the search from the start given"
+    );
     let after = an.cached_structures();
     assert!(
         after <= at + in_flight(),

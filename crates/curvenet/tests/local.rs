@@ -4,8 +4,9 @@
 //! exhaustive optimum, improves a deliberately poor start, and does not depend on the thread
 //! count (pools of one and two threads, bit for bit); the default search (descent, then
 //! variable-depth chains, with part steps) reaches the exhaustive optimum from the greedy's set
-//! on networks where single moves do not; the multi-start variant is at least the run from the
-//! greedy's set.
+//! on networks where single moves do not, and with its single-curve starts (the three best
+//! curves alone) on networks where the greedy's set alone does not; searching from several
+//! starts is at least the run from the greedy's set.
 //!
 //! The ignored test `explore` measures the searches on `curvenet compare`'s random geodesic
 //! networks (needs the reference data).
@@ -180,8 +181,24 @@ fn local_search_improves_feasibly_and_deterministically() {
                 check_path(&an, &params, &o, cap, &keep);
                 // Never above the optimum (same evaluation, cached or recomputed).
                 assert!(b.lambda <= ex.best.lambda * (1.0 + 5e-8) + 1e-300);
+                // The start given first, then single curves (with the keep list), feasible.
+                assert_eq!(o.given().map(|g| &g.curves), Some(from));
+                for s in &o.starts[1..] {
+                    assert_eq!(s.curves.len(), keep.len() + 1, "{s:?}");
+                    assert!(s.length <= cap && keep.iter().all(|k| s.curves.contains(k)));
+                }
+                // At least the search from the start alone, which moves from a poor start.
+                let alone = local_search_multi(
+                    &fresh(&an),
+                    &params,
+                    None,
+                    std::slice::from_ref(from),
+                    &Cancel::never(),
+                )
+                .expect("alone");
+                assert!(b.lambda >= alone.best.lambda);
                 if from == &worst.curves && worst.lambda < ex.best.lambda * 0.5 {
-                    assert!(!o.steps.is_empty(), "no move from the worst subset");
+                    assert!(!alone.steps.is_empty(), "no move from the worst subset");
                 }
                 assert!(o.evaluations > 0 && o.structures > 0);
                 assert_eq!(o.chains > 0, strategy == Strategy::VariableDepth);
@@ -207,9 +224,9 @@ fn local_search_improves_feasibly_and_deterministically() {
 }
 
 /// Networks where the greedy and single moves from its set stop short of the optimum and the
-/// default search, from the greedy's set alone, reaches it (exhaustive search's answer).
+/// default moves, from the greedy's set alone, reach it (exhaustive search's answer).
 #[test]
-fn default_search_reaches_the_optimum() {
+fn default_moves_reach_the_optimum() {
     for (seed, n, h) in [
         (40u64, 9usize, 70.0),
         (42, 10, 80.0),
@@ -229,8 +246,18 @@ fn default_search_reaches_the_optimum() {
         .expect("ex");
         let opt = ex.best.lambda;
         let tie = |v: f64| v >= opt - 1e-7 * opt.abs();
-        let single = run(&an, &LocalParams::single_moves(budget), &start);
-        let o = run(&an, &LocalParams::new(budget), &start);
+        let alone = |p: &LocalParams| {
+            local_search_multi(
+                &fresh(&an),
+                p,
+                None,
+                std::slice::from_ref(&start),
+                &Cancel::never(),
+            )
+            .expect("local search")
+        };
+        let single = alone(&LocalParams::single_moves(budget));
+        let o = alone(&LocalParams::new(budget));
         println!(
             "seed {seed}: greedy {:.3}, single moves {:.3}, default {:.3} ({} subsets of {})",
             single.start.lambda / opt,
@@ -412,8 +439,14 @@ fn max_deviation_excludes_exactly_the_networks_over_it() {
                 if c.check(from).is_err() {
                     continue;
                 }
-                let o = local_search(&fresh(&an), &params, Some(&c), from, &Cancel::never())
-                    .expect("local search");
+                let o = local_search_multi(
+                    &fresh(&an),
+                    &params,
+                    Some(&c),
+                    std::slice::from_ref(from),
+                    &Cancel::never(),
+                )
+                .expect("local search");
                 let d = brute
                     .iter()
                     .find(|b| b.0 == o.best.curves)
@@ -427,6 +460,20 @@ fn max_deviation_excludes_exactly_the_networks_over_it() {
                 } else {
                     assert!(!o.within_deviation(Some(&c)), "seed {seed} from {from:?}");
                 }
+            }
+            // The default also starts from the best single curves: within the limit as soon
+            // as one of them is.
+            let single_within = (0..n).any(|i| brute.iter().any(|b| b.0 == [i] && b.2 <= limit));
+            if c.check(&start).is_ok() && single_within {
+                let o = local_search(&fresh(&an), &params, Some(&c), &start, &Cancel::never())
+                    .expect("local search");
+                let d = brute
+                    .iter()
+                    .find(|b| b.0 == o.best.curves)
+                    .expect("a subset")
+                    .2;
+                assert!(d <= limit && o.within_deviation(Some(&c)), "seed {seed}");
+                assert!(o.best.lambda <= best_within.1 * (1.0 + 1e-6));
             }
         }
         // The answer among every subset (brute-force deviations): the constrained optimum.
@@ -463,5 +510,76 @@ fn max_deviation_excludes_exactly_the_networks_over_it() {
             opt_free.2,
             best_within.1
         );
+    }
+}
+
+/// Networks where the search from the greedy's set alone stops short of the optimum (49–64%
+/// of it) and the default, which also starts from the three best single curves, reaches it
+/// (exhaustive search's answer), without evaluating every feasible subset.
+#[test]
+fn single_curve_starts_reach_the_optimum_the_greedys_start_misses() {
+    for (seed, n, h) in [
+        (42u64, 9usize, 70.0),
+        (47, 9, 70.0),
+        (44, 10, 80.0),
+        (50, 10, 80.0),
+    ] {
+        let an = Analyzer::new(arches(seed, n, h), StabilityParams::default()).expect("an");
+        let budget = Budget::Fraction(0.3);
+        let g = greedy(&an, &GreedyParams::new(budget), None, None, &mut NoHooks).expect("greedy");
+        let start = g.iterations.last().expect("one").curves.clone();
+        let ex = exhaustive(
+            &fresh(&an),
+            &ExhaustiveParams::new(budget),
+            None,
+            &Cancel::never(),
+        )
+        .expect("ex");
+        let opt = ex.best.lambda;
+        let tie = |v: f64| v >= opt - 1e-7 * opt.abs();
+        let params = LocalParams::new(budget);
+        let alone = local_search_multi(
+            &fresh(&an),
+            &params,
+            None,
+            std::slice::from_ref(&start),
+            &Cancel::never(),
+        )
+        .expect("alone");
+        let o = run(&an, &params, &start);
+        assert!(
+            !tie(alone.best.lambda),
+            "seed {seed}: the greedy's start already optimal"
+        );
+        assert!(
+            tie(o.best.lambda),
+            "seed {seed}: {:?} against {:?}",
+            o.best,
+            ex.best
+        );
+        assert_eq!(o.given().map(|g| &g.curves), Some(&start));
+        assert_ne!(
+            o.start.curves, start,
+            "seed {seed}: found from a single curve"
+        );
+        assert_eq!(
+            o.starts.len(),
+            4,
+            "seed {seed}: the greedy's set and three curves"
+        );
+        // The single curves searched are the three best alone (exhaustive search's values).
+        let mut singles: Vec<(usize, f64)> = (0..n)
+            .filter_map(|c| {
+                ex.all
+                    .iter()
+                    .find(|s| s.curves == [c])
+                    .map(|s| (c, s.lambda))
+            })
+            .collect();
+        singles.sort_by(|a, b| b.1.total_cmp(&a.1));
+        let searched: Vec<usize> = o.starts[1..].iter().map(|s| s.curves[0]).collect();
+        let best3: Vec<usize> = singles.iter().take(3).map(|s| s.0).collect();
+        assert_eq!(searched, best3, "seed {seed}");
+        assert!(o.evaluations < ex.all.len());
     }
 }

@@ -539,7 +539,8 @@ fn evaluate_curves(
 }
 
 /// The local search (its default: descent with part steps, then variable-depth chains) from
-/// the greedy's final network, with the run's budget and keep list.
+/// the greedy's final network (when it is within the budget) and from the best single curves,
+/// with the run's budget, keep list and constraints.
 fn local_search_of(
     analyzer: &Analyzer,
     params: &GreedyParams,
@@ -551,18 +552,12 @@ fn local_search_of(
         .iterations
         .last()
         .ok_or_else(|| anyhow::anyhow!("no iteration"))?;
-    if outcome.stop != StopReason::BudgetMet {
-        anyhow::bail!(
-            "it starts from a network within the budget, and the greedy ended over it ({})",
-            outcome.stop
-        );
-    }
     let local = LocalParams {
         keep: params.keep.clone(),
         ..LocalParams::new(params.budget)
     };
     let o = local_search(analyzer, &local, Some(constraints), &last.curves, cancel)?;
-    let mut record = LocalSearchRecord::new(&local, &o)
+    let mut record = LocalSearchRecord::new(&local, &o, &last.curves)
         .ok_or_else(|| anyhow::anyhow!("λ_eq could not be evaluated"))?;
     record.objective = objective_name(analyzer.objective()).into();
     Ok(record)

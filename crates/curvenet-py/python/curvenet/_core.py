@@ -390,7 +390,8 @@ class Network:
         viewer page (default: when ``out`` is given). ``progress(iteration)`` is called after
         each iteration; an exception it raises stops the run, as does Ctrl-C
         (``KeyboardInterrupt``), within a fraction of a second, keeping what was recorded.
-        ``local_search=True`` also runs the local search from the greedy's final network.
+        ``local_search=True`` also runs the local search from the greedy's final network and
+        from the best single curves.
         """
         if budget is None and budget_length is None:
             budget = self.default_budget

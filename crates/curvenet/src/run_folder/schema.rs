@@ -4,6 +4,7 @@ use crate::constraints::answer::{Answer, NoAnswer};
 use crate::network::{BuildInfo, BuildParams};
 use crate::simplify::GreedyParams;
 use crate::simplify::certificate::Certificate;
+use crate::simplify::exhaustive::SubsetScore;
 use crate::simplify::greedy::{IterationRecord, StopReason};
 use crate::simplify::local::{LocalOutcome, LocalParams, Step, Strategy};
 use crate::stability::StabilityParams;
@@ -69,7 +70,8 @@ pub struct FinalRecord {
     pub lambda: f64,
 }
 
-/// The local search run after the greedy (`--local-search`), from the greedy's final network.
+/// The local search run after the greedy (`--local-search`), from the greedy's final network
+/// and from the best single curves ([`crate::simplify::local`], *Starts*).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct LocalSearchRecord {
     /// The objective: `lambda_eq` (or `frequency`: the values are then `μ_min`), every subset
@@ -81,11 +83,19 @@ pub struct LocalSearchRecord {
     pub strategy: Strategy,
     /// Whether moves were followed by part steps.
     pub parts: bool,
-    /// The greedy's final curves (the start).
+    /// The greedy's final curves.
     pub start_curves: Vec<usize>,
-    /// Their `λ_eq`, relaxed from the drawn state.
-    pub start_lambda: f64,
-    /// The curves the search ended with (the start when nothing improved it).
+    /// Their `λ_eq`, relaxed from the drawn state (`null` when they are over the budget: the
+    /// search did not start from them).
+    pub start_lambda: Option<f64>,
+    /// Every start searched from, in order, with its `λ_eq`: the greedy's final curves (when
+    /// within the budget), then the best single curves.
+    #[serde(default)]
+    pub starts: Vec<SubsetScore>,
+    /// The start the best search came from: `moves` lead from it to `curves`.
+    #[serde(default)]
+    pub from_curves: Vec<usize>,
+    /// The curves the search ended with.
     pub curves: Vec<usize>,
     /// Their total rest length (within the budget; the keep list is held).
     pub length: f64,
@@ -93,36 +103,50 @@ pub struct LocalSearchRecord {
     pub lambda: f64,
     /// `lambda / start_lambda` (`null` unless both are positive).
     pub ratio: Option<f64>,
-    /// The moves taken, in order, with the `λ_eq` after each.
+    /// The moves taken from `from_curves`, in order, with the `λ_eq` after each.
     pub moves: Vec<Step>,
-    /// Rounds run (scans of single moves, each followed by a chain when it found nothing).
+    /// Rounds run by the best search (scans of single moves, each followed by a chain when it
+    /// found nothing).
     pub rounds: usize,
-    /// Variable-depth chains built.
+    /// Variable-depth chains built by the best search.
     pub chains: usize,
-    /// Distinct subsets evaluated.
+    /// Distinct subsets evaluated, over every start.
     pub evaluations: usize,
     /// Connected structures relaxed (the expensive evaluations).
     pub structures: usize,
 }
 
 impl LocalSearchRecord {
-    /// The record of `outcome`, run with `params`; `None` when a `λ_eq` is not finite (a
-    /// failed evaluation: nothing worth recording).
-    pub fn new(params: &LocalParams, outcome: &LocalOutcome) -> Option<Self> {
-        let (s, b) = (&outcome.start, &outcome.best);
-        if !(s.lambda.is_finite() && b.lambda.is_finite()) {
+    /// The record of `outcome`, run with `params` after a greedy that ended at `greedy`;
+    /// `None` when the answer's `λ_eq` is not finite (a failed evaluation: nothing worth
+    /// recording).
+    pub fn new(params: &LocalParams, outcome: &LocalOutcome, greedy: &[usize]) -> Option<Self> {
+        let b = &outcome.best;
+        if !b.lambda.is_finite() {
             return None;
         }
+        let mut start_curves = greedy.to_vec();
+        start_curves.sort_unstable();
+        start_curves.dedup();
+        let start_lambda = outcome
+            .given()
+            .filter(|g| g.curves == start_curves)
+            .map(|g| g.lambda)
+            .filter(|l| l.is_finite());
         Some(LocalSearchRecord {
             objective: "lambda_eq".into(),
             strategy: params.strategy,
             parts: params.parts,
-            start_curves: s.curves.clone(),
-            start_lambda: s.lambda,
+            start_curves,
+            start_lambda,
+            starts: outcome.starts.clone(),
+            from_curves: outcome.start.curves.clone(),
             curves: b.curves.clone(),
             length: b.length,
             lambda: b.lambda,
-            ratio: (s.lambda > 0.0 && b.lambda > 0.0).then(|| b.lambda / s.lambda),
+            ratio: start_lambda
+                .filter(|&s| s > 0.0 && b.lambda > 0.0)
+                .map(|s| b.lambda / s),
             moves: outcome.steps.clone(),
             rounds: outcome.rounds,
             chains: outcome.chains,
@@ -136,15 +160,24 @@ impl LocalSearchRecord {
         let gain = self
             .ratio
             .map_or_else(String::new, |r| format!(", {r:.3}× the greedy's"));
+        let greedy = match self.start_lambda {
+            Some(l) => format!("greedy's set {l:.6e} relaxed from the drawn state{gain}"),
+            None => "the greedy's set is over the budget".to_string(),
+        };
+        let from = if self.from_curves == self.start_curves {
+            "the greedy's final network".to_string()
+        } else {
+            format!("curves {:?}", self.from_curves)
+        };
         format!(
-            "local search from the greedy's final network: {} move(s); curves {:?}, length {:.6}, \
-             λ_eq {:.6e} (greedy's set {:.6e} relaxed from the drawn state{gain}); {} subsets \
-             evaluated, {} structures relaxed",
+            "local search from the greedy's final network and the best single curves ({} \
+             starts): best from {from}, {} move(s); curves {:?}, length {:.6}, λ_eq {:.6e} \
+             ({greedy}); {} subsets evaluated, {} structures relaxed",
+            self.starts.len(),
             self.moves.len(),
             self.curves,
             self.length,
             self.lambda,
-            self.start_lambda,
             self.evaluations,
             self.structures
         )

@@ -305,3 +305,106 @@ fn empty_constraints_leave_every_search_as_it_is() {
     let other = Constraints::none(an.network(), 0.4 * total, &[]);
     assert!(greedy(&an, &gp, Some(&other), None, &mut NoHooks).is_err());
 }
+
+/// The local search's default starts under constraints (and a keep list): the greedy's set
+/// when it is feasible, then the best single units (with the units holding the keep list)
+/// that meet every constraint, ranked by `λ_eq` as brute force ranks them; every start and
+/// the answer feasible; never below the search from the greedy's set alone; an infeasible
+/// start given is skipped, not an error.
+#[test]
+fn the_local_searchs_single_unit_starts_meet_the_constraints() {
+    use super::local::{SINGLE_STARTS, local_search};
+    let mut all = cases();
+    all.push(case(
+        "groups, keep 0",
+        network(&pavilion(3, true, 0.0)),
+        None,
+        ConstraintParams {
+            groups: parse_groups("a: 1 4\nb: 2 5\n", "g.txt").expect("parses"),
+            ..Default::default()
+        },
+        0.6,
+        &[0],
+    ));
+    let never = Cancel::new();
+    let mut with_singles = Vec::new();
+    for k in all {
+        let c = &k.constraints;
+        let budget = Budget::Fraction(k.fraction);
+        let mut gp = GreedyParams::new(budget);
+        gp.keep = k.keep.clone();
+        let g = greedy(&k.analyzer, &gp, Some(c), None, &mut NoHooks).expect("greedy");
+        let start = g.iterations.last().expect("one").curves.clone();
+        let mut lp = LocalParams::new(budget);
+        lp.keep = k.keep.clone();
+        // The single-unit starts, by brute force: each unit not holding the keep list, with
+        // the units that do, when the set meets the constraints; the best by λ_eq.
+        let forced = c.forced_curves();
+        let mut singles: Vec<(Vec<usize>, f64)> = (0..c.units().len())
+            .filter(|&u| !c.is_forced(u))
+            .map(|u| {
+                let mut s = forced.clone();
+                s.extend_from_slice(&c.units()[u]);
+                s.sort_unstable();
+                s
+            })
+            .filter(|s| c.check(s).is_ok())
+            .map(|s| {
+                let l = k.analyzer.lambda_eq(&k.analyzer.set(&s)).expect("λ");
+                (s, l)
+            })
+            .collect();
+        singles.sort_by(|a, b| b.1.total_cmp(&a.1));
+        let any_single = !singles.is_empty();
+        let name = k.name;
+        let o = match local_search(&k.analyzer, &lp, Some(c), &start, &never) {
+            Ok(o) => o,
+            Err(e) => {
+                // Nothing to start from: the greedy ended over the budget, no unit fits.
+                assert!(c.check(&start).is_err() && !any_single, "{name}: {e}");
+                continue;
+            }
+        };
+        assert!(c.check(&o.best.curves).is_ok(), "{name}: {:?}", o.best);
+        assert!(
+            o.starts.iter().all(|s| c.check(&s.curves).is_ok()),
+            "{name}"
+        );
+        assert_eq!(o.given_searched, c.check(&start).is_ok(), "{name}");
+        let mut expected: Vec<Vec<usize>> =
+            o.given().map(|g| g.curves.clone()).into_iter().collect();
+        for (s, _) in singles.into_iter().take(SINGLE_STARTS) {
+            if !expected.contains(&s) {
+                expected.push(s);
+            }
+        }
+        let got: Vec<Vec<usize>> = o.starts.iter().map(|s| s.curves.clone()).collect();
+        assert_eq!(got, expected, "{name}: the starts");
+        if got.len() > usize::from(o.given_searched) {
+            with_singles.push(name);
+        }
+        if o.given_searched {
+            let alone = local_search_multi(
+                &k.analyzer,
+                &lp,
+                Some(c),
+                std::slice::from_ref(&start),
+                &never,
+            )
+            .expect("runs");
+            assert!(o.best.lambda >= alone.best.lambda, "{name}");
+        }
+        // Every curve at once is over the budget: skipped, the single units still searched
+        // (an error when there is none).
+        let everything: Vec<usize> = (0..c.curve_count()).collect();
+        match local_search(&k.analyzer, &lp, Some(c), &everything, &never) {
+            Ok(o) => assert!(
+                any_single && !o.given_searched && c.check(&o.best.curves).is_ok(),
+                "{name}"
+            ),
+            Err(e) => assert!(!any_single, "{name}: {e}"),
+        }
+    }
+    println!("single-unit starts searched on: {with_singles:?}");
+    assert!(with_singles.len() >= 3, "{with_singles:?}");
+}

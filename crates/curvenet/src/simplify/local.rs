@@ -63,6 +63,22 @@
 //! exhaustive and random searches; the search also remembers every subset it evaluated, so
 //! sets met again (chains revisit their neighbours) cost nothing.
 //!
+//! **Starts.** [`local_search`] searches from the start it is given (the greedy's final
+//! network, when it is feasible) and then from the [`SINGLE_STARTS`] best *single-curve* sets
+//! that fit the budget, ranked by their `λ_eq` (ties to the lower curve id): each curve alone,
+//! with the keep list when there is one; under design constraints each unit (a group or a
+//! symmetry orbit) alone, with the units holding the keep list, when the set meets every
+//! constraint. A start equal to one already searched is not searched again. The best outcome
+//! wins, ties to the earliest start, so the search never ends below the one from the given
+//! start alone. Why: the greedy, removing one curve at a time from the full network, ends
+//! among long curves, and at a tight budget the optimum often keeps a few short, stiff curves
+//! that no chain from there reaches; the stiffest single curves start the search among them.
+//! The searches share their evaluations (a set met by two costs one). A given start that is
+//! not feasible (the greedy ended over the budget) is skipped: the single-curve starts need no
+//! feasible greedy. [`local_search_multi`] searches from the starts it is given, only.
+//! Measured against the exhaustive optimum in `docs/compare.md` (*Generalisation*) and
+//! `docs/benchmarks.md` (*Local search*).
+//!
 //! Cancelled ([`Cancel`]), the search stops within one evaluation per thread and returns the
 //! best set it had reached ([`LocalOutcome::cancelled`]).
 
@@ -78,6 +94,10 @@ use std::collections::HashMap;
 /// Moves evaluated together (in parallel) under first improvement; fixed, so the search does
 /// not depend on the thread count.
 const CHUNK: usize = 8;
+
+/// Single-curve (single-unit) starts [`local_search`] searches from besides the start it is
+/// given: the best this many by `λ_eq`.
+pub const SINGLE_STARTS: usize = 3;
 
 /// How the local search uses its moves (see the module documentation).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -219,11 +239,18 @@ pub struct Step {
 /// What the local search did.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct LocalOutcome {
-    /// The starting subset.
+    /// The start of the search that reached `best` (`steps` lead from it).
     pub start: SubsetScore,
+    /// Every start searched from, in order, with its `λ_eq`: the start given first when it was
+    /// feasible ([`Self::given_searched`]), then the single-curve starts.
+    #[serde(default)]
+    pub starts: Vec<SubsetScore>,
+    /// Whether the start given was searched from (it was feasible): then it is `starts[0]`.
+    #[serde(default)]
+    pub given_searched: bool,
     /// The subset reached (no move, or no chain, improves it; or the move cap was hit).
     pub best: SubsetScore,
-    /// Moves taken, in order.
+    /// Moves taken from `start`, in order.
     pub steps: Vec<Step>,
     /// Rounds run, the last one (which found no improvement) included: scans of the single
     /// moves, each followed under [`Strategy::VariableDepth`] by a chain when it finds no
@@ -233,7 +260,8 @@ pub struct LocalOutcome {
     /// Chains built ([`Strategy::VariableDepth`]), the last one included.
     #[serde(default)]
     pub chains: usize,
-    /// Distinct subsets evaluated (the start included).
+    /// Distinct subsets evaluated, over every start (the starts included, and the
+    /// single-curve sets ranked to choose them).
     pub evaluations: usize,
     /// Connected structures relaxed for the first time while the search ran (the expensive
     /// part: the other evaluations were put together from the analyzer's cache). Counted on the
@@ -257,6 +285,11 @@ impl LocalOutcome {
             _ => true,
         }
     }
+
+    /// The start given, scored, when it was searched from (it was feasible).
+    pub fn given(&self) -> Option<&SubsetScore> {
+        self.starts.first().filter(|_| self.given_searched)
+    }
 }
 
 /// What the search knows of an evaluated subset.
@@ -273,14 +306,17 @@ struct Entry {
     part: Option<(usize, Vec<usize>, f64)>,
 }
 
-/// `λ_eq` of subsets, each evaluated once per search.
+/// What the searches of one run know of the subsets they evaluated (shared by its starts).
+type Memo = HashMap<Vec<usize>, Entry>;
+
+/// `λ_eq` of subsets, each evaluated once per run.
 struct Evaluator<'s> {
     analyzer: &'s Analyzer,
     /// Design constraints a part must meet to be stepped to.
     constraints: Option<&'s Constraints>,
     keep: Vec<usize>,
     tolerance: f64,
-    memo: HashMap<Vec<usize>, Entry>,
+    memo: &'s mut Memo,
     cancel: &'s Cancel,
 }
 
@@ -454,9 +490,12 @@ fn best_position(vals: &[f64], tol: f64) -> Option<usize> {
     vals.iter().position(|&v| v.is_finite() && v >= floor)
 }
 
-/// Runs the local search from `start` (a feasible subset), under the design `constraints`
-/// when given (bound to `analyzer`'s network and `params`' budget and keep list): then the
-/// moves are of whole units, to sets that meet the constraints, and `start` must meet them.
+/// Runs the local search from `start` and from the [`SINGLE_STARTS`] best single-curve starts
+/// (module documentation, *Starts*): the best outcome, ties to the earliest start. `start` is
+/// skipped when it is not feasible (over the budget, without the keep list, or not meeting the
+/// constraints); that is an error only when no single-curve start is feasible either. Under
+/// the design `constraints` when given (bound to `analyzer`'s network and `params`' budget and
+/// keep list): then the moves are of whole units, to sets that meet the constraints.
 pub fn local_search(
     analyzer: &Analyzer,
     params: &LocalParams,
@@ -468,7 +507,30 @@ pub fn local_search(
     if let Some(c) = constraints {
         super::exhaustive::check_binding(c, lengths.len(), budget, &params.keep)?;
     }
-    search_from(analyzer, params, active(constraints), start, cancel)
+    let n = lengths.len();
+    if let Some(&c) = start.iter().chain(&params.keep).find(|&&c| c >= n) {
+        return Err(SimplifyError::Params(format!(
+            "curve {c} does not exist ({n} curves)"
+        )));
+    }
+    let mut runs = MultiStart::new(analyzer, params, active(constraints), cancel);
+    let given = runs.feasible(start);
+    if given {
+        runs.search(start)?;
+    }
+    if !runs.stopped {
+        match runs.single_starts() {
+            Ok(singles) => {
+                for s in singles {
+                    if !runs.search(&s)? {
+                        break;
+                    }
+                }
+            }
+            Err(Stopped) => runs.stopped = true,
+        }
+    }
+    runs.finish(given)
 }
 
 /// Constraints that ask for something (`None`: the search without them).
@@ -476,13 +538,198 @@ fn active(constraints: Option<&Constraints>) -> Option<&Constraints> {
     constraints.filter(|c| c.is_active())
 }
 
-/// The local search from `start`, under `constraints` when given.
+/// Searches from several starts, sharing their evaluations; keeps the best outcome (ties to
+/// the earliest start).
+struct MultiStart<'s> {
+    analyzer: &'s Analyzer,
+    params: &'s LocalParams,
+    constraints: Option<&'s Constraints>,
+    cancel: &'s Cancel,
+    lengths: Vec<f64>,
+    budget: f64,
+    memo: Memo,
+    /// Structures in the analyzer's cache before the first search.
+    cached_before: usize,
+    /// The starts searched, in order.
+    starts: Vec<SubsetScore>,
+    best: Option<LocalOutcome>,
+    /// A search was cancelled: no more starts.
+    stopped: bool,
+}
+
+impl<'s> MultiStart<'s> {
+    fn new(
+        analyzer: &'s Analyzer,
+        params: &'s LocalParams,
+        constraints: Option<&'s Constraints>,
+        cancel: &'s Cancel,
+    ) -> Self {
+        let lengths = analyzer.lengths();
+        let budget = params.budget.length(lengths.iter().sum());
+        MultiStart {
+            analyzer,
+            params,
+            constraints,
+            cancel,
+            lengths,
+            budget,
+            memo: Memo::new(),
+            cached_before: analyzer.cached_structures(),
+            starts: Vec::new(),
+            best: None,
+            stopped: false,
+        }
+    }
+
+    /// The total length of `s`, summed in ascending order of the ids (as everywhere).
+    fn length(&self, s: &[usize]) -> f64 {
+        let mut sorted = s.to_vec();
+        sorted.sort_unstable();
+        sorted.iter().map(|&c| self.lengths[c]).sum()
+    }
+
+    /// Whether `s` is a start the search may take: curves that exist, at least one, within
+    /// the budget, holding the keep list, meeting the constraints.
+    fn feasible(&self, s: &[usize]) -> bool {
+        !s.is_empty()
+            && s.iter().all(|&c| c < self.lengths.len())
+            && self.length(s) <= self.budget
+            && self.params.keep.iter().all(|k| s.contains(k))
+            && self.constraints.is_none_or(|c| c.check(s).is_ok())
+    }
+
+    /// Searches from the feasible `start` unless it was searched already; false once the run
+    /// is cancelled.
+    fn search(&mut self, start: &[usize]) -> Result<bool, SimplifyError> {
+        let mut set = start.to_vec();
+        set.sort_unstable();
+        set.dedup();
+        if self.starts.iter().any(|s| s.curves == set) {
+            return Ok(true);
+        }
+        let (analyzer, params, constraints) = (self.analyzer, self.params, self.constraints);
+        let o = match search_from(
+            analyzer,
+            params,
+            constraints,
+            &set,
+            self.cancel,
+            &mut self.memo,
+        ) {
+            Err(SimplifyError::Cancelled) => {
+                self.stopped = true;
+                return Ok(false);
+            }
+            o => o?,
+        };
+        self.starts.push(o.start.clone());
+        self.stopped = o.cancelled;
+        let better = self.best.as_ref().is_none_or(|b| {
+            let (ow, bw) = (
+                o.within_deviation(constraints),
+                b.within_deviation(constraints),
+            );
+            (ow && !bw)
+                || (ow == bw
+                    && (o.best.lambda > b.best.lambda
+                        || (b.best.lambda.is_nan() && !o.best.lambda.is_nan())))
+        });
+        if better {
+            self.best = Some(o);
+        }
+        Ok(!self.stopped)
+    }
+
+    /// The [`SINGLE_STARTS`] best single-curve starts (module documentation, *Starts*), best
+    /// first: each curve (under constraints, each unit) with the keep list, when that is a
+    /// feasible start, ranked by the search's value (`λ_eq`; sets over `--max-deviation` and
+    /// failed evaluations are not taken), ties to the lower curve.
+    fn single_starts(&mut self) -> Result<Vec<Vec<usize>>, Stopped> {
+        let keep = &self.params.keep;
+        let sets: Vec<Vec<usize>> = match self.constraints {
+            Some(c) => {
+                let forced = c.forced_curves();
+                c.units()
+                    .iter()
+                    .enumerate()
+                    .filter(|&(u, _)| !c.is_forced(u))
+                    .map(|(_, unit)| {
+                        let mut s = forced.clone();
+                        s.extend_from_slice(unit);
+                        s.sort_unstable();
+                        s
+                    })
+                    .collect()
+            }
+            None => (0..self.lengths.len())
+                .filter(|c| !keep.contains(c))
+                .map(|c| {
+                    let mut s = keep.clone();
+                    s.push(c);
+                    s.sort_unstable();
+                    s.dedup();
+                    s
+                })
+                .collect(),
+        };
+        let sets: Vec<Vec<usize>> = sets.into_iter().filter(|s| self.feasible(s)).collect();
+        let entries = Evaluator {
+            analyzer: self.analyzer,
+            constraints: self.constraints,
+            keep: keep.clone(),
+            tolerance: self.params.tolerance,
+            memo: &mut self.memo,
+            cancel: self.cancel,
+        }
+        .eval_all(&sets)?;
+        let mut ranked: Vec<usize> = (0..sets.len())
+            .filter(|&i| entries[i].value.is_finite())
+            .collect();
+        // Stable: equal values keep the order of the curves.
+        ranked.sort_by(|&a, &b| entries[b].value.total_cmp(&entries[a].value));
+        Ok(ranked
+            .into_iter()
+            .take(SINGLE_STARTS)
+            .map(|i| sets[i].clone())
+            .collect())
+    }
+
+    /// The best outcome, with every start and the run's evaluations; `given`: whether the first
+    /// start searched was the one given.
+    fn finish(self, given: bool) -> Result<LocalOutcome, SimplifyError> {
+        let cancelled = self.cancel.is_cancelled();
+        match self.best {
+            Some(mut b) => {
+                b.given_searched = given;
+                b.starts = self.starts;
+                b.evaluations = self.memo.len();
+                b.structures = self
+                    .analyzer
+                    .cached_structures()
+                    .saturating_sub(self.cached_before);
+                b.cancelled |= cancelled;
+                Ok(b)
+            }
+            None if cancelled || self.stopped => Err(SimplifyError::Cancelled),
+            None => Err(SimplifyError::Params(
+                "local search: no feasible start (neither the start given nor any single curve \
+                 with the keep list fits the budget and the constraints)"
+                    .into(),
+            )),
+        }
+    }
+}
+
+/// The local search from `start` (feasible), under `constraints` when given, adding what it
+/// evaluates to `memo`. The outcome's `starts`, `evaluations` and `structures` are left for
+/// [`MultiStart::finish`].
 fn search_from(
     analyzer: &Analyzer,
     params: &LocalParams,
     constraints: Option<&Constraints>,
     start: &[usize],
     cancel: &Cancel,
+    memo: &mut Memo,
 ) -> Result<LocalOutcome, SimplifyError> {
     let (lengths, budget) = check(analyzer, params)?;
     let mut cur: Vec<usize> = start.to_vec();
@@ -505,14 +752,13 @@ fn search_from(
             "local search needs a starting subset that meets the constraints: {v}"
         )));
     }
-    let cached_before = analyzer.cached_structures();
     let mut search = Search {
         ev: Evaluator {
             analyzer,
             constraints,
             keep: params.keep.clone(),
             tolerance: params.tolerance,
-            memo: HashMap::new(),
+            memo,
             cancel,
         },
         params,
@@ -544,6 +790,8 @@ fn search_from(
         .and_then(|_| analyzer.deviation(&analyzer.set(&search.cur)).ok());
     Ok(LocalOutcome {
         start: start_score,
+        starts: Vec::new(),
+        given_searched: false,
         deviation,
         best: SubsetScore {
             length: length(&search.cur),
@@ -553,8 +801,8 @@ fn search_from(
         steps: search.steps,
         rounds: search.rounds,
         chains: search.chains,
-        evaluations: search.ev.memo.len(),
-        structures: analyzer.cached_structures().saturating_sub(cached_before),
+        evaluations: 0,
+        structures: 0,
         cancelled,
     })
 }
@@ -736,11 +984,11 @@ impl Search<'_> {
     }
 }
 
-/// Local search from several starts (e.g. the greedy's answer, then every curve alone, which
-/// reaches the small sets of short curves a greedy started from the full network misses): the
-/// best outcome, ties to the earliest start; under the design `constraints` when given (as
-/// [`local_search`]). Starts that are not feasible (or do not meet the constraints) are
-/// skipped; a cancelled search ends the run with the best outcome so far.
+/// Local search from the starts given, and from those only (e.g. the greedy's answer, then
+/// every curve alone): the best outcome, ties to the earliest start; under the design
+/// `constraints` when given (as [`local_search`]). The searches share their evaluations.
+/// Starts that are not feasible (or do not meet the constraints) are skipped; a cancelled
+/// search ends the run with the best outcome so far.
 pub fn local_search_multi(
     analyzer: &Analyzer,
     params: &LocalParams,
@@ -752,62 +1000,14 @@ pub fn local_search_multi(
     if let Some(c) = constraints {
         super::exhaustive::check_binding(c, lengths.len(), budget, &params.keep)?;
     }
-    multi(analyzer, params, active(constraints), starts, cancel)
-}
-
-/// The local search from several starts, under `constraints` when given.
-fn multi(
-    analyzer: &Analyzer,
-    params: &LocalParams,
-    constraints: Option<&Constraints>,
-    starts: &[Vec<usize>],
-    cancel: &Cancel,
-) -> Result<LocalOutcome, SimplifyError> {
-    let lengths = analyzer.lengths();
-    let budget = params.budget.length(lengths.iter().sum());
-    let n = lengths.len();
-    let mut best: Option<LocalOutcome> = None;
+    let mut runs = MultiStart::new(analyzer, params, active(constraints), cancel);
+    let given = starts.first().is_some_and(|s| runs.feasible(s));
     for s in starts {
-        let feasible = !s.is_empty()
-            && s.iter().all(|&c| c < n)
-            && s.iter().map(|&c| lengths[c]).sum::<f64>() <= budget
-            && params.keep.iter().all(|k| s.contains(k))
-            && constraints.is_none_or(|c| c.check(s).is_ok());
-        if !feasible {
-            continue;
-        }
-        let o = match search_from(analyzer, params, constraints, s, cancel) {
-            Err(SimplifyError::Cancelled) => break,
-            o => o?,
-        };
-        let stop = o.cancelled;
-        let better = best.as_ref().is_none_or(|b| {
-            let (ow, bw) = (
-                o.within_deviation(constraints),
-                b.within_deviation(constraints),
-            );
-            (ow && !bw)
-                || (ow == bw
-                    && (o.best.lambda > b.best.lambda
-                        || (b.best.lambda.is_nan() && !o.best.lambda.is_nan())))
-        });
-        if better {
-            best = Some(o);
-        }
-        if stop {
+        if runs.feasible(s) && !runs.search(s)? {
             break;
         }
     }
-    match best {
-        Some(mut b) => {
-            b.cancelled |= cancel.is_cancelled();
-            Ok(b)
-        }
-        None if cancel.is_cancelled() => Err(SimplifyError::Cancelled),
-        None => Err(SimplifyError::Params(
-            "local search: no feasible start".into(),
-        )),
-    }
+    runs.finish(given)
 }
 
 /// The unit moves from `cur` under `constraints` ([`Constraints::neighbours`]), each named by

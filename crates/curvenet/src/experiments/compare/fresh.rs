@@ -1,7 +1,7 @@
 //! The generalisation measurement (`curvenet compare --fresh N`): networks drawn afresh, each
 //! with its own surface, size, budget and seed, and the searches that produce a run's answer
-//! (the greedy, then the local search from its final network) against the exact optimum of
-//! `λ_eq` (exhaustive search).
+//! (the greedy, then the local search from its final network and from the best single curves,
+//! [`crate::simplify::local`]) against the exact optimum of `λ_eq` (exhaustive search).
 //!
 //! Network `k` of `N`: a SplitMix64 stream seeded by the base seed and `k` draws the number of
 //! curves (uniform in `min_curves..=max_curves`), the budget (uniform in
@@ -12,7 +12,8 @@
 //!
 //! Exhaustive search is exponential: it runs on networks of at most `exhaustive_max_curves`
 //! curves whose feasible subsets number at most `max_subsets`; the others are reported as
-//! skipped (with the greedy's and the local search's figures, no ratio). The report gives, over
+//! skipped (with the greedy's and the local search's figures, no ratio), and so is a network
+//! on which no curve fits the budget (no subset is feasible; the greedy's figure only). The report gives, over
 //! the networks decided, the mean of (greedy + local search) / optimum and how many reach the
 //! optimum (within the relative tolerance 1e-6: the searches and exhaustive search share one
 //! evaluation, so an optimum found is the same number).
@@ -128,10 +129,10 @@ pub struct FreshRow {
     pub vertices: usize,
     /// `λ_eq` of the greedy's final network (relaxed from the drawn state).
     pub greedy: f64,
-    /// Whether the greedy met the budget (the local search starts only from a network within
-    /// it).
+    /// Whether the greedy met the budget (the local search starts from its network only then;
+    /// it starts from the best single curves either way).
     pub greedy_within: bool,
-    /// `λ_eq` of greedy + local search (the greedy's when the local search could not start).
+    /// `λ_eq` of greedy + local search (the greedy's when no curve fits the budget).
     pub local: f64,
     /// Its curves.
     pub local_curves: Vec<usize>,
@@ -217,7 +218,7 @@ impl FreshReport {
         let mut s = format!(
             "{} networks drawn afresh (seed {}; {}–{} curves, budgets {:.2}–{:.2}, surfaces {}); \
              exhaustive search on {} of them (at most {} curves and {} feasible subsets; {} \
-             skipped).\n\n\
+             skipped{}).\n\n\
              | search | mean % of the optimum λ_eq | optimum reached |\n|---|---|---|\n\
              | greedy | {:.1}% | {}/{} ({:.1}%) |\n\
              | greedy + local search | {:.1}% | {}/{} ({:.1}%) |\n",
@@ -232,6 +233,7 @@ impl FreshReport {
             p.exhaustive_max_curves,
             p.max_subsets,
             self.rows.len() - decided.len(),
+            self.skip_reasons(),
             100.0 * greedy_mean,
             greedy_reached,
             decided.len(),
@@ -264,6 +266,32 @@ impl FreshReport {
             ));
         }
         s
+    }
+}
+
+impl FreshReport {
+    /// Why networks were skipped, counted by reason in order of first appearance
+    /// (`": 3 over 14 curves, 1 no curve fits the budget"`; empty when none was).
+    fn skip_reasons(&self) -> String {
+        let mut counts: Vec<(String, usize)> = Vec::new();
+        for r in self.rows.iter().filter(|r| r.optimum.is_none()) {
+            let why = match r.skipped.as_deref() {
+                Some(w) if w.ends_with(" curves") => {
+                    format!("over {} curves", self.params.exhaustive_max_curves)
+                }
+                Some(w) => w.to_string(),
+                None => "not decided".to_string(),
+            };
+            match counts.iter_mut().find(|c| c.0 == why) {
+                Some(c) => c.1 += 1,
+                None => counts.push((why, 1)),
+            }
+        }
+        if counts.is_empty() {
+            return String::new();
+        }
+        let parts: Vec<String> = counts.iter().map(|(w, k)| format!("{k} {w}")).collect();
+        format!(": {}", parts.join(", "))
     }
 }
 
@@ -383,21 +411,26 @@ fn row(
     row.greedy = analyzer.lambda_eq(&ActiveSet::from_curves(row.n, &last.curves))?;
     row.greedy_within = g.stop == StopReason::BudgetMet;
     (row.local, row.local_curves) = (row.greedy, last.curves.clone());
-    if row.greedy_within {
-        let o = local_search(
-            &analyzer,
-            &LocalParams::new(budget),
-            None,
-            &last.curves,
-            &never,
-        )?;
-        if o.best.lambda.is_finite() {
-            (row.local, row.local_curves) = (o.best.lambda, o.best.curves);
-        }
-    }
-    row.search_seconds = t.elapsed().as_secs_f64();
     let lengths = analyzer.lengths();
     let cap = budget.length(lengths.iter().sum());
+    // No subset is feasible: nothing for the local search or exhaustive search to find.
+    if lengths.iter().all(|&l| l > cap) {
+        row.search_seconds = t.elapsed().as_secs_f64();
+        row.skipped = Some("no curve fits the budget".into());
+        return Ok(row);
+    }
+    // From the greedy's network when it is within the budget, and from the best single curves.
+    let o = local_search(
+        &analyzer,
+        &LocalParams::new(budget),
+        None,
+        &last.curves,
+        &never,
+    )?;
+    if o.best.lambda.is_finite() {
+        (row.local, row.local_curves) = (o.best.lambda, o.best.curves);
+    }
+    row.search_seconds = t.elapsed().as_secs_f64();
     row.feasible = Constraints::none(analyzer.network(), cap, &[])
         .feasible_subsets(params.max_subsets)
         .map_or(params.max_subsets + 1, |s| s.len());
@@ -424,4 +457,34 @@ fn row(
     row.optimum = Some(ex.best.lambda);
     row.optimum_curves = ex.best.curves;
     Ok(row)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A network on which no curve fits the budget is skipped with that reason (no subset is
+    /// feasible: nothing to search), counted among the skipped, not an error.
+    #[test]
+    fn networks_no_curve_of_which_fits_the_budget_are_skipped() {
+        let mesh = crate::constraints::testing::square_mesh(500.0, 0.0, 8);
+        let params = FreshParams {
+            networks: 2,
+            min_curves: 8,
+            max_curves: 8,
+            min_budget: 0.01,
+            max_budget: 0.01,
+            ..FreshParams::default()
+        };
+        let r = fresh(&params, &[("square".into(), mesh)], &|_, _| {}).expect("runs");
+        for row in &r.rows {
+            assert_eq!(row.skipped.as_deref(), Some("no curve fits the budget"));
+            assert_eq!((row.feasible, row.optimum), (0, None));
+            assert_eq!(row.local.to_bits(), row.greedy.to_bits());
+            assert!(!row.greedy_within);
+        }
+        let md = r.markdown();
+        assert!(md.contains("2 skipped: 2 no curve fits the budget"), "{md}");
+        assert!(md.contains("skipped (no curve fits the budget)"), "{md}");
+    }
 }

@@ -204,23 +204,28 @@ fn greedy_figures(
     Ok(())
 }
 
-/// The local searches from the greedy's set, each with an analyzer (and cache) of its own
-/// (timed alone):
-/// the default and single improving moves.
+/// The local searches after the greedy, each with an analyzer (and cache) of its own (timed
+/// alone): the default (from the greedy's set and the best single curves) and single
+/// improving moves from the greedy's set alone.
 fn local_figures(
     row: &mut InstanceResult,
     analyzer: &Analyzer,
     budget: Budget,
 ) -> Result<(), SimplifyError> {
-    let timed = |p: &LocalParams| -> Result<(LocalOutcome, f64), SimplifyError> {
+    let timed = |p: &LocalParams, default: bool| -> Result<(LocalOutcome, f64), SimplifyError> {
         let own = Analyzer::new(analyzer.network().clone(), StabilityParams::default())
             .map_err(SimplifyError::Params)?;
         let t = Instant::now();
-        let o = local_search(&own, p, None, &row.greedy_curves, &Cancel::never())?;
+        let start = &row.greedy_curves;
+        let o = if default {
+            local_search(&own, p, None, start, &Cancel::never())?
+        } else {
+            local_search_multi(&own, p, None, std::slice::from_ref(start), &Cancel::never())?
+        };
         Ok((o, t.elapsed().as_secs_f64()))
     };
-    let (local, local_seconds) = timed(&LocalParams::new(budget))?;
-    let (single, single_seconds) = timed(&LocalParams::single_moves(budget))?;
+    let (local, local_seconds) = timed(&LocalParams::new(budget), true)?;
+    let (single, single_seconds) = timed(&LocalParams::single_moves(budget), false)?;
     row.local = local.best.lambda;
     row.local_curves = local.best.curves.clone();
     row.local_moves = local.steps.len();

@@ -10,10 +10,11 @@
 //! - random search with as many evaluations as the greedy spent (every candidate of every
 //!   iteration, as the paper's greedy evaluates them, plus one per iteration),
 //! - the greedy followed by the local search of [`crate::simplify::local`]: its default
-//!   (first-improvement descent with part steps, then variable-depth chains) and, for
-//!   comparison, single improving moves (first improvement, no part steps), each from the
-//!   greedy's final set alone, each with an analyzer of its own so its time and the structures it
-//!   relaxed are its own (no help from the other searches' cache),
+//!   (first-improvement descent with part steps, then variable-depth chains, from the greedy's
+//!   final set and from the best single curves) and, for comparison, single improving moves
+//!   (first improvement, no part steps) from the greedy's final set alone, each with an
+//!   analyzer of its own so its time and the structures it relaxed are its own (no help from
+//!   the other searches' cache),
 //! - the multi-start local search: single moves from the greedy's set and from every curve
 //!   alone, the best outcome,
 //! - the rounded relaxation: the best `λ_fix` among the roundings of the relaxed faces'
