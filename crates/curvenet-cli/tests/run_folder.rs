@@ -336,3 +336,52 @@ fn a_folder_another_run_holds_is_refused() {
     let resumed = run_in(&tmp.0, &[&args[..], &["--resume"]].concat());
     assert_eq!(resumed.status.code(), Some(0), "{}", stderr(&resumed));
 }
+
+#[test]
+fn resume_compares_inputs_by_content_and_names_the_first_difference() {
+    let tmp = TempDir::new();
+    tmp.write("grid.txt", GRID);
+    let o = simplify_grid(&tmp.0, "out", "0.5", &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let result = read(tmp.0.join("out/result.json"));
+    // The same content by another path: accepted, the record unchanged.
+    tmp.write("copy.txt", GRID);
+    let o = run_in(
+        &tmp.0,
+        &[
+            "simplify",
+            "--curves",
+            "./copy.txt",
+            "--edge-length",
+            "0.25",
+            "--radius",
+            "0.01",
+            "--budget",
+            "0.5",
+            "--out",
+            "out",
+            "--resume",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stderr(&o).contains("already complete"), "{}", stderr(&o));
+    assert_eq!(read(tmp.0.join("out/result.json")), result);
+    // Another budget: refused, naming it.
+    let o = simplify_grid(&tmp.0, "out", "0.4", &["--resume"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("--budget was 0.5, now 0.4"),
+        "{}",
+        stderr(&o)
+    );
+    // Other content under the same name: refused, saying so.
+    tmp.write("grid.txt", &GRID.replace("1 -0.5 0\n", "1 -0.4 0\n"));
+    let o = simplify_grid(&tmp.0, "out", "0.5", &["--resume"]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("the curves files' content differs from the run's"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(read(tmp.0.join("out/result.json")), result);
+}

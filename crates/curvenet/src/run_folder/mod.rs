@@ -40,6 +40,7 @@ pub mod carried;
 pub mod folder;
 pub mod reader;
 pub mod schema;
+pub mod setup_diff;
 pub mod summary;
 pub mod writer;
 

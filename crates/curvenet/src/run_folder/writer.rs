@@ -117,10 +117,12 @@ impl<'a> OutputWriter<'a> {
     ) -> Result<(Self, Option<ResumePoint>), String> {
         let result = ResultFile::read(dir)?;
         let mut warnings = Vec::new();
-        if &result.setup != setup {
+        // Inputs compared by content: the same file by another path resumes the run, which
+        // keeps its recorded description.
+        if let Some(d) = super::setup_diff::resume_difference(dir, &result.setup, setup, network)? {
             return Err(format!(
-                "{}: the recorded run was made with a different set-up; use another --out or drop --resume",
-                dir.join("result.json").display()
+                "{}: cannot resume: {d}; use another --out or drop --resume",
+                dir.display()
             ));
         }
         let point = match result.iterations.last() {
