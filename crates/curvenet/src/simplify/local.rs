@@ -63,6 +63,11 @@
 //! exhaustive and random searches; the search also remembers every subset it evaluated, so
 //! sets met again (chains revisit their neighbours) cost nothing.
 //!
+//! **Visited sets** ([`LocalOutcome::visited`]): every feasible set the search evaluated (and
+//! every part it stepped to) with `λ_eq > 0`, within `--max-deviation`, by decreasing `λ_eq`
+//! (ties by curve ids), from the values it computed anyway (no evaluation of its own); a
+//! multi-start search merges its starts'. A run's alternatives are chosen from them.
+//!
 //! Cancelled ([`Cancel`]), the search stops within one evaluation per thread and returns the
 //! best set it had reached ([`LocalOutcome::cancelled`]).
 
@@ -247,6 +252,11 @@ pub struct LocalOutcome {
     /// equilibrium (over the limit only when no set within it was reached).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub deviation: Option<f64>,
+    /// Every feasible set the search evaluated with `λ_eq > 0` (and within `--max-deviation`),
+    /// each once, by decreasing `λ_eq` (ties by ascending curve ids): the values it computed
+    /// anyway, where a run's alternatives come from. Not recorded in reports.
+    #[serde(skip)]
+    pub visited: Vec<SubsetScore>,
 }
 
 impl LocalOutcome {
@@ -542,7 +552,9 @@ fn search_from(
     let deviation = constraints
         .filter(|c| c.params().max_deviation.is_some())
         .and_then(|_| analyzer.deviation(&analyzer.set(&search.cur)).ok());
+    let visited = visited(&search.ev.memo, &lengths);
     Ok(LocalOutcome {
+        visited,
         start: start_score,
         deviation,
         best: SubsetScore {
@@ -557,6 +569,40 @@ fn search_from(
         structures: analyzer.cached_structures().saturating_sub(cached_before),
         cancelled,
     })
+}
+
+/// The feasible sets of `memo` (and the parts it stepped to) with `λ_eq > 0` within
+/// `--max-deviation`, by decreasing `λ_eq`, ties by ascending curve ids, each once.
+fn visited(memo: &HashMap<Vec<usize>, Entry>, lengths: &[f64]) -> Vec<SubsetScore> {
+    let score = |curves: &[usize], lambda: f64| SubsetScore {
+        curves: curves.to_vec(),
+        length: curves.iter().map(|&c| lengths[c]).sum(),
+        lambda,
+    };
+    let mut out: Vec<SubsetScore> = Vec::new();
+    for (set, e) in memo {
+        if e.value.is_finite() && e.lambda > 0.0 {
+            out.push(score(set, e.lambda));
+        }
+        if let Some((_, part, lambda)) = &e.part
+            && *lambda > 0.0
+        {
+            out.push(score(part, *lambda));
+        }
+    }
+    sort_visited(&mut out);
+    out
+}
+
+/// Sorts sets by decreasing `λ_eq`, ties by ascending curve ids, and keeps each set once.
+fn sort_visited(sets: &mut Vec<SubsetScore>) {
+    sets.sort_by(|a, b| {
+        b.lambda
+            .total_cmp(&a.lambda)
+            .then_with(|| a.curves.cmp(&b.curves))
+    });
+    let mut seen = std::collections::HashSet::new();
+    sets.retain(|s| seen.insert(s.curves.clone()));
 }
 
 /// The curves' lengths and the budget as a length, once the parameters are checked.
@@ -767,6 +813,7 @@ fn multi(
     let budget = params.budget.length(lengths.iter().sum());
     let n = lengths.len();
     let mut best: Option<LocalOutcome> = None;
+    let mut visited: Vec<SubsetScore> = Vec::new();
     for s in starts {
         let feasible = !s.is_empty()
             && s.iter().all(|&c| c < n)
@@ -781,6 +828,7 @@ fn multi(
             o => o?,
         };
         let stop = o.cancelled;
+        visited.extend(o.visited.iter().cloned());
         let better = best.as_ref().is_none_or(|b| {
             let (ow, bw) = (
                 o.within_deviation(constraints),
@@ -801,6 +849,8 @@ fn multi(
     match best {
         Some(mut b) => {
             b.cancelled |= cancel.is_cancelled();
+            sort_visited(&mut visited);
+            b.visited = visited;
             Ok(b)
         }
         None if cancel.is_cancelled() => Err(SimplifyError::Cancelled),

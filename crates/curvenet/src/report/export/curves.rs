@@ -1,10 +1,10 @@
-//! OBJ polylines and curvenet-curves JSON of an iteration's curves.
+//! OBJ polylines and curvenet-curves JSON of a recorded network's curves.
 
 use super::num;
 use super::rods::rod_supports;
 use crate::io;
 use crate::network::Network;
-use crate::run_folder::{RunFolder, curve_polylines, positions_at};
+use crate::run_folder::{RunFolder, Which, curve_polylines, positions_at};
 
 fn label(net: &Network, c: usize) -> String {
     let rod = &net.rods[c];
@@ -16,18 +16,21 @@ fn label(net: &Network, c: usize) -> String {
     )
 }
 
-/// OBJ polylines of the curves of iteration `k`: at equilibrium (`rest = false`) or in the
-/// designed rest state. One `o curve N` object and one `l` record per curve.
-pub fn curves_obj(run: &RunFolder, k: usize, rest: bool) -> Result<String, String> {
-    let rec = run.record(k)?;
+/// OBJ polylines of the curves of iteration `k` (or of the answer or an alternative: any
+/// [`Which`]): at equilibrium (`rest = false`) or in the designed rest state. One
+/// `o curve N` object and one `l` record per curve.
+pub fn curves_obj(run: &RunFolder, which: impl Into<Which>, rest: bool) -> Result<String, String> {
+    let which = which.into();
+    let net = run.network_of(which)?;
     let pos = if rest {
         positions_at(&run.network, None)
     } else {
-        positions_at(&run.network, Some(&run.displacement(k)?))
+        positions_at(&run.network, Some(&run.displacement_of(which)?))
     };
     let mut out = format!(
-        "# curvenet export: iteration {k}, {} curves, {} state, scene units\n",
-        rec.curves.len(),
+        "# curvenet export: {}, {} curves, {} state, scene units\n",
+        net.what,
+        net.curves.len(),
         if rest {
             "rest (designed)"
         } else {
@@ -36,25 +39,26 @@ pub fn curves_obj(run: &RunFolder, k: usize, rest: bool) -> Result<String, Strin
     );
     out.push_str(&io::curves_to_obj(&curve_polylines(
         &run.network,
-        &rec.curves,
+        &net.curves,
         &pos,
         |c| format!("curve {c}"),
     )));
     Ok(out)
 }
 
-/// curvenet-curves JSON of the curves of iteration `k`, at rest or at equilibrium; labels
-/// carry `id`, `rest_length`, `closed` and `supports`.
-pub fn curves_json(run: &RunFolder, k: usize, rest: bool) -> Result<String, String> {
-    let rec = run.record(k)?;
+/// curvenet-curves JSON of the curves of iteration `k` (any [`Which`]), at rest or at
+/// equilibrium; labels carry `id`, `rest_length`, `closed` and `supports`.
+pub fn curves_json(run: &RunFolder, which: impl Into<Which>, rest: bool) -> Result<String, String> {
+    let which = which.into();
+    let net = run.network_of(which)?;
     let pos = if rest {
         positions_at(&run.network, None)
     } else {
-        positions_at(&run.network, Some(&run.displacement(k)?))
+        positions_at(&run.network, Some(&run.displacement_of(which)?))
     };
     Ok(io::curves_to_json(&curve_polylines(
         &run.network,
-        &rec.curves,
+        &net.curves,
         &pos,
         |c| label(&run.network, c),
     )))
