@@ -56,11 +56,18 @@ pub struct ServeArgs {
     /// copies embedded in curvenet.
     #[arg(long, requires = "example")]
     pub data: Option<PathBuf>,
+    /// The output folder of a run (holding result.json) instead of input files: its network,
+    /// its material, and its greedy iterations to step through; serving starts on its answer.
+    #[arg(long, value_name = "DIR", conflicts_with_all = [
+        "example", "curves", "mesh", "scale", "edge_length",
+        "supports", "radius", "young", "anchor_weight", "merge_joints", "eigen_count",
+    ])]
+    pub run: Option<PathBuf>,
     /// Surface mesh: an OBJ file or a built-in surface name.
     #[arg(long)]
     pub mesh: Option<PathBuf>,
     /// Curve files (.txt reference format, .obj polylines, .json); repeat for several files.
-    #[arg(long, required_unless_present = "example")]
+    #[arg(long, required_unless_present_any = ["example", "run"])]
     pub curves: Vec<PathBuf>,
     /// Scale applied to the mesh and the curves.
     #[arg(long, default_value_t = 1.0, value_parser = positive, allow_hyphen_values = true)]

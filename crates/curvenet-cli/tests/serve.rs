@@ -191,3 +191,119 @@ fn serve_usage_errors_exit_2_naming_the_option() {
     drop(s);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A `simplify` run of the grid into `dir/run`.
+fn simplified(dir: &PathBuf) -> PathBuf {
+    let out = Command::new(BIN)
+        .args([
+            "simplify", "--curves", "grid.txt", "--budget", "0.6", "--out", "run",
+        ])
+        .args(QUIET)
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    dir.join("run")
+}
+
+/// `curvenet serve --run DIR` with `extra` options, its stdout's first line read.
+fn serve_run(dir: &PathBuf, run: &str, extra: &[&str]) -> Served {
+    let mut child = Command::new(BIN)
+        .args(["serve", "--run", run, "--port", "0"])
+        .args(extra)
+        .current_dir(dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    Served {
+        child,
+        url: line.trim().to_string(),
+    }
+}
+
+#[test]
+fn serve_run_starts_on_the_runs_answer_with_its_iterations_to_step_through() {
+    let dir = folder("run");
+    let run = simplified(&dir);
+    let result: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(run.join("result.json")).unwrap()).unwrap();
+    let s = serve_run(&dir, "run", &[]);
+    let (status, state) = request(&s.url, "GET", "/api/state", "");
+    assert_eq!(status, 200);
+    let answer = &result["answer"]["curves"];
+    assert_eq!(&state["curves"], answer);
+    let removed: Vec<String> = (0..6)
+        .filter(|c| !answer.as_array().unwrap().contains(&serde_json::json!(c)))
+        .map(|c| c.to_string())
+        .collect();
+    assert_close(&state, analyze(&dir, &removed.join(",")));
+    // The run's iterations, to step through.
+    let (status, progress) = request(&s.url, "GET", "/api/greedy", "");
+    assert_eq!(status, 200);
+    assert_eq!(progress["status"], "done");
+    assert_eq!(progress["stop"], "budget met");
+    let (_, listed) = request(&s.url, "GET", "/api/greedy/iterations", "");
+    let recorded = result["iterations"].as_array().unwrap();
+    let listed = listed["iterations"].as_array().unwrap();
+    assert_eq!(listed.len(), recorded.len());
+    for (a, b) in listed.iter().zip(recorded) {
+        assert_eq!(a["curves"], b["curves"]);
+    }
+    let (status, step) = request(&s.url, "POST", "/api/greedy/step", r#"{"iteration":0}"#);
+    assert_eq!(status, 200);
+    assert_eq!(step["curves"], serde_json::json!([0, 1, 2, 3, 4, 5]));
+    assert_close(&step, analyze(&dir, ""));
+    // No request reaches the folder's files.
+    for path in [
+        "/result.json",
+        "/run/result.json",
+        "/api/../result.json",
+        "/%2e%2e/grid.txt",
+    ] {
+        let (status, body) = request(&s.url, "GET", path, "");
+        assert_eq!(status, 404, "{path}: {body}");
+    }
+    drop(s);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn serve_run_usage_errors_exit_2_naming_the_folder_or_the_option() {
+    let dir = folder("run-usage");
+    let run = simplified(&dir);
+    std::fs::create_dir_all(dir.join("broken")).unwrap();
+    std::fs::write(dir.join("broken/result.json"), "{\"version\": ").unwrap();
+    let cases: &[(&[&str], &str)] = &[
+        (&["--run", "nowhere"], "nowhere: not a folder"),
+        (&["--run", "broken"], "broken/result.json"),
+        (&["--run", "run", "--radius", "1"], "cannot be used with"),
+        (
+            &["--run", "run", "--curves", "grid.txt"],
+            "cannot be used with",
+        ),
+        (&["--run", "run", "--remove", "7"], "--remove names curve 7"),
+    ];
+    for (args, says) in cases {
+        let out = Command::new(BIN)
+            .args(["serve", "--port", "0"])
+            .args(*args)
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains(says), "{args:?}: {stderr}");
+        assert!(out.stdout.is_empty(), "{args:?}");
+    }
+    assert!(run.join("result.json").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

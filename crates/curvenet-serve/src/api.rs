@@ -1,10 +1,15 @@
-//! The HTTP API: routes, handlers and the JSON errors every bad request gets.
+//! The HTTP API: routes, handlers and the JSON errors every bad request gets. The greedy's
+//! routes are in [`greedy`], the export's in [`export`].
+
+mod export;
+mod greedy;
 
 use crate::design::{Design, DesignError, Edited, Summary};
+use crate::greedy::Runner;
 use axum::Router;
 use axum::body::Bytes;
 use axum::extract::rejection::BytesRejection;
-use axum::extract::{DefaultBodyLimit, State};
+use axum::extract::{DefaultBodyLimit, FromRef, State};
 use axum::http::{Method, StatusCode, Uri, header};
 use axum::response::{Html, IntoResponse, Response};
 use axum::routing::{get, post};
@@ -15,8 +20,53 @@ use std::sync::Arc;
 /// The largest request body accepted (a list of every curve id of a large network fits).
 pub const BODY_LIMIT: usize = 1 << 20;
 
-/// The router of the API over `design`.
-pub fn router(design: Arc<Design>) -> Router {
+/// The endpoints and their methods, as the 404 and 405 answers list them.
+const ENDPOINTS: &[(&str, &str)] = &[
+    ("/api/state", "GET"),
+    ("/api/set", "POST"),
+    ("/api/toggle", "POST"),
+    ("/api/mode", "GET"),
+    ("/api/network", "GET"),
+    ("/api/greedy", "GET, POST"),
+    ("/api/greedy/cancel", "POST"),
+    ("/api/greedy/iterations", "GET"),
+    ("/api/greedy/step", "POST"),
+    ("/api/export", "GET"),
+];
+
+/// What the handlers share: the design and its greedy.
+#[derive(Clone, Debug)]
+pub struct AppState {
+    /// The network being designed and its current structure.
+    pub design: Arc<Design>,
+    /// The greedy runs on it.
+    pub greedy: Arc<Runner>,
+}
+
+impl AppState {
+    /// The state of `design`, no greedy run yet.
+    pub fn new(design: Design) -> Self {
+        AppState {
+            design: Arc::new(design),
+            greedy: Arc::new(Runner::default()),
+        }
+    }
+}
+
+impl FromRef<AppState> for Arc<Design> {
+    fn from_ref(s: &AppState) -> Self {
+        s.design.clone()
+    }
+}
+
+impl FromRef<AppState> for Arc<Runner> {
+    fn from_ref(s: &AppState) -> Self {
+        s.greedy.clone()
+    }
+}
+
+/// The router of the API over `app`.
+pub fn router(app: AppState) -> Router {
     Router::new()
         .route("/", get(index))
         .route("/api/state", get(state))
@@ -24,10 +74,15 @@ pub fn router(design: Arc<Design>) -> Router {
         .route("/api/toggle", post(toggle))
         .route("/api/mode", get(mode))
         .route("/api/network", get(network))
+        .route("/api/greedy", get(greedy::progress).post(greedy::start))
+        .route("/api/greedy/cancel", post(greedy::cancel))
+        .route("/api/greedy/iterations", get(greedy::iterations))
+        .route("/api/greedy/step", post(greedy::step))
+        .route("/api/export", get(export::export))
         .fallback(not_found)
         .method_not_allowed_fallback(method_not_allowed)
         .layer(DefaultBodyLimit::max(BODY_LIMIT))
-        .with_state(design)
+        .with_state(app)
 }
 
 /// An error answered as `{"error": message}` with its status.
@@ -38,7 +93,7 @@ pub struct ApiError {
 }
 
 impl ApiError {
-    fn new(status: StatusCode, message: impl Into<String>) -> Self {
+    pub(crate) fn new(status: StatusCode, message: impl Into<String>) -> Self {
         ApiError {
             status,
             message: message.into(),
@@ -66,7 +121,7 @@ impl From<DesignError> for ApiError {
 }
 
 /// A handler's answer: JSON or an [`ApiError`].
-type ApiResult<T> = Result<axum::Json<T>, ApiError>;
+pub(crate) type ApiResult<T> = Result<axum::Json<T>, ApiError>;
 
 /// The body of `POST /api/set`.
 #[derive(serde::Deserialize)]
@@ -84,7 +139,7 @@ struct ToggleBody {
 
 /// A summary with the server-side time of its computation.
 #[derive(Serialize)]
-struct EditAnswer {
+pub(crate) struct EditAnswer {
     #[serde(flatten)]
     summary: Summary,
     elapsed_ms: f64,
@@ -125,7 +180,9 @@ struct NetworkAnswer {
 }
 
 /// The JSON of `body`, or a 400 naming what is wrong with it (a 413 when it is too large).
-fn parse<T: DeserializeOwned>(body: Result<Bytes, BytesRejection>) -> Result<T, ApiError> {
+pub(crate) fn parse<T: DeserializeOwned>(
+    body: Result<Bytes, BytesRejection>,
+) -> Result<T, ApiError> {
     let body = body.map_err(|r| ApiError::new(r.status(), r.body_text()))?;
     let malformed = |e: serde_json::Error| {
         ApiError::new(StatusCode::BAD_REQUEST, format!("malformed JSON body: {e}"))
@@ -146,15 +203,19 @@ async fn blocking<T: Send + 'static>(
     design: Arc<Design>,
     f: impl FnOnce(&Design) -> Result<T, DesignError> + Send + 'static,
 ) -> Result<T, ApiError> {
-    tokio::task::spawn_blocking(move || f(&design))
-        .await
-        .map_err(|e| {
-            ApiError::new(
-                StatusCode::INTERNAL_SERVER_ERROR,
-                format!("the computation stopped: {e}"),
-            )
-        })?
-        .map_err(ApiError::from)
+    off_runtime(move || f(&design).map_err(ApiError::from)).await
+}
+
+/// Runs `f` on a blocking thread, off the async runtime.
+pub(crate) async fn off_runtime<T: Send + 'static>(
+    f: impl FnOnce() -> Result<T, ApiError> + Send + 'static,
+) -> Result<T, ApiError> {
+    tokio::task::spawn_blocking(f).await.map_err(|e| {
+        ApiError::new(
+            StatusCode::INTERNAL_SERVER_ERROR,
+            format!("the computation stopped: {e}"),
+        )
+    })?
 }
 
 async fn index() -> Html<&'static str> {
@@ -214,22 +275,25 @@ async fn network(State(design): State<Arc<Design>>) -> ApiResult<NetworkAnswer> 
 }
 
 async fn not_found(method: Method, uri: Uri) -> ApiError {
+    let list: Vec<String> = ENDPOINTS
+        .iter()
+        .map(|(path, methods)| format!("{methods} {path}"))
+        .collect();
     ApiError::new(
         StatusCode::NOT_FOUND,
         format!(
-            "no such endpoint: {method} {}; the API is GET /api/state, POST /api/set, \
-             POST /api/toggle, GET /api/mode, GET /api/network",
-            uri.path()
+            "no such endpoint: {method} {}; the API is {}",
+            uri.path(),
+            list.join(", ")
         ),
     )
 }
 
 async fn method_not_allowed(method: Method, uri: Uri) -> Response {
-    let allowed = if uri.path().starts_with("/api/set") || uri.path().starts_with("/api/toggle") {
-        "POST"
-    } else {
-        "GET"
-    };
+    let allowed = ENDPOINTS
+        .iter()
+        .find(|(path, _)| *path == uri.path())
+        .map_or("GET", |e| e.1);
     let mut r = ApiError::new(
         StatusCode::METHOD_NOT_ALLOWED,
         format!("{method} {}: use {allowed}", uri.path()),
@@ -246,4 +310,8 @@ const INDEX: &str = "<!doctype html><meta charset=utf-8><title>curvenet serve</t
 <h1>curvenet serve</h1><p>The JSON API of this network: \
 <a href=/api/state>GET /api/state</a>, POST /api/set <code>{\"curves\":[…]}</code>, \
 POST /api/toggle <code>{\"curve\":id}</code>, <a href=/api/mode>GET /api/mode</a>, \
-<a href=/api/network>GET /api/network</a>.</p>";
+<a href=/api/network>GET /api/network</a>, POST /api/greedy <code>{\"budget\":0.5}</code>, \
+<a href=/api/greedy>GET /api/greedy</a>, <a href=/api/greedy/iterations>GET \
+/api/greedy/iterations</a>, POST /api/greedy/step <code>{\"iteration\":k}</code>, \
+POST /api/greedy/cancel, <a href=\"/api/export?format=obj\">GET /api/export?format=obj</a> \
+(csv, json).</p>";

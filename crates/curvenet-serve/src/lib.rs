@@ -2,19 +2,23 @@
 //! edits.
 //!
 //! A [`Design`] holds the network's [`curvenet::stability::Analyzer`] and the current
-//! structure behind one lock; [`api::router`] answers HTTP requests about it (docs/serve.md),
-//! running every analysis off the async runtime; [`Server`] binds a socket and serves the
+//! structure behind one lock; a [`Runner`] runs the greedy on it, one run at a time on a
+//! thread of its own ([`greedy`]); [`export`] writes the current structure as a file;
+//! [`api::router`] answers HTTP requests about them (docs/serve.md), running every analysis
+//! off the async runtime; [`Server`] binds a socket and serves the
 //! router on a tokio runtime of its own. The core library stays free of tokio: only this
 //! crate (and the command line's `serve` feature) depends on it.
 
 pub mod api;
 pub mod design;
+pub mod export;
+pub mod greedy;
 
-pub use api::router;
+pub use api::{AppState, router};
 pub use design::{Design, DesignError, Edited, Evaluated, Status, Summary};
+pub use greedy::{Progress, RunStatus, Runner, Step};
 
 use std::net::SocketAddr;
-use std::sync::Arc;
 
 /// A bound server: the socket is listening once [`Server::bind`] returns (a busy port fails
 /// before any analysis), and [`Server::run`] serves a design on it.
@@ -54,8 +58,18 @@ impl Server {
     ///
     /// The listener failed.
     pub fn run(self, design: Design) -> std::io::Result<()> {
+        self.serve(AppState::new(design))
+    }
+
+    /// Serves requests about `app` (a design and its greedy) until the process ends (or the
+    /// listener fails).
+    ///
+    /// # Errors
+    ///
+    /// The listener failed.
+    pub fn serve(self, app: AppState) -> std::io::Result<()> {
         let Server { runtime, listener } = self;
-        let app = router(Arc::new(design));
+        let app = router(app);
         runtime.block_on(async move { axum::serve(listener, app).await })
     }
 }

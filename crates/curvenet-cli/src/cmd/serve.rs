@@ -1,13 +1,17 @@
-//! `curvenet serve`: the network of the inputs (or of a paper's example) over a local JSON
-//! API (docs/serve.md), each edit analysed as `curvenet analyze --remove` would.
+//! `curvenet serve`: the network of the inputs (or of a paper's example, or of a run folder)
+//! over a local JSON API (docs/serve.md), each edit analysed as `curvenet analyze --remove`
+//! would.
 
 use super::{load_inputs, print_warnings, stability_params};
 use crate::args::{InputArgs, ServeArgs};
 use crate::exit::usage;
 use curvenet::network::{BuildParams, build_network};
+use curvenet::run_folder::RunFolder;
 use curvenet::stability::Analyzer;
-use curvenet_serve::{Design, DesignError, Server};
+use curvenet_serve::{AppState, Design, DesignError, Runner, Server};
 use std::net::{SocketAddr, ToSocketAddrs};
+use std::path::Path;
+use std::sync::Arc;
 
 pub fn run(a: ServeArgs) -> anyhow::Result<()> {
     let addr = address(&a.host, a.port)?;
@@ -23,6 +27,38 @@ pub fn run(a: ServeArgs) -> anyhow::Result<()> {
             "cannot listen on {addr}: {e} (choose another --port, or --port 0 for any free one)"
         ))
     })?;
+    let (analyzer, kept, runner) = match &a.run {
+        Some(dir) => from_run(dir, &a.remove)?,
+        None => {
+            let (analyzer, kept) = from_inputs(&a)?;
+            (analyzer, kept, Runner::default())
+        }
+    };
+    let n = analyzer.curve_count();
+    let design = Design::new(analyzer, &kept).map_err(|e| match e {
+        DesignError::Empty => usage("--remove would remove every curve; nothing is left to serve"),
+        e => anyhow::Error::new(e),
+    })?;
+    let bound = server.local_addr()?;
+    // The first line on stdout: scripts and tests read the URL from it.
+    println!("{}", curvenet_serve::url(bound));
+    let s = design.current().summary.clone();
+    eprintln!(
+        "serving {} of {n} curves: λ = {:.6e} ({:?}); Ctrl-C stops",
+        s.curves.len(),
+        s.lambda,
+        s.status
+    );
+    let app = AppState {
+        design: Arc::new(design),
+        greedy: Arc::new(runner),
+    };
+    server.serve(app)?;
+    Ok(())
+}
+
+/// The analyzer of the inputs (or of `--example`) and the curves kept at the start.
+fn from_inputs(a: &ServeArgs) -> anyhow::Result<(Analyzer, Vec<usize>)> {
     let params = stability_params(&a.physics)?;
     let (curves, build, warnings) = match &a.example {
         Some(name) => {
@@ -49,32 +85,47 @@ pub fn run(a: ServeArgs) -> anyhow::Result<()> {
     };
     print_warnings(&warnings);
     let n = curves.len();
-    if let Some(&bad) = a.remove.iter().find(|&&c| c >= n) {
-        return Err(usage(format!(
-            "--remove names curve {bad}, but the input has {n} curves (ids 0..{})",
-            n.saturating_sub(1)
-        )));
-    }
+    check_removed(&a.remove, n)?;
     let (network, info) = build_network(&curves, &build)?;
     print_warnings(&info.warnings);
     let analyzer = Analyzer::new(network, params).map_err(usage)?;
-    let kept: Vec<usize> = (0..n).filter(|c| !a.remove.contains(c)).collect();
-    let design = Design::new(analyzer, &kept).map_err(|e| match e {
-        DesignError::Empty => usage("--remove would remove every curve; nothing is left to serve"),
-        e => anyhow::Error::new(e),
-    })?;
-    let bound = server.local_addr()?;
-    // The first line on stdout: scripts and tests read the URL from it.
-    println!("{}", curvenet_serve::url(bound));
-    let s = design.current().summary.clone();
-    eprintln!(
-        "serving {} of {n} curves: λ = {:.6e} ({:?}); Ctrl-C stops",
-        s.curves.len(),
-        s.lambda,
-        s.status
-    );
-    server.run(design)?;
-    Ok(())
+    let kept = (0..n).filter(|c| !a.remove.contains(c)).collect();
+    Ok((analyzer, kept))
+}
+
+/// The analyzer of a run folder's network and material, the curves of its answer (of its last
+/// iteration when it has none) less `remove`, and its greedy iterations.
+fn from_run(dir: &Path, remove: &[usize]) -> anyhow::Result<(Analyzer, Vec<usize>, Runner)> {
+    let run = RunFolder::open(dir).map_err(usage)?;
+    print_warnings(&run.warnings);
+    let r = &run.result;
+    check_removed(remove, run.network.rods.len())?;
+    let analyzer = Analyzer::new(run.network.clone(), r.setup.stability.clone())
+        .map_err(|e| usage(format!("{}: {e}", dir.join("result.json").display())))?;
+    let start = match &r.answer {
+        Some(a) => &a.curves,
+        None => &r.iterations[run.last_index()].curves,
+    };
+    let kept = start
+        .iter()
+        .copied()
+        .filter(|c| !remove.contains(c))
+        .collect();
+    let fraction = r.budget / r.setup.total_length;
+    let stop = r.stop.map(|s| s.to_string());
+    let runner = Runner::finished(&r.iterations, (fraction, r.budget), stop);
+    Ok((analyzer, kept, runner))
+}
+
+/// `--remove` checked against a network of `n` curves.
+fn check_removed(remove: &[usize], n: usize) -> anyhow::Result<()> {
+    match remove.iter().find(|&&c| c >= n) {
+        Some(&bad) => Err(usage(format!(
+            "--remove names curve {bad}, but the input has {n} curves (ids 0..{})",
+            n.saturating_sub(1)
+        ))),
+        None => Ok(()),
+    }
 }
 
 /// The socket address of `--host` and `--port`.

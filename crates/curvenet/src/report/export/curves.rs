@@ -1,4 +1,4 @@
-//! OBJ polylines and curvenet-curves JSON of a recorded network's curves.
+//! OBJ polylines and curvenet-curves JSON of an iteration's curves.
 
 use super::num;
 use super::rods::rod_supports;
@@ -21,47 +21,61 @@ fn label(net: &Network, c: usize) -> String {
 /// `o curve N` object and one `l` record per curve.
 pub fn curves_obj(run: &RunFolder, which: impl Into<Which>, rest: bool) -> Result<String, String> {
     let which = which.into();
-    let net = run.network_of(which)?;
-    let pos = if rest {
-        positions_at(&run.network, None)
+    let rec = run.network_of(which)?;
+    let u = if rest {
+        None
     } else {
-        positions_at(&run.network, Some(&run.displacement_of(which)?))
+        Some(run.displacement_of(which)?)
     };
+    Ok(structure_obj(
+        &run.network,
+        &rec.curves,
+        u.as_deref(),
+        &rec.what,
+    ))
+}
+
+/// OBJ polylines of `curves` of `net` at displacements `u` (`None`: the designed rest state);
+/// `what` names the structure in the header line. One `o curve N` object and one `l` record
+/// per curve.
+pub fn structure_obj(net: &Network, curves: &[usize], u: Option<&[f64]>, what: &str) -> String {
+    let pos = positions_at(net, u);
     let mut out = format!(
-        "# curvenet export: {}, {} curves, {} state, scene units\n",
-        net.what,
-        net.curves.len(),
-        if rest {
+        "# curvenet export: {what}, {} curves, {} state, scene units\n",
+        curves.len(),
+        if u.is_none() {
             "rest (designed)"
         } else {
             "equilibrium"
         }
     );
     out.push_str(&io::curves_to_obj(&curve_polylines(
-        &run.network,
-        &net.curves,
+        net,
+        curves,
         &pos,
         |c| format!("curve {c}"),
     )));
-    Ok(out)
+    out
 }
 
 /// curvenet-curves JSON of the curves of iteration `k` (any [`Which`]), at rest or at
 /// equilibrium; labels carry `id`, `rest_length`, `closed` and `supports`.
 pub fn curves_json(run: &RunFolder, which: impl Into<Which>, rest: bool) -> Result<String, String> {
     let which = which.into();
-    let net = run.network_of(which)?;
-    let pos = if rest {
-        positions_at(&run.network, None)
+    let rec = run.network_of(which)?;
+    let u = if rest {
+        None
     } else {
-        positions_at(&run.network, Some(&run.displacement_of(which)?))
+        Some(run.displacement_of(which)?)
     };
-    Ok(io::curves_to_json(&curve_polylines(
-        &run.network,
-        &net.curves,
-        &pos,
-        |c| label(&run.network, c),
-    )))
+    Ok(structure_json(&run.network, &rec.curves, u.as_deref()))
+}
+
+/// curvenet-curves JSON of `curves` of `net` at displacements `u` (`None`: at rest); labels
+/// carry `id`, `rest_length`, `closed` and `supports`.
+pub fn structure_json(net: &Network, curves: &[usize], u: Option<&[f64]>) -> String {
+    let pos = positions_at(net, u);
+    io::curves_to_json(&curve_polylines(net, curves, &pos, |c| label(net, c)))
 }
 
 /// Parses a label written by [`curves_json`] into `(id, rest_length, closed, supports)`.

@@ -17,6 +17,10 @@
 //! | [`fabrication_csv`] | `fabrication_KKKK.csv` | one row per kept rod: rest (= cut) length, the joints along it (arc length and the rods met there), end supports |
 //! | [`network_json`] | `network_KKKK.json` | the kept structure at network resolution (`"format": "curvenet-network"`): rest positions, rods with vertex lists, rest lengths and anchors, supports, material, equilibrium displacements; [`load_network`] reads it back |
 //!
+//! The OBJ, JSON and fabrication writers also take any structure of a network with its
+//! displacements ([`structure_obj`], [`structure_json`], [`fabrication_table`]): `curvenet
+//! serve` exports the structure being designed with them.
+//!
 //! The network file holds everything the energy depends on, bit for bit (numbers in Rust's
 //! shortest round-trip form), so analysing the loaded network gives the `λ` of the exported
 //! structure again with no resampling. Its vertices are the kept rods' vertices in their
@@ -28,13 +32,13 @@ pub mod network_file;
 pub mod rods;
 pub mod tables;
 
-pub use curves::{curves_json, curves_obj, parse_curve_label};
+pub use curves::{curves_json, curves_obj, parse_curve_label, structure_json, structure_obj};
 pub use network_file::{
     NETWORK_FORMAT, NETWORK_VERSION, NetworkFile, NetworkFileRod, joints_of, load_network,
     network_file, network_json, parse_network_file, read_network_file,
 };
 pub use rods::{RodJoint, arc_lengths, end_support, rod_joints, rod_supports};
-pub use tables::{answer_fabrication_csv, fabrication_csv, points_csv};
+pub use tables::{answer_fabrication_csv, fabrication_csv, fabrication_table, points_csv};
 
 use crate::io;
 use crate::run_folder::{RunFolder, Which};

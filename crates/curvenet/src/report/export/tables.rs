@@ -2,6 +2,7 @@
 
 use super::num;
 use super::rods::{arc_lengths, end_support, rod_joints};
+use crate::network::Network;
 use crate::run_folder::{RunFolder, Which, positions_at};
 use std::fmt::Write as _;
 
@@ -50,7 +51,12 @@ pub fn points_csv(run: &RunFolder, which: impl Into<Which>) -> Result<String, St
 /// The fabrication table of iteration `k` (any [`Which`]): one row per kept rod.
 pub fn fabrication_csv(run: &RunFolder, which: impl Into<Which>) -> Result<String, String> {
     let rec = run.network_of(which.into())?;
-    Ok(fabrication_table(run, &rec.what, &rec.curves, rec.length))
+    Ok(fabrication_table(
+        &run.network,
+        &format!("{} of {}", rec.what, run.dir.display()),
+        &rec.curves,
+        rec.length,
+    ))
 }
 
 /// The fabrication table of the run's answer (the network to build), `None` when the run
@@ -59,14 +65,13 @@ pub fn answer_fabrication_csv(run: &RunFolder) -> Option<String> {
     fabrication_csv(run, Which::Answer).ok()
 }
 
-/// The fabrication table of the network `curves` of `run` (`what` names it in the header).
-fn fabrication_table(run: &RunFolder, what: &str, curves: &[usize], length: f64) -> String {
-    let net = &run.network;
+/// The fabrication table of the structure `curves` of `net`, of total rest length `length`
+/// (`what` names it in the header): one row per kept rod.
+pub fn fabrication_table(net: &Network, what: &str, curves: &[usize], length: f64) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "# curvenet fabrication table: {what} of {}, {} rods, total rest length {}; scene units",
-        run.dir.display(),
+        "# curvenet fabrication table: {what}, {} rods, total rest length {}; scene units",
         curves.len(),
         num(length)
     );

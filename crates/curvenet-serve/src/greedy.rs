@@ -1,0 +1,354 @@
+//! The greedy over HTTP: one run at a time of the library's greedy
+//! ([`curvenet::simplify::greedy()`]) on the design's network, on a thread of its own so that
+//! edits and reads stay answered while it runs; its progress, its cancellation and its
+//! recorded iterations, which a designer steps through by making one of them the current
+//! structure.
+//!
+//! The run starts from the whole network, as `curvenet simplify` does, whatever structure is
+//! current: its iterations are those of `simplify` with the same budget and keep list.
+
+use crate::design::Design;
+use curvenet::cancel::Cancel;
+use curvenet::simplify::greedy::{GreedyHooks, IterationRecord};
+use curvenet::simplify::{Budget, GreedyParams, SimplifyError, greedy};
+use curvenet::stability::Evaluation;
+use serde::Serialize;
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::time::{Duration, Instant};
+
+/// Where the greedy is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RunStatus {
+    /// No run yet.
+    Idle,
+    /// A run is computing.
+    Running,
+    /// The run finished (the budget met, or a stop reason says why not).
+    Done,
+    /// The run was cancelled; the iterations recorded before are kept.
+    Cancelled,
+    /// The run failed; the iterations recorded before are kept.
+    Error,
+}
+
+/// One recorded iteration of the greedy, as listed by `GET /api/greedy/iterations`.
+#[derive(Clone, Debug, Serialize)]
+pub struct Step {
+    /// Its index: removals made before it.
+    pub iteration: usize,
+    /// Kept curves, ascending.
+    pub curves: Vec<usize>,
+    /// `λ_eq` of the structure, relaxed from the previous iteration's equilibrium.
+    pub lambda: f64,
+    /// Total rest length.
+    pub length: f64,
+    /// Zero eigenvalues among the smallest computed (a mechanism).
+    pub zero_modes: usize,
+    /// Negative eigenvalues among them (an unstable equilibrium).
+    pub negative_modes: usize,
+    /// The curve removed next (`None` on the last iteration).
+    pub removed: Option<usize>,
+}
+
+impl Step {
+    fn of(k: usize, r: &IterationRecord) -> Self {
+        Step {
+            iteration: k,
+            curves: r.curves.clone(),
+            lambda: r.lambda,
+            length: r.length,
+            zero_modes: r.zero_modes,
+            negative_modes: r.negative_modes,
+            removed: r.removed,
+        }
+    }
+}
+
+/// The progress of the current (or last) run: what `GET /api/greedy` answers.
+#[derive(Clone, Debug, Serialize)]
+pub struct Progress {
+    /// Where the run is.
+    pub status: RunStatus,
+    /// The budget as a fraction of the network's total rest length.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub budget: Option<f64>,
+    /// The budget as a length.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub budget_length: Option<f64>,
+    /// Iterations recorded so far.
+    pub iterations: usize,
+    /// The last recorded iteration: its index, `λ_eq` and length.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub last: Option<Last>,
+    /// Why a finished run stopped, in words.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stop: Option<String>,
+    /// Why a run failed.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+    /// Time since the run started (its duration once it is over), milliseconds.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub elapsed_ms: Option<f64>,
+}
+
+/// The last recorded iteration, in [`Progress`].
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Last {
+    /// Its index.
+    pub iteration: usize,
+    /// Its `λ_eq`.
+    pub lambda: f64,
+    /// Its total rest length.
+    pub length: f64,
+    /// Curves kept.
+    pub curves: usize,
+}
+
+/// Why a greedy request was refused.
+#[derive(Debug, thiserror::Error)]
+pub enum GreedyError {
+    /// A run is computing (only one at a time).
+    #[error("a greedy run is already computing; cancel it (POST /api/greedy/cancel) or wait")]
+    Busy,
+    /// Nothing is computing (cancel).
+    #[error("no greedy run is computing")]
+    NotRunning,
+    /// The parameters are out of range.
+    #[error("{0}")]
+    Params(String),
+    /// No run has recorded an iteration yet.
+    #[error("no greedy iteration recorded yet: start a run with POST /api/greedy")]
+    NoRun,
+    /// No recorded iteration of that index.
+    #[error("no iteration {asked}: the greedy recorded iterations 0..{last}")]
+    NoIteration {
+        /// The index asked for.
+        asked: usize,
+        /// The last recorded index.
+        last: usize,
+    },
+}
+
+/// The greedy's parameters as a request gives them.
+#[derive(Clone, Debug)]
+pub struct Request {
+    /// The budget as a fraction of the total rest length, in `(0, 1]`.
+    pub budget: f64,
+    /// Curves never removed.
+    pub keep: Vec<usize>,
+    /// Stop after this many removals.
+    pub max_removals: Option<usize>,
+}
+
+/// The state shared by the run's thread and the handlers.
+#[derive(Debug)]
+struct Shared {
+    status: RunStatus,
+    request: Option<(f64, f64)>,
+    iterations: Vec<Step>,
+    stop: Option<String>,
+    error: Option<String>,
+    started: Option<Instant>,
+    elapsed: Option<Duration>,
+    cancel: Cancel,
+}
+
+/// The server's greedy: at most one run at a time, its progress and its iterations.
+#[derive(Debug)]
+pub struct Runner {
+    shared: Mutex<Shared>,
+}
+
+impl Default for Runner {
+    fn default() -> Self {
+        Runner {
+            shared: Mutex::new(Shared {
+                status: RunStatus::Idle,
+                request: None,
+                iterations: Vec::new(),
+                stop: None,
+                error: None,
+                started: None,
+                elapsed: None,
+                cancel: Cancel::never(),
+            }),
+        }
+    }
+}
+
+impl Runner {
+    /// A runner holding the iterations of an earlier run (a run folder's), as if it had just
+    /// finished with `stop` under the budget `(fraction, length)`.
+    pub fn finished(records: &[IterationRecord], budget: (f64, f64), stop: Option<String>) -> Self {
+        let r = Runner::default();
+        {
+            let mut s = r.lock();
+            s.status = RunStatus::Done;
+            s.request = Some(budget);
+            s.iterations = records
+                .iter()
+                .enumerate()
+                .map(|(k, r)| Step::of(k, r))
+                .collect();
+            s.stop = stop;
+        }
+        r
+    }
+
+    /// Starts a run on `design`'s network with `request`; answers its first progress.
+    ///
+    /// # Errors
+    ///
+    /// [`GreedyError::Busy`] while a run computes; [`GreedyError::Params`] for a budget out of
+    /// `(0, 1]`, an unknown curve to keep or a keep list holding every curve.
+    pub fn start(
+        self: &Arc<Self>,
+        design: Arc<Design>,
+        request: Request,
+    ) -> Result<Progress, GreedyError> {
+        let n = design.analyzer().curve_count();
+        let mut params = GreedyParams::new(Budget::Fraction(request.budget));
+        params.keep = request.keep;
+        params.max_removals = request.max_removals;
+        params.validate(n).map_err(GreedyError::Params)?;
+        let total = design.analyzer().total_length(&(0..n).collect::<Vec<_>>());
+        let mut s = self.lock();
+        if s.status == RunStatus::Running {
+            return Err(GreedyError::Busy);
+        }
+        let cancel = Cancel::new();
+        *s = Shared {
+            status: RunStatus::Running,
+            request: Some((request.budget, request.budget * total)),
+            iterations: Vec::new(),
+            stop: None,
+            error: None,
+            started: Some(Instant::now()),
+            elapsed: None,
+            cancel: cancel.clone(),
+        };
+        let progress = progress_of(&s);
+        drop(s);
+        let runner = Arc::clone(self);
+        std::thread::spawn(move || runner.run(&design, &params, cancel));
+        Ok(progress)
+    }
+
+    /// The run's body, on its own thread: the library's greedy, its outcome recorded.
+    fn run(&self, design: &Design, params: &GreedyParams, cancel: Cancel) {
+        let mut hooks = Hooks {
+            runner: self,
+            cancel,
+        };
+        let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            greedy(design.analyzer(), params, None, None, &mut hooks)
+        }));
+        let mut s = self.lock();
+        s.elapsed = s.started.map(|t| t.elapsed());
+        match outcome {
+            Ok(Ok(out)) => {
+                s.status = RunStatus::Done;
+                s.stop = Some(out.stop.to_string());
+            }
+            Ok(Err(SimplifyError::Cancelled)) => s.status = RunStatus::Cancelled,
+            Ok(Err(e)) => {
+                s.status = RunStatus::Error;
+                s.error = Some(format!("the greedy failed: {e}"));
+            }
+            Err(_) => {
+                s.status = RunStatus::Error;
+                s.error = Some("the greedy stopped unexpectedly (an internal error)".into());
+            }
+        }
+    }
+
+    /// The progress of the current (or last) run.
+    pub fn progress(&self) -> Progress {
+        progress_of(&self.lock())
+    }
+
+    /// Asks the computing run to stop (it does within a second, keeping its iterations).
+    ///
+    /// # Errors
+    ///
+    /// [`GreedyError::NotRunning`] when no run computes.
+    pub fn cancel(&self) -> Result<Progress, GreedyError> {
+        let s = self.lock();
+        if s.status != RunStatus::Running {
+            return Err(GreedyError::NotRunning);
+        }
+        s.cancel.cancel();
+        Ok(progress_of(&s))
+    }
+
+    /// The recorded iterations (of a run still computing: those so far).
+    pub fn iterations(&self) -> (RunStatus, Vec<Step>) {
+        let s = self.lock();
+        (s.status, s.iterations.clone())
+    }
+
+    /// The curves of recorded iteration `k`.
+    ///
+    /// # Errors
+    ///
+    /// [`GreedyError::NoRun`] before any iteration is recorded, [`GreedyError::NoIteration`]
+    /// when `k` is past the last one.
+    pub fn curves_of(&self, k: usize) -> Result<Vec<usize>, GreedyError> {
+        let s = self.lock();
+        match s.iterations.get(k) {
+            Some(step) => Ok(step.curves.clone()),
+            None if s.iterations.is_empty() => Err(GreedyError::NoRun),
+            None => Err(GreedyError::NoIteration {
+                asked: k,
+                last: s.iterations.len() - 1,
+            }),
+        }
+    }
+
+    /// The shared state (a panic elsewhere leaves the last whole state).
+    fn lock(&self) -> MutexGuard<'_, Shared> {
+        self.shared.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+fn progress_of(s: &Shared) -> Progress {
+    Progress {
+        status: s.status,
+        budget: s.request.map(|r| r.0),
+        budget_length: s.request.map(|r| r.1),
+        iterations: s.iterations.len(),
+        last: s.iterations.last().map(|l| Last {
+            iteration: l.iteration,
+            lambda: l.lambda,
+            length: l.length,
+            curves: l.curves.len(),
+        }),
+        stop: s.stop.clone(),
+        error: s.error.clone(),
+        elapsed_ms: s
+            .elapsed
+            .or_else(|| s.started.map(|t| t.elapsed()))
+            .map(|d| d.as_secs_f64() * 1e3),
+    }
+}
+
+/// The run's hooks: each iteration recorded in the shared state as it comes, the cancel token
+/// polled.
+struct Hooks<'a> {
+    runner: &'a Runner,
+    cancel: Cancel,
+}
+
+impl GreedyHooks for Hooks<'_> {
+    fn iteration(&mut self, record: &IterationRecord, _: &Evaluation) -> Result<(), String> {
+        let mut s = self.runner.lock();
+        let k = s.iterations.len();
+        s.iterations.push(Step::of(k, record));
+        Ok(())
+    }
+
+    fn cancelled(&self) -> bool {
+        self.cancel.is_cancelled()
+    }
+}

@@ -1,0 +1,121 @@
+//! What the HTTP tests share: a server on a free port, raw HTTP/1.1 requests, the networks
+//! and the `λ` of `curvenet analyze --remove` to compare with.
+#![allow(dead_code)]
+
+use curvenet::io::Polyline;
+use curvenet::network::{BuildParams, build_network};
+use curvenet::pipeline;
+use curvenet::rng::SplitMix64;
+use curvenet::rod::Supports;
+use curvenet::stability::{Analyzer, StabilityParams};
+use curvenet_serve::{Design, Server};
+use serde_json::Value;
+use std::io::{Read, Write};
+use std::net::{SocketAddr, TcpStream};
+
+/// A server for `curves` built with `build`, all curves kept, listening on a free port.
+pub fn serve(curves: &[Polyline], build: &BuildParams) -> SocketAddr {
+    let (network, _) = build_network(curves, build).unwrap();
+    let analyzer = Analyzer::new(network, StabilityParams::default()).unwrap();
+    let all: Vec<usize> = (0..curves.len()).collect();
+    let design = Design::new(analyzer, &all).unwrap();
+    let server = Server::bind("127.0.0.1:0".parse().unwrap()).unwrap();
+    let addr = server.local_addr().unwrap();
+    std::thread::spawn(move || server.run(design));
+    addr
+}
+
+/// One HTTP/1.1 request; the status, the head and the body. The body is written on a thread of its own
+/// while the answer is read (a server refusing a huge body answers before reading it all).
+pub fn request_full(
+    addr: SocketAddr,
+    method: &str,
+    path: &str,
+    body: &[u8],
+) -> (u16, String, String) {
+    let mut stream = TcpStream::connect(addr).unwrap();
+    let head = format!(
+        "{method} {path} HTTP/1.1\r\nHost: {addr}\r\nContent-Type: application/json\r\n\
+         Content-Length: {}\r\nConnection: close\r\n\r\n",
+        body.len()
+    );
+    stream.write_all(head.as_bytes()).unwrap();
+    let mut writer = stream.try_clone().unwrap();
+    let body = body.to_vec();
+    let sent = std::thread::spawn(move || {
+        // The server may close before reading everything it refuses.
+        let _ = writer.write_all(&body);
+    });
+    let mut answer = Vec::new();
+    let _ = stream.read_to_end(&mut answer);
+    sent.join().unwrap();
+    let text = String::from_utf8(answer).unwrap();
+    let (head, body) = text.split_once("\r\n\r\n").expect("an HTTP answer");
+    let status = head.split(' ').nth(1).unwrap().parse().unwrap();
+    (status, head.to_string(), body.to_string())
+}
+
+/// One HTTP/1.1 request; the status and the body.
+pub fn request(addr: SocketAddr, method: &str, path: &str, body: &[u8]) -> (u16, String) {
+    let (status, _, body) = request_full(addr, method, path, body);
+    (status, body)
+}
+
+/// A request whose answer must be 200 with a JSON body.
+pub fn ok(addr: SocketAddr, method: &str, path: &str, body: &str) -> Value {
+    let (status, text) = request(addr, method, path, body.as_bytes());
+    assert_eq!(status, 200, "{method} {path} {body}: {text}");
+    serde_json::from_str(&text).unwrap()
+}
+
+pub fn curves_of(v: &Value) -> Vec<usize> {
+    v["curves"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c.as_u64().unwrap() as usize)
+        .collect()
+}
+
+/// `λ` that `curvenet analyze --remove` gives the set `kept`.
+pub fn analyze_lambda(curves: &[Polyline], build: &BuildParams, kept: &[usize]) -> f64 {
+    let removed: Vec<usize> = (0..curves.len()).filter(|c| !kept.contains(c)).collect();
+    let out = pipeline::analyze(
+        curves,
+        build,
+        &StabilityParams::default(),
+        &removed,
+        Vec::new(),
+    )
+    .unwrap();
+    out.report.lambda
+}
+
+pub fn assert_close(served: &Value, expected: f64) {
+    let lambda = served["lambda"].as_f64().unwrap();
+    let rel = (lambda - expected).abs() / expected.abs().max(f64::MIN_POSITIVE);
+    assert!(rel <= 1e-6, "served λ {lambda:e}, analyze {expected:e}");
+}
+
+/// The small dome: 8 arcs, about 300 vertices.
+pub fn dome() -> (Vec<Polyline>, BuildParams) {
+    let s = curvenet::builtin::dome_arcs(2000.0, 700.0, 2, 4);
+    let build = BuildParams {
+        edge_length: 100.0,
+        supports: Supports::Clamped,
+        ..BuildParams::default()
+    };
+    (s.curves, build)
+}
+
+/// `count` distinct random curves out of `n`, ascending.
+pub fn random_set(rng: &mut SplitMix64, n: usize, count: usize) -> Vec<usize> {
+    let mut ids: Vec<usize> = (0..n).collect();
+    for i in 0..count {
+        let j = i + (rng.next_u64() % (n - i) as u64) as usize;
+        ids.swap(i, j);
+    }
+    let mut set = ids[..count].to_vec();
+    set.sort_unstable();
+    set
+}
