@@ -504,9 +504,6 @@ pub struct ExampleArgs {
     /// Continue an interrupted run in the output folder.
     #[arg(long)]
     pub resume: bool,
-    /// Evaluate every candidate (no pruning by bounds); for measurements.
-    #[arg(long = "no-prune")]
-    pub no_prune: bool,
     /// What runs after the greedy.
     #[command(flatten)]
     pub after: AfterGreedyArgs,

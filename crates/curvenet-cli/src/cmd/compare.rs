@@ -41,13 +41,7 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
         exact_time_limit: a.exact_time_limit,
         ..CompareParams::default()
     };
-    let bar = ProgressBar::new((params.sizes.len() * params.instances) as u64);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{spinner} [{elapsed_precise}] {bar:40} {pos}/{len} networks, ETA {eta}",
-        )
-        .expect("valid template"),
-    );
+    let bar = networks_bar(params.sizes.len() * params.instances);
     let report = compare(&params, &surfaces, &|done, _| bar.set_position(done as u64)).map_err(
         |e| match e {
             // The parameters do not fit the networks traced (a budget no subset meets).
@@ -67,17 +61,7 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
         params.instances,
         report.surfaces.join(", ")
     );
-    print!("{}", report.markdown());
-    if let Some(p) = &a.json {
-        let mut text = serde_json::to_vec_pretty(&report)?;
-        text.push(b'\n');
-        io::write_atomic(p, &text).map_err(|e| usage(format!("{}: {e}", p.display())))?;
-    }
-    if let Some(p) = &a.markdown {
-        io::write_atomic(p, report.markdown().as_bytes())
-            .map_err(|e| usage(format!("{}: {e}", p.display())))?;
-    }
-    Ok(())
+    print_and_write(&a, &report.markdown(), &report)
 }
 
 /// `compare --fresh N`: the report of [`fresh`] printed, and written as asked.
@@ -89,6 +73,14 @@ fn run_fresh(a: &CompareArgs, networks: usize, surfaces: Vec<Surface>) -> anyhow
     };
     let surfaces: Vec<(String, curvenet::io::TriMesh)> =
         surfaces.into_iter().map(|s| (s.name, s.mesh)).collect();
+    let bar = networks_bar(networks);
+    let report = fresh(&params, &surfaces, &|done, _| bar.set_position(done as u64))?;
+    bar.finish_and_clear();
+    print_and_write(a, &report.markdown(), &report)
+}
+
+/// The progress bar over `networks` networks.
+fn networks_bar(networks: usize) -> ProgressBar {
     let bar = ProgressBar::new(networks as u64);
     bar.set_style(
         ProgressStyle::with_template(
@@ -96,16 +88,24 @@ fn run_fresh(a: &CompareArgs, networks: usize, surfaces: Vec<Surface>) -> anyhow
         )
         .expect("valid template"),
     );
-    let report = fresh(&params, &surfaces, &|done, _| bar.set_position(done as u64))?;
-    bar.finish_and_clear();
-    print!("{}", report.markdown());
+    bar
+}
+
+/// Prints the report's `markdown` table and writes the report as asked: `--json` (the
+/// report) and `--markdown` (the table), each atomically.
+fn print_and_write(
+    a: &CompareArgs,
+    markdown: &str,
+    report: &impl serde::Serialize,
+) -> anyhow::Result<()> {
+    print!("{markdown}");
     if let Some(p) = &a.json {
-        let mut text = serde_json::to_vec_pretty(&report)?;
+        let mut text = serde_json::to_vec_pretty(report)?;
         text.push(b'\n');
         io::write_atomic(p, &text).map_err(|e| usage(format!("{}: {e}", p.display())))?;
     }
     if let Some(p) = &a.markdown {
-        io::write_atomic(p, report.markdown().as_bytes())
+        io::write_atomic(p, markdown.as_bytes())
             .map_err(|e| usage(format!("{}: {e}", p.display())))?;
     }
     Ok(())

@@ -17,8 +17,7 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
     let supports = a.physics.supports.unwrap_or_default();
     let ex = paper::load_from(&a.name, &data, supports)?;
     let (physical, paper) = super::physical_mode(&a.physics, &a.physical, None, &[])?;
-    let mut params = stability_params(&paper)?;
-    params.tuning.prune = !a.no_prune;
+    let params = stability_params(&paper)?;
     let build = BuildParams {
         merge_joints_below: a.physics.merge_joints,
         ..ex.build.clone()

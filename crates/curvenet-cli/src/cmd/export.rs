@@ -34,6 +34,7 @@ pub fn run(a: ExportArgs) -> anyhow::Result<()> {
         }
         curvenet::io::write_atomic(&out, text.as_bytes())
             .map_err(|e| usage(format!("{}: {e}", out.display())))?;
+        warn_unstable(&shown);
         println!("{}", out.display());
         return Ok(());
     }
@@ -51,8 +52,16 @@ pub fn run(a: ExportArgs) -> anyhow::Result<()> {
         super::fmt_length(shown.length),
         shown.lambda
     );
+    warn_unstable(&shown);
     for p in paths {
         println!("{}", p.display());
     }
     Ok(())
+}
+
+/// The warning of an export of an unstable network (its files say so in their headers too).
+fn warn_unstable(shown: &curvenet::run_folder::Chosen) {
+    if let Some(w) = &shown.unstable {
+        super::print_warnings(&[format!("{} is {w}: it cannot stand as built", shown.what)]);
+    }
 }

@@ -8,25 +8,25 @@ use curvenet::cancel::Cancel;
 use curvenet::constraints::answer::{Answer, NoAnswer, choose};
 use curvenet::constraints::{ConstraintError, ConstraintParams, Constraints};
 use curvenet::io::{Polyline, TriMesh};
-use curvenet::network::{BuildParams, build_network};
+use curvenet::network::{BuildInfo, BuildParams, Network, build_network};
 use curvenet::physics::PhysicalParams;
 use curvenet::rod::ActiveSet;
 use curvenet::run_folder::answer::{NetworkState, alternative_offers};
 use curvenet::run_folder::{
-    InputDescription, LocalSearchRecord, OutputWriter, RunSetup, evaluated_offer, greedy_offers,
-    measure_greedy_deviations, read_f64_file, summary,
+    InputDescription, LocalSearchRecord, OutputWriter, ResultFile, RunSetup, evaluated_offer,
+    greedy_offers, measure_greedy_deviations, read_f64_file, summary,
 };
 use curvenet::simplify::certificate::{
     Certificate, CertifyParams, certificate, tighten_certificate,
 };
 use curvenet::simplify::exhaustive::SubsetScore;
-use curvenet::simplify::greedy::IterationRecord;
+use curvenet::simplify::greedy::{IterationRecord, ResumePoint};
 use curvenet::simplify::local::{LocalParams, local_search};
-use curvenet::simplify::{Budget, GreedyParams, SimplifyError, StopReason, greedy};
+use curvenet::simplify::{Budget, GreedyOutcome, GreedyParams, SimplifyError, StopReason, greedy};
 use curvenet::stability::fixed::FixedProblem;
 use curvenet::stability::{Analyzer, Prepare, Preset, StabilityParams, Warm};
 use indicatif::{ProgressBar, ProgressStyle};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 /// Everything a greedy run needs.
@@ -84,50 +84,8 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     params.validate(n).map_err(usage)?;
     let total = network.total_length(&(0..n).collect::<Vec<_>>());
     let budget = job.budget.length(total);
-    let mut warnings = Vec::new();
-    if budget >= total {
-        warnings.push(format!(
-            "the budget {} is not below the total length {}: nothing will be removed",
-            fmt_length(budget),
-            fmt_length(total)
-        ));
-    }
-    let kept_length = network.total_length(&job.keep);
-    if kept_length > budget {
-        warnings.push(format!(
-            "the keep list alone needs {}, more than the budget {}: the budget cannot be met",
-            fmt_length(kept_length),
-            fmt_length(budget)
-        ));
-    }
-    if !info.isolated_curves.is_empty() {
-        warnings.push(format!(
-            "curves that cross nothing: {}",
-            list(&info.isolated_curves)
-        ));
-    }
-    print_warnings(&warnings);
-    // Infeasible combinations stop the run here, before any work, saying why. Without design
-    // constraints a budget nothing meets is only a warning (above): the greedy runs as ever.
-    let constraints = if job.constraints.is_default() {
-        Constraints::none(&network, budget, &job.keep)
-    } else {
-        Constraints::new(
-            &network,
-            job.mesh.as_ref(),
-            &job.constraints,
-            budget,
-            &job.keep,
-        )
-        .map_err(|e| match e {
-            ConstraintError::Usage(m) => usage(m),
-            ConstraintError::Infeasible(m) => usage(format!("the constraints cannot be met: {m}")),
-        })?
-    };
-    for note in constraints.notes() {
-        eprintln!("note: {note}");
-    }
-
+    print_warnings(&start_warnings(&network, &info, &job.keep, budget, total));
+    let constraints = constraints_of(&network, &job, budget)?;
     let setup = RunSetup {
         input: job.input,
         build: job.build.clone(),
@@ -141,59 +99,17 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     if let Some(p) = job.physical {
         analyzer = analyzer.with_physical(p).map_err(usage)?;
     }
-    let net = analyzer.network();
-    let (writer, resume_point) = if job.resume && job.out.join("result.json").is_file() {
-        let (w, p) = OutputWriter::resume(&job.out, net, &setup).map_err(usage)?;
-        print_warnings(w.warnings());
-        if p.is_none() && w.result().complete {
-            eprintln!("{}: the run is already complete", job.out.display());
-            // A run stopped while its pictures were drawn is complete without them.
-            if !job.out.join("viewer.html").is_file() {
-                write_pictures(&job.out);
-            }
-            print!("{}", summary(w.result()));
-            return Ok(());
-        }
-        (w, p)
-    } else {
-        (
-            OutputWriter::create(&job.out, net, setup, budget).map_err(|e| ExitError {
-                code: 1,
-                message: e,
-            })?,
-            None,
-        )
+    let Some((writer, resume_point)) =
+        open_writer(&job.out, job.resume, analyzer.network(), setup, budget)?
+    else {
+        return Ok(());
     };
-    if let Some(p) = &resume_point {
-        eprintln!(
-            "resuming after iteration {} ({} curves)",
-            p.iterations.len() - 1,
-            p.iterations.last().map_or(0, |i| i.curves.len())
-        );
-    }
 
     // The greedy polls the signal flag through its writer; the stages after it poll the token.
-    let cancel = signals::token();
-    let bar = ProgressBar::new(1000);
-    bar.set_style(
-        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:40} {percent}% of the length to remove, ETA {eta} {msg}")
-            .expect("valid template"),
-    );
-    let progress = |r: &IterationRecord| {
-        let done = ((total - r.length) / (total - budget).max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
-        bar.set_position((done * 1000.0) as u64);
-        let f1 = match r.physical.as_ref().map(|p| p.first_frequency_hz) {
-            Some(Some(f)) => format!(", f₁ {f:.3} Hz"),
-            Some(None) => ", unstable".to_string(),
-            None => String::new(),
-        };
-        bar.set_message(format!("{} curves, λ {:.4e}{f1}", r.curves.len(), r.lambda));
-    };
+    let bar = progress_bar();
+    let progress = |r: &IterationRecord| show_progress(&bar, r, total, budget);
     if let Some(mesh) = &job.mesh {
-        writer.write_mesh(mesh).map_err(|e| ExitError {
-            code: 1,
-            message: e,
-        })?;
+        writer.write_mesh(mesh).map_err(failure)?;
     }
     let mut writer = writer.with_cancel(signals::flag()).with_progress(&progress);
     let stage = Stage::start();
@@ -206,104 +122,290 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     );
     drop(stage);
     bar.finish_and_clear();
-    let outcome = match outcome {
-        Ok(o) => o,
-        Err(SimplifyError::Cancelled) => {
-            let done = writer.result().iterations.len();
-            return Err(ExitError {
-                code: signals::CANCELLED,
-                message: format!(
-                    "cancelled: {done} iteration(s) kept in {}; rerun with --resume to continue",
-                    job.out.display()
-                ),
-            }
-            .into());
-        }
-        Err(e) => return Err(e.into()),
-    };
+    let outcome =
+        outcome.map_err(|e| greedy_error(e, writer.result().iterations.len(), &job.out))?;
     print_warnings(&curvenet::run_folder::unrelaxed(&outcome.iterations));
+    print_warnings(&curvenet::run_folder::unstable(&outcome.iterations));
     print_warnings(budget_unmet(&outcome, budget).as_slice());
-    let (local, local_seconds) = optional_step(job.local_search, "local search", || {
-        let _stage = Stage::start();
-        local_search_of(&analyzer, &params, &constraints, &outcome, &cancel)
-    });
-    stop_if_cancelled(&cancel, "the local search", &job.out)?;
-    let (local, visited) = local.map_or((None, Vec::new()), |(r, v)| (Some(r), v));
-    let local_eval = local
-        .as_ref()
-        .and_then(|l| evaluate_curves(&analyzer, &l.curves, "local search's network"));
-    writer.set_local_search(local);
-    let alternatives_start = Instant::now();
-    let chosen = {
-        let _stage = Stage::start();
-        let found = Found {
-            local: local_eval,
-            visited: &visited,
-            alternatives: job.alternatives,
-        };
-        answer_of(&analyzer, &constraints, &outcome, found, &cancel, &job.out)
+    let after = AfterGreedy {
+        local_search: job.local_search,
+        alternatives: job.alternatives,
+        certificate: job.certificate,
+        certificate_nodes: job.certificate_nodes,
     };
-    let alternatives_seconds = alternatives_start.elapsed().as_secs_f64();
-    stop_if_cancelled(&cancel, "the search for alternatives", &job.out)?;
-    if job.alternatives > chosen.alternatives.len() {
-        eprintln!(
-            "note: {} alternative(s) asked for, {} found: the searches met no other stable \
-             network within the budget and the constraints that is distinct from these and \
-             not one of them with curves added",
-            job.alternatives,
-            chosen.alternatives.len()
-        );
-    }
-    // The certificate is of the answer (the greedy's final network when there is none).
-    let certified = match &chosen.answer {
-        Ok(a) => Some(a.curves.clone()),
-        Err(_) => outcome.iterations.last().map(|it| it.curves.clone()),
-    };
-    writer.set_answer(chosen.answer, chosen.state);
-    writer.set_alternatives(chosen.alternatives);
-    let (certificate, certificate_seconds) = optional_step(job.certificate, "certificate", || {
-        let _stage = Stage::start();
-        certificate_of(
-            &analyzer,
-            &job.out,
-            &params,
-            &outcome,
-            certified.as_deref().unwrap_or_default(),
-            job.certificate_nodes,
-            &cancel,
-        )
-    });
-    stop_if_cancelled(&cancel, "the certificate", &job.out)?;
-    writer.set_certificate(certificate);
+    let seconds = after.run(
+        &analyzer,
+        &params,
+        &constraints,
+        &outcome,
+        &mut writer,
+        &job.out,
+    )?;
     let timings = serde_json::json!({
         "total_seconds": start.elapsed().as_secs_f64(),
         "greedy": outcome.timings,
-        "certificate_seconds": job.certificate.then_some(certificate_seconds),
-        "local_search_seconds": job.local_search.then_some(local_seconds),
-        "alternatives_seconds": (job.alternatives > 0).then_some(alternatives_seconds),
+        "certificate_seconds": job.certificate.then_some(seconds.certificate),
+        "local_search_seconds": job.local_search.then_some(seconds.local_search),
+        "alternatives_seconds": (job.alternatives > 0).then_some(seconds.alternatives),
         "threads": rayon::current_num_threads(),
     });
-    writer.finish(&outcome, &timings).map_err(|e| ExitError {
-        code: 1,
-        message: e,
-    })?;
+    writer.finish(&outcome, &timings).map_err(failure)?;
     write_pictures(&job.out);
-    print!("{}", summary(writer.result()));
-    if let Some(line) = physical_line(writer.result().iterations.last()) {
+    print_run_summary(writer.result(), seconds, start, &job.out);
+    Ok(())
+}
+
+/// The warnings of a run's set-up that let it go on: a budget that removes nothing or that
+/// the keep list alone exceeds, curves that cross nothing.
+fn start_warnings(
+    network: &Network,
+    info: &BuildInfo,
+    keep: &[usize],
+    budget: f64,
+    total: f64,
+) -> Vec<String> {
+    let mut warnings = Vec::new();
+    if budget >= total {
+        warnings.push(format!(
+            "the budget {} is not below the total length {}: nothing will be removed",
+            fmt_length(budget),
+            fmt_length(total)
+        ));
+    }
+    let kept_length = network.total_length(keep);
+    if kept_length > budget {
+        warnings.push(format!(
+            "the keep list alone needs {}, more than the budget {}: the budget cannot be met",
+            fmt_length(kept_length),
+            fmt_length(budget)
+        ));
+    }
+    if !info.isolated_curves.is_empty() {
+        warnings.push(format!(
+            "curves that cross nothing: {}",
+            list(&info.isolated_curves)
+        ));
+    }
+    warnings
+}
+
+/// The run's design constraints, their notes printed. Infeasible combinations stop the run
+/// here, before any work, saying why. Without design constraints a budget nothing meets is
+/// only a warning ([`start_warnings`]): the greedy runs as ever.
+fn constraints_of(network: &Network, job: &GreedyJob, budget: f64) -> anyhow::Result<Constraints> {
+    let constraints = if job.constraints.is_default() {
+        Constraints::none(network, budget, &job.keep)
+    } else {
+        Constraints::new(
+            network,
+            job.mesh.as_ref(),
+            &job.constraints,
+            budget,
+            &job.keep,
+        )
+        .map_err(|e| match e {
+            ConstraintError::Usage(m) => usage(m),
+            ConstraintError::Infeasible(m) => usage(format!("the constraints cannot be met: {m}")),
+        })?
+    };
+    for note in constraints.notes() {
+        eprintln!("note: {note}");
+    }
+    Ok(constraints)
+}
+
+/// The run folder's writer and the point to resume from: a new folder, or with `resume` the
+/// recorded run in `out`. `None` when that run is already complete (its summary printed, its
+/// pictures drawn if a stop had left them out).
+fn open_writer<'a>(
+    out: &Path,
+    resume: bool,
+    network: &'a Network,
+    setup: RunSetup,
+    budget: f64,
+) -> anyhow::Result<Option<(OutputWriter<'a>, Option<ResumePoint>)>> {
+    if !(resume && out.join("result.json").is_file()) {
+        let writer = OutputWriter::create(out, network, setup, budget).map_err(failure)?;
+        return Ok(Some((writer, None)));
+    }
+    let (writer, point) = OutputWriter::resume(out, network, &setup).map_err(usage)?;
+    print_warnings(writer.warnings());
+    match &point {
+        None if writer.result().complete => {
+            eprintln!("{}: the run is already complete", out.display());
+            // A run stopped while its pictures were drawn is complete without them.
+            if !out.join("viewer.html").is_file() {
+                write_pictures(out);
+            }
+            print!("{}", summary(writer.result()));
+            return Ok(None);
+        }
+        Some(p) => eprintln!(
+            "resuming after iteration {} ({} curves)",
+            p.iterations.len() - 1,
+            p.iterations.last().map_or(0, |i| i.curves.len())
+        ),
+        None => {}
+    }
+    Ok(Some((writer, point)))
+}
+
+/// The greedy's progress bar: the share of the length to remove.
+fn progress_bar() -> ProgressBar {
+    let bar = ProgressBar::new(1000);
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} [{elapsed_precise}] {bar:40} {percent}% of the length to remove, ETA {eta} {msg}")
+            .expect("valid template"),
+    );
+    bar
+}
+
+/// Moves `bar` to iteration `r`: the share of `total - budget` removed, the curves left, λ
+/// and (in the physical mode) the first frequency.
+fn show_progress(bar: &ProgressBar, r: &IterationRecord, total: f64, budget: f64) {
+    let done = ((total - r.length) / (total - budget).max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+    bar.set_position((done * 1000.0) as u64);
+    let f1 = match r.physical.as_ref().map(|p| p.first_frequency_hz) {
+        Some(Some(f)) => format!(", f₁ {f:.3} Hz"),
+        Some(None) => ", unstable".to_string(),
+        None => String::new(),
+    };
+    bar.set_message(format!("{} curves, λ {:.4e}{f1}", r.curves.len(), r.lambda));
+}
+
+/// The exit of a greedy that failed: 130 when cancelled (its `done` iterations kept in `out`
+/// for `--resume`), the error otherwise.
+fn greedy_error(e: SimplifyError, done: usize, out: &Path) -> anyhow::Error {
+    match e {
+        SimplifyError::Cancelled => ExitError {
+            code: signals::CANCELLED,
+            message: format!(
+                "cancelled: {done} iteration(s) kept in {}; rerun with --resume to continue",
+                out.display()
+            ),
+        }
+        .into(),
+        e => e.into(),
+    }
+}
+
+/// A failure to write the run folder: exit 1 with its message.
+fn failure(message: String) -> ExitError {
+    ExitError { code: 1, message }
+}
+
+/// What runs after the greedy, each optional.
+struct AfterGreedy {
+    /// The local search from the greedy's final network.
+    local_search: bool,
+    /// Alternatives to record beside the answer (0: none).
+    alternatives: usize,
+    /// The fixed-geometry certificate of the answer.
+    certificate: bool,
+    /// Branch and bound nodes spent tightening the certificate (None: by network size).
+    certificate_nodes: Option<usize>,
+}
+
+/// The seconds the steps after the greedy took (0 for a step that did not run).
+#[derive(Clone, Copy)]
+struct AfterSeconds {
+    local_search: f64,
+    alternatives: f64,
+    certificate: f64,
+}
+
+impl AfterGreedy {
+    /// The local search, the answer and the alternatives, and the certificate, recorded in
+    /// `writer`; exit 130 when a signal came during a step.
+    fn run(
+        &self,
+        analyzer: &Analyzer,
+        params: &GreedyParams,
+        constraints: &Constraints,
+        outcome: &GreedyOutcome,
+        writer: &mut OutputWriter<'_>,
+        out: &Path,
+    ) -> anyhow::Result<AfterSeconds> {
+        let cancel = signals::token();
+        let (local, local_seconds) = optional_step(self.local_search, "local search", || {
+            let _stage = Stage::start();
+            local_search_of(analyzer, params, constraints, outcome, &cancel)
+        });
+        stop_if_cancelled(&cancel, "the local search", out)?;
+        let (local, visited) = local.map_or((None, Vec::new()), |(r, v)| (Some(r), v));
+        let local_eval = local
+            .as_ref()
+            .and_then(|l| evaluate_curves(analyzer, &l.curves, "local search's network"));
+        writer.set_local_search(local);
+        let alternatives_start = Instant::now();
+        let chosen = {
+            let _stage = Stage::start();
+            let found = Found {
+                local: local_eval,
+                visited: &visited,
+                alternatives: self.alternatives,
+            };
+            answer_of(analyzer, constraints, outcome, found, &cancel, out)
+        };
+        let alternatives_seconds = alternatives_start.elapsed().as_secs_f64();
+        stop_if_cancelled(&cancel, "the search for alternatives", out)?;
+        if self.alternatives > chosen.alternatives.len() {
+            eprintln!(
+                "note: {} alternative(s) asked for, {} found: the searches met no other stable \
+                 network within the budget and the constraints that is distinct from these and \
+                 not one of them with curves added",
+                self.alternatives,
+                chosen.alternatives.len()
+            );
+        }
+        // The certificate is of the answer (the greedy's final network when there is none).
+        let certified = match &chosen.answer {
+            Ok(a) => Some(a.curves.clone()),
+            Err(_) => outcome.iterations.last().map(|it| it.curves.clone()),
+        };
+        writer.set_answer(chosen.answer, chosen.state);
+        writer.set_alternatives(chosen.alternatives);
+        let (certificate, certificate_seconds) =
+            optional_step(self.certificate, "certificate", || {
+                let _stage = Stage::start();
+                certificate_of(
+                    analyzer,
+                    out,
+                    params,
+                    outcome,
+                    certified.as_deref().unwrap_or_default(),
+                    self.certificate_nodes,
+                    &cancel,
+                )
+            });
+        stop_if_cancelled(&cancel, "the certificate", out)?;
+        writer.set_certificate(certificate);
+        Ok(AfterSeconds {
+            local_search: local_seconds,
+            alternatives: alternatives_seconds,
+            certificate: certificate_seconds,
+        })
+    }
+}
+
+/// The finished run's summary on stdout: the result, the last network's physical numbers,
+/// the times of the steps that ran and where the output is.
+fn print_run_summary(result: &ResultFile, seconds: AfterSeconds, start: Instant, out: &Path) {
+    print!("{}", summary(result));
+    if let Some(line) = physical_line(result.iterations.last()) {
         println!("{line}");
     }
-    if writer.result().local_search.is_some() {
-        println!("local search time: {local_seconds:.2} s");
+    if result.local_search.is_some() {
+        println!("local search time: {:.2} s", seconds.local_search);
     }
-    if writer.result().certificate.is_some() {
-        println!("certificate time: {certificate_seconds:.2} s");
+    if result.certificate.is_some() {
+        println!("certificate time: {:.2} s", seconds.certificate);
     }
     println!(
         "wall time: {:.2} s; output in {}",
         start.elapsed().as_secs_f64(),
-        job.out.display()
+        out.display()
     );
-    Ok(())
 }
 
 /// The last network's physical numbers in one line (the physical mode only).
@@ -335,7 +437,7 @@ fn physical_line(last: Option<&IterationRecord>) -> Option<String> {
 
 /// Writes the pictures, viewer page (last) and fabrication table of the finished run in `out`.
 /// A failure leaves the run's results intact, so it is a warning.
-fn write_pictures(out: &std::path::Path) {
+fn write_pictures(out: &Path) {
     match curvenet::report::viewer::write_run_outputs(out) {
         Ok(o) => print_warnings(&o.warnings),
         Err(e) => print_warnings(&[format!("pictures and viewer not written: {e}")]),
@@ -344,7 +446,7 @@ fn write_pictures(out: &std::path::Path) {
 
 /// Makes sure `out` is (or can be made) a folder, before any work: a file there, or a folder
 /// that cannot be created, is a usage error naming it.
-fn output_folder(out: &std::path::Path) -> anyhow::Result<()> {
+fn output_folder(out: &Path) -> anyhow::Result<()> {
     if out.exists() && !out.is_dir() {
         return Err(usage(format!(
             "--out {}: is a file, not a folder; give a folder for the run's outputs",
@@ -360,7 +462,7 @@ fn output_folder(out: &std::path::Path) -> anyhow::Result<()> {
 }
 
 /// The warning of a run that ended without meeting its budget: what it ended at and why.
-fn budget_unmet(outcome: &curvenet::simplify::GreedyOutcome, budget: f64) -> Option<String> {
+fn budget_unmet(outcome: &GreedyOutcome, budget: f64) -> Option<String> {
     let last = outcome.iterations.last()?;
     let why = match outcome.stop {
         StopReason::BudgetMet => return None,
@@ -406,10 +508,10 @@ struct Chosen {
 fn answer_of(
     analyzer: &Analyzer,
     constraints: &Constraints,
-    outcome: &curvenet::simplify::GreedyOutcome,
+    outcome: &GreedyOutcome,
     found: Found<'_>,
     cancel: &Cancel,
-    out: &std::path::Path,
+    out: &Path,
 ) -> Chosen {
     let mut offers = greedy_offers(&outcome.iterations);
     if constraints.params().max_deviation.is_some()
@@ -475,7 +577,7 @@ fn local_search_of(
     analyzer: &Analyzer,
     params: &GreedyParams,
     constraints: &Constraints,
-    outcome: &curvenet::simplify::GreedyOutcome,
+    outcome: &GreedyOutcome,
     cancel: &Cancel,
 ) -> anyhow::Result<(LocalSearchRecord, Vec<SubsetScore>)> {
     let last = outcome
@@ -500,7 +602,7 @@ fn local_search_of(
 
 /// Exit 130 once a signal came during `stage`: the greedy's iterations stay recorded in `out`,
 /// and `--resume` goes on from them.
-fn stop_if_cancelled(cancel: &Cancel, stage: &str, out: &std::path::Path) -> anyhow::Result<()> {
+fn stop_if_cancelled(cancel: &Cancel, stage: &str, out: &Path) -> anyhow::Result<()> {
     if !cancel.is_cancelled() {
         return Ok(());
     }
@@ -543,9 +645,9 @@ fn optional_step<T>(
 /// within the budget.
 fn certificate_of(
     analyzer: &Analyzer,
-    out: &std::path::Path,
+    out: &Path,
     params: &GreedyParams,
-    outcome: &curvenet::simplify::GreedyOutcome,
+    outcome: &GreedyOutcome,
     curves: &[usize],
     nodes: Option<usize>,
     cancel: &Cancel,

@@ -301,15 +301,7 @@ impl Coverage {
 
 /// Samples of the surface (its vertices and a grid on every face) and their spacing.
 fn sample_surface(mesh: &TriMesh, limit: f64) -> Result<(Vec<Vec3>, f64), String> {
-    let faces: Vec<[Vec3; 3]> = mesh
-        .faces
-        .iter()
-        .filter_map(|f| {
-            let get = |i: u32| mesh.vertices.get(i as usize).copied();
-            let t = [get(f[0])?, get(f[1])?, get(f[2])?];
-            t.iter().all(|p| p.is_finite()).then_some(t)
-        })
-        .collect();
+    let faces = mesh.finite_triangles();
     if faces.is_empty() {
         return Err("--max-gap needs the surface, but the mesh has no usable face".into());
     }

@@ -46,6 +46,7 @@ pub(crate) mod testing;
 pub use bits::CurveSet;
 pub use coverage::{Coverage, Gap};
 pub use groups::{Group, parse_groups, read_groups};
+pub(crate) use search::SubsetDraw;
 pub use search::UnitMove;
 pub use symmetry::{Symmetry, SymmetryFound, SymmetryOption};
 

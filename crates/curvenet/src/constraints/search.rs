@@ -199,13 +199,58 @@ impl Constraints {
     /// instead. Returns the sets, whether the fallback was used, and whether fewer than
     /// `count` were found.
     pub fn draw_subsets(&self, count: usize, seed: u64) -> (Vec<Vec<usize>>, bool, bool) {
-        let mut rng = SplitMix64::new(seed);
         let free: Vec<usize> = (0..self.units.len()).filter(|&u| !self.forced[u]).collect();
         let unit_length: Vec<f64> = (0..self.units.len())
             .map(|u| self.length(&self.units[u]))
             .collect();
         let forced = self.forced_set.to_vec();
-        let base = self.length(&forced);
+        SubsetDraw {
+            free: &free,
+            unit_length: &unit_length,
+            forced: &forced,
+            base: self.length(&forced),
+            budget: self.budget,
+        }
+        .draw(
+            count,
+            seed,
+            |u, s| s.extend_from_slice(&self.units[u]),
+            |s| self.check(s).is_ok(),
+        )
+    }
+}
+
+/// Random subsets of units drawn whole beside the forced curves (see
+/// [`Constraints::draw_subsets`]; the random search on curves draws the same way, one curve a
+/// unit).
+pub(crate) struct SubsetDraw<'a> {
+    /// The units that may be drawn, ascending.
+    pub(crate) free: &'a [usize],
+    /// Each unit's length (indexed by unit).
+    pub(crate) unit_length: &'a [f64],
+    /// The curves every set holds.
+    pub(crate) forced: &'a [usize],
+    /// Their length.
+    pub(crate) base: f64,
+    /// The largest total length of a set.
+    pub(crate) budget: f64,
+}
+
+impl SubsetDraw<'_> {
+    /// Up to `count` distinct sets drawn from `seed`: each free unit (its curves added to the
+    /// set by `add`) kept with probability ½, the draw kept when it is within the budget, new
+    /// and `accept`ed; when such draws are too rare (half a million misses before the first),
+    /// random maximal sets (free units in random order, added while the budget allows)
+    /// instead. Returns the sets (curves ascending), whether the fallback was used, and
+    /// whether fewer than `count` were found.
+    pub(crate) fn draw(
+        &self,
+        count: usize,
+        seed: u64,
+        add: impl Fn(usize, &mut Vec<usize>),
+        accept: impl Fn(&[usize]) -> bool,
+    ) -> (Vec<Vec<usize>>, bool, bool) {
+        let mut rng = SplitMix64::new(seed);
         let mut seen: HashSet<Vec<usize>> = HashSet::new();
         let mut out = Vec::new();
         let mut fallback = false;
@@ -213,31 +258,30 @@ impl Constraints {
         let max_misses = 1_000_000u64;
         while out.len() < count && misses < max_misses {
             let mut s: Vec<usize> = Vec::new();
-            let mut len = base;
+            let mut len = self.base;
             if !fallback {
-                for &u in &free {
+                for &u in self.free {
                     if rng.next_u64() & 1 == 1 {
-                        s.extend_from_slice(&self.units[u]);
-                        len += unit_length[u];
+                        add(u, &mut s);
+                        len += self.unit_length[u];
                     }
                 }
             } else {
-                let mut order = free.clone();
+                let mut order = self.free.to_vec();
                 for i in (1..order.len()).rev() {
                     order.swap(i, rng.below(i as u64 + 1) as usize);
                 }
                 for u in order {
-                    if len + unit_length[u] <= self.budget {
-                        s.extend_from_slice(&self.units[u]);
-                        len += unit_length[u];
+                    if len + self.unit_length[u] <= self.budget {
+                        add(u, &mut s);
+                        len += self.unit_length[u];
                     }
                 }
             }
-            s.extend_from_slice(&forced);
+            s.extend_from_slice(self.forced);
             s.sort_unstable();
             s.dedup();
-            let ok =
-                !s.is_empty() && len <= self.budget && !seen.contains(&s) && self.check(&s).is_ok();
+            let ok = !s.is_empty() && len <= self.budget && !seen.contains(&s) && accept(&s);
             if !ok {
                 misses += 1;
                 if !fallback && misses >= max_misses / 2 && out.is_empty() {

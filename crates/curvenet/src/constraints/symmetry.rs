@@ -499,57 +499,62 @@ impl Detector {
     /// The rotation of `order` about the first candidate axis where it is a symmetry, or why
     /// none is (the closest miss).
     pub fn rotation(&self, order: u32) -> Result<SymmetryFound, String> {
-        let mut miss: Option<(Mismatch, Vec3)> = None;
-        for axis in self.axes() {
-            match self.matching(&Transform::rotation(self.center, axis, order), order) {
-                Ok((perm, worst)) => {
-                    return Ok(self.found(
-                        Symmetry::Rotation {
-                            order,
-                            center: self.center.to_array(),
-                            axis: axis.to_array(),
-                        },
-                        &perm,
-                        worst,
-                    ));
-                }
-                Err(m) => {
-                    if miss.as_ref().is_none_or(|(b, _)| m.distance < b.distance) {
-                        miss = Some((m, axis));
-                    }
-                }
-            }
-        }
-        Err(self.not_found(&format!("rotation of order {order}"), miss))
+        self.first_of(
+            &format!("rotation of order {order}"),
+            order,
+            self.axes(),
+            |axis| {
+                (
+                    Transform::rotation(self.center, axis, order),
+                    Symmetry::Rotation {
+                        order,
+                        center: self.center.to_array(),
+                        axis: axis.to_array(),
+                    },
+                )
+            },
+        )
     }
 
     /// The first candidate mirror plane that is a symmetry, or why none is.
     pub fn mirror(&self) -> Result<SymmetryFound, String> {
+        self.first_of("mirror plane", 2, self.normals(), |normal| {
+            (
+                Transform::Reflect {
+                    point: self.center,
+                    normal,
+                },
+                Symmetry::Mirror {
+                    point: self.center.to_array(),
+                    normal: normal.to_array(),
+                },
+            )
+        })
+    }
+
+    /// The first of the `candidates` (axes or normals) whose transform (of `order`, from
+    /// `make` with its symmetry) maps the network onto itself, or why none does (the
+    /// closest miss).
+    fn first_of(
+        &self,
+        what: &str,
+        order: u32,
+        candidates: Vec<Vec3>,
+        make: impl Fn(Vec3) -> (Transform, Symmetry),
+    ) -> Result<SymmetryFound, String> {
         let mut miss: Option<(Mismatch, Vec3)> = None;
-        for normal in self.normals() {
-            let t = Transform::Reflect {
-                point: self.center,
-                normal,
-            };
-            match self.matching(&t, 2) {
-                Ok((perm, worst)) => {
-                    return Ok(self.found(
-                        Symmetry::Mirror {
-                            point: self.center.to_array(),
-                            normal: normal.to_array(),
-                        },
-                        &perm,
-                        worst,
-                    ));
-                }
+        for c in candidates {
+            let (t, symmetry) = make(c);
+            match self.matching(&t, order) {
+                Ok((perm, worst)) => return Ok(self.found(symmetry, &perm, worst)),
                 Err(m) => {
                     if miss.as_ref().is_none_or(|(b, _)| m.distance < b.distance) {
-                        miss = Some((m, normal));
+                        miss = Some((m, c));
                     }
                 }
             }
         }
-        Err(self.not_found("mirror plane", miss))
+        Err(self.not_found(what, miss))
     }
 
     /// Every symmetry `auto` may use, largest group first: the rotations of every order

@@ -127,6 +127,21 @@ pub struct TriMesh {
     pub faces: Vec<[u32; 3]>,
 }
 
+impl TriMesh {
+    /// The corners of every face whose indices are in range and whose corners are finite,
+    /// in face order (the faces a geometric query can use).
+    pub fn finite_triangles(&self) -> Vec<[Vec3; 3]> {
+        self.faces
+            .iter()
+            .filter_map(|f| {
+                let get = |i: u32| self.vertices.get(i as usize).copied();
+                let t = [get(f[0])?, get(f[1])?, get(f[2])?];
+                t.iter().all(|p| p.is_finite()).then_some(t)
+            })
+            .collect()
+    }
+}
+
 /// An input error. Every variant names the file and (where it has one) the line, and displays
 /// as `file:line: message`, or `file: message` when no line applies.
 #[derive(Debug, thiserror::Error)]

@@ -21,7 +21,7 @@
 //! deflection: those numbers are absent and a warning says why.
 
 use super::checks::{near_joint, overstress_warnings, units_warnings};
-use super::inertia::classify;
+use super::inertia::{ModeSigns, classify};
 use super::loads::{
     frequencies_hz, held_vertices, lumped_lengths, max_displacement, self_weight,
     worst_load_deflection,
@@ -33,9 +33,11 @@ use crate::rod::physical::{masses_per_length, physical_rods, rigid_anchor_weight
 use crate::rod::{ActiveSet, EnergyModel, Network};
 use crate::solve::eigen::{EigenOptions, EigenParams, Spectrum, smallest_eigenpairs};
 use crate::solve::{
-    Backend, Cholesky, Equilibrium, NewtonParams, NewtonSummary, SolverTuning, SymbolicFactor,
+    Backend, Cholesky, Equilibrium, NewtonInfo, NewtonParams, NewtonSummary, SolverTuning,
+    SymbolicFactor,
 };
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 
 /// What a physical analysis needs beyond the network.
 #[derive(Clone, Debug, PartialEq)]
@@ -240,90 +242,31 @@ pub fn analyze_physical(
         tuning: &SolverTuning::default(),
     }
     .relax(&mut u, None);
-    let hess = relaxed.hess;
     let held = held_vertices(network, active);
-    let keep: Vec<bool> = held.iter().flat_map(|&h| [h; 3]).collect();
-    let count = params
-        .frequencies
-        .min(keep.iter().filter(|&&k| k).count().max(1));
-    let lowest = |metric: &[f64], count: usize| -> Result<Spectrum, PhysicsError> {
-        let mut scaled = hess.clone();
-        scale_hessian(
-            model.pattern(),
-            &mut scaled,
-            &inverse_sqrt_coordinates(metric),
-        );
-        let eigen = EigenParams {
-            count,
-            ..EigenParams::default()
-        };
-        let options = EigenOptions {
-            keep: Some(&keep),
-            ..EigenOptions::default()
-        };
-        let found = smallest_eigenpairs(&symbolic, model.pattern(), &scaled, &eigen, options)?;
-        Ok(found
-            .expect("a shift below zero always gives pairs")
-            .spectrum)
+    let at = AtEquilibrium {
+        model: &model,
+        symbolic: &symbolic,
+        hess: &relaxed.hess,
+        keep: held.iter().flat_map(|&h| [h; 3]).collect(),
     };
 
     // Natural frequencies: H v = μ M v.
     let masses = lumped_masses(network, &masses_per_length(phys, n), active);
-    let modes = lowest(&masses, count)?;
-    let signs = classify(
-        &modes,
-        model.pattern(),
-        &hess,
-        &inverse_sqrt_coordinates(&masses),
-        &keep,
-        EigenParams::default().zero_factor,
-    );
+    let count = params
+        .frequencies
+        .min(at.keep.iter().filter(|&&k| k).count().max(1));
+    let modes = at.lowest(&masses, count)?;
+    let signs = at.classify(&modes, &masses);
     let stable = signs.stable();
     let frequencies = frequencies_hz(&modes.values, &signs.positive);
-    let mut warnings = Vec::new();
-    if !stable {
-        warnings.push(format!(
-            "the structure is not stable in the physical mode ({} zero and {} negative modes \
-             among the {} lowest; μ_min = {:.3e} s⁻²): it has no natural frequency and no \
-             linear deflection",
-            signs.zero,
-            signs.negative,
-            modes.values.len(),
-            modes.lambda()
-        ));
-    }
-    if !relaxed.info.converged {
-        warnings.push(format!(
-            "the equilibrium was not reached in the physical mode ({} after {} iterations, \
-             |∇E| / g₀ = {:.1e}): its numbers are those of the last state",
-            relaxed.info.stop, relaxed.info.iterations, relaxed.info.grad_rel
-        ));
-    }
-
-    // The worst-case distributed load: H v = μ_L Λ v, v = Λ^{-1/2} ṽ.
-    let load_max_deflection = if stable {
-        let lengths = lumped_lengths(network, active);
-        let s = inverse_sqrt_coordinates(&lengths);
-        let pair = lowest(&lengths, 1)?;
-        let v: Vec<f64> = (0..s.len()).map(|i| s[i] * pair.vectors[(i, 0)]).collect();
-        let (vertex, max) =
-            worst_load_deflection(pair.lambda(), &v, &lengths, &held, phys.load_scene());
-        Some(Deflection { max, vertex })
+    let mut warnings = solve_warnings(&relaxed.info, &signs, &modes);
+    let (load_max_deflection, self_weight_deflection) = if stable {
+        (
+            Some(at.worst_load(network, active, &held, phys)?),
+            at.self_weight(network, active, &held, phys),
+        )
     } else {
-        None
-    };
-
-    // Self-weight, linearised at the equilibrium: H u = M g.
-    let self_weight_deflection = if stable {
-        Cholesky::factorize(&symbolic, model.pattern(), &hess, 0.0, None)
-            .ok()
-            .map(|factor| {
-                let mut w = self_weight(network, phys, active);
-                factor.solve_vec(&mut w);
-                max_displacement(&w, &held)
-            })
-    } else {
-        None
+        (None, None)
     };
 
     let stresses = assembly_stresses(network, phys, &params.rest, active, &u);
@@ -373,6 +316,118 @@ pub fn analyze_physical(
         curves: stresses.curves,
         warnings,
     })
+}
+
+/// The warnings of the analysis's solves: an unstable structure (zero or negative modes
+/// among `modes`) and an equilibrium not reached.
+fn solve_warnings(newton: &NewtonInfo, signs: &ModeSigns, modes: &Spectrum) -> Vec<String> {
+    let mut warnings = Vec::new();
+    if !signs.stable() {
+        warnings.push(format!(
+            "the structure is not stable in the physical mode ({} zero and {} negative modes \
+             among the {} lowest; μ_min = {:.3e} s⁻²): it has no natural frequency and no \
+             linear deflection",
+            signs.zero,
+            signs.negative,
+            modes.values.len(),
+            modes.lambda()
+        ));
+    }
+    if !newton.converged {
+        warnings.push(format!(
+            "the equilibrium was not reached in the physical mode ({} after {} iterations, \
+             |∇E| / g₀ = {:.1e}): its numbers are those of the last state",
+            newton.stop, newton.iterations, newton.grad_rel
+        ));
+    }
+    warnings
+}
+
+/// The structure at its equilibrium: the energy's Hessian there and the coordinates the
+/// structure holds (those of its vertices, three per vertex).
+struct AtEquilibrium<'a> {
+    model: &'a EnergyModel,
+    symbolic: &'a Arc<SymbolicFactor>,
+    hess: &'a [f64],
+    keep: Vec<bool>,
+}
+
+impl AtEquilibrium<'_> {
+    /// The `count` lowest pairs of `H v = μ D v` for the lumped diagonal metric `D`
+    /// (`metric`, one value per coordinate), solved as `D^{-1/2} H D^{-1/2} ṽ = μ ṽ`: the
+    /// vectors are the `ṽ`.
+    fn lowest(&self, metric: &[f64], count: usize) -> Result<Spectrum, PhysicsError> {
+        let mut scaled = self.hess.to_vec();
+        scale_hessian(
+            self.model.pattern(),
+            &mut scaled,
+            &inverse_sqrt_coordinates(metric),
+        );
+        let eigen = EigenParams {
+            count,
+            ..EigenParams::default()
+        };
+        let options = EigenOptions {
+            keep: Some(&self.keep),
+            ..EigenOptions::default()
+        };
+        let found = smallest_eigenpairs(
+            self.symbolic,
+            self.model.pattern(),
+            &scaled,
+            &eigen,
+            options,
+        )?;
+        Ok(found
+            .expect("a shift below zero always gives pairs")
+            .spectrum)
+    }
+
+    /// The signs of `modes` (pairs in the metric `masses`), judged in the identity metric.
+    fn classify(&self, modes: &Spectrum, masses: &[f64]) -> ModeSigns {
+        classify(
+            modes,
+            self.model.pattern(),
+            self.hess,
+            &inverse_sqrt_coordinates(masses),
+            &self.keep,
+            EigenParams::default().zero_factor,
+        )
+    }
+
+    /// The largest deflection under the worst-case distributed load of the run's intensity:
+    /// the lowest pair of `H v = μ_L Λ v` (`Λ` the lumped lengths), `v = Λ^{-1/2} ṽ`.
+    fn worst_load(
+        &self,
+        network: &Network,
+        active: &ActiveSet,
+        held: &[bool],
+        phys: &Physical,
+    ) -> Result<Deflection, PhysicsError> {
+        let lengths = lumped_lengths(network, active);
+        let s = inverse_sqrt_coordinates(&lengths);
+        let pair = self.lowest(&lengths, 1)?;
+        let v: Vec<f64> = (0..s.len()).map(|i| s[i] * pair.vectors[(i, 0)]).collect();
+        let (vertex, max) =
+            worst_load_deflection(pair.lambda(), &v, &lengths, held, phys.load_scene());
+        Ok(Deflection { max, vertex })
+    }
+
+    /// The self-weight deflection, linearised at the equilibrium (`H u = M g`): the vertex
+    /// and the largest displacement (`None` when `H` does not factorize).
+    fn self_weight(
+        &self,
+        network: &Network,
+        active: &ActiveSet,
+        held: &[bool],
+        phys: &Physical,
+    ) -> Option<(usize, f64)> {
+        let factor =
+            Cholesky::factorize(self.symbolic, self.model.pattern(), self.hess, 0.0, None).ok()?;
+        let mut w = self_weight(network, phys, active);
+        factor.solve_vec(&mut w);
+        Some(max_displacement(&w, held))
+    }
 }
 
 impl PhysicalReport {

@@ -256,6 +256,7 @@ pub fn viewer_data(run: &RunFolder, options: &ViewerOptions) -> Result<Value, St
                 "eigenvalues": it.eigenvalues,
                 "zero_modes": it.zero_modes,
                 "negative_modes": it.negative_modes,
+                "unstable": crate::run_folder::record_instability(it),
                 "removed": it.removed,
                 "score": it.score,
                 "newton_iterations": it.newton.iterations,

@@ -48,7 +48,7 @@ pub mod writer;
 pub use answer::{evaluated_offer, greedy_offers, measure_greedy_deviations};
 pub use reader::{Chosen, RunFolder, Which, check_network};
 pub use schema::{FinalRecord, InputDescription, LocalSearchRecord, ResultFile, RunSetup, VERSION};
-pub use summary::{summary, unrelaxed};
+pub use summary::{instability, record_instability, summary, unrelaxed, unstable};
 pub use writer::OutputWriter;
 
 use crate::geom::Vec3;

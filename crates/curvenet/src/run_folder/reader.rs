@@ -224,6 +224,7 @@ impl RunFolder {
                 length: rec.length,
                 lambda: rec.lambda,
                 iteration: Some(k),
+                unstable: super::record_instability(rec),
             });
         }
         let a = self.chosen(which)?;
@@ -242,6 +243,7 @@ impl RunFolder {
             length: a.length,
             lambda: a.lambda,
             iteration: a.iteration,
+            unstable: super::instability(a.lambda, a.zero_modes, a.negative_modes),
         })
     }
 
@@ -297,6 +299,9 @@ pub struct Chosen {
     pub lambda: f64,
     /// The greedy's iteration, when it is one.
     pub iteration: Option<usize>,
+    /// What makes it unstable, when it is (a zero or negative mode: see
+    /// [`super::instability`]); never for the answer or an alternative.
+    pub unstable: Option<String>,
 }
 
 /// Checks that a network is consistent: finite positions, indices in range, one positive

@@ -25,6 +25,84 @@ pub fn unrelaxed(iterations: &[IterationRecord]) -> Vec<String> {
         .collect()
 }
 
+/// What makes a network unstable, in words (`unstable: 1 zero mode, a mechanism …`), from its
+/// `λ_eq` and the zero and negative modes among its computed eigenvalues; `None` when it is
+/// stable (`λ_eq > 0`, no zero or negative mode). Every place that shows a recorded network's
+/// numbers adds it, so a mechanism is never shown as if it could stand.
+pub fn instability(lambda: f64, zero_modes: usize, negative_modes: usize) -> Option<String> {
+    let plural = |n: usize, what: &str| format!("{n} {what} mode{}", if n == 1 { "" } else { "s" });
+    match (zero_modes, negative_modes) {
+        (0, 0) if lambda > 0.0 => None,
+        (0, 0) => Some(format!(
+            "unstable: λ_eq {lambda:.3e} is not positive, the network cannot stand"
+        )),
+        (z, 0) => Some(format!(
+            "unstable: {}, a mechanism (a part of it moves freely)",
+            plural(z, "zero")
+        )),
+        (0, n) => Some(format!(
+            "unstable: {}, an unstable equilibrium",
+            plural(n, "negative")
+        )),
+        (z, n) => Some(format!(
+            "unstable: {} and {}, an unstable equilibrium and a mechanism",
+            plural(n, "negative"),
+            plural(z, "zero")
+        )),
+    }
+}
+
+/// [`instability`] of a recorded iteration.
+pub fn record_instability(r: &IterationRecord) -> Option<String> {
+    instability(r.lambda, r.zero_modes, r.negative_modes)
+}
+
+/// The warnings of a run whose recorded networks include unstable ones (zero or negative
+/// modes): one line for the final network when it is unstable, one naming the other unstable
+/// iterations. Empty when every recorded network is stable.
+pub fn unstable(iterations: &[IterationRecord]) -> Vec<String> {
+    let mut lines = Vec::new();
+    let Some(last) = iterations.len().checked_sub(1) else {
+        return lines;
+    };
+    if let Some(why) = record_instability(&iterations[last]) {
+        lines.push(format!(
+            "the final network (iteration {last}, {} curves, λ_eq {:.6e}) is {why}; it cannot \
+             stand as built and is never the answer",
+            iterations[last].curves.len(),
+            iterations[last].lambda
+        ));
+    }
+    let earlier: Vec<String> = iterations[..last]
+        .iter()
+        .enumerate()
+        .filter_map(|(k, r)| {
+            record_instability(r).map(|why| {
+                let why = why.trim_start_matches("unstable: ");
+                format!("{k} ({} curves, {why})", r.curves.len())
+            })
+        })
+        .collect();
+    const SHOWN: usize = 8;
+    if !earlier.is_empty() {
+        let more = earlier.len().saturating_sub(SHOWN);
+        let mut list = earlier[..earlier.len().min(SHOWN)].join("; ");
+        if more > 0 {
+            list.push_str(&format!("; and {more} more"));
+        }
+        lines.push(format!(
+            "{} earlier iteration(s) recorded unstable networks: {list}",
+            earlier.len()
+        ));
+    }
+    lines
+}
+
+/// ` (unstable: …)` after a recorded network's numbers when it is unstable, else nothing.
+fn unstable_suffix(r: &IterationRecord) -> String {
+    record_instability(r).map_or_else(String::new, |w| format!(" ({w})"))
+}
+
 /// A short text summary of a result.
 pub fn summary(r: &ResultFile) -> String {
     use std::fmt::Write as _;
@@ -53,17 +131,19 @@ pub fn summary(r: &ResultFile) -> String {
     if let (Some(f), Some(l)) = (first, last) {
         let _ = writeln!(
             s,
-            "start: {} curves, length {:.6}, λ_eq {:.6e}",
+            "start: {} curves, length {:.6}, λ_eq {:.6e}{}",
             f.curves.len(),
             f.length,
-            f.lambda
+            f.lambda,
+            unstable_suffix(f)
         );
         let _ = writeln!(
             s,
-            "final: {} curves, length {:.6}, λ_eq {:.6e}",
+            "final: {} curves, length {:.6}, λ_eq {:.6e}{}",
             l.curves.len(),
             l.length,
-            l.lambda
+            l.lambda,
+            unstable_suffix(l)
         );
         let _ = writeln!(s, "kept curves: {:?}", l.curves);
     }
@@ -75,7 +155,10 @@ pub fn summary(r: &ResultFile) -> String {
     let _ = writeln!(s, "removed in order: {}", removed.join(", "));
     let stop = r.stop.map_or("not finished".to_string(), |s| s.to_string());
     let _ = writeln!(s, "iterations: {}; stop: {stop}", r.iterations.len());
-    for line in unrelaxed(&r.iterations) {
+    for line in unrelaxed(&r.iterations)
+        .into_iter()
+        .chain(unstable(&r.iterations))
+    {
         let _ = writeln!(s, "warning: {line}");
     }
     if let Some(l) = &r.local_search {
@@ -104,7 +187,7 @@ pub fn summary(r: &ResultFile) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::unrelaxed;
+    use super::{instability, unrelaxed, unstable};
     use crate::simplify::greedy::IterationRecord;
     use crate::solve::NewtonStop;
     use crate::solve::NewtonSummary;
@@ -154,5 +237,42 @@ mod tests {
             lines[0]
         );
         assert!(unrelaxed(&its[..2]).is_empty());
+    }
+
+    #[test]
+    fn unstable_networks_are_named() {
+        assert_eq!(instability(1e-6, 0, 0), None);
+        assert!(
+            instability(-2e-15, 1, 0)
+                .unwrap()
+                .contains("1 zero mode, a mechanism")
+        );
+        assert!(
+            instability(-1e-3, 0, 2)
+                .unwrap()
+                .contains("2 negative modes")
+        );
+        assert!(instability(0.0, 0, 0).unwrap().starts_with("unstable: "));
+        let mut its: Vec<IterationRecord> = (0..4)
+            .map(|k| record(10 - k, true, NewtonStop::Converged))
+            .collect();
+        assert!(unstable(&its).is_empty());
+        its[2].zero_modes = 1;
+        its[3].lambda = -2e-15;
+        its[3].zero_modes = 1;
+        let lines = unstable(&its);
+        assert_eq!(lines.len(), 2, "{lines:?}");
+        assert!(
+            lines[0].starts_with("the final network (iteration 3, 7 curves")
+                && lines[0].contains("unstable: 1 zero mode"),
+            "{}",
+            lines[0]
+        );
+        assert!(
+            lines[1].contains("1 earlier iteration(s)")
+                && lines[1].contains("2 (8 curves, 1 zero mode"),
+            "{}",
+            lines[1]
+        );
     }
 }

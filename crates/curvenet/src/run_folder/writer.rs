@@ -20,6 +20,14 @@ fn background() -> Result<io::BackgroundWriter, String> {
     io::BackgroundWriter::new().map_err(|e| format!("cannot start the output writer thread: {e}"))
 }
 
+/// An OBJ of a recorded network, with a comment line first naming it unstable when it is.
+fn with_instability(record: &IterationRecord, obj: String) -> String {
+    match super::summary::record_instability(record) {
+        Some(w) => format!("# WARNING: this network is {w}; it cannot stand as built\n{obj}"),
+        None => obj,
+    }
+}
+
 fn io_err(path: &Path, e: std::io::Error) -> String {
     format!("{}: {e}", path.display())
 }
@@ -341,7 +349,7 @@ impl<'a> OutputWriter<'a> {
         let k = outcome.iterations.len() - 1;
         let u = read_f64_file(&self.dir.join(format!("states/{k:04}.bin")))?;
         let obj = io::curves_to_obj(&network_polylines(self.network, &last.curves, Some(&u)));
-        self.write("final.obj", obj)?;
+        self.write("final.obj", with_instability(last, obj))?;
         let answer_path = self.dir.join("answer.obj");
         self.remove_stale(answer_state.is_some(), self.alternatives.len())?;
         for (i, (a, state)) in self.alternatives.iter().enumerate() {
@@ -404,7 +412,10 @@ impl GreedyHooks for OutputWriter<'_> {
             &record.curves,
             Some(&eval.displacement),
         ));
-        self.write(&format!("iterations/{k:04}.obj"), obj)?;
+        self.write(
+            &format!("iterations/{k:04}.obj"),
+            with_instability(record, obj),
+        )?;
         self.result.iterations.push(record.clone());
         self.write_result()?;
         if let Some(p) = self.progress {

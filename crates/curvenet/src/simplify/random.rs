@@ -18,11 +18,10 @@ use super::exhaustive::{SubsetScore, best_of};
 use super::{Budget, SimplifyError};
 use crate::cancel::Cancel;
 use crate::constraints::Constraints;
-use crate::rng::SplitMix64;
+use crate::constraints::SubsetDraw;
 use crate::stability::Analyzer;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use std::collections::HashSet;
 use std::time::{Duration, Instant};
 
 /// Parameters of the random search.
@@ -64,57 +63,19 @@ pub fn draw_subsets(
     seed: u64,
 ) -> (Vec<Vec<usize>>, bool, bool) {
     let n = lengths.len();
-    let mut rng = SplitMix64::new(seed);
     let mut kept = vec![false; n];
     for &k in keep {
         kept[k] = true;
     }
     let free: Vec<usize> = (0..n).filter(|&i| !kept[i]).collect();
-    let base: f64 = keep.iter().map(|&k| lengths[k]).sum();
-    let mut seen: HashSet<Vec<usize>> = HashSet::new();
-    let mut out = Vec::new();
-    let mut fallback = false;
-    let mut misses = 0u64;
-    let max_misses = 1_000_000u64;
-    while out.len() < count && misses < max_misses {
-        let mut s: Vec<usize> = Vec::new();
-        let mut len = base;
-        if !fallback {
-            for &i in &free {
-                if rng.next_u64() & 1 == 1 {
-                    s.push(i);
-                    len += lengths[i];
-                }
-            }
-        } else {
-            let mut order = free.clone();
-            for i in (1..order.len()).rev() {
-                order.swap(i, rng.below(i as u64 + 1) as usize);
-            }
-            for i in order {
-                if len + lengths[i] <= budget {
-                    s.push(i);
-                    len += lengths[i];
-                }
-            }
-        }
-        s.extend_from_slice(keep);
-        s.sort_unstable();
-        s.dedup();
-        if s.is_empty() || len > budget || seen.contains(&s) {
-            misses += 1;
-            if !fallback && misses >= max_misses / 2 && out.is_empty() {
-                fallback = true;
-                misses = 0;
-            }
-            continue;
-        }
-        misses = 0;
-        seen.insert(s.clone());
-        out.push(s);
+    SubsetDraw {
+        free: &free,
+        unit_length: lengths,
+        forced: keep,
+        base: keep.iter().map(|&k| lengths[k]).sum(),
+        budget,
     }
-    let exhausted = out.len() < count;
-    (out, fallback, exhausted)
+    .draw(count, seed, |i, s| s.push(i), |_| true)
 }
 
 /// Runs the random search, over the sets that meet the design `constraints` when given (bound
@@ -204,6 +165,7 @@ fn search(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::collections::HashSet;
 
     #[test]
     fn draws_are_feasible_distinct_and_roughly_uniform() {

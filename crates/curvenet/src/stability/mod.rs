@@ -60,7 +60,7 @@ pub use analysis::{Analysis, CurveShare, GravityDeflection};
 pub use analyzer::Analyzer;
 pub use evaluate::{Evaluation, Prepare, Warm, Work};
 pub use params::{Budget, GravityParams, StabilityParams, Technique, Tuning};
-pub use presets::{Preset, SPECTRUM_TOL, SPECTRUM_TRAILING_TOL};
+pub use presets::{Preset, SCORE_TOL, SPECTRUM_TOL, SPECTRUM_TRAILING_TOL};
 pub use subsets::Part;
 
 pub use crate::rod::ActiveSet;

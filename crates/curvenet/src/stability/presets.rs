@@ -17,6 +17,10 @@ pub const SPECTRUM_TOL: f64 = 1e-6;
 /// bounds); their values stay accurate to about 1e-8 / gap.
 pub const SPECTRUM_TRAILING_TOL: f64 = 1e-4;
 
+/// Residual tolerance of a candidate's score and a set's `λ_eq` (at least): the value's error
+/// is about its square over the gap, below the tie tolerance's 1e-7.
+pub const SCORE_TOL: f64 = 1e-8;
+
 /// What a spectrum is for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Preset {
@@ -32,8 +36,8 @@ pub enum Preset {
         modes: usize,
     },
     /// A candidate's score and a set's `λ_eq`: only `λ`, one converged pair in a block of two
-    /// that holds its neighbour (clustered smallest eigenvalues), its residual to 1e-8
-    /// (the value's error is about its square over the gap: ties are 1e-7 apart).
+    /// that holds its neighbour (clustered smallest eigenvalues), its residual to
+    /// [`SCORE_TOL`].
     Score,
     /// `λ_fix` of a set at the full network's equilibrium: four pairs (the certificates of
     /// its low modes) to the user's tolerance, at most 1e-10.
@@ -62,7 +66,7 @@ impl Preset {
                 p.count = 1;
                 p.block_size = 2.min(p.block_size);
                 p.max_basis = p.max_basis.min(40);
-                p.tol = p.tol.max(1e-8);
+                p.tol = p.tol.max(SCORE_TOL);
             }
             Preset::Fixed | Preset::Relaxation => {
                 p.count = 4;
@@ -110,8 +114,29 @@ mod tests {
             p.params(&base).validate().expect("valid");
         }
         assert_eq!(Preset::Analysis.params(&base), base);
+        assert_eq!(Preset::Greedy { modes: 2 }.params(&base).count, 2);
+        assert_eq!(Preset::Score.params(&base).count, 1);
         let tuning = Tuning::default();
         let large = Preset::Score.params_for(&base, &tuning, tuning.large_factor_values + 1);
         assert_eq!(large.solve_group, 1);
+    }
+
+    #[test]
+    fn presets_are_never_looser_than_the_users_tolerance_where_it_matters() {
+        let strict = EigenParams {
+            tol: 1e-12,
+            ..Default::default()
+        };
+        assert_eq!(Preset::Fixed.params(&strict).tol, 1e-10);
+        assert_eq!(Preset::Relaxation.params(&strict).tol, 1e-8);
+        let loose = EigenParams {
+            tol: 1e-5,
+            ..Default::default()
+        };
+        assert_eq!(Preset::Fixed.params(&loose).tol, 1e-5);
+        assert_eq!(Preset::Score.params(&loose).tol, 1e-5);
+        let greedy = Preset::Greedy { modes: 2 }.params(&loose);
+        assert_eq!(greedy.tol, 1e-5);
+        assert_eq!(greedy.trailing_tol, Some(1e-4));
     }
 }

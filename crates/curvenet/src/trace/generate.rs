@@ -151,7 +151,7 @@ pub struct CurveRecord {
 }
 
 /// Curves made by a [`Generator`].
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct GeneratedCurves {
     /// The curves, in generation order (labelled `"<generator> <i>"`).
     pub curves: Vec<Polyline>,
@@ -196,32 +196,15 @@ pub fn generate_with(
     if topo.boundary_loops().is_empty() {
         return Err(TraceError::NoBoundary);
     }
-    let mut out = GeneratedCurves {
-        curves: Vec::new(),
-        records: Vec::new(),
-        attempts: 0,
-        rejected: 0,
-        failed: 0,
-        failures: Vec::new(),
+    let mut g = Geodesics {
+        topo: &topo,
+        name: generator.name(),
+        options,
+        out: GeneratedCurves::default(),
     };
-    let name = generator.name();
-    let even_t = |i: usize, n: usize| i as f64 / n as f64 + 1.0 / (2.0 * n as f64);
     match *generator {
         Generator::Hill { count, seed } | Generator::Bunny { count, seed } => {
-            let mut rng = MsvcRand::new(seed);
-            for i in 0..count {
-                let theta = rng.uniform(PI / 4.0, 3.0 * PI / 4.0);
-                attempt(
-                    &topo,
-                    &mut out,
-                    name,
-                    0,
-                    even_t(i, count),
-                    theta,
-                    options,
-                    None,
-                );
-            }
+            g.evenly(count, seed, (PI / 4.0, 3.0 * PI / 4.0), 1);
         }
         Generator::Stadium { count, seed } => {
             if topo.boundary_loops().len() < 2 && count > 1 {
@@ -230,139 +213,160 @@ pub fn generate_with(
                     count: topo.boundary_loops().len(),
                 });
             }
-            let mut rng = MsvcRand::new(seed);
-            for i in 0..count {
-                let theta = rng.uniform(PI / 5.0, 4.0 * PI / 5.0);
-                attempt(
-                    &topo,
-                    &mut out,
-                    name,
-                    i % 2,
-                    even_t(i, count),
-                    theta,
-                    options,
-                    None,
-                );
-            }
+            g.evenly(count, seed, (PI / 5.0, 4.0 * PI / 5.0), 2);
         }
         Generator::Tent {
             count,
             seed,
             ground_tolerance,
             max_attempts,
-        } => {
-            if !(ground_tolerance >= 0.0) {
-                return Err(TraceError::InvalidParameter {
-                    name: "ground_tolerance",
-                    value: ground_tolerance,
-                    expected: "a non-negative distance",
-                });
-            }
-            let mut rng = MsvcRand::new(seed);
-            while out.curves.len() < count {
-                if out.attempts >= max_attempts {
-                    return Err(TraceError::GeneratorExhausted {
-                        accepted: out.curves.len(),
-                        wanted: count,
-                        attempts: out.attempts,
-                    });
-                }
-                let t = rng.uniform(0.0, 1.0);
-                let theta = rng.uniform(PI / 6.0, 5.0 * PI / 6.0);
-                attempt(
-                    &topo,
-                    &mut out,
-                    name,
-                    0,
-                    t,
-                    theta,
-                    options,
-                    Some(ground_tolerance),
-                );
-            }
-        }
-        Generator::Random { count, seed } => {
-            let mut rng = MsvcRand::new(seed);
-            for _ in 0..count {
-                let t = rng.uniform(0.0, 1.0);
-                let theta = rng.uniform(PI / 6.0, 5.0 * PI / 6.0);
-                attempt(&topo, &mut out, name, 0, t, theta, options, None);
-            }
-        }
+        } => g.tent(count, seed, ground_tolerance, max_attempts)?,
+        Generator::Random { count, seed } => g.random(count, seed),
         Generator::Streamlines { degree, seeds } => {
-            let field = smooth_field(
-                &topo,
-                &FieldOptions {
-                    degree,
-                    ..FieldOptions::default()
-                },
-            )?;
-            let lines = trace_streamlines(
-                &topo,
-                &field,
-                &StreamlineOptions {
-                    seeds,
-                    trace: *options,
-                    ..StreamlineOptions::default()
-                },
-            )?;
-            out.attempts = lines.started;
-            out.rejected = lines.duplicates;
-            out.failed = lines.singular + lines.stalled + lines.too_long + lines.failed;
-            out.records = lines
-                .records
-                .iter()
-                .map(|r| CurveRecord {
-                    loop_index: r.loop_index,
-                    t: r.loop_fraction,
-                    theta: r.theta,
-                    attempt: r.seed,
-                })
-                .collect();
-            out.curves = lines.curves;
+            return streamlines(&topo, degree, seeds, options);
         }
     }
-    Ok(out)
+    Ok(g.out)
 }
 
-/// Traces one geodesic and files the result.
-fn attempt(
-    topo: &MeshTopology,
-    out: &mut GeneratedCurves,
-    name: &str,
-    loop_index: usize,
-    t: f64,
-    theta: f64,
-    options: &TraceOptions,
-    ground: Option<f64>,
-) {
-    let index = out.attempts;
-    out.attempts += 1;
-    match trace_geodesic(topo, loop_index, t, theta, options) {
-        Ok(path) => {
-            let mut curve = path.polyline;
-            if let Some(tol) = ground {
-                let on_ground = |p: Option<&crate::geom::Vec3>| p.is_some_and(|p| p.z.abs() <= tol);
-                if !on_ground(curve.points.first()) || !on_ground(curve.points.last()) {
-                    out.rejected += 1;
-                    return;
-                }
-            }
-            curve.label = Some(format!("{name} {}", out.curves.len()));
-            curve.origin = Origin::new(format!("<{name}>"), 0);
-            out.curves.push(curve);
-            out.records.push(CurveRecord {
-                loop_index,
-                t,
-                theta,
-                attempt: index,
-            });
-        }
-        Err(e) => {
-            out.failed += 1;
-            out.failures.push(format!(
-                "attempt {index} (loop {loop_index}, t {t}, θ {theta}): {e}"
-            ));
+/// Geodesics traced on one mesh, filed into `out` as they are drawn.
+struct Geodesics<'a> {
+    topo: &'a MeshTopology,
+    /// The generator's name, for labels and origins.
+    name: &'static str,
+    options: &'a TraceOptions,
+    out: GeneratedCurves,
+}
+
+impl Geodesics<'_> {
+    /// `count` curves at evenly spaced `t = i/n + 1/(2n)`, `θ ~ U[lo, hi]`, curve `i` on loop
+    /// `i mod loops` (hill, bunny: one loop; stadium: two).
+    fn evenly(&mut self, count: usize, seed: u32, (lo, hi): (f64, f64), loops: usize) {
+        let mut rng = MsvcRand::new(seed);
+        for i in 0..count {
+            let theta = rng.uniform(lo, hi);
+            let t = i as f64 / count as f64 + 1.0 / (2.0 * count as f64);
+            self.attempt(i % loops, t, theta, None);
         }
     }
+
+    /// The tent's curves: `t ~ U[0, 1]` then `θ ~ U[π/6, 5π/6]` per attempt, until `count`
+    /// curves with both ends on the ground are accepted or `max_attempts` are made.
+    fn tent(
+        &mut self,
+        count: usize,
+        seed: u32,
+        ground_tolerance: f64,
+        max_attempts: usize,
+    ) -> Result<(), TraceError> {
+        if !(ground_tolerance >= 0.0) {
+            return Err(TraceError::InvalidParameter {
+                name: "ground_tolerance",
+                value: ground_tolerance,
+                expected: "a non-negative distance",
+            });
+        }
+        let mut rng = MsvcRand::new(seed);
+        while self.out.curves.len() < count {
+            if self.out.attempts >= max_attempts {
+                return Err(TraceError::GeneratorExhausted {
+                    accepted: self.out.curves.len(),
+                    wanted: count,
+                    attempts: self.out.attempts,
+                });
+            }
+            let t = rng.uniform(0.0, 1.0);
+            let theta = rng.uniform(PI / 6.0, 5.0 * PI / 6.0);
+            self.attempt(0, t, theta, Some(ground_tolerance));
+        }
+        Ok(())
+    }
+
+    /// Command-line scenes' curves: `t ~ U[0, 1]` then `θ ~ U[π/6, 5π/6]` per curve.
+    fn random(&mut self, count: usize, seed: u32) {
+        let mut rng = MsvcRand::new(seed);
+        for _ in 0..count {
+            let t = rng.uniform(0.0, 1.0);
+            let theta = rng.uniform(PI / 6.0, 5.0 * PI / 6.0);
+            self.attempt(0, t, theta, None);
+        }
+    }
+
+    /// Traces one geodesic and files the result: a curve, a rejection (with `ground`, an end
+    /// more than that above or below `z = 0`) or a failure.
+    fn attempt(&mut self, loop_index: usize, t: f64, theta: f64, ground: Option<f64>) {
+        let (name, out) = (self.name, &mut self.out);
+        let index = out.attempts;
+        out.attempts += 1;
+        match trace_geodesic(self.topo, loop_index, t, theta, self.options) {
+            Ok(path) => {
+                let mut curve = path.polyline;
+                if let Some(tol) = ground {
+                    let on_ground =
+                        |p: Option<&crate::geom::Vec3>| p.is_some_and(|p| p.z.abs() <= tol);
+                    if !on_ground(curve.points.first()) || !on_ground(curve.points.last()) {
+                        out.rejected += 1;
+                        return;
+                    }
+                }
+                curve.label = Some(format!("{name} {}", out.curves.len()));
+                curve.origin = Origin::new(format!("<{name}>"), 0);
+                out.curves.push(curve);
+                out.records.push(CurveRecord {
+                    loop_index,
+                    t,
+                    theta,
+                    attempt: index,
+                });
+            }
+            Err(e) => {
+                out.failed += 1;
+                out.failures.push(format!(
+                    "attempt {index} (loop {loop_index}, t {t}, θ {theta}): {e}"
+                ));
+            }
+        }
+    }
+}
+
+/// Streamlines of the smoothest boundary-aligned `degree`-direction field from `seeds` seeds.
+fn streamlines(
+    topo: &MeshTopology,
+    degree: u32,
+    seeds: usize,
+    options: &TraceOptions,
+) -> Result<GeneratedCurves, TraceError> {
+    let field = smooth_field(
+        topo,
+        &FieldOptions {
+            degree,
+            ..FieldOptions::default()
+        },
+    )?;
+    let lines = trace_streamlines(
+        topo,
+        &field,
+        &StreamlineOptions {
+            seeds,
+            trace: *options,
+            ..StreamlineOptions::default()
+        },
+    )?;
+    Ok(GeneratedCurves {
+        attempts: lines.started,
+        rejected: lines.duplicates,
+        failed: lines.singular + lines.stalled + lines.too_long + lines.failed,
+        records: lines
+            .records
+            .iter()
+            .map(|r| CurveRecord {
+                loop_index: r.loop_index,
+                t: r.loop_fraction,
+                theta: r.theta,
+                attempt: r.seed,
+            })
+            .collect(),
+        curves: lines.curves,
+        failures: Vec::new(),
+    })
 }

@@ -24,15 +24,7 @@ pub struct MeshDistance {
 impl MeshDistance {
     /// Indexes the triangles of `mesh`.
     pub fn new(mesh: &TriMesh) -> Self {
-        let triangles: Vec<[Vec3; 3]> = mesh
-            .faces
-            .iter()
-            .filter_map(|f| {
-                let get = |i: u32| mesh.vertices.get(i as usize).copied();
-                let t = [get(f[0])?, get(f[1])?, get(f[2])?];
-                t.iter().all(|p| p.is_finite()).then_some(t)
-            })
-            .collect();
+        let triangles = mesh.finite_triangles();
         let boxes: Vec<Aabb> = triangles.iter().map(Aabb::of_points).collect();
         let mut bounds = Aabb::EMPTY;
         for b in &boxes {

@@ -27,12 +27,12 @@ pub fn curves_obj(run: &RunFolder, which: impl Into<Which>, rest: bool) -> Resul
     } else {
         Some(run.displacement_of(which)?)
     };
-    Ok(structure_obj(
-        &run.network,
-        &rec.curves,
-        u.as_deref(),
-        &rec.what,
-    ))
+    let mut obj = structure_obj(&run.network, &rec.curves, u.as_deref(), &rec.what);
+    if let Some(w) = &rec.unstable {
+        let first = obj.find('\n').map_or(obj.len(), |i| i + 1);
+        obj.insert_str(first, &format!("# {}\n", super::unstable_header(w)));
+    }
+    Ok(obj)
 }
 
 /// OBJ polylines of `curves` of `net` at displacements `u` (`None`: the designed rest state);

@@ -134,6 +134,12 @@ pub fn write_exports(
     Ok(paths)
 }
 
+/// The header line of an export of an unstable network (`why` from
+/// [`crate::run_folder::instability`]): the files say it cannot be built as it is.
+pub fn unstable_header(why: &str) -> String {
+    format!("WARNING: this network is {why}; it cannot stand as built (not a network to fabricate)")
+}
+
 /// A number in Rust's shortest round-trip form.
 fn num(v: f64) -> String {
     format!("{v:?}")

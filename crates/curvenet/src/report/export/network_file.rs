@@ -238,8 +238,7 @@ pub fn joints_of(net: &Network) -> Vec<Joint> {
         .collect()
 }
 
-/// The kept structure of iteration `k` (any [`Which`]) as a network file (with its
-/// equilibrium).
+/// The kept structure of iteration `k` as a network file (with its equilibrium).
 pub fn network_file(run: &RunFolder, which: impl Into<Which>) -> Result<NetworkFile, String> {
     let which = which.into();
     let rec = run.network_of(which)?;
@@ -250,7 +249,11 @@ pub fn network_file(run: &RunFolder, which: impl Into<Which>) -> Result<NetworkF
         run.result.setup.stability.material,
         Some(&u),
     );
-    f.source = Some(format!("{} {}", run.dir.display(), rec.what));
+    let unstable = rec
+        .unstable
+        .as_ref()
+        .map_or_else(String::new, |w| format!(" ({})", super::unstable_header(w)));
+    f.source = Some(format!("{} {}{unstable}", run.dir.display(), rec.what));
     f.iteration = rec.iteration;
     f.lambda = Some(rec.lambda);
     Ok(f)

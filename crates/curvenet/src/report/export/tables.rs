@@ -20,6 +20,9 @@ pub fn points_csv(run: &RunFolder, which: impl Into<Which>) -> Result<String, St
         rec.what,
         rec.curves.len()
     );
+    if let Some(w) = &rec.unstable {
+        let _ = writeln!(out, "# {}", super::unstable_header(w));
+    }
     let _ = writeln!(
         out,
         "# s = arc length at rest from the curve's first vertex; a closed curve does not repeat its first point"
@@ -51,12 +54,17 @@ pub fn points_csv(run: &RunFolder, which: impl Into<Which>) -> Result<String, St
 /// The fabrication table of iteration `k` (any [`Which`]): one row per kept rod.
 pub fn fabrication_csv(run: &RunFolder, which: impl Into<Which>) -> Result<String, String> {
     let rec = run.network_of(which.into())?;
-    Ok(fabrication_table(
+    let mut table = fabrication_table(
         &run.network,
         &format!("{} of {}", rec.what, run.dir.display()),
         &rec.curves,
         rec.length,
-    ))
+    );
+    if let Some(w) = &rec.unstable {
+        let first = table.find('\n').map_or(table.len(), |i| i + 1);
+        table.insert_str(first, &format!("# {}\n", super::unstable_header(w)));
+    }
+    Ok(table)
 }
 
 /// The fabrication table of the run's answer (the network to build), `None` when the run

@@ -6,7 +6,7 @@ use super::scene::{Stroke, View, colormap, draw_mesh, draw_strokes};
 use super::{INK, KEPT, REMOVED, Rgb, rgb8};
 use crate::geom::Vec3;
 use crate::network::Network;
-use crate::run_folder::{RunFolder, positions_at};
+use crate::run_folder::{RunFolder, positions_at, record_instability};
 
 /// Width and height of the pictures.
 pub const PICTURE_SIZE: (usize, usize) = (960, 720);
@@ -100,8 +100,9 @@ pub fn network_picture(run: &RunFolder, k: usize) -> Result<Image, String> {
                 fmt_sci(total, 6)
             ),
             format!(
-                "λ_eq = {}   budget {}   supports {}",
+                "λ_eq = {}{}   budget {}   supports {}",
                 fmt_sci(rec.lambda, 4),
+                unstable_note(rec),
                 fmt_sci(run.result.budget, 6),
                 net.supports.name()
             ),
@@ -116,6 +117,13 @@ pub fn network_picture(run: &RunFolder, k: usize) -> Result<Image, String> {
         ],
     );
     Ok(img)
+}
+
+/// `  UNSTABLE: …` after a recorded network's `λ_eq` in a title when it is unstable.
+fn unstable_note(rec: &crate::simplify::greedy::IterationRecord) -> String {
+    record_instability(rec).map_or_else(String::new, |w| {
+        format!("  {}", w.replacen("unstable", "UNSTABLE", 1))
+    })
 }
 
 fn diag(points: &[Vec3]) -> f64 {
@@ -234,8 +242,9 @@ pub fn mode_picture(run: &RunFolder, k: usize) -> Result<Image, String> {
         &mut img,
         &[
             format!(
-                "worst-case mode, iteration {k}: λ_eq = {} ({} curves)",
+                "worst-case mode, iteration {k}: λ_eq = {}{} ({} curves)",
                 fmt_sci(rec.lambda, 4),
+                unstable_note(rec),
                 kept.len()
             ),
             format!(

@@ -455,7 +455,9 @@
       b.classList.toggle('on', ui.c !== null && +b.dataset.i === ui.c);
     }
     $('stat-length').textContent = `${sci(it.length, 6)} (${(100 * it.length / s.total_length).toFixed(1)}%; budget ${sci(s.budget, 6)})`;
-    $('stat-lambda').textContent = sci(it.lambda, 5) + (it.negative_modes ? ` (${it.negative_modes} negative)` : '') + (it.zero_modes ? ` (${it.zero_modes} zero)` : '');
+    // An unstable network (zero or negative modes) is named as such beside its numbers.
+    $('stat-lambda').textContent = sci(it.lambda, 5) + (it.unstable ? ` — ${it.unstable}` : '');
+    $('stat-lambda').classList.toggle('unstable', !!it.unstable);
     $('stat-eigen').textContent = it.eigenvalues ? it.eigenvalues.map((x) => sci(x, 3)).join(', ') : '–';
     $('stat-removed').textContent = own ? '–' : (it.removed === null ? 'none (last iteration)' : `curve ${it.removed} (λ_fix ${sci(it.score, 4)})`);
     state.iteration = ui.k;

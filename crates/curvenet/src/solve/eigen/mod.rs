@@ -11,16 +11,13 @@
 //! Eigenvalues within `±C·ε·‖H‖₁` count as zero modes (mechanisms), below as negative modes
 //! (an unstable equilibrium). Every returned pair comes with its residual `‖Hv − λv‖`.
 //!
-//! [`smallest_eigenpairs`] is the one entry: the matrix, the accuracy ([`EigenParams`] and its
-//! named presets) and how to run ([`EigenOptions`]: the shift, the start, a factor to reuse,
+//! [`smallest_eigenpairs`] is the one entry: the matrix, the accuracy ([`EigenParams`]; the
+//! searches' named presets are `stability::Preset`) and how to run ([`EigenOptions`]: the shift, the start, a factor to reuse,
 //! the coordinates to keep). A generalized problem `H v = μ M v` with a diagonal (lumped) mass
 //! `M` would enter there as one more option, solved as the standard problem of
 //! `M^{-1/2} H M^{-1/2}` (shift-and-invert on `H − σM`).
 
-mod presets;
 mod shift_invert;
-
-pub use presets::{SCORE_TOL, SPECTRUM_TOL, SPECTRUM_TRAILING_TOL};
 
 use super::factor::{Cholesky, Reuse, SymbolicFactor};
 use crate::sparse::Pattern;
