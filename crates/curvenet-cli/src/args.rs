@@ -85,6 +85,14 @@ pub struct ServeArgs {
     /// Port to listen on (0: any free port).
     #[arg(long, default_value_t = 8765)]
     pub port: u16,
+    /// Measure instead of serving: a fixed sequence of single-curve removals and restores,
+    /// each edit's time at the server printed beside a cold analysis of the same structure
+    /// (docs/serve.md, *Benchmark*).
+    #[arg(long)]
+    pub bench: bool,
+    /// Curves the benchmark removes (each is restored later).
+    #[arg(long = "bench-removals", default_value_t = 12, requires = "bench", value_parser = count(1, 1000))]
+    pub bench_removals: usize,
     /// Material and solver options.
     #[command(flatten)]
     pub physics: PhysicsArgs,
@@ -266,6 +274,11 @@ pub struct DemoArgs {
     /// Output folder.
     #[arg(long, default_value = "out/demo")]
     pub out: PathBuf,
+    /// Run into a non-empty folder that is not a curvenet run's (the run's own files are
+    /// replaced, the others kept). A curvenet run's folder needs no --force: a fresh run
+    /// there removes the earlier run's files first.
+    #[arg(long)]
+    pub force: bool,
     /// Budget as a fraction of the total length, in (0, 1].
     #[arg(long, default_value_t = 0.3, value_parser = budget_fraction, allow_hyphen_values = true)]
     pub budget: f64,
@@ -338,6 +351,11 @@ pub struct GreedyArgs {
     /// Continue an interrupted run in the output folder.
     #[arg(long)]
     pub resume: bool,
+    /// Run into a non-empty folder that is not a curvenet run's (the run's own files are
+    /// replaced, the others kept). A curvenet run's folder needs no --force: a fresh run
+    /// there removes the earlier run's files first.
+    #[arg(long)]
+    pub force: bool,
     /// What runs after the greedy.
     #[command(flatten)]
     pub after: AfterGreedyArgs,
@@ -504,6 +522,11 @@ pub struct ExampleArgs {
     /// Continue an interrupted run in the output folder.
     #[arg(long)]
     pub resume: bool,
+    /// Run into a non-empty folder that is not a curvenet run's (the run's own files are
+    /// replaced, the others kept). A curvenet run's folder needs no --force: a fresh run
+    /// there removes the earlier run's files first.
+    #[arg(long)]
+    pub force: bool,
     /// What runs after the greedy.
     #[command(flatten)]
     pub after: AfterGreedyArgs,

@@ -188,3 +188,151 @@ fn a_stable_grid_says_nothing_of_instability() {
     assert!(!read(tmp.0.join("out/summary.txt")).contains("unstable"));
     assert!(!read(tmp.0.join("out/final.obj")).contains("WARNING"));
 }
+
+/// `simplify` of the grid in `dir` into `out` with `budget`, then `extra`.
+fn simplify_grid(dir: &Path, out: &str, budget: &str, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "simplify",
+        "--curves",
+        "grid.txt",
+        "--edge-length",
+        "0.25",
+        "--radius",
+        "0.01",
+        "--budget",
+        budget,
+        "--out",
+        out,
+    ];
+    args.extend_from_slice(extra);
+    run_in(dir, &args)
+}
+
+/// The names in a folder, sorted.
+fn names(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .map(|d| {
+            d.filter_map(Result::ok)
+                .map(|e| e.file_name().to_string_lossy().into_owned())
+                .collect()
+        })
+        .unwrap_or_default();
+    v.sort();
+    v
+}
+
+#[test]
+fn a_fresh_run_into_an_old_run_s_folder_starts_clean() {
+    let tmp = TempDir::new();
+    tmp.write("grid.txt", GRID);
+    let o = simplify_grid(&tmp.0, "out", "0.5", &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let long = names(&tmp.0.join("out/iterations"));
+    // Stale files of an earlier run: more iterations than the new run makes, a temporary file.
+    std::fs::write(tmp.0.join("out/iterations/0099.obj"), "stale").unwrap();
+    std::fs::write(tmp.0.join("out/.result.json.tmp.1.0"), "stale").unwrap();
+    let o = simplify_grid(&tmp.0, "out", "0.9", &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stderr(&o).contains("a fresh run"), "{}", stderr(&o));
+    let short = names(&tmp.0.join("out/iterations"));
+    assert!(short.len() < long.len(), "{short:?} vs {long:?}");
+    for d in ["iterations", "modes"] {
+        let n = names(&tmp.0.join("out").join(d)).len();
+        assert_eq!(n, short.len(), "{d}: only the new run's iterations");
+    }
+    assert!(
+        !names(&tmp.0.join("out"))
+            .iter()
+            .any(|n| n.contains(".tmp."))
+    );
+    let result: serde_json::Value =
+        serde_json::from_str(&read(tmp.0.join("out/result.json"))).unwrap();
+    assert_eq!(result["iterations"].as_array().unwrap().len(), short.len());
+}
+
+#[test]
+fn a_non_empty_folder_that_is_no_run_s_is_refused_unless_forced() {
+    let tmp = TempDir::new();
+    tmp.write("grid.txt", GRID);
+    std::fs::create_dir_all(tmp.0.join("mine")).unwrap();
+    tmp.write("mine/notes.txt", "my notes");
+    let o = simplify_grid(&tmp.0, "mine", "0.9", &[]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("--out mine: the folder is not empty and is not a curvenet run's")
+            && stderr(&o).contains("notes.txt")
+            && stderr(&o).contains("--force"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!tmp.0.join("mine/result.json").exists(), "no work done");
+    let o = simplify_grid(&tmp.0, "mine", "0.9", &["--force"]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert_eq!(read(tmp.0.join("mine/notes.txt")), "my notes");
+    assert!(tmp.0.join("mine/result.json").is_file());
+}
+
+#[test]
+fn a_folder_another_run_holds_is_refused() {
+    use std::process::Stdio;
+    let tmp = TempDir::new();
+    // A run long enough to overlap: 24 geodesics on the built-in dome.
+    let t = run_in(
+        &tmp.0,
+        &[
+            "trace",
+            "--mesh",
+            "dome",
+            "--geodesics",
+            "24",
+            "--seed",
+            "1",
+            "--out",
+            "dome.json",
+        ],
+    );
+    assert_eq!(t.status.code(), Some(0), "{}", stderr(&t));
+    let args = [
+        "simplify",
+        "--mesh",
+        "dome",
+        "--curves",
+        "dome.json",
+        "--edge-length",
+        "100",
+        "--budget",
+        "0.3",
+        "--out",
+        "out",
+    ];
+    let mut first = Command::new(BIN)
+        .args(args)
+        .current_dir(&tmp.0)
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("curvenet starts");
+    let started = std::time::Instant::now();
+    while !tmp.0.join("out/result.json").is_file() {
+        assert!(started.elapsed().as_secs() < 60, "the first run writes");
+        assert!(first.try_wait().unwrap().is_none(), "the first run ended");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    let second = run_in(&tmp.0, &args);
+    let still_running = first.try_wait().unwrap().is_none();
+    first.kill().expect("SIGKILL");
+    let _ = first.wait();
+    assert!(
+        still_running,
+        "the first run ended before the second started"
+    );
+    assert_eq!(second.status.code(), Some(2), "{}", stderr(&second));
+    assert!(
+        stderr(&second).contains("--out out: another curvenet run is writing in this folder"),
+        "{}",
+        stderr(&second)
+    );
+    // The lock goes with the process, however it ended: the killed run resumes.
+    let resumed = run_in(&tmp.0, &[&args[..], &["--resume"]].concat());
+    assert_eq!(resumed.status.code(), Some(0), "{}", stderr(&resumed));
+}

@@ -143,6 +143,8 @@ pub(crate) struct EditAnswer {
     #[serde(flatten)]
     summary: Summary,
     elapsed_ms: f64,
+    /// Where the answer came from: the cache, a warm start or the drawn state.
+    from: crate::design::Source,
 }
 
 impl From<Edited> for EditAnswer {
@@ -150,6 +152,7 @@ impl From<Edited> for EditAnswer {
         EditAnswer {
             summary: e.summary,
             elapsed_ms: e.elapsed.as_secs_f64() * 1e3,
+            from: e.source,
         }
     }
 }

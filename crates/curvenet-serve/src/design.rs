@@ -1,8 +1,16 @@
 //! [`Design`]: the one network being edited, its current structure and that structure's
 //! stability, behind one lock.
+//!
+//! Edits are warm: each is analysed from the current structure's equilibrium and modes
+//! ([`Analyzer::analyze_edit`], which falls back to the drawn state when the warm answer is
+//! not a stable equilibrium), and every structure analysed is kept in a cache bounded by
+//! memory ([`Cache`]), so a set seen before (a restored curve, an undo) is answered at once.
 
+use crate::cache::Cache;
 use curvenet::rod::ActiveSet;
-use curvenet::stability::{Analysis, Analyzer, CurveShare, StabilityError};
+use curvenet::stability::{
+    Analysis, Analyzer, CurveShare, EditFrom, EditStart, Spectrum, StabilityError,
+};
 use serde::Serialize;
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
@@ -70,38 +78,107 @@ pub struct Evaluated {
     pub displacement: Vec<f64>,
     /// The worst-case mode: the unit eigenvector of `λ` (3 per vertex).
     pub mode: Vec<f64>,
+    /// The spectrum: the next edit's eigen solve starts from its vectors.
+    spectrum: Spectrum,
 }
 
-/// The answer to an edit: the new structure's summary and the server-side time it took.
+impl Evaluated {
+    /// Bytes of memory it holds (what the cache counts).
+    pub fn bytes(&self) -> usize {
+        let floats = self.displacement.len()
+            + self.mode.len()
+            + self.spectrum.vectors.nrows() * self.spectrum.vectors.ncols();
+        8 * floats + 64 * self.summary.eigenvalues.len() + 8 * self.summary.curves.len() + 512
+    }
+}
+
+/// Where an edit's answer came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Source {
+    /// The cache: the set was analysed before.
+    Cache,
+    /// Relaxed from the previous structure's equilibrium.
+    Warm,
+    /// Relaxed from the drawn state (the first structure, or a warm answer that was not a
+    /// stable equilibrium: docs/serve.md, *Warm edits*).
+    Drawn,
+}
+
+impl From<EditFrom> for Source {
+    fn from(f: EditFrom) -> Self {
+        match f {
+            EditFrom::Warm => Source::Warm,
+            EditFrom::Drawn => Source::Drawn,
+        }
+    }
+}
+
+/// The answer to an edit: the new structure's summary, the server-side time it took and
+/// where it came from.
 #[derive(Clone, Debug)]
 pub struct Edited {
     /// The structure after the edit.
     pub summary: Summary,
     /// Time spent computing it.
     pub elapsed: Duration,
+    /// The cache, a warm start or the drawn state.
+    pub source: Source,
+}
+
+/// The current structure and the cache of every structure analysed, under one lock.
+#[derive(Debug)]
+struct Store {
+    current: Arc<Evaluated>,
+    cache: Cache<Vec<usize>, Evaluated>,
 }
 
 /// The network being designed: its analyzer (one energy model and symbolic analysis for
-/// every structure) and the current structure. Every read and edit takes the one lock, so
-/// concurrent clients see the edits in some order, each state whole.
+/// every structure), the current structure and the structures analysed so far. Every read
+/// and edit takes the one lock, so concurrent clients see the edits in some order, each state
+/// whole.
 #[derive(Debug)]
 pub struct Design {
     analyzer: Analyzer,
-    current: Mutex<Arc<Evaluated>>,
+    store: Mutex<Store>,
 }
 
+/// Memory the cache of analysed structures may hold by default.
+pub const CACHE_BYTES: usize = 512 << 20;
+
 impl Design {
-    /// The design of `analyzer`'s network, starting from the structure of `curves`.
+    /// The design of `analyzer`'s network, starting from the structure of `curves` (analysed
+    /// from the drawn state), with a cache of [`CACHE_BYTES`].
     ///
     /// # Errors
     ///
     /// An unknown or empty set of curves, or a failed analysis.
     pub fn new(analyzer: Analyzer, curves: &[usize]) -> Result<Self, DesignError> {
+        Self::with_cache(analyzer, curves, CACHE_BYTES)
+    }
+
+    /// [`Self::new`] with a cache of at most `cache_bytes` (the current structure is kept
+    /// whatever the bound).
+    ///
+    /// # Errors
+    ///
+    /// As [`Self::new`].
+    pub fn with_cache(
+        analyzer: Analyzer,
+        curves: &[usize],
+        cache_bytes: usize,
+    ) -> Result<Self, DesignError> {
         let active = checked_set(&analyzer, curves)?;
-        let first = evaluate(&analyzer, &active)?;
+        let analysis = analyzer.analyze(&active, None).map_err(design_error)?;
+        let first = Arc::new(evaluated(&analyzer, &active, analysis));
+        let mut cache = Cache::new(cache_bytes);
+        cache.insert(first.summary.curves.clone(), first.clone(), first.bytes());
         Ok(Design {
             analyzer,
-            current: Mutex::new(Arc::new(first)),
+            store: Mutex::new(Store {
+                current: first,
+                cache,
+            }),
         })
     }
 
@@ -112,7 +189,13 @@ impl Design {
 
     /// The current structure.
     pub fn current(&self) -> Arc<Evaluated> {
-        self.lock().clone()
+        self.lock().current.clone()
+    }
+
+    /// Structures in the cache and the bytes they hold.
+    pub fn cached(&self) -> (usize, usize) {
+        let store = self.lock();
+        (store.cache.len(), store.cache.bytes())
     }
 
     /// Makes the structure of `curves` (in any order, repeats ignored) the current one.
@@ -123,15 +206,8 @@ impl Design {
     /// unchanged.
     pub fn set(&self, curves: &[usize]) -> Result<Edited, DesignError> {
         let active = checked_set(&self.analyzer, curves)?;
-        let mut current = self.lock();
-        let start = Instant::now();
-        let next = Arc::new(evaluate(&self.analyzer, &active)?);
-        let elapsed = start.elapsed();
-        *current = next.clone();
-        Ok(Edited {
-            summary: next.summary.clone(),
-            elapsed,
-        })
+        let mut store = self.lock();
+        self.edit(&mut store, &active)
     }
 
     /// Removes `curve` from the current structure, or restores it when it was removed.
@@ -144,8 +220,8 @@ impl Design {
         if curve >= count {
             return Err(DesignError::UnknownCurve { curve, count });
         }
-        let mut current = self.lock();
-        let mut curves = current.summary.curves.clone();
+        let mut store = self.lock();
+        let mut curves = store.current.summary.curves.clone();
         match curves.binary_search(&curve) {
             Ok(i) => {
                 curves.remove(i);
@@ -153,20 +229,69 @@ impl Design {
             Err(i) => curves.insert(i, curve),
         }
         let active = checked_set(&self.analyzer, &curves)?;
+        self.edit(&mut store, &active)
+    }
+
+    /// Makes `active` current: from the cache when it was analysed before, else analysed
+    /// from the current structure.
+    fn edit(&self, store: &mut Store, active: &ActiveSet) -> Result<Edited, DesignError> {
         let start = Instant::now();
-        let next = Arc::new(evaluate(&self.analyzer, &active)?);
+        let key = active.curves();
+        let (next, source) = match store.cache.get(&key) {
+            Some(hit) => (hit, Source::Cache),
+            None => {
+                let cur = nearest(store, &key);
+                let from = EditStart {
+                    active: &self.analyzer.set(&cur.summary.curves),
+                    displacement: &cur.displacement,
+                    modes: cur.spectrum.vectors.as_ref(),
+                };
+                let edit = self
+                    .analyzer
+                    .analyze_edit(active, from)
+                    .map_err(design_error)?;
+                let next = Arc::new(evaluated(&self.analyzer, active, edit.analysis));
+                store.cache.insert(key, next.clone(), next.bytes());
+                (next, edit.start.into())
+            }
+        };
         let elapsed = start.elapsed();
-        *current = next.clone();
+        store.current = next.clone();
         Ok(Edited {
             summary: next.summary.clone(),
             elapsed,
+            source,
         })
     }
 
-    /// The lock on the current structure (a panic elsewhere leaves the last whole state).
-    fn lock(&self) -> MutexGuard<'_, Arc<Evaluated>> {
-        self.current.lock().unwrap_or_else(|e| e.into_inner())
+    /// The lock on the store (a panic elsewhere leaves the last whole state).
+    fn lock(&self) -> MutexGuard<'_, Store> {
+        self.store.lock().unwrap_or_else(|e| e.into_inner())
     }
+}
+
+/// The analysed structure an edit to `target` starts from: the one missing the fewest of
+/// `target`'s curves, then holding the fewest others, the current one on a tie. A restored
+/// curve so starts, when it can, from a structure that held it (the equilibrium before its
+/// removal), where its vertices' displacements are known: restricting an equilibrium to a
+/// sub-structure is a far better start than extending one.
+fn nearest(store: &Store, target: &[usize]) -> Arc<Evaluated> {
+    let distance = |e: &Evaluated| {
+        let have = &e.summary.curves;
+        let missing = target
+            .iter()
+            .filter(|c| have.binary_search(c).is_err())
+            .count();
+        (missing, have.len() + missing - target.len())
+    };
+    let mut best = (distance(&store.current), store.current.clone());
+    for e in store.cache.values() {
+        let d = distance(e);
+        if d < best.0 {
+            best = (d, e.clone());
+        }
+    }
+    best.1
 }
 
 /// The set of `curves`, every id checked.
@@ -181,13 +306,12 @@ fn checked_set(analyzer: &Analyzer, curves: &[usize]) -> Result<ActiveSet, Desig
     Ok(analyzer.set(curves))
 }
 
-/// Relaxes and analyses `active` the way `curvenet analyze` does.
-fn evaluate(analyzer: &Analyzer, active: &ActiveSet) -> Result<Evaluated, DesignError> {
-    let analysis = analyzer.analyze(active, None).map_err(|e| match e {
+/// The design's error for a failed analysis.
+fn design_error(e: StabilityError) -> DesignError {
+    match e {
         StabilityError::Empty => DesignError::Empty,
         e => DesignError::Analysis(e),
-    })?;
-    Ok(evaluated(analyzer, active, analysis))
+    }
 }
 
 /// The summary and vectors of `analysis` of `active`.
@@ -217,5 +341,6 @@ fn evaluated(analyzer: &Analyzer, active: &ActiveSet, analysis: Analysis) -> Eva
         summary,
         displacement: analysis.displacement,
         mode,
+        spectrum: analysis.spectrum,
     }
 }

@@ -2,20 +2,24 @@
 //! edits.
 //!
 //! A [`Design`] holds the network's [`curvenet::stability::Analyzer`] and the current
-//! structure behind one lock; a [`Runner`] runs the greedy on it, one run at a time on a
-//! thread of its own ([`greedy`]); [`export`] writes the current structure as a file;
-//! [`api::router`] answers HTTP requests about them (docs/serve.md), running every analysis
-//! off the async runtime; [`Server`] binds a socket and serves the
-//! router on a tokio runtime of its own. The core library stays free of tokio: only this
+//! structure behind one lock, each edit warm-started from a nearby equilibrium and every
+//! structure analysed kept in a [`cache::Cache`]; a [`Runner`] runs the greedy on it, one run
+//! at a time on a thread of its own ([`greedy`]); [`export`] writes the current structure as a
+//! file; [`api::router`] answers HTTP requests about them (docs/serve.md), running every
+//! analysis off the async runtime; [`Server`] binds a socket and serves the router on a tokio
+//! runtime of its own; [`bench`] measures edit latencies against cold analyses. The core
+//! library stays free of tokio: only this
 //! crate (and the command line's `serve` feature) depends on it.
 
 pub mod api;
+pub mod bench;
+pub mod cache;
 pub mod design;
 pub mod export;
 pub mod greedy;
 
 pub use api::{AppState, router};
-pub use design::{Design, DesignError, Edited, Evaluated, Status, Summary};
+pub use design::{Design, DesignError, Edited, Evaluated, Source, Status, Summary};
 pub use greedy::{Progress, RunStatus, Runner, Step};
 
 use std::net::SocketAddr;

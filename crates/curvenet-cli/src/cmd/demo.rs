@@ -70,6 +70,7 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
         local_search: a.after.local_search || a.after.alternatives > 0,
         alternatives: a.after.alternatives,
         resume: false,
+        force: a.force,
         mesh: Some(mesh),
         constraints: super::constraint_params(&a.constraints, Vec::new())?,
     })

@@ -85,6 +85,7 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
         local_search: a.after.local_search || a.after.alternatives > 0,
         alternatives: a.after.alternatives,
         resume: a.resume,
+        force: a.force,
         mesh: Some(ex.mesh),
         constraints: super::constraint_params(&a.constraints, Vec::new())?,
     })

@@ -12,6 +12,7 @@ use curvenet::network::{BuildInfo, BuildParams, Network, build_network};
 use curvenet::physics::PhysicalParams;
 use curvenet::rod::ActiveSet;
 use curvenet::run_folder::answer::{NetworkState, alternative_offers};
+use curvenet::run_folder::folder::{FolderError, FolderLock, FreshStart, fresh_start};
 use curvenet::run_folder::{
     InputDescription, LocalSearchRecord, OutputWriter, ResultFile, RunSetup, evaluated_offer,
     greedy_offers, measure_greedy_deviations, read_f64_file, summary,
@@ -41,6 +42,8 @@ pub struct GreedyJob {
     pub keep: Vec<usize>,
     pub out: PathBuf,
     pub resume: bool,
+    /// Run into a non-empty folder that is not a curvenet run's.
+    pub force: bool,
     /// Compute the fixed-geometry certificate of the result after the greedy.
     pub certificate: bool,
     /// Branch and bound nodes spent tightening the certificate (None: by network size).
@@ -74,7 +77,8 @@ pub fn budget_of(a: &GreedyArgs, default: Option<f64>) -> anyhow::Result<Budget>
 /// Builds the network, runs the greedy into `job.out` and prints a summary.
 pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     let start = Instant::now();
-    output_folder(&job.out)?;
+    // Held to the end of the run: another run into the folder is refused meanwhile.
+    let (_lock, fresh) = output_folder(&job.out, job.resume, job.force)?;
     let (network, info) = build_network(&job.curves, &job.build)?;
     let n = network.rods.len();
     let params = GreedyParams {
@@ -99,8 +103,14 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     if let Some(p) = job.physical {
         analyzer = analyzer.with_physical(p).map_err(usage)?;
     }
-    let Some((writer, resume_point)) =
-        open_writer(&job.out, job.resume, analyzer.network(), setup, budget)?
+    let Some((writer, resume_point)) = open_writer(
+        &job.out,
+        job.resume,
+        fresh.as_ref(),
+        analyzer.network(),
+        setup,
+        budget,
+    )?
     else {
         return Ok(());
     };
@@ -220,11 +230,17 @@ fn constraints_of(network: &Network, job: &GreedyJob, budget: f64) -> anyhow::Re
 fn open_writer<'a>(
     out: &Path,
     resume: bool,
+    fresh: Option<&FreshStart>,
     network: &'a Network,
     setup: RunSetup,
     budget: f64,
 ) -> anyhow::Result<Option<(OutputWriter<'a>, Option<ResumePoint>)>> {
     if !(resume && out.join("result.json").is_file()) {
+        if let Some(fresh) = fresh
+            && let Some(note) = fresh.apply().map_err(|e| usage(e.to_string()))?
+        {
+            eprintln!("note: {note}");
+        }
         let writer = OutputWriter::create(out, network, setup, budget).map_err(failure)?;
         return Ok(Some((writer, None)));
     }
@@ -444,9 +460,15 @@ fn write_pictures(out: &Path) {
     }
 }
 
-/// Makes sure `out` is (or can be made) a folder, before any work: a file there, or a folder
-/// that cannot be created, is a usage error naming it.
-fn output_folder(out: &Path) -> anyhow::Result<()> {
+/// Makes sure `out` is (or can be made) a folder and locks it for this run, before any work:
+/// a file there, a folder that cannot be created, one another run holds, or (for a fresh run)
+/// a non-empty folder that is no curvenet run's without `force`, is a usage error naming it.
+/// A fresh run gets what it removes of an earlier run's files once it starts writing.
+fn output_folder(
+    out: &std::path::Path,
+    resume: bool,
+    force: bool,
+) -> anyhow::Result<(FolderLock, Option<FreshStart>)> {
     if out.exists() && !out.is_dir() {
         return Err(usage(format!(
             "--out {}: is a file, not a folder; give a folder for the run's outputs",
@@ -458,7 +480,17 @@ fn output_folder(out: &Path) -> anyhow::Result<()> {
             "--out {}: cannot create the folder: {e}",
             out.display()
         ))
-    })
+    })?;
+    let folder_error = |e: FolderError| usage(format!("--out {e}"));
+    let lock = FolderLock::acquire(out).map_err(folder_error)?;
+    if let Some(w) = &lock.warning {
+        print_warnings(std::slice::from_ref(w));
+    }
+    if resume && out.join("result.json").is_file() {
+        return Ok((lock, None));
+    }
+    let fresh = fresh_start(out, force).map_err(folder_error)?;
+    Ok((lock, Some(fresh)))
 }
 
 /// The warning of a run that ended without meeting its budget: what it ended at and why.

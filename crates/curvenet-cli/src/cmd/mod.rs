@@ -44,14 +44,14 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
 /// Where the paper's files are read from: the folder `--data` names (which must exist), or the
 /// copies embedded in curvenet.
 pub fn data_source(folder: Option<&std::path::Path>) -> anyhow::Result<paper::DataSource> {
-    if let Some(dir) = folder {
-        if !dir.is_dir() {
-            return Err(usage(format!(
-                "--data {}: no such folder (it should hold meshes/ and curves/; without --data \
+    if let Some(dir) = folder
+        && !dir.is_dir()
+    {
+        return Err(usage(format!(
+            "--data {}: no such folder (it should hold meshes/ and curves/; without --data \
                  the paper's files embedded in curvenet are used)",
-                dir.display()
-            )));
-        }
+            dir.display()
+        )));
     }
     Ok(paper::DataSource::folder_or_embedded(folder))
 }

@@ -1,6 +1,7 @@
 //! `curvenet serve`: the network of the inputs (or of a paper's example, or of a run folder)
-//! over a local JSON API (docs/serve.md), each edit analysed as `curvenet analyze --remove`
-//! would.
+//! over a local JSON API (docs/serve.md), each edit warm-started from a nearby equilibrium and
+//! giving the `λ` of `curvenet analyze --remove`; `--bench` measures edits against cold
+//! analyses instead.
 
 use super::{load_inputs, print_warnings, stability_params};
 use crate::args::{InputArgs, ServeArgs};
@@ -8,25 +9,15 @@ use crate::exit::usage;
 use curvenet::network::{BuildParams, build_network};
 use curvenet::run_folder::RunFolder;
 use curvenet::stability::Analyzer;
+use curvenet_serve::bench::BenchParams;
 use curvenet_serve::{AppState, Design, DesignError, Runner, Server};
 use std::net::{SocketAddr, ToSocketAddrs};
 use std::path::Path;
 use std::sync::Arc;
 
 pub fn run(a: ServeArgs) -> anyhow::Result<()> {
-    let addr = address(&a.host, a.port)?;
-    if !addr.ip().is_loopback() {
-        eprintln!(
-            "warning: --host {} listens on {addr}, reachable from other machines: anyone who \
-             reaches it can edit the design and keep the server computing",
-            a.host
-        );
-    }
-    let server = Server::bind(addr).map_err(|e| {
-        usage(format!(
-            "cannot listen on {addr}: {e} (choose another --port, or --port 0 for any free one)"
-        ))
-    })?;
+    // The benchmark listens on nothing.
+    let server = if a.bench { None } else { Some(bind(&a)?) };
     let (analyzer, kept, runner) = match &a.run {
         Some(dir) => from_run(dir, &a.remove)?,
         None => {
@@ -39,6 +30,21 @@ pub fn run(a: ServeArgs) -> anyhow::Result<()> {
         DesignError::Empty => usage("--remove would remove every curve; nothing is left to serve"),
         e => anyhow::Error::new(e),
     })?;
+    let Some(server) = server else {
+        let name = match (&a.example, &a.run, a.curves.first()) {
+            (Some(name), _, _) => name.clone(),
+            (None, Some(dir), _) => dir.display().to_string(),
+            (None, None, Some(file)) => file.display().to_string(),
+            (None, None, None) => String::from("network"),
+        };
+        let params = BenchParams {
+            removals: a.bench_removals,
+            ..BenchParams::default()
+        };
+        let report = curvenet_serve::bench::run(&design, params)?;
+        print!("{}", report.text(&name));
+        return Ok(());
+    };
     let bound = server.local_addr()?;
     // The first line on stdout: scripts and tests read the URL from it.
     println!("{}", curvenet_serve::url(bound));
@@ -126,6 +132,23 @@ fn check_removed(remove: &[usize], n: usize) -> anyhow::Result<()> {
         ))),
         None => Ok(()),
     }
+}
+
+/// The server bound to `--host` and `--port` (a warning when it is not a loopback address).
+fn bind(a: &ServeArgs) -> anyhow::Result<Server> {
+    let addr = address(&a.host, a.port)?;
+    if !addr.ip().is_loopback() {
+        eprintln!(
+            "warning: --host {} listens on {addr}, reachable from other machines: anyone who \
+             reaches it can edit the design and keep the server computing",
+            a.host
+        );
+    }
+    Server::bind(addr).map_err(|e| {
+        usage(format!(
+            "cannot listen on {addr}: {e} (choose another --port, or --port 0 for any free one)"
+        ))
+    })
 }
 
 /// The socket address of `--host` and `--port`.

@@ -36,6 +36,7 @@ pub fn run(a: SimplifyArgs) -> anyhow::Result<()> {
         local_search: a.greedy.after.local_search || a.greedy.after.alternatives > 0,
         alternatives: a.greedy.after.alternatives,
         resume: a.greedy.resume,
+        force: a.greedy.force,
         mesh: inputs.mesh,
         constraints,
     })

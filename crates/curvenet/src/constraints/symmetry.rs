@@ -677,7 +677,7 @@ fn inconsistent(perm: &[usize], order: u32) -> Option<usize> {
             len += 1;
             c = perm[c];
         }
-        if order % len != 0 {
+        if !order.is_multiple_of(len) {
             return Some(start);
         }
     }

@@ -56,12 +56,12 @@ impl BuildParams {
                 self.tolerance
             )));
         }
-        if let Some(f) = self.merge_joints_below {
-            if !(f.is_finite() && f > 0.0 && f < 1.0) {
-                return Err(BuildError::InvalidParams(format!(
-                    "joint merging fraction must lie in (0, 1), got {f}"
-                )));
-            }
+        if let Some(f) = self.merge_joints_below
+            && !(f.is_finite() && f > 0.0 && f < 1.0)
+        {
+            return Err(BuildError::InvalidParams(format!(
+                "joint merging fraction must lie in (0, 1), got {f}"
+            )));
         }
         Ok(())
     }

@@ -62,23 +62,21 @@ pub struct Stresses {
 impl Stresses {
     /// The largest bending stress.
     pub fn max_bending(&self) -> Option<StressAt> {
-        self.curves
-            .iter()
-            .max_by(|a, b| a.bending_mpa.total_cmp(&b.bending_mpa))
-            .map(|c| StressAt {
-                mpa: c.bending_mpa,
-                curve: c.curve,
-                vertex: c.vertex,
-            })
+        self.largest(|c| c.bending_mpa)
     }
 
     /// The largest axial stress (its curve; the vertex of its largest combined stress).
     pub fn max_axial(&self) -> Option<StressAt> {
+        self.largest(|c| c.axial_mpa)
+    }
+
+    /// The largest of one stress over the curves, where it occurs.
+    fn largest(&self, mpa: impl Fn(&CurveStress) -> f64) -> Option<StressAt> {
         self.curves
             .iter()
-            .max_by(|a, b| a.axial_mpa.total_cmp(&b.axial_mpa))
+            .max_by(|a, b| mpa(a).total_cmp(&mpa(b)))
             .map(|c| StressAt {
-                mpa: c.axial_mpa,
+                mpa: mpa(c),
                 curve: c.curve,
                 vertex: c.vertex,
             })

@@ -21,12 +21,15 @@
 //!                         its equilibrium and mode, when it is not a greedy iteration
 //! DIR/mesh.obj            the surface the curves were drawn on, in scene units (if known)
 //! DIR/summary.txt         a short text summary
+//! DIR/.curvenet.lock      locked by the run writing the folder (see [`folder`])
 //! ```
 //!
 //! - [`schema`]: `result.json` and its parts ([`ResultFile`], [`RunSetup`], …);
 //! - [`writer`]: [`OutputWriter`], the greedy's hooks that write the folder as the run goes, and
 //!   continue an interrupted run ([`OutputWriter::resume`]);
 //! - [`carried`]: the carried test vectors' file;
+//! - [`folder`]: the folder's lock (one run at a time), a fresh run starting clean, stale
+//!   temporary files;
 //! - [`reader`]: [`RunFolder`], a finished or interrupted folder read back and checked, for the
 //!   exports, pictures and viewer of [`crate::report`];
 //! - [`summary`]: `summary.txt` and the warnings a run's record calls for;
@@ -40,6 +43,7 @@
 
 pub mod answer;
 pub mod carried;
+pub mod folder;
 pub mod reader;
 pub mod schema;
 pub mod summary;

@@ -468,8 +468,9 @@ impl<'a> Solver<'a> {
         }
         // After a projected step the exact Hessian is usually still indefinite: try it again
         // only every few iterations, or once the gradient has come down.
-        let try_exact =
-            !self.last_projected || self.info.iterations % 4 == 0 || g_norm <= 1e-3 * self.g_ref;
+        let try_exact = !self.last_projected
+            || self.info.iterations.is_multiple_of(4)
+            || g_norm <= 1e-3 * self.g_ref;
         let exact = if try_exact {
             self.info.factorizations += 1;
             self.factorize(&cur.hess, 0.0)

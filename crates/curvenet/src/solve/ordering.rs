@@ -35,7 +35,7 @@ pub fn vertex_graph(pattern: &Pattern) -> (Vec<usize>, Vec<usize>) {
         let col = 3 * j;
         for k in pattern.col_ptr[col]..pattern.col_ptr[col + 1] {
             let r = pattern.row_idx[k];
-            if r % 3 == 0 && r / 3 != j {
+            if r.is_multiple_of(3) && r / 3 != j {
                 adj[j].push(r / 3);
                 adj[r / 3].push(j);
             }

@@ -14,6 +14,7 @@
 //! | `λ_eq` of a structure, with its mode's curves and gravity deflection | [`Analyzer::analyze`] | reports |
 //! | `λ_eq` of a structure, warm-started, to a preset's accuracy | [`Analyzer::evaluate`] ([`Warm`], [`Preset`], [`Prepare`]) | the greedy's iterations |
 //! | `λ_eq` of any set, relaxed from the drawn state, by connected parts, cached (with each part's largest displacement) | [`Analyzer::lambda_eq`], [`Analyzer::lambda_eq_parts`], [`Analyzer::parts_of`], [`Analyzer::deviation`] | local, exhaustive, random searches |
+//! | `λ_eq` of a structure one edit away from one analysed, warm-started from its equilibrium and modes | [`Analyzer::analyze_edit`] ([`EditStart`], [`Edit`], [`EditFrom`]) | the interactive server |
 //! | the equilibrium alone; the spectrum at given displacements (`λ_fix`) | [`Analyzer::relax`], [`Analyzer::spectrum`] | tests, the certificate's start |
 //! | bounds, scores and inertia tests of one structure's candidate removals | [`candidates::Candidates`] ([`candidates::Test`], [`candidates::Outcome`], [`candidates::Carried`]) | the greedy's candidate search |
 //! | `λ_fix` of any set at the full network's equilibrium; certified bounds on nodes of subsets; the relaxation of a node | [`fixed::FixedProblem`] ([`fixed::Node`], [`fixed::Rayleigh`]) | the certificate, the exact search |
@@ -40,15 +41,11 @@
 //!   facade assembles; the mass scaling `M^{-1/2} H M^{-1/2}` (as the relaxation already
 //!   scales by `P(α)` in [`fixed`]) goes where the facade assembles, and the searches keep
 //!   asking for "the objective of this set".
-//! - **Warm edits** (an interactive server evaluating the set a user edits, from the current
-//!   equilibrium): [`Analyzer::evaluate`] with [`Warm::start`] the current displacements; a
-//!   long-lived [`Analyzer`] keeps its cache of connected sets ([`Analyzer::lambda_eq`]), and
-//!   a removal can hand on what the greedy hands on ([`candidates::Candidates::hand_on`]:
-//!   the symbolic analysis of a superset, the factorization, the modes).
 
 mod analysis;
 mod analyzer;
 pub mod candidates;
+mod edit;
 mod evaluate;
 pub mod fixed;
 mod numerics;
@@ -58,6 +55,7 @@ mod subsets;
 
 pub use analysis::{Analysis, CurveShare, GravityDeflection};
 pub use analyzer::Analyzer;
+pub use edit::{Edit, EditFrom, EditStart};
 pub use evaluate::{Evaluation, Prepare, Warm, Work};
 pub use params::{Budget, GravityParams, StabilityParams, Technique, Tuning};
 pub use presets::{Preset, SCORE_TOL, SPECTRUM_TOL, SPECTRUM_TRAILING_TOL};

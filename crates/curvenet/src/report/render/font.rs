@@ -148,57 +148,47 @@ pub fn glyph(ch: char) -> [&'static str; 7] {
     rows
 }
 
+/// Calls `pixel(i, row, column)` for every set font pixel of the `i`-th character of `text`,
+/// rows counted from the line's top (a descender's shift included).
+fn for_each_pixel(text: &str, mut pixel: impl FnMut(i64, i64, i64)) {
+    for (i, ch) in text.chars().enumerate() {
+        let dy = descent(ch);
+        for (r, row) in glyph(ch).iter().enumerate() {
+            for (c, bit) in row.bytes().enumerate() {
+                if bit == b'#' {
+                    pixel(i as i64, r as i64 + dy, c as i64);
+                }
+            }
+        }
+    }
+}
+
 impl Image {
     /// Draws `text` with its top-left corner at `(x, y)`, each font pixel a `scale × scale`
     /// square. Returns the x after the last character.
     pub fn text(&mut self, x: i64, y: i64, text: &str, scale: i64, color: Rgb) -> i64 {
-        let mut cx = x;
-        for ch in text.chars() {
-            let rows = glyph(ch);
-            let dy = descent(ch);
-            for (r, row) in rows.iter().enumerate() {
-                for (c, bit) in row.bytes().enumerate() {
-                    if bit == b'#' {
-                        self.fill_rect(
-                            cx + c as i64 * scale,
-                            y + (r as i64 + dy) * scale,
-                            scale,
-                            scale,
-                            color,
-                            1.0,
-                        );
-                    }
-                }
-            }
-            cx += ADVANCE * scale;
-        }
-        cx
+        for_each_pixel(text, |i, r, c| {
+            let left = x + i * ADVANCE * scale;
+            self.fill_rect(left + c * scale, y + r * scale, scale, scale, color, 1.0);
+        });
+        x + text.chars().count() as i64 * ADVANCE * scale
     }
 
     /// Draws `text` rotated a quarter turn counter-clockwise (reading bottom to top), its
     /// top-left corner (in the rotated frame's terms, the bottom-left of the drawn block) at
     /// `(x, y)`.
     pub fn text_vertical(&mut self, x: i64, y: i64, text: &str, scale: i64, color: Rgb) {
-        let mut cy = y;
-        for ch in text.chars() {
-            let rows = glyph(ch);
-            let dy = descent(ch);
-            for (r, row) in rows.iter().enumerate() {
-                for (c, bit) in row.bytes().enumerate() {
-                    if bit == b'#' {
-                        self.fill_rect(
-                            x + (r as i64 + dy) * scale,
-                            cy - (c as i64 + 1) * scale,
-                            scale,
-                            scale,
-                            color,
-                            1.0,
-                        );
-                    }
-                }
-            }
-            cy -= ADVANCE * scale;
-        }
+        for_each_pixel(text, |i, r, c| {
+            let bottom = y - i * ADVANCE * scale;
+            self.fill_rect(
+                x + r * scale,
+                bottom - (c + 1) * scale,
+                scale,
+                scale,
+                color,
+                1.0,
+            );
+        });
     }
 }
 

@@ -88,10 +88,10 @@ impl Candidates<'_> {
         match self.score(c) {
             Ok((sp, f)) => {
                 let score = sp.lambda();
-                if score.is_finite() {
-                    if let Ok(mut kept) = self.kept.lock() {
-                        kept.push((c, score, f));
-                    }
+                if score.is_finite()
+                    && let Ok(mut kept) = self.kept.lock()
+                {
+                    kept.push((c, score, f));
                 }
                 Outcome::Scored {
                     score,

@@ -262,10 +262,10 @@ impl FrankWolfe<'_, '_> {
         };
         let flat = |d: &[f64]| d.iter().all(|x| x.abs() < 1e-9);
         let mut dir = toward(project(&work, &rb.alpha));
-        if flat(&dir) {
-            if let Some(l) = &self.latest {
-                dir = toward(project(&work, &p.ratio_bound(l, &work).alpha));
-            }
+        if flat(&dir)
+            && let Some(l) = &self.latest
+        {
+            dir = toward(project(&work, &p.ratio_bound(l, &work).alpha));
         }
         (!flat(&dir)).then_some(dir)
     }

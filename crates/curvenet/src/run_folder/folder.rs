@@ -1,0 +1,298 @@
+//! The run folder itself: one run at a time ([`FolderLock`], an OS-level lock on
+//! [`LOCK_FILE`]), a fresh run starting clean ([`fresh_start`]), and the temporary files a
+//! killed run left ([`remove_stale_temp_files`]).
+//!
+//! A folder is a *curvenet run* when it holds `result.json` or `network.json` and nothing but
+//! the files and folders a run writes ([`RUN_FILES`], [`RUN_FOLDERS`]). A fresh run into one
+//! removes the earlier run's files first, so no stale iteration, mode, state, answer or picture
+//! is left beside the new run's. A non-empty folder that is not a run is refused unless the
+//! caller forces it (then the run's own files are replaced and the others kept).
+
+use std::fs::{File, OpenOptions, TryLockError};
+use std::path::{Path, PathBuf};
+
+/// The file a run holds locked in its folder while it writes there. It stays in the folder
+/// (removing it would let two runs lock two different files).
+pub const LOCK_FILE: &str = ".curvenet.lock";
+
+/// The files a run (its pictures, viewer page and fabrication table included) writes at the
+/// top of its folder.
+pub const RUN_FILES: &[&str] = &[
+    "result.json",
+    "timings.json",
+    "network.json",
+    "final.obj",
+    "answer.obj",
+    "mesh.obj",
+    "summary.txt",
+    "viewer.html",
+    "final.png",
+    "mode.png",
+    "lambda.png",
+    "fabrication.csv",
+];
+
+/// The folders a run writes (with `export/`, what `curvenet export` writes by default).
+pub const RUN_FOLDERS: &[&str] = &["modes", "states", "iterations", "export"];
+
+/// Why a folder cannot take a run.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum FolderError {
+    /// Another process holds the folder's lock (a run is writing there).
+    Held(PathBuf),
+    /// The folder is not empty and not a curvenet run: what it holds (the first entries).
+    NotARun {
+        /// The folder.
+        dir: PathBuf,
+        /// Entries that are no run's, sorted (at most a few).
+        foreign: Vec<String>,
+    },
+    /// A file system error, with the path.
+    Io(String),
+}
+
+impl std::fmt::Display for FolderError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            FolderError::Held(dir) => write!(
+                f,
+                "{}: another curvenet run is writing in this folder; wait for it to end or \
+                 give another --out",
+                dir.display()
+            ),
+            FolderError::NotARun { dir, foreign } => write!(
+                f,
+                "{}: the folder is not empty and is not a curvenet run's (it holds {}); give an \
+                 empty or new folder, or --force to run there anyway (the run's own files are \
+                 replaced, the others kept)",
+                dir.display(),
+                foreign.join(", ")
+            ),
+            FolderError::Io(m) => f.write_str(m),
+        }
+    }
+}
+
+impl std::error::Error for FolderError {}
+
+/// The folder's lock, held while alive (the operating system releases it when the process
+/// ends, however it ends).
+#[derive(Debug)]
+pub struct FolderLock {
+    _file: Option<File>,
+    /// Set when the file system cannot lock files: the run goes on unprotected.
+    pub warning: Option<String>,
+}
+
+impl FolderLock {
+    /// Locks `dir` (which must exist) for this process.
+    ///
+    /// # Errors
+    ///
+    /// [`FolderError::Held`] when another process holds it; [`FolderError::Io`] when the lock
+    /// file cannot be opened.
+    pub fn acquire(dir: &Path) -> Result<FolderLock, FolderError> {
+        let path = dir.join(LOCK_FILE);
+        let file = OpenOptions::new()
+            .create(true)
+            .truncate(false)
+            .write(true)
+            .open(&path)
+            .map_err(|e| FolderError::Io(format!("{}: {e}", path.display())))?;
+        match file.try_lock() {
+            Ok(()) => Ok(FolderLock {
+                _file: Some(file),
+                warning: None,
+            }),
+            Err(TryLockError::WouldBlock) => Err(FolderError::Held(dir.to_path_buf())),
+            Err(TryLockError::Error(e)) => Ok(FolderLock {
+                _file: None,
+                warning: Some(format!(
+                    "{}: the folder cannot be locked ({e}): nothing stops another run from \
+                     writing there at the same time",
+                    dir.display()
+                )),
+            }),
+        }
+    }
+}
+
+/// Whether `name` is a temporary file of an atomic write ([`crate::io::write_atomic`]:
+/// `.NAME.tmp.PID.N`).
+fn is_temp(name: &str) -> bool {
+    name.starts_with('.') && name.contains(".tmp.")
+}
+
+/// The names in `dir` (none when it does not exist).
+fn entries(dir: &Path) -> Result<Vec<String>, FolderError> {
+    let read = match std::fs::read_dir(dir) {
+        Ok(r) => r,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(e) => return Err(FolderError::Io(format!("{}: {e}", dir.display()))),
+    };
+    let mut names = Vec::new();
+    for e in read {
+        let e = e.map_err(|e| FolderError::Io(format!("{}: {e}", dir.display())))?;
+        names.push(e.file_name().to_string_lossy().into_owned());
+    }
+    names.sort();
+    Ok(names)
+}
+
+fn remove(path: &Path) -> Result<(), FolderError> {
+    let r = if path.is_dir() {
+        std::fs::remove_dir_all(path)
+    } else {
+        std::fs::remove_file(path)
+    };
+    match r {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        Err(e) => Err(FolderError::Io(format!(
+            "{}: cannot remove it: {e}",
+            path.display()
+        ))),
+    }
+}
+
+/// Removes the temporary files of atomic writes a killed run left in `dir` and its
+/// sub-folders; returns how many there were. Call it only while holding the folder's lock
+/// (no other run is writing them).
+///
+/// # Errors
+///
+/// A file that cannot be listed or removed.
+pub fn remove_stale_temp_files(dir: &Path) -> Result<usize, FolderError> {
+    let mut n = 0;
+    for sub in std::iter::once("").chain(RUN_FOLDERS.iter().copied()) {
+        let d = dir.join(sub);
+        for name in entries(&d)? {
+            if is_temp(&name) {
+                remove(&d.join(&name))?;
+                n += 1;
+            }
+        }
+    }
+    Ok(n)
+}
+
+/// What a fresh run removes from its folder first ([`fresh_start`]), to be done with
+/// [`FreshStart::apply`] once the run is about to write.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FreshStart {
+    dir: PathBuf,
+    remove: Vec<String>,
+}
+
+/// Checks `dir` (locked by this process; absent or empty is fine) for a fresh run: a curvenet
+/// run's folder is to have the earlier run's files removed; any other non-empty folder is
+/// refused unless `force` (then the run's own files are removed and the others kept).
+/// Nothing is removed yet.
+///
+/// # Errors
+///
+/// [`FolderError::NotARun`] for a foreign non-empty folder without `force`;
+/// [`FolderError::Io`] when the folder cannot be listed.
+pub fn fresh_start(dir: &Path, force: bool) -> Result<FreshStart, FolderError> {
+    let names: Vec<String> = entries(dir)?
+        .into_iter()
+        .filter(|n| n != LOCK_FILE)
+        .collect();
+    let ours = |n: &String| {
+        RUN_FILES.contains(&n.as_str()) || RUN_FOLDERS.contains(&n.as_str()) || is_temp(n)
+    };
+    let foreign: Vec<String> = names.iter().filter(|n| !ours(n)).cloned().collect();
+    let is_run = names
+        .iter()
+        .any(|n| n == "result.json" || n == "network.json");
+    if !names.is_empty() && !force && (!is_run || !foreign.is_empty()) {
+        const SHOWN: usize = 5;
+        let listed = if foreign.is_empty() { &names } else { &foreign };
+        let mut shown: Vec<String> = listed.iter().take(SHOWN).cloned().collect();
+        if listed.len() > SHOWN {
+            shown.push(format!("and {} more", listed.len() - SHOWN));
+        }
+        return Err(FolderError::NotARun {
+            dir: dir.to_path_buf(),
+            foreign: shown,
+        });
+    }
+    Ok(FreshStart {
+        dir: dir.to_path_buf(),
+        remove: names.into_iter().filter(|n| ours(n)).collect(),
+    })
+}
+
+impl FreshStart {
+    /// Removes the earlier run's files; a note saying so when there were any.
+    ///
+    /// # Errors
+    ///
+    /// A file or folder that cannot be removed.
+    pub fn apply(&self) -> Result<Option<String>, FolderError> {
+        for n in &self.remove {
+            remove(&self.dir.join(n))?;
+        }
+        Ok((!self.remove.is_empty()).then(|| {
+            format!(
+                "{}: a fresh run: the earlier run's files there were removed ({})",
+                self.dir.display(),
+                self.remove.join(", ")
+            )
+        }))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tmp(tag: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("curvenet-folder-{tag}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    #[test]
+    fn a_second_lock_on_a_folder_is_refused_until_the_first_is_dropped() {
+        let d = tmp("lock");
+        let first = FolderLock::acquire(&d).unwrap();
+        assert!(first.warning.is_none());
+        assert_eq!(
+            FolderLock::acquire(&d).unwrap_err(),
+            FolderError::Held(d.clone())
+        );
+        drop(first);
+        assert!(FolderLock::acquire(&d).is_ok());
+        let _ = std::fs::remove_dir_all(&d);
+    }
+
+    #[test]
+    fn old_runs_start_clean_foreign_folders_need_force_temp_files_go() {
+        let d = tmp("clean");
+        assert_eq!(fresh_start(&d, false).unwrap().apply(), Ok(None));
+        for f in ["result.json", "answer.obj", ".result.json.tmp.7.0"] {
+            std::fs::write(d.join(f), "x").unwrap();
+        }
+        std::fs::create_dir_all(d.join("iterations")).unwrap();
+        std::fs::write(d.join("iterations/0099.obj"), "x").unwrap();
+        std::fs::write(d.join("iterations/.0003.obj.tmp.7.1"), "x").unwrap();
+        assert_eq!(remove_stale_temp_files(&d), Ok(2));
+        assert!(d.join("answer.obj").exists());
+        assert!(fresh_start(&d, false).unwrap().apply().unwrap().is_some());
+        assert_eq!(entries(&d).unwrap(), Vec::<String>::new());
+
+        std::fs::write(d.join("notes.txt"), "mine").unwrap();
+        std::fs::write(d.join("final.png"), "x").unwrap();
+        match fresh_start(&d, false) {
+            Err(FolderError::NotARun { foreign, .. }) => {
+                assert_eq!(foreign, vec!["notes.txt".to_string()]);
+            }
+            other => panic!("{other:?}"),
+        }
+        assert!(fresh_start(&d, true).unwrap().apply().unwrap().is_some());
+        assert_eq!(entries(&d).unwrap(), vec!["notes.txt".to_string()]);
+        let _ = std::fs::remove_dir_all(&d);
+    }
+}

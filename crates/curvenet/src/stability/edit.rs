@@ -1,0 +1,173 @@
+//! [`Analyzer::analyze_edit`]: a structure's analysis warm-started from a nearby structure
+//! already analysed — what an interactive edit (curves removed or restored) needs.
+//!
+//! The edit's Newton solve starts from the previous equilibrium, restricted to the new
+//! structure (vertices no kept curve holds go back to their drawn state, where a cold solve
+//! leaves them) and extended to it (the vertices of a restored curve that the previous
+//! structure did not hold are interpolated along the curve, by rest arc length, between its
+//! held vertices); the eigen solver starts from the previous low modes. Newton's tolerance is
+//! judged against the structure's drawn-state gradient whatever the start, so the equilibrium
+//! is solved as accurately as a cold analysis solves it.
+//!
+//! **Which equilibrium.** A cold analysis relaxes from the drawn state; a warm start could in
+//! principle reach another equilibrium. Only a stable structure has an isolated one that a
+//! warm start is trusted to share with the cold solve: the warm answer is kept when Newton
+//! converged without a step of its saddle escape (the projected Hessian) and the spectrum is
+//! positive. Otherwise (a mechanism, whose equilibria form a family; an unstable or
+//! unconverged state; a path that crossed a saddle) the structure is analysed again from the
+//! drawn state, exactly as [`Analyzer::analyze`] does, and [`Edit::start`] says so.
+
+use super::{Analysis, Analyzer, StabilityError, numerics};
+use crate::rod::ActiveSet;
+use faer::MatRef;
+use serde::Serialize;
+
+/// An analysed structure an edit starts from: its curves, its equilibrium and its low modes.
+#[derive(Clone, Copy, Debug)]
+pub struct EditStart<'a> {
+    /// The structure's curves.
+    pub active: &'a ActiveSet,
+    /// Its displacements at equilibrium (3 per vertex).
+    pub displacement: &'a [f64],
+    /// Its lowest eigenvectors (columns, 3 rows per vertex).
+    pub modes: MatRef<'a, f64>,
+}
+
+/// Where an edit's equilibrium was relaxed from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum EditFrom {
+    /// From the previous structure's equilibrium (the warm start held).
+    Warm,
+    /// From the drawn state, as a cold analysis: the warm answer was not a stable, converged
+    /// equilibrium, or there was no previous structure.
+    Drawn,
+}
+
+/// An edit's analysis and where its equilibrium was relaxed from.
+#[derive(Clone, Debug)]
+pub struct Edit {
+    /// The analysis (no gravity deflection: [`Analysis::gravity`] is `None`).
+    pub analysis: Analysis,
+    /// The relaxation's start.
+    pub start: EditFrom,
+}
+
+impl Analyzer {
+    /// The analysis of `active` warm-started from `from` (see the module documentation):
+    /// the same `λ`, modes and equilibrium as [`Self::analyze`] from the drawn state, to the
+    /// solvers' tolerances, in a fraction of its work. The gravity deflection is left out.
+    ///
+    /// # Errors
+    ///
+    /// An empty structure or a failed eigen solve.
+    pub fn analyze_edit(
+        &self,
+        active: &ActiveSet,
+        from: EditStart<'_>,
+    ) -> Result<Edit, StabilityError> {
+        if active.is_empty() {
+            return Err(StabilityError::Empty);
+        }
+        let model = self.model();
+        let mask = model.vertex_mask(active);
+        let mut u = self.edit_displacement(from, active, &mask);
+        let modes = super::evaluate::restrict(from.modes, &mask);
+        let symbolic = self.symbolic_for(active);
+        let (newton, h) = self.relax_from(active, &mut u, None, &symbolic);
+        let trusted = newton.converged && newton.projected_steps == 0;
+        if trusted {
+            let eigen = &self.params().eigen;
+            let start = (modes.ncols() > 0).then(|| modes.as_ref());
+            let spectrum = numerics::spectrum(model.pattern(), &h, &symbolic, start, eigen)?;
+            if spectrum.zero_modes == 0 && spectrum.negative_modes == 0 {
+                let mode_curves = self.mode_curves(active, spectrum.vectors.col(0).iter().copied());
+                return Ok(Edit {
+                    analysis: Analysis {
+                        newton,
+                        displacement: u,
+                        spectrum,
+                        mode_curves,
+                        gravity: None,
+                    },
+                    start: EditFrom::Warm,
+                });
+            }
+        }
+        let mut analysis = self.analyze(active, None)?;
+        analysis.gravity = None;
+        Ok(Edit {
+            analysis,
+            start: EditFrom::Drawn,
+        })
+    }
+
+    /// The start of an edit's relaxation: `from`'s displacements on the vertices both
+    /// structures hold, the drawn state on vertices `active` leaves loose (`mask` false), and
+    /// on the vertices `active` holds that `from` did not, an interpolation along each curve
+    /// between its vertices `from` held (by rest arc length; the nearest one past the last).
+    fn edit_displacement(
+        &self,
+        from: EditStart<'_>,
+        active: &ActiveSet,
+        mask: &[bool],
+    ) -> Vec<f64> {
+        let model = self.model();
+        let before = model.vertex_mask(from.active);
+        let mut u = vec![0.0; model.dofs()];
+        for (v, (&now, &then)) in mask.iter().zip(&before).enumerate() {
+            if now && then {
+                u[3 * v..3 * v + 3].copy_from_slice(&from.displacement[3 * v..3 * v + 3]);
+            }
+        }
+        for (c, rod) in self.network().rods.iter().enumerate() {
+            if active.contains(c) && !from.active.contains(c) {
+                extend_along(rod, &before, from.displacement, &mut u);
+            }
+        }
+        u
+    }
+}
+
+/// Sets the displacements in `u` of `rod`'s vertices not `held` by interpolating `from`
+/// along the rod between its held vertices (by rest arc length; around a closed rod; past an
+/// open rod's last held vertex, that vertex's). A rod with no held vertex stays drawn.
+fn extend_along(rod: &crate::rod::Rod, held: &[bool], from: &[f64], u: &mut [f64]) {
+    let n = rod.vertices.len();
+    let at: Vec<usize> = rod.vertices.iter().map(|&v| v as usize).collect();
+    let anchors: Vec<usize> = (0..n).filter(|&i| held[at[i]]).collect();
+    let (Some(&first), Some(&last)) = (anchors.first(), anchors.last()) else {
+        return;
+    };
+    // Arc length at each vertex along the rod; `total` closes a closed rod's loop.
+    let mut s = vec![0.0; n];
+    for i in 1..n {
+        s[i] = s[i - 1] + rod.rest_lengths[i - 1];
+    }
+    let total = rod.rest_length();
+    let value = |i: usize| &from[3 * at[i]..3 * at[i] + 3];
+    for i in 0..n {
+        if held[at[i]] {
+            continue;
+        }
+        let next = anchors.iter().copied().find(|&a| a > i);
+        let prev = anchors.iter().copied().rev().find(|&a| a < i);
+        let (a, b, sa, sb) = match (prev, next) {
+            (Some(a), Some(b)) => (a, b, s[a], s[b]),
+            (None, Some(b)) if rod.closed => (last, b, s[last] - total, s[b]),
+            (Some(a), None) if rod.closed => (a, first, s[a], s[first] + total),
+            (None, Some(b)) => (b, b, s[b], s[b]),
+            (Some(a), None) => (a, a, s[a], s[a]),
+            (None, None) => return,
+        };
+        let t = if sb > sa {
+            (s[i] - sa) / (sb - sa)
+        } else {
+            0.0
+        };
+        let (va, vb) = (value(a), value(b));
+        for k in 0..3 {
+            u[3 * at[i] + k] = (1.0 - t) * va[k] + t * vb[k];
+        }
+    }
+}
