@@ -1,7 +1,8 @@
 // Opens the page written by `curvenet view` in a real browser (Debian's headless Chromium through
 // playwright-core) and checks it works: no console errors, a WebGL canvas that is not blank, the
-// iteration slider changing the displayed curve count and λ, a click on a curve showing its
-// details, the deformation and shape toggles. Saves target/browser-demo/screenshot.png.
+// iteration slider changing the displayed curve count and λ, the answer's and the
+// alternatives' buttons showing their networks, a click on a curve showing its details, the
+// deformation and shape toggles. Saves target/browser-demo/screenshot.png.
 //
 // Run from the repository root or this folder:  npm ci && npm test   (in tests/browser)
 // Environment: CURVENET_BIN = a built `curvenet` binary (default: `cargo run --release -p
@@ -32,7 +33,7 @@ function curvenet(args) {
 
 test('the viewer of a demo run works in headless Chromium', { timeout: 600_000 }, async () => {
   fs.rmSync(outDir, { recursive: true, force: true });
-  curvenet(['demo', '--out', outDir]);
+  curvenet(['demo', '--alternatives', '2', '--out', outDir]);
   const printed = curvenet(['view', outDir]).trim().split('\n').pop();
   const page_path = path.resolve(root, printed);
   assert.equal(page_path, path.join(outDir, 'viewer.html'), 'view prints the page path');
@@ -85,16 +86,38 @@ test('the viewer of a demo run works in headless Chromium', { timeout: 600_000 }
     assert.ok(pixels.drawn > 0.02 * pixels.total, `canvas mostly blank: ${JSON.stringify(pixels)}`);
     assert.ok(pixels.colours > 8, `too few colours: ${JSON.stringify(pixels)}`);
 
-    // The slider: the page opens on the final iteration; Home goes to the first one, the
-    // arrow keys step.
+    // The page opens on the answer; the answer and each alternative have a button that shows
+    // that network (its curves, λ).
     const read = async () => ({
       iter: await page.textContent('#stat-iter'),
       curves: await page.textContent('#stat-curves'),
       lambda: await page.textContent('#stat-lambda'),
     });
+    const answer = result.answer;
+    const alts = result.alternatives || [];
+    assert.ok(answer, 'the demo has an answer');
+    assert.ok(alts.length >= 1, `the demo has alternatives (${alts.length})`);
+    const opened = await read();
+    assert.ok(opened.curves.startsWith(`${answer.curves.length} of `), opened.curves);
+    assert.equal(await page.evaluate(() => window.curvenet.chosen), 0);
+    const buttons = await page.$$('#chosen button');
+    assert.equal(buttons.length, 1 + alts.length, 'one button per chosen network');
+    assert.match(await buttons[1].textContent(), /^alternative 1: λ /);
+    await buttons[1].click();
+    const alt = await read();
+    assert.equal(await page.evaluate(() => window.curvenet.chosen), 1);
+    assert.deepEqual(await page.evaluate(() => window.curvenet.keptCurves()), alts[0].curves);
+    assert.ok(alt.curves.startsWith(`${alts[0].curves.length} of `), alt.curves);
+    assert.ok(alt.iter.includes('alternative 1'), alt.iter);
+    await buttons[0].click();
+    assert.deepEqual(await page.evaluate(() => window.curvenet.keptCurves()), answer.curves);
+
+    // The slider: Home goes to the first iteration, the arrow keys step, End to the last.
+    await page.focus('#iter');
+    await page.keyboard.press('End');
     const last = await read();
     assert.ok(last.curves.startsWith(`${result.iterations[n - 1].curves.length} of `), last.curves);
-    await page.focus('#iter');
+    assert.equal(await page.evaluate(() => window.curvenet.chosen), null);
     await page.keyboard.press('Home');
     const first = await read();
     assert.ok(first.curves.startsWith(`${result.iterations[0].curves.length} of `), first.curves);

@@ -123,8 +123,14 @@ pub struct ExportArgs {
     /// Output folder of a run (holding result.json).
     pub dir: PathBuf,
     /// Iteration to export (default: the final one).
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, conflicts_with_all = ["answer", "alternative"])]
     pub iteration: Option<usize>,
+    /// Export the answer (the network to build) instead of an iteration.
+    #[arg(long, conflicts_with = "alternative")]
+    pub answer: bool,
+    /// Export the N-th alternative (from 1) of a run made with --alternatives.
+    #[arg(long, value_name = "N", value_parser = count(1, 100), allow_hyphen_values = true)]
+    pub alternative: Option<usize>,
     /// obj, json, csv (points and fabrication table), network (reloadable network file) or all.
     #[arg(long, default_value = "all")]
     pub format: String,
@@ -426,6 +432,14 @@ pub struct AfterGreedyArgs {
     /// (`local_search`).
     #[arg(long = "local-search")]
     pub local_search: bool,
+    /// Record up to K alternatives to the answer: the best further stable networks within the
+    /// budget and the constraints, by decreasing λ_eq, each distinct from the answer and from
+    /// the others (the curves in one and not the other total at least 5% of the budget) and
+    /// none a better network with curves added. Runs the local search (the networks it
+    /// evaluated are where they come from); each is written as alternative-N.obj and
+    /// alternative-N.csv and can be picked in the viewer. 0 (the default): none. At most 100.
+    #[arg(long, value_name = "K", default_value_t = 0, value_parser = count(0, 100), allow_hyphen_values = true)]
+    pub alternatives: usize,
 }
 
 /// `curvenet analyze`.

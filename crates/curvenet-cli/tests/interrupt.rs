@@ -294,10 +294,11 @@ fn stage_after_the_greedy_interrupted_by(signal: &str, stage: &str, extra: &[&st
 
 #[test]
 fn sigterm_during_the_local_search_stops_it_at_once_and_resume_finishes_the_run() {
+    // With alternatives: the resumed run finds the same ones.
     stage_after_the_greedy_interrupted_by(
         "TERM",
         "the local search",
-        &["--local-search", "--no-certificate"],
+        &["--local-search", "--alternatives", "3", "--no-certificate"],
     );
 }
 

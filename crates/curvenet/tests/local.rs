@@ -120,6 +120,37 @@ fn check_path(an: &Analyzer, params: &LocalParams, o: &LocalOutcome, cap: f64, k
     assert_eq!(prev.to_bits(), o.best.lambda.to_bits());
 }
 
+/// The sets a search hands back as visited (the alternatives' source): feasible, each once,
+/// by decreasing `λ_eq` (ties by curve ids), each with its exhaustive value, positive, the
+/// best set among them when its value is positive.
+fn check_visited(
+    o: &LocalOutcome,
+    all: &[curvenet::simplify::exhaustive::SubsetScore],
+    cap: f64,
+    keep: &[usize],
+) {
+    assert!(!o.visited.is_empty() || !(o.best.lambda > 0.0));
+    for (i, v) in o.visited.iter().enumerate() {
+        assert!(v.length <= cap && keep.iter().all(|k| v.curves.contains(k)));
+        assert!(v.lambda > 0.0);
+        let ex = all
+            .iter()
+            .find(|s| s.curves == v.curves)
+            .expect("a feasible set");
+        assert!(
+            (v.lambda - ex.lambda).abs() <= 1e-9 * ex.lambda.abs(),
+            "{v:?} vs {ex:?}"
+        );
+        if i > 0 {
+            let p = &o.visited[i - 1];
+            assert!(p.lambda > v.lambda || (p.lambda == v.lambda && p.curves < v.curves));
+        }
+    }
+    if o.best.lambda > 0.0 {
+        assert!(o.visited.iter().any(|v| v.curves == o.best.curves));
+    }
+}
+
 #[test]
 fn local_search_improves_feasibly_and_deterministically() {
     for (seed, n, h, fraction, keep) in [
@@ -202,7 +233,8 @@ fn local_search_improves_feasibly_and_deterministically() {
                 }
                 assert!(o.evaluations > 0 && o.structures > 0);
                 assert_eq!(o.chains > 0, strategy == Strategy::VariableDepth);
-                // Thread count does not matter, bit for bit.
+                check_visited(&o, &ex.all, cap, &keep);
+                // Thread count does not matter, bit for bit (the visited sets too).
                 let one = run_in(1, &an, &params, from);
                 assert_eq!(format!("{one:?}"), format!("{o:?}"));
             }
@@ -220,6 +252,9 @@ fn local_search_improves_feasibly_and_deterministically() {
         assert!(m.best.lambda >= from_greedy.best.lambda);
         assert!(m.best.lambda <= ex.best.lambda * (1.0 + 5e-8) + 1e-300);
         assert!(keep.iter().all(|k| m.best.curves.contains(k)));
+        // The starts' visited sets, merged.
+        check_visited(&m, &ex.all, cap, &keep);
+        assert!(m.visited.len() >= from_greedy.visited.len());
     }
 }
 

@@ -1,18 +1,22 @@
-//! `curvenet export`: a recorded network of a run as OBJ, JSON, CSV, fabrication table or
-//! network file.
+//! `curvenet export`: a recorded network of a run (an iteration, the answer, an alternative)
+//! as OBJ, JSON, CSV, fabrication table or network file.
 
 use crate::args::ExportArgs;
 use crate::exit::{ExitError, usage};
 use curvenet::report::export::{ExportFormat, export_files, write_exports};
-use curvenet::run_folder::RunFolder;
+use curvenet::run_folder::{RunFolder, Which};
 use std::path::Path;
 
 pub fn run(a: ExportArgs) -> anyhow::Result<()> {
     let format: ExportFormat = a.format.parse().map_err(usage)?;
     let run = RunFolder::open(&a.dir).map_err(usage)?;
     super::print_warnings(&run.warnings);
-    let k = a.iteration.unwrap_or_else(|| run.last_index());
-    run.record(k).map_err(usage)?;
+    let k = match (a.answer, a.alternative) {
+        (true, _) => Which::Answer,
+        (false, Some(n)) => Which::Alternative(n),
+        (false, None) => Which::Iteration(a.iteration.unwrap_or_else(|| run.last_index())),
+    };
+    let shown = run.network_of(k).map_err(usage)?;
     let internal = |message: String| ExitError { code: 1, message };
     let out = a.out.unwrap_or_else(|| a.dir.join("export"));
     // One file to a named path: one format and a path with an extension that is not an existing
@@ -30,7 +34,7 @@ pub fn run(a: ExportArgs) -> anyhow::Result<()> {
         }
         curvenet::io::write_atomic(&out, text.as_bytes())
             .map_err(|e| usage(format!("{}: {e}", out.display())))?;
-        warn_unstable(k, run.record(k).map_err(usage)?);
+        warn_unstable(&shown);
         println!("{}", out.display());
         return Ok(());
     }
@@ -41,14 +45,14 @@ pub fn run(a: ExportArgs) -> anyhow::Result<()> {
         )));
     }
     let paths = write_exports(&run, k, format, Path::new(&out)).map_err(internal)?;
-    let rec = run.record(k).map_err(usage)?;
     eprintln!(
-        "iteration {k}: {} curves, length {}, λ_eq {:.6e}",
-        rec.curves.len(),
-        super::fmt_length(rec.length),
-        rec.lambda
+        "{}: {} curves, length {}, λ_eq {:.6e}",
+        shown.what,
+        shown.curves.len(),
+        super::fmt_length(shown.length),
+        shown.lambda
     );
-    warn_unstable(k, rec);
+    warn_unstable(&shown);
     for p in paths {
         println!("{}", p.display());
     }
@@ -56,8 +60,8 @@ pub fn run(a: ExportArgs) -> anyhow::Result<()> {
 }
 
 /// The warning of an export of an unstable network (its files say so in their headers too).
-fn warn_unstable(k: usize, rec: &curvenet::simplify::greedy::IterationRecord) {
-    if let Some(w) = curvenet::run_folder::record_instability(rec) {
-        super::print_warnings(&[format!("iteration {k} is {w}: it cannot stand as built")]);
+fn warn_unstable(shown: &curvenet::run_folder::Chosen) {
+    if let Some(w) = &shown.unstable {
+        super::print_warnings(&[format!("{} is {w}: it cannot stand as built", shown.what)]);
     }
 }

@@ -11,6 +11,7 @@ use curvenet::io::{Polyline, TriMesh};
 use curvenet::network::{BuildInfo, BuildParams, Network, build_network};
 use curvenet::physics::PhysicalParams;
 use curvenet::rod::ActiveSet;
+use curvenet::run_folder::answer::{NetworkState, alternative_offers};
 use curvenet::run_folder::folder::{FolderError, FolderLock, FreshStart, fresh_start};
 use curvenet::run_folder::schema::objective_name;
 use curvenet::run_folder::{
@@ -20,6 +21,7 @@ use curvenet::run_folder::{
 use curvenet::simplify::certificate::{
     Certificate, CertifyParams, certificate, tighten_certificate,
 };
+use curvenet::simplify::exhaustive::SubsetScore;
 use curvenet::simplify::greedy::{IterationRecord, ResumePoint};
 use curvenet::simplify::local::{LocalParams, local_search};
 use curvenet::simplify::{Budget, GreedyOutcome, GreedyParams, SimplifyError, StopReason, greedy};
@@ -49,6 +51,8 @@ pub struct GreedyJob {
     pub certificate_nodes: Option<usize>,
     /// Run the local search from the greedy's final network and record its answer.
     pub local_search: bool,
+    /// Alternatives to record beside the answer (0: none).
+    pub alternatives: usize,
     /// The surface, in scene units, written next to the result when known.
     pub mesh: Option<TriMesh>,
     /// Design constraints every search honours.
@@ -146,6 +150,7 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     print_warnings(budget_unmet(&outcome, budget).as_slice());
     let after = AfterGreedy {
         local_search: job.local_search,
+        alternatives: job.alternatives,
         certificate: job.certificate,
         certificate_nodes: job.certificate_nodes,
     };
@@ -162,6 +167,7 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         "greedy": outcome.timings,
         "certificate_seconds": job.certificate.then_some(seconds.certificate),
         "local_search_seconds": job.local_search.then_some(seconds.local_search),
+        "alternatives_seconds": (job.alternatives > 0).then_some(seconds.alternatives),
         "threads": rayon::current_num_threads(),
     });
     writer.finish(&outcome, &timings).map_err(failure)?;
@@ -319,6 +325,8 @@ fn failure(message: String) -> ExitError {
 struct AfterGreedy {
     /// The local search from the greedy's final network.
     local_search: bool,
+    /// Alternatives to record beside the answer (0: none).
+    alternatives: usize,
     /// The fixed-geometry certificate of the answer.
     certificate: bool,
     /// Branch and bound nodes spent tightening the certificate (None: by network size).
@@ -329,12 +337,13 @@ struct AfterGreedy {
 #[derive(Clone, Copy)]
 struct AfterSeconds {
     local_search: f64,
+    alternatives: f64,
     certificate: f64,
 }
 
 impl AfterGreedy {
-    /// The local search, the answer and the certificate, recorded in `writer`; exit 130 when
-    /// a signal came during a step.
+    /// The local search, the answer and the alternatives, and the certificate, recorded in
+    /// `writer`; exit 130 when a signal came during a step.
     fn run(
         &self,
         analyzer: &Analyzer,
@@ -350,17 +359,39 @@ impl AfterGreedy {
             local_search_of(analyzer, params, constraints, outcome, &cancel)
         });
         stop_if_cancelled(&cancel, "the local search", out)?;
+        let (local, visited) = local.map_or((None, Vec::new()), |(r, v)| (Some(r), v));
         let local_eval = local
             .as_ref()
             .and_then(|l| evaluate_curves(analyzer, &l.curves, "local search's network"));
         writer.set_local_search(local);
-        let (answer, answer_state) = answer_of(analyzer, constraints, outcome, local_eval, out);
+        let alternatives_start = Instant::now();
+        let chosen = {
+            let _stage = Stage::start();
+            let found = Found {
+                local: local_eval,
+                visited: &visited,
+                alternatives: self.alternatives,
+            };
+            answer_of(analyzer, constraints, outcome, found, &cancel, out)
+        };
+        let alternatives_seconds = alternatives_start.elapsed().as_secs_f64();
+        stop_if_cancelled(&cancel, "the search for alternatives", out)?;
+        if self.alternatives > chosen.alternatives.len() {
+            eprintln!(
+                "note: {} alternative(s) asked for, {} found: the searches met no other stable \
+                 network within the budget and the constraints that is distinct from these and \
+                 not one of them with curves added",
+                self.alternatives,
+                chosen.alternatives.len()
+            );
+        }
         // The certificate is of the answer (the greedy's final network when there is none).
-        let certified = match &answer {
+        let certified = match &chosen.answer {
             Ok(a) => Some(a.curves.clone()),
             Err(_) => outcome.iterations.last().map(|it| it.curves.clone()),
         };
-        writer.set_answer(answer, answer_state);
+        writer.set_answer(chosen.answer, chosen.state);
+        writer.set_alternatives(chosen.alternatives);
         let (certificate, certificate_seconds) =
             optional_step(self.certificate, "certificate", || {
                 let _stage = Stage::start();
@@ -378,6 +409,7 @@ impl AfterGreedy {
         writer.set_certificate(certificate);
         Ok(AfterSeconds {
             local_search: local_seconds,
+            alternatives: alternatives_seconds,
             certificate: certificate_seconds,
         })
     }
@@ -494,17 +526,36 @@ fn budget_unmet(outcome: &GreedyOutcome, budget: f64) -> Option<String> {
     ))
 }
 
-/// The run's answer among the greedy's iterations and the local search's network (when it
-/// ran, evaluated in full), and the answer's equilibrium when it is not a greedy iteration.
-/// With `--max-deviation`, each greedy iteration's deviation is measured on its state in the
-/// run folder `out`.
+/// What the searches after the greedy found, offered beside the greedy's path.
+struct Found<'v> {
+    /// The local search's network, evaluated in full, when it ran.
+    local: Option<curvenet::stability::Evaluation>,
+    /// The feasible sets the local search evaluated, best first.
+    visited: &'v [SubsetScore],
+    /// Alternatives asked for.
+    alternatives: usize,
+}
+
+/// The answer and the alternatives, each with its equilibrium and mode when it is not one of
+/// the greedy's iterations.
+struct Chosen {
+    answer: Result<Answer, NoAnswer>,
+    state: Option<NetworkState>,
+    alternatives: Vec<(Answer, Option<NetworkState>)>,
+}
+
+/// The run's answer among the greedy's iterations, the local search's network (when it
+/// ran, evaluated in full) and, with `--alternatives`, the best distinct networks the local
+/// search evaluated (each evaluated in full); and the alternatives. With `--max-deviation`,
+/// each greedy iteration's deviation is measured on its state in the run folder `out`.
 fn answer_of(
     analyzer: &Analyzer,
     constraints: &Constraints,
     outcome: &GreedyOutcome,
-    local: Option<curvenet::stability::Evaluation>,
+    found: Found<'_>,
+    cancel: &Cancel,
     out: &Path,
-) -> (Result<Answer, NoAnswer>, Option<Vec<f64>>) {
+) -> Chosen {
     let mut offers = greedy_offers(&outcome.iterations);
     if constraints.params().max_deviation.is_some()
         && let Err(e) = measure_greedy_deviations(&mut offers, out, analyzer.network())
@@ -514,15 +565,40 @@ fn answer_of(
              unmeasured are not offered as the answer"
         )]);
     }
-    if let Some(e) = &local {
+    let mut states: Vec<(Vec<usize>, NetworkState)> = Vec::new();
+    if let Some(e) = &found.local {
         offers.push(evaluated_offer("local_search", e, analyzer.network()));
+        states.push((e.curves.clone(), NetworkState::of(e)));
     }
-    let choice = choose(constraints, &offers, 0);
-    let state = match (&choice.answer, local) {
-        (Ok(a), Some(e)) if a.iteration.is_none() => Some(e.displacement),
-        _ => None,
+    let more = alternative_offers(
+        analyzer,
+        constraints,
+        &offers,
+        found.visited,
+        "local_search",
+        found.alternatives,
+        cancel,
+    );
+    for (o, s) in more {
+        states.push((o.curves.clone(), s));
+        offers.push(o);
+    }
+    let choice = choose(constraints, &offers, found.alternatives);
+    let state_of = |a: &Answer| {
+        a.iteration
+            .is_none()
+            .then(|| states.iter().find(|s| s.0 == a.curves).map(|s| s.1.clone()))
+            .flatten()
     };
-    (choice.answer, state)
+    Chosen {
+        state: choice.answer.as_ref().ok().and_then(state_of),
+        alternatives: choice
+            .alternatives
+            .iter()
+            .map(|a| (a.clone(), state_of(a)))
+            .collect(),
+        answer: choice.answer,
+    }
 }
 
 /// `curves` relaxed and its spectrum computed (a warning and `None` when that fails).
@@ -547,7 +623,7 @@ fn local_search_of(
     constraints: &Constraints,
     outcome: &GreedyOutcome,
     cancel: &Cancel,
-) -> anyhow::Result<LocalSearchRecord> {
+) -> anyhow::Result<(LocalSearchRecord, Vec<SubsetScore>)> {
     let last = outcome
         .iterations
         .last()
@@ -560,7 +636,7 @@ fn local_search_of(
     let mut record = LocalSearchRecord::new(&local, &o, &last.curves)
         .ok_or_else(|| anyhow::anyhow!("λ_eq could not be evaluated"))?;
     record.objective = objective_name(analyzer.objective()).into();
-    Ok(record)
+    Ok((record, o.visited))
 }
 
 /// Exit 130 once a signal came during `stage`: the greedy's iterations stay recorded in `out`,

@@ -10,8 +10,14 @@
 //! The answer is the qualifying network with the largest `λ_eq`; networks within the tie
 //! tolerance (relative 1e-7) of the best go to the first offered. The caller offers, in order,
 //! the greedy's final network, then the local search's, then any other search's. The
-//! alternatives are the best qualifying networks after it with distinct curve sets, by
-//! decreasing `λ_eq`. With none qualifying, there is no answer: the reason names what the
+//! alternatives are the best qualifying networks after it, by decreasing `λ_eq` (ties to the
+//! first offered), each *distinct* from the answer and from every alternative before it:
+//! the curves in one of the two networks and not in the other must total at least
+//! [`DISTINCT`] (5%) of the budget. A network that differs from a better one only by curves
+//! shorter than that (adding, dropping or swapping a tiny curve) is the same design to build,
+//! so it is passed over; so is a network *dominated* by a qualifying one made of some of its
+//! curves with at least its `λ_eq` (within the tie tolerance: its other curves add material
+//! and no stability, e.g. a separate part that is not the weakest). With none qualifying, there is no answer: the reason names what the
 //! best-ranked offer lacked, and the smallest stable network of the run (any offer, within the
 //! budget or not: the greedy's path records every larger network) is named with how far over
 //! the budget it is.
@@ -21,6 +27,10 @@ use serde::{Deserialize, Serialize};
 
 /// Relative tolerance under which two `λ_eq` tie.
 const TIE: f64 = 1e-7;
+
+/// Two networks are distinct designs when the curves in exactly one of them total at least
+/// this fraction of the budget.
+pub const DISTINCT: f64 = 0.05;
 
 /// A network a search of the run evaluated, offered as the answer.
 #[derive(Clone, Debug, PartialEq)]
@@ -108,6 +118,30 @@ pub struct Choice {
     pub alternatives: Vec<Answer>,
 }
 
+/// Whether the networks `a` and `b` are distinct designs: the curves in exactly one of them
+/// total at least [`DISTINCT`] of the budget.
+pub fn distinct(constraints: &Constraints, a: &[usize], b: &[usize]) -> bool {
+    let only = |x: &[usize], y: &[usize]| -> Vec<usize> {
+        x.iter().copied().filter(|c| !y.contains(c)).collect()
+    };
+    let differ = constraints.length(&only(a, b)) + constraints.length(&only(b, a));
+    differ >= DISTINCT * constraints.budget()
+}
+
+/// Whether `p` dominates `o`: a proper subset of its curves, as stable (within the tie
+/// tolerance): `o`'s other curves add material and no stability.
+fn dominates(p: &Offer, o: &Offer) -> bool {
+    p.curves.len() < o.curves.len()
+        && p.curves.iter().all(|c| o.curves.contains(c))
+        && p.lambda >= o.lambda - TIE * o.lambda.abs()
+}
+
+/// Whether `offer` qualifies as the answer or an alternative (stable and feasible; see the
+/// module documentation).
+pub fn qualifies(constraints: &Constraints, offer: &Offer) -> bool {
+    disqualified(constraints, offer).is_none()
+}
+
 /// Why `offer` does not qualify, if it does not.
 fn disqualified(constraints: &Constraints, offer: &Offer) -> Option<String> {
     if offer.negative_modes > 0 {
@@ -164,13 +198,13 @@ pub fn choose(constraints: &Constraints, offers: &[Offer], alternatives: usize) 
         .collect();
     // Distinct curve sets, the first offer of each; then by decreasing λ_eq, ties (within the
     // tolerance of the better) to the earlier offer.
-    let mut distinct: Vec<&Offer> = Vec::new();
+    let mut unique: Vec<&Offer> = Vec::new();
     for o in qualifying {
-        if !distinct.iter().any(|d| d.curves == o.curves) {
-            distinct.push(o);
+        if !unique.iter().any(|d| d.curves == o.curves) {
+            unique.push(o);
         }
     }
-    let mut ranked: Vec<(usize, &Offer)> = distinct.into_iter().enumerate().collect();
+    let mut ranked: Vec<(usize, &Offer)> = unique.into_iter().enumerate().collect();
     ranked.sort_by(|a, b| {
         let (la, lb) = (a.1.lambda, b.1.lambda);
         let tie = (la - lb).abs() <= TIE * la.abs().max(lb.abs());
@@ -180,16 +214,30 @@ pub fn choose(constraints: &Constraints, offers: &[Offer], alternatives: usize) 
             lb.total_cmp(&la)
         }
     });
-    let mut picked = ranked.into_iter().map(|(_, o)| answer_of(constraints, o));
-    let Some(answer) = picked.next() else {
+    let ranked: Vec<&Offer> = ranked.into_iter().map(|(_, o)| o).collect();
+    let Some(&first) = ranked.first() else {
         return Choice {
             answer: Err(no_answer(constraints, offers)),
             alternatives: Vec::new(),
         };
     };
+    let mut picked: Vec<&Offer> = vec![first];
+    for &o in &ranked[1..] {
+        if picked.len() > alternatives {
+            break;
+        }
+        if picked
+            .iter()
+            .all(|p| distinct(constraints, &p.curves, &o.curves))
+            && !ranked.iter().any(|p| dominates(p, o))
+        {
+            picked.push(o);
+        }
+    }
+    let mut picked = picked.into_iter().map(|o| answer_of(constraints, o));
     Choice {
-        answer: Ok(answer),
-        alternatives: picked.take(alternatives).collect(),
+        answer: Ok(picked.next().expect("the answer")),
+        alternatives: picked.collect(),
     }
 }
 
@@ -342,8 +390,52 @@ mod tests {
         );
         assert!(a.margins.all_met());
         let alt: Vec<Vec<usize>> = ch.alternatives.iter().map(|x| x.curves.clone()).collect();
-        assert_eq!(alt, vec![vec![1, 2], vec![0, 1, 2]], "distinct, best first");
+        // [0, 1, 2] is [1, 2] with the ring added, and less stable: dominated.
+        assert_eq!(alt, vec![vec![1, 2]], "distinct, best first, undominated");
         assert_eq!(choose(&c, &offers, 1).alternatives.len(), 1);
+    }
+
+    #[test]
+    fn alternatives_are_distinct_undominated_and_sorted() {
+        use crate::constraints::testing::polyline;
+        use crate::geom::Vec3;
+        // The pavilion and a tiny straight curve (5) beside it, 20 units long.
+        let mut curves = pavilion(4, false, 0.0);
+        let tiny = (0..=4)
+            .map(|i| Vec3::new(1500.0 + 5.0 * i as f64, 0.0, 0.0))
+            .collect();
+        curves.push(polyline(tiny, false));
+        let net = network(&curves);
+        let l = net.rest_lengths();
+        assert!(l[5] < 0.05 * l[1], "the tiny curve is tiny");
+        let c = Constraints::none(&net, l.iter().sum(), &[]);
+        let offers = vec![
+            offer("greedy", &[0, 1, 2], &l, 9e-9, 0),
+            // The answer with the tiny curve added: the same design.
+            offer("local_search", &[0, 1, 2, 5], &l, 8e-9, 0),
+            // The answer with the tiny curve swapped in for the ring: distinct.
+            offer("local_search", &[1, 2, 5], &l, 7e-9, 0),
+            // Arch 4 added to a better network, [0, 1, 3], offered after it: dominated.
+            offer("local_search", &[0, 1, 3, 4], &l, 6e-9 * (1.0 - 1e-9), 0),
+            offer("local_search", &[0, 1, 3], &l, 6e-9, 0),
+            offer("local_search", &[0, 2, 3], &l, 5e-9, 0),
+            offer("local_search", &[0, 3, 4], &l, 4e-9, 0),
+        ];
+        let ch = choose(&c, &offers, 3);
+        let a = ch.answer.expect("an answer");
+        assert_eq!(a.curves, vec![0, 1, 2]);
+        let alt: Vec<Vec<usize>> = ch.alternatives.iter().map(|x| x.curves.clone()).collect();
+        assert_eq!(alt, vec![vec![1, 2, 5], vec![0, 1, 3], vec![0, 2, 3]]);
+        for w in ch.alternatives.windows(2) {
+            assert!(w[0].lambda >= w[1].lambda);
+        }
+        assert!(ch.alternatives.iter().all(|x| x.lambda <= a.lambda));
+        assert!(!distinct(&c, &[0, 1, 2], &[0, 1, 2, 5]));
+        assert!(distinct(&c, &[0, 1, 2], &[1, 2, 5]));
+        // More asked for than there are: the rest, no error.
+        let all = choose(&c, &offers, 50).alternatives;
+        assert_eq!(all.len(), 4);
+        assert_eq!(all[3].curves, vec![0, 3, 4]);
     }
 
     #[test]

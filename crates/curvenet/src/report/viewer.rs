@@ -3,7 +3,9 @@
 //! [`viewer_html`] makes ONE self-contained HTML page from a run folder: a small hand-written
 //! WebGL viewer (`report/viewer/viewer.js`, no library, no network access) and the run's data
 //! embedded as JSON. The page shows the surface (translucent), the curves (kept and removed in
-//! different colours), a slider over every greedy iteration (network, curve count, total
+//! different colours), buttons for the answer and each alternative (`λ_eq`, length, curves;
+//! the answer first, opened on; one that is not a greedy iteration shown with its own
+//! equilibrium, mode and gravity deflection), a slider over every greedy iteration (network, curve count, total
 //! length, `λ_eq`), the worst-case mode as an animated deformation with an amplitude control,
 //! the gravity deflection, and the equilibrium shape against the designed (rest) one; the
 //! mouse orbits (left), pans (right or shift) and zooms (wheel); a click on a curve shows its
@@ -27,12 +29,12 @@
 //! `final.png`, `mode.png`, `lambda.png` ([`super::render`], [`super::plot`]), `viewer.html`
 //! and `fabrication.csv` (the final network, [`super::export::fabrication_csv`]).
 
-use super::export::{answer_fabrication_csv, rod_joints, rod_supports};
+use super::export::{answer_fabrication_csv, fabrication_csv, rod_joints, rod_supports};
 use super::plot::lambda_plot;
 use super::render::{mode_picture, network_picture};
 use crate::network::Network;
 use crate::rod::ActiveSet;
-use crate::run_folder::RunFolder;
+use crate::run_folder::{RunFolder, Which};
 use crate::solve::Cholesky;
 use crate::stability::Analyzer;
 use rayon::prelude::*;
@@ -230,20 +232,9 @@ pub fn viewer_data(run: &RunFolder, options: &ViewerOptions) -> Result<Value, St
         .enumerate()
         .map(|(k, it)| {
             let verts = active_vertices(run, &it.curves);
-            let g = gravity[k].as_ref().map(|g| {
-                let restricted = restrict(g, &verts);
-                let (mut vmax, mut dmax) = (0usize, 0.0f64);
-                for (i, c) in restricted.chunks(3).enumerate() {
-                    let d = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
-                    if d > dmax {
-                        (vmax, dmax) = (verts[i], d);
-                    }
-                }
-                let mut e = encode_i16(&restricted);
-                e["max_displacement"] = json!(dmax);
-                e["vertex"] = json!(vmax);
-                e
-            });
+            let g = gravity[k]
+                .as_ref()
+                .map(|g| gravity_field(&restrict(g, &verts), &verts));
             json!({
                 "curves": it.curves,
                 "length": it.length,
@@ -261,6 +252,7 @@ pub fn viewer_data(run: &RunFolder, options: &ViewerOptions) -> Result<Value, St
             })
         })
         .collect();
+    let chosen = chosen_data(run, options)?;
     let mesh = run.mesh.as_ref().map(|m| {
         let faces: Vec<u8> = m
             .faces
@@ -296,6 +288,7 @@ pub fn viewer_data(run: &RunFolder, options: &ViewerOptions) -> Result<Value, St
         "rods": rods,
         "removed_at": removed_at,
         "iterations": iterations,
+        "chosen": chosen,
         "mesh": mesh,
     }))
 }
@@ -322,6 +315,71 @@ fn rods_json(net: &Network) -> Vec<Value> {
             })
         })
         .collect()
+}
+
+/// The answer and the alternatives for the viewer's list: label, where each comes from, its
+/// curves, length, `λ_eq` and modes; those that are not greedy iterations with their own
+/// equilibrium, mode and gravity deflection (as an iteration's).
+fn chosen_data(run: &RunFolder, options: &ViewerOptions) -> Result<Vec<Value>, String> {
+    let r = &run.result;
+    let mut which: Vec<(Which, String)> = Vec::new();
+    if r.answer.is_some() {
+        which.push((Which::Answer, "the answer".into()));
+    }
+    for n in 1..=r.alternatives.len() {
+        which.push((Which::Alternative(n), format!("alternative {n}")));
+    }
+    let analyzer = match options.gravity && !which.is_empty() {
+        true => Some(
+            Analyzer::new(run.network.clone(), r.setup.stability.clone())
+                .map_err(|e| format!("{}: {e}", run.dir.join("result.json").display()))?,
+        ),
+        false => None,
+    };
+    let answers = r.answer.iter().chain(&r.alternatives);
+    let mut out = Vec::new();
+    for ((w, label), a) in which.iter().zip(answers) {
+        let mut e = json!({
+            "label": label,
+            "source": a.source,
+            "iteration": a.iteration,
+            "curves": a.curves,
+            "length": a.length,
+            "lambda": a.lambda,
+            "zero_modes": a.zero_modes,
+            "negative_modes": a.negative_modes,
+        });
+        if a.iteration.is_none() {
+            let u = run.displacement_of(*w)?;
+            let mode = run.mode_of(*w)?;
+            let verts = active_vertices(run, &a.curves);
+            let g = analyzer
+                .as_ref()
+                .and_then(|an| gravity_deflection(an, &a.curves, &u))
+                .map(|g| gravity_field(&restrict(&g, &verts), &verts));
+            e["u"] = encode_i16(&restrict(&u, &verts));
+            e["mode"] = encode_i16(&restrict(&mode, &verts));
+            e["gravity"] = json!(g);
+        }
+        out.push(e);
+    }
+    Ok(out)
+}
+
+/// The gravity deflection over `verts` (restricted), encoded with its largest displacement
+/// and the vertex where it is.
+fn gravity_field(restricted: &[f64], verts: &[usize]) -> Value {
+    let (mut vmax, mut dmax) = (0usize, 0.0f64);
+    for (i, c) in restricted.chunks(3).enumerate() {
+        let d = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
+        if d > dmax {
+            (vmax, dmax) = (verts[i], d);
+        }
+    }
+    let mut e = encode_i16(restricted);
+    e["max_displacement"] = json!(dmax);
+    e["vertex"] = json!(vmax);
+    e
 }
 
 fn round6(v: f64) -> f64 {
@@ -460,8 +518,8 @@ pub struct RunOutputs {
     pub warnings: Vec<String>,
 }
 
-/// Writes the pictures, `viewer.html` and `fabrication.csv` of the answer into the run folder
-/// `dir`. A run without an answer gets no fabrication table (a warning says why): its
+/// Writes the pictures, `viewer.html` and `fabrication.csv` of the answer (and
+/// `alternative-N.csv`, each alternative's fabrication table) into the run folder `dir`. A run without an answer gets no fabrication table (a warning says why): its
 /// networks within the budget are not something to build.
 pub fn write_run_outputs(dir: &Path) -> Result<RunOutputs, String> {
     let run = RunFolder::open(dir)?;
@@ -492,6 +550,12 @@ pub fn write_run_outputs(dir: &Path) -> Result<RunOutputs, String> {
             out.warnings
                 .push(format!("no fabrication table: nothing to build ({why})"));
         }
+    }
+    for n in 1..=run.result.alternatives.len() {
+        let p = dir.join(format!("alternative-{n}.csv"));
+        let csv = fabrication_csv(&run, Which::Alternative(n))?;
+        crate::io::write_atomic(&p, csv.as_bytes()).map_err(|e| format!("{}: {e}", p.display()))?;
+        out.files.push(p);
     }
     Ok(out)
 }

@@ -1,11 +1,16 @@
-//! The networks a run offers as its answer (see [`crate::constraints::answer::choose`]).
+//! The networks a run offers as its answer and its alternatives (see
+//! [`crate::constraints::answer::choose`]).
 
 use super::read_f64_file;
-use crate::constraints::answer::Offer;
-use crate::constraints::max_displacement;
+use crate::cancel::Cancel;
+use crate::constraints::answer::{Offer, choose, distinct, qualifies};
+use crate::constraints::{Constraints, max_displacement};
 use crate::network::Network;
+use crate::rod::ActiveSet;
+use crate::simplify::exhaustive::SubsetScore;
 use crate::simplify::greedy::IterationRecord;
-use crate::stability::Evaluation;
+use crate::stability::{Analyzer, Evaluation, Prepare, Preset, Warm};
+use rayon::prelude::*;
 use std::path::Path;
 
 /// The networks of the greedy's path, offered as the run's answer in the order they were
@@ -64,4 +69,108 @@ pub fn evaluated_offer(source: &str, eval: &Evaluation, network: &Network) -> Of
         negative_modes: eval.spectrum.negative_modes,
         deviation: Some(max_displacement(network, &eval.curves, &eval.displacement)),
     }
+}
+
+/// The equilibrium and worst-case mode of a network that is not one of the greedy's
+/// iterations (the answer or an alternative), for its files in the run folder.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NetworkState {
+    /// Equilibrium displacements (3·V).
+    pub displacement: Vec<f64>,
+    /// The worst-case mode (3·V).
+    pub mode: Vec<f64>,
+}
+
+impl NetworkState {
+    /// The equilibrium and lowest mode of `eval`.
+    pub fn of(eval: &Evaluation) -> Self {
+        NetworkState {
+            displacement: eval.displacement.clone(),
+            mode: eval.spectrum.vectors.col(0).iter().copied().collect(),
+        }
+    }
+}
+
+/// Networks evaluated in full per batch (in parallel) while looking for alternatives; fixed,
+/// so the work does not depend on the thread count (the result never does).
+const BATCH: usize = 4;
+
+/// Networks evaluated in full at most for `count` alternatives: `4 count + 8`.
+fn evaluation_cap(count: usize) -> usize {
+    4 * count + 8
+}
+
+/// Offers for `count` alternatives beside `offers` (the greedy's path, the local search's
+/// network, …): the sets of `visited` (a search's evaluated feasible sets, best first:
+/// [`crate::simplify::local::LocalOutcome::visited`]), each evaluated in full (relaxed from the
+/// drawn state, its spectrum with the analysis' accuracy, its modes counted) under `source`,
+/// in order, skipping sets already offered and sets not distinct
+/// ([`crate::constraints::answer::distinct`]) from a network chosen so far, until `count`
+/// alternatives qualify, the sets run out, `4 count + 8` were evaluated, or `cancel` is set.
+/// Each comes with its equilibrium and mode. Deterministic: the sets are taken in order and
+/// each evaluation is independent of the others and of the thread count.
+pub fn alternative_offers(
+    analyzer: &Analyzer,
+    constraints: &Constraints,
+    offers: &[Offer],
+    visited: &[SubsetScore],
+    source: &str,
+    count: usize,
+    cancel: &Cancel,
+) -> Vec<(Offer, NetworkState)> {
+    let mut found: Vec<(Offer, NetworkState)> = Vec::new();
+    if count == 0 {
+        return found;
+    }
+    let n = analyzer.network().rods.len();
+    let mut all: Vec<Offer> = offers.to_vec();
+    let mut rest = visited
+        .iter()
+        .filter(|s| !offers.iter().any(|o| o.curves == s.curves));
+    let mut evaluated = 0;
+    loop {
+        let chosen = choose(constraints, &all, count);
+        if chosen.alternatives.len() >= count || cancel.is_cancelled() {
+            break;
+        }
+        let picked: Vec<Vec<usize>> = chosen
+            .answer
+            .iter()
+            .chain(&chosen.alternatives)
+            .map(|a| a.curves.clone())
+            .collect();
+        let room = BATCH.min(evaluation_cap(count) - evaluated);
+        let batch: Vec<&SubsetScore> = rest
+            .by_ref()
+            .filter(|s| picked.iter().all(|p| distinct(constraints, p, &s.curves)))
+            .take(room)
+            .collect();
+        if batch.is_empty() {
+            break;
+        }
+        evaluated += batch.len();
+        let evals: Vec<Option<(Offer, NetworkState)>> = batch
+            .par_iter()
+            .map(|s| {
+                let active = ActiveSet::from_curves(n, &s.curves);
+                let eval = analyzer
+                    .evaluate(&active, Warm::default(), Preset::Analysis, Prepare::Nothing)
+                    .ok()?;
+                Some((
+                    evaluated_offer(source, &eval, analyzer.network()),
+                    NetworkState::of(&eval),
+                ))
+            })
+            .collect();
+        for (offer, state) in evals.into_iter().flatten() {
+            if qualifies(constraints, &offer) {
+                all.push(offer.clone());
+                found.push((offer, state));
+            }
+        }
+        if evaluated >= evaluation_cap(count) {
+            break;
+        }
+    }
+    found
 }

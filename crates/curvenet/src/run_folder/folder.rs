@@ -184,6 +184,13 @@ pub struct FreshStart {
     remove: Vec<String>,
 }
 
+/// `alternative-N.obj` or `alternative-N.csv`: an alternative's files (`--alternatives`).
+fn is_alternative(name: &str) -> bool {
+    name.strip_prefix("alternative-")
+        .and_then(|r| r.strip_suffix(".obj").or_else(|| r.strip_suffix(".csv")))
+        .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+}
+
 /// Checks `dir` (locked by this process; absent or empty is fine) for a fresh run: a curvenet
 /// run's folder is to have the earlier run's files removed; any other non-empty folder is
 /// refused unless `force` (then the run's own files are removed and the others kept).
@@ -199,7 +206,10 @@ pub fn fresh_start(dir: &Path, force: bool) -> Result<FreshStart, FolderError> {
         .filter(|n| n != LOCK_FILE)
         .collect();
     let ours = |n: &String| {
-        RUN_FILES.contains(&n.as_str()) || RUN_FOLDERS.contains(&n.as_str()) || is_temp(n)
+        RUN_FILES.contains(&n.as_str())
+            || RUN_FOLDERS.contains(&n.as_str())
+            || is_temp(n)
+            || is_alternative(n)
     };
     let foreign: Vec<String> = names.iter().filter(|n| !ours(n)).cloned().collect();
     let is_run = names

@@ -13,6 +13,12 @@
 //! DIR/final.obj           the greedy's final network at equilibrium
 //! DIR/answer.obj          the answer (the network to build) at equilibrium; absent when
 //!                         no stable network within the budget was found
+//! DIR/states/answer.bin, DIR/modes/answer.bin
+//!                         the answer's equilibrium and worst-case mode, when it is not one
+//!                         of the greedy's iterations
+//! DIR/alternative-N.obj   with --alternatives: the N-th alternative (from 1) at equilibrium
+//! DIR/states/alternative-N.bin, DIR/modes/alternative-N.bin
+//!                         its equilibrium and mode, when it is not a greedy iteration
 //! DIR/mesh.obj            the surface the curves were drawn on, in scene units (if known)
 //! DIR/summary.txt         a short text summary
 //! DIR/.curvenet.lock      locked by the run writing the folder (see [`folder`])
@@ -27,8 +33,8 @@
 //! - [`reader`]: [`RunFolder`], a finished or interrupted folder read back and checked, for the
 //!   exports, pictures and viewer of [`crate::report`];
 //! - [`summary`]: `summary.txt` and the warnings a run's record calls for;
-//! - [`answer`]: the networks a run offers as its answer ([`greedy_offers`],
-//!   [`evaluated_offer`]).
+//! - [`answer`]: the networks a run offers as its answer and its alternatives
+//!   ([`greedy_offers`], [`evaluated_offer`], [`answer::alternative_offers`]).
 //!
 //! Every file is written atomically (temporary file + rename), and `result.json` is rewritten
 //! after each iteration, so an interrupted run keeps everything it finished and can resume.
@@ -45,7 +51,7 @@ pub mod summary;
 pub mod writer;
 
 pub use answer::{evaluated_offer, greedy_offers, measure_greedy_deviations};
-pub use reader::{RunFolder, check_network};
+pub use reader::{Chosen, RunFolder, Which, check_network};
 pub use schema::{FinalRecord, InputDescription, LocalSearchRecord, ResultFile, RunSetup, VERSION};
 pub use summary::{instability, record_instability, summary, unrelaxed, unstable};
 pub use writer::OutputWriter;

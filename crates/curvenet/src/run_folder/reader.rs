@@ -7,6 +7,7 @@
 
 use super::read_f64_file;
 use super::schema::ResultFile;
+use crate::constraints::answer::Answer;
 use crate::io::{self, TriMesh};
 use crate::network::Network;
 use crate::simplify::greedy::IterationRecord;
@@ -62,6 +63,33 @@ impl RunFolder {
                 return Err(format!(
                     "{}: iteration {k} names curve {c}, but network.json has {n} curves",
                     dir.join("result.json").display()
+                ));
+            }
+        }
+        let chosen = result.answer.iter().chain(&result.alternatives);
+        for (i, a) in chosen.enumerate() {
+            let what = if i == 0 && result.answer.is_some() {
+                "the answer".to_string()
+            } else {
+                format!("alternative {}", i + usize::from(result.answer.is_none()))
+            };
+            if a.curves.is_empty() {
+                return Err(format!(
+                    "{}: {what} has no curves",
+                    dir.join("result.json").display()
+                ));
+            }
+            if let Some(&c) = a.curves.iter().find(|&&c| c >= n) {
+                return Err(format!(
+                    "{}: {what} names curve {c}, but network.json has {n} curves",
+                    dir.join("result.json").display()
+                ));
+            }
+            if let Some(k) = a.iteration.filter(|&k| k >= result.iterations.len()) {
+                return Err(format!(
+                    "{}: {what} names iteration {k}, but the run recorded {}",
+                    dir.join("result.json").display(),
+                    result.iterations.len()
                 ));
             }
         }
@@ -158,6 +186,122 @@ impl RunFolder {
         let rec = self.record(k)?;
         self.vector_file(&rec.mode_file)
     }
+
+    /// The answer or the `n`-th alternative (from 1) of the run.
+    fn chosen(&self, which: Which) -> Result<&Answer, String> {
+        let none = |what: String| format!("{}: {what}", self.dir.display());
+        match which {
+            Which::Iteration(_) => unreachable!("an iteration is no chosen network"),
+            Which::Answer => self.result.answer.as_ref().ok_or_else(|| {
+                none(
+                    "the run has no answer (no stable network met the budget and the constraints)"
+                        .into(),
+                )
+            }),
+            Which::Alternative(n) => n
+                .checked_sub(1)
+                .and_then(|i| self.result.alternatives.get(i))
+                .ok_or_else(|| {
+                    none(match self.result.alternatives.len() {
+                        0 => format!(
+                            "no alternative {n}: the run recorded no alternatives (run it with \
+                             --alternatives K)"
+                        ),
+                        m => format!("no alternative {n}: the run recorded alternatives 1 to {m}"),
+                    })
+                }),
+        }
+    }
+
+    /// What `which` is: its curves, length, `λ_eq`, and how exports name it.
+    pub fn network_of(&self, which: Which) -> Result<Chosen, String> {
+        if let Which::Iteration(k) = which {
+            let rec = self.record(k)?;
+            return Ok(Chosen {
+                what: format!("iteration {k}"),
+                tag: format!("{k:04}"),
+                curves: rec.curves.clone(),
+                length: rec.length,
+                lambda: rec.lambda,
+                iteration: Some(k),
+                unstable: super::record_instability(rec),
+            });
+        }
+        let a = self.chosen(which)?;
+        let (what, tag) = match which {
+            Which::Alternative(n) => (format!("alternative {n}"), format!("alternative-{n}")),
+            _ => ("the answer".to_string(), "answer".to_string()),
+        };
+        let place = a.iteration.map_or_else(
+            || format!(" (the {}'s network)", a.source.replace('_', " ")),
+            |k| format!(" (iteration {k})"),
+        );
+        Ok(Chosen {
+            what: format!("{what}{place}"),
+            tag,
+            curves: a.curves.clone(),
+            length: a.length,
+            lambda: a.lambda,
+            iteration: a.iteration,
+            unstable: super::instability(a.lambda, a.zero_modes, a.negative_modes),
+        })
+    }
+
+    /// Equilibrium displacements of `which`: its iteration's, else `states/TAG.bin`.
+    pub fn displacement_of(&self, which: Which) -> Result<Vec<f64>, String> {
+        let c = self.network_of(which)?;
+        match c.iteration {
+            Some(k) => self.displacement(k),
+            None => self.vector_file(&format!("states/{}.bin", c.tag)),
+        }
+    }
+
+    /// Worst-case mode of `which`: its iteration's, else `modes/TAG.bin`.
+    pub fn mode_of(&self, which: Which) -> Result<Vec<f64>, String> {
+        let c = self.network_of(which)?;
+        match c.iteration {
+            Some(k) => self.mode(k),
+            None => self.vector_file(&format!("modes/{}.bin", c.tag)),
+        }
+    }
+}
+
+/// A network of a run: a greedy iteration, the answer, or an alternative.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Which {
+    /// Iteration `K` of the greedy.
+    Iteration(usize),
+    /// The answer.
+    Answer,
+    /// The `N`-th alternative, from 1.
+    Alternative(usize),
+}
+
+impl From<usize> for Which {
+    fn from(k: usize) -> Self {
+        Which::Iteration(k)
+    }
+}
+
+/// What [`RunFolder::network_of`] says of a network of the run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Chosen {
+    /// How a header names it: `iteration 3`, `the answer (the local search's network)`,
+    /// `alternative 2 (iteration 7)`.
+    pub what: String,
+    /// How file names name it: `0003`, `answer`, `alternative-2`.
+    pub tag: String,
+    /// Curves, ascending.
+    pub curves: Vec<usize>,
+    /// Total rest length.
+    pub length: f64,
+    /// `λ_eq`.
+    pub lambda: f64,
+    /// The greedy's iteration, when it is one.
+    pub iteration: Option<usize>,
+    /// What makes it unstable, when it is (a zero or negative mode: see
+    /// [`super::instability`]); never for the answer or an alternative.
+    pub unstable: Option<String>,
 }
 
 /// Checks that a network is consistent: finite positions, indices in range, one positive

@@ -223,6 +223,11 @@ pub struct ResultFile {
     /// run completed without an answer).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub no_answer: Option<NoAnswer>,
+    /// With `--alternatives K`: up to K further stable networks meeting the budget and every
+    /// constraint, distinct from the answer and from each other, by decreasing `λ_eq` (each
+    /// like [`Self::answer`]; absent when none were asked for or found).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub alternatives: Vec<Answer>,
 }
 
 impl ResultFile {

@@ -185,6 +185,16 @@ pub fn summary(r: &ResultFile) -> String {
     } else if let Some(n) = &r.no_answer {
         let _ = writeln!(s, "{}", n.describe());
     }
+    for (i, a) in r.alternatives.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "alternative {} (alternative-{}.obj): {}; curves {:?}",
+            i + 1,
+            i + 1,
+            a.describe(),
+            a.curves
+        );
+    }
     s
 }
 

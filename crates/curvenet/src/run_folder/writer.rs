@@ -1,6 +1,6 @@
 //! [`OutputWriter`]: the greedy's hooks that write the run folder as the run goes.
 
-use super::answer::greedy_offers;
+use super::answer::{NetworkState, greedy_offers};
 use super::carried::{CARRIED_FILES, carried_bytes, carried_file, read_carried};
 use super::schema::{FinalRecord, LocalSearchRecord, ResultFile, RunSetup, VERSION};
 use super::summary::summary;
@@ -32,9 +32,9 @@ fn io_err(path: &Path, e: std::io::Error) -> String {
     format!("{}: {e}", path.display())
 }
 
-/// An answer given to [`OutputWriter::set_answer`] and its equilibrium (when it is not one of
-/// the greedy's iterations).
-type GivenAnswer = (Result<Answer, NoAnswer>, Option<Vec<f64>>);
+/// An answer given to [`OutputWriter::set_answer`] and its equilibrium and mode (when it is
+/// not one of the greedy's iterations).
+type GivenAnswer = (Result<Answer, NoAnswer>, Option<NetworkState>);
 
 /// Writes a run's folder as the greedy goes (a [`GreedyHooks`]).
 ///
@@ -55,6 +55,9 @@ pub struct OutputWriter<'a> {
     /// The answer given by [`Self::set_answer`], with its equilibrium when it is not one of
     /// the greedy's iterations.
     answer: Option<GivenAnswer>,
+    /// The alternatives given by [`Self::set_alternatives`], each with its equilibrium and
+    /// mode when it is not one of the greedy's iterations.
+    alternatives: Vec<(Answer, Option<NetworkState>)>,
 }
 
 impl std::fmt::Debug for OutputWriter<'_> {
@@ -93,6 +96,7 @@ impl<'a> OutputWriter<'a> {
             local_search: None,
             answer: None,
             no_answer: None,
+            alternatives: Vec::new(),
         };
         let w = OutputWriter {
             dir: dir.to_path_buf(),
@@ -103,6 +107,7 @@ impl<'a> OutputWriter<'a> {
             cancel: None,
             progress: None,
             answer: None,
+            alternatives: Vec::new(),
         };
         w.write_result()?;
         Ok(w)
@@ -160,6 +165,7 @@ impl<'a> OutputWriter<'a> {
                 cancel: None,
                 progress: None,
                 answer: None,
+                alternatives: Vec::new(),
             },
             point,
         ))
@@ -221,11 +227,92 @@ impl<'a> OutputWriter<'a> {
     }
 
     /// Sets the answer (written by [`Self::finish`], with `answer.obj`). `state` is the
-    /// answer's equilibrium displacements, needed when it is not one of the greedy's
-    /// iterations (whose states the folder holds). Without it, [`Self::finish`] chooses among
-    /// the greedy's iterations with no constraint but the budget and the keep list.
-    pub fn set_answer(&mut self, answer: Result<Answer, NoAnswer>, state: Option<Vec<f64>>) {
+    /// answer's equilibrium and mode, needed when it is not one of the greedy's iterations
+    /// (whose states the folder holds; then `states/answer.bin` and `modes/answer.bin` hold
+    /// them). Without it, [`Self::finish`] chooses among the greedy's iterations with no
+    /// constraint but the budget and the keep list.
+    pub fn set_answer(&mut self, answer: Result<Answer, NoAnswer>, state: Option<NetworkState>) {
         self.answer = Some((answer, state));
+    }
+
+    /// Sets the alternatives (written by [`Self::finish`]: `alternatives` in `result.json`,
+    /// `alternative-N.obj` from 1, and for those that are not greedy iterations
+    /// `states/alternative-N.bin` and `modes/alternative-N.bin`), each with its equilibrium and
+    /// mode when it is not one of the greedy's iterations.
+    pub fn set_alternatives(&mut self, alternatives: Vec<(Answer, Option<NetworkState>)>) {
+        self.alternatives = alternatives;
+    }
+
+    /// The equilibrium of a network of the run: `state`'s, else its greedy iteration's.
+    fn equilibrium_of(
+        &self,
+        a: &Answer,
+        state: Option<&NetworkState>,
+        what: &str,
+    ) -> Result<Vec<f64>, String> {
+        match (a.iteration, state) {
+            (_, Some(s)) => Ok(s.displacement.clone()),
+            (Some(k), None) => read_f64_file(&self.dir.join(format!("states/{k:04}.bin"))),
+            (None, None) => Err(format!("the {what}'s equilibrium is not known")),
+        }
+    }
+
+    /// Queues `answer.obj` or `alternative-N.obj` (`name`), and the state and mode files
+    /// `states/STEM.bin`, `modes/STEM.bin` when `state` is given.
+    fn write_network(
+        &self,
+        stem: &str,
+        a: &Answer,
+        state: Option<&NetworkState>,
+    ) -> Result<(), String> {
+        let u = self.equilibrium_of(a, state, stem)?;
+        let obj = io::curves_to_obj(&network_polylines(self.network, &a.curves, Some(&u)));
+        self.write(&format!("{stem}.obj"), obj)?;
+        if let Some(s) = state {
+            self.write(&format!("states/{stem}.bin"), f64_bytes(&s.displacement))?;
+            self.write(&format!("modes/{stem}.bin"), f64_bytes(&s.mode))?;
+        }
+        Ok(())
+    }
+
+    /// Removes the files of an earlier run in this folder that this run does not write again:
+    /// the answer's own state when the answer is not `own_answer_state`, alternatives past
+    /// `count`.
+    fn remove_stale(&self, own_answer_state: bool, count: usize) -> Result<(), String> {
+        let mut stale: Vec<PathBuf> = Vec::new();
+        if !own_answer_state {
+            stale.push(self.dir.join("states/answer.bin"));
+            stale.push(self.dir.join("modes/answer.bin"));
+        }
+        for sub in ["", "states", "modes"] {
+            let Ok(entries) = std::fs::read_dir(self.dir.join(sub)) else {
+                continue;
+            };
+            for e in entries.flatten() {
+                let name = e.file_name().to_string_lossy().into_owned();
+                let Some(n) = name
+                    .strip_prefix("alternative-")
+                    .and_then(|r| r.split('.').next())
+                    .and_then(|n| n.parse::<usize>().ok())
+                else {
+                    continue;
+                };
+                // Top level: `alternative-N.obj` and `.csv`; states and modes only for the
+                // alternatives that are not greedy iterations.
+                let written = n >= 1
+                    && n <= count
+                    && (sub.is_empty() || self.alternatives[n - 1].1.is_some());
+                if !written {
+                    stale.push(e.path());
+                }
+            }
+        }
+        for p in stale {
+            if p.is_file() {
+                std::fs::remove_file(&p).map_err(|e| io_err(&p, e))?;
+            }
+        }
+        Ok(())
     }
 
     /// Finishes the run: final record, `result.json` complete, `final.obj`, `timings.json`,
@@ -248,6 +335,9 @@ impl<'a> OutputWriter<'a> {
             Ok(a) => (Some(a), None),
             Err(n) => (None, Some(n)),
         };
+        let alternatives = std::mem::take(&mut self.alternatives);
+        self.result.alternatives = alternatives.iter().map(|a| a.0.clone()).collect();
+        self.alternatives = alternatives;
         self.result.complete = true;
         self.result.stop = Some(outcome.stop);
         let last = outcome.iterations.last().ok_or("no iteration recorded")?;
@@ -263,16 +353,12 @@ impl<'a> OutputWriter<'a> {
         let obj = io::curves_to_obj(&network_polylines(self.network, &last.curves, Some(&u)));
         self.write("final.obj", with_instability(last, obj))?;
         let answer_path = self.dir.join("answer.obj");
+        self.remove_stale(answer_state.is_some(), self.alternatives.len())?;
+        for (i, (a, state)) in self.alternatives.iter().enumerate() {
+            self.write_network(&format!("alternative-{}", i + 1), a, state.as_ref())?;
+        }
         match &self.result.answer {
-            Some(a) => {
-                let u = match (a.iteration, answer_state) {
-                    (_, Some(u)) => u,
-                    (Some(k), None) => read_f64_file(&self.dir.join(format!("states/{k:04}.bin")))?,
-                    (None, None) => return Err("the answer's equilibrium is not known".into()),
-                };
-                let obj = io::curves_to_obj(&network_polylines(self.network, &a.curves, Some(&u)));
-                self.write("answer.obj", obj)?;
-            }
+            Some(a) => self.write_network("answer", a, answer_state.as_ref())?,
             // A folder run again (--force, --resume) keeps no answer of an earlier run.
             None if answer_path.exists() => {
                 std::fs::remove_file(&answer_path).map_err(|e| io_err(&answer_path, e))?;

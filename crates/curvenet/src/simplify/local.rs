@@ -79,6 +79,11 @@
 //! Measured against the exhaustive optimum in `docs/compare.md` (*Generalisation*) and
 //! `docs/benchmarks.md` (*Local search*).
 //!
+//! **Visited sets** ([`LocalOutcome::visited`]): every feasible set the search evaluated (and
+//! every part it stepped to) with `λ_eq > 0`, within `--max-deviation`, by decreasing `λ_eq`
+//! (ties by curve ids), from the values it computed anyway (no evaluation of its own); a
+//! multi-start search merges its starts'. A run's alternatives are chosen from them.
+//!
 //! Cancelled ([`Cancel`]), the search stops within one evaluation per thread and returns the
 //! best set it had reached ([`LocalOutcome::cancelled`]).
 
@@ -275,6 +280,11 @@ pub struct LocalOutcome {
     /// equilibrium (over the limit only when no set within it was reached).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub deviation: Option<f64>,
+    /// Every feasible set the search evaluated with `λ_eq > 0` (and within `--max-deviation`),
+    /// each once, by decreasing `λ_eq` (ties by ascending curve ids): the values it computed
+    /// anyway, where a run's alternatives come from. Not recorded in reports.
+    #[serde(skip)]
+    pub visited: Vec<SubsetScore>,
 }
 
 impl LocalOutcome {
@@ -708,6 +718,7 @@ impl<'s> MultiStart<'s> {
                     .cached_structures()
                     .saturating_sub(self.cached_before);
                 b.cancelled |= cancelled;
+                b.visited = visited(&self.memo, &self.lengths);
                 Ok(b)
             }
             None if cancelled || self.stopped => Err(SimplifyError::Cancelled),
@@ -788,7 +799,9 @@ fn search_from(
     let deviation = constraints
         .filter(|c| c.params().max_deviation.is_some())
         .and_then(|_| analyzer.deviation(&analyzer.set(&search.cur)).ok());
+    let visited = visited(&search.ev.memo, &lengths);
     Ok(LocalOutcome {
+        visited,
         start: start_score,
         starts: Vec::new(),
         given_searched: false,
@@ -805,6 +818,40 @@ fn search_from(
         structures: 0,
         cancelled,
     })
+}
+
+/// The feasible sets of `memo` (and the parts it stepped to) with `λ_eq > 0` within
+/// `--max-deviation`, by decreasing `λ_eq`, ties by ascending curve ids, each once.
+fn visited(memo: &HashMap<Vec<usize>, Entry>, lengths: &[f64]) -> Vec<SubsetScore> {
+    let score = |curves: &[usize], lambda: f64| SubsetScore {
+        curves: curves.to_vec(),
+        length: curves.iter().map(|&c| lengths[c]).sum(),
+        lambda,
+    };
+    let mut out: Vec<SubsetScore> = Vec::new();
+    for (set, e) in memo {
+        if e.value.is_finite() && e.lambda > 0.0 {
+            out.push(score(set, e.lambda));
+        }
+        if let Some((_, part, lambda)) = &e.part
+            && *lambda > 0.0
+        {
+            out.push(score(part, *lambda));
+        }
+    }
+    sort_visited(&mut out);
+    out
+}
+
+/// Sorts sets by decreasing `λ_eq`, ties by ascending curve ids, and keeps each set once.
+fn sort_visited(sets: &mut Vec<SubsetScore>) {
+    sets.sort_by(|a, b| {
+        b.lambda
+            .total_cmp(&a.lambda)
+            .then_with(|| a.curves.cmp(&b.curves))
+    });
+    let mut seen = std::collections::HashSet::new();
+    sets.retain(|s| seen.insert(s.curves.clone()));
 }
 
 /// The curves' lengths and the budget as a length, once the parameters are checked.

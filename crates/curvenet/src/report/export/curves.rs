@@ -4,7 +4,7 @@ use super::num;
 use super::rods::rod_supports;
 use crate::io;
 use crate::network::Network;
-use crate::run_folder::{RunFolder, curve_polylines, positions_at, record_instability};
+use crate::run_folder::{RunFolder, Which, curve_polylines, positions_at};
 
 fn label(net: &Network, c: usize) -> String {
     let rod = &net.rods[c];
@@ -16,24 +16,21 @@ fn label(net: &Network, c: usize) -> String {
     )
 }
 
-/// OBJ polylines of the curves of iteration `k`: at equilibrium (`rest = false`) or in the
-/// designed rest state. One `o curve N` object and one `l` record per curve.
-pub fn curves_obj(run: &RunFolder, k: usize, rest: bool) -> Result<String, String> {
-    let rec = run.record(k)?;
+/// OBJ polylines of the curves of iteration `k` (or of the answer or an alternative: any
+/// [`Which`]): at equilibrium (`rest = false`) or in the designed rest state. One
+/// `o curve N` object and one `l` record per curve.
+pub fn curves_obj(run: &RunFolder, which: impl Into<Which>, rest: bool) -> Result<String, String> {
+    let which = which.into();
+    let rec = run.network_of(which)?;
     let u = if rest {
         None
     } else {
-        Some(run.displacement(k)?)
+        Some(run.displacement_of(which)?)
     };
-    let mut obj = structure_obj(
-        &run.network,
-        &rec.curves,
-        u.as_deref(),
-        &format!("iteration {k}"),
-    );
-    if let Some(w) = record_instability(rec) {
+    let mut obj = structure_obj(&run.network, &rec.curves, u.as_deref(), &rec.what);
+    if let Some(w) = &rec.unstable {
         let first = obj.find('\n').map_or(obj.len(), |i| i + 1);
-        obj.insert_str(first, &format!("# {}\n", super::unstable_header(&w)));
+        obj.insert_str(first, &format!("# {}\n", super::unstable_header(w)));
     }
     Ok(obj)
 }
@@ -61,14 +58,15 @@ pub fn structure_obj(net: &Network, curves: &[usize], u: Option<&[f64]>, what: &
     out
 }
 
-/// curvenet-curves JSON of the curves of iteration `k`, at rest or at equilibrium; labels
-/// carry `id`, `rest_length`, `closed` and `supports`.
-pub fn curves_json(run: &RunFolder, k: usize, rest: bool) -> Result<String, String> {
-    let rec = run.record(k)?;
+/// curvenet-curves JSON of the curves of iteration `k` (any [`Which`]), at rest or at
+/// equilibrium; labels carry `id`, `rest_length`, `closed` and `supports`.
+pub fn curves_json(run: &RunFolder, which: impl Into<Which>, rest: bool) -> Result<String, String> {
+    let which = which.into();
+    let rec = run.network_of(which)?;
     let u = if rest {
         None
     } else {
-        Some(run.displacement(k)?)
+        Some(run.displacement_of(which)?)
     };
     Ok(structure_json(&run.network, &rec.curves, u.as_deref()))
 }

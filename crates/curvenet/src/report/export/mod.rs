@@ -1,5 +1,7 @@
 //! Exports of a run's networks for other tools: one recorded iteration `K` of a
-//! [`RunFolder`] (the final one by default) in the formats of `curvenet export`.
+//! [`RunFolder`] (the final one by default), its answer or one of its alternatives
+//! ([`Which`]; files then named `…_answer.…`, `…_alternative-N.…` instead of `…_KKKK.…`) in
+//! the formats of `curvenet export`.
 //!
 //! - [`curves`]: OBJ polylines and curvenet-curves JSON;
 //! - [`tables`]: the points table and the fabrication table (CSV);
@@ -39,7 +41,7 @@ pub use rods::{RodJoint, arc_lengths, end_support, rod_joints, rod_supports};
 pub use tables::{answer_fabrication_csv, fabrication_csv, fabrication_table, points_csv};
 
 use crate::io;
-use crate::run_folder::RunFolder;
+use crate::run_folder::{RunFolder, Which};
 use std::path::{Path, PathBuf};
 
 /// Formats of `curvenet export`.
@@ -75,46 +77,53 @@ impl std::str::FromStr for ExportFormat {
     }
 }
 
-/// The files of `format` for iteration `k`: `(file name, content)` pairs, each format's main
-/// file first (OBJ at equilibrium, JSON at rest, the fabrication table, the network file).
+/// The files of `format` for iteration `k` (or the answer, or an alternative: any
+/// [`Which`]; files named by [`crate::run_folder::Chosen::tag`]: `curves_0003.obj`,
+/// `curves_answer.obj`, `curves_alternative-2.obj`): `(file name, content)` pairs, each
+/// format's main file first (OBJ at equilibrium, JSON at rest, the fabrication table, the
+/// network file).
 pub fn export_files(
     run: &RunFolder,
-    k: usize,
+    which: impl Into<Which>,
     format: ExportFormat,
 ) -> Result<Vec<(String, String)>, String> {
     use ExportFormat::*;
-    run.record(k)?;
+    let which = which.into();
+    let k = run.network_of(which)?.tag;
     let mut out = Vec::new();
     if matches!(format, Obj | All) {
-        out.push((format!("curves_{k:04}.obj"), curves_obj(run, k, false)?));
-        out.push((format!("curves_{k:04}_rest.obj"), curves_obj(run, k, true)?));
+        out.push((format!("curves_{k}.obj"), curves_obj(run, which, false)?));
+        out.push((
+            format!("curves_{k}_rest.obj"),
+            curves_obj(run, which, true)?,
+        ));
     }
     if matches!(format, Json | All) {
-        out.push((format!("curves_{k:04}.json"), curves_json(run, k, true)?));
+        out.push((format!("curves_{k}.json"), curves_json(run, which, true)?));
         out.push((
-            format!("curves_{k:04}_equilibrium.json"),
-            curves_json(run, k, false)?,
+            format!("curves_{k}_equilibrium.json"),
+            curves_json(run, which, false)?,
         ));
     }
     if matches!(format, Csv | All) {
-        out.push((format!("fabrication_{k:04}.csv"), fabrication_csv(run, k)?));
-        out.push((format!("points_{k:04}.csv"), points_csv(run, k)?));
+        out.push((format!("fabrication_{k}.csv"), fabrication_csv(run, which)?));
+        out.push((format!("points_{k}.csv"), points_csv(run, which)?));
     }
     if matches!(format, Network | All) {
-        out.push((format!("network_{k:04}.json"), network_json(run, k)?));
+        out.push((format!("network_{k}.json"), network_json(run, which)?));
     }
     Ok(out)
 }
 
-/// Writes the files of `format` for iteration `k` into the folder `out` (created if needed);
-/// returns their paths.
+/// Writes the files of `format` for iteration `k` (any [`Which`]) into the folder `out`
+/// (created if needed); returns their paths.
 pub fn write_exports(
     run: &RunFolder,
-    k: usize,
+    which: impl Into<Which>,
     format: ExportFormat,
     out: &Path,
 ) -> Result<Vec<PathBuf>, String> {
-    let files = export_files(run, k, format)?;
+    let files = export_files(run, which, format)?;
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let mut paths = Vec::new();
     for (name, text) in files {

@@ -10,7 +10,7 @@
 use crate::geom::Vec3;
 use crate::network::{Joint, Network, Rod};
 use crate::rod::{Material, Supports};
-use crate::run_folder::{RunFolder, check_network};
+use crate::run_folder::{RunFolder, Which, check_network};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::Path;
@@ -239,27 +239,29 @@ pub fn joints_of(net: &Network) -> Vec<Joint> {
 }
 
 /// The kept structure of iteration `k` as a network file (with its equilibrium).
-pub fn network_file(run: &RunFolder, k: usize) -> Result<NetworkFile, String> {
-    let rec = run.record(k)?;
-    let u = run.displacement(k)?;
+pub fn network_file(run: &RunFolder, which: impl Into<Which>) -> Result<NetworkFile, String> {
+    let which = which.into();
+    let rec = run.network_of(which)?;
+    let u = run.displacement_of(which)?;
     let mut f = NetworkFile::from_structure(
         &run.network,
         &rec.curves,
         run.result.setup.stability.material,
         Some(&u),
     );
-    let unstable = crate::run_folder::record_instability(rec).map_or_else(String::new, |w| {
-        format!(" ({})", super::unstable_header(&w))
-    });
-    f.source = Some(format!("{} iteration {k}{unstable}", run.dir.display()));
-    f.iteration = Some(k);
+    let unstable = rec
+        .unstable
+        .as_ref()
+        .map_or_else(String::new, |w| format!(" ({})", super::unstable_header(w)));
+    f.source = Some(format!("{} {}{unstable}", run.dir.display(), rec.what));
+    f.iteration = rec.iteration;
     f.lambda = Some(rec.lambda);
     Ok(f)
 }
 
 /// [`network_file`] as JSON text.
-pub fn network_json(run: &RunFolder, k: usize) -> Result<String, String> {
-    Ok(network_file(run, k)?.to_json())
+pub fn network_json(run: &RunFolder, which: impl Into<Which>) -> Result<String, String> {
+    Ok(network_file(run, which)?.to_json())
 }
 
 /// Reads a network file and checks it. See [`load_network`] for the network alone.

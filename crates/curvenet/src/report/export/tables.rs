@@ -1,25 +1,27 @@
-//! The points table and the fabrication table (CSV) of an iteration.
+//! The points table and the fabrication table (CSV) of a recorded network.
 
 use super::num;
 use super::rods::{arc_lengths, end_support, rod_joints};
 use crate::network::Network;
-use crate::run_folder::{RunFolder, positions_at, record_instability};
+use crate::run_folder::{RunFolder, Which, positions_at};
 use std::fmt::Write as _;
 
-/// CSV of every network vertex of the curves of iteration `k`: arc length along the curve,
-/// rest and equilibrium positions.
-pub fn points_csv(run: &RunFolder, k: usize) -> Result<String, String> {
-    let rec = run.record(k)?;
+/// CSV of every network vertex of the curves of iteration `k` (any [`Which`]): arc length
+/// along the curve, rest and equilibrium positions.
+pub fn points_csv(run: &RunFolder, which: impl Into<Which>) -> Result<String, String> {
+    let which = which.into();
+    let rec = run.network_of(which)?;
     let net = &run.network;
-    let eq = positions_at(net, Some(&run.displacement(k)?));
+    let eq = positions_at(net, Some(&run.displacement_of(which)?));
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "# curvenet export: iteration {k}, {} curves; one row per network vertex along each curve (scene units)",
+        "# curvenet export: {}, {} curves; one row per network vertex along each curve (scene units)",
+        rec.what,
         rec.curves.len()
     );
-    if let Some(w) = record_instability(rec) {
-        let _ = writeln!(out, "# {}", super::unstable_header(&w));
+    if let Some(w) = &rec.unstable {
+        let _ = writeln!(out, "# {}", super::unstable_header(w));
     }
     let _ = writeln!(
         out,
@@ -49,18 +51,18 @@ pub fn points_csv(run: &RunFolder, k: usize) -> Result<String, String> {
     Ok(out)
 }
 
-/// The fabrication table of iteration `k`: one row per kept rod.
-pub fn fabrication_csv(run: &RunFolder, k: usize) -> Result<String, String> {
-    let rec = run.record(k)?;
+/// The fabrication table of iteration `k` (any [`Which`]): one row per kept rod.
+pub fn fabrication_csv(run: &RunFolder, which: impl Into<Which>) -> Result<String, String> {
+    let rec = run.network_of(which.into())?;
     let mut table = fabrication_table(
         &run.network,
-        &format!("iteration {k} of {}", run.dir.display()),
+        &format!("{} of {}", rec.what, run.dir.display()),
         &rec.curves,
         rec.length,
     );
-    if let Some(w) = record_instability(rec) {
+    if let Some(w) = &rec.unstable {
         let first = table.find('\n').map_or(table.len(), |i| i + 1);
-        table.insert_str(first, &format!("# {}\n", super::unstable_header(&w)));
+        table.insert_str(first, &format!("# {}\n", super::unstable_header(w)));
     }
     Ok(table)
 }
@@ -68,17 +70,7 @@ pub fn fabrication_csv(run: &RunFolder, k: usize) -> Result<String, String> {
 /// The fabrication table of the run's answer (the network to build), `None` when the run
 /// has none.
 pub fn answer_fabrication_csv(run: &RunFolder) -> Option<String> {
-    let a = run.result.answer.as_ref()?;
-    let what = match a.iteration {
-        Some(k) => format!("the answer (iteration {k})"),
-        None => format!("the answer (the {}'s network)", a.source.replace('_', " ")),
-    };
-    Some(fabrication_table(
-        &run.network,
-        &format!("{what} of {}", run.dir.display()),
-        &a.curves,
-        a.length,
-    ))
+    fabrication_csv(run, Which::Answer).ok()
 }
 
 /// The fabrication table of the structure `curves` of `net`, of total rest length `length`

@@ -7,8 +7,8 @@
   'use strict';
 
   const state = {
-    ready: false, error: null, frames: 0, iteration: 0, selected: null,
-    setIteration: null, pick: null, onPick: null, showLive: null,
+    ready: false, error: null, frames: 0, iteration: 0, selected: null, chosen: null,
+    setIteration: null, setChosen: null, pick: null, onPick: null, showLive: null,
   };
   window.curvenet = state;
 
@@ -42,6 +42,8 @@
   const V = rest.length / 3;
   const rods = D.rods;
   const its = D.iterations;
+  // The answer and the alternatives; those that are greedy iterations show that iteration.
+  const chosen = D.chosen || [];
 
   // Scene centre and size (the rest network and the surface).
   const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
@@ -65,11 +67,12 @@
   const restC = new Float32Array(rest.length);
   for (let i = 0; i < rest.length; i++) restC[i] = rest[i] - center[i % 3];
 
-  // Per-iteration fields, decoded on first use, expanded to 3V.
+  // Per-network fields (an iteration k, or 'c' + i for chosen network i that is not an
+  // iteration), decoded on first use, expanded to 3V.
   const cache = new Map();
   function fields(k) {
     if (cache.has(k)) return cache.get(k);
-    const it = its[k];
+    const it = netOf(k);
     const on = new Uint8Array(V);
     for (const c of it.curves) for (const v of rods[c].v) on[v] = 1;
     const expand = (o) => {
@@ -99,6 +102,7 @@
     for (let i = 0; i + 2 < o.full.length; i += 3) m = Math.max(m, Math.hypot(o.full[i], o.full[i + 1], o.full[i + 2]));
     return m;
   }
+  function netOf(key) { return typeof key === 'string' ? chosen[+key.slice(1)] : its[key]; }
 
   // ---------- formatting ----------
   const sci = (x, d) => (x === null || x === undefined) ? '–'
@@ -251,7 +255,15 @@
   const ui = {
     k: Number.isInteger(D.start) && D.start < its.length ? D.start : its.length - 1, shape: 'equilibrium', overlay: false, deform: 'mode', amp: 0.25, animate: true,
     mesh: !!meshBuf, removed: true, supports: true,
+    // The chosen network shown (index into `chosen`), or null: the iteration ui.k.
+    c: null,
   };
+  // The viewer opens on the answer (on its own state when it is not an iteration).
+  if (chosen.length && chosen[0].label === 'the answer') ui.c = 0;
+  if (ui.c !== null && chosen[ui.c].iteration !== null) ui.k = chosen[ui.c].iteration;
+  // What is shown: the key of fields() and the record.
+  function key() { return ui.c !== null && chosen[ui.c].iteration === null ? 'c' + ui.c : ui.k; }
+  function shown() { return netOf(key()); }
   const cam = { target: [0, 0, 0], dist: 1.6 * size, yaw: -60 * Math.PI / 180, pitch: 25 * Math.PI / 180 };
   const camHome = JSON.parse(JSON.stringify(cam));
 
@@ -259,7 +271,7 @@
   let lineBuf = null, pointBuf = null, pickable = [], dispScale = 0;
   const drawn = new Map();
   function build() {
-    const f = fields(ui.k);
+    const f = fields(key());
     const eq = ui.shape === 'equilibrium';
     const disp = ui.deform === 'mode' ? f.mode : (ui.deform === 'gravity' ? f.gravity : null);
     const dmax = ui.deform === 'mode' ? f.modeMax : (ui.deform === 'gravity' ? f.gravityMax : 0);
@@ -444,12 +456,18 @@
 
   // ---------- text ----------
   function updateText() {
-    const it = its[ui.k];
+    const it = shown();
     const s = D.setup;
+    const own = typeof key() === 'string';
+    const named = chosen.filter((c) => c.iteration === ui.k).map((c) => c.label);
     $('stat-iter').textContent = D.app ? 'the current structure'
+      : own ? `– (${chosen[ui.c].label}: the ${chosen[ui.c].source.replace('_', ' ')}'s network)`
       : `${ui.k} of ${its.length - 1}` + (ui.k === its.length - 1 ? ' (final)' : '')
-      + (ui.k === D.start && D.answer ? ' (the answer)' : '');
-    $('stat-curves').textContent = `${it.curves.length} of ${rods.length}`;
+        + (named.length ? ` (${named.join(', ')})` : '');
+    $('stat-curves').textContent = `${it.curves.length} of ${rods.length}: ${it.curves.join(' ')}`;
+    for (const b of document.querySelectorAll('#chosen button')) {
+      b.classList.toggle('on', ui.c !== null && +b.dataset.i === ui.c);
+    }
     $('stat-length').textContent = `${sci(it.length, 6)} (${(100 * it.length / s.total_length).toFixed(1)}%`
       + (s.budget ? `; budget ${sci(s.budget, 6)})` : ' of the whole network)');
     // An unstable network (zero or negative modes) is named as such beside its numbers.
@@ -457,10 +475,11 @@
     $('stat-lambda').classList.toggle('unstable', !!it.unstable);
     $('stat-status').textContent = it.status
       || (it.negative_modes ? 'unstable' : (it.zero_modes ? 'mechanism' : 'stable'));
-    $('stat-eigen').textContent = it.eigenvalues.map((x) => sci(x, 3)).join(', ');
-    $('stat-removed').textContent = it.removed === null ? 'none (last iteration)' : `curve ${it.removed} (λ_fix ${sci(it.score, 4)})`;
+    $('stat-eigen').textContent = it.eigenvalues ? it.eigenvalues.map((x) => sci(x, 3)).join(', ') : '–';
+    $('stat-removed').textContent = own ? '–' : (it.removed === null ? 'none (last iteration)' : `curve ${it.removed} (λ_fix ${sci(it.score, 4)})`);
     state.iteration = ui.k;
-    const f = fields(ui.k);
+    state.chosen = ui.c;
+    const f = fields(key());
     let info = '';
     if (ui.deform === 'mode') {
       info = `worst-case mode (unit vector) shown ×${sci(ui.amp * dispScale, 3)}`;
@@ -506,13 +525,14 @@
     const c = state.selected;
     if (c === null) { box.hidden = true; return; }
     const r = rods[c];
-    const f = fields(ui.k);
+    const f = fields(key());
     const kept = f.kept.has(c);
     const ra = D.removed_at[c];
+    const own = typeof key() === 'string';
     const status = D.app
       ? (kept ? '<span class="kept">kept</span> (click to remove)' : '<span class="gone">removed</span> (click to restore)')
-      : (kept ? '<span class="kept">kept</span> at this iteration'
-        : `<span class="gone">removed</span> after iteration ${ra}`);
+      : kept ? `<span class="kept">kept</span> ${own ? 'in ' + esc(chosen[ui.c].label) : 'at this iteration'}`
+      : (own ? `<span class="gone">not in</span> ${esc(chosen[ui.c].label)}` : `<span class="gone">removed</span> after iteration ${ra}`);
     let rows = '';
     for (const j of r.joints) {
       const v = j[2];
@@ -575,7 +595,7 @@
     const cx = (m[0] * x + m[4] * y + m[8] * z + m[12]) / cw, cy = (m[1] * x + m[5] * y + m[9] * z + m[13]) / cw;
     return [(cx * 0.5 + 0.5) * canvas.clientWidth, (0.5 - cy * 0.5) * canvas.clientHeight];
   };
-  state.keptCurves = () => its[ui.k].curves.slice();
+  state.keptCurves = () => shown().curves.slice();
   // How curve c is drawn: 'kept', 'removed', or null when it is not drawn.
   state.drawnAs = (c) => drawn.get(c) || null;
   // App mode: the live structure replaced (fields as an iteration's, with full-length `u` and
@@ -584,6 +604,7 @@
     its[0] = it;
     cache.clear();
     ui.k = 0;
+    ui.c = null;
     build();
   };
 
@@ -593,9 +614,30 @@
   slider.value = String(ui.k);
   state.setIteration = (k) => {
     ui.k = Math.max(0, Math.min(its.length - 1, k | 0));
+    ui.c = null;
     slider.value = String(ui.k);
     build();
   };
+  // Shows chosen network i (0: the answer when there is one; then the alternatives).
+  state.setChosen = (i) => {
+    if (!(i >= 0 && i < chosen.length)) return false;
+    ui.c = i | 0;
+    if (chosen[ui.c].iteration !== null) ui.k = chosen[ui.c].iteration;
+    slider.value = String(ui.k);
+    build();
+    return true;
+  };
+  const list = $('chosen');
+  chosen.forEach((c, i) => {
+    const b = document.createElement('button');
+    b.type = 'button';
+    b.dataset.i = String(i);
+    b.textContent = `${c.label}: λ ${sci(c.lambda, 4)}, length ${sci(c.length, 5)}, ${c.curves.length} curves`;
+    b.title = `from the ${c.source.replace('_', ' ')}` + (c.iteration !== null ? ` (iteration ${c.iteration})` : '') + `; curves ${c.curves.join(' ')}`;
+    b.addEventListener('click', () => state.setChosen(i));
+    list.appendChild(b);
+  });
+  list.hidden = chosen.length === 0;
   slider.addEventListener('input', () => state.setIteration(parseInt(slider.value, 10)));
   $('chart').addEventListener('click', (ev) => {
     const r = ev.target.getBoundingClientRect();
