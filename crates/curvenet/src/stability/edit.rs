@@ -171,3 +171,66 @@ fn extend_along(rod: &crate::rod::Rod, held: &[bool], from: &[f64], u: &mut [f64
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::network::{BuildParams, build_network};
+    use crate::rod::Supports;
+    use crate::stability::{Analyzer, EditFrom, EditStart, StabilityParams};
+
+    /// The 3×3 dome of arcs (clamped, h = 150).
+    fn dome() -> Analyzer {
+        let scene = crate::builtin::dome_arcs(2000.0, 700.0, 3, 3);
+        let build = BuildParams {
+            edge_length: 150.0,
+            supports: Supports::Clamped,
+            ..Default::default()
+        };
+        let (net, _) = build_network(&scene.curves, &build).expect("builds");
+        Analyzer::new(net, StabilityParams::default()).expect("analyzer")
+    }
+
+    /// A removal and a restore, warm-started, give the cold analysis's `λ` and equilibrium;
+    /// the loose vertices stay drawn.
+    #[test]
+    fn warm_edits_give_the_cold_lambda() {
+        let an = dome();
+        let all = an.all();
+        let full = an.analyze(&all, None).unwrap();
+        let mut prev = (all.clone(), full);
+        for next in [
+            all.without(2),
+            all.without(2).without(4),
+            all.without(4),
+            all.clone(),
+        ] {
+            let from = EditStart {
+                active: &prev.0,
+                displacement: &prev.1.displacement,
+                modes: prev.1.spectrum.vectors.as_ref(),
+            };
+            let edit = an.analyze_edit(&next, from).unwrap();
+            let cold = an.analyze(&next, None).unwrap();
+            let (w, c) = (edit.analysis.lambda(), cold.lambda());
+            assert!((w - c).abs() <= 1e-6 * c.abs(), "warm {w:e}, cold {c:e}");
+            if edit.start == EditFrom::Warm {
+                let du = edit
+                    .analysis
+                    .displacement
+                    .iter()
+                    .zip(&cold.displacement)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max);
+                let scale = cold
+                    .displacement
+                    .iter()
+                    .fold(0.0, |m: f64, x| m.max(x.abs()));
+                assert!(
+                    du <= 1e-6 * scale,
+                    "equilibria {du:e} apart (scale {scale:e})"
+                );
+            }
+            prev = (next, edit.analysis);
+        }
+    }
+}
