@@ -799,9 +799,9 @@ fn search_from(
     let deviation = constraints
         .filter(|c| c.params().max_deviation.is_some())
         .and_then(|_| analyzer.deviation(&analyzer.set(&search.cur)).ok());
-    let visited = visited(&search.ev.memo, &lengths);
     Ok(LocalOutcome {
-        visited,
+        // Filled in by the multi-start run from the evaluations all its starts share.
+        visited: Vec::new(),
         start: start_score,
         starts: Vec::new(),
         given_searched: false,
