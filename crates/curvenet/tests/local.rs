@@ -250,8 +250,14 @@ fn local_search_improves_feasibly_and_deterministically() {
         let m = local_search_multi(&sc, &params, None, &starts, &Cancel::never()).expect("multi");
         let from_greedy = run(&an, &params, &start);
         assert!(m.best.lambda >= from_greedy.best.lambda);
-        let only_given = local_search_multi(&sc, &params, None, &[start.clone()], &Cancel::never())
-            .expect("multi from the given start");
+        let only_given = local_search_multi(
+            &sc,
+            &params,
+            None,
+            std::slice::from_ref(&start),
+            &Cancel::never(),
+        )
+        .expect("multi from the given start");
         assert!(m.best.lambda <= ex.best.lambda * (1.0 + 5e-8) + 1e-300);
         assert!(keep.iter().all(|k| m.best.curves.contains(k)));
         // The starts' visited sets, merged.
