@@ -639,6 +639,11 @@
   });
   list.hidden = chosen.length === 0;
   slider.addEventListener('input', () => state.setIteration(parseInt(slider.value, 10)));
+  // Touching the slider while a chosen network is shown goes back to the iterations, even when
+  // the key or click leaves its value where it was (End at the last iteration).
+  const backToIterations = () => { if (ui.c !== null) state.setIteration(parseInt(slider.value, 10)); };
+  slider.addEventListener('keydown', backToIterations);
+  slider.addEventListener('pointerdown', backToIterations);
   $('chart').addEventListener('click', (ev) => {
     const r = ev.target.getBoundingClientRect();
     const x = (ev.clientX - r.left) / r.width;
