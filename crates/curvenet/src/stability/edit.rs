@@ -174,21 +174,9 @@ fn extend_along(rod: &crate::rod::Rod, held: &[bool], from: &[f64], u: &mut [f64
 
 #[cfg(test)]
 mod tests {
-    use crate::network::{BuildParams, build_network};
-    use crate::rod::Supports;
-    use crate::stability::{Analyzer, EditFrom, EditStart, StabilityParams};
+    use crate::stability::{EditFrom, EditStart};
 
-    /// The 3×3 dome of arcs (clamped, h = 150).
-    fn dome() -> Analyzer {
-        let scene = crate::builtin::dome_arcs(2000.0, 700.0, 3, 3);
-        let build = BuildParams {
-            edge_length: 150.0,
-            supports: Supports::Clamped,
-            ..Default::default()
-        };
-        let (net, _) = build_network(&scene.curves, &build).expect("builds");
-        Analyzer::new(net, StabilityParams::default()).expect("analyzer")
-    }
+    use crate::stability::test_support::dome_analyzer as dome;
 
     /// A removal and a restore, warm-started, give the cold analysis's `λ` and equilibrium;
     /// the loose vertices stay drawn.

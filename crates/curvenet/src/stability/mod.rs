@@ -52,6 +52,8 @@ mod numerics;
 mod params;
 mod presets;
 mod subsets;
+#[cfg(test)]
+mod test_support;
 
 pub use analysis::{Analysis, CurveShare, GravityDeflection};
 pub use analyzer::Analyzer;

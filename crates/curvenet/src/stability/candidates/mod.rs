@@ -346,21 +346,9 @@ impl Analyzer {
 mod tests {
     use super::Candidates;
     use super::bounds::RefineStep;
-    use crate::stability::{Analyzer, Prepare, Preset, StabilityParams, Warm};
+    use crate::stability::{Prepare, Preset, Warm};
 
-    /// The 3×3 dome of arcs (clamped, h = 150) and its analyzer.
-    fn dome_analyzer() -> Analyzer {
-        use crate::network::{BuildParams, build_network};
-        use crate::rod::Supports;
-        let scene = crate::builtin::dome_arcs(2000.0, 700.0, 3, 3);
-        let build = BuildParams {
-            edge_length: 150.0,
-            supports: Supports::Clamped,
-            ..Default::default()
-        };
-        let (net, _) = build_network(&scene.curves, &build).expect("builds");
-        Analyzer::new(net, StabilityParams::default()).expect("analyzer")
-    }
+    use crate::stability::test_support::dome_analyzer;
 
     const GREEDY: Preset = Preset::Greedy { modes: 2 };
 
