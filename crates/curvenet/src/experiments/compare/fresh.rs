@@ -18,10 +18,12 @@
 //! optimum (within the relative tolerance 1e-6: the searches and exhaustive search share one
 //! evaluation, so an optimum found is the same number).
 
+use super::check_build;
+use super::instance::traced_network;
 use crate::cancel::Cancel;
 use crate::constraints::Constraints;
 use crate::io::TriMesh;
-use crate::network::{BuildParams, Network, build_network};
+use crate::network::Network;
 use crate::rng::SplitMix64;
 use crate::rod::ActiveSet;
 use crate::simplify::exhaustive::{ExhaustiveParams, exhaustive};
@@ -29,7 +31,7 @@ use crate::simplify::greedy::{GreedyParams, NoHooks, greedy};
 use crate::simplify::local::{LocalParams, local_search};
 use crate::simplify::{Budget, SimplifyError, StopReason};
 use crate::stability::{Analyzer, Objective, StabilityParams};
-use crate::trace::{Generator, generate, scale_to_extent};
+use crate::trace::scale_to_extent;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -99,16 +101,7 @@ impl FreshParams {
                 self.min_budget, self.max_budget
             ));
         }
-        if !(self.edge_length.is_finite() && self.edge_length > 0.0) {
-            return Err(format!(
-                "edge length must be a positive number, got {}",
-                self.edge_length
-            ));
-        }
-        if self.max_subsets == 0 {
-            return Err("the subset limit must be at least 1".into());
-        }
-        Ok(())
+        check_build(self.edge_length, self.max_subsets)
     }
 }
 
@@ -357,17 +350,7 @@ fn draw(
         let budget = (100.0 * rng.uniform(params.min_budget, params.max_budget)).round() / 100.0;
         let budget = budget.clamp(params.min_budget, params.max_budget);
         let seed = rng.next_u64() as u32;
-        let Ok(traced) = generate(mesh, &Generator::Random { count: n, seed }) else {
-            continue;
-        };
-        if traced.curves.len() != n {
-            continue;
-        }
-        let build = BuildParams {
-            edge_length: params.edge_length,
-            ..BuildParams::default()
-        };
-        if let Ok((net, _)) = build_network(&traced.curves, &build) {
+        if let Some(net) = traced_network(mesh, n, seed, params.edge_length) {
             let row = FreshRow {
                 index: k,
                 surface: name.clone(),

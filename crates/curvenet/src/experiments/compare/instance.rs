@@ -132,23 +132,34 @@ pub fn instance_network(
             .seed
             .wrapping_add((1000 * n + 10 * i) as u32)
             .wrapping_add(7919 * attempt);
-        let Ok(traced) = generate(mesh, &Generator::Random { count: n, seed }) else {
-            continue;
-        };
-        if traced.curves.len() != n {
-            continue;
-        }
-        let build = BuildParams {
-            edge_length: params.edge_length,
-            ..BuildParams::default()
-        };
-        if let Ok((net, _)) = build_network(&traced.curves, &build) {
+        if let Some(net) = traced_network(mesh, n, seed, params.edge_length) {
             return Ok((name.clone(), seed, net));
         }
     }
     Err(SimplifyError::Params(format!(
         "could not build a network of {n} curves after 20 tries"
     )))
+}
+
+/// `n` random geodesics traced on `mesh` with `seed` and built at `edge_length` with clamped
+/// supports; `None` when the tracing fails, gives fewer curves or the build fails.
+pub(super) fn traced_network(
+    mesh: &TriMesh,
+    n: usize,
+    seed: u32,
+    edge_length: f64,
+) -> Option<Network> {
+    let traced = generate(mesh, &Generator::Random { count: n, seed }).ok()?;
+    if traced.curves.len() != n {
+        return None;
+    }
+    let build = BuildParams {
+        edge_length,
+        ..BuildParams::default()
+    };
+    build_network(&traced.curves, &build)
+        .ok()
+        .map(|(net, _)| net)
 }
 
 /// The figures of instance `i` of size `n` on the `scaled` surfaces.

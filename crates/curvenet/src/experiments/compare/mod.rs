@@ -110,15 +110,7 @@ impl CompareParams {
             return Err("instances must be at least 1".into());
         }
         Budget::Fraction(self.budget).validate()?;
-        if !(self.edge_length.is_finite() && self.edge_length > 0.0) {
-            return Err(format!(
-                "edge length must be a positive number, got {}",
-                self.edge_length
-            ));
-        }
-        if self.max_subsets == 0 {
-            return Err("the subset limit must be at least 1".into());
-        }
+        check_build(self.edge_length, self.max_subsets)?;
         if !(self.exact_time_limit.is_finite() && self.exact_time_limit >= 0.0) {
             return Err(format!(
                 "the exact solver's time limit must be a finite number of seconds, at least 0, \
@@ -128,6 +120,19 @@ impl CompareParams {
         }
         Ok(())
     }
+}
+
+/// Checks what both measurements share: a positive edge length and subset limit.
+fn check_build(edge_length: f64, max_subsets: usize) -> Result<(), String> {
+    if !(edge_length.is_finite() && edge_length > 0.0) {
+        return Err(format!(
+            "edge length must be a positive number, got {edge_length}"
+        ));
+    }
+    if max_subsets == 0 {
+        return Err("the subset limit must be at least 1".into());
+    }
+    Ok(())
 }
 
 /// Runs the experiment; `progress(done, total)` is called after each instance.
