@@ -339,7 +339,7 @@ impl Network {
     /// Runs the greedy into the run folder `out` (as `curvenet simplify` does), calling
     /// `progress` with each iteration's record (JSON text). Returns the warnings.
     #[pyo3(signature = (out, budget = None, budget_length = None, keep = Vec::new(),
-        local_search = false, prune = true, pictures = true, resume = false, progress = None))]
+        local_search = false, pictures = true, resume = false, progress = None))]
     fn simplify(
         &self,
         py: Python<'_>,
@@ -348,7 +348,6 @@ impl Network {
         budget_length: Option<f64>,
         keep: Vec<usize>,
         local_search: bool,
-        prune: bool,
         pictures: bool,
         resume: bool,
         progress: Option<&Bound<'_, PyAny>>,
@@ -358,8 +357,7 @@ impl Network {
             keep,
             ..GreedyParams::new(budget)
         };
-        let mut stability = self.stability.clone();
-        stability.tuning.prune = prune;
+        let stability = self.stability.clone();
         params
             .validate(self.curves.len())
             .map_err(|e| errors::usage(py, e))?;

@@ -73,7 +73,6 @@ class Network:
         budget_length: Optional[float] = None,
         keep: List[int] = ...,
         local_search: bool = False,
-        prune: bool = True,
         pictures: bool = True,
         resume: bool = False,
         progress: Optional[Callable[[str], object]] = None,
