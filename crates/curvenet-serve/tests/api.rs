@@ -4,7 +4,10 @@
 
 mod common;
 
-use common::{analyze_lambda, assert_close, curves_of, dome, ok, random_set, request, serve};
+use common::{
+    analyze_lambda, assert_close, assert_refused, curves_of, dome, ok, post_set, random_set,
+    request, serve,
+};
 use curvenet::rng::SplitMix64;
 use curvenet::rod::Supports;
 use serde_json::Value;
@@ -25,12 +28,7 @@ fn the_tower_answers_with_the_lambda_of_analyze() {
 
     let mut rng = SplitMix64::new(29);
     let kept = random_set(&mut rng, n, n - 3);
-    let set = ok(
-        addr,
-        "POST",
-        "/api/set",
-        &format!("{{\"curves\":{kept:?}}}"),
-    );
+    let set = post_set(addr, &kept);
     assert_eq!(curves_of(&set), kept);
     assert!(set["elapsed_ms"].as_f64().unwrap() > 0.0);
     assert_close(&set, analyze_lambda(&ex.curves, &ex.build, &kept));
@@ -62,12 +60,7 @@ fn random_sets_of_a_small_network_answer_with_the_lambda_of_analyze() {
     let mut rng = SplitMix64::new(7);
     for removed in [1, 2, 3] {
         let kept = random_set(&mut rng, n, n - removed);
-        let set = ok(
-            addr,
-            "POST",
-            "/api/set",
-            &format!("{{\"curves\":{kept:?}}}"),
-        );
+        let set = post_set(addr, &kept);
         assert_eq!(curves_of(&set), kept);
         assert_close(&set, analyze_lambda(&curves, &build, &kept));
     }
@@ -161,13 +154,7 @@ fn bad_requests_get_a_4xx_with_a_message_and_leave_the_state_alone() {
         ("POST", "/api/state", "{}", 405, "use GET"),
     ];
     for &(method, path, body, status, says) in cases {
-        let (got, text) = request(addr, method, path, body.as_bytes());
-        let shown = &body[..body.len().min(40)];
-        assert_eq!(got, status, "{method} {path} {shown}: {text}");
-        let v: Value = serde_json::from_str(&text)
-            .unwrap_or_else(|e| panic!("{method} {path} {shown}: not JSON ({e}): {text}"));
-        let message = v["error"].as_str().unwrap_or_default();
-        assert!(message.contains(says), "{method} {path} {shown}: {message}");
+        assert_refused(addr, method, path, body, status, says);
     }
     // A whole network removed except what toggling the last curve would leave empty.
     ok(addr, "POST", "/api/set", "{\"curves\":[3]}");
@@ -176,7 +163,7 @@ fn bad_requests_get_a_4xx_with_a_message_and_leave_the_state_alone() {
     assert_eq!(curves_of(&ok(addr, "GET", "/api/state", "")), vec![3]);
     // Back to the start: the same numbers as before.
     let all: Vec<usize> = (0..curves.len()).collect();
-    let again = ok(addr, "POST", "/api/set", &format!("{{\"curves\":{all:?}}}"));
+    let again = post_set(addr, &all);
     assert_eq!(again["lambda"], before["lambda"]);
 }
 
@@ -192,9 +179,7 @@ fn concurrent_clients_each_get_the_state_of_their_own_set() {
     let answers: Vec<Value> = std::thread::scope(|s| {
         let handles: Vec<_> = sets
             .iter()
-            .map(|set| {
-                s.spawn(move || ok(addr, "POST", "/api/set", &format!("{{\"curves\":{set:?}}}")))
-            })
+            .map(|set| s.spawn(move || post_set(addr, set)))
             .collect();
         handles.into_iter().map(|h| h.join().unwrap()).collect()
     });

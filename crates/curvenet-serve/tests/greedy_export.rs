@@ -5,7 +5,10 @@
 
 mod common;
 
-use common::{analyze_lambda, assert_close, curves_of, dome, ok, request, request_full, serve};
+use common::{
+    analyze_lambda, assert_close, assert_refused, curves_of, dome, ok, post_set, request,
+    request_full, serve,
+};
 use curvenet::network::build_network;
 use curvenet::rod::Supports;
 use curvenet::simplify::greedy::NoHooks;
@@ -80,12 +83,7 @@ fn a_served_greedy_records_the_librarys_iterations_and_steps_through_them() {
     assert_close(&step, analyze_lambda(&curves, &build, &kept));
     assert_eq!(curves_of(&ok(addr, "GET", "/api/state", "")), kept);
     // The same structure through /api/set.
-    let set = ok(
-        addr,
-        "POST",
-        "/api/set",
-        &format!("{{\"curves\":{kept:?}}}"),
-    );
+    let set = post_set(addr, &kept);
     assert_eq!(set["lambda"], step["lambda"]);
 }
 
@@ -264,12 +262,7 @@ fn bad_greedy_and_export_requests_get_a_4xx_with_a_message() {
         ("POST", "/api/export?format=obj", "", 405, "use GET"),
     ];
     for &(method, path, body, status, says) in cases {
-        let (got, text) = request(addr, method, path, body.as_bytes());
-        assert_eq!(got, status, "{method} {path} {body}: {text}");
-        let v: Value = serde_json::from_str(&text)
-            .unwrap_or_else(|e| panic!("{method} {path} {body}: not JSON ({e}): {text}"));
-        let message = v["error"].as_str().unwrap_or_default();
-        assert!(message.contains(says), "{method} {path} {body}: {message}");
+        assert_refused(addr, method, path, body, status, says);
     }
     // A step past the last iteration, once a run has recorded some.
     ok(addr, "POST", "/api/greedy", "{\"budget\":0.9}");

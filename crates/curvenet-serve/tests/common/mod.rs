@@ -68,6 +68,35 @@ pub fn ok(addr: SocketAddr, method: &str, path: &str, body: &str) -> Value {
     serde_json::from_str(&text).unwrap()
 }
 
+/// Asserts that `method path` with `body` is refused with `status` and an error message
+/// containing `says`.
+pub fn assert_refused(
+    addr: SocketAddr,
+    method: &str,
+    path: &str,
+    body: &str,
+    status: u16,
+    says: &str,
+) {
+    let (got, text) = request(addr, method, path, body.as_bytes());
+    let shown = &body[..body.len().min(40)];
+    assert_eq!(got, status, "{method} {path} {shown}: {text}");
+    let v: Value = serde_json::from_str(&text)
+        .unwrap_or_else(|e| panic!("{method} {path} {shown}: not JSON ({e}): {text}"));
+    let message = v["error"].as_str().unwrap_or_default();
+    assert!(message.contains(says), "{method} {path} {shown}: {message}");
+}
+
+/// `POST /api/set` of `curves`: the state it answers.
+pub fn post_set(addr: SocketAddr, curves: &[usize]) -> Value {
+    ok(
+        addr,
+        "POST",
+        "/api/set",
+        &format!("{{\"curves\":{curves:?}}}"),
+    )
+}
+
 pub fn curves_of(v: &Value) -> Vec<usize> {
     v["curves"]
         .as_array()
