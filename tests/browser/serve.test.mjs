@@ -4,30 +4,15 @@
 // iterations, undo. No console errors, and no request but to the server.
 //
 // Run from this folder:  npm ci && npm test
-// Environment: CURVENET_BIN = a built `curvenet` binary (default: target/release/curvenet,
-// built with `cargo build --release -p curvenet-cli`), CHROMIUM = the browser (default
-// /usr/bin/chromium), BROWSER_DEMO = the folder of the screenshot (default target/browser-demo).
+// Environment: see common.mjs (CURVENET_BIN, CHROMIUM, BROWSER_DEMO).
 
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { execFileSync, spawn } from 'node:child_process';
+import { spawn } from 'node:child_process';
 import fs from 'node:fs';
-import os from 'node:os';
 import path from 'node:path';
 import readline from 'node:readline';
-import { fileURLToPath } from 'node:url';
-import { chromium } from 'playwright-core';
-
-const here = path.dirname(fileURLToPath(import.meta.url));
-const root = path.resolve(here, '..', '..');
-const outDir = path.resolve(root, process.env.BROWSER_DEMO || 'target/browser-demo');
-const browserPath = process.env.CHROMIUM || '/usr/bin/chromium';
-
-function binary() {
-  if (process.env.CURVENET_BIN) return process.env.CURVENET_BIN;
-  execFileSync('cargo', ['build', '--quiet', '--release', '--locked', '-p', 'curvenet-cli'], { cwd: root, stdio: 'inherit' });
-  return path.join(root, 'target', 'release', 'curvenet');
-}
+import { binary, openBrowser, outDir, root } from './common.mjs';
 
 // Starts `curvenet serve` on a free port; resolves with the process and the URL it prints first.
 function serve(args) {
@@ -54,23 +39,9 @@ test('the app of curvenet serve works in headless Chromium', { timeout: 600_000 
   fs.mkdirSync(outDir, { recursive: true });
   const { proc, url } = await serve(['--example', 'tower']);
   assert.match(url, /^http:\/\/127\.0\.0\.1:\d+$/);
-  const userDir = fs.mkdtempSync(path.join(os.tmpdir(), 'curvenet-chromium-'));
-  const context = await chromium.launchPersistentContext(userDir, {
-    executablePath: browserPath,
-    headless: true,
-    viewport: { width: 1280, height: 800 },
-    args: [
-      '--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-      '--disable-background-networking', '--disable-component-update', '--disable-sync',
-      '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-    ],
-  });
-  const problems = [];
+  const { page, problems, close } = await openBrowser();
   const foreign = [];
   try {
-    const page = context.pages()[0] || await context.newPage();
-    page.on('console', (m) => { if (m.type() === 'error') problems.push(`console: ${m.text()}`); });
-    page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
     page.on('request', (r) => { if (!r.url().startsWith(url + '/')) foreign.push(r.url()); });
     await page.goto(url + '/');
     await page.waitForFunction(() => window.curvenet && (window.curvenet.error || (window.curvenet.app && window.curvenet.app.ready)), null, { timeout: 60_000 });
@@ -152,8 +123,7 @@ test('the app of curvenet serve works in headless Chromium', { timeout: 600_000 
     assert.deepEqual(foreign, [], 'the page made no request but to the server');
     assert.deepEqual(problems, [], 'no console errors');
   } finally {
-    await context.close();
-    fs.rmSync(userDir, { recursive: true, force: true });
+    await close();
     proc.kill('SIGTERM');
   }
 });

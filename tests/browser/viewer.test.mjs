@@ -5,30 +5,18 @@
 // deformation and shape toggles. Saves target/browser-demo/screenshot.png.
 //
 // Run from the repository root or this folder:  npm ci && npm test   (in tests/browser)
-// Environment: CURVENET_BIN = a built `curvenet` binary (default: `cargo run --release -p
-// curvenet-cli --`), CHROMIUM = the browser (default /usr/bin/chromium), BROWSER_DEMO = the
-// output folder (default target/browser-demo).
+// Environment: see common.mjs (CURVENET_BIN, CHROMIUM, BROWSER_DEMO).
 
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
-import os from 'node:os';
 import path from 'node:path';
-import { fileURLToPath, pathToFileURL } from 'node:url';
-import { chromium } from 'playwright-core';
-
-const here = path.dirname(fileURLToPath(import.meta.url));
-const root = path.resolve(here, '..', '..');
-const outDir = path.resolve(root, process.env.BROWSER_DEMO || 'target/browser-demo');
-const browserPath = process.env.CHROMIUM || '/usr/bin/chromium';
+import { pathToFileURL } from 'node:url';
+import { binary, openBrowser, outDir, root } from './common.mjs';
 
 function curvenet(args) {
-  const bin = process.env.CURVENET_BIN;
-  const [cmd, full] = bin
-    ? [bin, args]
-    : ['cargo', ['run', '--quiet', '--release', '-p', 'curvenet-cli', '--', ...args]];
-  return execFileSync(cmd, full, { cwd: root, encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
+  return execFileSync(binary(), args, { cwd: root, encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
 }
 
 test('the viewer of a demo run works in headless Chromium', { timeout: 600_000 }, async () => {
@@ -43,23 +31,9 @@ test('the viewer of a demo run works in headless Chromium', { timeout: 600_000 }
   const n = result.iterations.length;
   assert.ok(n >= 3, `the demo has several iterations (${n})`);
 
-  const userDir = fs.mkdtempSync(path.join(os.tmpdir(), 'curvenet-chromium-'));
-  const context = await chromium.launchPersistentContext(userDir, {
-    executablePath: browserPath,
-    headless: true,
-    viewport: { width: 1280, height: 800 },
-    args: [
-      '--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-      '--disable-background-networking', '--disable-component-update', '--disable-sync',
-      '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
-    ],
-  });
-  const problems = [];
+  const { page, problems, close } = await openBrowser();
   const requests = [];
   try {
-    const page = context.pages()[0] || await context.newPage();
-    page.on('console', (m) => { if (m.type() === 'error') problems.push(`console: ${m.text()}`); });
-    page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
     page.on('request', (r) => { if (!r.url().startsWith('file:') && !r.url().startsWith('data:')) requests.push(r.url()); });
     await page.goto(pathToFileURL(page_path).href);
     await page.waitForFunction(() => window.curvenet && (window.curvenet.ready || window.curvenet.error), null, { timeout: 60_000 });
@@ -162,7 +136,6 @@ test('the viewer of a demo run works in headless Chromium', { timeout: 600_000 }
     assert.deepEqual(requests, [], 'the page made no network request');
     assert.deepEqual(problems, [], 'no console errors');
   } finally {
-    await context.close();
-    fs.rmSync(userDir, { recursive: true, force: true });
+    await close();
   }
 });

@@ -3,37 +3,11 @@
 //! are gives fewer without error; each is exported (OBJ, fabrication table) and `export` reads
 //! it back; the same on one thread and on several; bad values exit 2 naming the option.
 
+mod common;
+
+use common::{BIN, TempDir};
 use std::path::{Path, PathBuf};
 use std::process::Command;
-
-/// The binary under test.
-const BIN: &str = env!("CARGO_BIN_EXE_curvenet");
-
-/// A 2 × 2 grid of straight curves (reference text format): 0, 1 along x; 2, 3 along y. At
-/// half the length, many two-curve and one-curve networks are stable.
-const GRID: &str = "CURVE 0\n-1 -0.5 0\n0 -0.5 0\n1 -0.5 0\n\
-                    CURVE 1\n-1 0.5 0\n0 0.5 0\n1 0.5 0\n\
-                    CURVE 2\n-0.5 -1 0\n-0.5 0 0\n-0.5 1 0\n\
-                    CURVE 3\n0.5 -1 0\n0.5 0 0\n0.5 1 0\n";
-
-/// A fresh folder holding the grid, removed afterwards.
-struct Dir(PathBuf);
-
-impl Dir {
-    fn new(tag: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!("curvenet-alt-{tag}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        std::fs::write(dir.join("grid.txt"), GRID).unwrap();
-        Dir(dir)
-    }
-}
-
-impl Drop for Dir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
 
 /// Runs the binary in `dir` with `args` (and `RAYON_NUM_THREADS` when given): exit code,
 /// stdout, stderr.
@@ -86,7 +60,7 @@ fn curves(v: &serde_json::Value) -> Vec<u64> {
 
 #[test]
 fn alternatives_are_distinct_feasible_stable_and_sorted() {
-    let d = Dir::new("many");
+    let d = TempDir::with_grid("alt-many");
     // More than there are: fewer, no error, a note saying so.
     let (code, stdout, stderr) = simplify(&d.0, "out", "100", None);
     assert_eq!(code, 0, "{stdout}{stderr}");
@@ -147,7 +121,7 @@ fn alternatives_are_distinct_feasible_stable_and_sorted() {
 
 #[test]
 fn alternatives_are_exported_and_the_same_on_any_number_of_threads() {
-    let d = Dir::new("export");
+    let d = TempDir::with_grid("alt-export");
     let (code, _, stderr) = simplify(&d.0, "one", "3", Some(1));
     assert_eq!(code, 0, "{stderr}");
     let (code, _, stderr) = simplify(&d.0, "two", "3", Some(2));
@@ -187,7 +161,7 @@ fn alternatives_are_exported_and_the_same_on_any_number_of_threads() {
 
 #[test]
 fn bad_alternative_counts_exit_2_naming_the_option() {
-    let d = Dir::new("bad");
+    let d = TempDir::with_grid("alt-bad");
     for bad in ["-1", "abc", "1.5", "101", ""] {
         let (code, _, stderr) = simplify(&d.0, "out", bad, None);
         assert_eq!(code, 2, "--alternatives {bad:?}: {stderr}");

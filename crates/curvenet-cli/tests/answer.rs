@@ -2,11 +2,11 @@
 //! final network is a mechanism hands over nothing to build and names the smallest stable
 //! network instead; a run with a stable final network exports it as the answer.
 
+mod common;
+
+use common::BIN;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-
-/// The binary under test.
-const BIN: &str = env!("CARGO_BIN_EXE_curvenet");
 
 /// A fresh output folder, removed afterwards.
 struct Out(PathBuf);

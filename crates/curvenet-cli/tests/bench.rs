@@ -2,10 +2,10 @@
 //! times must be consistent with each other (the CPU time against the wall time and the
 //! thread count), and `--repeat`, whose row is the median run.
 
-use std::process::Command;
+mod common;
 
-/// The binary under test.
-const BIN: &str = env!("CARGO_BIN_EXE_curvenet");
+use common::BIN;
+use std::process::Command;
 
 #[test]
 fn the_bench_row_reports_wall_and_cpu_time_consistently() {

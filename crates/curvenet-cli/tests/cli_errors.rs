@@ -7,18 +7,12 @@
 //! `warnings`, or `result.json` for `simplify`). Each case runs in a fresh temporary folder with
 //! its input files written there, so messages name short relative paths.
 
+mod common;
+
+use common::{BIN, GRID, TempDir};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::atomic::{AtomicUsize, Ordering};
-
-/// The binary under test.
-const BIN: &str = env!("CARGO_BIN_EXE_curvenet");
-
-/// A flat 2 × 2 grid of straight curves crossing at four points (reference text format).
-const GRID: &str = "CURVE 0\n-1 -0.5 0\n0 -0.5 0\n1 -0.5 0\n\
-                    CURVE 1\n-1 0.5 0\n0 0.5 0\n1 0.5 0\n\
-                    CURVE 2\n-0.5 -1 0\n-0.5 0 0\n-0.5 1 0\n\
-                    CURVE 3\n0.5 -1 0\n0.5 0 0\n0.5 1 0\n";
 
 /// A square mesh under [`GRID`]: [-1, 1]² at z = 0.
 const SQUARE: &str = "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 4\n";
@@ -32,38 +26,18 @@ struct Run {
     code: i32,
     stdout: String,
     stderr: String,
-    dir: PathBuf,
-}
-
-impl Drop for Run {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.dir);
-    }
-}
-
-/// A fresh folder for one case.
-fn case_dir() -> PathBuf {
-    static COUNTER: AtomicUsize = AtomicUsize::new(0);
-    let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-    let dir = std::env::temp_dir().join(format!("curvenet-cli-errors-{}-{n}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temporary folder");
-    dir
+    dir: TempDir,
 }
 
 /// Writes `files` into a fresh folder and runs the binary there with `args`.
 fn run(files: &[(&str, &[u8])], args: &[&str]) -> Run {
-    let dir = case_dir();
+    let dir = TempDir::new("cli-errors");
     for (name, content) in files {
-        let path = dir.join(name);
-        if let Some(parent) = path.parent() {
-            std::fs::create_dir_all(parent).unwrap();
-        }
-        std::fs::write(&path, content).unwrap();
+        dir.write(name, content);
     }
     let out = Command::new(BIN)
         .args(args)
-        .current_dir(&dir)
+        .current_dir(&dir.0)
         .output()
         .expect("the curvenet binary runs");
     Run {

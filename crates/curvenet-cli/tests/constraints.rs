@@ -4,37 +4,11 @@
 //! answer, saying why; bad values and combinations nothing can satisfy exit 2 before any
 //! work, naming why.
 
+mod common;
+
+use common::{BIN, TempDir};
 use std::path::{Path, PathBuf};
 use std::process::Command;
-
-/// The binary under test.
-const BIN: &str = env!("CARGO_BIN_EXE_curvenet");
-
-/// A 2 × 2 grid of straight curves (reference text format): 0, 1 along x; 2, 3 along y.
-const GRID: &str = "CURVE 0\n-1 -0.5 0\n0 -0.5 0\n1 -0.5 0\n\
-                    CURVE 1\n-1 0.5 0\n0 0.5 0\n1 0.5 0\n\
-                    CURVE 2\n-0.5 -1 0\n-0.5 0 0\n-0.5 1 0\n\
-                    CURVE 3\n0.5 -1 0\n0.5 0 0\n0.5 1 0\n";
-
-/// A fresh folder holding the grid, removed afterwards.
-struct Dir(PathBuf);
-
-impl Dir {
-    fn new(tag: &str) -> Self {
-        let dir =
-            std::env::temp_dir().join(format!("curvenet-constraints-{tag}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        std::fs::write(dir.join("grid.txt"), GRID).unwrap();
-        Dir(dir)
-    }
-}
-
-impl Drop for Dir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
 
 /// `curvenet simplify --curves grid.txt --out out --budget 0.5 --no-certificate ARGS` in `dir`:
 /// exit code, stdout + stderr.
@@ -80,7 +54,7 @@ fn paths(r: &serde_json::Value) -> Vec<Vec<u64>> {
 
 #[test]
 fn a_group_is_removed_whole() {
-    let d = Dir::new("groups");
+    let d = TempDir::with_grid("constraints-groups");
     std::fs::write(d.0.join("g.txt"), "pair: 0 1\n").unwrap();
     let (code, text) = simplify(&d.0, "grid.txt", &["--groups", "g.txt"]);
     assert_eq!(code, 0, "{text}");
@@ -98,7 +72,7 @@ fn a_group_is_removed_whole() {
         assert_eq!(it["removed"], 0);
     }
     // The same groups from the JSON curve format's own "group" fields.
-    let d = Dir::new("json");
+    let d = TempDir::with_grid("constraints-json");
     let curve = |pts: &str, group: Option<&str>| match group {
         Some(g) => format!("{{\"points\": {pts}, \"group\": \"{g}\"}}"),
         None => format!("{{\"points\": {pts}}}"),
@@ -124,7 +98,7 @@ fn a_group_is_removed_whole() {
 
 #[test]
 fn a_run_keeps_the_constraints_and_its_answer_meets_them() {
-    let d = Dir::new("connected");
+    let d = TempDir::with_grid("constraints-connected");
     let (code, text) = simplify(
         &d.0,
         "grid.txt",
@@ -146,7 +120,7 @@ fn a_run_keeps_the_constraints_and_its_answer_meets_them() {
 
 #[test]
 fn the_constraints_are_recorded_and_a_resume_with_others_is_refused() {
-    let d = Dir::new("resume");
+    let d = TempDir::with_grid("constraints-resume");
     let (code, text) = simplify(&d.0, "grid.txt", &["--connected"]);
     assert_eq!(code, 0, "{text}");
     let r = result(&d.0);
@@ -163,7 +137,7 @@ fn the_constraints_are_recorded_and_a_resume_with_others_is_refused() {
         "{text}"
     );
     // Without constraints nothing is recorded.
-    let d = Dir::new("plain");
+    let d = TempDir::with_grid("constraints-plain");
     let (code, text) = simplify(&d.0, "grid.txt", &[]);
     assert_eq!(code, 0, "{text}");
     assert!(result(&d.0)["setup"].get("constraints").is_none());
@@ -171,7 +145,7 @@ fn the_constraints_are_recorded_and_a_resume_with_others_is_refused() {
 
 #[test]
 fn impossible_constraints_exit_2_before_any_work_naming_why() {
-    let d = Dir::new("bad");
+    let d = TempDir::with_grid("constraints-bad");
     std::fs::write(d.0.join("g.txt"), "pair: 0 9\n").unwrap();
     std::fs::write(d.0.join("bad.txt"), "pair: 0 x\n").unwrap();
     for (args, want) in [
@@ -197,7 +171,7 @@ fn impossible_constraints_exit_2_before_any_work_naming_why() {
 
 #[test]
 fn the_tower_keeps_its_symmetry() {
-    let dir = Dir::new("tower");
+    let dir = TempDir::with_grid("constraints-tower");
     let o = Command::new(BIN)
         .args([
             "example",
@@ -254,7 +228,7 @@ fn arches() -> String {
 
 #[test]
 fn max_deviation_is_measured_and_an_impossible_one_leaves_no_answer() {
-    let d = Dir::new("deviation");
+    let d = TempDir::with_grid("constraints-deviation");
     std::fs::write(d.0.join("arches.txt"), arches()).unwrap();
     // A generous limit: the answer's margin is its measured deviation, within the limit.
     let (code, text) = simplify(
@@ -272,7 +246,7 @@ fn max_deviation_is_measured_and_an_impossible_one_leaves_no_answer() {
     assert_eq!(m["met"], true);
     // A limit below every network's deviation: no answer, and the reason says why.
     let deviation = format!("{:e}", value * 1e-6);
-    let d = Dir::new("deviation-none");
+    let d = TempDir::with_grid("constraints-deviation-none");
     std::fs::write(d.0.join("arches.txt"), arches()).unwrap();
     let (code, text) = simplify(
         &d.0,

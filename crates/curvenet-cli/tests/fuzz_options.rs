@@ -12,20 +12,14 @@
 //! value of each hostile kind, and a property test with random values of those kinds
 //! (`FUZZ_CASES` cases, 64 by default).
 
+mod common;
+
+use common::{BIN, GRID};
 use proptest::prelude::*;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::sync::OnceLock;
 use std::time::{Duration, Instant};
-
-/// The binary under test.
-const BIN: &str = env!("CARGO_BIN_EXE_curvenet");
-
-/// The grid of straight curves the base commands analyse (reference text format).
-const GRID: &str = "CURVE 0\n-1 -0.5 0\n0 -0.5 0\n1 -0.5 0\n\
-                    CURVE 1\n-1 0.5 0\n0 0.5 0\n1 0.5 0\n\
-                    CURVE 2\n-0.5 -1 0\n-0.5 0 0\n-0.5 1 0\n\
-                    CURVE 3\n0.5 -1 0\n0.5 0 0\n0.5 1 0\n";
 
 /// What an option's values must be (the contract the help states).
 #[derive(Clone, Copy, Debug)]

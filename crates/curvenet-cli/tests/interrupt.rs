@@ -5,57 +5,16 @@
 
 #![cfg(unix)]
 
+mod common;
+
+use common::{BIN, TempDir, dome_curves};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-/// The binary under test.
-const BIN: &str = env!("CARGO_BIN_EXE_curvenet");
-
 /// The longest a stage may take to stop after a signal. The stages poll their token every
 /// fraction of a second; the margin is for a loaded machine.
 const STOP_WITHIN: Duration = Duration::from_secs(3);
-
-/// A fresh temporary folder, removed on drop.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(tag: &str) -> Self {
-        let dir = std::env::temp_dir().join(format!("curvenet-int-{tag}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("temporary folder");
-        TempDir(dir)
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-/// 24 geodesics traced on the built-in dome, in `dir/curves.json`.
-fn dome_curves(dir: &Path) -> PathBuf {
-    let curves = dir.join("curves.json");
-    let status = Command::new(BIN)
-        .args([
-            "trace",
-            "--mesh",
-            "dome",
-            "--geodesics",
-            "24",
-            "--seed",
-            "1",
-        ])
-        .arg("--out")
-        .arg(&curves)
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .status()
-        .expect("trace runs");
-    assert!(status.success(), "trace failed");
-    curves
-}
 
 /// The arguments of one `simplify` run of `curves` into `out`, then `extra`.
 fn simplify_args(curves: &Path, out: &Path, extra: &[&str]) -> Vec<String> {
@@ -156,8 +115,8 @@ fn assert_cancelled(out: &Output, took: Duration, stage: &str) {
 /// iterations that hand test vectors on to the next) keeps them, and `--resume` gives the
 /// uninterrupted run's result.json.
 fn greedy_interrupted_by(signal: &str) {
-    let tmp = TempDir::new(&format!("greedy-{signal}"));
-    let curves = dome_curves(&tmp.0);
+    let tmp = TempDir::new(&format!("int-greedy-{signal}"));
+    let curves = dome_curves(&tmp.0, "curves.json");
     let full = tmp.0.join("full");
     run_ok(&simplify_args(&curves, &full, &[]));
     let reference = std::fs::read(full.join("result.json")).expect("result.json");
@@ -204,8 +163,8 @@ fn sigterm_during_the_greedy_keeps_its_iterations_and_resume_matches_an_uninterr
 
 #[test]
 fn sigkill_again_and_again_during_the_greedy_then_resume_matches_an_uninterrupted_run() {
-    let tmp = TempDir::new("greedy-KILL");
-    let curves = dome_curves(&tmp.0);
+    let tmp = TempDir::new("int-greedy-KILL");
+    let curves = dome_curves(&tmp.0, "curves.json");
     let full = tmp.0.join("full");
     run_ok(&simplify_args(&curves, &full, &[]));
     let reference = std::fs::read(full.join("result.json")).expect("result.json");
@@ -258,8 +217,8 @@ fn sigkill_again_and_again_during_the_greedy_then_resume_matches_an_uninterrupte
 /// saved, the run not finished) stops at once, and `--resume` finishes it with the
 /// uninterrupted run's result.json.
 fn stage_after_the_greedy_interrupted_by(signal: &str, stage: &str, extra: &[&str]) {
-    let tmp = TempDir::new(&format!("after-{signal}"));
-    let curves = dome_curves(&tmp.0);
+    let tmp = TempDir::new(&format!("int-after-{signal}"));
+    let curves = dome_curves(&tmp.0, "curves.json");
     let full = tmp.0.join("full");
     run_ok(&simplify_args(&curves, &full, extra));
     let reference = std::fs::read(full.join("result.json")).expect("result.json");
@@ -309,7 +268,7 @@ fn sigint_during_the_certificate_stops_it_at_once_and_resume_finishes_the_run() 
 
 #[test]
 fn sigterm_during_a_comparison_stops_it_at_once_and_writes_no_report() {
-    let tmp = TempDir::new("compare");
+    let tmp = TempDir::new("int-compare");
     let json = tmp.0.join("compare.json");
     let mut child = start(
         &[
@@ -344,8 +303,8 @@ fn sigterm_during_a_comparison_stops_it_at_once_and_writes_no_report() {
 fn resume_draws_the_pictures_a_signal_stopped() {
     // A signal while the pictures are drawn ends the process at once: the run is complete
     // (result.json finished) but its pictures and viewer page are missing.
-    let tmp = TempDir::new("pictures");
-    let curves = dome_curves(&tmp.0);
+    let tmp = TempDir::new("int-pictures");
+    let curves = dome_curves(&tmp.0, "curves.json");
     let out = tmp.0.join("out");
     run_ok(&simplify_args(&curves, &out, &["--no-certificate"]));
     let result = std::fs::read(out.join("result.json")).expect("result.json");

@@ -2,47 +2,15 @@
 //! appear, the folder's lock, a fresh run into an old folder, and `--resume` comparing inputs by
 //! content.
 
+mod common;
+
+use common::{BIN, GRID, TempDir, dome_curves};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// The binary under test.
-const BIN: &str = env!("CARGO_BIN_EXE_curvenet");
-
-/// A flat 2 × 2 grid of straight curves crossing at four points (reference text format).
-const GRID: &str = "CURVE 0\n-1 -0.5 0\n0 -0.5 0\n1 -0.5 0\n\
-                    CURVE 1\n-1 0.5 0\n0 0.5 0\n1 0.5 0\n\
-                    CURVE 2\n-0.5 -1 0\n-0.5 0 0\n-0.5 1 0\n\
-                    CURVE 3\n0.5 -1 0\n0.5 0 0\n0.5 1 0\n";
-
 /// A single free closed loop: nothing holds it, so it has zero modes (a mechanism).
 const LOOP: &str = "CURVE loop\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 0\n";
-
-/// A fresh temporary folder, removed on drop.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new() -> Self {
-        static COUNTER: AtomicUsize = AtomicUsize::new(0);
-        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-        let dir = std::env::temp_dir().join(format!("curvenet-runf-{}-{n}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("temporary folder");
-        TempDir(dir)
-    }
-
-    fn write(&self, name: &str, text: &str) -> PathBuf {
-        let p = self.0.join(name);
-        std::fs::write(&p, text).expect("input written");
-        p
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
 
 /// Runs the binary in `dir` with `args`.
 fn run_in(dir: &Path, args: &[&str]) -> Output {
@@ -68,7 +36,7 @@ fn read(p: impl AsRef<Path>) -> String {
 
 #[test]
 fn a_free_loop_simplified_is_named_unstable_wherever_its_numbers_appear() {
-    let tmp = TempDir::new();
+    let tmp = TempDir::new("runf");
     tmp.write("loop.txt", LOOP);
     let o = run_in(
         &tmp.0,
@@ -143,7 +111,7 @@ fn a_free_loop_simplified_is_named_unstable_wherever_its_numbers_appear() {
 #[test]
 fn arcshell_s_final_mechanism_is_named_unstable() {
     // The greedy's final 8-curve network has λ_eq ≈ -2e-15 and one zero mode.
-    let tmp = TempDir::new();
+    let tmp = TempDir::new("runf");
     let o = run_in(
         &tmp.0,
         &["example", "arcshell", "--no-certificate", "--out", "out"],
@@ -165,7 +133,7 @@ fn arcshell_s_final_mechanism_is_named_unstable() {
 
 #[test]
 fn a_stable_grid_says_nothing_of_instability() {
-    let tmp = TempDir::new();
+    let tmp = TempDir::new("runf");
     tmp.write("grid.txt", GRID);
     let o = run_in(
         &tmp.0,
@@ -223,7 +191,7 @@ fn names(dir: &Path) -> Vec<String> {
 
 #[test]
 fn a_fresh_run_into_an_old_run_s_folder_starts_clean() {
-    let tmp = TempDir::new();
+    let tmp = TempDir::new("runf");
     tmp.write("grid.txt", GRID);
     let o = simplify_grid(&tmp.0, "out", "0.5", &[]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
@@ -252,7 +220,7 @@ fn a_fresh_run_into_an_old_run_s_folder_starts_clean() {
 
 #[test]
 fn a_non_empty_folder_that_is_no_run_s_is_refused_unless_forced() {
-    let tmp = TempDir::new();
+    let tmp = TempDir::new("runf");
     tmp.write("grid.txt", GRID);
     std::fs::create_dir_all(tmp.0.join("mine")).unwrap();
     tmp.write("mine/notes.txt", "my notes");
@@ -275,23 +243,9 @@ fn a_non_empty_folder_that_is_no_run_s_is_refused_unless_forced() {
 #[test]
 fn a_folder_another_run_holds_is_refused() {
     use std::process::Stdio;
-    let tmp = TempDir::new();
+    let tmp = TempDir::new("runf");
     // A run long enough to overlap: 24 geodesics on the built-in dome.
-    let t = run_in(
-        &tmp.0,
-        &[
-            "trace",
-            "--mesh",
-            "dome",
-            "--geodesics",
-            "24",
-            "--seed",
-            "1",
-            "--out",
-            "dome.json",
-        ],
-    );
-    assert_eq!(t.status.code(), Some(0), "{}", stderr(&t));
+    dome_curves(&tmp.0, "dome.json");
     let args = [
         "simplify",
         "--mesh",
@@ -339,7 +293,7 @@ fn a_folder_another_run_holds_is_refused() {
 
 #[test]
 fn resume_compares_inputs_by_content_and_names_the_first_difference() {
-    let tmp = TempDir::new();
+    let tmp = TempDir::new("runf");
     tmp.write("grid.txt", GRID);
     let o = simplify_grid(&tmp.0, "out", "0.5", &[]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));

@@ -2,13 +2,13 @@
 //! equal to `curvenet analyze --remove` of the same sets, and its usage errors (exit 2).
 #![cfg(feature = "serve")]
 
+mod common;
+
+use common::BIN;
 use std::io::{BufRead, BufReader, Read, Write};
 use std::net::TcpStream;
 use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
-
-/// The binary under test.
-const BIN: &str = env!("CARGO_BIN_EXE_curvenet");
 
 /// A 3 × 3 grid of gently arched curves crossing at nine points (reference text format).
 fn grid() -> String {
