@@ -6,7 +6,7 @@
 mod common;
 
 use common::{BIN, TempDir};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 /// Runs the binary in `dir` with `args` (and `RAYON_NUM_THREADS` when given): exit code,

@@ -7,7 +7,7 @@
 mod common;
 
 use common::{BIN, TempDir};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 /// `curvenet simplify --curves grid.txt --out out --budget 0.5 --no-certificate ARGS` in `dir`:

@@ -8,7 +8,7 @@
 mod common;
 
 use common::{BIN, TempDir, dome_curves};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 

@@ -5,9 +5,8 @@
 mod common;
 
 use common::{BIN, GRID, TempDir, dome_curves};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// A single free closed loop: nothing holds it, so it has zero modes (a mechanism).
 const LOOP: &str = "CURVE loop\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 0 0\n";
@@ -329,7 +328,7 @@ fn resume_compares_inputs_by_content_and_names_the_first_difference() {
         stderr(&o)
     );
     // Other content under the same name: refused, saying so.
-    tmp.write("grid.txt", &GRID.replace("1 -0.5 0\n", "1 -0.4 0\n"));
+    tmp.write("grid.txt", GRID.replace("1 -0.5 0\n", "1 -0.4 0\n"));
     let o = simplify_grid(&tmp.0, "out", "0.5", &["--resume"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(
