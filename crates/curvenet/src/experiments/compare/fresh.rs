@@ -18,7 +18,7 @@
 //! optimum (within the relative tolerance 1e-6: the searches and exhaustive search share one
 //! evaluation, so an optimum found is the same number).
 
-use super::check_build;
+use super::{check_build, mean};
 use super::instance::traced_network;
 use crate::cancel::Cancel;
 use crate::constraints::Constraints;
@@ -285,15 +285,6 @@ impl FreshReport {
         }
         let parts: Vec<String> = counts.iter().map(|(w, k)| format!("{k} {w}")).collect();
         format!(": {}", parts.join(", "))
-    }
-}
-
-fn mean(values: impl Iterator<Item = f64>) -> f64 {
-    let (sum, count) = values.fold((0.0, 0usize), |(s, c), v| (s + v, c + 1));
-    if count == 0 {
-        f64::NAN
-    } else {
-        sum / count as f64
     }
 }
 

@@ -135,6 +135,12 @@ fn check_build(edge_length: f64, max_subsets: usize) -> Result<(), String> {
     Ok(())
 }
 
+/// Mean of the values (NaN when there is none).
+fn mean(values: impl Iterator<Item = f64>) -> f64 {
+    let (sum, count) = values.fold((0.0, 0usize), |(s, c), v| (s + v, c + 1));
+    sum / count as f64
+}
+
 /// Runs the experiment; `progress(done, total)` is called after each instance.
 pub fn compare(
     params: &CompareParams,

@@ -1,6 +1,6 @@
 //! The experiment's figures per size and its report.
 
-use super::CompareParams;
+use super::{CompareParams, mean};
 use super::instance::InstanceResult;
 use serde::{Deserialize, Serialize};
 
@@ -192,59 +192,45 @@ impl CompareReport {
 impl SizeSummary {
     /// The figures of size `n` over its instances `rows`, measured in `seconds`.
     pub fn of(n: usize, rows: &[InstanceResult], seconds: f64) -> SizeSummary {
-        let k = rows.len() as f64;
-        let ratios: Vec<f64> = rows.iter().map(|r| r.greedy / r.optimum).collect();
+        type Figure<'a> = &'a dyn Fn(&InstanceResult) -> f64;
+        let mean_of = |f: Figure<'_>| mean(rows.iter().map(f));
+        let min_of = |f: Figure<'_>| rows.iter().map(f).fold(f64::INFINITY, f64::min);
+        let max_of = |f: Figure<'_>| rows.iter().map(f).fold(0.0, f64::max);
         SizeSummary {
             n,
             instances: rows.len(),
-            ratio_mean: ratios.iter().sum::<f64>() / k,
-            ratio_min: ratios.iter().copied().fold(f64::INFINITY, f64::min),
-            percentile_mean: rows.iter().map(|r| r.percentile).sum::<f64>() / k,
-            percentile_min: rows
-                .iter()
-                .map(|r| r.percentile)
-                .fold(f64::INFINITY, f64::min),
-            random_ratio_mean: rows.iter().map(|r| r.greedy / r.random).sum::<f64>() / k,
-            feasible_mean: rows.iter().map(|r| r.feasible as f64).sum::<f64>() / k,
-            local_ratio_mean: rows.iter().map(|r| r.local / r.optimum).sum::<f64>() / k,
-            local_ratio_min: rows
-                .iter()
-                .map(|r| r.local / r.optimum)
-                .fold(f64::INFINITY, f64::min),
+            ratio_mean: mean_of(&|r| r.greedy / r.optimum),
+            ratio_min: min_of(&|r| r.greedy / r.optimum),
+            percentile_mean: mean_of(&|r| r.percentile),
+            percentile_min: min_of(&|r| r.percentile),
+            random_ratio_mean: mean_of(&|r| r.greedy / r.random),
+            feasible_mean: mean_of(&|r| r.feasible as f64),
+            local_ratio_mean: mean_of(&|r| r.local / r.optimum),
+            local_ratio_min: min_of(&|r| r.local / r.optimum),
             local_optimal: rows
                 .iter()
                 .filter(|r| r.local >= r.optimum - 1e-7 * r.optimum.abs())
                 .count(),
-            single_ratio_mean: rows.iter().map(|r| r.single / r.optimum).sum::<f64>() / k,
-            single_ratio_min: rows
-                .iter()
-                .map(|r| r.single / r.optimum)
-                .fold(f64::INFINITY, f64::min),
-            greedy_seconds_mean: mean(rows.iter().map(|r| r.greedy_seconds)),
-            greedy_evaluations_mean: mean(rows.iter().map(|r| r.greedy_evaluations as f64)),
-            local_evaluations_mean: mean(rows.iter().map(|r| r.local_evaluations as f64)),
-            local_structures_mean: mean(rows.iter().map(|r| r.local_structures as f64)),
-            local_moves_mean: mean(rows.iter().map(|r| r.local_moves as f64)),
-            local_chains_mean: mean(rows.iter().map(|r| r.local_chains as f64)),
-            local_seconds_mean: mean(rows.iter().map(|r| r.local_seconds)),
-            local_seconds_max: rows.iter().map(|r| r.local_seconds).fold(0.0, f64::max),
-            single_evaluations_mean: mean(rows.iter().map(|r| r.single_evaluations as f64)),
-            single_seconds_mean: mean(rows.iter().map(|r| r.single_seconds)),
-            exhaustive_structures_mean: mean(rows.iter().map(|r| r.exhaustive_structures as f64)),
-            exhaustive_seconds_mean: mean(rows.iter().map(|r| r.exhaustive_seconds)),
-            multi_ratio_mean: rows.iter().map(|r| r.multi / r.optimum).sum::<f64>() / k,
-            multi_ratio_min: rows
-                .iter()
-                .map(|r| r.multi / r.optimum)
-                .fold(f64::INFINITY, f64::min),
-            rounded_ratio_mean: rows.iter().map(|r| r.rounded / r.optimum).sum::<f64>() / k,
-            exact_eq_ratio_mean: rows.iter().map(|r| r.exact_eq / r.optimum).sum::<f64>() / k,
-            random_opt_ratio_mean: rows.iter().map(|r| r.random / r.optimum).sum::<f64>() / k,
-            greedy_fix_ratio_mean: rows
-                .iter()
-                .map(|r| r.greedy_fix / r.exhaustive_fix)
-                .sum::<f64>()
-                / k,
+            single_ratio_mean: mean_of(&|r| r.single / r.optimum),
+            single_ratio_min: min_of(&|r| r.single / r.optimum),
+            greedy_seconds_mean: mean_of(&|r| r.greedy_seconds),
+            greedy_evaluations_mean: mean_of(&|r| r.greedy_evaluations as f64),
+            local_evaluations_mean: mean_of(&|r| r.local_evaluations as f64),
+            local_structures_mean: mean_of(&|r| r.local_structures as f64),
+            local_moves_mean: mean_of(&|r| r.local_moves as f64),
+            local_chains_mean: mean_of(&|r| r.local_chains as f64),
+            local_seconds_mean: mean_of(&|r| r.local_seconds),
+            local_seconds_max: max_of(&|r| r.local_seconds),
+            single_evaluations_mean: mean_of(&|r| r.single_evaluations as f64),
+            single_seconds_mean: mean_of(&|r| r.single_seconds),
+            exhaustive_structures_mean: mean_of(&|r| r.exhaustive_structures as f64),
+            exhaustive_seconds_mean: mean_of(&|r| r.exhaustive_seconds),
+            multi_ratio_mean: mean_of(&|r| r.multi / r.optimum),
+            multi_ratio_min: min_of(&|r| r.multi / r.optimum),
+            rounded_ratio_mean: mean_of(&|r| r.rounded / r.optimum),
+            exact_eq_ratio_mean: mean_of(&|r| r.exact_eq / r.optimum),
+            random_opt_ratio_mean: mean_of(&|r| r.random / r.optimum),
+            greedy_fix_ratio_mean: mean_of(&|r| r.greedy_fix / r.exhaustive_fix),
             certified_ratio_mean: mean_positive(rows.iter().map(|r| (r.greedy_fix, r.bound_fix))),
             bound_tightness_mean: mean_positive(
                 rows.iter().map(|r| (r.exhaustive_fix, r.bound_fix)),
@@ -256,23 +242,13 @@ impl SizeSummary {
                         && (r.exhaustive_fix - r.exact_fix).abs() <= 1e-7 * r.exhaustive_fix.abs()
                 })
                 .count(),
-            exact_seconds_max: rows.iter().map(|r| r.exact_seconds).fold(0.0, f64::max),
+            exact_seconds_max: max_of(&|r| r.exact_seconds),
             seconds,
         }
     }
 }
 
-/// Mean of the values (NaN when there is none).
-fn mean(values: impl Iterator<Item = f64>) -> f64 {
-    let (sum, count) = values.fold((0.0, 0usize), |(s, c), v| (s + v, c + 1));
-    sum / count as f64
-}
-
 /// Mean of `a / b` over the pairs where both are positive (NaN when there is none).
 fn mean_positive(pairs: impl Iterator<Item = (f64, f64)>) -> f64 {
-    let v: Vec<f64> = pairs
-        .filter(|(a, b)| *a > 0.0 && *b > 0.0)
-        .map(|(a, b)| a / b)
-        .collect();
-    v.iter().sum::<f64>() / v.len() as f64
+    mean(pairs.filter(|(a, b)| *a > 0.0 && *b > 0.0).map(|(a, b)| a / b))
 }
