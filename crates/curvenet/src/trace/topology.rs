@@ -92,7 +92,8 @@ pub struct MeshTopology {
     degenerate: Vec<bool>,
     boundary_vertex: Vec<bool>,
     loops: Vec<BoundaryLoop>,
-    bbox: Aabb,
+    /// Length of the vertices' bounding-box diagonal.
+    diagonal: f64,
 }
 
 impl MeshTopology {
@@ -171,7 +172,7 @@ impl MeshTopology {
         }
 
         let mut topo = MeshTopology {
-            bbox: Aabb::of_points(&vertices),
+            diagonal: Aabb::of_points(&vertices).extent().norm(),
             vertices,
             faces,
             edges,
@@ -377,14 +378,9 @@ impl MeshTopology {
         &self.loops
     }
 
-    /// Bounding box of the vertices.
-    pub fn bounding_box(&self) -> Aabb {
-        self.bbox
-    }
-
     /// Length of the bounding box diagonal.
     pub fn bounding_diagonal(&self) -> f64 {
-        self.bbox.extent().norm()
+        self.diagonal
     }
 
     /// The face of `e` other than `f`: `Ok(None)` on a boundary edge.

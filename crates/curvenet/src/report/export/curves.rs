@@ -22,11 +22,7 @@ fn label(net: &Network, c: usize) -> String {
 pub fn curves_obj(run: &RunFolder, which: impl Into<Which>, rest: bool) -> Result<String, String> {
     let which = which.into();
     let rec = run.network_of(which)?;
-    let u = if rest {
-        None
-    } else {
-        Some(run.displacement_of(which)?)
-    };
+    let u = displacement(run, which, rest)?;
     let mut obj = structure_obj(&run.network, &rec.curves, u.as_deref(), &rec.what);
     if let Some(w) = &rec.unstable {
         let first = obj.find('\n').map_or(obj.len(), |i| i + 1);
@@ -58,16 +54,17 @@ pub fn structure_obj(net: &Network, curves: &[usize], u: Option<&[f64]>, what: &
     out
 }
 
+/// The displacements of `which` (`None` for the designed rest state).
+fn displacement(run: &RunFolder, which: Which, rest: bool) -> Result<Option<Vec<f64>>, String> {
+    (!rest).then(|| run.displacement_of(which)).transpose()
+}
+
 /// curvenet-curves JSON of the curves of iteration `k` (any [`Which`]), at rest or at
 /// equilibrium; labels carry `id`, `rest_length`, `closed` and `supports`.
 pub fn curves_json(run: &RunFolder, which: impl Into<Which>, rest: bool) -> Result<String, String> {
     let which = which.into();
     let rec = run.network_of(which)?;
-    let u = if rest {
-        None
-    } else {
-        Some(run.displacement_of(which)?)
-    };
+    let u = displacement(run, which, rest)?;
     Ok(structure_json(&run.network, &rec.curves, u.as_deref()))
 }
 

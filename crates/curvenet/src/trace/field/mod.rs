@@ -98,7 +98,6 @@ pub struct DirectionField {
     frames: Vec<(Vec3, Vec3)>,
     /// Per-face value `z_f = (re, im)`, not normalised.
     values: Vec<(f64, f64)>,
-    constrained: Vec<bool>,
     singular: Vec<bool>,
     /// Interior vertices with a non-zero index numerator `k` (index `k / N`).
     singular_vertices: Vec<(usize, i64)>,
@@ -125,11 +124,6 @@ impl DirectionField {
     pub fn magnitude(&self, f: usize) -> f64 {
         let (a, b) = self.values[f];
         a.hypot(b)
-    }
-
-    /// True when face `f` was constrained to follow the boundary.
-    pub fn is_constrained(&self, f: usize) -> bool {
-        self.constrained[f]
     }
 
     /// True when face `f` is singular (see the module documentation).
@@ -226,7 +220,6 @@ pub fn smooth_field(
         degree: options.degree,
         frames,
         values,
-        constrained,
         singular,
         singular_vertices,
     })
