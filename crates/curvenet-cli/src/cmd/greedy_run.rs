@@ -145,8 +145,14 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     bar.finish_and_clear();
     let outcome =
         outcome.map_err(|e| greedy_error(e, writer.result().iterations.len(), &job.out))?;
-    print_warnings(&curvenet::run_folder::unrelaxed(&outcome.iterations));
-    print_warnings(&curvenet::run_folder::unstable(&outcome.iterations));
+    print_warnings(&curvenet::run_folder::unrelaxed(
+        &outcome.iterations,
+        analyzer.objective(),
+    ));
+    print_warnings(&curvenet::run_folder::unstable(
+        &outcome.iterations,
+        analyzer.objective(),
+    ));
     print_warnings(budget_unmet(&outcome, budget).as_slice());
     let after = AfterGreedy {
         local_search: job.local_search,

@@ -271,6 +271,12 @@ pub fn viewer_data(run: &RunFolder, options: &ViewerOptions) -> Result<Value, St
         "title": title_of(run),
         "start": run.shown_index(),
         "answer": r.answer.is_some(),
+        // What the iterations' `lambda` and `score` are: the labels the panel and the chart use.
+        "objective": {
+            "name": s.stability.objective.name(),
+            "value": s.stability.objective.value_symbol(),
+            "score": s.stability.objective.score_symbol(),
+        },
         "setup": {
             "example": s.input.example,
             "mesh": s.input.mesh,
