@@ -454,6 +454,11 @@ pub struct AnalyzeArgs {
     /// Print one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
+    /// What to report as the structure's value: lambda (the paper's λ_eq) or frequency (μ_min
+    /// of H v = μ M v with the lumped mass and the first natural frequency √μ_min / 2π: the
+    /// number `--objective frequency` searches maximise). See docs/units.md.
+    #[arg(long, default_value = "lambda", value_parser = parse_objective)]
+    pub objective: curvenet::stability::Objective,
     /// Material and solver options.
     #[command(flatten)]
     pub physics: PhysicsArgs,

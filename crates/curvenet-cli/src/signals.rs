@@ -8,9 +8,10 @@
 //!   poll (within a second), keeps what it recorded, and the command exits 130 saying what is
 //!   kept and how to continue.
 //! - Anywhere else (reading inputs, building the network, the pictures, the comparison's
-//!   searches, a benchmark), and on a second signal, the process exits 130 at once. Every
-//!   output is written to a temporary file and renamed, so nothing half-written is left under
-//!   its final name.
+//!   searches, a benchmark, the exports), and on a second signal, the process exits 130 at
+//!   once. Every output is written to a temporary file and renamed, and the temporary files of
+//!   the writes in flight are removed before the exit, so nothing half-written is left, under
+//!   its final name or any other.
 //!
 //! SIGTERM and SIGHUP behave exactly like SIGINT (ctrlc's `termination` feature routes all
 //! three to the handler).
@@ -45,7 +46,7 @@ fn on_signal() {
         eprintln!("\nstopping (a second Ctrl-C stops at once)…");
     } else {
         eprintln!("\ncancelled");
-        std::process::exit(CANCELLED);
+        curvenet::io::exit_removing_temp_files(CANCELLED);
     }
 }
 

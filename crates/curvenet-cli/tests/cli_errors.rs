@@ -580,6 +580,70 @@ fn objectives_are_checked_and_searches_that_cannot_honour_one_say_why() {
             .expect("a stable grid has a frequency");
         assert!((f - mu.sqrt() / (2.0 * std::f64::consts::PI)).abs() <= 1e-12 * f);
     }
+    // Every text shows the value as μ_min, never as λ_eq: the summary (file and stdout), the
+    // answer's and the local search's lines, and the viewer's labels.
+    let summary = std::fs::read_to_string(r.dir.join("out/summary.txt")).unwrap();
+    for text in [&summary, &r.stdout] {
+        assert!(!text.contains("λ_eq"), "{text}");
+        assert!(text.contains("answer (the network to build): "), "{text}");
+        assert!(text.contains("μ_min"), "{text}");
+    }
+    let answer = summary.lines().find(|l| l.starts_with("answer")).unwrap();
+    assert!(answer.contains(", μ_min "), "{answer}");
+    let local = summary
+        .lines()
+        .find(|l| l.starts_with("local search"))
+        .unwrap();
+    assert!(local.contains(", μ_min "), "{local}");
+    let viewer = std::fs::read_to_string(r.dir.join("out/viewer.html")).unwrap();
+    assert!(
+        viewer.contains(r#""objective":{"name":"frequency","score":"μ_fix","value":"μ_min"}"#)
+            || viewer
+                .contains(r#""objective":{"name":"frequency","value":"μ_min","score":"μ_fix"}"#),
+        "the viewer's data names the objective"
+    );
+    // analyze --objective frequency gives the number the greedy maximised, for the same set.
+    let its = result["iterations"].as_array().unwrap();
+    let last = its.last().unwrap();
+    let kept: Vec<u64> = last["curves"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c.as_u64().unwrap())
+        .collect();
+    let removed: Vec<String> = (0..its[0]["curves"].as_array().unwrap().len() as u64)
+        .filter(|c| !kept.contains(c))
+        .map(|c| c.to_string())
+        .collect();
+    let analyze = |objective: &str| {
+        let mut args = vec!["analyze", "--json", "--curves", "grid.txt"];
+        args.extend_from_slice(QUIET);
+        args.extend_from_slice(&["--objective", objective]);
+        let removed = removed.join(",");
+        if !removed.is_empty() {
+            args.extend_from_slice(&["--remove", &removed]);
+        }
+        let r = run(&grid, &args);
+        assert_eq!(r.code, 0, "{}", r.stderr);
+        serde_json::from_str::<serde_json::Value>(&r.stdout).expect("one JSON object")
+    };
+    let report = analyze("frequency");
+    assert_eq!(report["objective"], "frequency");
+    let (mu, recorded) = (
+        report["lambda"].as_f64().unwrap(),
+        last["lambda"].as_f64().unwrap(),
+    );
+    assert!(
+        (mu - recorded).abs() <= 1e-6 * recorded,
+        "{mu} vs {recorded}"
+    );
+    let f = report["first_frequency"].as_f64().unwrap();
+    assert!((f - last["first_frequency"].as_f64().unwrap()).abs() <= 1e-6 * f);
+    // The paper's objective: its λ_eq, the report as before (no objective, no frequency).
+    let paper = analyze("lambda");
+    assert!(paper.get("objective").is_none(), "{paper}");
+    assert!(paper.get("first_frequency").is_none(), "{paper}");
+    assert!(paper["lambda"].as_f64().unwrap() != mu);
 }
 
 #[test]
@@ -819,6 +883,41 @@ fn units_that_make_the_radius_absurd_are_warned_about() {
         !physical["warnings"].to_string().contains("rod radius 2"),
         "{physical}"
     );
+    // The units note describes the real section, not the paper model's stand-in.
+    assert_eq!(physical["units"]["radius"], 0.01, "{physical}");
+    // Under the frequency objective analyze's value is the physical structure's μ_min.
+    let r = run(
+        &grid,
+        &[
+            "analyze",
+            "--json",
+            "--curves",
+            "grid.txt",
+            "--edge-length",
+            "0.25",
+            "--units",
+            "m",
+            "--material",
+            "steel",
+            "--radius",
+            "0.01",
+            "--objective",
+            "frequency",
+        ],
+    );
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    let report: serde_json::Value = serde_json::from_str(&r.stdout).expect("one JSON object");
+    let (mu, physical_mu) = (
+        report["lambda"].as_f64().unwrap(),
+        report["physical"]["mu_min"].as_f64().unwrap(),
+    );
+    assert!(
+        (mu - physical_mu).abs() <= 1e-6 * physical_mu,
+        "{mu} vs {physical_mu}"
+    );
+    let hz = report["physical"]["first_frequency_hz"].as_f64().unwrap();
+    let f = report["first_frequency"].as_f64().unwrap();
+    assert!((f - hz).abs() <= 1e-6 * hz, "{f} vs {hz}");
     // A radius far too thin for the curves.
     expect_warnings(
         &grid,

@@ -322,3 +322,127 @@ fn resume_draws_the_pictures_a_signal_stopped() {
     }
     assert_eq!(std::fs::read(out.join("result.json")).unwrap(), result);
 }
+
+/// The temporary files (`.NAME.tmp.PID.N`) in `out` and its sub-folders.
+fn temp_files(out: &Path) -> Vec<PathBuf> {
+    let mut found = Vec::new();
+    let mut dirs = vec![out.to_path_buf()];
+    while let Some(d) = dirs.pop() {
+        for e in std::fs::read_dir(&d).into_iter().flatten().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                dirs.push(p);
+            } else if e.file_name().to_string_lossy().contains(".tmp.") {
+                found.push(p);
+            }
+        }
+    }
+    found
+}
+
+/// Whether one of the files written after the run's result (pictures, viewer page,
+/// fabrication table) is being written in `out`: its temporary file is there.
+fn writing_pictures(out: &Path) -> bool {
+    const AFTER_THE_RESULT: [&str; 5] = [
+        ".final.png.tmp.",
+        ".mode.png.tmp.",
+        ".lambda.png.tmp.",
+        ".viewer.html.tmp.",
+        ".fabrication.csv.tmp.",
+    ];
+    std::fs::read_dir(out)
+        .into_iter()
+        .flatten()
+        .flatten()
+        .any(|e| {
+            let name = e.file_name();
+            let name = name.to_string_lossy();
+            AFTER_THE_RESULT.iter().any(|t| name.starts_with(t))
+        })
+}
+
+#[test]
+fn sigterm_while_the_pictures_are_written_leaves_no_temporary_file_and_resume_cleans_up() {
+    let tmp = TempDir::new("pictures-TERM");
+    let curves = dome_curves(&tmp.0);
+    let out = tmp.0.join("out");
+    let args = simplify_args(&curves, &out, &["--no-certificate"]);
+    // The signal is sent the moment a picture's temporary file appears (its write in flight).
+    // Whether the write could have finished before the process ends depends on the moment,
+    // so the run is interrupted several times; a run that ends first (the write too quick to
+    // be seen) does not count.
+    let mut interrupted = 0;
+    for _ in 0..30 {
+        if interrupted == 6 {
+            break;
+        }
+        let _ = std::fs::remove_dir_all(&out);
+        let mut child = start(&args);
+        let started = Instant::now();
+        let seen = loop {
+            if writing_pictures(&out) {
+                break true;
+            }
+            if child.try_wait().expect("wait").is_some() {
+                break false;
+            }
+            assert!(started.elapsed() < Duration::from_secs(120), "no progress");
+            std::thread::yield_now();
+        };
+        if !seen {
+            continue;
+        }
+        let (o, took) = interrupt(child, "TERM");
+        interrupted += 1;
+        println!(
+            "pictures: stopped {:.3} s after the signal, exit {:?}",
+            took.as_secs_f64(),
+            o.status.code()
+        );
+        assert_eq!(
+            o.status.code(),
+            Some(130),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        assert!(took < STOP_WITHIN, "the pictures took {took:?} to stop");
+        assert_eq!(
+            temp_files(&out),
+            Vec::<PathBuf>::new(),
+            "no temporary file left"
+        );
+    }
+    assert_eq!(interrupted, 6, "picture writes seen in flight");
+    let result = std::fs::read(out.join("result.json")).expect("result.json kept");
+
+    // What a killed run (no handler runs) leaves behind: a resumed run removes it.
+    let pid = 4_000_000;
+    let planted = [
+        out.join(format!(".result.json.tmp.{pid}.0")),
+        out.join(format!("iterations/.0003.obj.tmp.{pid}.1")),
+        out.join(format!("states/.0002.bin.tmp.{pid}.2")),
+    ];
+    for p in &planted {
+        std::fs::write(p, b"half").expect("planted");
+    }
+    let resumed = run_ok(&simplify_args(
+        &curves,
+        &out,
+        &["--no-certificate", "--resume"],
+    ));
+    let stderr = String::from_utf8_lossy(&resumed.stderr);
+    assert!(stderr.contains("already complete"), "{stderr}");
+    assert!(stderr.contains("removed 3 temporary file(s)"), "{stderr}");
+    assert_eq!(
+        temp_files(&out),
+        Vec::<PathBuf>::new(),
+        "stale temporary files removed"
+    );
+    for f in ["viewer.html", "final.png", "mode.png"] {
+        assert!(out.join(f).is_file(), "{f} drawn");
+    }
+    assert!(
+        std::fs::read(out.join("result.json")).unwrap() == result,
+        "resume leaves the finished result.json as it was"
+    );
+}

@@ -318,6 +318,7 @@ impl Network {
                 &self.curves,
                 &self.build,
                 &self.stability,
+                None,
                 &remove,
                 self.warnings.clone(),
             )
@@ -497,7 +498,10 @@ impl Job<'_> {
             }
             Err(e) => return Err(JobError::Failed(e.to_string())),
         };
-        warnings.extend(curvenet::run_folder::unrelaxed(&outcome.iterations));
+        warnings.extend(curvenet::run_folder::unrelaxed(
+            &outcome.iterations,
+            analyzer.objective(),
+        ));
         let local_start = Instant::now();
         if self.local_search {
             match local_search_of(&analyzer, &self.params, &outcome) {

@@ -3,6 +3,7 @@
 
 use crate::io::Polyline;
 use crate::network::{BuildInfo, BuildParams, Network, build_network};
+use crate::physics::PhysicalParams;
 use crate::report::AnalysisReport;
 use crate::rod::ActiveSet;
 use crate::stability::{Analysis, Analyzer, StabilityParams};
@@ -107,15 +108,26 @@ pub enum PipelineError {
 }
 
 /// Builds the network of `curves`, removes `removed`, relaxes and analyses what is left.
+///
+/// The analysis is that of `params.objective`: the paper's `λ_eq`, or under the frequency
+/// objective `μ_min` of the mass-metric problem, the number the searches maximise. With
+/// `physical` (the physical mode) the frequency objective's model is the structure's own, as
+/// in the searches; the report's units note then describes the physical section.
 pub fn analyze(
     curves: &[Polyline],
     build: &BuildParams,
     params: &StabilityParams,
+    physical: Option<&PhysicalParams>,
     removed: &[usize],
     warnings: Vec<String>,
 ) -> Result<AnalyzeOutput, PipelineError> {
     let (network, info) = build_network(curves, build)?;
-    let analyzer = Analyzer::new(network, params.clone()).map_err(PipelineError::Params)?;
+    let mut analyzer = Analyzer::new(network, params.clone()).map_err(PipelineError::Params)?;
+    if let Some(p) = physical {
+        analyzer = analyzer
+            .with_physical(p.clone())
+            .map_err(PipelineError::Params)?;
+    }
     let mut active = ActiveSet::all(curves.len());
     for &c in removed {
         if c >= curves.len() {
@@ -126,14 +138,18 @@ pub fn analyze(
         active.remove(c);
     }
     let analysis = analyzer.analyze(&active, None)?;
-    let report = AnalysisReport::new(
+    let mut report = AnalysisReport::new(
         analyzer.network(),
         &info,
         &params.material,
         &active,
         &analysis,
         warnings,
-    );
+    )
+    .with_objective(params.objective);
+    if let Some(p) = physical {
+        report.use_physical_radius(analyzer.network(), p.physical.section.outer_radius());
+    }
     Ok(AnalyzeOutput {
         analyzer,
         build: info,

@@ -521,7 +521,7 @@ proptest! {
         removed.sort_unstable();
         removed.dedup();
         prop_assume!(removed.len() < curves.len());
-        match curvenet::pipeline::analyze(&curves, &params, &stability, &removed, Vec::new()) {
+        match curvenet::pipeline::analyze(&curves, &params, &stability, None, &removed, Vec::new()) {
             Ok(out) => prop_assert!(!out.report.lambda.is_nan(), "λ is NaN: {:?}", out.report),
             Err(e) => prop_assert!(!e.to_string().is_empty()),
         }

@@ -25,6 +25,7 @@ fn run(name: &str, supports: Supports) -> Option<AnalyzeOutput> {
         &ex.curves,
         &ex.build,
         &StabilityParams::default(),
+        None,
         &[],
         Vec::new(),
     )

@@ -221,8 +221,8 @@ fn pictures_have_their_size_show_something_and_are_reproducible() {
             "final.png",
             "mode.png",
             "lambda.png",
-            "viewer.html",
-            "fabrication.csv"
+            "fabrication.csv",
+            "viewer.html"
         ]
     );
     let first: Vec<Vec<u8>> = ["final.png", "mode.png", "lambda.png"]

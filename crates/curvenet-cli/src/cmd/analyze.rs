@@ -17,7 +17,8 @@ pub fn run(a: AnalyzeArgs) -> anyhow::Result<()> {
         inputs.file_units.as_deref(),
         &inputs.specs,
     )?;
-    let params = stability_params(&paper)?;
+    let mut params = stability_params(&paper)?;
+    params.objective = a.objective;
     // The input's warnings now, before the (possibly long) analysis; the analysis adds its own.
     let shown = inputs.warnings.len();
     print_warnings(&inputs.warnings);
@@ -37,16 +38,14 @@ pub fn run(a: AnalyzeArgs) -> anyhow::Result<()> {
             "--remove would remove every curve; nothing is left to analyse",
         ));
     }
-    let mut out = pipeline::analyze(
+    let out = pipeline::analyze(
         &inputs.curves,
         &inputs.build,
         &params,
+        physical.as_ref(),
         &remove,
         inputs.warnings,
     )?;
-    if physical.is_some() {
-        out.report.drop_units_warning();
-    }
     print_warnings(out.report.warnings.get(shown..).unwrap_or_default());
     let physical = match physical {
         Some(pp) => {

@@ -23,11 +23,17 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
         ..ex.build.clone()
     };
     let warnings: Vec<String> = ex.warnings.iter().map(|w| w.to_string()).collect();
+    // What the searches maximise, and what --analyze-only reports.
+    params.objective = a.objective;
     if a.analyze_only {
-        let mut out = pipeline::analyze(&ex.curves, &build, &params, &[], warnings)?;
-        if physical.is_some() {
-            out.report.drop_units_warning();
-        }
+        let out = pipeline::analyze(
+            &ex.curves,
+            &build,
+            &params,
+            physical.as_ref(),
+            &[],
+            warnings,
+        )?;
         print_warnings(&out.report.warnings);
         let physical = match &physical {
             Some(pp) => {
@@ -56,8 +62,6 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
         return Ok(());
     }
     print_warnings(&warnings);
-    // What the searches maximise (the analysis above is the paper's).
-    params.objective = a.objective;
     let budget = Budget::Fraction(a.budget.unwrap_or(ex.setup.budget_fraction));
     budget.validate().map_err(usage)?;
     run_greedy(GreedyJob {

@@ -46,10 +46,11 @@ pub fn run(a: ExportArgs) -> anyhow::Result<()> {
     }
     let paths = write_exports(&run, k, format, Path::new(&out)).map_err(internal)?;
     eprintln!(
-        "{}: {} curves, length {}, λ_eq {:.6e}",
+        "{}: {} curves, length {}, {} {:.6e}",
         shown.what,
         shown.curves.len(),
         super::fmt_length(shown.length),
+        run.result.setup.stability.objective.value_symbol(),
         shown.lambda
     );
     warn_unstable(&shown);

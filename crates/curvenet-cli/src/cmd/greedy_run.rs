@@ -12,7 +12,7 @@ use curvenet::network::{BuildInfo, BuildParams, Network, build_network};
 use curvenet::physics::PhysicalParams;
 use curvenet::rod::ActiveSet;
 use curvenet::run_folder::answer::{NetworkState, alternative_offers};
-use curvenet::run_folder::folder::{FolderError, FolderLock, FreshStart, fresh_start};
+use curvenet::run_folder::folder::{FolderError, FolderLock, FreshStart, claim, fresh_start};
 use curvenet::run_folder::schema::objective_name;
 use curvenet::run_folder::{
     InputDescription, LocalSearchRecord, OutputWriter, ResultFile, RunSetup, evaluated_offer,
@@ -145,8 +145,14 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     bar.finish_and_clear();
     let outcome =
         outcome.map_err(|e| greedy_error(e, writer.result().iterations.len(), &job.out))?;
-    print_warnings(&curvenet::run_folder::unrelaxed(&outcome.iterations));
-    print_warnings(&curvenet::run_folder::unstable(&outcome.iterations));
+    print_warnings(&curvenet::run_folder::unrelaxed(
+        &outcome.iterations,
+        analyzer.objective(),
+    ));
+    print_warnings(&curvenet::run_folder::unstable(
+        &outcome.iterations,
+        analyzer.objective(),
+    ));
     print_warnings(budget_unmet(&outcome, budget).as_slice());
     let after = AfterGreedy {
         local_search: job.local_search,
@@ -471,7 +477,8 @@ fn write_pictures(out: &Path) {
     }
 }
 
-/// Makes sure `out` is (or can be made) a folder and locks it for this run, before any work:
+/// Makes sure `out` is (or can be made) a folder and locks it for this run (a resumed run's
+/// stale temporary files removed), before any work:
 /// a file there, a folder that cannot be created, one another run holds, or (for a fresh run)
 /// a non-empty folder that is no curvenet run's without `force`, is a usage error naming it.
 /// A fresh run gets what it removes of an earlier run's files once it starts writing.
@@ -493,11 +500,20 @@ fn output_folder(
         ))
     })?;
     let folder_error = |e: FolderError| usage(format!("--out {e}"));
-    let lock = FolderLock::acquire(out).map_err(folder_error)?;
+    let resuming = resume && out.join("result.json").is_file();
+    let held = claim(out, resuming).map_err(folder_error)?;
+    let lock = held.lock;
     if let Some(w) = &lock.warning {
         print_warnings(std::slice::from_ref(w));
     }
-    if resume && out.join("result.json").is_file() {
+    if held.stale_temp_files > 0 {
+        eprintln!(
+            "note: {}: removed {} temporary file(s) a stopped run left",
+            out.display(),
+            held.stale_temp_files
+        );
+    }
+    if resuming {
         return Ok((lock, None));
     }
     let fresh = fresh_start(out, force).map_err(folder_error)?;

@@ -113,6 +113,7 @@ pub fn analyze_lambda(curves: &[Polyline], build: &BuildParams, kept: &[usize]) 
         curves,
         build,
         &StabilityParams::default(),
+        None,
         &removed,
         Vec::new(),
     )

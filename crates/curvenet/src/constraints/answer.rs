@@ -292,16 +292,17 @@ fn no_answer(constraints: &Constraints, offers: &[Offer]) -> NoAnswer {
 }
 
 impl Answer {
-    /// One line for summaries: where it comes from, its size, length and `λ_eq`, and the
-    /// tightest margins beyond the budget's.
-    pub fn describe(&self) -> String {
+    /// One line for summaries: where it comes from, its size, length and value (`value`
+    /// names it: `λ_eq`, or `μ_min` under the frequency objective), and the tightest margins
+    /// beyond the budget's.
+    pub fn describe(&self, value: &str) -> String {
         let place = self.iteration.map_or_else(
             || format!("the {}'s network", self.source.replace('_', " ")),
             |k| format!("the {}'s iteration {k}", self.source.replace('_', " ")),
         );
         let m = &self.margins;
         let mut s = format!(
-            "{place}, {} curves, length {:.6} ({:.1}% of the budget), λ_eq {:.6e}",
+            "{place}, {} curves, length {:.6} ({:.1}% of the budget), {value} {:.6e}",
             self.curves.len(),
             self.length,
             100.0 * m.budget.value / m.budget.limit,
@@ -321,8 +322,9 @@ impl Answer {
 }
 
 impl NoAnswer {
-    /// Lines for summaries: the reason, then the smallest stable network.
-    pub fn describe(&self) -> String {
+    /// Lines for summaries: the reason, then the smallest stable network (its value named
+    /// `value`, as in [`Answer::describe`]).
+    pub fn describe(&self, value: &str) -> String {
         let mut s = format!("no answer: {}", self.reason);
         match &self.smallest_stable {
             Some(n) => {
@@ -332,7 +334,7 @@ impl NoAnswer {
                 );
                 s.push_str(&format!(
                     "\nsmallest stable network of the run: {place}, {} curves, length {:.6} ({:+.1}% \
-                     of the budget), λ_eq {:.6e}",
+                     of the budget), {value} {:.6e}",
                     n.curves.len(),
                     n.length,
                     n.over_budget_percent,
@@ -462,7 +464,7 @@ mod tests {
         assert_eq!(s.iteration, Some(1));
         assert!(s.over_budget_percent > 0.0);
         assert!(
-            none.describe()
+            none.describe("λ_eq")
                 .contains("smallest stable network of the run: iteration 1")
         );
         assert!(ch.alternatives.is_empty());

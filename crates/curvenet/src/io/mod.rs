@@ -26,6 +26,7 @@
 //! are not exactly equal are kept untouched. Writers emit numbers in Rust's shortest round-trip
 //! form, so writing and reading again gives bit-identical coordinates.
 
+mod atomic;
 mod background;
 mod checks;
 mod json;
@@ -35,6 +36,7 @@ mod obj_mesh;
 mod points;
 mod reference;
 
+pub use atomic::{exit_removing_temp_files, write_atomic};
 pub use background::BackgroundWriter;
 pub use json::{curves_to_json, parse_json_curves};
 pub use obj_curves::{curves_to_obj, parse_obj_polylines};
@@ -47,9 +49,7 @@ use crate::material::CurveSpec;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::fs;
-use std::io::Write;
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::path::Path;
 
 /// Where a piece of input came from, for messages.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -352,90 +352,6 @@ fn read_text(path: &Path, file: &str) -> Result<String, InputError> {
             .count();
         InputError::parse(file, line, "the file is not valid UTF-8 text")
     })
-}
-
-/// Distinguishes the temporary files of one process.
-static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
-
-/// Writes `bytes` to `path` atomically: the data go to a temporary file in the same directory
-/// (named after the target, the process id and a counter), are flushed to disk, and the
-/// temporary file is then renamed over `path`. Readers see either the old or the new content,
-/// never a mix; on failure the temporary file is removed and `path` is left as it was.
-///
-/// When `path` already exists its permissions are carried over to the new file. A symbolic link
-/// at `path` is replaced by a regular file.
-///
-/// # Errors
-///
-/// Any I/O error of creating, writing, syncing or renaming the temporary file, and
-/// [`std::io::ErrorKind::InvalidInput`] when `path` has no file name (such as `/` or `..`).
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let name = path.file_name().ok_or_else(|| {
-        std::io::Error::new(
-            std::io::ErrorKind::InvalidInput,
-            format!("{} does not name a file", path.display()),
-        )
-    })?;
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    // A long target name is cut so that the temporary name stays within file-name limits.
-    let stem: String = name.to_string_lossy().chars().take(100).collect();
-    let (tmp_path, mut tmp) = create_temp(&dir, &stem)?;
-    let result = (|| {
-        tmp.write_all(bytes)?;
-        if let Ok(meta) = fs::metadata(path) {
-            tmp.set_permissions(meta.permissions())?;
-        }
-        tmp.sync_all()?;
-        drop(tmp);
-        fs::rename(&tmp_path, path)
-    })();
-    if result.is_err() {
-        // Best effort: the original error is the one worth reporting.
-        let _ = fs::remove_file(&tmp_path);
-        return result;
-    }
-    sync_dir(&dir);
-    Ok(())
-}
-
-/// Creates a fresh temporary file next to the target, retrying on name clashes (for example
-/// with a file left by a crashed process that had the same id).
-fn create_temp(dir: &Path, name: &str) -> std::io::Result<(PathBuf, fs::File)> {
-    let pid = std::process::id();
-    let mut last_err = None;
-    for _ in 0..64 {
-        let n = TEMP_COUNTER.fetch_add(1, Ordering::Relaxed);
-        let tmp_path = dir.join(format!(".{name}.tmp.{pid}.{n}"));
-        match fs::OpenOptions::new()
-            .write(true)
-            .create_new(true)
-            .open(&tmp_path)
-        {
-            Ok(f) => return Ok((tmp_path, f)),
-            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => last_err = Some(e),
-            Err(e) => return Err(e),
-        }
-    }
-    Err(last_err.unwrap_or_else(|| {
-        std::io::Error::new(
-            std::io::ErrorKind::AlreadyExists,
-            "could not find a free temporary file name",
-        )
-    }))
-}
-
-/// Flushes the directory entry of a rename to disk where the platform allows it (best effort:
-/// some file systems and platforms cannot open or sync directories).
-fn sync_dir(dir: &Path) {
-    #[cfg(unix)]
-    if let Ok(d) = fs::File::open(dir) {
-        let _ = d.sync_all();
-    }
-    #[cfg(not(unix))]
-    let _ = dir;
 }
 
 #[cfg(test)]

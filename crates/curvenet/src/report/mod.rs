@@ -15,7 +15,7 @@ pub mod viewer;
 
 use crate::network::{BuildInfo, EdgeLengthStats, Network};
 use crate::rod::{ActiveSet, Material};
-use crate::stability::{Analysis, CurveShare, GravityDeflection};
+use crate::stability::{Analysis, CurveShare, GravityDeflection, Objective};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 
@@ -136,8 +136,16 @@ pub struct AnalysisReport {
     pub supports: String,
     /// The equilibrium solve.
     pub newton: NewtonSummary,
-    /// `λ_eq` of the analysed structure.
+    /// What `lambda` and `eigenvalues` are: absent for the paper's `λ_eq`; `frequency`:
+    /// the mass-metric problem's `H v = μ M v` (the number the frequency objective maximises).
+    #[serde(default, skip_serializing_if = "Objective::is_lambda")]
+    pub objective: Objective,
+    /// `λ_eq` of the analysed structure (`μ_min` under the frequency objective).
     pub lambda: f64,
+    /// Under the frequency objective, the first natural frequency `√μ_min / 2π` (Hz in the
+    /// physical mode); absent otherwise and when the structure is not stable.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub first_frequency: Option<f64>,
     /// The smallest eigenvalues, ascending.
     pub eigenvalues: Vec<f64>,
     /// Eigenvalues within the zero threshold (mechanisms).
@@ -174,6 +182,31 @@ impl AnalysisReport {
         if let Some(w) = self.units.warning.take() {
             self.warnings.retain(|x| *x != w);
         }
+    }
+
+    /// The report of an analysis whose spectrum is `objective`'s (the analyzer's): under the
+    /// frequency objective `lambda` is `μ_min` and the first frequency is added when the
+    /// structure is stable.
+    pub fn with_objective(mut self, objective: Objective) -> Self {
+        self.objective = objective;
+        let stable = self.zero_modes == 0 && self.negative_modes == 0 && self.lambda > 0.0;
+        self.first_frequency = (objective == Objective::Frequency && stable)
+            .then(|| self.lambda.sqrt() / (2.0 * std::f64::consts::PI));
+        self
+    }
+
+    /// In the physical mode the paper's model keeps its default radius as a stand-in: the
+    /// units note is that of the real section's outer radius `radius` (scene units) instead,
+    /// without the paper model's warning (the physical analysis checks the section against
+    /// the scene).
+    pub fn use_physical_radius(&mut self, network: &Network, radius: f64) {
+        self.drop_units_warning();
+        let material = Material {
+            radius,
+            ..Material::default()
+        };
+        self.units = UnitsNote::new(network, &material);
+        self.units.warning = None;
     }
 
     /// Assembles the report of `analysis` of structure `active` of `network`.
@@ -262,7 +295,9 @@ impl AnalysisReport {
             edge_length: network.edge_length_stats(),
             supports: network.supports.name().to_string(),
             newton: analysis.newton.summary(),
+            objective: Objective::Lambda,
             lambda: sp.lambda(),
+            first_frequency: None,
             eigenvalues: sp.values.clone(),
             zero_modes: sp.zero_modes,
             negative_modes: sp.negative_modes,
@@ -318,7 +353,22 @@ impl AnalysisReport {
             "equilibrium: {} Newton iterations, {}, relative gradient {:.3e}",
             n.iterations, n.stop, n.grad_rel
         );
-        let _ = writeln!(s, "lambda (λ_eq): {:.6e}", self.lambda);
+        match self.objective {
+            Objective::Lambda => {
+                let _ = writeln!(s, "lambda (λ_eq): {:.6e}", self.lambda);
+            }
+            Objective::Frequency => {
+                let f = self
+                    .first_frequency
+                    .map_or_else(|| "none (not stable)".to_string(), |f| format!("{f:.6e}"));
+                let _ = writeln!(
+                    s,
+                    "objective frequency: μ_min {:.6e} (H v = μ M v); first natural frequency \
+                     √μ_min / 2π {f}",
+                    self.lambda
+                );
+            }
+        }
         let _ = writeln!(
             s,
             "eigenvalues: {}",

@@ -182,8 +182,10 @@ impl Panel<'_> {
     }
 }
 
-/// `lambda.png`: `λ_eq` and total rest length against the number of curves along the greedy.
+/// `lambda.png`: `λ_eq` (`μ_min` under the frequency objective) and total rest length
+/// against the number of curves along the greedy.
 pub fn lambda_plot(result: &ResultFile) -> Image {
+    let value = result.setup.stability.objective.value_symbol();
     let (w, h) = PLOT_SIZE;
     let mut img = Image::new(w, h);
     let its = &result.iterations;
@@ -206,7 +208,7 @@ pub fn lambda_plot(result: &ResultFile) -> Image {
     let top = Panel {
         rect: (left, 80.0, w as f64 - left - right, 280.0),
         x_range,
-        y_label: "λ_eq",
+        y_label: value,
         x_label: None,
     };
     top.draw(&mut img, &[(&lam, KEPT, false)]);
@@ -227,7 +229,7 @@ pub fn lambda_plot(result: &ResultFile) -> Image {
         16,
         14,
         &format!(
-            "greedy path: {n0} -> {nk} curves, final λ_eq = {}",
+            "greedy path: {n0} -> {nk} curves, final {value} = {}",
             fmt_sci(lk, 4)
         ),
         2,
@@ -237,7 +239,7 @@ pub fn lambda_plot(result: &ResultFile) -> Image {
         16,
         40,
         &format!(
-            "top: λ_eq at each step; bottom: total rest length, dashed: budget {}",
+            "top: {value} at each step; bottom: total rest length, dashed: budget {}",
             fmt_sci(result.budget, 6)
         ),
         2,

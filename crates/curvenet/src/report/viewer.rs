@@ -271,6 +271,12 @@ pub fn viewer_data(run: &RunFolder, options: &ViewerOptions) -> Result<Value, St
         "title": title_of(run),
         "start": run.shown_index(),
         "answer": r.answer.is_some(),
+        // What the iterations' `lambda` and `score` are: the labels the panel and the chart use.
+        "objective": {
+            "name": s.stability.objective.name(),
+            "value": s.stability.objective.value_symbol(),
+            "score": s.stability.objective.score_symbol(),
+        },
         "setup": {
             "example": s.input.example,
             "mesh": s.input.mesh,
@@ -518,9 +524,10 @@ pub struct RunOutputs {
     pub warnings: Vec<String>,
 }
 
-/// Writes the pictures, `viewer.html` and `fabrication.csv` of the answer (and
-/// `alternative-N.csv`, each alternative's fabrication table) into the run folder `dir`. A run without an answer gets no fabrication table (a warning says why): its
-/// networks within the budget are not something to build.
+/// Writes the pictures, `fabrication.csv` of the answer (and `alternative-N.csv`, each
+/// alternative's fabrication table) and, last, `viewer.html` into the run folder `dir`. A run
+/// without an answer gets no fabrication table (a warning says why): its networks within the
+/// budget are not something to build.
 pub fn write_run_outputs(dir: &Path) -> Result<RunOutputs, String> {
     let run = RunFolder::open(dir)?;
     let mut out = RunOutputs {
@@ -528,9 +535,6 @@ pub fn write_run_outputs(dir: &Path) -> Result<RunOutputs, String> {
         ..Default::default()
     };
     out.files.extend(write_pictures(&run)?);
-    let p = dir.join("viewer.html");
-    write_viewer(&run, &p, &ViewerOptions::default())?;
-    out.files.push(p);
     let p = dir.join("fabrication.csv");
     match answer_fabrication_csv(&run) {
         Some(csv) => {
@@ -557,6 +561,11 @@ pub fn write_run_outputs(dir: &Path) -> Result<RunOutputs, String> {
         crate::io::write_atomic(&p, csv.as_bytes()).map_err(|e| format!("{}: {e}", p.display()))?;
         out.files.push(p);
     }
+    // Last: a run folder with its viewer page has every file of this stage (a run stopped
+    // before it draws them again when resumed).
+    let p = dir.join("viewer.html");
+    write_viewer(&run, &p, &ViewerOptions::default())?;
+    out.files.push(p);
     Ok(out)
 }
 

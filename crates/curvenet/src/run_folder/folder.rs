@@ -1,6 +1,7 @@
 //! The run folder itself: one run at a time ([`FolderLock`], an OS-level lock on
-//! [`LOCK_FILE`]), a fresh run starting clean ([`fresh_start`]), and the temporary files a
-//! killed run left ([`remove_stale_temp_files`]).
+//! [`LOCK_FILE`], taken by [`claim`]), a fresh run starting clean ([`fresh_start`]), and the
+//! temporary files a killed run left ([`remove_stale_temp_files`], which a resumed run's
+//! [`claim`] calls).
 //!
 //! A folder is a *curvenet run* when it holds `result.json` or `network.json` and nothing but
 //! the files and folders a run writes ([`RUN_FILES`], [`RUN_FOLDERS`]). A fresh run into one
@@ -176,6 +177,36 @@ pub fn remove_stale_temp_files(dir: &Path) -> Result<usize, FolderError> {
     Ok(n)
 }
 
+/// A run's hold on its folder: the lock, and how many temporary files a stopped run had left
+/// there (removed).
+#[derive(Debug)]
+pub struct Claim {
+    /// Held to the end of the run.
+    pub lock: FolderLock,
+    /// The temporary files removed (a resumed run's only).
+    pub stale_temp_files: usize,
+}
+
+/// Locks `dir` (which must exist) for a run; when the run resumes the one recorded there,
+/// also removes the temporary files a stopped run left (under the lock, so none is another
+/// run's). The command line and the Python binding both start their runs here.
+///
+/// # Errors
+///
+/// As [`FolderLock::acquire`] and [`remove_stale_temp_files`].
+pub fn claim(dir: &Path, resume: bool) -> Result<Claim, FolderError> {
+    let lock = FolderLock::acquire(dir)?;
+    let stale_temp_files = if resume {
+        remove_stale_temp_files(dir)?
+    } else {
+        0
+    };
+    Ok(Claim {
+        lock,
+        stale_temp_files,
+    })
+}
+
 /// What a fresh run removes from its folder first ([`fresh_start`]), to be done with
 /// [`FreshStart::apply`] once the run is about to write.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -275,6 +306,15 @@ mod tests {
         );
         drop(first);
         assert!(FolderLock::acquire(&d).is_ok());
+        // A claim is the same lock; a resuming one removes the temporary files left there.
+        std::fs::write(d.join(".result.json.tmp.7.0"), "x").unwrap();
+        let held = claim(&d, false).unwrap();
+        assert_eq!(held.stale_temp_files, 0);
+        assert!(d.join(".result.json.tmp.7.0").exists());
+        assert_eq!(claim(&d, true).unwrap_err(), FolderError::Held(d.clone()));
+        drop(held);
+        assert_eq!(claim(&d, true).unwrap().stale_temp_files, 1);
+        assert!(!d.join(".result.json.tmp.7.0").exists());
         let _ = std::fs::remove_dir_all(&d);
     }
 

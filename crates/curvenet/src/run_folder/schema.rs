@@ -155,8 +155,13 @@ impl LocalSearchRecord {
         })
     }
 
-    /// One line for summaries.
+    /// One line for summaries; the value shown is the objective's (`λ_eq`, or `μ_min`).
     pub fn describe(&self) -> String {
+        let value = if self.objective == objective_name(crate::stability::Objective::Frequency) {
+            crate::stability::Objective::Frequency.value_symbol()
+        } else {
+            crate::stability::Objective::Lambda.value_symbol()
+        };
         let gain = self
             .ratio
             .map_or_else(String::new, |r| format!(", {r:.3}× the greedy's"));
@@ -171,8 +176,8 @@ impl LocalSearchRecord {
         };
         format!(
             "local search from the greedy's final network and the best single curves ({} \
-             starts): best from {from}, {} move(s); curves {:?}, length {:.6}, λ_eq {:.6e} \
-             ({greedy}); {} subsets evaluated, {} structures relaxed",
+             starts): best from {from}, {} move(s); curves {:?}, length {:.6}, {value} \
+             {:.6e} ({greedy}); {} subsets evaluated, {} structures relaxed",
             self.starts.len(),
             self.moves.len(),
             self.curves,

@@ -2,11 +2,14 @@
 
 use super::ResultFile;
 use crate::simplify::greedy::IterationRecord;
+use crate::stability::Objective;
 
 /// One line per iteration whose relaxation stopped short of equilibrium (iteration cap,
-/// stall, failed line search): its `λ_eq` belongs to an unrelaxed state. Empty when every
-/// relaxation converged (to the tolerance or the round-off floor).
-pub fn unrelaxed(iterations: &[IterationRecord]) -> Vec<String> {
+/// stall, failed line search): its `λ_eq` (or `μ_min`, under `objective`) belongs to an
+/// unrelaxed state. Empty when every relaxation converged (to the tolerance or the round-off
+/// floor).
+pub fn unrelaxed(iterations: &[IterationRecord], objective: Objective) -> Vec<String> {
+    let value = objective.value_symbol();
     iterations
         .iter()
         .enumerate()
@@ -14,8 +17,8 @@ pub fn unrelaxed(iterations: &[IterationRecord]) -> Vec<String> {
         .map(|(k, r)| {
             format!(
                 "iteration {k} ({} curves): the relaxation stopped short of equilibrium \
-                 ({} after {} Newton steps, relative gradient {:.1e}); its λ_eq is that of \
-                 an unrelaxed state",
+                 ({} after {} Newton steps, relative gradient {:.1e}); its {value} is that \
+                 of an unrelaxed state",
                 r.curves.len(),
                 r.newton.stop,
                 r.newton.iterations,
@@ -59,16 +62,17 @@ pub fn record_instability(r: &IterationRecord) -> Option<String> {
 
 /// The warnings of a run whose recorded networks include unstable ones (zero or negative
 /// modes): one line for the final network when it is unstable, one naming the other unstable
-/// iterations. Empty when every recorded network is stable.
-pub fn unstable(iterations: &[IterationRecord]) -> Vec<String> {
+/// iterations. Empty when every recorded network is stable. The value shown is `objective`'s.
+pub fn unstable(iterations: &[IterationRecord], objective: Objective) -> Vec<String> {
+    let value = objective.value_symbol();
     let mut lines = Vec::new();
     let Some(last) = iterations.len().checked_sub(1) else {
         return lines;
     };
     if let Some(why) = record_instability(&iterations[last]) {
         lines.push(format!(
-            "the final network (iteration {last}, {} curves, λ_eq {:.6e}) is {why}; it cannot \
-             stand as built and is never the answer",
+            "the final network (iteration {last}, {} curves, {value} {:.6e}) is {why}; it \
+             cannot stand as built and is never the answer",
             iterations[last].curves.len(),
             iterations[last].lambda
         ));
@@ -109,11 +113,13 @@ pub fn summary(r: &ResultFile) -> String {
     let mut s = String::new();
     let first = r.iterations.first();
     let last = r.iterations.last();
-    let frequency = r.setup.stability.objective == crate::stability::Objective::Frequency;
-    let (objective, value) = if frequency {
-        ("the first natural frequency, μ_min", "μ_min")
+    let goal = r.setup.stability.objective;
+    let frequency = goal == Objective::Frequency;
+    let value = goal.value_symbol();
+    let objective = if frequency {
+        "the first natural frequency, μ_min"
     } else {
-        ("λ_eq", "λ_eq")
+        "λ_eq"
     };
     let freq = |it: &IterationRecord| match (frequency, it.first_frequency) {
         (false, _) => String::new(),
@@ -168,9 +174,9 @@ pub fn summary(r: &ResultFile) -> String {
     let _ = writeln!(s, "removed in order: {}", removed.join(", "));
     let stop = r.stop.map_or("not finished".to_string(), |s| s.to_string());
     let _ = writeln!(s, "iterations: {}; stop: {stop}", r.iterations.len());
-    for line in unrelaxed(&r.iterations)
+    for line in unrelaxed(&r.iterations, goal)
         .into_iter()
-        .chain(unstable(&r.iterations))
+        .chain(unstable(&r.iterations, goal))
     {
         let _ = writeln!(s, "warning: {line}");
     }
@@ -181,9 +187,9 @@ pub fn summary(r: &ResultFile) -> String {
         let _ = writeln!(s, "{}", c.describe());
     }
     if let Some(a) = &r.answer {
-        let _ = writeln!(s, "answer (the network to build): {}", a.describe());
+        let _ = writeln!(s, "answer (the network to build): {}", a.describe(value));
     } else if let Some(n) = &r.no_answer {
-        let _ = writeln!(s, "{}", n.describe());
+        let _ = writeln!(s, "{}", n.describe(value));
     }
     for (i, a) in r.alternatives.iter().enumerate() {
         let _ = writeln!(
@@ -191,7 +197,7 @@ pub fn summary(r: &ResultFile) -> String {
             "alternative {} (alternative-{}.obj): {}; curves {:?}",
             i + 1,
             i + 1,
-            a.describe(),
+            a.describe(value),
             a.curves
         );
     }
@@ -204,6 +210,7 @@ mod tests {
     use crate::simplify::greedy::IterationRecord;
     use crate::solve::NewtonStop;
     use crate::solve::NewtonSummary;
+    use crate::stability::Objective;
 
     fn record(curves: usize, converged: bool, stop: NewtonStop) -> IterationRecord {
         IterationRecord {
@@ -238,7 +245,7 @@ mod tests {
             record(4, true, NewtonStop::RoundoffFloor),
             record(3, false, NewtonStop::MaxIterations),
         ];
-        let lines = unrelaxed(&its);
+        let lines = unrelaxed(&its, Objective::Lambda);
         assert_eq!(lines.len(), 1, "{lines:?}");
         assert!(
             lines[0].starts_with("iteration 2 (3 curves)"),
@@ -250,7 +257,7 @@ mod tests {
             "{}",
             lines[0]
         );
-        assert!(unrelaxed(&its[..2]).is_empty());
+        assert!(unrelaxed(&its[..2], Objective::Lambda).is_empty());
     }
 
     #[test]
@@ -270,11 +277,11 @@ mod tests {
         let mut its: Vec<IterationRecord> = (0..4)
             .map(|k| record(10 - k, true, NewtonStop::Converged))
             .collect();
-        assert!(unstable(&its).is_empty());
+        assert!(unstable(&its, Objective::Lambda).is_empty());
         its[2].zero_modes = 1;
         its[3].lambda = -2e-15;
         its[3].zero_modes = 1;
-        let lines = unstable(&its);
+        let lines = unstable(&its, Objective::Lambda);
         assert_eq!(lines.len(), 2, "{lines:?}");
         assert!(
             lines[0].starts_with("the final network (iteration 3, 7 curves")
@@ -288,5 +295,16 @@ mod tests {
             "{}",
             lines[1]
         );
+        // Under the frequency objective the value shown is μ_min.
+        let freq = unstable(&its, Objective::Frequency);
+        assert!(
+            freq[0].contains("7 curves, μ_min -2.000000e-15)"),
+            "{}",
+            freq[0]
+        );
+        assert!(!freq[0].contains("λ_eq"), "{}", freq[0]);
+        its[1].newton.converged = false;
+        let freq = unrelaxed(&its, Objective::Frequency);
+        assert!(freq[0].contains("its μ_min is that of"), "{}", freq[0]);
     }
 }

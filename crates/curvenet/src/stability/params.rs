@@ -77,6 +77,23 @@ impl Objective {
             Objective::Frequency => "frequency",
         }
     }
+
+    /// The symbol of the value the searches maximise, as summaries, pictures and the viewer
+    /// show it: `λ_eq`, or `μ_min` (the mass-metric problem's smallest eigenvalue).
+    pub fn value_symbol(self) -> &'static str {
+        match self {
+            Objective::Lambda => "λ_eq",
+            Objective::Frequency => "μ_min",
+        }
+    }
+
+    /// The symbol of a removal candidate's score: `λ_fix`, or `μ_fix`.
+    pub fn score_symbol(self) -> &'static str {
+        match self {
+            Objective::Lambda => "λ_fix",
+            Objective::Frequency => "μ_fix",
+        }
+    }
 }
 
 impl std::str::FromStr for Objective {

@@ -50,7 +50,11 @@ pub struct NetworkFile {
     /// The iteration of the run it was exported from.
     #[serde(default)]
     pub iteration: Option<usize>,
-    /// `λ_eq` recorded by the run for this structure.
+    /// What the run's searches maximised, when not the paper's `λ_eq`: `frequency`, with
+    /// which `lambda` holds `μ_min` of the mass-metric problem.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub objective: Option<String>,
+    /// `λ_eq` recorded by the run for this structure (`μ_min` under `objective` frequency).
     #[serde(default)]
     pub lambda: Option<f64>,
     /// The supports the anchors were chosen with.
@@ -114,6 +118,7 @@ impl NetworkFile {
             version: NETWORK_VERSION,
             source: None,
             iteration: None,
+            objective: None,
             lambda: None,
             supports: net.supports,
             material,
@@ -133,6 +138,9 @@ impl NetworkFile {
         }
         if let Some(k) = self.iteration {
             let _ = writeln!(out, "  \"iteration\": {k},");
+        }
+        if let Some(o) = &self.objective {
+            let _ = writeln!(out, "  \"objective\": {},", j(o));
         }
         if let Some(l) = self.lambda {
             let _ = writeln!(out, "  \"lambda\": {},", j(&l));
@@ -255,6 +263,8 @@ pub fn network_file(run: &RunFolder, which: impl Into<Which>) -> Result<NetworkF
         .map_or_else(String::new, |w| format!(" ({})", super::unstable_header(w)));
     f.source = Some(format!("{} {}{unstable}", run.dir.display(), rec.what));
     f.iteration = rec.iteration;
+    let objective = run.result.setup.stability.objective;
+    f.objective = (!objective.is_lambda()).then(|| objective.name().to_string());
     f.lambda = Some(rec.lambda);
     Ok(f)
 }

@@ -1,5 +1,5 @@
 //! The pictures' built-in 5×7 bitmap font: printable ASCII and the few symbols the titles
-//! use (`λ ε × · ² ≤` and dashes), drawn pixel by pixel onto an [`Image`].
+//! use (`λ μ ε × · ² ≤` and dashes), drawn pixel by pixel onto an [`Image`].
 
 use super::Rgb;
 use super::raster::Image;
@@ -14,10 +14,10 @@ pub fn text_width(text: &str, scale: i64) -> i64 {
     (text.chars().count() as i64 * ADVANCE - 1).max(0) * scale
 }
 
-/// Rows by which `ch` is drawn lower than the others: glyphs with a descender (`g p q y ,`)
+/// Rows by which `ch` is drawn lower than the others: glyphs with a descender (`g p q y , μ`)
 /// use their 7 rows for the x-height and the descender.
 pub fn descent(ch: char) -> i64 {
-    if matches!(ch, 'g' | 'p' | 'q' | 'y' | ',') {
+    if matches!(ch, 'g' | 'p' | 'q' | 'y' | ',' | 'μ' | 'µ') {
         2
     } else {
         0
@@ -28,7 +28,7 @@ pub fn descent(ch: char) -> i64 {
 const UNKNOWN: &str = ".###.|#...#|....#|...#.|..#..|.....|..#..";
 
 /// The glyphs: each character's 7 rows from the top, `|`-separated, `#` for ink.
-const GLYPHS: [(char, &str); 104] = [
+const GLYPHS: [(char, &str); 106] = [
     (' ', ".....|.....|.....|.....|.....|.....|....."),
     ('!', "..#..|..#..|..#..|..#..|..#..|.....|..#.."),
     ('"', ".#.#.|.#.#.|.....|.....|.....|.....|....."),
@@ -128,6 +128,8 @@ const GLYPHS: [(char, &str); 104] = [
     ('}', ".#...|..#..|..#..|...#.|..#..|..#..|.#..."),
     ('~', ".....|.....|.#...|#.#.#|...#.|.....|....."),
     ('λ', ".#...|..#..|..#..|..#..|.#.#.|.#.#.|#...#"),
+    ('μ', "#...#|#...#|#...#|#..##|###.#|#....|#...."),
+    ('µ', "#...#|#...#|#...#|#..##|###.#|#....|#...."),
     ('ε', ".....|.....|.###.|#....|.##..|#....|.###."),
     ('×', ".....|#...#|.#.#.|..#..|.#.#.|#...#|....."),
     ('·', ".....|.....|.....|..#..|.....|.....|....."),
@@ -198,7 +200,7 @@ mod tests {
 
     #[test]
     fn glyphs_are_5_by_7() {
-        for c in (32u8..127).map(char::from).chain("λε×·²≤".chars()) {
+        for c in (32u8..127).map(char::from).chain("λμµε×·²≤".chars()) {
             let g = glyph(c);
             for row in g {
                 assert_eq!(row.len(), 5, "{c:?}");
@@ -206,5 +208,6 @@ mod tests {
             }
         }
         assert_ne!(glyph('A'), glyph('B'));
+        assert_ne!(glyph('μ'), glyph('?'));
     }
 }

@@ -100,7 +100,8 @@ pub fn network_picture(run: &RunFolder, k: usize) -> Result<Image, String> {
                 fmt_sci(total, 6)
             ),
             format!(
-                "λ_eq = {}{}   budget {}   supports {}",
+                "{} = {}{}   budget {}   supports {}",
+                run.result.setup.stability.objective.value_symbol(),
                 fmt_sci(rec.lambda, 4),
                 unstable_note(rec),
                 fmt_sci(run.result.budget, 6),
@@ -242,7 +243,8 @@ pub fn mode_picture(run: &RunFolder, k: usize) -> Result<Image, String> {
         &mut img,
         &[
             format!(
-                "worst-case mode, iteration {k}: λ_eq = {}{} ({} curves)",
+                "worst-case mode, iteration {k}: {} = {}{} ({} curves)",
+                run.result.setup.stability.objective.value_symbol(),
                 fmt_sci(rec.lambda, 4),
                 unstable_note(rec),
                 kept.len()

@@ -38,6 +38,12 @@
   }
 
   const D = JSON.parse($('curvenet-data').textContent);
+  // What the iterations' numbers are: λ_eq (the paper's) or μ_min (the frequency objective).
+  const goal = D.objective || { value: 'λ_eq', score: 'λ_fix' };
+  if (D.objective && D.objective.name !== 'lambda') {
+    $('label-lambda').textContent = goal.value;
+    $('chart').title = `${goal.value} along the greedy; click to jump`;
+  }
   const rest = f32(D.positions);
   const V = rest.length / 3;
   const rods = D.rods;
@@ -476,7 +482,7 @@
     $('stat-status').textContent = it.status
       || (it.negative_modes ? 'unstable' : (it.zero_modes ? 'mechanism' : 'stable'));
     $('stat-eigen').textContent = it.eigenvalues ? it.eigenvalues.map((x) => sci(x, 3)).join(', ') : '–';
-    $('stat-removed').textContent = own ? '–' : (it.removed === null ? 'none (last iteration)' : `curve ${it.removed} (λ_fix ${sci(it.score, 4)})`);
+    $('stat-removed').textContent = own ? '–' : (it.removed === null ? 'none (last iteration)' : `curve ${it.removed} (${goal.score} ${sci(it.score, 4)})`);
     state.iteration = ui.k;
     state.chosen = ui.c;
     const f = fields(key());
@@ -516,7 +522,7 @@
     ctx.stroke();
     ctx.fillStyle = '#f09a00'; ctx.beginPath(); ctx.arc(X(ui.k), Y(lam[ui.k]), 4, 0, 2 * Math.PI); ctx.fill();
     ctx.fillStyle = '#60606a'; ctx.font = '10px sans-serif';
-    ctx.fillText(`λ_eq ${sci(b, 3)}`, 4, 10);
+    ctx.fillText(`${goal.value} ${sci(b, 3)}`, 4, 10);
     ctx.fillText(`${sci(a, 3)}   (x: iteration)`, 4, H - 3);
   }
 
@@ -632,7 +638,7 @@
     const b = document.createElement('button');
     b.type = 'button';
     b.dataset.i = String(i);
-    b.textContent = `${c.label}: λ ${sci(c.lambda, 4)}, length ${sci(c.length, 5)}, ${c.curves.length} curves`;
+    b.textContent = `${c.label}: ${goal.value} ${sci(c.lambda, 4)}, length ${sci(c.length, 5)}, ${c.curves.length} curves`;
     b.title = `from the ${c.source.replace('_', ' ')}` + (c.iteration !== null ? ` (iteration ${c.iteration})` : '') + `; curves ${c.curves.join(' ')}`;
     b.addEventListener('click', () => state.setChosen(i));
     list.appendChild(b);

@@ -1,0 +1,171 @@
+//! Atomic writes ([`write_atomic`]) and the temporary files they have in flight.
+//!
+//! Every output goes to a temporary file next to its target (`.NAME.tmp.PID.N`), synced and
+//! then renamed over the target. While a write is in flight its temporary file is listed here,
+//! so that a process ending at once (a signal outside the stages that poll for cancellation)
+//! removes it first ([`exit_removing_temp_files`]): the target keeps its old content or has the
+//! new one whole, and no temporary file is left behind.
+
+use std::fs;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Mutex, MutexGuard, PoisonError};
+
+/// The temporary files of the atomic writes in flight.
+static IN_FLIGHT: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// The list of temporary files in flight, locked.
+fn in_flight() -> MutexGuard<'static, Vec<PathBuf>> {
+    IN_FLIGHT.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// A temporary file, listed in [`IN_FLIGHT`] while this is alive.
+struct InFlight(PathBuf);
+
+impl InFlight {
+    fn list(path: PathBuf) -> Self {
+        in_flight().push(path.clone());
+        InFlight(path)
+    }
+}
+
+impl Drop for InFlight {
+    fn drop(&mut self) {
+        let mut list = in_flight();
+        if let Some(i) = list.iter().position(|p| *p == self.0) {
+            list.swap_remove(i);
+        }
+    }
+}
+
+/// Ends the process with `code` once the temporary files of the atomic writes in flight are
+/// removed. A write that starts or ends meanwhile waits for the end, so none is left behind
+/// (its target keeps what it had).
+pub fn exit_removing_temp_files(code: i32) -> ! {
+    let list = in_flight();
+    for p in list.iter() {
+        // Best effort: a file already renamed into place is gone under this name.
+        let _ = fs::remove_file(p);
+    }
+    // The list stays locked until the process ends (exit runs no destructor).
+    std::process::exit(code)
+}
+
+/// Distinguishes the temporary files of one process.
+static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
+
+/// Writes `bytes` to `path` atomically: the data go to a temporary file in the same directory
+/// (named after the target, the process id and a counter), are flushed to disk, and the
+/// temporary file is then renamed over `path`. Readers see either the old or the new content,
+/// never a mix; on failure the temporary file is removed and `path` is left as it was.
+///
+/// When `path` already exists its permissions are carried over to the new file. A symbolic link
+/// at `path` is replaced by a regular file.
+///
+/// # Errors
+///
+/// Any I/O error of creating, writing, syncing or renaming the temporary file, and
+/// [`std::io::ErrorKind::InvalidInput`] when `path` has no file name (such as `/` or `..`).
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let name = path.file_name().ok_or_else(|| {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!("{} does not name a file", path.display()),
+        )
+    })?;
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    // A long target name is cut so that the temporary name stays within file-name limits.
+    let stem: String = name.to_string_lossy().chars().take(100).collect();
+    let (temp, mut tmp) = create_temp(&dir, &stem)?;
+    let tmp_path = temp.0.clone();
+    let result = (|| {
+        tmp.write_all(bytes)?;
+        if let Ok(meta) = fs::metadata(path) {
+            tmp.set_permissions(meta.permissions())?;
+        }
+        tmp.sync_all()?;
+        drop(tmp);
+        fs::rename(&tmp_path, path)
+    })();
+    if result.is_err() {
+        // Best effort: the original error is the one worth reporting.
+        let _ = fs::remove_file(&tmp_path);
+        return result;
+    }
+    drop(temp);
+    sync_dir(&dir);
+    Ok(())
+}
+
+/// Creates a fresh temporary file next to the target, listed as in flight, retrying on name
+/// clashes (for example with a file left by a crashed process that had the same id).
+fn create_temp(dir: &Path, name: &str) -> std::io::Result<(InFlight, fs::File)> {
+    let pid = std::process::id();
+    let mut last_err = None;
+    for _ in 0..64 {
+        let n = TEMP_COUNTER.fetch_add(1, Ordering::Relaxed);
+        // Listed before it exists, so that no moment of its life goes unlisted.
+        let temp = InFlight::list(dir.join(format!(".{name}.tmp.{pid}.{n}")));
+        match fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&temp.0)
+        {
+            Ok(f) => return Ok((temp, f)),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => last_err = Some(e),
+            Err(e) => return Err(e),
+        }
+    }
+    Err(last_err.unwrap_or_else(|| {
+        std::io::Error::new(
+            std::io::ErrorKind::AlreadyExists,
+            "could not find a free temporary file name",
+        )
+    }))
+}
+
+/// Flushes the directory entry of a rename to disk where the platform allows it (best effort:
+/// some file systems and platforms cannot open or sync directories).
+fn sync_dir(dir: &Path) {
+    #[cfg(unix)]
+    if let Ok(d) = fs::File::open(dir) {
+        let _ = d.sync_all();
+    }
+    #[cfg(not(unix))]
+    let _ = dir;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn listed(p: &Path) -> bool {
+        in_flight().iter().any(|q| q == p)
+    }
+
+    #[test]
+    fn a_temporary_file_is_listed_while_its_write_is_in_flight() {
+        let dir = std::env::temp_dir().join(format!("curvenet-in-flight-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let (temp, file) = create_temp(&dir, "target.txt").unwrap();
+        let tmp = temp.0.clone();
+        assert!(tmp.is_file() && listed(&tmp));
+        drop(file);
+        fs::remove_file(&tmp).unwrap();
+        drop(temp);
+        assert!(!listed(&tmp));
+        // A finished write leaves nothing listed under its target's name.
+        write_atomic(&dir.join("target.txt"), b"x").unwrap();
+        let prefix = dir.join(".target.txt.tmp.");
+        assert!(
+            !in_flight()
+                .iter()
+                .any(|p| p.to_string_lossy().starts_with(&*prefix.to_string_lossy()))
+        );
+        let _ = fs::remove_dir_all(&dir);
+    }
+}
