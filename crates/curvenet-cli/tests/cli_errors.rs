@@ -10,7 +10,7 @@
 mod common;
 
 use common::{BIN, GRID, TempDir};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// A square mesh under [`GRID`]: [-1, 1]² at z = 0.
@@ -25,7 +25,9 @@ struct Run {
     code: i32,
     stdout: String,
     stderr: String,
-    dir: TempDir,
+    dir: PathBuf,
+    /// Removes the folder when the run is dropped.
+    _folder: TempDir,
 }
 
 /// Writes `files` into a fresh folder and runs the binary there with `args`.
@@ -43,7 +45,8 @@ fn run(files: &[(&str, &[u8])], args: &[&str]) -> Run {
         code: out.status.code().unwrap_or(-1),
         stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
         stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
-        dir,
+        dir: dir.0.clone(),
+        _folder: dir,
     }
 }
 
@@ -568,7 +571,7 @@ fn objectives_are_checked_and_searches_that_cannot_honour_one_say_why() {
         "{}",
         r.stdout
     );
-    let result = std::fs::read_to_string(r.dir.0.join("out/result.json")).unwrap();
+    let result = std::fs::read_to_string(r.dir.join("out/result.json")).unwrap();
     let result: serde_json::Value = serde_json::from_str(&result).unwrap();
     assert_eq!(result["objective"], "frequency");
     assert_eq!(result["setup"]["stability"]["objective"], "frequency");
@@ -1020,7 +1023,7 @@ fn simplify_warnings_reach_stderr_and_result_json() {
         "{}",
         r.stderr
     );
-    let result = std::fs::read_to_string(r.dir.0.join("out/result.json")).unwrap();
+    let result = std::fs::read_to_string(r.dir.join("out/result.json")).unwrap();
     let result: serde_json::Value = serde_json::from_str(&result).unwrap();
     let warnings = result["setup"]["network"]["warnings"].as_array().unwrap();
     assert!(
@@ -1041,7 +1044,7 @@ fn simplify_warnings_reach_stderr_and_result_json() {
         "{}",
         r.stderr
     );
-    assert!(Path::new(&r.dir.0.join("out/result.json")).is_file());
+    assert!(Path::new(&r.dir.join("out/result.json")).is_file());
 }
 
 #[test]
@@ -1057,9 +1060,9 @@ fn simplify_writes_a_fixed_geometry_certificate_only_with_certify() {
         let r = run(&[("grid.txt", GRID.as_bytes())], &a);
         assert_eq!(r.code, 0, "{}", r.stderr);
         assert!(!r.stdout.contains("certificate"), "{}", r.stdout);
-        let result = std::fs::read_to_string(r.dir.0.join("out/result.json")).unwrap();
+        let result = std::fs::read_to_string(r.dir.join("out/result.json")).unwrap();
         assert!(!result.contains("certificate"), "{result}");
-        let timings = std::fs::read_to_string(r.dir.0.join("out/timings.json")).unwrap();
+        let timings = std::fs::read_to_string(r.dir.join("out/timings.json")).unwrap();
         assert!(
             timings.contains("\"certificate_seconds\": null"),
             "{timings}"
@@ -1077,7 +1080,7 @@ fn simplify_writes_a_fixed_geometry_certificate_only_with_certify() {
         r.stdout
     );
     assert!(r.stdout.contains("% of that bound"), "{}", r.stdout);
-    let result = std::fs::read_to_string(r.dir.0.join("out/result.json")).unwrap();
+    let result = std::fs::read_to_string(r.dir.join("out/result.json")).unwrap();
     let result: serde_json::Value = serde_json::from_str(&result).unwrap();
     let c = &result["certificate"];
     assert_eq!(c["objective"], "lambda_fix", "{c}");
@@ -1090,7 +1093,7 @@ fn simplify_writes_a_fixed_geometry_certificate_only_with_certify() {
     if let Some(ratio) = c["ratio"].as_f64() {
         assert!((ratio - lam / up).abs() <= 1e-12 && ratio <= 1.0, "{c}");
     }
-    let timings = std::fs::read_to_string(r.dir.0.join("out/timings.json")).unwrap();
+    let timings = std::fs::read_to_string(r.dir.join("out/timings.json")).unwrap();
     let timings: serde_json::Value = serde_json::from_str(&timings).unwrap();
     assert!(
         timings["certificate_seconds"].as_f64().is_some(),
@@ -1119,7 +1122,7 @@ fn simplify_records_the_local_search_when_asked() {
         "{}",
         r.stdout
     );
-    let result = std::fs::read_to_string(r.dir.0.join("out/result.json")).unwrap();
+    let result = std::fs::read_to_string(r.dir.join("out/result.json")).unwrap();
     let result: serde_json::Value = serde_json::from_str(&result).unwrap();
     let l = &result["local_search"];
     assert_eq!(l["objective"], "lambda_eq", "{l}");
@@ -1149,13 +1152,13 @@ fn simplify_records_the_local_search_when_asked() {
     for key in ["rounds", "chains", "evaluations", "structures"] {
         assert!(l[key].as_u64().is_some(), "{key}: {l}");
     }
-    let timings = std::fs::read_to_string(r.dir.0.join("out/timings.json")).unwrap();
+    let timings = std::fs::read_to_string(r.dir.join("out/timings.json")).unwrap();
     assert!(timings.contains("local_search_seconds"));
 
     args.pop();
     let r = run(&[("grid.txt", GRID.as_bytes())], &args);
     assert_eq!(r.code, 0, "{}", r.stderr);
-    let result = std::fs::read_to_string(r.dir.0.join("out/result.json")).unwrap();
+    let result = std::fs::read_to_string(r.dir.join("out/result.json")).unwrap();
     assert!(!result.contains("local_search"), "{result}");
 }
 
@@ -1252,7 +1255,7 @@ fn a_budget_the_run_cannot_meet_is_a_warning() {
     assert!(!r.stderr.contains("BudgetUnmet"), "{}", r.stderr);
     assert!(!r.stdout.contains("local search time"), "{}", r.stdout);
     // The stop reason in words on stdout and in summary.txt, never Rust debug text.
-    let summary = std::fs::read_to_string(r.dir.0.join("out/summary.txt")).expect("summary.txt");
+    let summary = std::fs::read_to_string(r.dir.join("out/summary.txt")).expect("summary.txt");
     for text in [&r.stdout, &summary] {
         assert!(text.contains("stop: budget not met"), "{text}");
         assert!(
@@ -1323,7 +1326,7 @@ fn compare_fresh_reports_its_networks_and_checks_its_count() {
         r.stdout
     );
     let report: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(r.dir.0.join("fresh.json")).unwrap()).unwrap();
+        serde_json::from_slice(&std::fs::read(r.dir.join("fresh.json")).unwrap()).unwrap();
     let rows = report["rows"].as_array().expect("rows");
     assert_eq!(rows.len(), 3);
     for row in rows {

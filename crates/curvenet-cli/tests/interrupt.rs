@@ -8,7 +8,7 @@
 mod common;
 
 use common::{BIN, TempDir, dome_curves};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
@@ -363,8 +363,8 @@ fn writing_pictures(out: &Path) -> bool {
 
 #[test]
 fn sigterm_while_the_pictures_are_written_leaves_no_temporary_file_and_resume_cleans_up() {
-    let tmp = TempDir::new("pictures-TERM");
-    let curves = dome_curves(&tmp.0);
+    let tmp = TempDir::new("int-pictures-TERM");
+    let curves = dome_curves(&tmp.0, "curves.json");
     let out = tmp.0.join("out");
     let args = simplify_args(&curves, &out, &["--no-certificate"]);
     // The signal is sent the moment a picture's temporary file appears (its write in flight).

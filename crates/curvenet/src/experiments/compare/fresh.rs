@@ -18,8 +18,8 @@
 //! optimum (within the relative tolerance 1e-6: the searches and exhaustive search share one
 //! evaluation, so an optimum found is the same number).
 
-use super::{check_build, mean};
 use super::instance::traced_network;
+use super::{check_build, mean};
 use crate::cancel::Cancel;
 use crate::constraints::Constraints;
 use crate::io::TriMesh;

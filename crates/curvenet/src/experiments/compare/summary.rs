@@ -1,7 +1,7 @@
 //! The experiment's figures per size and its report.
 
-use super::{CompareParams, mean};
 use super::instance::InstanceResult;
+use super::{CompareParams, mean};
 use serde::{Deserialize, Serialize};
 
 /// Figures of one size `N` over its instances.
@@ -250,5 +250,9 @@ impl SizeSummary {
 
 /// Mean of `a / b` over the pairs where both are positive (NaN when there is none).
 fn mean_positive(pairs: impl Iterator<Item = (f64, f64)>) -> f64 {
-    mean(pairs.filter(|(a, b)| *a > 0.0 && *b > 0.0).map(|(a, b)| a / b))
+    mean(
+        pairs
+            .filter(|(a, b)| *a > 0.0 && *b > 0.0)
+            .map(|(a, b)| a / b),
+    )
 }
