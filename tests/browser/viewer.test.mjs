@@ -76,7 +76,7 @@ test('the viewer of a demo run works in headless Chromium', { timeout: 600_000 }
     assert.equal(await page.evaluate(() => window.curvenet.chosen), 0);
     const buttons = await page.$$('#chosen button');
     assert.equal(buttons.length, 1 + alts.length, 'one button per chosen network');
-    assert.match(await buttons[1].textContent(), /^alternative 1: λ /);
+    assert.match(await buttons[1].textContent(), /^alternative 1: λ_eq /);
     await buttons[1].click();
     const alt = await read();
     assert.equal(await page.evaluate(() => window.curvenet.chosen), 1);
