@@ -16,7 +16,16 @@ pub fn run(a: ExportArgs) -> anyhow::Result<()> {
         (false, Some(n)) => Which::Alternative(n),
         (false, None) => Which::Iteration(a.iteration.unwrap_or_else(|| run.last_index())),
     };
-    let shown = run.network_of(k).map_err(usage)?;
+    // An iteration or alternative the run did not record is the option's fault: say which.
+    let option = match k {
+        Which::Iteration(_) if a.iteration.is_none() => "",
+        Which::Iteration(_) => "--iteration: ",
+        Which::Alternative(_) => "--alternative: ",
+        Which::Answer => "--answer: ",
+    };
+    let shown = run
+        .network_of(k)
+        .map_err(|e| usage(format!("{option}{e}")))?;
     let internal = |message: String| ExitError { code: 1, message };
     let out = a.out.unwrap_or_else(|| a.dir.join("export"));
     // One file to a named path: one format and a path with an extension that is not an existing
