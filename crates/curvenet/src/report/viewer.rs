@@ -14,7 +14,7 @@
 //! The gravity deflection is computed here, per iteration: `H u = f` with `H` the Hessian of
 //! the iteration's structure at its recorded equilibrium and `f` the run's gravity load
 //! (`setup.stability.gravity`: a weight per unit rest length, half of each edge's weight on
-//! each of its ends), solved with the sparse Cholesky factor of [`crate::solve::Cholesky`].
+//! each of its ends), solved by the stability facade ([`Analyzer::gravity_at`]).
 //! Structures that are not positive definite have none.
 //!
 //! Embedded arrays are compact: rest positions and mesh vertices as base64 little-endian
@@ -35,8 +35,9 @@ use super::render::{mode_picture, network_picture};
 use crate::network::Network;
 use crate::rod::ActiveSet;
 use crate::run_folder::{RunFolder, Which};
-use crate::solve::Cholesky;
 use crate::stability::Analyzer;
+use base64::Engine as _;
+use base64::engine::general_purpose::STANDARD as BASE64;
 use rayon::prelude::*;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
@@ -48,58 +49,12 @@ const APP_SCRIPT: &str = include_str!("viewer/app.js");
 
 /// Standard base64 (with padding) of `bytes`.
 pub fn base64(bytes: &[u8]) -> String {
-    const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
-    for c in bytes.chunks(3) {
-        let b = [c[0], *c.get(1).unwrap_or(&0), *c.get(2).unwrap_or(&0)];
-        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
-        out.push(A[(n >> 18) as usize & 63] as char);
-        out.push(A[(n >> 12) as usize & 63] as char);
-        out.push(if c.len() > 1 {
-            A[(n >> 6) as usize & 63] as char
-        } else {
-            '='
-        });
-        out.push(if c.len() > 2 {
-            A[n as usize & 63] as char
-        } else {
-            '='
-        });
-    }
-    out
+    BASE64.encode(bytes)
 }
 
 /// Decodes standard base64 (for tests and tools); `None` on a malformed string.
 pub fn base64_decode(s: &str) -> Option<Vec<u8>> {
-    let val = |c: u8| -> Option<u32> {
-        Some(match c {
-            b'A'..=b'Z' => c - b'A',
-            b'a'..=b'z' => c - b'a' + 26,
-            b'0'..=b'9' => c - b'0' + 52,
-            b'+' => 62,
-            b'/' => 63,
-            _ => return None,
-        } as u32)
-    };
-    let s = s.as_bytes();
-    if !s.len().is_multiple_of(4) {
-        return None;
-    }
-    let mut out = Vec::with_capacity(s.len() / 4 * 3);
-    for c in s.chunks(4) {
-        let pad = c.iter().rev().take_while(|&&b| b == b'=').count();
-        if pad > 2 {
-            return None;
-        }
-        let mut n = 0u32;
-        for &b in &c[..4 - pad] {
-            n = (n << 6) | val(b)?;
-        }
-        n <<= 6 * pad as u32;
-        let bytes = [(n >> 16) as u8, (n >> 8) as u8, n as u8];
-        out.extend_from_slice(&bytes[..3 - pad]);
-    }
-    Some(out)
+    BASE64.decode(s).ok()
 }
 
 /// `{"f32": base64}` of `values` as little-endian `f32`.
@@ -175,15 +130,10 @@ fn restrict(values: &[f64], vertices: &[usize]) -> Vec<f64> {
 }
 
 /// The gravity deflection `u = H⁻¹ f` of `curves` at displacements `u0` (`None` when the
-/// Hessian is not positive definite).
+/// Hessian is not positive definite), from the stability facade.
 pub fn gravity_deflection(analyzer: &Analyzer, curves: &[usize], u0: &[f64]) -> Option<Vec<f64>> {
     let active = ActiveSet::from_curves(analyzer.network().rods.len(), curves);
-    let model = analyzer.model();
-    let h = model.assemble(u0, &active, true).hess;
-    let factor = Cholesky::factorize(analyzer.symbolic(), model.pattern(), &h, 0.0, None).ok()?;
-    let mut u = analyzer.gravity_load(&active);
-    factor.solve_vec(&mut u);
-    u.iter().all(|x| x.is_finite()).then_some(u)
+    analyzer.gravity_at(&active, u0).map(|(u, _)| u)
 }
 
 /// Options of the viewer page.

@@ -146,22 +146,46 @@ impl Analyzer {
     /// Deflection under the gravity load with Hessian values `h` (None if not positive
     /// definite).
     pub fn gravity(&self, active: &ActiveSet, h: &[f64]) -> Option<GravityDeflection> {
+        self.gravity_solve(active, h).map(|(_, summary)| summary)
+    }
+
+    /// The displacement field under the gravity load of the structure `active` at the
+    /// displacements `u0` (its equilibrium), with its summary: `H(u0) u = f` (None if the
+    /// Hessian is not positive definite or the solve is not finite).
+    pub fn gravity_at(
+        &self,
+        active: &ActiveSet,
+        u0: &[f64],
+    ) -> Option<(Vec<f64>, GravityDeflection)> {
+        let h = self.model().assemble(u0, active, true).hess;
+        self.gravity_solve(active, &h)
+    }
+
+    fn gravity_solve(
+        &self,
+        active: &ActiveSet,
+        h: &[f64],
+    ) -> Option<(Vec<f64>, GravityDeflection)> {
         let n = self.model().dofs();
         let f = self.gravity_load(active);
         let factor =
             Cholesky::factorize(self.symbolic(), self.model().pattern(), h, 0.0, None).ok()?;
         let mut u = f.clone();
         factor.solve_vec(&mut u);
+        if !u.iter().all(|x| x.is_finite()) {
+            return None;
+        }
         let compliance: f64 = f.iter().zip(&u).map(|(a, b)| a * b).sum();
         let total_load = f.iter().map(|x| x * x).sum::<f64>().sqrt();
         let (vertex, max_displacement) = (0..n / 3)
             .map(|v| (v, (0..3).map(|k| u[3 * v + k].powi(2)).sum::<f64>().sqrt()))
             .fold((0, 0.0), |best, x| if x.1 > best.1 { x } else { best });
-        Some(GravityDeflection {
+        let summary = GravityDeflection {
             max_displacement,
             vertex,
             compliance,
             total_load,
-        })
+        };
+        Some((u, summary))
     }
 }
