@@ -18,14 +18,14 @@
 mod common;
 
 use common::{
-    build, circle, data_dir, dense_hessian, norm, orthonormalize, polyline, random_curves, rel_diff,
+    build, circle, data_dir, dense_eigen, dense_hessian, norm, orthonormalize, polyline,
+    random_curves, rel_diff,
 };
 use curvenet::geom::Vec3;
 use curvenet::network::{Joint, Network, Rod, build_network};
 use curvenet::rod::model::Terms;
 use curvenet::rod::{ActiveSet, Material, Supports};
 use curvenet::solve::EigenParams;
-use curvenet::solve::lanczos::smallest_eigenpairs_dense;
 use curvenet::stability::{Analyzer, StabilityParams};
 use std::f64::consts::PI;
 
@@ -94,7 +94,7 @@ fn explicit_deletion_is_the_definition() {
                 kept.len() < net.vertex_count(),
                 "removing {removed:?} deletes vertices"
             );
-            let (dv, _) = smallest_eigenpairs_dense(dense.as_ref(), 4).expect("dense solve");
+            let (dv, _) = dense_eigen(dense.as_ref());
             for k in 0..4 {
                 let tol = match tol_of {
                     None => 1e-9,
@@ -513,7 +513,7 @@ fn compressed_rod_beyond_euler_load_has_negative_modes() {
     assert!(rel_diff(s.values[0], s.values[1]) < 1e-8, "transverse pair");
     // Dense eigenvalues of the same Hessian.
     let hd = dense_hessian(a.model(), &u, &a.all());
-    let (dv, _) = smallest_eigenpairs_dense(hd.as_ref(), 4).expect("dense solve");
+    let (dv, _) = dense_eigen(hd.as_ref());
     for k in 0..4 {
         assert!(
             rel_diff(s.values[k], dv[k]) < 1e-8,

@@ -107,11 +107,7 @@ pub fn stability_params(p: &PhysicsArgs) -> anyhow::Result<StabilityParams> {
         },
         anchor_weight: p.anchor_weight.unwrap_or(d.anchor_weight),
     };
-    s.eigen.count = p.eigen_count;
-    s.eigen.max_basis = s
-        .eigen
-        .max_basis
-        .max(p.eigen_count + 4 * s.eigen.block_size);
+    s.eigen = s.eigen.with_count(p.eigen_count);
     s.validate().map_err(usage)?;
     let m = &s.material;
     for (name, k, formula) in [

@@ -162,7 +162,15 @@ impl Analyzer {
                 // Otherwise, or if λ turns out below σ, about zero.
                 let shifted = match warm.lambda.map(|l| self.tuning().spectrum_shift * l) {
                     Some(sigma) if sigma > 0.0 && sigma.is_finite() => {
-                        numerics::above(model.pattern(), h, &symbolic, modes, &params, sigma, None)?
+                        numerics::above(
+                            model.pattern(),
+                            h,
+                            &symbolic,
+                            modes.into(),
+                            &params,
+                            sigma,
+                            None,
+                        )?
                     }
                     _ => None,
                 };

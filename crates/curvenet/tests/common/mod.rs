@@ -9,7 +9,7 @@ use curvenet::geom::Vec3;
 use curvenet::io::{Origin, Polyline};
 use curvenet::network::{BuildParams, Joint, Network, Rod, build_network};
 use curvenet::rod::{ActiveSet, EnergyModel, Material, Supports};
-use faer::Mat;
+use faer::{Mat, MatRef};
 use std::path::PathBuf;
 
 /// Bound on the relative residuals `‖Hv − λv‖/‖H‖₁` the eigen solver guarantees: its
@@ -157,6 +157,15 @@ pub fn build(curves: &[Polyline], h: f64, supports: Supports) -> Network {
     )
     .expect("test network builds")
     .0
+}
+
+/// The eigenvalues (ascending) and eigenvectors (columns, in the same order) of the dense
+/// symmetric matrix `a` (lower triangle read): the reference the sparse solvers are checked
+/// against.
+pub fn dense_eigen(a: MatRef<'_, f64>) -> (Vec<f64>, Mat<f64>) {
+    let e = a.self_adjoint_eigen(faer::Side::Lower).expect("dense eigen");
+    let s = e.S();
+    ((0..a.nrows()).map(|i| s[i]).collect(), e.U().to_owned())
 }
 
 /// A straight rod from `start` along unit `dir`, length `len`, `n` edges (built by

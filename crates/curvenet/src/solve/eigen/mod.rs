@@ -77,6 +77,14 @@ impl Default for EigenParams {
 }
 
 impl EigenParams {
+    /// These parameters asking for `count` pairs, the Krylov basis widened to hold them (at
+    /// least `count + 4·block_size`).
+    pub fn with_count(mut self, count: usize) -> Self {
+        self.count = count;
+        self.max_basis = self.max_basis.max(count + 4 * self.block_size);
+        self
+    }
+
     /// Checks the parameters.
     pub fn validate(&self) -> Result<(), String> {
         if self.count == 0 || self.block_size == 0 || self.solve_group == 0 {
@@ -186,6 +194,13 @@ pub enum Start<'a> {
     /// Vectors made only once the factorization succeeded (a failed one, with
     /// [`Shift::Above`], then costs nothing else).
     Lazy(Box<dyn FnOnce() -> Option<Mat<f64>> + 'a>),
+}
+
+impl<'a> From<Option<MatRef<'a, f64>>> for Start<'a> {
+    /// The vectors given, else random ones.
+    fn from(start: Option<MatRef<'a, f64>>) -> Self {
+        start.map_or(Start::Random, Start::Vectors)
+    }
 }
 
 impl Start<'_> {

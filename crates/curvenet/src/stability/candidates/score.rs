@@ -5,7 +5,7 @@ use super::super::StabilityError;
 use super::super::evaluate::restrict;
 use super::super::presets::Preset;
 use super::Candidates;
-use crate::solve::eigen::{EigenError, Spectrum};
+use crate::solve::eigen::{EigenError, Spectrum, Start};
 use crate::solve::{Cholesky, Reuse};
 use std::sync::atomic::Ordering;
 
@@ -224,11 +224,11 @@ impl Candidates<'_> {
             changed,
         });
         let h = self.candidate_hessian(c);
-        let r = super::super::numerics::above_with(
+        let r = super::super::numerics::above(
             model.pattern(),
             &h,
             &self.symbolic,
-            warm,
+            Start::Lazy(Box::new(warm)),
             &self.analyzer.eigen(Preset::Score, &self.symbolic),
             sigma,
             reuse,
