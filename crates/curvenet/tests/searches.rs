@@ -26,7 +26,7 @@
 
 mod common;
 
-use common::{build, random_arches, rel_diff, sub_network};
+use common::{build, dome, random_arches, rel_diff, sub_network};
 use curvenet::cancel::Cancel;
 use curvenet::network::Network;
 use curvenet::rod::{ActiveSet, Supports};
@@ -62,11 +62,6 @@ fn arches(seed: u64, n: usize, h: f64) -> Network {
     net
 }
 
-fn dome() -> Network {
-    let s = curvenet::builtin::dome_arcs(2000.0, 700.0, 2, 4);
-    build(&s.curves, 100.0, Supports::Clamped)
-}
-
 /// The networks and budgets, without keep lists.
 fn cases() -> Vec<Case> {
     vec![
@@ -90,7 +85,7 @@ fn cases() -> Vec<Case> {
         },
         Case {
             name: "dome @0.3",
-            network: dome(),
+            network: dome(2, 4, 100.0),
             fraction: 0.3,
             keep: vec![],
         },
@@ -114,7 +109,7 @@ fn keep_cases() -> Vec<Case> {
         },
         Case {
             name: "dome @0.4 keep [3]",
-            network: dome(),
+            network: dome(2, 4, 100.0),
             fraction: 0.4,
             keep: vec![3],
         },

@@ -18,8 +18,8 @@
 mod common;
 
 use common::{
-    build, circle, data_dir, dense_eigen, dense_hessian, norm, orthonormalize, polyline,
-    random_curves, rel_diff,
+    build, circle, data_dir, dense_eigen, dense_hessian, dome, norm, orthonormalize, polyline,
+    random_curves, rel_diff, sub_network,
 };
 use curvenet::geom::Vec3;
 use curvenet::network::{Joint, Network, Rod, build_network};
@@ -30,9 +30,8 @@ use curvenet::stability::{Analyzer, StabilityParams};
 use std::f64::consts::PI;
 
 /// The small dome (6 arcs, ~150 vertices).
-fn dome() -> Network {
-    let s = curvenet::builtin::dome_arcs(2000.0, 700.0, 2, 3);
-    build(&s.curves, 150.0, Supports::Clamped)
+fn small_dome() -> Network {
+    dome(2, 3, 150.0)
 }
 
 /// A thicker rod (r = 20, L/r ≈ 150): λ/‖H‖₁ is 1e4 times larger than with r = 2, so that the
@@ -68,7 +67,7 @@ const REMOVALS: [&[usize]; 5] = [&[1], &[0, 3], &[2, 4], &[5], &[0, 1, 3, 4]];
 
 #[test]
 fn explicit_deletion_is_the_definition() {
-    let net = dome();
+    let net = small_dome();
     assert!(net.dofs() < 1500);
     let mut worst = 0.0f64;
     for (material, tol_of) in [
@@ -122,67 +121,9 @@ fn explicit_deletion_is_the_definition() {
     println!("explicit deletion: worst difference / tolerance = {worst:e}");
 }
 
-/// The network made of the curves `keep` only: vertices renumbered in order, rest lengths and
-/// anchors kept. Returns it with the old index of every new vertex.
-fn rebuilt(net: &Network, keep: &[usize]) -> (Network, Vec<usize>) {
-    let mut new_of = vec![u32::MAX; net.vertex_count()];
-    let mut used = vec![false; net.vertex_count()];
-    for &c in keep {
-        for &v in &net.rods[c].vertices {
-            used[v as usize] = true;
-        }
-    }
-    let mut old_of = Vec::new();
-    for v in 0..net.vertex_count() {
-        if used[v] {
-            new_of[v] = old_of.len() as u32;
-            old_of.push(v);
-        }
-    }
-    let map = |vs: &[u32]| -> Vec<u32> { vs.iter().map(|&v| new_of[v as usize]).collect() };
-    let rods = keep
-        .iter()
-        .map(|&c| {
-            let r = &net.rods[c];
-            Rod {
-                vertices: map(&r.vertices),
-                closed: r.closed,
-                rest_lengths: r.rest_lengths.clone(),
-                anchors: map(&r.anchors),
-            }
-        })
-        .collect();
-    let joints = net
-        .joints
-        .iter()
-        .filter_map(|j| {
-            let curves: Vec<u32> = j
-                .curves
-                .iter()
-                .filter_map(|&c| keep.iter().position(|&k| k == c as usize))
-                .map(|i| i as u32)
-                .collect();
-            (curves.len() >= 2).then(|| Joint {
-                vertex: new_of[j.vertex as usize],
-                curves,
-            })
-        })
-        .collect();
-    let positions = old_of.iter().map(|&v| net.positions[v]).collect();
-    (
-        Network {
-            positions,
-            rods,
-            joints,
-            supports: net.supports,
-        },
-        old_of,
-    )
-}
-
 #[test]
 fn rebuilt_network_gives_the_same_lambda() {
-    let net = dome();
+    let net = small_dome();
     let mut worst = 0.0f64;
     for material in [thick(), Material::default()] {
         let a = Analyzer::new(net.clone(), params(material, 4)).expect("analyzer");
@@ -191,7 +132,7 @@ fn rebuilt_network_gives_the_same_lambda() {
         for removed in REMOVALS {
             let active = active_without(net.rods.len(), removed);
             let device = a.spectrum(&active, &u, None).expect("spectrum");
-            let (small, old_of) = rebuilt(&net, &active.curves());
+            let (small, old_of) = sub_network(&net, &active.curves());
             assert!(small.vertex_count() < net.vertex_count());
             let u_small: Vec<f64> = old_of
                 .iter()
@@ -626,7 +567,7 @@ fn an_eigen_trailing_tolerance_outside_zero_to_a_hundredth_is_an_error() {
 #[test]
 fn the_hessian_without_a_curve_is_the_whole_assembly_bit_for_bit() {
     // (and a structure's own local Hessians serve it and its sub-structures alike)
-    let mut nets = vec![("dome", dome())];
+    let mut nets = vec![("dome", small_dome())];
     if let Some(data) = data_dir() {
         let ex = curvenet::paper::load("tower", &data, Supports::Clamped).expect("tower loads");
         nets.push((
