@@ -27,10 +27,8 @@
 //! For command-line scenes scale the mesh first with
 //! [`scale_to_extent`](super::scale_to_extent)`(mesh, 4000.0)`, as the reference does.
 //!
-//! Measured with curvenet's network rules on the regenerated curves: hill 6313
-//! vertices (paper 6319), tent 6123 (paper 6107, 112 curves), stadium 6644 when built at
-//! scale 1 with `h = 50` (paper 6646; the set-up's ×30 gives 177,932), bunny 31,286 (paper
-//! 25,442).
+//! The networks built from the regenerated curves, against the paper's counts:
+//! `docs/model.md`, *The paper's examples*.
 
 use super::TraceError;
 use super::field::{FieldOptions, smooth_field};
