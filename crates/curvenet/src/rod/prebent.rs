@@ -188,14 +188,8 @@ pub fn bend_rest(
             }
         }
     }
-    // The sums above run in different orders for (i, j) and (j, i): symmetrise.
-    for i in 0..9 {
-        for j in 0..i {
-            let m = 0.5 * (out.hess[i][j] + out.hess[j][i]);
-            out.hess[i][j] = m;
-            out.hess[j][i] = m;
-        }
-    }
+    // The sums above run in different orders for (i, j) and (j, i).
+    crate::rod::terms::symmetrize(&mut out.hess);
     out
 }
 

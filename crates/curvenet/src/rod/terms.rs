@@ -279,16 +279,20 @@ pub fn bend(x0: Vec3, x1: Vec3, x2: Vec3, r0: f64, r1: f64, kb: f64) -> Local<9>
             }
         }
     }
-    // Floating-point sums above run in different orders for (i, j) and (j, i): symmetrise so
-    // the Hessian is exactly symmetric.
-    for i in 0..9 {
+    // Floating-point sums above run in different orders for (i, j) and (j, i).
+    symmetrize(&mut out.hess);
+    out
+}
+
+/// Makes `h` exactly symmetric: each pair of entries becomes their mean.
+pub(crate) fn symmetrize<const D: usize>(h: &mut [[f64; D]; D]) {
+    for i in 0..D {
         for j in 0..i {
-            let m = 0.5 * (out.hess[i][j] + out.hess[j][i]);
-            out.hess[i][j] = m;
-            out.hess[j][i] = m;
+            let m = 0.5 * (h[i][j] + h[j][i]);
+            h[i][j] = m;
+            h[j][i] = m;
         }
     }
-    out
 }
 
 /// Anchor spring energy `E = µ |x − x̄|²` pulling a supported vertex to its target.
