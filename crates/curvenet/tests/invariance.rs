@@ -18,8 +18,8 @@
 mod common;
 
 use common::{
-    Rng, build, dense_eigen, dense_hessian, norm, orthonormalize, positions_of, random_curves, rigid_motions,
-    tetrahedron_curves, without_anchors,
+    Rng, build, dense_eigen, dense_hessian, norm, orthonormalize, positions_of, random_curves,
+    rigid_motions, tetrahedron_curves, without_anchors,
 };
 use curvenet::geom::Vec3;
 use curvenet::network::Network;

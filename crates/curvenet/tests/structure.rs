@@ -40,7 +40,10 @@ fn explicit_deletion(
     let full = dense_hessian(model, u, active);
     let mask = model.vertex_mask(active);
     let kept: Vec<usize> = (0..mask.len()).filter(|&v| mask[v]).collect();
-    let dofs: Vec<usize> = kept.iter().flat_map(|&v| [3 * v, 3 * v + 1, 3 * v + 2]).collect();
+    let dofs: Vec<usize> = kept
+        .iter()
+        .flat_map(|&v| [3 * v, 3 * v + 1, 3 * v + 2])
+        .collect();
     let m = dofs.len();
     let dense = faer::Mat::from_fn(m, m, |i, j| full[(dofs[i], dofs[j])]);
     (dense, kept)

@@ -590,7 +590,12 @@ mod tests {
     use super::*;
 
     fn assert_err(text: &str, line: usize, phrase: &str) {
-        assert_input_error(parse_json_curves(text, "curves.json"), "curves.json", line, phrase);
+        assert_input_error(
+            parse_json_curves(text, "curves.json"),
+            "curves.json",
+            line,
+            phrase,
+        );
     }
 
     /// A document around the given curve objects, one per line from line 5 on.

@@ -197,7 +197,12 @@ mod tests {
     use super::*;
 
     fn assert_err(text: &str, line: usize, phrase: &str) {
-        assert_input_error(parse_obj_polylines(text, "curves.obj"), "curves.obj", line, phrase);
+        assert_input_error(
+            parse_obj_polylines(text, "curves.obj"),
+            "curves.obj",
+            line,
+            phrase,
+        );
     }
 
     const SQUARE: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";

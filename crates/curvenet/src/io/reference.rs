@@ -142,7 +142,12 @@ mod tests {
     use super::*;
 
     fn assert_err(text: &str, line: usize, phrase: &str) {
-        assert_input_error(parse_reference_curves(text, "roof.txt"), "roof.txt", line, phrase);
+        assert_input_error(
+            parse_reference_curves(text, "roof.txt"),
+            "roof.txt",
+            line,
+            phrase,
+        );
     }
 
     #[test]

@@ -16,7 +16,10 @@ pub(super) fn assert_input_error<T: std::fmt::Debug>(
     assert_eq!(e.file(), file);
     assert_eq!(e.line(), Some(line), "{e}");
     assert!(e.to_string().contains(phrase), "`{e}` lacks `{phrase}`");
-    assert!(e.to_string().starts_with(&format!("{file}:{line}: ")), "{e}");
+    assert!(
+        e.to_string().starts_with(&format!("{file}:{line}: ")),
+        "{e}"
+    );
 }
 
 /// Curves exercising labels, closure and awkward numbers.

@@ -218,7 +218,6 @@ mod tests {
     use crate::rng::SplitMix64;
     use crate::rod::terms::bend;
 
-
     fn split<const D: usize>(x: &[f64; D], k: usize) -> Vec3 {
         Vec3::new(x[3 * k], x[3 * k + 1], x[3 * k + 2])
     }

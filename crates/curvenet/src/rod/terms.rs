@@ -475,7 +475,6 @@ mod tests {
     use super::*;
     use crate::rng::SplitMix64;
 
-
     /// Checks gradient and Hessian of `f` against central differences at `x` (D coordinates).
     fn check_fd<const D: usize>(
         x: [f64; D],

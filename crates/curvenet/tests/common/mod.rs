@@ -220,7 +220,9 @@ pub fn dome(families: usize, per_family: usize, h: f64) -> Network {
 /// symmetric matrix `a` (lower triangle read): the reference the sparse solvers are checked
 /// against.
 pub fn dense_eigen(a: MatRef<'_, f64>) -> (Vec<f64>, Mat<f64>) {
-    let e = a.self_adjoint_eigen(faer::Side::Lower).expect("dense eigen");
+    let e = a
+        .self_adjoint_eigen(faer::Side::Lower)
+        .expect("dense eigen");
     let s = e.S();
     ((0..a.nrows()).map(|i| s[i]).collect(), e.U().to_owned())
 }
