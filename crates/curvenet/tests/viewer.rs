@@ -33,7 +33,7 @@ use std::sync::OnceLock;
 /// A greedy run on 12 random geodesics over the built-in dome, made once.
 fn run_dir() -> &'static Path {
     static RUN: OnceLock<TempDir> = OnceLock::new();
-    &RUN.get_or_init(|| {
+    RUN.get_or_init(|| {
         let dir = TempDir::new("run");
         let surface = builtin_surface("dome").expect("dome");
         let (mesh, _) = scale_to_extent(&surface, 4000.0);
