@@ -1,4 +1,4 @@
-//! Bad input on the command line (SPEC §10): the real `curvenet` binary on tiny broken files and
+//! Bad input on the command line: the real `curvenet` binary on tiny broken files and
 //! nonsensical options.
 //!
 //! Every error case asserts exit code 2 (no network can be built, or the request makes no

@@ -49,8 +49,7 @@ fn stability_params(
         young: young.unwrap_or(d.young),
         anchor_weight: anchor_weight.unwrap_or(d.anchor_weight),
     };
-    s.eigen.count = eigen_count;
-    s.eigen.max_basis = s.eigen.max_basis.max(eigen_count + 4 * s.eigen.block_size);
+    s.eigen = s.eigen.with_count(eigen_count);
     s.validate()?;
     let m = &s.material;
     for (name, k) in [("stretching", m.ks()), ("bending", m.kb())] {

@@ -123,9 +123,8 @@ pub fn setup(name: &str) -> Option<Setup> {
             keep: vec![],
             paper: p(114, 23, 10224, 53.9),
         },
-        // The reference scales the stadium ×30, where the 100 geodesics give ~178,000
-        // vertices; unscaled (h = 50 in file units) they give 6644 against the paper's 6646,
-        // so the paper's run used the mesh as it is.
+        // Traced on the mesh as it is, unscaled (h = 50 in file units), as the paper's run
+        // did (docs/model.md, *The paper's examples*).
         "stadium" => Setup {
             name: "stadium",
             mesh: "stadium.obj",

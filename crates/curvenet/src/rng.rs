@@ -50,6 +50,19 @@ impl SplitMix64 {
     }
 }
 
+#[cfg(test)]
+impl SplitMix64 {
+    /// Uniform in `[-1, 1)`: the unit tests' random inputs.
+    pub(crate) fn signed(&mut self) -> f64 {
+        self.uniform(-1.0, 1.0)
+    }
+
+    /// A vector with components uniform in `[-1, 1)`.
+    pub(crate) fn vec3(&mut self) -> crate::geom::Vec3 {
+        crate::geom::Vec3::new(self.signed(), self.signed(), self.signed())
+    }
+}
+
 /// The Microsoft C runtime's `rand()`, for regenerating the reference's curves.
 #[derive(Clone, Debug)]
 pub struct MsvcRand {

@@ -17,7 +17,7 @@
 
 mod common;
 
-use common::{build, dense_hessian, random_arches, rel_diff, straight_rod};
+use common::{build, dense_eigen, dense_hessian, random_arches, rel_diff, straight_rod};
 use curvenet::cancel::Cancel;
 use curvenet::geom::Vec3;
 use curvenet::material::{Physical, Section, presets};
@@ -30,7 +30,6 @@ use curvenet::simplify::greedy::{GreedyOutcome, NoHooks};
 use curvenet::simplify::local::{LocalParams, local_search};
 use curvenet::simplify::random::{RandomParams, random_search};
 use curvenet::simplify::{Budget, GreedyParams, StopReason, greedy};
-use curvenet::solve::lanczos::smallest_eigenpairs_dense;
 use curvenet::stability::fixed::FixedProblem;
 use curvenet::stability::{Analyzer, Objective, Prepare, Preset, StabilityParams, Warm};
 use curvenet::units::LengthUnit;
@@ -89,7 +88,7 @@ fn dense_mu(an: &Analyzer, curves: &[usize]) -> (f64, f64) {
     let norm = (0..k)
         .map(|j| (0..k).map(|i| m[(i, j)].abs()).sum::<f64>())
         .fold(0.0, f64::max);
-    let mu = smallest_eigenpairs_dense(m.as_ref(), 1).expect("dense").0[0];
+    let mu = dense_eigen(m.as_ref()).0[0];
     (mu, SAME.max(norm * f64::EPSILON / mu))
 }
 

@@ -20,35 +20,17 @@
 //! broke the build are replayed by `regressions_still_build` from
 //! `tests/fuzz_regressions/network/*.json`.
 
+mod common;
+
+use common::fuzz_config;
 use curvenet::geom::Vec3;
 use curvenet::io::{Origin, Polyline, TriMesh};
 use curvenet::network::checks::{self, FAR_FROM_MESH};
 use curvenet::network::{BuildParams, Network, build_network};
 use curvenet::rod::{ActiveSet, EnergyModel, Material, Supports};
 use proptest::prelude::*;
-use proptest::test_runner::FileFailurePersistence;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
-
-/// Cases per property: the environment's `CURVENET_FUZZ_CASES` or `PROPTEST_CASES`, else
-/// `default`.
-fn cases(default: u32) -> u32 {
-    ["CURVENET_FUZZ_CASES", "PROPTEST_CASES"]
-        .iter()
-        .find_map(|k| std::env::var(k).ok()?.trim().parse().ok())
-        .unwrap_or(default)
-}
-
-fn config(default: u32) -> ProptestConfig {
-    ProptestConfig {
-        cases: cases(default),
-        failure_persistence: Some(Box::new(FileFailurePersistence::Direct(
-            "tests/fuzz_regressions/fuzz_network.proptest-regressions",
-        ))),
-        max_shrink_iters: 4096,
-        ..ProptestConfig::default()
-    }
-}
 
 /// One curve's recipe.
 #[derive(Clone, Debug)]
@@ -439,7 +421,7 @@ fn mesh() -> impl Strategy<Value = TriMesh> {
 }
 
 proptest! {
-    #![proptest_config(config(1500))]
+    #![proptest_config(fuzz_config(1500))]
 
     /// `build_network` never panics and every network it returns is sound.
     #[test]
@@ -458,7 +440,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(config(400))]
+    #![proptest_config(fuzz_config(400))]
 
     /// The input checks (mesh defects, curves far from the mesh, curves that run together)
     /// never panic, whatever the mesh and the curves.
@@ -492,7 +474,7 @@ fn small_scene() -> impl Strategy<Value = Scene> {
 }
 
 proptest! {
-    #![proptest_config(config(40))]
+    #![proptest_config(fuzz_config(40))]
 
     /// The whole analysis (equilibrium, eigenvalues, report) of any network that builds, with a
     /// rod radius from far too thin to far too thick and any curves removed, never panics, and

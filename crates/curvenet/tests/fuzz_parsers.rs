@@ -18,6 +18,9 @@
 //! --test fuzz_parsers`. Failing seeds are kept in `tests/fuzz_regressions/`, and every file of
 //! `tests/fuzz_regressions/parsers/` is fed to every parser by `regressions_parse_cleanly`.
 
+mod common;
+
+use common::fuzz_config;
 use curvenet::geom::Vec3;
 use curvenet::io::{
     self, CurveFile, InputError, MeshFile, Origin, Polyline, TriMesh, curves_to_json,
@@ -25,28 +28,7 @@ use curvenet::io::{
     parse_obj_polylines, parse_reference_curves,
 };
 use proptest::prelude::*;
-use proptest::test_runner::FileFailurePersistence;
 use std::path::Path;
-
-/// Cases per property: the environment's `CURVENET_FUZZ_CASES` or `PROPTEST_CASES`, else
-/// `default`.
-fn cases(default: u32) -> u32 {
-    ["CURVENET_FUZZ_CASES", "PROPTEST_CASES"]
-        .iter()
-        .find_map(|k| std::env::var(k).ok()?.trim().parse().ok())
-        .unwrap_or(default)
-}
-
-fn config(default: u32) -> ProptestConfig {
-    ProptestConfig {
-        cases: cases(default),
-        failure_persistence: Some(Box::new(FileFailurePersistence::Direct(
-            "tests/fuzz_regressions/fuzz_parsers.proptest-regressions",
-        ))),
-        max_shrink_iters: 4096,
-        ..ProptestConfig::default()
-    }
-}
 
 /// The name every parse is given.
 const FILE: &str = "fuzz.in";
@@ -451,7 +433,7 @@ fn mutated(text: String, edits: &[Mutation]) -> String {
 }
 
 proptest! {
-    #![proptest_config(config(1500))]
+    #![proptest_config(fuzz_config(1500))]
 
     /// Arbitrary bytes, read as lossy UTF-8.
     #[test]
@@ -500,7 +482,7 @@ proptest! {
 }
 
 proptest! {
-    #![proptest_config(config(100))]
+    #![proptest_config(fuzz_config(100))]
 
     /// Files of arbitrary bytes read through `read_curves` and `read_mesh` (UTF-8 checked by
     /// the readers): an error names the file.

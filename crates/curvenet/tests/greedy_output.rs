@@ -19,7 +19,7 @@
 
 mod common;
 
-use common::random_arches;
+use common::{TempDir, random_arches};
 use curvenet::network::{BuildInfo, BuildParams, Network, build_network};
 use curvenet::rod::Supports;
 use curvenet::run_folder::{InputDescription, OutputWriter, ResultFile, RunSetup};
@@ -28,34 +28,7 @@ use curvenet::simplify::{Budget, GreedyParams, SimplifyError, greedy};
 use curvenet::stability::Evaluation;
 use curvenet::stability::{Analyzer, StabilityParams};
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-/// A temporary folder, removed when dropped.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(tag: &str) -> Self {
-        static COUNT: AtomicUsize = AtomicUsize::new(0);
-        let n = COUNT.fetch_add(1, Ordering::Relaxed);
-        let dir = std::env::temp_dir().join(format!(
-            "curvenet-greedy-output-{}-{tag}-{n}",
-            std::process::id()
-        ));
-        let _ = std::fs::remove_dir_all(&dir);
-        TempDir(dir)
-    }
-
-    fn path(&self) -> &Path {
-        &self.0
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
+use std::path::Path;
 
 /// A network with its build, the analyzer and the run's set-up.
 struct Scene {

@@ -18,7 +18,7 @@
 
 mod common;
 
-use common::{build, data_dir, random_arches, rel_diff};
+use common::{build, data_dir, dome, random_arches, rel_diff};
 use curvenet::network::{Network, build_network};
 use curvenet::rod::Supports;
 use curvenet::simplify::greedy::{GreedyOutcome, NoHooks};
@@ -28,17 +28,12 @@ use std::time::Instant;
 
 /// Agreement of one score computed by two routes: shift-and-invert about zero (no pruning) or
 /// about the best score so far (the inertia test's shift). Both meet the Lanczos tolerance;
-/// they differ by up to about 1e-8 (tower, first removal: 1.1e-8), ten times below the SPEC's
+/// they differ by up to about 1e-8 (tower, first removal: 1.1e-8), ten times below the
 /// tie tolerance 1e-7 that decides between close candidates.
 const SAME: f64 = 5e-8;
 
 fn arches(seed: u64, n: usize, h: f64) -> Network {
     build(&random_arches(seed, n), h, Supports::Clamped)
-}
-
-fn dome(families: usize, per_family: usize, h: f64) -> Network {
-    let s = curvenet::builtin::dome_arcs(2000.0, 700.0, families, per_family);
-    build(&s.curves, h, Supports::Clamped)
 }
 
 fn run(a: &Analyzer, params: &GreedyParams) -> GreedyOutcome {

@@ -16,7 +16,7 @@
 
 mod common;
 
-use common::{build, dense_hessian, polyline, rel_diff, straight_rod};
+use common::{build, dense_eigen, dense_hessian, polyline, rel_diff, straight_rod};
 use curvenet::geom::Vec3;
 use curvenet::material::{Physical, RestShape, Section, presets};
 use curvenet::physics::{PhysicalParams, analyze_physical, assembly_stresses};
@@ -25,7 +25,6 @@ use curvenet::rod::mass::{inverse_sqrt_coordinates, lumped_masses, scale_hessian
 use curvenet::rod::physical::{masses_per_length, physical_rods, rigid_anchor_weight};
 use curvenet::rod::{ActiveSet, EnergyModel, Supports};
 use curvenet::solve::eigen::{EigenOptions, EigenParams, Spectrum, smallest_eigenpairs};
-use curvenet::solve::lanczos::smallest_eigenpairs_dense;
 use curvenet::solve::{
     Backend, Cholesky, Equilibrium, NewtonInfo, NewtonParams, SolverTuning, SymbolicFactor,
 };
@@ -278,8 +277,8 @@ fn rigid_smallest(m: &EnergyModel, net: &Network, u: &[f64], masses: Option<&[f6
     };
     let free: Vec<usize> = (0..m.dofs()).filter(|&i| !anchored[i / 3]).collect();
     let sub = faer::Mat::<f64>::from_fn(free.len(), free.len(), |i, j| dense[(free[i], free[j])]);
-    let (with, _) = smallest_eigenpairs_dense(dense.as_ref(), 1).expect("dense spectrum");
-    let (rigid, _) = smallest_eigenpairs_dense(sub.as_ref(), 1).expect("dense spectrum");
+    let (with, _) = dense_eigen(dense.as_ref());
+    let (rigid, _) = dense_eigen(sub.as_ref());
     (with[0], rigid[0])
 }
 

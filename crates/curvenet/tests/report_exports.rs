@@ -10,6 +10,9 @@
 //!   the fabrication table has the joints' arc lengths and the rods met there;
 //! - missing and corrupt folders and files give errors naming the file, never a panic.
 
+mod common;
+
+use common::TempDir;
 use curvenet::geom::Vec3;
 use curvenet::io::{self, Origin, Polyline, TriMesh};
 use curvenet::network::{BuildParams, build_network};
@@ -22,36 +25,8 @@ use curvenet::run_folder::{InputDescription, OutputWriter, RunFolder, RunSetup, 
 use curvenet::simplify::{Budget, GreedyParams, greedy};
 use curvenet::stability::{Analyzer, StabilityParams};
 use curvenet::trace::{Generator, builtin_surface, generate, scale_to_extent};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::OnceLock;
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-/// A temporary folder, removed when dropped.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(tag: &str) -> Self {
-        static COUNT: AtomicUsize = AtomicUsize::new(0);
-        let n = COUNT.fetch_add(1, Ordering::Relaxed);
-        let dir = std::env::temp_dir().join(format!(
-            "curvenet-report-exports-{}-{tag}-{n}",
-            std::process::id()
-        ));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).expect("temp dir");
-        TempDir(dir)
-    }
-
-    fn path(&self) -> &Path {
-        &self.0
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
 
 /// The demo's curves and surface: 24 random geodesics (seed 1) on the built-in dome scaled to
 /// 4000 units, h = 100.
@@ -117,7 +92,7 @@ fn make_run(
 fn demo_run() -> &'static Path {
     static RUN: OnceLock<TempDir> = OnceLock::new();
     RUN.get_or_init(|| {
-        let dir = TempDir::new("demo");
+        let dir = TempDir::create("demo");
         let (curves, mesh, build) = demo_scene();
         make_run(dir.path(), &curves, build, 0.3, Vec::new(), Some(&mesh));
         dir
@@ -164,7 +139,7 @@ fn ring_scene() -> Vec<Polyline> {
 fn ring_run() -> &'static Path {
     static RUN: OnceLock<TempDir> = OnceLock::new();
     RUN.get_or_init(|| {
-        let dir = TempDir::new("ring");
+        let dir = TempDir::create("ring");
         let build = BuildParams {
             edge_length: 10.0,
             supports: Supports::Clamped,
@@ -182,7 +157,7 @@ fn network_file_round_trip_gives_the_same_lambda() {
     let (net, _) = build_network(&curves, &build).expect("builds");
     let params = StabilityParams::default();
     let n = net.rods.len();
-    let dir = TempDir::new("roundtrip");
+    let dir = TempDir::create("roundtrip");
 
     // The whole network: bit-identical after the round trip, and the same λ.
     let all: Vec<usize> = (0..n).collect();
@@ -321,7 +296,7 @@ fn obj_json_and_csv_exports_of_a_ring_and_two_lines() {
     );
 
     // JSON, read back by io::read_curves: rest and equilibrium points, labels with the data.
-    let dir = TempDir::new("json");
+    let dir = TempDir::create("json");
     let paths = export::write_exports(&run, k, ExportFormat::Json, dir.path()).expect("writes");
     assert_eq!(paths.len(), 2);
     let rest = io::read_curves(&paths[0]).expect("rest json reads").curves;
@@ -407,7 +382,7 @@ fn obj_json_and_csv_exports_of_a_ring_and_two_lines() {
     }
 
     // All formats at once: seven files.
-    let dir = TempDir::new("all");
+    let dir = TempDir::create("all");
     let paths = export::write_exports(&run, last, ExportFormat::All, dir.path()).expect("writes");
     assert_eq!(paths.len(), 7);
     assert!(paths.iter().all(|p| p.is_file()));
@@ -417,7 +392,7 @@ fn obj_json_and_csv_exports_of_a_ring_and_two_lines() {
 
 #[test]
 fn bad_folders_and_files_give_clear_errors() {
-    let dir = TempDir::new("bad");
+    let dir = TempDir::create("bad");
     let missing = dir.path().join("nope");
     let e = RunFolder::open(&missing).unwrap_err();
     assert!(e.contains("nope") && e.contains("not a folder"), "{e}");

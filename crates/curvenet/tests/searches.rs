@@ -1,5 +1,6 @@
-//! The three searches of SPEC §5–6 (greedy, exhaustive, random) on small networks, against each
-//! other and against an independent brute force written here.
+//! The three searches of docs/model.md (*Greedy simplification*, *Searches beyond the greedy*:
+//! greedy, exhaustive, random) on small networks, against each other and against an independent
+//! brute force written here.
 //!
 //! Networks: random crossing arches over a paraboloid height field (7, 9 and 10 arches, 200–260
 //! vertices) and the built-in dome `dome_arcs(2000, 700, 2, 4)` at h = 100 (312 vertices, with
@@ -8,11 +9,11 @@
 //! - exhaustive ≥ greedy: the exhaustive optimum is at least `Analyzer::lambda_eq` of the
 //!   greedy's final set (which is feasible and among the exhaustive subsets with the same λ),
 //!   and at least the best of a random search of E evaluations (1e-9 relative slack);
-//! - exhaustive = brute force: every mask of the 2^N is tested for feasibility (keep list held,
-//!   ≥ 1 curve, Σ rest lengths from `rods[i].rest_lengths` ≤ budget) and evaluated with the
-//!   `Analyzer` directly (relax from u = 0, then `spectrum(..).lambda()`); the count of feasible
-//!   subsets, every subset's λ (1e-9), the best λ and the best subset (the SPEC's tie rule: the
-//!   first in depth-first include-first order within 1e-7 of the top) all agree;
+//! - exhaustive = brute force: every mask of the 2^N is tested for feasibility (keep list held, ≥ 1
+//!   curve, Σ rest lengths from `rods[i].rest_lengths` ≤ budget) and evaluated with the `Analyzer`
+//!   directly (relax from u = 0, then `spectrum(..).lambda()`); the count of feasible subsets,
+//!   every subset's λ (1e-9), the best λ and the best subset (docs/model.md's tie rule: the first
+//!   in depth-first include-first order within 1e-7 of the top) all agree;
 //! - random search: every draw feasible and distinct, each λ equal to the exhaustive one, the
 //!   same draws and values for the same seed, and with E ≥ the number of feasible subsets it
 //!   draws all of them and finds the optimum;
@@ -26,7 +27,7 @@
 
 mod common;
 
-use common::{build, random_arches, rel_diff, sub_network};
+use common::{build, dome, random_arches, rel_diff, sub_network};
 use curvenet::cancel::Cancel;
 use curvenet::network::Network;
 use curvenet::rod::{ActiveSet, Supports};
@@ -41,7 +42,7 @@ use std::collections::HashSet;
 /// (warm or cold Newton, full or split network): both stop at a relative gradient of about
 /// 1e-10, which leaves `λ` uncertain to a few 1e-9 on soft networks (seen: 6e-9 on CI).
 const SAME: f64 = 5e-8;
-/// The SPEC's tie tolerance.
+/// The tie tolerance (docs/model.md, *Greedy simplification*).
 const TIE: f64 = 1e-7;
 
 struct Case {
@@ -60,11 +61,6 @@ fn arches(seed: u64, n: usize, h: f64) -> Network {
         net.vertex_count()
     );
     net
-}
-
-fn dome() -> Network {
-    let s = curvenet::builtin::dome_arcs(2000.0, 700.0, 2, 4);
-    build(&s.curves, 100.0, Supports::Clamped)
 }
 
 /// The networks and budgets, without keep lists.
@@ -90,7 +86,7 @@ fn cases() -> Vec<Case> {
         },
         Case {
             name: "dome @0.3",
-            network: dome(),
+            network: dome(2, 4, 100.0),
             fraction: 0.3,
             keep: vec![],
         },
@@ -114,7 +110,7 @@ fn keep_cases() -> Vec<Case> {
         },
         Case {
             name: "dome @0.4 keep [3]",
-            network: dome(),
+            network: dome(2, 4, 100.0),
             fraction: 0.4,
             keep: vec![3],
         },
@@ -190,7 +186,7 @@ fn brute_force(a: &Analyzer, budget: f64, keep: &[usize]) -> Vec<(Vec<usize>, f6
         .collect()
 }
 
-/// The SPEC's pick: the first listed within `TIE` of the largest finite value.
+/// docs/model.md's pick: the first listed within `TIE` of the largest finite value.
 fn first_within_tie(all: &[(Vec<usize>, f64)]) -> (Vec<usize>, f64) {
     let top = all
         .iter()

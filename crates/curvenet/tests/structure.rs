@@ -1,4 +1,5 @@
-//! The stability of a sub-structure (SPEC §5) and the counting of zero and negative modes.
+//! The stability of a sub-structure (docs/model.md, *Stability*) and the counting of zero and
+//! negative modes.
 //!
 //! (a) "Explicit deletion is the definition": for several removal sets on a relaxed small dome,
 //!     the smallest eigenvalues from `Analyzer::spectrum` (loose-diagonal device, sparse
@@ -18,21 +19,39 @@
 mod common;
 
 use common::{
-    build, circle, data_dir, dense_hessian, norm, orthonormalize, polyline, random_curves, rel_diff,
+    build, circle, data_dir, dense_eigen, dense_hessian, dome, norm, orthonormalize, polyline,
+    random_curves, rel_diff, sub_network,
 };
 use curvenet::geom::Vec3;
 use curvenet::network::{Joint, Network, Rod, build_network};
 use curvenet::rod::model::Terms;
-use curvenet::rod::{ActiveSet, Material, Supports};
+use curvenet::rod::{ActiveSet, EnergyModel, Material, Supports};
 use curvenet::solve::EigenParams;
-use curvenet::solve::lanczos::smallest_eigenpairs_dense;
 use curvenet::stability::{Analyzer, StabilityParams};
 use std::f64::consts::PI;
 
+/// The Hessian of the active structure with the rows and columns of loose vertices deleted
+/// (the definition of a structure: docs/model.md, *Stability*), dense, and the kept vertices.
+fn explicit_deletion(
+    model: &EnergyModel,
+    u: &[f64],
+    active: &ActiveSet,
+) -> (faer::Mat<f64>, Vec<usize>) {
+    let full = dense_hessian(model, u, active);
+    let mask = model.vertex_mask(active);
+    let kept: Vec<usize> = (0..mask.len()).filter(|&v| mask[v]).collect();
+    let dofs: Vec<usize> = kept
+        .iter()
+        .flat_map(|&v| [3 * v, 3 * v + 1, 3 * v + 2])
+        .collect();
+    let m = dofs.len();
+    let dense = faer::Mat::from_fn(m, m, |i, j| full[(dofs[i], dofs[j])]);
+    (dense, kept)
+}
+
 /// The small dome (6 arcs, ~150 vertices).
-fn dome() -> Network {
-    let s = curvenet::builtin::dome_arcs(2000.0, 700.0, 2, 3);
-    build(&s.curves, 150.0, Supports::Clamped)
+fn small_dome() -> Network {
+    dome(2, 3, 150.0)
 }
 
 /// A thicker rod (r = 20, L/r ≈ 150): λ/‖H‖₁ is 1e4 times larger than with r = 2, so that the
@@ -68,7 +87,7 @@ const REMOVALS: [&[usize]; 5] = [&[1], &[0, 3], &[2, 4], &[5], &[0, 1, 3, 4]];
 
 #[test]
 fn explicit_deletion_is_the_definition() {
-    let net = dome();
+    let net = small_dome();
     assert!(net.dofs() < 1500);
     let mut worst = 0.0f64;
     for (material, tol_of) in [
@@ -87,14 +106,14 @@ fn explicit_deletion_is_the_definition() {
             let active = active_without(net.rods.len(), removed);
             let s = a.spectrum(&active, &u, None).expect("spectrum");
             assert_eq!((s.zero_modes, s.negative_modes), (0, 0));
-            let (dense, kept) = a.model().explicit_deletion(&u, &active);
+            let (dense, kept) = explicit_deletion(a.model(), &u, &active);
             let mask = a.model().vertex_mask(&active);
             assert_eq!(kept.len(), mask.iter().filter(|&&m| m).count());
             assert!(
                 kept.len() < net.vertex_count(),
                 "removing {removed:?} deletes vertices"
             );
-            let (dv, _) = smallest_eigenpairs_dense(dense.as_ref(), 4).expect("dense solve");
+            let (dv, _) = dense_eigen(dense.as_ref());
             for k in 0..4 {
                 let tol = match tol_of {
                     None => 1e-9,
@@ -122,67 +141,9 @@ fn explicit_deletion_is_the_definition() {
     println!("explicit deletion: worst difference / tolerance = {worst:e}");
 }
 
-/// The network made of the curves `keep` only: vertices renumbered in order, rest lengths and
-/// anchors kept. Returns it with the old index of every new vertex.
-fn rebuilt(net: &Network, keep: &[usize]) -> (Network, Vec<usize>) {
-    let mut new_of = vec![u32::MAX; net.vertex_count()];
-    let mut used = vec![false; net.vertex_count()];
-    for &c in keep {
-        for &v in &net.rods[c].vertices {
-            used[v as usize] = true;
-        }
-    }
-    let mut old_of = Vec::new();
-    for v in 0..net.vertex_count() {
-        if used[v] {
-            new_of[v] = old_of.len() as u32;
-            old_of.push(v);
-        }
-    }
-    let map = |vs: &[u32]| -> Vec<u32> { vs.iter().map(|&v| new_of[v as usize]).collect() };
-    let rods = keep
-        .iter()
-        .map(|&c| {
-            let r = &net.rods[c];
-            Rod {
-                vertices: map(&r.vertices),
-                closed: r.closed,
-                rest_lengths: r.rest_lengths.clone(),
-                anchors: map(&r.anchors),
-            }
-        })
-        .collect();
-    let joints = net
-        .joints
-        .iter()
-        .filter_map(|j| {
-            let curves: Vec<u32> = j
-                .curves
-                .iter()
-                .filter_map(|&c| keep.iter().position(|&k| k == c as usize))
-                .map(|i| i as u32)
-                .collect();
-            (curves.len() >= 2).then(|| Joint {
-                vertex: new_of[j.vertex as usize],
-                curves,
-            })
-        })
-        .collect();
-    let positions = old_of.iter().map(|&v| net.positions[v]).collect();
-    (
-        Network {
-            positions,
-            rods,
-            joints,
-            supports: net.supports,
-        },
-        old_of,
-    )
-}
-
 #[test]
 fn rebuilt_network_gives_the_same_lambda() {
-    let net = dome();
+    let net = small_dome();
     let mut worst = 0.0f64;
     for material in [thick(), Material::default()] {
         let a = Analyzer::new(net.clone(), params(material, 4)).expect("analyzer");
@@ -191,7 +152,7 @@ fn rebuilt_network_gives_the_same_lambda() {
         for removed in REMOVALS {
             let active = active_without(net.rods.len(), removed);
             let device = a.spectrum(&active, &u, None).expect("spectrum");
-            let (small, old_of) = rebuilt(&net, &active.curves());
+            let (small, old_of) = sub_network(&net, &active.curves());
             assert!(small.vertex_count() < net.vertex_count());
             let u_small: Vec<f64> = old_of
                 .iter()
@@ -292,7 +253,7 @@ fn free_ring_next_to_the_shell_has_six_zero_modes() {
             s.residuals[k]
         );
     }
-    // The 7th is the shell's λ (≈ 6.49e-9, SPEC §11), above the threshold: not a zero mode.
+    // The 7th is the shell's λ (≈ 6.49e-9), above the threshold: not a zero mode.
     assert!(s.values[6] > s.zero_threshold);
     assert!(
         rel_diff(s.values[6], 6.49e-9) < 0.01,
@@ -327,10 +288,10 @@ fn free_ring_next_to_the_shell_has_six_zero_modes() {
     assert_eq!(share[0].curve, ring_id);
     assert!(share[0].share > 0.999999);
 
-    // The shell alone has the same λ: the ring changes nothing else. Not to the digit: the
-    // shell's Newton solve ends at its round-off floor (‖∇E‖ ≈ 1e-9 relative, SPEC §11), at a
-    // point that depends on the Newton path, and λ moves by ~1e-6 relative with it (measured
-    // 5e-7 between the two solves here).
+    // The shell alone has the same λ: the ring changes nothing else. Not to the digit: the shell's
+    // Newton solve ends at its round-off floor (‖∇E‖ ≈ 1e-9 relative; docs/model.md, *Numerical
+    // hazards*), at a point that depends on the Newton path, and λ moves by ~1e-6 relative with it
+    // (measured 5e-7 between the two solves here).
     let shell_net = build_network(&ex.curves, &ex.build).expect("builds").0;
     let b = Analyzer::new(shell_net, params(Material::default(), 4)).expect("analyzer");
     let alone = b.analyze(&b.all(), None).expect("analysis");
@@ -513,7 +474,7 @@ fn compressed_rod_beyond_euler_load_has_negative_modes() {
     assert!(rel_diff(s.values[0], s.values[1]) < 1e-8, "transverse pair");
     // Dense eigenvalues of the same Hessian.
     let hd = dense_hessian(a.model(), &u, &a.all());
-    let (dv, _) = smallest_eigenpairs_dense(hd.as_ref(), 4).expect("dense solve");
+    let (dv, _) = dense_eigen(hd.as_ref());
     for k in 0..4 {
         assert!(
             rel_diff(s.values[k], dv[k]) < 1e-8,
@@ -626,7 +587,7 @@ fn an_eigen_trailing_tolerance_outside_zero_to_a_hundredth_is_an_error() {
 #[test]
 fn the_hessian_without_a_curve_is_the_whole_assembly_bit_for_bit() {
     // (and a structure's own local Hessians serve it and its sub-structures alike)
-    let mut nets = vec![("dome", dome())];
+    let mut nets = vec![("dome", small_dome())];
     if let Some(data) = data_dir() {
         let ex = curvenet::paper::load("tower", &data, Supports::Clamped).expect("tower loads");
         nets.push((

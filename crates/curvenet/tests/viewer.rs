@@ -12,6 +12,9 @@
 //!   `final.png` shows the kept curves' colour), and are byte-identical when written twice;
 //! - `write_run_outputs` writes the pictures, the page and the fabrication table.
 
+mod common;
+
+use common::TempDir;
 use curvenet::network::{BuildParams, build_network};
 use curvenet::report::plot::PLOT_SIZE;
 use curvenet::report::render::{KEPT, PICTURE_SIZE};
@@ -24,24 +27,14 @@ use curvenet::run_folder::{InputDescription, OutputWriter, RunSetup};
 use curvenet::simplify::{Budget, GreedyParams, greedy};
 use curvenet::stability::{Analyzer, StabilityParams};
 use curvenet::trace::{Generator, builtin_surface, generate, scale_to_extent};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::OnceLock;
-
-/// A temporary folder, removed when dropped.
-struct TempDir(PathBuf);
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
 
 /// A greedy run on 12 random geodesics over the built-in dome, made once.
 fn run_dir() -> &'static Path {
     static RUN: OnceLock<TempDir> = OnceLock::new();
-    &RUN.get_or_init(|| {
-        let dir = std::env::temp_dir().join(format!("curvenet-viewer-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
+    RUN.get_or_init(|| {
+        let dir = TempDir::new("run");
         let surface = builtin_surface("dome").expect("dome");
         let (mesh, _) = scale_to_extent(&surface, 4000.0);
         let curves = generate(&mesh, &Generator::Random { count: 12, seed: 3 })
@@ -72,14 +65,14 @@ fn run_dir() -> &'static Path {
             constraints: Default::default(),
         };
         let analyzer = Analyzer::new(net, stability).expect("analyzer");
-        let mut w = OutputWriter::create(&dir, analyzer.network(), setup, 0.4 * total)
+        let mut w = OutputWriter::create(dir.path(), analyzer.network(), setup, 0.4 * total)
             .expect("output folder");
         w.write_mesh(&mesh).expect("mesh");
         let outcome = greedy(&analyzer, &params, None, None, &mut w).expect("greedy");
         w.finish(&outcome, &serde_json::json!({})).expect("finish");
-        TempDir(dir)
+        dir
     })
-    .0
+    .path()
 }
 
 /// The JSON embedded in a viewer page.

@@ -1,6 +1,6 @@
 //! `curvenet analyze`: build, relax and measure one network (or what `--remove` leaves).
 
-use super::{load_inputs, physical_mode, print_warnings, stability_params};
+use super::{check_curve_ids, load_setup, print_warnings};
 use crate::args::AnalyzeArgs;
 use crate::exit::usage;
 use curvenet::physics::{PhysicalParams, PhysicalReport, analyze_physical};
@@ -10,25 +10,12 @@ use std::time::Instant;
 
 pub fn run(a: AnalyzeArgs) -> anyhow::Result<()> {
     let start = Instant::now();
-    let inputs = load_inputs(&a.input, &a.physics)?;
-    let (physical, paper) = physical_mode(
-        &a.physics,
-        &a.physical,
-        inputs.file_units.as_deref(),
-        &inputs.specs,
-    )?;
-    let mut params = stability_params(&paper)?;
-    params.objective = a.objective;
-    // The input's warnings now, before the (possibly long) analysis; the analysis adds its own.
+    // The input's warnings are printed now, before the (possibly long) analysis; the analysis
+    // adds its own.
+    let (inputs, physical, params) = load_setup(&a.input, &a.physics, &a.physical, a.objective)?;
     let shown = inputs.warnings.len();
-    print_warnings(&inputs.warnings);
     let n = inputs.curves.len();
-    if let Some(&bad) = a.remove.iter().find(|&&c| c >= n) {
-        return Err(usage(format!(
-            "--remove names curve {bad}, but the input has {n} curves (ids 0..{})",
-            n.saturating_sub(1)
-        )));
-    }
+    check_curve_ids("--remove", &a.remove, n)?;
     // A curve named twice is removed once.
     let mut remove = a.remove.clone();
     remove.sort_unstable();

@@ -721,8 +721,7 @@ fn certificate_of(
         anyhow::bail!("the final network does not meet the budget");
     }
     let mut c = certificate(&problem, curves, &CertifyParams::default(), cancel)?;
-    // Branch and bound nodes: as given, or about 1e6 unknowns' worth of eigen solves
-    // (≈ 220 nodes on the demo's network, ≈ 60 on the tower's).
+    // Branch and bound nodes: as given, or about 1e6 unknowns' worth of eigen solves.
     let nodes = nodes.unwrap_or_else(|| (1e6 / analyzer.model().dofs().max(1) as f64) as usize);
     tighten_certificate(&problem, &mut c, nodes.min(100_000), cancel)?;
     Ok(c)

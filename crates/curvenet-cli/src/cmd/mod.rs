@@ -21,7 +21,7 @@ use curvenet::network::{BuildParams, checks};
 use curvenet::physics::{PhysicalOptions, PhysicalParams};
 use curvenet::rod::Material;
 use curvenet::run_folder::InputDescription;
-use curvenet::stability::StabilityParams;
+use curvenet::stability::{Objective, StabilityParams};
 use curvenet::{paper, pipeline};
 
 /// Runs the parsed command line.
@@ -107,11 +107,7 @@ pub fn stability_params(p: &PhysicsArgs) -> anyhow::Result<StabilityParams> {
         },
         anchor_weight: p.anchor_weight.unwrap_or(d.anchor_weight),
     };
-    s.eigen.count = p.eigen_count;
-    s.eigen.max_basis = s
-        .eigen
-        .max_basis
-        .max(p.eigen_count + 4 * s.eigen.block_size);
+    s.eigen = s.eigen.with_count(p.eigen_count);
     s.validate().map_err(usage)?;
     let m = &s.material;
     for (name, k, formula) in [
@@ -148,6 +144,38 @@ pub struct Inputs {
     pub specs: Vec<curvenet::material::CurveSpec>,
     /// The length unit the curve files declare (the first that does).
     pub file_units: Option<String>,
+}
+
+/// The user's inputs read (their warnings printed), with the physical mode they ask for and
+/// the stability parameters maximising `objective`: where `analyze` and `simplify` start.
+pub fn load_setup(
+    input: &InputArgs,
+    physics: &PhysicsArgs,
+    physical: &PhysicalModeArgs,
+    objective: Objective,
+) -> anyhow::Result<(Inputs, Option<PhysicalParams>, StabilityParams)> {
+    let inputs = load_inputs(input, physics)?;
+    print_warnings(&inputs.warnings);
+    let (physical, paper) = physical_mode(
+        physics,
+        physical,
+        inputs.file_units.as_deref(),
+        &inputs.specs,
+    )?;
+    let mut params = stability_params(&paper)?;
+    params.objective = objective;
+    Ok((inputs, physical, params))
+}
+
+/// Refuses the curve ids `option` names when the input (`n` curves) lacks one.
+pub fn check_curve_ids(option: &str, ids: &[usize], n: usize) -> anyhow::Result<()> {
+    match ids.iter().find(|&&c| c >= n) {
+        Some(&bad) => Err(usage(format!(
+            "{option} names curve {bad}, but the input has {n} curves (ids 0..{})",
+            n.saturating_sub(1)
+        ))),
+        None => Ok(()),
+    }
 }
 
 /// Reads and scales the inputs.

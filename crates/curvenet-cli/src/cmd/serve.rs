@@ -3,7 +3,7 @@
 //! giving the `λ` of `curvenet analyze --remove`; `--bench` measures edits against cold
 //! analyses instead.
 
-use super::{load_inputs, print_warnings, stability_params};
+use super::{check_curve_ids, load_inputs, print_warnings, stability_params};
 use crate::args::{InputArgs, ServeArgs};
 use crate::exit::usage;
 use curvenet::network::{BuildParams, build_network};
@@ -97,7 +97,7 @@ fn from_inputs(a: &ServeArgs) -> anyhow::Result<(Analyzer, Vec<usize>)> {
     };
     print_warnings(&warnings);
     let n = curves.len();
-    check_removed(&a.remove, n)?;
+    check_curve_ids("--remove", &a.remove, n)?;
     let (network, info) = build_network(&curves, &build)?;
     print_warnings(&info.warnings);
     let analyzer = Analyzer::new(network, params).map_err(usage)?;
@@ -111,7 +111,7 @@ fn from_run(dir: &Path, remove: &[usize]) -> anyhow::Result<(Analyzer, Vec<usize
     let run = RunFolder::open(dir).map_err(usage)?;
     print_warnings(&run.warnings);
     let r = &run.result;
-    check_removed(remove, run.network.rods.len())?;
+    check_curve_ids("--remove", remove, run.network.rods.len())?;
     let analyzer = Analyzer::new(run.network.clone(), r.setup.stability.clone())
         .map_err(|e| usage(format!("{}: {e}", dir.join("result.json").display())))?;
     let start = match &r.answer {
@@ -127,17 +127,6 @@ fn from_run(dir: &Path, remove: &[usize]) -> anyhow::Result<(Analyzer, Vec<usize
     let stop = r.stop.map(|s| s.to_string());
     let runner = Runner::finished(&r.iterations, (fraction, r.budget), stop);
     Ok((analyzer, kept, runner))
-}
-
-/// `--remove` checked against a network of `n` curves.
-fn check_removed(remove: &[usize], n: usize) -> anyhow::Result<()> {
-    match remove.iter().find(|&&c| c >= n) {
-        Some(&bad) => Err(usage(format!(
-            "--remove names curve {bad}, but the input has {n} curves (ids 0..{})",
-            n.saturating_sub(1)
-        ))),
-        None => Ok(()),
-    }
 }
 
 /// The server bound to `--host` and `--port` (a warning when it is not a loopback address).

@@ -60,9 +60,10 @@ impl Offer {
     }
 }
 
-/// The network to build (`answer` in `result.json`; each of `alternatives` too).
+/// What [`Answer`] and [`StableNetwork`] say of a network: where it was found, its curves,
+/// length and `λ_eq` (their first fields in `result.json`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Answer {
+pub struct Found {
     /// Which search found it.
     pub source: String,
     /// The greedy's iteration, for a network of its path.
@@ -74,6 +75,26 @@ pub struct Answer {
     pub length: f64,
     /// `λ_eq`.
     pub lambda: f64,
+}
+
+impl Found {
+    fn of(offer: &Offer) -> Self {
+        Found {
+            source: offer.source.clone(),
+            iteration: offer.iteration,
+            curves: offer.curves.clone(),
+            length: offer.length,
+            lambda: offer.lambda,
+        }
+    }
+}
+
+/// The network to build (`answer` in `result.json`; each of `alternatives` too).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Answer {
+    /// Where it was found, its curves, length and `λ_eq`.
+    #[serde(flatten)]
+    pub found: Found,
     /// Zero modes (0).
     pub zero_modes: usize,
     /// Negative modes (0).
@@ -85,19 +106,25 @@ pub struct Answer {
 /// A stable network outside the budget, named when there is no answer.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct StableNetwork {
-    /// Which search found it.
-    pub source: String,
-    /// The greedy's iteration, for a network of its path.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub iteration: Option<usize>,
-    /// Curves, ascending.
-    pub curves: Vec<usize>,
-    /// Total rest length.
-    pub length: f64,
-    /// `λ_eq`.
-    pub lambda: f64,
+    /// Where it was found, its curves, length and `λ_eq`.
+    #[serde(flatten)]
+    pub found: Found,
     /// How far its length exceeds the budget, in percent of the budget (0 or less: within).
     pub over_budget_percent: f64,
+}
+
+impl std::ops::Deref for Answer {
+    type Target = Found;
+    fn deref(&self) -> &Found {
+        &self.found
+    }
+}
+
+impl std::ops::Deref for StableNetwork {
+    type Target = Found;
+    fn deref(&self) -> &Found {
+        &self.found
+    }
 }
 
 /// Why there is no answer (`no_answer` in `result.json`, beside `"answer": null`).
@@ -178,11 +205,7 @@ fn disqualified(constraints: &Constraints, offer: &Offer) -> Option<String> {
 
 fn answer_of(constraints: &Constraints, offer: &Offer) -> Answer {
     Answer {
-        source: offer.source.clone(),
-        iteration: offer.iteration,
-        curves: offer.curves.clone(),
-        length: offer.length,
-        lambda: offer.lambda,
+        found: Found::of(offer),
         zero_modes: offer.zero_modes,
         negative_modes: offer.negative_modes,
         margins: constraints.margins(&offer.curves, offer.deviation),
@@ -278,11 +301,7 @@ fn no_answer(constraints: &Constraints, offers: &[Offer]) -> NoAnswer {
         .filter(|o| o.is_stable())
         .min_by(|a, b| a.length.total_cmp(&b.length))
         .map(|o| StableNetwork {
-            source: o.source.clone(),
-            iteration: o.iteration,
-            curves: o.curves.clone(),
-            length: o.length,
-            lambda: o.lambda,
+            found: Found::of(o),
             over_budget_percent: 100.0 * (o.length - budget) / budget,
         });
     NoAnswer {

@@ -152,13 +152,8 @@ mod tests {
     #[test]
     fn closest_points_match_brute_force() {
         // Deterministic pseudo-random segments against a dense parameter sampling.
-        let mut seed = 12345u64;
-        let mut rnd = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((seed >> 11) as f64) / ((1u64 << 53) as f64) * 2.0 - 1.0
-        };
+        let mut rng = crate::rng::SplitMix64::new(12345);
+        let mut rnd = || rng.signed();
         for _ in 0..200 {
             let p0 = Vec3::new(rnd(), rnd(), rnd());
             let p1 = Vec3::new(rnd(), rnd(), rnd());

@@ -2,12 +2,10 @@
 //!
 //! A greedy run saves every iteration as it goes (states, modes, curves, `result.json`, the
 //! carried test vectors): each file through [`write_atomic`], a temporary file synced to disk
-//! and renamed. Done on the computing thread, those writes took 9–15% of a run's wall time
-//! (roof: 0.68 s of 4.5 s, most of it waiting for the disk; the bunny writes 28 MB of test
-//! vectors per iteration). [`BackgroundWriter`] hands them to a thread of its own, which
-//! writes them one after the other in the order submitted, so the folder on disk always
-//! holds a prefix of what was submitted: `result.json` never names an iteration whose files
-//! are not there yet.
+//! and renamed; on the computing thread the greedy would wait for the disk.
+//! [`BackgroundWriter`] hands them to a thread of its own, which writes them one after the
+//! other in the order submitted, so the folder on disk always holds a prefix of what was
+//! submitted: `result.json` never names an iteration whose files are not there yet.
 //!
 //! The queue is bounded ([`QUEUE`] files): a computation that outruns the disk waits
 //! instead of piling up memory. The first failed write stops all later ones (they could

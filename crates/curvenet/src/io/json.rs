@@ -586,17 +586,15 @@ impl<'a> Scanner<'a> {
 #[cfg(test)]
 mod tests {
     use super::super::Origin;
-    use super::super::tests::{assert_same_curves, sample_curves};
+    use super::super::tests::{assert_input_error, assert_same_curves, sample_curves};
     use super::*;
 
     fn assert_err(text: &str, line: usize, phrase: &str) {
-        let e = parse_json_curves(text, "curves.json").unwrap_err();
-        assert_eq!(e.file(), "curves.json");
-        assert_eq!(e.line(), Some(line), "{e}");
-        assert!(e.to_string().contains(phrase), "`{e}` lacks `{phrase}`");
-        assert!(
-            e.to_string().starts_with(&format!("curves.json:{line}: ")),
-            "{e}"
+        assert_input_error(
+            parse_json_curves(text, "curves.json"),
+            "curves.json",
+            line,
+            phrase,
         );
     }
 

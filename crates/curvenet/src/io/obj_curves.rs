@@ -193,17 +193,15 @@ pub fn curves_to_obj(curves: &[Polyline]) -> String {
 #[cfg(test)]
 mod tests {
     use super::super::Origin;
-    use super::super::tests::{assert_same_curves, sample_curves};
+    use super::super::tests::{assert_input_error, assert_same_curves, sample_curves};
     use super::*;
 
     fn assert_err(text: &str, line: usize, phrase: &str) {
-        let e = parse_obj_polylines(text, "curves.obj").unwrap_err();
-        assert_eq!(e.file(), "curves.obj");
-        assert_eq!(e.line(), Some(line), "{e}");
-        assert!(e.to_string().contains(phrase), "`{e}` lacks `{phrase}`");
-        assert!(
-            e.to_string().starts_with(&format!("curves.obj:{line}: ")),
-            "{e}"
+        assert_input_error(
+            parse_obj_polylines(text, "curves.obj"),
+            "curves.obj",
+            line,
+            phrase,
         );
     }
 

@@ -196,18 +196,11 @@ pub fn mesh_to_obj(mesh: &TriMesh) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::super::tests::reference_file;
+    use super::super::tests::{assert_input_error, reference_file};
     use super::*;
 
     fn assert_err(text: &str, line: usize, phrase: &str) {
-        let e = parse_obj_mesh(text, "mesh.obj").unwrap_err();
-        assert_eq!(e.file(), "mesh.obj");
-        assert_eq!(e.line(), Some(line), "{e}");
-        assert!(e.to_string().contains(phrase), "`{e}` lacks `{phrase}`");
-        assert!(
-            e.to_string().starts_with(&format!("mesh.obj:{line}: ")),
-            "{e}"
-        );
+        assert_input_error(parse_obj_mesh(text, "mesh.obj"), "mesh.obj", line, phrase);
     }
 
     const QUAD: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";

@@ -136,21 +136,17 @@ pub fn curves_to_reference_text(curves: &[Polyline]) -> String {
 #[cfg(test)]
 mod tests {
     use super::super::Origin;
-    use super::super::tests::{assert_same_curves, reference_file, sample_curves};
+    use super::super::tests::{
+        assert_input_error, assert_same_curves, reference_file, sample_curves,
+    };
     use super::*;
 
-    fn err(text: &str) -> InputError {
-        parse_reference_curves(text, "roof.txt").unwrap_err()
-    }
-
     fn assert_err(text: &str, line: usize, phrase: &str) {
-        let e = err(text);
-        assert_eq!(e.file(), "roof.txt");
-        assert_eq!(e.line(), Some(line), "{e}");
-        assert!(e.to_string().contains(phrase), "`{e}` lacks `{phrase}`");
-        assert!(
-            e.to_string().starts_with(&format!("roof.txt:{line}: ")),
-            "{e}"
+        assert_input_error(
+            parse_reference_curves(text, "roof.txt"),
+            "roof.txt",
+            line,
+            phrase,
         );
     }
 

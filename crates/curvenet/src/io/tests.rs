@@ -4,6 +4,24 @@ use super::*;
 use proptest::prelude::*;
 use std::path::PathBuf;
 
+/// Asserts that `result` is an error at line `line` of `file` whose message holds `phrase`,
+/// displayed as `file:line: …`.
+pub(super) fn assert_input_error<T: std::fmt::Debug>(
+    result: Result<T, InputError>,
+    file: &str,
+    line: usize,
+    phrase: &str,
+) {
+    let e = result.unwrap_err();
+    assert_eq!(e.file(), file);
+    assert_eq!(e.line(), Some(line), "{e}");
+    assert!(e.to_string().contains(phrase), "`{e}` lacks `{phrase}`");
+    assert!(
+        e.to_string().starts_with(&format!("{file}:{line}: ")),
+        "{e}"
+    );
+}
+
 /// Curves exercising labels, closure and awkward numbers.
 pub(super) fn sample_curves() -> Vec<Polyline> {
     let origin = Origin::new("sample", 0);

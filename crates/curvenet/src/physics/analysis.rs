@@ -363,10 +363,7 @@ impl AtEquilibrium<'_> {
             &mut scaled,
             &inverse_sqrt_coordinates(metric),
         );
-        let eigen = EigenParams {
-            count,
-            ..EigenParams::default()
-        };
+        let eigen = EigenParams::default().with_count(count);
         let options = EigenOptions {
             keep: Some(&self.keep),
             ..EigenOptions::default()

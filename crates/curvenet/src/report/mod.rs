@@ -15,12 +15,9 @@ pub mod viewer;
 
 use crate::network::{BuildInfo, EdgeLengthStats, Network};
 use crate::rod::{ActiveSet, Material};
-use crate::stability::{Analysis, CurveShare, GravityDeflection, Objective};
+use crate::stability::{Analysis, CurveShare, GravityDeflection, NewtonSummary, Objective};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
-
-/// Summary of a Newton solve for reports (what results record of it).
-pub use crate::solve::NewtonSummary;
 
 /// The rod radius against the scene: what the units imply.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

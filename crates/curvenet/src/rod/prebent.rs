@@ -188,14 +188,8 @@ pub fn bend_rest(
             }
         }
     }
-    // The sums above run in different orders for (i, j) and (j, i): symmetrise.
-    for i in 0..9 {
-        for j in 0..i {
-            let m = 0.5 * (out.hess[i][j] + out.hess[j][i]);
-            out.hess[i][j] = m;
-            out.hess[j][i] = m;
-        }
-    }
+    // The sums above run in different orders for (i, j) and (j, i).
+    crate::rod::terms::symmetrize(&mut out.hess);
     out
 }
 
@@ -221,33 +215,20 @@ pub fn bend_strain(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::rng::SplitMix64;
     use crate::rod::terms::bend;
-
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((self.0 >> 11) as f64) / ((1u64 << 53) as f64) * 2.0 - 1.0
-        }
-        fn vec(&mut self) -> Vec3 {
-            Vec3::new(self.next(), self.next(), self.next())
-        }
-    }
 
     fn split<const D: usize>(x: &[f64; D], k: usize) -> Vec3 {
         Vec3::new(x[3 * k], x[3 * k + 1], x[3 * k + 2])
     }
 
     /// A random bent stencil with rest lengths near its edges' and its drawn shape.
-    fn random_rest_stencil(rng: &mut Rng) -> ([Vec3; 3], f64, f64, RestBend) {
-        let a = rng.vec();
-        let d = rng.vec() + Vec3::new(1.5, 0.0, 0.0);
+    fn random_rest_stencil(rng: &mut SplitMix64) -> ([Vec3; 3], f64, f64, RestBend) {
+        let a = rng.vec3();
+        let d = rng.vec3() + Vec3::new(1.5, 0.0, 0.0);
         let b = a + d;
-        let c = b + d + rng.vec() * 0.8;
-        let (r0, r1) = (a.dist(b) * (1.0 + 0.1 * rng.next()), b.dist(c));
+        let c = b + d + rng.vec3() * 0.8;
+        let (r0, r1) = (a.dist(b) * (1.0 + 0.1 * rng.signed()), b.dist(c));
         let rest = rest_bend(b - a, c - b, r0, r1);
         ([a, b, c], r0, r1, rest)
     }
@@ -302,15 +283,15 @@ mod tests {
 
     #[test]
     fn pre_bent_derivatives_match_finite_differences() {
-        let mut rng = Rng(19);
+        let mut rng = SplitMix64::new(19);
         for i in 0..60 {
             let ([a, b, c], r0, r1, rest) = random_rest_stencil(&mut rng);
             // Away from the drawn shape (strongly or slightly), where the residual is not zero.
             let amount = if i % 2 == 0 { 0.5 } else { 1e-3 };
             let (a, b, c) = (
-                a + rng.vec() * amount,
-                b + rng.vec() * amount,
-                c + rng.vec() * amount,
+                a + rng.vec3() * amount,
+                b + rng.vec3() * amount,
+                c + rng.vec3() * amount,
             );
             let kb = 2.5;
             let x = [a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z];
@@ -324,7 +305,7 @@ mod tests {
 
     #[test]
     fn pre_bent_term_rests_in_its_drawn_shape() {
-        let mut rng = Rng(23);
+        let mut rng = SplitMix64::new(23);
         for _ in 0..50 {
             let ([a, b, c], r0, r1, rest) = random_rest_stencil(&mut rng);
             let l = bend_rest(a, b, c, r0, r1, 3.0, &rest);
@@ -341,11 +322,11 @@ mod tests {
             };
             let scale = h.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
             for _ in 0..10 {
-                let v: [f64; 9] = std::array::from_fn(|_| rng.next());
+                let v: [f64; 9] = std::array::from_fn(|_| rng.signed());
                 assert!(quad(&v) >= -1e-12 * scale);
             }
             let t = rest.tangent;
-            let across = t.cross(rng.vec()).normalized();
+            let across = t.cross(rng.vec3()).normalized();
             let spin = |axis: Vec3| -> [f64; 9] {
                 let mut v = [0.0; 9];
                 for (k, p) in [a, b, c].into_iter().enumerate() {
@@ -364,17 +345,17 @@ mod tests {
     #[test]
     fn pre_bent_term_is_the_papers_when_drawn_straight() {
         // Rest curvature zero: the same energy and derivatives as the straight-rest term.
-        let mut rng = Rng(29);
+        let mut rng = SplitMix64::new(29);
         for _ in 0..30 {
-            let a = rng.vec();
+            let a = rng.vec3();
             let d = Vec3::new(1.0, 0.3, -0.2);
             let (b, c) = (a + d, a + d * 2.5);
             let rest = rest_bend(b - a, c - b, d.norm(), 1.5 * d.norm());
             assert!(rest.kappa.norm() < 1e-15, "{:?}", rest.kappa);
             let (a, b, c) = (
-                a + rng.vec() * 0.3,
-                b + rng.vec() * 0.3,
-                c + rng.vec() * 0.3,
+                a + rng.vec3() * 0.3,
+                b + rng.vec3() * 0.3,
+                c + rng.vec3() * 0.3,
             );
             let (r0, r1) = (d.norm(), 1.5 * d.norm());
             let p = bend(a, b, c, r0, r1, 1.7);
@@ -392,7 +373,7 @@ mod tests {
 
     #[test]
     fn pre_bent_term_under_rotations() {
-        let mut rng = Rng(31);
+        let mut rng = SplitMix64::new(31);
         let ([a, b, c], r0, r1, rest) = random_rest_stencil(&mut rng);
         let rot = |axis: Vec3, angle: f64, v: Vec3| -> Vec3 {
             let k = axis.normalized();
@@ -401,9 +382,9 @@ mod tests {
         };
         // Rotating the drawn and the current state together changes nothing.
         let (a2, b2, c2) = (
-            a + rng.vec() * 0.2,
-            b + rng.vec() * 0.2,
-            c + rng.vec() * 0.2,
+            a + rng.vec3() * 0.2,
+            b + rng.vec3() * 0.2,
+            c + rng.vec3() * 0.2,
         );
         let e = bend_rest_energy(a2, b2, c2, r0, r1, 2.0, &rest);
         let axis = Vec3::new(0.3, -0.8, 0.5);

@@ -279,16 +279,20 @@ pub fn bend(x0: Vec3, x1: Vec3, x2: Vec3, r0: f64, r1: f64, kb: f64) -> Local<9>
             }
         }
     }
-    // Floating-point sums above run in different orders for (i, j) and (j, i): symmetrise so
-    // the Hessian is exactly symmetric.
-    for i in 0..9 {
+    // Floating-point sums above run in different orders for (i, j) and (j, i).
+    symmetrize(&mut out.hess);
+    out
+}
+
+/// Makes `h` exactly symmetric: each pair of entries becomes their mean.
+pub(crate) fn symmetrize<const D: usize>(h: &mut [[f64; D]; D]) {
+    for i in 0..D {
         for j in 0..i {
-            let m = 0.5 * (out.hess[i][j] + out.hess[j][i]);
-            out.hess[i][j] = m;
-            out.hess[j][i] = m;
+            let m = 0.5 * (h[i][j] + h[j][i]);
+            h[i][j] = m;
+            h[j][i] = m;
         }
     }
-    out
 }
 
 /// Anchor spring energy `E = µ |x − x̄|²` pulling a supported vertex to its target.
@@ -469,20 +473,7 @@ pub fn project_psd_bend(h: &mut [[f64; 9]; 9]) {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((self.0 >> 11) as f64) / ((1u64 << 53) as f64) * 2.0 - 1.0
-        }
-        fn vec(&mut self) -> Vec3 {
-            Vec3::new(self.next(), self.next(), self.next())
-        }
-    }
+    use crate::rng::SplitMix64;
 
     /// Checks gradient and Hessian of `f` against central differences at `x` (D coordinates).
     fn check_fd<const D: usize>(
@@ -536,11 +527,11 @@ mod tests {
 
     #[test]
     fn stretch_derivatives_match_finite_differences() {
-        let mut rng = Rng(7);
+        let mut rng = SplitMix64::new(7);
         for _ in 0..50 {
-            let a = rng.vec();
-            let b = a + rng.vec();
-            let rest = 0.5 + rng.next().abs();
+            let a = rng.vec3();
+            let b = a + rng.vec3();
+            let rest = 0.5 + rng.signed().abs();
             let ks = 4.0 * std::f64::consts::PI;
             let x = [a.x, a.y, a.z, b.x, b.y, b.z];
             check_fd(
@@ -553,15 +544,15 @@ mod tests {
 
     #[test]
     fn bend_derivatives_match_finite_differences() {
-        let mut rng = Rng(11);
+        let mut rng = SplitMix64::new(11);
         for i in 0..100 {
-            let a = rng.vec();
+            let a = rng.vec3();
             // Mix of strongly bent and nearly straight configurations.
-            let d = rng.vec() + Vec3::new(1.5, 0.0, 0.0);
+            let d = rng.vec3() + Vec3::new(1.5, 0.0, 0.0);
             let bend_amount = if i % 2 == 0 { 1.0 } else { 1e-3 };
             let b = a + d;
-            let c = b + d + rng.vec() * bend_amount;
-            let (r0, r1) = (0.7 + rng.next().abs(), 0.7 + rng.next().abs());
+            let c = b + d + rng.vec3() * bend_amount;
+            let (r0, r1) = (0.7 + rng.signed().abs(), 0.7 + rng.signed().abs());
             let kb = 4.0 * std::f64::consts::PI;
             let x = [a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z];
             check_fd(
@@ -574,9 +565,9 @@ mod tests {
 
     #[test]
     fn anchor_derivatives_match_finite_differences() {
-        let mut rng = Rng(3);
-        let t = rng.vec();
-        let a = rng.vec();
+        let mut rng = SplitMix64::new(3);
+        let t = rng.vec3();
+        let a = rng.vec3();
         check_fd(
             [a.x, a.y, a.z],
             |x| anchor(split(x, 0), t, 500.0),
@@ -599,8 +590,8 @@ mod tests {
 
     #[test]
     fn terms_are_invariant_under_rigid_motion() {
-        let mut rng = Rng(5);
-        let (a, b, c) = (rng.vec(), rng.vec(), rng.vec());
+        let mut rng = SplitMix64::new(5);
+        let (a, b, c) = (rng.vec3(), rng.vec3(), rng.vec3());
         let rot = |v: Vec3| {
             // rotation by 0.7 rad about z then 0.3 rad about x, plus a translation
             let (s1, c1) = 0.7f64.sin_cos();
@@ -624,12 +615,12 @@ mod tests {
 
     #[test]
     fn psd_projection_clamps_negative_eigenvalues_only() {
-        let mut rng = Rng(21);
+        let mut rng = SplitMix64::new(21);
         for _ in 0..50 {
             let mut m = [[0.0; 9]; 9];
             for i in 0..9 {
                 for j in 0..=i {
-                    let v = rng.next();
+                    let v = rng.signed();
                     m[i][j] = v;
                     m[j][i] = v;
                 }
@@ -639,7 +630,7 @@ mod tests {
             // PSD: xᵀMx ≥ 0 for random x, and the projection is the nearest PSD matrix, so
             // M_proj − M is PSD too (it adds back the negative part).
             for _ in 0..20 {
-                let x: Vec<f64> = (0..9).map(|_| rng.next()).collect();
+                let x: Vec<f64> = (0..9).map(|_| rng.signed()).collect();
                 let q: f64 = (0..9)
                     .flat_map(|i| (0..9).map(move |j| (i, j)))
                     .map(|(i, j)| x[i] * m[i][j] * x[j])
@@ -693,11 +684,11 @@ mod tests {
         // Bent and compressed or stretched configurations: the terms' Hessians are
         // indefinite, and the projection off the translations is the same matrix as the
         // full 9×9 (6×6) one.
-        let mut rng = Rng(77);
+        let mut rng = SplitMix64::new(77);
         let (mut bent, mut compressed) = (0, 0);
         for _ in 0..200 {
-            let (a, b, c) = (rng.vec(), rng.vec(), rng.vec());
-            let (r0, r1) = (0.5 + rng.next().abs(), 0.5 + rng.next().abs());
+            let (a, b, c) = (rng.vec3(), rng.vec3(), rng.vec3());
+            let (r0, r1) = (0.5 + rng.signed().abs(), 0.5 + rng.signed().abs());
             let h = bend(a, b, c, r0, r1, 1.3).hess;
             let reduced = same_projection(h, project_psd_bend, "bend");
             bent += usize::from(reduced != h);
@@ -709,7 +700,7 @@ mod tests {
                     assert!(t.abs() <= 1e-12 * scale, "translation {t}");
                 }
             }
-            let rest = 0.2 + 2.0 * rng.next().abs();
+            let rest = 0.2 + 2.0 * rng.signed().abs();
             let h = stretch(a, b, rest, 2.5).hess;
             let reduced = same_projection(h, project_psd_stretch, "stretch");
             compressed += usize::from(reduced != h);
@@ -728,10 +719,10 @@ mod tests {
 
     #[test]
     fn bend_gradient_alone_is_the_full_terms_bit_for_bit() {
-        let mut rng = Rng(5);
+        let mut rng = SplitMix64::new(5);
         for _ in 0..100 {
-            let (a, b, c) = (rng.vec(), rng.vec(), rng.vec());
-            let (r0, r1) = (0.5 + rng.next().abs(), 0.5 + rng.next().abs());
+            let (a, b, c) = (rng.vec3(), rng.vec3(), rng.vec3());
+            let (r0, r1) = (0.5 + rng.signed().abs(), 0.5 + rng.signed().abs());
             let full = bend(a, b, c, r0, r1, 1.7);
             let (energy, grad) = bend_energy_grad(a, b, c, r0, r1, 1.7);
             assert_eq!(energy.to_bits(), full.energy.to_bits());

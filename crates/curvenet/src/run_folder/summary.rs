@@ -209,7 +209,7 @@ mod tests {
     use super::{instability, unrelaxed, unstable};
     use crate::simplify::greedy::IterationRecord;
     use crate::solve::NewtonStop;
-    use crate::solve::NewtonSummary;
+    use crate::stability::NewtonSummary;
     use crate::stability::Objective;
 
     fn record(curves: usize, converged: bool, stop: NewtonStop) -> IterationRecord {

@@ -161,9 +161,15 @@ impl Analyzer {
                 // separates the clustered smallest eigenvalues far better there than about zero.
                 // Otherwise, or if λ turns out below σ, about zero.
                 let shifted = match warm.lambda.map(|l| self.tuning().spectrum_shift * l) {
-                    Some(sigma) if sigma > 0.0 && sigma.is_finite() => {
-                        numerics::above(model.pattern(), h, &symbolic, modes, &params, sigma, None)?
-                    }
+                    Some(sigma) if sigma > 0.0 && sigma.is_finite() => numerics::above(
+                        model.pattern(),
+                        h,
+                        &symbolic,
+                        modes.into(),
+                        &params,
+                        sigma,
+                        None,
+                    )?,
                     _ => None,
                 };
                 Ok(match shifted {

@@ -5,7 +5,7 @@
 use crate::solve::eigen::{EigenError, EigenOptions, EigenParams, Shift, Spectrum, Start};
 use crate::solve::{Cholesky, Reuse, SymbolicFactor, smallest_eigenpairs};
 use crate::sparse::Pattern;
-use faer::{Mat, MatRef};
+use faer::MatRef;
 use std::sync::Arc;
 
 /// The smallest eigenpairs of `values` (about a shift below zero), started from `start`.
@@ -28,7 +28,7 @@ pub(super) fn factored(
     params: &EigenParams,
 ) -> Result<(Spectrum, Cholesky), EigenError> {
     let options = EigenOptions {
-        start: start.map_or(Start::Random, Start::Vectors),
+        start: start.into(),
         ..Default::default()
     };
     let found = smallest_eigenpairs(symbolic, pattern, values, params, options)?
@@ -38,35 +38,9 @@ pub(super) fn factored(
 }
 
 /// The smallest eigenpairs about `sigma > 0`, with the factorization of `H − σI`, or `None`
-/// when that factorization fails, which proves an eigenvalue lies below `sigma`.
-pub(super) fn above(
-    pattern: &Pattern,
-    values: &[f64],
-    symbolic: &Arc<SymbolicFactor>,
-    start: Option<MatRef<'_, f64>>,
-    params: &EigenParams,
-    sigma: f64,
-    reuse: Option<Reuse<'_>>,
-) -> Result<Option<(Spectrum, Cholesky)>, EigenError> {
-    let start = start.map_or(Start::Random, Start::Vectors);
-    above_from(pattern, values, symbolic, start, params, sigma, reuse)
-}
-
-/// [`above`] with the start vectors made only once the factorization succeeded.
-pub(super) fn above_with<'a>(
-    pattern: &Pattern,
-    values: &[f64],
-    symbolic: &Arc<SymbolicFactor>,
-    start: impl FnOnce() -> Option<Mat<f64>> + 'a,
-    params: &EigenParams,
-    sigma: f64,
-    reuse: Option<Reuse<'a>>,
-) -> Result<Option<(Spectrum, Cholesky)>, EigenError> {
-    let start = Start::Lazy(Box::new(start));
-    above_from(pattern, values, symbolic, start, params, sigma, reuse)
-}
-
-fn above_from<'a>(
+/// when that factorization fails, which proves an eigenvalue lies below `sigma`. A
+/// [`Start::Lazy`] start is made only once the factorization succeeded.
+pub(super) fn above<'a>(
     pattern: &Pattern,
     values: &[f64],
     symbolic: &Arc<SymbolicFactor>,
@@ -96,7 +70,7 @@ pub(super) fn restricted(
     params: &EigenParams,
 ) -> Result<Spectrum, EigenError> {
     let options = EigenOptions {
-        start: start.map_or(Start::Random, Start::Vectors),
+        start: start.into(),
         keep: Some(keep),
         ..Default::default()
     };

@@ -27,10 +27,8 @@
 //! For command-line scenes scale the mesh first with
 //! [`scale_to_extent`](super::scale_to_extent)`(mesh, 4000.0)`, as the reference does.
 //!
-//! Measured with curvenet's network rules on the regenerated curves: hill 6313
-//! vertices (paper 6319), tent 6123 (paper 6107, 112 curves), stadium 6644 when built at
-//! scale 1 with `h = 50` (paper 6646; the set-up's ×30 gives 177,932), bunny 31,286 (paper
-//! 25,442).
+//! The networks built from the regenerated curves, against the paper's counts:
+//! `docs/model.md`, *The paper's examples*.
 
 use super::TraceError;
 use super::field::{FieldOptions, smooth_field};
@@ -167,31 +165,19 @@ pub struct GeneratedCurves {
     pub failures: Vec<String>,
 }
 
-/// Generates curves on `mesh` with default [`TraceOptions`].
-///
-/// # Errors
-///
-/// See [`generate_with`].
-pub fn generate(mesh: &TriMesh, generator: &Generator) -> Result<GeneratedCurves, TraceError> {
-    generate_with(mesh, generator, &TraceOptions::default())
-}
-
-/// Generates curves on `mesh` (see the module documentation for each generator's rule).
+/// Generates curves on `mesh` (see the module documentation for each generator's rule),
+/// tracing each geodesic with the default [`TraceOptions`].
 ///
 /// # Errors
 ///
 /// Mesh errors of [`MeshTopology::new`], [`TraceError::NoBoundary`],
 /// [`TraceError::LoopOutOfRange`] (stadium on a mesh with one loop),
-/// [`TraceError::InvalidParameter`] for invalid options or a negative ground tolerance,
+/// [`TraceError::InvalidParameter`] for a negative ground tolerance,
 /// [`TraceError::GeneratorExhausted`] when the tent runs out of attempts, and the field
 /// errors of [`smooth_field`] for streamlines. Failed individual geodesics are counted, not
 /// returned as errors.
-pub fn generate_with(
-    mesh: &TriMesh,
-    generator: &Generator,
-    options: &TraceOptions,
-) -> Result<GeneratedCurves, TraceError> {
-    options.validate()?;
+pub fn generate(mesh: &TriMesh, generator: &Generator) -> Result<GeneratedCurves, TraceError> {
+    let options = &TraceOptions::default();
     let topo = MeshTopology::new(mesh)?;
     if topo.boundary_loops().is_empty() {
         return Err(TraceError::NoBoundary);

@@ -31,7 +31,7 @@ mod walk;
 mod tests;
 
 pub use field::{DirectionField, FieldOptions, smooth_field};
-pub use generate::{CurveRecord, GeneratedCurves, Generator, generate, generate_with};
+pub use generate::{CurveRecord, GeneratedCurves, Generator, generate};
 pub use geodesic::{GeodesicEnd, GeodesicPath, TraceOptions, trace_geodesic};
 pub use streamline::{StreamlineOptions, StreamlineRecord, Streamlines, trace_streamlines};
 pub use surfaces::{SURFACE_NAMES, builtin_surface, scale_to_extent};

@@ -1,6 +1,6 @@
 //! Shared helpers of the integration tests: a small deterministic PRNG, hand-made curves and
 //! networks, dense expansions of the sparse Hessian and an independent evaluation of the energy
-//! of SPEC §3.
+//! of docs/model.md (*Energy*).
 //!
 //! Not every test file uses every helper.
 #![allow(dead_code)]
@@ -8,9 +8,12 @@
 use curvenet::geom::Vec3;
 use curvenet::io::{Origin, Polyline};
 use curvenet::network::{BuildParams, Joint, Network, Rod, build_network};
+use curvenet::rng::SplitMix64;
 use curvenet::rod::{ActiveSet, EnergyModel, Material, Supports};
-use faer::Mat;
-use std::path::PathBuf;
+use faer::{Mat, MatRef};
+use proptest::test_runner::{Config as ProptestConfig, FileFailurePersistence};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Bound on the relative residuals `‖Hv − λv‖/‖H‖₁` the eigen solver guarantees: its
 /// convergence test is on the inverted operator, relative to the largest inverted eigenvalue,
@@ -19,36 +22,28 @@ use std::path::PathBuf;
 /// smaller (1e-17…1e-14), but depend on the Newton path and the factorization.
 pub const RESIDUAL_BOUND: f64 = 1e-10;
 
-/// SplitMix64: tiny, deterministic, good enough for test inputs.
+/// The tests' random inputs: the library's [`SplitMix64`] with the draws the tests use.
 #[derive(Clone, Debug)]
-pub struct Rng(u64);
+pub struct Rng(SplitMix64);
 
 impl Rng {
     pub fn new(seed: u64) -> Self {
-        Rng(seed ^ 0x9e37_79b9_7f4a_7c15)
-    }
-
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
+        Rng(SplitMix64::new(seed ^ 0x9e37_79b9_7f4a_7c15))
     }
 
     /// Uniform in `[0, 1)`.
     pub fn uniform(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+        self.0.next_f64()
     }
 
     /// Uniform in `[a, b)`.
     pub fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.uniform()
+        self.0.uniform(a, b)
     }
 
     /// Uniform integer in `[a, b)`.
     pub fn index(&mut self, a: usize, b: usize) -> usize {
-        a + (self.next_u64() % (b - a) as u64) as usize
+        a + (self.0.next_u64() % (b - a) as u64) as usize
     }
 
     /// Standard normal (Box–Muller).
@@ -61,6 +56,61 @@ impl Rng {
     /// A vector with independent standard normal components.
     pub fn normal3(&mut self) -> Vec3 {
         Vec3::new(self.normal(), self.normal(), self.normal())
+    }
+}
+
+/// A temporary folder named after the test binary and `tag`, removed when dropped.
+pub struct TempDir(PathBuf);
+
+impl TempDir {
+    /// A fresh path, nothing there yet.
+    pub fn new(tag: &str) -> Self {
+        static COUNT: AtomicUsize = AtomicUsize::new(0);
+        let n = COUNT.fetch_add(1, Ordering::Relaxed);
+        let dir = std::env::temp_dir().join(format!(
+            "curvenet-{}-{}-{tag}-{n}",
+            env!("CARGO_CRATE_NAME"),
+            std::process::id()
+        ));
+        let _ = std::fs::remove_dir_all(&dir);
+        TempDir(dir)
+    }
+
+    /// A fresh, empty folder.
+    pub fn create(tag: &str) -> Self {
+        let dir = TempDir::new(tag);
+        std::fs::create_dir_all(dir.path()).expect("temp dir");
+        dir
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// The fuzz tests' proptest configuration: `default` cases per property unless the
+/// environment's `CURVENET_FUZZ_CASES` or `PROPTEST_CASES` says otherwise; failures persisted
+/// in `tests/fuzz_regressions/<test binary>.proptest-regressions`.
+pub fn fuzz_config(default: u32) -> ProptestConfig {
+    let cases = ["CURVENET_FUZZ_CASES", "PROPTEST_CASES"]
+        .iter()
+        .find_map(|k| std::env::var(k).ok()?.trim().parse().ok())
+        .unwrap_or(default);
+    ProptestConfig {
+        cases,
+        failure_persistence: Some(Box::new(FileFailurePersistence::Direct(concat!(
+            "tests/fuzz_regressions/",
+            env!("CARGO_CRATE_NAME"),
+            ".proptest-regressions"
+        )))),
+        max_shrink_iters: 4096,
+        ..ProptestConfig::default()
     }
 }
 
@@ -159,6 +209,24 @@ pub fn build(curves: &[Polyline], h: f64, supports: Supports) -> Network {
     .0
 }
 
+/// The built-in dome of arcs (radius 2000, height 700; `families` families of
+/// `per_family` arcs), clamped, built at edge length `h`.
+pub fn dome(families: usize, per_family: usize, h: f64) -> Network {
+    let s = curvenet::builtin::dome_arcs(2000.0, 700.0, families, per_family);
+    build(&s.curves, h, Supports::Clamped)
+}
+
+/// The eigenvalues (ascending) and eigenvectors (columns, in the same order) of the dense
+/// symmetric matrix `a` (lower triangle read): the reference the sparse solvers are checked
+/// against.
+pub fn dense_eigen(a: MatRef<'_, f64>) -> (Vec<f64>, Mat<f64>) {
+    let e = a
+        .self_adjoint_eigen(faer::Side::Lower)
+        .expect("dense eigen");
+    let s = e.S();
+    ((0..a.nrows()).map(|i| s[i]).collect(), e.U().to_owned())
+}
+
 /// A straight rod from `start` along unit `dir`, length `len`, `n` edges (built by
 /// `build_network` from a two-point polyline).
 pub fn straight_rod(start: Vec3, dir: Vec3, len: f64, n: usize, supports: Supports) -> Network {
@@ -202,8 +270,8 @@ pub fn rel_diff(a: f64, b: f64) -> f64 {
     if s == 0.0 { 0.0 } else { (a - b).abs() / s }
 }
 
-/// The energy of SPEC §3 written out independently of the library, at positions `x` (flat),
-/// for the curves in `active` (all when `None`). Anchor targets are the rest positions.
+/// The energy of docs/model.md (*Energy*) written out independently of the library, at positions
+/// `x` (flat), for the curves in `active` (all when `None`). Anchor targets are the rest positions.
 pub fn spec_energy(net: &Network, mat: &Material, x: &[f64], active: Option<&[usize]>) -> f64 {
     let p = |v: u32| {
         let i = 3 * v as usize;

@@ -239,33 +239,4 @@ impl EnergyModel {
             }
         }
     }
-
-    /// The Hessian of the active structure with the rows and columns of loose vertices deleted
-    /// (the definition of a structure: `docs/model.md`, *Stability*), as a dense matrix, and the kept vertices.
-    /// For tests and small networks.
-    pub fn explicit_deletion(&self, u: &[f64], active: &ActiveSet) -> (faer::Mat<f64>, Vec<usize>) {
-        let a = self.assemble(u, active, true);
-        let mask = self.vertex_mask(active);
-        let kept: Vec<usize> = (0..self.n_vertices).filter(|&v| mask[v]).collect();
-        let mut index = vec![usize::MAX; self.dofs()];
-        for (k, &v) in kept.iter().enumerate() {
-            for c in 0..3 {
-                index[3 * v + c] = 3 * k + c;
-            }
-        }
-        let m = 3 * kept.len();
-        let mut dense = faer::Mat::<f64>::zeros(m, m);
-        for j in 0..self.pattern.n {
-            for s in self.pattern.col_ptr[j]..self.pattern.col_ptr[j + 1] {
-                let i = self.pattern.row_idx[s];
-                let (ii, jj) = (index[i], index[j]);
-                if ii == usize::MAX || jj == usize::MAX {
-                    continue;
-                }
-                dense[(ii, jj)] = a.hess[s];
-                dense[(jj, ii)] = a.hess[s];
-            }
-        }
-        (dense, kept)
-    }
 }

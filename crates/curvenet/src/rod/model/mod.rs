@@ -7,8 +7,7 @@
 //! ("loose" vertices) get a large diagonal entry instead, so the pattern, and hence one
 //! symbolic factorization, serves every structure (`docs/model.md`, *Stability*). That device is equivalent to
 //! deleting those rows and columns: the loose vertices then form a decoupled block whose
-//! eigenvalues sit far above the structure's low spectrum; [`EnergyModel::explicit_deletion`]
-//! builds the deleted version for tests.
+//! eigenvalues sit far above the structure's low spectrum (tested against the deleted version).
 //!
 //! **Coordinates are displacements** `u` from the locked rest state, not positions: every term
 //! is evaluated from its rest edge vectors plus differences of displacements. Positions of a

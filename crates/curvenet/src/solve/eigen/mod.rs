@@ -12,10 +12,10 @@
 //! (an unstable equilibrium). Every returned pair comes with its residual `‖Hv − λv‖`.
 //!
 //! [`smallest_eigenpairs`] is the one entry: the matrix, the accuracy ([`EigenParams`]; the
-//! searches' named presets are `stability::Preset`) and how to run ([`EigenOptions`]: the shift, the start, a factor to reuse,
-//! the coordinates to keep). A generalized problem `H v = μ M v` with a diagonal (lumped) mass
-//! `M` would enter there as one more option, solved as the standard problem of
-//! `M^{-1/2} H M^{-1/2}` (shift-and-invert on `H − σM`).
+//! searches' named presets are `stability::Preset`) and how to run ([`EigenOptions`]: the shift,
+//! the start, a factor to reuse, the coordinates to keep). A generalized problem `H v = μ M v` with
+//! a diagonal (lumped) mass `M` would enter there as one more option, solved as the standard
+//! problem of `M^{-1/2} H M^{-1/2}` (shift-and-invert on `H − σM`).
 
 mod shift_invert;
 
@@ -46,16 +46,16 @@ pub struct EigenParams {
     pub trailing_tol: Option<f64>,
     /// Restart cap.
     pub max_restarts: usize,
-    /// `C` in the zero-mode threshold `C·ε·‖H‖₁`: below every real soft mode (the paper's
-    /// shell has them at 8 and 30 `ε‖H‖₁`, pinned and clamped) and above exact mechanisms,
-    /// which come out far below `ε‖H‖₁` (tested).
+    /// `C` in the zero-mode threshold `C·ε·‖H‖₁`: below every real soft mode of the paper's
+    /// examples (`docs/model.md`, *Stability*) and above exact mechanisms, which come out far
+    /// below `ε‖H‖₁` (tested).
     pub zero_factor: f64,
     /// The first shift is `−shift_factor·ε·‖H‖₁`.
     pub shift_factor: f64,
     /// Seed of the random start block.
     pub seed: u64,
-    /// Columns of a block solved per pass over the factor ([`crate::solve::Schedule::Groups`]); the groups
-    /// run in parallel.
+    /// Columns of a block solved per pass over the factor ([`crate::solve::Schedule::Groups`]); the
+    /// groups run in parallel.
     pub solve_group: usize,
 }
 
@@ -77,6 +77,14 @@ impl Default for EigenParams {
 }
 
 impl EigenParams {
+    /// These parameters asking for `count` pairs, the Krylov basis widened to hold them (at
+    /// least `count + 4·block_size`).
+    pub fn with_count(mut self, count: usize) -> Self {
+        self.count = count;
+        self.max_basis = self.max_basis.max(count + 4 * self.block_size);
+        self
+    }
+
     /// Checks the parameters.
     pub fn validate(&self) -> Result<(), String> {
         if self.count == 0 || self.block_size == 0 || self.solve_group == 0 {
@@ -186,6 +194,13 @@ pub enum Start<'a> {
     /// Vectors made only once the factorization succeeded (a failed one, with
     /// [`Shift::Above`], then costs nothing else).
     Lazy(Box<dyn FnOnce() -> Option<Mat<f64>> + 'a>),
+}
+
+impl<'a> From<Option<MatRef<'a, f64>>> for Start<'a> {
+    /// The vectors given, else random ones.
+    fn from(start: Option<MatRef<'a, f64>>) -> Self {
+        start.map_or(Start::Random, Start::Vectors)
+    }
 }
 
 impl Start<'_> {

@@ -1,5 +1,5 @@
-//! Dense symmetric eigenproblems: the projected matrix of the Lanczos iteration, and small
-//! matrices in tests.
+//! Dense symmetric eigenproblems: the projected matrix of the Lanczos iteration, and (in
+//! tests) the oracle for small matrices.
 
 use super::LanczosError;
 use faer::diag::Diag;
@@ -10,14 +10,15 @@ use faer::{Mat, MatMut, MatRef, Par};
 
 /// The `k` smallest eigenpairs of the dense symmetric matrix `a` (only its lower triangle
 /// is read), eigenvalues ascending, vectors `n × k` with the sign convention of
-/// [`super::EigenPairs::vectors`]. `k` is clamped to `n`. Meant for tests and small problems.
+/// [`super::EigenPairs::vectors`]. `k` is clamped to `n`. The tests' reference solution.
 ///
 /// # Errors
 ///
 /// [`LanczosError::InvalidParams`] if `a` is not square, [`LanczosError::NonFinite`] if
 /// its lower triangle holds NaN or infinity, [`LanczosError::DenseEigen`] if faer's
 /// eigensolver fails.
-pub fn smallest_eigenpairs_dense(
+#[cfg(test)]
+pub(super) fn smallest_eigenpairs_dense(
     a: MatRef<'_, f64>,
     k: usize,
 ) -> Result<(Vec<f64>, Mat<f64>), LanczosError> {

@@ -41,7 +41,8 @@ mod solver;
 #[cfg(test)]
 mod tests;
 
-pub use dense::smallest_eigenpairs_dense;
+#[cfg(test)]
+use dense::smallest_eigenpairs_dense;
 pub use params::{BlockLanczosInfo, BlockLanczosParams, EigenPairs, LanczosError};
 
 use faer::{MatMut, MatRef};

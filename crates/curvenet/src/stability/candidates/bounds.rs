@@ -306,8 +306,8 @@ impl Candidates<'_> {
     /// carried one, and the last Rayleigh–Ritz runs on all of them and `Z`.
     ///
     /// The candidates' residuals are solved together: the solves are bound by memory traffic
-    /// (reading `L`), so four columns in one call cost little more than one (roof: 1.1 ms
-    /// against 0.65 ms), and one call for two candidates halves the cost of the step. The
+    /// (reading `L`), so several columns in one call cost little more than one, and one call
+    /// for two candidates halves the cost of the step. The
     /// result for a candidate depends on which candidates share its call (the solver's
     /// rounding does); callers group candidates deterministically.
     pub fn refined_bounds(&self, cs: &[usize]) -> Vec<Option<Bound>> {

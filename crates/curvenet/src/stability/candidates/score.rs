@@ -5,8 +5,10 @@ use super::super::StabilityError;
 use super::super::evaluate::restrict;
 use super::super::presets::Preset;
 use super::Candidates;
-use crate::solve::eigen::{EigenError, Spectrum};
+use crate::rod::ActiveSet;
+use crate::solve::eigen::{EigenError, Spectrum, Start};
 use crate::solve::{Cholesky, Reuse};
+use faer::MatRef;
 use std::sync::atomic::Ordering;
 
 /// How to evaluate one candidate ([`Candidates::test`]).
@@ -116,19 +118,7 @@ impl Candidates<'_> {
         if active.is_empty() {
             return Outcome::Failed(StabilityError::Empty.to_string());
         }
-        let model = self.analyzer.model();
-        let mut h = Vec::new();
-        model.hessian_from_locals(&self.locals, &active, &mut h);
-        self.analyzer.to_metric(&active, &mut h);
-        let warm = restrict(self.modes.as_ref(), &model.vertex_mask(&active));
-        let r = super::super::numerics::factored(
-            model.pattern(),
-            &h,
-            &self.symbolic,
-            Some(warm.as_ref()),
-            &self.analyzer.eigen(Preset::Score, &self.symbolic),
-        );
-        match r {
+        match self.spectrum_of(&active, self.modes.as_ref()) {
             Ok((sp, _)) => {
                 self.count(&sp);
                 Outcome::Scored {
@@ -177,18 +167,7 @@ impl Candidates<'_> {
         if active.is_empty() {
             return Err(StabilityError::Empty);
         }
-        let model = self.analyzer.model();
-        let mut h = Vec::new();
-        model.hessian_from_locals(&self.locals, &active, &mut h);
-        self.analyzer.to_metric(&active, &mut h);
-        let warm = restrict(warm, &model.vertex_mask(&active));
-        let r = super::super::numerics::factored(
-            model.pattern(),
-            &h,
-            &self.symbolic,
-            Some(warm.as_ref()),
-            &self.analyzer.eigen(Preset::Score, &self.symbolic),
-        );
+        let r = self.spectrum_of(&active, warm);
         if let Ok((sp, _)) = &r {
             self.count(sp);
             if sp.vectors.ncols() > 0 {
@@ -196,6 +175,28 @@ impl Candidates<'_> {
             }
         }
         Ok(r?)
+    }
+
+    /// The spectrum of `active`'s Hessian (from the iteration's local Hessians, in the
+    /// objective's metric) about zero, warm-started from `warm` restricted to `active`, with
+    /// its factorization.
+    fn spectrum_of(
+        &self,
+        active: &ActiveSet,
+        warm: MatRef<'_, f64>,
+    ) -> Result<(Spectrum, Cholesky), EigenError> {
+        let model = self.analyzer.model();
+        let mut h = Vec::new();
+        model.hessian_from_locals(&self.locals, active, &mut h);
+        self.analyzer.to_metric(active, &mut h);
+        let warm = restrict(warm, &model.vertex_mask(active));
+        super::super::numerics::factored(
+            model.pattern(),
+            &h,
+            &self.symbolic,
+            Some(warm.as_ref()),
+            &self.analyzer.eigen(Preset::Score, &self.symbolic),
+        )
     }
 
     /// [`Self::score`] about the shift `sigma`: `Ok(None)` when one factorization proves
@@ -224,11 +225,11 @@ impl Candidates<'_> {
             changed,
         });
         let h = self.candidate_hessian(c);
-        let r = super::super::numerics::above_with(
+        let r = super::super::numerics::above(
             model.pattern(),
             &h,
             &self.symbolic,
-            warm,
+            Start::Lazy(Box::new(warm)),
             &self.analyzer.eigen(Preset::Score, &self.symbolic),
             sigma,
             reuse,
