@@ -1,9 +1,9 @@
-//! Exactness of the energy and its derivatives (SPEC §3).
+//! Exactness of the energy and its derivatives (docs/model.md, *Energy*).
 //!
 //! On small random 3D networks (a closed wobbly ring crossed by 2–4 wobbly open arches, built
 //! with `build_network`), at random displacements of realistic size:
 //!
-//! - the library's energy equals the SPEC §3 formulas written out independently in the test;
+//! - the library's energy equals the formulas of docs/model.md, *Energy*, written out independently in the test;
 //! - the assembled gradient matches a 4-point central finite difference of `energy`;
 //! - the assembled sparse Hessian, expanded to dense, matches central finite differences of the
 //!   assembled gradient, entry by entry (relative to its column's scale), for the whole network
@@ -184,7 +184,7 @@ fn library_energy_is_the_spec_energy() {
                 let lib = model.energy(&u, &all);
                 assert!(
                     rel_diff(mine, lib) < 1e-11,
-                    "seed {seed}, amplitude {amp}: library energy {lib:e}, SPEC formula {mine:e}"
+                    "seed {seed}, amplitude {amp}: library energy {lib:e}, formula {mine:e}"
                 );
                 // `energy` and `assemble` evaluate the bending term in two algebraically equal
                 // forms (c·F/G² and c·F·(1/G)²): the last bit may differ.
@@ -196,7 +196,7 @@ fn library_energy_is_the_spec_energy() {
                 let lib = model.energy(&u, &part);
                 assert!(
                     rel_diff(mine, lib) < 1e-11,
-                    "seed {seed}, without curve 1: library {lib:e}, SPEC formula {mine:e}"
+                    "seed {seed}, without curve 1: library {lib:e}, formula {mine:e}"
                 );
             }
         }

@@ -1,7 +1,7 @@
-//! The greedy on the tower example against SPEC §6's independent values (release builds;
+//! The greedy on the tower example against values computed independently of curvenet (release builds;
 //! skipped with a message when the reference data are absent).
 //!
-//! Tower, clamped, SPEC §9 set-up (`paper::load` + `build_network` + `Analyzer::new`), greedy
+//! Tower, clamped, the paper's set-up (docs/model.md, *The paper's examples*) (`paper::load` + `build_network` + `Analyzer::new`), greedy
 //! with budget 0.2 of the total length, keep list [0] (the ring), stopped after 3 removals:
 //!
 //! - curves 1, 2, 3 are removed, in that order;
@@ -9,7 +9,7 @@
 //!   2.186886e-9, and the removed curves' scores within 0.5 % of 2.295556e-9, 2.412758e-9,
 //!   2.501214e-9;
 //! - the first iteration's symmetric candidates 1, 16, 17, 32 are all evaluated (a tie cannot be
-//!   pruned) and tie within the SPEC's 1e-7, with 1 the best of them up to that tolerance (the
+//!   pruned) and tie within the model's tie tolerance 1e-7, with 1 the best of them up to that tolerance (the
 //!   lowest id wins a tie); their spread is printed;
 //! - the record is consistent: curve lists shrink by the removed curve, the ring is never a
 //!   candidate, every scored candidate is at most the chosen score·(1 + 1e-7), the stop reason

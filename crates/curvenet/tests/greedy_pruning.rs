@@ -28,7 +28,7 @@ use std::time::Instant;
 
 /// Agreement of one score computed by two routes: shift-and-invert about zero (no pruning) or
 /// about the best score so far (the inertia test's shift). Both meet the Lanczos tolerance;
-/// they differ by up to about 1e-8 (tower, first removal: 1.1e-8), ten times below the SPEC's
+/// they differ by up to about 1e-8 (tower, first removal: 1.1e-8), ten times below the model's
 /// tie tolerance 1e-7 that decides between close candidates.
 const SAME: f64 = 5e-8;
 

@@ -1,4 +1,4 @@
-//! Rigid-motion invariance and symmetry of the energy (SPEC §3), with every anchor cleared.
+//! Rigid-motion invariance and symmetry of the energy (docs/model.md, *Energy*), with every anchor cleared.
 //!
 //! - the energy of a deformed state is unchanged by a rotation + translation of the positions
 //!   (converted back to displacements from the rest state), the gradient rotates with it and

@@ -1,9 +1,9 @@
-//! The paper's examples end to end (SPEC §2, §9, §11): `paper::load` + `pipeline::analyze` on
+//! The paper's examples end to end (docs/model.md, *The paper's examples*): `paper::load` + `pipeline::analyze` on
 //! roof, tower, shell, kagome and arched shell (clamped) and roof and tower (pinned).
 //!
 //! Checks the network counts (roof 2813, kagome 10224, shell 5504, tower 5697 vertices with
 //! 1153 joints and both crossings of the top ring with each of the 32 other curves, arched
-//! shell ≈ 4091), λ_eq against SPEC's independent values (0.5 % for the exact ones, 1 % for the
+//! shell ≈ 4091), λ_eq against values computed independently of curvenet (0.5 % for the exact ones, 1 % for the
 //! approximate ones; the tower's λ is a repeated pair), a converged Newton solve, and no zero or
 //! negative modes. Meant for release builds; skipped with a message when the reference data
 //! are absent.
@@ -140,7 +140,7 @@ fn arcshell_clamped() {
     let Some(out) = run("arcshell", Supports::Clamped) else {
         return;
     };
-    // SPEC: ≈ 4090 vertices (§9), 4092 with an independent implementation (§2).
+    // About 4090 vertices; 4092 with an independent implementation.
     let v = out.build.vertices;
     assert!((4086..=4096).contains(&v), "arched shell: {v} vertices");
     check(&out, "arched shell", 1.49e-8, 0.01);

@@ -1,5 +1,5 @@
 //! The relaxation's bounds (`stability::fixed`, `simplify::certificate`) against an SDP solver (Clarabel) on tiny
-//! networks: issue 8's cross-check. Needs the `sdp-check` feature and the system's OpenBLAS
+//! networks. Needs the `sdp-check` feature and the system's OpenBLAS
 //! (`apt-get install libopenblas-dev`):
 //!
 //! ```text
@@ -21,7 +21,7 @@
 //! μ* = max_α μ(α),  μ(α) = λ_min(H(α), P(α)),  H(α) = Σ_c α_c H_c,  P(α) = diag_v(max_{c∋v} α_c),
 //! ```
 //!
-//! the fixed point `B(ρ*) = ρ*` of SPEC §7's `B(ρ) = max t : Σ α_c H_c + ρ diag(β) ⪰ tI`,
+//! the fixed point `B(ρ*) = ρ*` of docs/model.md's (*Relaxation and certificate*) `B(ρ) = max t : Σ α_c H_c + ρ diag(β) ⪰ tI`,
 //! `β_v ≤ 1 − α_c`. `B(ρ)` itself cannot be handed to a solver here: `λ/‖H‖ ≈ 4e-10` on these
 //! rods, below Clarabel's relative accuracy (1e-8). For fixed `ρ ≥ 0`, `μ* ≥ ρ` iff the LMI
 //! `H(α) − ρ·diag(p) ⪰ 0`, `p_v ≥ α_c` (c ∋ v), `α` in the node's polytope, is feasible (a

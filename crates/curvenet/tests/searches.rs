@@ -1,4 +1,4 @@
-//! The three searches of SPEC §5–6 (greedy, exhaustive, random) on small networks, against each
+//! The three searches of docs/model.md, *Greedy simplification* and *Searches beyond the greedy* (greedy, exhaustive, random) on small networks, against each
 //! other and against an independent brute force written here.
 //!
 //! Networks: random crossing arches over a paraboloid height field (7, 9 and 10 arches, 200–260
@@ -11,7 +11,7 @@
 //! - exhaustive = brute force: every mask of the 2^N is tested for feasibility (keep list held,
 //!   ≥ 1 curve, Σ rest lengths from `rods[i].rest_lengths` ≤ budget) and evaluated with the
 //!   `Analyzer` directly (relax from u = 0, then `spectrum(..).lambda()`); the count of feasible
-//!   subsets, every subset's λ (1e-9), the best λ and the best subset (the SPEC's tie rule: the
+//!   subsets, every subset's λ (1e-9), the best λ and the best subset (the model's tie rule: the
 //!   first in depth-first include-first order within 1e-7 of the top) all agree;
 //! - random search: every draw feasible and distinct, each λ equal to the exhaustive one, the
 //!   same draws and values for the same seed, and with E ≥ the number of feasible subsets it
@@ -41,7 +41,7 @@ use std::collections::HashSet;
 /// (warm or cold Newton, full or split network): both stop at a relative gradient of about
 /// 1e-10, which leaves `λ` uncertain to a few 1e-9 on soft networks (seen: 6e-9 on CI).
 const SAME: f64 = 5e-8;
-/// The SPEC's tie tolerance.
+/// The tie tolerance (docs/model.md, *Greedy simplification*).
 const TIE: f64 = 1e-7;
 
 struct Case {
@@ -190,7 +190,7 @@ fn brute_force(a: &Analyzer, budget: f64, keep: &[usize]) -> Vec<(Vec<usize>, f6
         .collect()
 }
 
-/// The SPEC's pick: the first listed within `TIE` of the largest finite value.
+/// The model's pick: the first listed within `TIE` of the largest finite value.
 fn first_within_tie(all: &[(Vec<usize>, f64)]) -> (Vec<usize>, f64) {
     let top = all
         .iter()

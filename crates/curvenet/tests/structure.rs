@@ -1,4 +1,4 @@
-//! The stability of a sub-structure (SPEC §5) and the counting of zero and negative modes.
+//! The stability of a sub-structure (docs/model.md, *Stability*) and the counting of zero and negative modes.
 //!
 //! (a) "Explicit deletion is the definition": for several removal sets on a relaxed small dome,
 //!     the smallest eigenvalues from `Analyzer::spectrum` (loose-diagonal device, sparse
@@ -292,7 +292,7 @@ fn free_ring_next_to_the_shell_has_six_zero_modes() {
             s.residuals[k]
         );
     }
-    // The 7th is the shell's λ (≈ 6.49e-9, SPEC §11), above the threshold: not a zero mode.
+    // The 7th is the shell's λ (≈ 6.49e-9, docs/model.md, *The paper's examples*), above the threshold: not a zero mode.
     assert!(s.values[6] > s.zero_threshold);
     assert!(
         rel_diff(s.values[6], 6.49e-9) < 0.01,
@@ -328,7 +328,7 @@ fn free_ring_next_to_the_shell_has_six_zero_modes() {
     assert!(share[0].share > 0.999999);
 
     // The shell alone has the same λ: the ring changes nothing else. Not to the digit: the
-    // shell's Newton solve ends at its round-off floor (‖∇E‖ ≈ 1e-9 relative, SPEC §11), at a
+    // shell's Newton solve ends at its round-off floor (‖∇E‖ ≈ 1e-9 relative), at a
     // point that depends on the Newton path, and λ moves by ~1e-6 relative with it (measured
     // 5e-7 between the two solves here).
     let shell_net = build_network(&ex.curves, &ex.build).expect("builds").0;

@@ -1,11 +1,11 @@
-//! Textbook beam results on a straight rod (SPEC §3, §5).
+//! Textbook beam results on a straight rod (docs/model.md, *Energy* and *Stability*).
 //!
 //! (a) Axial stiffness: on a uniform stretch field `u_i = δ·x_i/L` the Hessian's quadratic
 //!     form is `(k_s/L)·δ²`; on a parabolic transverse field `w = 4δ·x(L−x)/L²` it is the
 //!     discrete bending value `64·k_b·δ²·(L−h)/L⁴` (→ `64 k_b δ²/L³`, the continuum
 //!     `∫k_b w''²`), and with clamped anchors the anchors' `2µ|u_a|²` is added.
 //! (b) Euler–Bernoulli modes of a pinned–pinned rod: there is no mass matrix, so
-//!     `λ₁ ≈ k_b (π/L)⁴ h` (SPEC §3): `λ₁/h` converges as `h → 0` (relative error decreasing
+//!     `λ₁ ≈ k_b (π/L)⁴ h`: `λ₁/h` converges as `h → 0` (relative error decreasing
 //!     at second order, finest within 1 %), `λ₁` is a repeated pair (the two transverse directions), the next pair
 //!     is the second mode `≈ 16 λ₁` (`n⁴`), and the sparse solver agrees with dense eigenvalues.
 //! (c) Clamping raises `λ₁` over pinning, by about the clamped/pinned ratio `(4.730/π)⁴`.

@@ -1,6 +1,6 @@
 //! Shared helpers of the integration tests: a small deterministic PRNG, hand-made curves and
 //! networks, dense expansions of the sparse Hessian and an independent evaluation of the energy
-//! of SPEC §3.
+//! of docs/model.md, *Energy*.
 //!
 //! Not every test file uses every helper.
 #![allow(dead_code)]
@@ -202,7 +202,7 @@ pub fn rel_diff(a: f64, b: f64) -> f64 {
     if s == 0.0 { 0.0 } else { (a - b).abs() / s }
 }
 
-/// The energy of SPEC §3 written out independently of the library, at positions `x` (flat),
+/// The energy of docs/model.md, *Energy*, written out independently of the library, at positions `x` (flat),
 /// for the curves in `active` (all when `None`). Anchor targets are the rest positions.
 pub fn spec_energy(net: &Network, mat: &Material, x: &[f64], active: Option<&[usize]>) -> f64 {
     let p = |v: u32| {
