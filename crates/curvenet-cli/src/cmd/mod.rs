@@ -123,7 +123,7 @@ pub fn stability_params(p: &PhysicsArgs) -> anyhow::Result<StabilityParams> {
         ("stretching", m.ks(), "E π r²"),
         ("bending", m.kb(), "E π r⁴ / 4"),
     ] {
-        if !(k >= lo && k <= hi) {
+        if !(lo..=hi).contains(&k) {
             return Err(usage(format!(
                 "--radius {:e} and --young {:e} give a {name} stiffness {formula} = {k:e}, out \
                  of the range the solvers handle ({lo:e} to {hi:e}); choose scene units where \
@@ -132,7 +132,7 @@ pub fn stability_params(p: &PhysicsArgs) -> anyhow::Result<StabilityParams> {
             )));
         }
     }
-    if !(2.0 * m.anchor_weight >= lo && 2.0 * m.anchor_weight <= hi) {
+    if !(lo..=hi).contains(&(2.0 * m.anchor_weight)) {
         return Err(usage(format!(
             "--anchor-weight {:e}: an anchor's stiffness 2µ must lie between {lo:e} and {hi:e}",
             m.anchor_weight

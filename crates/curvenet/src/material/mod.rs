@@ -62,7 +62,7 @@ pub const GRAVITY_RANGE: (f64, f64) = (1e-6, 1e4);
 ///
 /// `what` (with `unit`) and the range when `v` lies outside `range`, or is not a number.
 pub fn check_range(what: &str, v: f64, range: (f64, f64), unit: &str) -> Result<(), String> {
-    if v >= range.0 && v <= range.1 {
+    if (range.0..=range.1).contains(&v) {
         Ok(())
     } else if !(v > 0.0) {
         Err(format!(

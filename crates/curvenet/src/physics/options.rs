@@ -212,7 +212,7 @@ fn check_stiffness(physical: &Physical, specs: &[CurveSpec], section: &str) -> R
     for c in std::iter::once(specs.len()).chain(0..specs.len()) {
         let r = physical.scene_rod(c);
         for (name, k) in [("stretching", r.ks), ("bending", r.kb)] {
-            if !(k >= lo && k <= hi) {
+            if !(lo..=hi).contains(&k) {
                 let whose = if c < specs.len() {
                     format!("curve {c}'s")
                 } else {

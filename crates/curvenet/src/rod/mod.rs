@@ -89,7 +89,7 @@ impl Material {
             ("stretching stiffness E π r²", self.ks()),
             ("bending stiffness E π r⁴ / 4", self.kb()),
         ] {
-            if !(k >= lo && k <= hi) {
+            if !(lo..=hi).contains(&k) {
                 return Err(format!(
                     "radius {:e} and Young's modulus {:e} give a {name} = {k:e}, out of the \
                      range the solvers handle ({lo:e} to {hi:e}); choose scene units where \
@@ -99,7 +99,7 @@ impl Material {
             }
         }
         let k = 2.0 * self.anchor_weight;
-        if !(k >= lo && k <= hi) {
+        if !(lo..=hi).contains(&k) {
             return Err(format!(
                 "the anchor weight {:e} gives an anchor stiffness 2µ = {k:e}, out of the range \
                  the solvers handle ({lo:e} to {hi:e})",

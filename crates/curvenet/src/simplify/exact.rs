@@ -305,7 +305,7 @@ fn check(problem: &FixedProblem<'_>, params: &ExactParams) -> Result<(), Simplif
         )));
     }
     if let Some(t) = params.time_limit
-        && !(t >= 0.0 && t <= MAX_TIME_LIMIT)
+        && !(0.0..=MAX_TIME_LIMIT).contains(&t)
     {
         return Err(SimplifyError::Params(format!(
             "exact: the time limit must lie between 0 and {MAX_TIME_LIMIT:e} seconds, got {t}"

@@ -112,7 +112,7 @@ impl CompareParams {
         Budget::Fraction(self.budget).validate()?;
         check_build(self.edge_length, self.max_subsets)?;
         let max = crate::simplify::exact::MAX_TIME_LIMIT;
-        if !(self.exact_time_limit >= 0.0 && self.exact_time_limit <= max) {
+        if !(0.0..=max).contains(&self.exact_time_limit) {
             return Err(format!(
                 "the exact solver's time limit must lie between 0 and {max:e} seconds, got {}",
                 self.exact_time_limit
