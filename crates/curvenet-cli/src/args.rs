@@ -2,7 +2,7 @@
 //! Every numeric option is checked while it is parsed ([`crate::values`]).
 
 use crate::values::{
-    budget_fraction, count, extent, open_fraction, physical, positive, seconds, young,
+    budget_fraction, count, extent, open_fraction, physical, port, positive, seconds, young,
 };
 use clap::{Args, Parser, Subcommand};
 use curvenet::constraints::SymmetryOption;
@@ -26,6 +26,10 @@ pub enum Command {
     /// Simplify a network to a material budget with the greedy (paper Algorithm 1).
     Simplify(SimplifyArgs),
     /// Run one of the paper's examples (docs/model.md, "The paper's examples") from its input files.
+    ///
+    /// The examples' meshes and curves are those published with the paper's implementation,
+    /// embedded in curvenet under the authors' MIT licence (Copyright (c) 2022 wwwnev):
+    /// `curvenet example --license` prints it.
     Example(ExampleArgs),
     /// Run the whole pipeline on a built-in scene: no input files needed.
     Demo(DemoArgs),
@@ -83,7 +87,7 @@ pub struct ServeArgs {
     #[arg(long, default_value = "127.0.0.1")]
     pub host: String,
     /// Port to listen on (0: any free port).
-    #[arg(long, default_value_t = 8765)]
+    #[arg(long, default_value_t = 8765, value_parser = port, allow_hyphen_values = true)]
     pub port: u16,
     /// Measure instead of serving: a fixed sequence of single-curve removals and restores,
     /// each edit's time at the server printed beside a cold analysis of the same structure
@@ -91,7 +95,7 @@ pub struct ServeArgs {
     #[arg(long)]
     pub bench: bool,
     /// Curves the benchmark removes (each is restored later).
-    #[arg(long = "bench-removals", default_value_t = 12, requires = "bench", value_parser = count(1, 1000))]
+    #[arg(long = "bench-removals", default_value_t = 12, requires = "bench", value_parser = count(1, 1000), allow_hyphen_values = true)]
     pub bench_removals: usize,
     /// Material and solver options.
     #[command(flatten)]
@@ -527,7 +531,12 @@ pub struct SimplifyArgs {
 #[derive(Debug, Args)]
 pub struct ExampleArgs {
     /// Example name: hill, roof, kagome, stadium, tower, shell, bunny, tent, arcshell.
-    pub name: String,
+    #[arg(required_unless_present = "license")]
+    pub name: Option<String>,
+    /// Print the licence and copyright of the paper's example data embedded in curvenet (MIT,
+    /// Copyright (c) 2022 wwwnev) and exit.
+    #[arg(long, exclusive = true)]
+    pub license: bool,
     /// Folder holding the paper's data (`meshes/`, `curves/`) to read instead of the copies
     /// embedded in curvenet.
     #[arg(long)]

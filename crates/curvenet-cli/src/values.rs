@@ -105,6 +105,13 @@ pub fn physical(name: &'static str) -> impl Fn(&str) -> Result<String, String> +
     move |s: &str| curvenet::physics::options::check_option(name, s).map(|()| s.trim().to_string())
 }
 
+/// A TCP port: 0 (any free port) to 65535.
+pub fn port(s: &str) -> Result<u16, String> {
+    s.trim()
+        .parse()
+        .map_err(|_| "a port is a whole number from 0 (any free port) to 65535".into())
+}
+
 /// An integer in `lo..=hi` (a count), as `usize`.
 pub fn count(lo: u64, hi: u64) -> impl TypedValueParser<Value = usize> {
     RangedU64ValueParser::<usize>::new().range(lo..=hi)
@@ -131,6 +138,8 @@ mod tests {
         assert!(open_fraction("1").is_err() && open_fraction("0").is_err());
         assert!(seconds("-1").is_err() && seconds("1e30").is_err() && seconds("0").is_err());
         assert_eq!(seconds("60"), Ok(60.0));
+        assert_eq!(port("0"), Ok(0));
+        assert!(port("-1").is_err() && port("65536").is_err() && port("nan").is_err());
         assert_eq!(young("2.5").as_deref(), Ok("2.5"));
         assert_eq!(young("210GPa").as_deref(), Ok("210GPa"));
         for bad in [

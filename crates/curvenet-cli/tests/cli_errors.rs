@@ -445,16 +445,33 @@ fn nonsensical_numbers_are_usage_errors() {
         &["--radius", "1e100"],
         &[
             "--radius 1e100",
-            "bending stiffness E π r⁴ / 4 = inf",
-            "out of floating-point range",
+            "stretching stiffness E π r² = 3.141592653589793e200",
+            "out of the range the solvers handle",
         ],
     );
     with(
         &["--radius", "1e-100"],
         &[
-            "bending stiffness E π r⁴ / 4 = 0e0",
-            "out of floating-point range",
+            "--radius 1e-100",
+            "stretching stiffness E π r² = 3.141592653589793e-200",
+            "out of the range the solvers handle",
         ],
+    );
+    // Stiffnesses whose energy, gradient or spectrum would overflow (λ was -7e280).
+    with(
+        &["--young", "1e300"],
+        &[
+            "--radius 2e0 and --young 1e300",
+            "out of the range the solvers handle",
+        ],
+    );
+    with(
+        &["--young", "1e-300"],
+        &["--young 1e-300", "out of the range the solvers handle"],
+    );
+    with(
+        &["--anchor-weight", "1e300"],
+        &["--anchor-weight 1e300", "must lie between"],
     );
     with(
         &["--anchor-weight", "-5"],
@@ -717,6 +734,37 @@ fn bench_options_are_checked_before_any_run() {
 // ---------------------------------------------------------------------------------------------
 // Warnings: the run goes on (exit 0), and the warning is on stderr and in the output
 
+/// A tiny scene's lengths keep their significant digits (they printed as `0.0000`).
+#[test]
+fn a_tiny_scene_prints_its_lengths_with_their_digits() {
+    let r = run(
+        &[("grid.txt", GRID.as_bytes())],
+        &[
+            "analyze", "--curves", "grid.txt", "--scale", "1e-3", "--radius", "1e-5",
+        ],
+    );
+    assert_eq!(r.code, 0, "{}", r.stderr);
+    for line in r.stdout.lines().chain(r.stderr.lines()) {
+        assert!(
+            !line.contains("0.0000 ") && !line.ends_with("0.0000"),
+            "{line}"
+        );
+    }
+    assert!(
+        r.stdout
+            .contains("edge lengths: min 3.846e-5 / median 3.846e-5 / max 4.000e-5"),
+        "{}",
+        r.stdout
+    );
+    assert!(r.stdout.contains("rest length 0.008000000"), "{}", r.stdout);
+    assert!(
+        r.stdout
+            .contains("median curve length 0.002000000 (slenderness 200.0)"),
+        "{}",
+        r.stdout
+    );
+}
+
 #[test]
 fn a_clean_grid_has_no_warnings() {
     let mut args = vec!["--curves", "grid.txt"];
@@ -965,6 +1013,8 @@ fn meshes_far_from_the_curves_and_broken_meshes_are_warned_about() {
         &[
             "1 curve(s) far from the mesh square.obj",
             "curve 4 (high.txt:17: 3 of 3 points, up to 6.0000e-1 away)",
+            // A share as a person writes it (was 2.9999999999999996%).
+            "3.00% of its bounding-box diagonal",
         ],
     );
     // Curves in other units than the mesh: every curve is far.

@@ -43,8 +43,10 @@ enum Rule {
     /// A quantity that needs its unit suffix (`7850kg/m3`) or a section (`60x4`): no hostile
     /// value (bare numbers, garbage) is one.
     WithUnit,
-    /// Gravity along -z, m/s²: in [0, 1e4].
+    /// Gravity along -z, m/s²: 0, or in [1e-6, 1e4].
     Gravity,
+    /// A TCP port: 0 to 65535.
+    Port,
 }
 
 impl Rule {
@@ -66,7 +68,8 @@ impl Rule {
                 .is_ok_and(|v| (0..=u32::MAX as i64).contains(&v)),
             Rule::Ids => value.split(',').all(|s| s.parse::<usize>().is_ok()),
             Rule::WithUnit => false,
-            Rule::Gravity => float.is_some_and(|v| (0.0..=1e4).contains(&v)),
+            Rule::Gravity => float.is_some_and(|v| v == 0.0 || (1e-6..=1e4).contains(&v)),
+            Rule::Port => value.parse::<u16>().is_ok(),
         }
     }
 }
@@ -80,8 +83,8 @@ struct Opt {
     /// The base command (the option is appended; an option of the base with the same name is
     /// left out). `{dir}` is the case's folder, `{run}` a finished run folder.
     base: &'static [&'static str],
-    /// Legal values end in another usage error (the bench's unknown example): the message to
-    /// expect instead of the option's name.
+    /// Legal values end in another usage error (the bench's unknown example, a curve the
+    /// input does not have): the message to expect instead of the option's name.
     legal_refusal: Option<&'static str>,
 }
 
@@ -165,6 +168,35 @@ const COMPARE: &[&str] = &[
 ];
 const BENCH: &[&str] = &["bench", "--examples", "nosuch"];
 const EXPORT: &[&str] = &["export", "{run}", "--out", "exported"];
+/// Compare's generalisation measurement, stopped by a surface it does not know.
+const FRESH: &[&str] = &["compare", "--surfaces", "nosuch"];
+/// `serve --bench` (it listens on nothing) on the grid, stopped by a curve the grid lacks:
+/// every legal value of the other options is read and checked first.
+#[cfg(feature = "serve")]
+const SERVE: &[&str] = &[
+    "serve",
+    "--curves",
+    "grid.txt",
+    "--radius",
+    "0.01",
+    "--edge-length",
+    "0.25",
+    "--bench",
+    "--bench-removals",
+    "1",
+    "--remove",
+    "9",
+];
+/// `serve` listening on a port, stopped by a curve the grid lacks.
+#[cfg(feature = "serve")]
+const SERVE_PORT: &[&str] = &[
+    "serve", "--curves", "grid.txt", "--port", "0", "--remove", "9",
+];
+/// `example` and `demo` stopped, once their options are read, by a name they do not know: the
+/// options they share with `simplify` (constraints, alternatives, the certificate's nodes) run
+/// there with their legal values; here they are checked as these commands read them.
+const EXAMPLE_UNKNOWN: &[&str] = &["example", "nosuch", "--out", "out"];
+const DEMO_UNKNOWN: &[&str] = &["demo", "--surface", "nosuch", "--out", "out"];
 
 /// Every numeric option of every subcommand.
 fn options() -> Vec<Opt> {
@@ -175,7 +207,7 @@ fn options() -> Vec<Opt> {
         base,
         legal_refusal: None,
     };
-    vec![
+    let mut all = vec![
         o("--scale", Positive, ANALYZE),
         o("--edge-length", Positive, ANALYZE),
         o("--radius", Positive, ANALYZE),
@@ -234,7 +266,57 @@ fn options() -> Vec<Opt> {
             legal_refusal: Some("unknown example 'nosuch'"),
         },
         o("--iteration", Ids, EXPORT),
-    ]
+        o("--alternative", Count(1, 100), EXPORT),
+        Opt {
+            name: "--fresh",
+            rule: Count(1, 10_000),
+            base: FRESH,
+            legal_refusal: Some("nosuch"),
+        },
+        o("--alternatives", Count(0, 100), SIMPLIFY),
+        o("--alternatives", Count(0, 100), DEMO),
+    ];
+    let unknown = |name, rule, base, refusal| Opt {
+        name,
+        rule,
+        base,
+        legal_refusal: Some(refusal),
+    };
+    for (base, refusal) in [
+        (EXAMPLE_UNKNOWN, "unknown example 'nosuch'"),
+        (DEMO_UNKNOWN, "unknown built-in surface 'nosuch'"),
+    ] {
+        all.extend([
+            unknown("--alternatives", Count(0, 100), base, refusal),
+            unknown("--min-curves", Count(1, 1_000_000), base, refusal),
+            unknown("--max-gap", Positive, base, refusal),
+            unknown("--max-deviation", Positive, base, refusal),
+            unknown("--certificate-nodes", Count(0, 100_000), base, refusal),
+        ]);
+    }
+    #[cfg(feature = "serve")]
+    {
+        let refused = |name, rule, base| Opt {
+            name,
+            rule,
+            base,
+            legal_refusal: Some("--remove names curve 9"),
+        };
+        all.extend([
+            refused("--port", Port, SERVE_PORT),
+            refused("--bench-removals", Count(1, 1000), SERVE),
+            refused("--scale", Positive, SERVE),
+            refused("--edge-length", Positive, SERVE),
+            refused("--radius", Positive, SERVE),
+            refused("--young", Positive, SERVE),
+            refused("--anchor-weight", Positive, SERVE),
+            refused("--eigen-count", Count(1, 100), SERVE),
+            refused("--merge-joints", OpenFraction, SERVE),
+            // Legal curve ids are served in the benchmark (or refused, naming --remove).
+            o("--remove", Ids, SERVE),
+        ]);
+    }
+    all
 }
 
 /// One value of each hostile kind.
@@ -253,6 +335,13 @@ const SWEEP: &[&str] = &[
     "abc",
     "",
     "1,,2",
+    // Values with a unit suffix: hostile for the options written with one, garbage for the
+    // others.
+    "1e-300kg/m3",
+    "-1GPa",
+    "nanMPa",
+    "1e400MPa",
+    "0MPa",
 ];
 
 /// A finished run folder of the grid (for `export --iteration`), made once.
@@ -345,6 +434,8 @@ fn check(opt: &Opt, value: &str) -> Result<(), String> {
     match code {
         0 if legal && opt.legal_refusal.is_none() => Ok(()),
         2 if stderr.contains(want) => Ok(()),
+        // A legal value that makes no sense for the inputs, refused naming the option.
+        2 if legal && stderr.contains(opt.name) => Ok(()),
         2 => Err(format!("the message does not name `{want}`: {context}")),
         _ => Err(format!(
             "unexpected exit code for a{} value: {context}",

@@ -1,4 +1,4 @@
-//! Signals on the real binary. SIGINT and SIGTERM alike stop every long stage (the greedy, the
+//! Signals on the real binary. SIGINT, SIGTERM and SIGHUP alike stop every long stage (the greedy, the
 //! local search, the certificate, the comparison's searches) within about a second with exit
 //! code 130, keeping what was recorded; `--resume` then writes a `result.json` byte-identical
 //! to the one of an uninterrupted run, also after SIGKILL (again and again).
@@ -82,7 +82,7 @@ fn wait_until(child: &mut Child, ready: impl Fn() -> bool) {
     }
 }
 
-/// Sends `signal` ("INT", "TERM") to the child and waits for it: its output and how long it
+/// Sends `signal` ("INT", "TERM", "HUP") to the child and waits for it: its output and how long it
 /// took to stop.
 fn interrupt(child: Child, signal: &str) -> (Output, Duration) {
     let kill = Command::new("kill")
@@ -264,6 +264,25 @@ fn sigterm_during_the_local_search_stops_it_at_once_and_resume_finishes_the_run(
 #[test]
 fn sigint_during_the_certificate_stops_it_at_once_and_resume_finishes_the_run() {
     stage_after_the_greedy_interrupted_by("INT", "the certificate", &["--certify"]);
+}
+
+#[test]
+fn sigint_during_the_local_search_stops_it_at_once_and_resume_finishes_the_run() {
+    stage_after_the_greedy_interrupted_by(
+        "INT",
+        "the local search",
+        &["--local-search", "--no-certificate"],
+    );
+}
+
+#[test]
+fn sigterm_during_the_certificate_stops_it_at_once_and_resume_finishes_the_run() {
+    stage_after_the_greedy_interrupted_by("TERM", "the certificate", &["--certify"]);
+}
+
+#[test]
+fn sighup_during_the_greedy_keeps_its_iterations_and_resume_matches_an_uninterrupted_run() {
+    greedy_interrupted_by("HUP");
 }
 
 #[test]

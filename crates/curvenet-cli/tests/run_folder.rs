@@ -327,14 +327,119 @@ fn resume_compares_inputs_by_content_and_names_the_first_difference() {
         "{}",
         stderr(&o)
     );
-    // Other content under the same name: refused, saying so.
-    tmp.write("grid.txt", GRID.replace("1 -0.5 0\n", "1 -0.4 0\n"));
+    // Other content under the same name: refused, naming the first curve that differs.
+    tmp.write("grid.txt", GRID.replace("\n0.5 1 0\n", "\n0.5 1.2 0\n"));
     let o = simplify_grid(&tmp.0, "out", "0.5", &["--resume"]);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(
-        stderr(&o).contains("the curves files' content differs from the run's"),
+        stderr(&o).contains(
+            "the curves files' content differs from the run's: curve 3 is not the one recorded"
+        ),
         "{}",
         stderr(&o)
     );
     assert_eq!(read(tmp.0.join("out/result.json")), result);
+    // Another objective, in a user's words.
+    tmp.write("grid.txt", GRID);
+    let o = simplify_grid(
+        &tmp.0,
+        "out",
+        "0.5",
+        &["--resume", "--objective", "frequency"],
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("--objective was lambda, now frequency"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+/// The square under the grid, as `--mesh`.
+const SQUARE: &str = "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 4\n";
+
+#[test]
+fn resume_compares_the_physical_mode_and_the_mesh() {
+    let tmp = TempDir::new("runf");
+    tmp.write("grid.txt", GRID);
+    tmp.write("square.obj", SQUARE);
+    let mm = ["--units", "mm", "--mesh", "square.obj"];
+    let o = simplify_grid(&tmp.0, "out", "0.5", &mm);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let result = read(tmp.0.join("out/result.json"));
+    let refused = |extra: &[&str], says: &str| {
+        let o = simplify_grid(&tmp.0, "out", "0.5", &[extra, &["--resume"]].concat());
+        assert_eq!(o.status.code(), Some(2), "{extra:?}: {}", stderr(&o));
+        assert!(stderr(&o).contains(says), "{extra:?}: {}", stderr(&o));
+        assert!(
+            !stderr(&o).contains("--radius was"),
+            "{extra:?}: {}",
+            stderr(&o)
+        );
+        assert_eq!(read(tmp.0.join("out/result.json")), result);
+    };
+    refused(
+        &["--units", "m", "--mesh", "square.obj"],
+        "--units was mm, now m",
+    );
+    // Without --units the same --radius 0.01 is the paper's: the mode is what differs.
+    refused(&["--mesh", "square.obj"], "--units was mm, now not given");
+    refused(
+        &[
+            "--units",
+            "mm",
+            "--mesh",
+            "square.obj",
+            "--density",
+            "1000kg/m3",
+        ],
+        "--density was not given, now 1000kg/m3",
+    );
+    // The mesh by content: a moved vertex.
+    tmp.write("moved.obj", SQUARE.replace("v 1 1 0", "v 1 1 0.5"));
+    refused(
+        &["--units", "mm", "--mesh", "moved.obj"],
+        "--mesh's content differs from the run's: its vertex 2 moved",
+    );
+    // The same set-up resumes (the run is complete).
+    let o = simplify_grid(&tmp.0, "out", "0.5", &[&mm[..], &["--resume"]].concat());
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    assert!(stderr(&o).contains("already complete"), "{}", stderr(&o));
+}
+
+#[test]
+fn view_and_export_refuse_a_folder_a_run_is_writing_in() {
+    let tmp = TempDir::new("runf");
+    tmp.write("grid.txt", GRID);
+    let o = simplify_grid(&tmp.0, "out", "0.5", &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    // This process holds the lock as a run does.
+    let lock = std::fs::OpenOptions::new()
+        .create(true)
+        .truncate(false)
+        .write(true)
+        .open(tmp.0.join("out/.curvenet.lock"))
+        .unwrap();
+    lock.lock().unwrap();
+    for args in [
+        &["view", "out", "--no-pictures"][..],
+        &["export", "out", "--out", "exported"][..],
+    ] {
+        let o = run_in(&tmp.0, args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", stderr(&o));
+        assert!(
+            stderr(&o).contains("out: a curvenet run is writing in this folder"),
+            "{args:?}: {}",
+            stderr(&o)
+        );
+    }
+    assert!(!tmp.0.join("exported").exists());
+    lock.unlock().unwrap();
+    for args in [
+        &["view", "out", "--no-pictures"][..],
+        &["export", "out", "--out", "exported"][..],
+    ] {
+        let o = run_in(&tmp.0, args);
+        assert_eq!(o.status.code(), Some(0), "{args:?}: {}", stderr(&o));
+    }
 }

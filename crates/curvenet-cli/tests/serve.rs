@@ -176,6 +176,27 @@ fn serve_usage_errors_exit_2_naming_the_option() {
         assert!(stderr.contains(says), "{extra:?}: {stderr}");
         assert!(out.stdout.is_empty(), "{extra:?}");
     }
+    // Negative numbers reach their option's check instead of being taken for a flag.
+    let negatives: &[(&[&str], &str)] = &[
+        (&["--port", "-1"], "--port"),
+        (&["--port", "65536"], "--port"),
+        (&["--bench", "--bench-removals", "-1"], "--bench-removals"),
+    ];
+    for (args, says) in negatives {
+        let out = Command::new(BIN)
+            .args(["serve", "--curves", "grid.txt"])
+            .args(*args)
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains(says), "{args:?}: {stderr}");
+        assert!(
+            !stderr.contains("unexpected argument"),
+            "{args:?}: {stderr}"
+        );
+    }
     // A port in use: the message names it and suggests --port 0.
     let s = serve(&dir, &[]);
     let port = s.url.rsplit(':').next().unwrap().to_string();
@@ -189,6 +210,30 @@ fn serve_usage_errors_exit_2_naming_the_option() {
     assert_eq!(out.status.code(), Some(2), "{stderr}");
     assert!(stderr.contains("--port 0"), "{stderr}");
     drop(s);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The line on stderr saying what is served names the structure's status in words.
+#[test]
+fn serve_says_the_status_in_words() {
+    let dir = folder("status");
+    let mut child = Command::new(BIN)
+        .args(["serve", "--curves", "grid.txt", "--port", "0"])
+        .args(QUIET)
+        .current_dir(&dir)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stderr = BufReader::new(child.stderr.take().unwrap());
+    let mut line = String::new();
+    while stderr.read_line(&mut line).unwrap() > 0 && !line.contains("serving") {
+        line.clear();
+    }
+    let _ = child.kill();
+    let _ = child.wait();
+    assert!(line.contains("(stable)"), "{line}");
+    assert!(!line.contains("Stable"), "{line}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 

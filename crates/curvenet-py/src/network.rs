@@ -10,7 +10,7 @@ use curvenet::io::{Polyline, TriMesh};
 use curvenet::network::{BuildInfo, BuildParams, build_network, checks};
 use curvenet::pipeline;
 use curvenet::rod::{Material, Supports};
-use curvenet::run_folder::{InputDescription, LocalSearchRecord, OutputWriter, RunSetup};
+use curvenet::run_folder::{InputDescription, LocalSearchRecord, OutputWriter, RunSetup, folder};
 use curvenet::simplify::greedy::IterationRecord;
 use curvenet::simplify::local::{LocalParams, local_search};
 use curvenet::simplify::{Budget, GreedyParams, SimplifyError, greedy};
@@ -339,7 +339,7 @@ impl Network {
     /// Runs the greedy into the run folder `out` (as `curvenet simplify` does), calling
     /// `progress` with each iteration's record (JSON text). Returns the warnings.
     #[pyo3(signature = (out, budget = None, budget_length = None, keep = Vec::new(),
-        local_search = false, pictures = true, resume = false, progress = None))]
+        local_search = false, pictures = true, resume = false, force = false, progress = None))]
     fn simplify(
         &self,
         py: Python<'_>,
@@ -350,6 +350,7 @@ impl Network {
         local_search: bool,
         pictures: bool,
         resume: bool,
+        force: bool,
         progress: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Vec<String>> {
         let budget = budget_of(budget, budget_length).map_err(|e| errors::usage(py, e))?;
@@ -369,6 +370,7 @@ impl Network {
             local_search,
             pictures,
             resume,
+            force,
         };
         let ran = interrupt::run(py, progress, |cancel, tx| job.run(cancel, tx))?;
         ran.map_err(|e| match e {
@@ -387,6 +389,8 @@ struct Job<'a> {
     local_search: bool,
     pictures: bool,
     resume: bool,
+    /// Run into a non-empty folder that is not a curvenet run's.
+    force: bool,
 }
 
 /// Why a [`Job`] failed.
@@ -410,15 +414,26 @@ impl Job<'_> {
         let total = network.total_length(&(0..n).collect::<Vec<_>>());
         let budget = self.params.budget.length(total);
         let mut warnings = Vec::new();
+        // The folder as the command line claims it: locked for the run, a resumed run's stale
+        // temporary files removed, a fresh run's earlier files removed once it starts.
+        let resuming = self.resume && self.out.join("result.json").is_file();
+        let (lock, fresh) = self.claim(resuming)?;
+        if let Some(w) = &lock.warning {
+            warnings.push(w.clone());
+        }
         if budget >= total {
             warnings.push(format!(
-                "the budget {budget:.6} is not below the total length {total:.6}: nothing will be removed"
+                "the budget {} is not below the total length {}: nothing will be removed",
+                curvenet::fmt::length(budget),
+                curvenet::fmt::length(total)
             ));
         }
         let kept_length = network.total_length(&self.params.keep);
         if kept_length > budget {
             warnings.push(format!(
-                "the keep list alone needs {kept_length:.6}, more than the budget {budget:.6}: the budget cannot be met"
+                "the keep list alone needs {}, more than the budget {}: the budget cannot be met",
+                curvenet::fmt::length(kept_length),
+                curvenet::fmt::length(budget)
             ));
         }
         if !net.info.isolated_curves.is_empty() {
@@ -435,18 +450,24 @@ impl Job<'_> {
             network: net.info.clone(),
             total_length: total,
             constraints: Default::default(),
+            physical: None,
         };
         let analyzer = Analyzer::new(network, self.stability.clone()).map_err(JobError::Usage)?;
         let network = analyzer.network();
-        let (writer, resume_point) = if self.resume && self.out.join("result.json").is_file() {
-            let (w, p) =
-                OutputWriter::resume(&self.out, network, &setup).map_err(JobError::Usage)?;
+        let (writer, resume_point) = if resuming {
+            let (w, p) = OutputWriter::resume(&self.out, network, &setup, net.mesh.as_ref())
+                .map_err(JobError::Usage)?;
             warnings.extend(w.warnings().iter().cloned());
             if p.is_none() && w.result().complete {
                 return Ok(warnings);
             }
             (w, p)
         } else {
+            if let Some(fresh) = fresh
+                && let Some(note) = fresh.apply().map_err(|e| JobError::Usage(e.to_string()))?
+            {
+                warnings.push(note);
+            }
             (
                 OutputWriter::create(&self.out, network, setup, budget).map_err(JobError::Usage)?,
                 None,
@@ -524,6 +545,54 @@ impl Job<'_> {
             }
         }
         Ok(warnings)
+    }
+}
+
+impl Job<'_> {
+    /// Takes the run folder `out` (created when missing) as `curvenet simplify --out` does
+    /// ([`folder::claim`], [`folder::fresh_start`]): its lock, held while the run writes, and
+    /// for a fresh run what it removes first.
+    fn claim(
+        &self,
+        resuming: bool,
+    ) -> Result<(folder::FolderLock, Option<folder::FreshStart>), JobError> {
+        let out = &self.out;
+        if out.exists() && !out.is_dir() {
+            return Err(JobError::Usage(format!(
+                "out={}: is a file, not a folder; give a folder for the run's outputs",
+                out.display()
+            )));
+        }
+        std::fs::create_dir_all(out).map_err(|e| {
+            JobError::Usage(format!(
+                "out={}: cannot create the folder: {e}",
+                out.display()
+            ))
+        })?;
+        let said = |e: folder::FolderError| {
+            JobError::Usage(match e {
+                folder::FolderError::Held(dir) => format!(
+                    "{}: another curvenet run is writing in this folder; wait for it to end or \
+                     give another out",
+                    dir.display()
+                ),
+                folder::FolderError::NotARun { dir, foreign } => format!(
+                    "{}: the folder is not empty and is not a curvenet run's (it holds {}); give \
+                     an empty or new folder, or force=True to run there anyway (the run's own \
+                     files are replaced, the others kept)",
+                    dir.display(),
+                    foreign.join(", ")
+                ),
+                folder::FolderError::Io(m) => m,
+            })
+        };
+        let claim = folder::claim(out, resuming).map_err(said)?;
+        let fresh = if resuming {
+            None
+        } else {
+            Some(folder::fresh_start(out, self.force).map_err(said)?)
+        };
+        Ok((claim.lock, fresh))
     }
 }
 

@@ -57,3 +57,33 @@ def test_an_exception_in_progress_stops_the_run(grid):
 
     with pytest.raises(RuntimeError, match="enough"):
         net.simplify(0.4, progress=stop)
+
+
+def test_a_run_folder_is_claimed_as_the_command_line_claims_it(grid, tmp_path):
+    """`out` is locked while a run writes there, a fresh run removes an earlier run's files,
+    and a folder that is no run's is refused without force=True (as `curvenet simplify`)."""
+    import fcntl
+
+    net = curvenet.load(grid, edge_length=0.1)
+    run = tmp_path / "run"
+    net.simplify(0.6, out=run, pictures=False)
+    stale = run / "iterations" / "9999.obj"
+    stale.write_text("# an earlier run's\n")
+    net.simplify(0.6, out=run, pictures=False)
+    assert not stale.exists()
+    assert (run / "result.json").is_file()
+
+    with open(run / ".curvenet.lock", "a") as held:
+        fcntl.flock(held, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        with pytest.raises(curvenet.InputError, match="another curvenet run is writing"):
+            net.simplify(0.6, out=run, pictures=False)
+        fcntl.flock(held, fcntl.LOCK_UN)
+
+    foreign = tmp_path / "foreign"
+    foreign.mkdir()
+    (foreign / "notes.txt").write_text("mine")
+    with pytest.raises(curvenet.InputError, match="not a curvenet run's.*force=True"):
+        net.simplify(0.6, out=foreign, pictures=False)
+    net.simplify(0.6, out=foreign, pictures=False, force=True)
+    assert (foreign / "notes.txt").read_text() == "mine"
+    assert (foreign / "result.json").is_file()

@@ -206,11 +206,7 @@ impl BenchReport {
                 Source::Warm => "warm",
                 Source::Drawn => "drawn",
             };
-            let status = match e.status {
-                Status::Stable => "stable",
-                Status::Mechanism => "mechanism",
-                Status::Unstable => "unstable",
-            };
+            let status = e.status.word();
             let (cold_ms, diff) = match e.cold {
                 Some((ms, l)) => (
                     format!("{ms:.1}"),

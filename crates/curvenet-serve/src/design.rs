@@ -46,6 +46,17 @@ pub enum Status {
     Unstable,
 }
 
+impl Status {
+    /// The status as a word: `stable`, `mechanism`, `unstable` (as the API spells it).
+    pub fn word(self) -> &'static str {
+        match self {
+            Status::Stable => "stable",
+            Status::Mechanism => "mechanism",
+            Status::Unstable => "unstable",
+        }
+    }
+}
+
 /// The stability of one structure: what `GET /api/state` answers.
 #[derive(Clone, Debug, Serialize)]
 pub struct Summary {

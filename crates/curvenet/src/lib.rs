@@ -21,6 +21,8 @@
 //! code, [`pipeline`] the glue that runs the stages in order and [`experiments`] the harnesses
 //! that measure the searches against each other.
 //!
+//! [`fmt`] prints computed numbers for people (significant digits, not fixed decimals).
+//!
 //! [`units`] and [`material`] describe the physical mode (the scene's length unit, materials,
 //! cross-sections, rest shapes) at the bottom of the stack, beside [`geom`].
 //!
@@ -30,6 +32,7 @@ pub mod builtin;
 pub mod cancel;
 pub mod constraints;
 pub mod experiments;
+pub mod fmt;
 pub mod geom;
 pub mod io;
 pub mod material;

@@ -222,6 +222,29 @@ fn limits_return_the_best_found_with_a_gap() {
 
 /// Measures the solver on `curvenet compare`'s networks (N from the environment, default 14;
 /// I instances, default 3). Prints times; asserts nothing about them.
+/// A time limit no `Duration` can hold (or none a number can be) is refused, not a panic:
+/// by the exact solver itself and by `compare`'s parameters.
+#[test]
+fn absurd_time_limits_are_refused() {
+    use curvenet::experiments::compare::CompareParams;
+    let an = Analyzer::new(arches(21, 8, 70.0), StabilityParams::default()).expect("an");
+    let p = FixedProblem::new(&an, Budget::Fraction(0.4), &[]).expect("p");
+    for bad in [1e30, -1.0, f64::NAN, f64::INFINITY] {
+        let params = ExactParams {
+            time_limit: Some(bad),
+            ..ExactParams::default()
+        };
+        let e = exact(&p, &params, &[]).expect_err("refused").to_string();
+        assert!(e.contains("time limit"), "{bad}: {e}");
+        let compare = CompareParams {
+            exact_time_limit: bad,
+            ..CompareParams::default()
+        };
+        let e = compare.validate().expect_err("refused");
+        assert!(e.contains("time limit"), "{bad}: {e}");
+    }
+}
+
 #[test]
 #[ignore]
 fn exact_scaling() {

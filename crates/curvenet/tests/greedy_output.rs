@@ -69,6 +69,7 @@ fn scene_with(
         network: info,
         total_length: total,
         constraints: Default::default(),
+        physical: None,
     };
     Scene {
         analyzer: Analyzer::new(net, stability).expect("analyzer"),
@@ -331,7 +332,7 @@ fn resumed_run_writes_the_same_result_as_an_uninterrupted_one() {
             );
 
             let (mut writer, point) =
-                OutputWriter::resume(dir.path(), s.analyzer.network(), &s.setup)
+                OutputWriter::resume(dir.path(), s.analyzer.network(), &s.setup, None)
                     .unwrap_or_else(|e| panic!("{what}: resume failed: {e}"));
             assert!(
                 writer.warnings().is_empty(),
@@ -518,8 +519,9 @@ fn a_damaged_carried_vectors_file_is_a_warning_on_resume_and_the_removals_stay()
         } else {
             std::fs::remove_file(&carried).unwrap();
         }
-        let (mut writer, point) = OutputWriter::resume(dir.path(), s.analyzer.network(), &s.setup)
-            .expect("a damaged side file does not stop a resume");
+        let (mut writer, point) =
+            OutputWriter::resume(dir.path(), s.analyzer.network(), &s.setup, None)
+                .expect("a damaged side file does not stop a resume");
         let point = point.expect("a point to resume from");
         assert!(point.carried.is_empty());
         assert_eq!(writer.warnings().len(), 1, "{:?}", writer.warnings());

@@ -3,6 +3,7 @@
 
 use curvenet::material::Section;
 use curvenet::physics::PhysicalOptions;
+use curvenet::physics::options::check_option;
 use curvenet::units::LengthUnit;
 
 fn steel_mm() -> PhysicalOptions {
@@ -159,4 +160,99 @@ fn bad_values_name_their_option() {
     let p = o.resolve(None, &[]).unwrap().unwrap();
     assert_eq!(p.physical.material.name, "steel");
     assert_eq!(p.physical.section, Section::Solid { radius: 2.0 });
+}
+
+/// Values no material has, too small as well as too large, are refused naming their option
+/// (a density of 1e-300 kg/m³ made the mass metric NaN: "could not factor H − σI").
+#[test]
+fn absurd_quantities_are_refused_naming_their_option() {
+    let cases: [(PhysicalOptions, &str); 9] = [
+        (
+            PhysicalOptions {
+                density: Some("1e-300kg/m3".into()),
+                ..steel_mm()
+            },
+            "--density",
+        ),
+        (
+            PhysicalOptions {
+                density: Some("1e7kg/m3".into()),
+                ..steel_mm()
+            },
+            "--density",
+        ),
+        (
+            PhysicalOptions {
+                young: Some("1e-300GPa".into()),
+                ..steel_mm()
+            },
+            "--young",
+        ),
+        (
+            PhysicalOptions {
+                strength: Some("1e-300Pa".into()),
+                ..steel_mm()
+            },
+            "--strength",
+        ),
+        (
+            PhysicalOptions {
+                load: Some("1e-300N/m".into()),
+                ..steel_mm()
+            },
+            "--load",
+        ),
+        (
+            PhysicalOptions {
+                gravity: Some("1e-300".into()),
+                ..steel_mm()
+            },
+            "--gravity",
+        ),
+        (
+            PhysicalOptions {
+                gravity: Some("0,1e-300,0".into()),
+                ..steel_mm()
+            },
+            "--gravity",
+        ),
+        (
+            PhysicalOptions {
+                radius: None,
+                tube: Some("1e-60x1e-61".into()),
+                ..steel_mm()
+            },
+            "--tube",
+        ),
+        (
+            PhysicalOptions {
+                radius: Some("1e-40".into()),
+                ..steel_mm()
+            },
+            "--radius",
+        ),
+    ];
+    for (o, option) in cases {
+        let e = o.resolve(None, &[]).unwrap_err();
+        assert!(e.contains(option), "{o:?}: {e:?} should name {option}");
+        let text = match option {
+            "--density" => o.density.as_deref(),
+            "--young" => o.young.as_deref(),
+            "--strength" => o.strength.as_deref(),
+            "--load" => o.load.as_deref(),
+            "--gravity" => o.gravity.as_deref(),
+            _ => None,
+        };
+        // Refused while the command line is parsed too (a section's stiffness needs the
+        // units and the material: only resolve knows them).
+        if let Some(t) = text {
+            assert!(check_option(option, t).is_err(), "{option} {t}");
+        }
+    }
+    // Gravity off stays allowed.
+    let o = PhysicalOptions {
+        gravity: Some("0".into()),
+        ..steel_mm()
+    };
+    assert!(o.resolve(None, &[]).is_ok());
 }

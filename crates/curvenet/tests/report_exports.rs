@@ -72,6 +72,7 @@ fn make_run(
         network: info,
         total_length: total,
         constraints: Default::default(),
+        physical: None,
     };
     let analyzer = Analyzer::new(net, stability).expect("analyzer");
     let mut w = OutputWriter::create(

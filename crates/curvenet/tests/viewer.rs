@@ -63,6 +63,7 @@ fn run_dir() -> &'static Path {
             network: info,
             total_length: total,
             constraints: Default::default(),
+            physical: None,
         };
         let analyzer = Analyzer::new(net, stability).expect("analyzer");
         let mut w = OutputWriter::create(dir.path(), analyzer.network(), setup, 0.4 * total)

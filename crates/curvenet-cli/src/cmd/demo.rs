@@ -59,6 +59,7 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
             ..stability_params(&a.physics)?
         },
         physical: None,
+        physical_options: None,
         input: InputDescription {
             example: Some(format!("demo:{}:{}:{}", a.surface, a.geodesics, a.seed)),
             mesh: Some(format!("builtin:{}", a.surface)),

@@ -12,10 +12,19 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
+    let Some(name) = a.name.clone() else {
+        print!(
+            "The paper's example data embedded in curvenet (the meshes and curves published \
+             with the implementation of \"Stability-Aware Simplification of Curve Networks\", \
+             SIGGRAPH 2022) is distributed under this licence:\n\n{}",
+            paper::data::LICENSE
+        );
+        return Ok(());
+    };
     let data = super::data_source(a.data.as_deref())?;
     let start = Instant::now();
     let supports = a.physics.supports.unwrap_or_default();
-    let ex = paper::load_from(&a.name, &data, supports)?;
+    let ex = paper::load_from(&name, &data, supports)?;
     let (physical, paper) = super::physical_mode(&a.physics, &a.physical, None, &[])?;
     let mut params = stability_params(&paper)?;
     let build = BuildParams {
@@ -68,6 +77,9 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
         curves: ex.curves,
         build,
         stability: params,
+        physical_options: physical
+            .is_some()
+            .then(|| super::physical_options(&a.physics, &a.physical)),
         physical,
         input: InputDescription {
             example: Some(ex.setup.name.to_string()),
@@ -85,7 +97,7 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
         out: a
             .out
             .clone()
-            .unwrap_or_else(|| PathBuf::from("out").join(&a.name)),
+            .unwrap_or_else(|| PathBuf::from("out").join(&name)),
         certificate: a.after.certify,
         certificate_nodes: a.after.certificate_nodes,
         local_search: a.after.local_search || a.after.alternatives > 0,

@@ -10,6 +10,8 @@ use std::path::Path;
 pub fn run(a: ExportArgs) -> anyhow::Result<()> {
     let format: ExportFormat = a.format.parse().map_err(usage)?;
     let run = RunFolder::open(&a.dir).map_err(usage)?;
+    // Held to the end: no run starts writing here while the files are exported.
+    let _lock = super::hold_run_folder(&a.dir, "export")?;
     super::print_warnings(&run.warnings);
     let k = match (a.answer, a.alternative) {
         (true, _) => Which::Answer,

@@ -38,6 +38,9 @@ pub struct GreedyJob {
     pub stability: StabilityParams,
     /// The physical mode's parameters: every iteration also records its physical numbers.
     pub physical: Option<PhysicalParams>,
+    /// The physical mode's options as given (`None` in the paper's mode), recorded in the
+    /// set-up a resumed run must match.
+    pub physical_options: Option<curvenet::physics::PhysicalOptions>,
     pub input: InputDescription,
     pub budget: Budget,
     pub keep: Vec<usize>,
@@ -109,6 +112,7 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         network: info.clone(),
         total_length: total,
         constraints: job.constraints.clone(),
+        physical: job.physical_options.clone(),
     };
     let mut analyzer = Analyzer::new(network, job.stability).map_err(usage)?;
     if let Some(p) = job.physical {
@@ -120,6 +124,7 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         fresh.as_ref(),
         analyzer.network(),
         setup,
+        job.mesh.as_ref(),
         budget,
     )?
     else {
@@ -250,6 +255,7 @@ fn open_writer<'a>(
     fresh: Option<&FreshStart>,
     network: &'a Network,
     setup: RunSetup,
+    mesh: Option<&TriMesh>,
     budget: f64,
 ) -> anyhow::Result<Option<(OutputWriter<'a>, Option<ResumePoint>)>> {
     if !(resume && out.join("result.json").is_file()) {
@@ -261,7 +267,7 @@ fn open_writer<'a>(
         let writer = OutputWriter::create(out, network, setup, budget).map_err(failure)?;
         return Ok(Some((writer, None)));
     }
-    let (writer, point) = OutputWriter::resume(out, network, &setup).map_err(usage)?;
+    let (writer, point) = OutputWriter::resume(out, network, &setup, mesh).map_err(usage)?;
     print_warnings(writer.warnings());
     match &point {
         None if writer.result().complete => {

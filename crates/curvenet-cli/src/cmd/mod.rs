@@ -67,17 +67,7 @@ pub fn physical_mode(
     file_units: Option<&str>,
     specs: &[curvenet::material::CurveSpec],
 ) -> anyhow::Result<(Option<PhysicalParams>, PhysicsArgs)> {
-    let options = PhysicalOptions {
-        units: p.units.clone(),
-        material: p.material.clone(),
-        young: physics.young.clone(),
-        density: p.density.clone(),
-        strength: p.strength.clone(),
-        radius: physics.radius.map(|r| r.to_string()),
-        tube: p.tube.clone(),
-        load: p.load.clone(),
-        gravity: p.gravity.clone(),
-    };
+    let options = physical_options(physics, p);
     let physical = options.resolve(file_units, specs).map_err(usage)?;
     let mut paper = physics.clone();
     let physical = physical.map(|mut pp| {
@@ -87,6 +77,21 @@ pub fn physical_mode(
         pp
     });
     Ok((physical, paper))
+}
+
+/// The physical mode's options as given (what a run folder records of them).
+pub fn physical_options(physics: &PhysicsArgs, p: &PhysicalModeArgs) -> PhysicalOptions {
+    PhysicalOptions {
+        units: p.units.clone(),
+        material: p.material.clone(),
+        young: physics.young.clone(),
+        density: p.density.clone(),
+        strength: p.strength.clone(),
+        radius: physics.radius.map(|r| r.to_string()),
+        tube: p.tube.clone(),
+        load: p.load.clone(),
+        gravity: p.gravity.clone(),
+    }
 }
 
 /// Stability parameters from the shared options (defaults where unset).
@@ -108,20 +113,28 @@ pub fn stability_params(p: &PhysicsArgs) -> anyhow::Result<StabilityParams> {
         anchor_weight: p.anchor_weight.unwrap_or(d.anchor_weight),
     };
     s.eigen = s.eigen.with_count(p.eigen_count);
-    s.validate().map_err(usage)?;
     let m = &s.material;
+    let (lo, hi) = curvenet::rod::STIFFNESS_RANGE;
     for (name, k, formula) in [
         ("stretching", m.ks(), "E π r²"),
         ("bending", m.kb(), "E π r⁴ / 4"),
     ] {
-        if !(k.is_finite() && k > f64::MIN_POSITIVE) {
+        if !(lo..=hi).contains(&k) {
             return Err(usage(format!(
                 "--radius {:e} and --young {:e} give a {name} stiffness {formula} = {k:e}, out \
-                 of floating-point range; choose scene units where the radius is nearer 1",
+                 of the range the solvers handle ({lo:e} to {hi:e}); choose scene units where \
+                 the radius is nearer 1",
                 m.radius, m.young
             )));
         }
     }
+    if !(lo..=hi).contains(&(2.0 * m.anchor_weight)) {
+        return Err(usage(format!(
+            "--anchor-weight {:e}: an anchor's stiffness 2µ must lie between {lo:e} and {hi:e}",
+            m.anchor_weight
+        )));
+    }
+    s.validate().map_err(usage)?;
     Ok(s)
 }
 
@@ -354,18 +367,26 @@ fn check_scaled(curves: &[Polyline], mesh: Option<&TriMesh>, a: &InputArgs) -> a
     Ok(())
 }
 
-/// A length (or any value of a scene's size) with seven significant digits, in scientific
-/// notation when it is very small or very large: `26791.22`, `0.0001234568`, `1.234568e-9`.
-/// (A fixed number of decimals prints the lengths of a tiny scene as `0.000000`.)
-pub fn fmt_length(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() {
-        return x.to_string();
+/// A length with seven significant digits (`curvenet::fmt::length`).
+pub use curvenet::fmt::length as fmt_length;
+
+/// Takes the lock of the run folder `dir` for `command` (`view`, `export`), which write into
+/// it, shared with other such commands: refused while a run is writing there. A folder that cannot be locked (read-only, say)
+/// is no run's either: the command goes on without the lock.
+pub fn hold_run_folder(
+    dir: &std::path::Path,
+    command: &str,
+) -> anyhow::Result<Option<curvenet::run_folder::folder::FolderLock>> {
+    use curvenet::run_folder::folder::{FolderError, FolderLock};
+    match FolderLock::acquire_shared(dir) {
+        Ok(lock) => Ok(Some(lock)),
+        Err(FolderError::Held(_)) => Err(usage(format!(
+            "{}: a curvenet run is writing in this folder; wait for it to end before `curvenet \
+             {command}`",
+            dir.display()
+        ))),
+        Err(_) => Ok(None),
     }
-    let e = x.abs().log10().floor();
-    if !(-4.0..15.0).contains(&e) {
-        return format!("{x:.6e}");
-    }
-    format!("{x:.*}", (6.0 - e).max(0.0) as usize)
 }
 
 /// Checks, before any work, that `path` (the value of `option`) can be written: not a folder,
@@ -400,20 +421,5 @@ pub fn print_warnings(warnings: &[String]) {
         } else {
             eprintln!("warning: {w}");
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::fmt_length;
-
-    #[test]
-    fn lengths_keep_seven_significant_digits_at_any_scale() {
-        assert_eq!(fmt_length(26791.215185), "26791.22");
-        assert_eq!(fmt_length(8.0), "8.000000");
-        assert_eq!(fmt_length(0.00012345678), "0.0001234568");
-        assert_eq!(fmt_length(1.2345678e-9), "1.234568e-9");
-        assert_eq!(fmt_length(2.5e20), "2.500000e20");
-        assert_eq!(fmt_length(0.0), "0");
     }
 }

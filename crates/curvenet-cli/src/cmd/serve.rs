@@ -55,10 +55,10 @@ pub fn run(a: ServeArgs) -> anyhow::Result<()> {
     println!("{}", curvenet_serve::url(bound));
     let s = design.current().summary.clone();
     eprintln!(
-        "serving {} of {n} curves: λ = {:.6e} ({:?}); Ctrl-C stops",
+        "serving {} of {n} curves: λ = {:.6e} ({}); Ctrl-C stops",
         s.curves.len(),
         s.lambda,
-        s.status
+        s.status.word()
     );
     let app = AppState {
         design: Arc::new(design),

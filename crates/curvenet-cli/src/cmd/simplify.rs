@@ -12,6 +12,9 @@ pub fn run(a: SimplifyArgs) -> anyhow::Result<()> {
         curves: inputs.curves,
         build: inputs.build,
         stability: params,
+        physical_options: physical
+            .is_some()
+            .then(|| super::physical_options(&a.physics, &a.physical)),
         physical,
         input: inputs.description,
         budget: super::greedy_run::budget_of(&a.greedy, None)?,

@@ -7,6 +7,8 @@ use curvenet::run_folder::RunFolder;
 
 pub fn run(a: ViewArgs) -> anyhow::Result<()> {
     let run = RunFolder::open(&a.dir).map_err(usage)?;
+    // Held to the end: no run starts writing here while the pictures and the page are drawn.
+    let _lock = super::hold_run_folder(&a.dir, "view")?;
     super::print_warnings(&run.warnings);
     let internal = |message: String| ExitError { code: 1, message };
     if !a.no_pictures {

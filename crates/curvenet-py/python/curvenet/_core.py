@@ -377,6 +377,7 @@ class Network:
         local_search: bool = False,
         out: Optional[PathLike] = None,
         resume: bool = False,
+        force: bool = False,
         pictures: Optional[bool] = None,
         progress: Optional[Callable[["Iteration"], Any]] = None,
     ) -> "Result":
@@ -385,7 +386,10 @@ class Network:
 
         The run is written to the folder ``out`` exactly as the command line writes it
         (default: a new temporary folder), so :func:`open_run` reads it again and
-        ``resume=True`` continues an interrupted run. ``pictures`` writes the pictures and the
+        ``resume=True`` continues an interrupted run. As on the command line, another run
+        writing in ``out`` meanwhile is refused, a fresh run into an earlier run's folder
+        removes that run's files first, and a non-empty folder that is not a curvenet run's is
+        refused unless ``force=True``. ``pictures`` writes the pictures and the
         viewer page (default: when ``out`` is given). ``progress(iteration)`` is called after
         each iteration; an exception it raises stops the run, as does Ctrl-C
         (``KeyboardInterrupt``), within a fraction of a second, keeping what was recorded.
@@ -414,6 +418,7 @@ class Network:
             local_search=local_search,
             pictures=pictures,
             resume=resume,
+            force=force,
             progress=cb,
         )
         result = open_run(out)

@@ -321,10 +321,10 @@ impl Answer {
         );
         let m = &self.margins;
         let mut s = format!(
-            "{place}, {} curves, length {:.6} ({:.1}% of the budget), {value} {:.6e}",
+            "{place}, {} curves, length {} ({}% of the budget), {value} {:.6e}",
             self.curves.len(),
-            self.length,
-            100.0 * m.budget.value / m.budget.limit,
+            crate::fmt::length(self.length),
+            crate::fmt::percent(100.0 * m.budget.value / m.budget.limit),
             self.lambda
         );
         let named = [
@@ -333,7 +333,11 @@ impl Answer {
         ];
         for (what, margin) in named {
             if let Some(g) = margin {
-                s.push_str(&format!("; {what} {:.6} (limit {:.6})", g.value, g.limit));
+                s.push_str(&format!(
+                    "; {what} {} (limit {})",
+                    crate::fmt::length(g.value),
+                    crate::fmt::length(g.limit)
+                ));
             }
         }
         s
@@ -352,10 +356,10 @@ impl NoAnswer {
                     |k| format!("iteration {k}"),
                 );
                 s.push_str(&format!(
-                    "\nsmallest stable network of the run: {place}, {} curves, length {:.6} ({:+.1}% \
+                    "\nsmallest stable network of the run: {place}, {} curves, length {} ({:+.1}% \
                      of the budget), {value} {:.6e}",
                     n.curves.len(),
-                    n.length,
+                    crate::fmt::length(n.length),
                     n.over_budget_percent,
                     n.lambda
                 ));

@@ -16,9 +16,9 @@
 
 use super::{Constraints, CurveSet};
 
-/// `x` with six significant digits, for messages.
+/// `x` with seven significant digits, for messages.
 fn num(x: f64) -> String {
-    format!("{x:.6}")
+    crate::fmt::length(x)
 }
 
 /// Curve ids as `0, 3, 5` (at most a dozen, then a count).

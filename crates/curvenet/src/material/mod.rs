@@ -38,20 +38,59 @@ pub struct PhysicalMaterial {
     pub strength_pa: f64,
 }
 
+/// The Young's moduli and strengths accepted, Pa: from 1 Pa (softer than any gel) to 1e13 Pa
+/// (ten times diamond's modulus).
+pub const STRESS_RANGE_PA: (f64, f64) = (1.0, 1e13);
+
+/// The densities accepted, kg/m³: from 1e-3 (a thousandth of air's; the lightest aerogels
+/// weigh 0.16) to 1e6 (forty times osmium's).
+pub const DENSITY_RANGE_KG_M3: (f64, f64) = (1e-3, 1e6);
+
+/// The intensities of the worst-case line load accepted, N/m: from 1e-6 (the weight of a tenth
+/// of a milligram per metre) to 1e12.
+pub const LINE_LOAD_RANGE_N_PER_M: (f64, f64) = (1e-6, 1e12);
+
+/// The magnitudes of gravity accepted besides 0 (no self-weight), m/s²: from 1e-6 to 1e4
+/// (about 1000 g).
+pub const GRAVITY_RANGE: (f64, f64) = (1e-6, 1e4);
+
+/// Within these bounds every stiffness, mass, load and deflection of a structure whose scene
+/// is of a size the inputs accept stays within floating-point range; beyond them no material
+/// exists, so a value there is a mistake (a wrong unit, a typo), refused naming it.
+///
+/// # Errors
+///
+/// `what` (with `unit`) and the range when `v` lies outside `range`, or is not a number.
+pub fn check_range(what: &str, v: f64, range: (f64, f64), unit: &str) -> Result<(), String> {
+    if (range.0..=range.1).contains(&v) {
+        Ok(())
+    } else if !(v > 0.0) {
+        Err(format!(
+            "{what} must be a positive number, got {v:e} {unit}"
+        ))
+    } else {
+        Err(format!(
+            "{what} is {v:e} {unit}, beyond any material (between {:e} and {:e} {unit})",
+            range.0, range.1
+        ))
+    }
+}
+
 impl PhysicalMaterial {
-    /// Checks that every value is a positive finite number.
+    /// Checks that every value lies in its range ([`STRESS_RANGE_PA`],
+    /// [`DENSITY_RANGE_KG_M3`]).
     pub fn validate(&self) -> Result<(), String> {
-        for (what, v, unit) in [
-            ("Young's modulus", self.young_pa, "Pa"),
-            ("density", self.density_kg_m3, "kg/m³"),
-            ("strength", self.strength_pa, "Pa"),
+        for (what, v, range, unit) in [
+            ("Young's modulus", self.young_pa, STRESS_RANGE_PA, "Pa"),
+            ("density", self.density_kg_m3, DENSITY_RANGE_KG_M3, "kg/m3"),
+            ("strength", self.strength_pa, STRESS_RANGE_PA, "Pa"),
         ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(format!(
-                    "the {what} of material '{}' must be a positive number, got {v:e} {unit}",
-                    self.name
-                ));
-            }
+            check_range(
+                &format!("the {what} of material '{}'", self.name),
+                v,
+                range,
+                unit,
+            )?;
         }
         Ok(())
     }
@@ -178,16 +217,16 @@ impl Physical {
         if self.curves.windows(2).any(|w| w[0].curve >= w[1].curve) {
             return Err("per-curve overrides must be in ascending curve order".into());
         }
-        if !self.gravity.iter().all(|g| g.is_finite()) {
-            return Err(format!("gravity must be finite, got {:?}", self.gravity));
+        let g = self.gravity.iter().fold(0.0_f64, |m, g| m.hypot(*g));
+        if g != 0.0 {
+            check_range("gravity's magnitude", g, GRAVITY_RANGE, "m/s2")?;
         }
-        if !(self.load_n_per_m.is_finite() && self.load_n_per_m > 0.0) {
-            return Err(format!(
-                "the distributed load must be a positive number, got {} N/m",
-                self.load_n_per_m
-            ));
-        }
-        Ok(())
+        check_range(
+            "the distributed load",
+            self.load_n_per_m,
+            LINE_LOAD_RANGE_N_PER_M,
+            "N/m",
+        )
     }
 
     fn override_of(&self, curve: usize) -> Option<&CurveOverride> {

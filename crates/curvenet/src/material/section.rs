@@ -76,11 +76,12 @@ impl Section {
     /// A short description in scene units (`solid r 10`, `tube 60 × 4`).
     pub fn describe(&self) -> String {
         match *self {
-            Section::Solid { radius } => format!("solid, radius {radius}"),
+            // As given (shortest round trip: `0.01`, `1e-30`), not expanded to every zero.
+            Section::Solid { radius } => format!("solid, radius {radius:?}"),
             Section::Tube {
                 outer_diameter,
                 wall,
-            } => format!("tube {outer_diameter} × {wall}"),
+            } => format!("tube {outer_diameter:?} × {wall:?}"),
         }
     }
 

@@ -428,8 +428,10 @@ impl AtEquilibrium<'_> {
 }
 
 impl PhysicalReport {
-    /// The report as text lines for `analyze`'s summary.
+    /// The report as text lines for `analyze`'s summary (computed numbers with their
+    /// significant digits: a tiny scene's stresses and masses do not print as zeros).
     pub fn to_text(&self) -> String {
+        use crate::fmt::significant as sig;
         let u = &self.units;
         let mut s = String::new();
         let mut line = |l: String| {
@@ -437,14 +439,13 @@ impl PhysicalReport {
             s.push('\n');
         };
         line(format!(
-            "physical: {} (E {:.4} GPa, ρ {:.0} kg/m³, strength {:.0} MPa), {}, units {u}, mass \
-             {:.3} kg",
+            "physical: {} (E {} GPa, ρ {} kg/m³, strength {} MPa), {}, units {u}, mass {} kg",
             self.material.name,
-            self.material.young_pa / 1e9,
-            self.material.density_kg_m3,
-            self.material.strength_pa / 1e6,
+            sig(self.material.young_pa / 1e9, 4),
+            sig(self.material.density_kg_m3, 4),
+            sig(self.material.strength_pa / 1e6, 4),
             self.section,
-            self.mass_kg
+            sig(self.mass_kg, 4)
         ));
         line(format!(
             "  stable: {} (zero modes {}, negative modes {}), μ_min {:.6e} s⁻²",
@@ -456,13 +457,13 @@ impl PhysicalReport {
         let freqs: Vec<String> = self
             .frequencies_hz
             .iter()
-            .map(|f| f.map_or("none".into(), |f| format!("{f:.4}")))
+            .map(|f| f.map_or("none".into(), |f| sig(f, 5)))
             .collect();
         line(format!("  natural frequencies (Hz): {}", freqs.join(", ")));
         match self.load_max_deflection {
             Some(d) => line(format!(
-                "  worst-case load {:.3} kN/m: max deflection {:.4e} {u} at vertex {}",
-                self.load_n_per_m / 1e3,
+                "  worst-case load {} kN/m: max deflection {:.4e} {u} at vertex {}",
+                sig(self.load_n_per_m / 1e3, 4),
                 d.max,
                 d.vertex
             )),
@@ -475,13 +476,19 @@ impl PhysicalReport {
             _ => line("  self-weight: no linear deflection (unstable)".into()),
         }
         line(format!(
-            "  assembly stress: bending max {:.2} MPa, axial max {:.2} MPa",
-            self.assembly_max_bending_stress_mpa, self.assembly_max_axial_stress_mpa
+            "  assembly stress: bending max {} MPa, axial max {} MPa",
+            sig(self.assembly_max_bending_stress_mpa, 4),
+            sig(self.assembly_max_axial_stress_mpa, 4)
         ));
         if let Some(m) = &self.max_utilisation {
             line(format!(
-                "  max utilisation {:.3} ({:.1} MPa / {:.0} MPa) on curve {} {} (vertex {})",
-                m.value, m.stress_mpa, m.strength_mpa, m.curve, m.near, m.vertex
+                "  max utilisation {} ({} MPa / {} MPa) on curve {} {} (vertex {})",
+                sig(m.value, 3),
+                sig(m.stress_mpa, 4),
+                sig(m.strength_mpa, 4),
+                m.curve,
+                m.near,
+                m.vertex
             ));
         }
         s

@@ -3,33 +3,44 @@
 //! [`PhysicalParams`]: one place for the command line and any other front end.
 
 use super::analysis::PhysicalParams;
-use crate::material::{CurveSpec, Physical, SectionSpec, presets};
+use crate::material::{self, CurveSpec, Physical, SectionSpec, presets};
 use crate::rod::Material;
 use crate::units::{LengthUnit, Quantity, STANDARD_GRAVITY, parse_quantity};
 
 /// The material of `--units` without `--material`.
 pub const DEFAULT_MATERIAL: &str = "steel";
 
-/// The physical mode's options, as text (`None`: not given).
-#[derive(Clone, Debug, Default, PartialEq)]
+/// The physical mode's options, as text (`None`: not given). A run folder records them as
+/// given (`result.json`'s `setup.physical`), and a resumed run must give the same.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct PhysicalOptions {
     /// `--units mm|cm|m`: the scene's length unit.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub units: Option<String>,
     /// `--material NAME`: a preset.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,
     /// `--young` with a stress unit (`210GPa`).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub young: Option<String>,
     /// `--density` with a density unit (`7850kg/m3`).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub density: Option<String>,
     /// `--strength` with a stress unit (`355MPa`).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub strength: Option<String>,
     /// `--radius`: a solid round section (scene units, or with a length unit).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub radius: Option<String>,
     /// `--tube DxT`: a round tube, outer diameter × wall.
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub tube: Option<String>,
     /// `--load`: the worst-case distributed load's intensity (`1kN/m`).
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub load: Option<String>,
     /// `--gravity`: `9.81` (along −z) or `gx,gy,gz`, m/s².
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub gravity: Option<String>,
 }
 
@@ -130,42 +141,92 @@ impl PhysicalOptions {
         }
         let physical = physical.with_curve_specs(specs)?;
         physical.validate()?;
+        check_stiffness(
+            &physical,
+            specs,
+            if self.tube.is_some() {
+                "--tube"
+            } else {
+                "--radius"
+            },
+        )?;
         let mut params = PhysicalParams::new(physical);
         params.rest = specs.iter().map(|s| s.rest.unwrap_or_default()).collect();
         Ok(Some(params))
     }
 }
 
-/// The quantity, SI unit and largest accepted value of each option written with a unit. The
-/// bounds lie far beyond any material (diamond's modulus is 1.2e12 Pa, osmium's density
-/// 22 590 kg/m³) and keep every stiffness, mass and load within floating-point range.
-const QUANTITIES: &[(&str, Quantity, &str, f64)] = &[
-    ("--young", Quantity::Stress, "Pa", 1e13),
-    ("--density", Quantity::Density, "kg/m3", 1e6),
-    ("--strength", Quantity::Stress, "Pa", 1e13),
-    ("--load", Quantity::LineLoad, "N/m", 1e12),
+/// The quantity, SI unit and accepted range of each option written with a unit
+/// ([`crate::material`]'s bounds: far beyond any material, and keeping every stiffness, mass
+/// and load within floating-point range).
+const QUANTITIES: &[(&str, Quantity, &str, (f64, f64))] = &[
+    ("--young", Quantity::Stress, "Pa", material::STRESS_RANGE_PA),
+    (
+        "--density",
+        Quantity::Density,
+        "kg/m3",
+        material::DENSITY_RANGE_KG_M3,
+    ),
+    (
+        "--strength",
+        Quantity::Stress,
+        "Pa",
+        material::STRESS_RANGE_PA,
+    ),
+    (
+        "--load",
+        Quantity::LineLoad,
+        "N/m",
+        material::LINE_LOAD_RANGE_N_PER_M,
+    ),
 ];
 
 /// The largest gravity component accepted, m/s² (about 1000 g).
-pub const MAX_GRAVITY: f64 = 1e4;
+pub const MAX_GRAVITY: f64 = material::GRAVITY_RANGE.1;
 
 /// `option`'s value (one of `--young`, `--density`, `--strength`, `--load`) in SI: a positive
-/// number with its unit, at most the option's bound.
+/// number with its unit, within the option's range.
 fn quantity(option: &str, text: &str) -> Result<f64, String> {
-    let &(_, kind, si, max) = QUANTITIES
+    let &(_, kind, si, (min, max)) = QUANTITIES
         .iter()
         .find(|q| q.0 == option)
         .expect("an option written with a unit");
     let v = parse_quantity(text, kind, option, None)?;
     if !(v > 0.0) {
         Err(format!("{option} {text:?} must be positive"))
-    } else if v > max {
+    } else if !(min..=max).contains(&v) {
         Err(format!(
-            "{option} {text:?} is {v:e} {si}, beyond any material (at most {max:e} {si})"
+            "{option} {text:?} is {v:e} {si}, beyond any material (between {min:e} and {max:e} \
+             {si})"
         ))
     } else {
         Ok(v)
     }
+}
+
+/// Refuses a section and material whose rods' stiffnesses (`E A`, `E I` in the scene's units)
+/// leave [`crate::rod::STIFFNESS_RANGE`], naming the options that set them.
+fn check_stiffness(physical: &Physical, specs: &[CurveSpec], section: &str) -> Result<(), String> {
+    let (lo, hi) = crate::rod::STIFFNESS_RANGE;
+    // The run's own rod (no override applies past the specs) and every curve's.
+    for c in std::iter::once(specs.len()).chain(0..specs.len()) {
+        let r = physical.scene_rod(c);
+        for (name, k) in [("stretching", r.ks), ("bending", r.kb)] {
+            if !(lo..=hi).contains(&k) {
+                let whose = if c < specs.len() {
+                    format!("curve {c}'s")
+                } else {
+                    format!("{section} and --young give a")
+                };
+                return Err(format!(
+                    "{whose} {name} stiffness {k:e} (in the scene's units), out of the range \
+                     the solvers handle ({lo:e} to {hi:e}): check the section's size against \
+                     --units"
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Checks one physical-mode option's text alone (`name` as on the command line, e.g.
@@ -208,6 +269,18 @@ fn parse_gravity(text: &str) -> Result<[f64; 3], String> {
         }
         Ok(v)
     };
+    // Gravity is off (0) or of a magnitude a structure can meet.
+    let checked = |g: [f64; 3]| {
+        let m = g.iter().fold(0.0_f64, |m, x| m.hypot(*x));
+        let (min, _) = material::GRAVITY_RANGE;
+        if m != 0.0 && m < min {
+            return Err(format!(
+                "--gravity {text:?}: a magnitude of {m:e} m/s2 is below {min:e} m/s2; give 0 to \
+                 turn self-weight off"
+            ));
+        }
+        Ok(g)
+    };
     match parts.as_slice() {
         [one] => {
             let v = g(one)?;
@@ -217,9 +290,9 @@ fn parse_gravity(text: &str) -> Result<[f64; 3], String> {
                      another direction)"
                 ));
             }
-            Ok([0.0, 0.0, -v])
+            checked([0.0, 0.0, -v])
         }
-        [x, y, z] => Ok([g(x)?, g(y)?, g(z)?]),
+        [x, y, z] => checked([g(x)?, g(y)?, g(z)?]),
         _ => Err(format!(
             "--gravity {text:?}: expected one value (along -z, default {STANDARD_GRAVITY}) or \
              three (gx,gy,gz) in m/s2"

@@ -13,6 +13,7 @@ pub mod plot;
 pub mod render;
 pub mod viewer;
 
+use crate::fmt;
 use crate::network::{BuildInfo, EdgeLengthStats, Network};
 use crate::rod::{ActiveSet, Material};
 use crate::stability::{Analysis, CurveShare, GravityDeflection, NewtonSummary, Objective};
@@ -41,16 +42,20 @@ impl UnitsNote {
         let slenderness = median / material.radius;
         let warning = if slenderness < 20.0 {
             Some(format!(
-                "rod radius {} is large against the median curve length {median:.4}: \
-                 slenderness {slenderness:.3} (rods are usually 100–10000× longer than thick); \
-                 check the scene's units or set --radius",
-                material.radius
+                "rod radius {} is large against the median curve length {}: slenderness {} \
+                 (rods are usually 100–10000× longer than thick); check the scene's units or \
+                 set --radius",
+                material.radius,
+                fmt::length(median),
+                fmt::significant(slenderness, 4)
             ))
         } else if slenderness > 1e6 {
             Some(format!(
-                "rod radius {} is tiny against the median curve length {median:.4}: \
-                 slenderness {slenderness:.3e}; check the scene's units or set --radius",
-                material.radius
+                "rod radius {} is tiny against the median curve length {}: slenderness {}; \
+                 check the scene's units or set --radius",
+                material.radius,
+                fmt::length(median),
+                fmt::significant(slenderness, 4)
             ))
         } else {
             // The median is fine; a single curve may still be a stub against the rod's
@@ -329,14 +334,18 @@ impl AnalysisReport {
         let e = &self.edge_length;
         let _ = writeln!(
             s,
-            "edge lengths: min {:.4} / median {:.4} / max {:.4}   (crossing tolerance {:.3e}..{:.3e})",
-            e.min, e.median, e.max, b.min_tolerance, b.max_tolerance
+            "edge lengths: min {} / median {} / max {}   (crossing tolerance {:.3e}..{:.3e})",
+            fmt::significant(e.min, 4),
+            fmt::significant(e.median, 4),
+            fmt::significant(e.max, 4),
+            b.min_tolerance,
+            b.max_tolerance
         );
         let _ = writeln!(
             s,
-            "structure: {} curves, rest length {:.6}{}; supports {}",
+            "structure: {} curves, rest length {}{}; supports {}",
             self.curves,
-            self.length,
+            fmt::length(self.length),
             if self.removed.is_empty() {
                 String::new()
             } else {
@@ -410,8 +419,10 @@ impl AnalysisReport {
         }
         let _ = writeln!(
             s,
-            "units: radius {} vs median curve length {:.4} (slenderness {:.1})",
-            self.units.radius, self.units.median_curve_length, self.units.slenderness
+            "units: radius {} vs median curve length {} (slenderness {})",
+            self.units.radius,
+            fmt::length(self.units.median_curve_length),
+            fmt::significant(self.units.slenderness, 4)
         );
         s
     }

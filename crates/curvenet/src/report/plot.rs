@@ -5,7 +5,8 @@
 //! dashed line. Axes carry ticks at "nice" values, and a common power of ten goes into the axis
 //! label when the values are very small or very large.
 
-use super::render::{INK, Image, KEPT, REMOVED, Rgb, fmt_sci, rgb8, text_width};
+use super::render::{INK, Image, KEPT, REMOVED, Rgb, rgb8, text_width};
+use crate::fmt::significant;
 use crate::run_folder::ResultFile;
 
 /// Size of `lambda.png`.
@@ -230,7 +231,7 @@ pub fn lambda_plot(result: &ResultFile) -> Image {
         14,
         &format!(
             "greedy path: {n0} -> {nk} curves, final {value} = {}",
-            fmt_sci(lk, 4)
+            significant(lk, 4)
         ),
         2,
         INK,
@@ -240,7 +241,7 @@ pub fn lambda_plot(result: &ResultFile) -> Image {
         40,
         &format!(
             "top: {value} at each step; bottom: total rest length, dashed: budget {}",
-            fmt_sci(result.budget, 6)
+            significant(result.budget, 6)
         ),
         2,
         rgb8(90, 90, 100),

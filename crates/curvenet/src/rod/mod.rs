@@ -43,6 +43,12 @@ pub struct Material {
     pub anchor_weight: f64,
 }
 
+/// The stiffnesses (`k_s`, `k_b`, an anchor's `2µ`) the energy accepts. Within them, on scenes
+/// of the sizes the inputs accept, the Hessian's entries (`k_s / h`, `k_b / h³`), its norm and
+/// the products the eigen solvers form stay within floating-point range; beyond them the first
+/// energy, gradient or spectrum can overflow.
+pub const STIFFNESS_RANGE: (f64, f64) = (1e-100, 1e100);
+
 impl Default for Material {
     fn default() -> Self {
         Material {
@@ -64,7 +70,8 @@ impl Material {
         self.young * PI * self.radius.powi(4) / 4.0
     }
 
-    /// Checks that every constant is finite and positive.
+    /// Checks that every constant is finite and positive, and the stiffnesses `k_s`, `k_b`
+    /// and `2µ` lie in [`STIFFNESS_RANGE`].
     pub fn validate(&self) -> Result<(), String> {
         for (name, v) in [
             ("radius", self.radius),
@@ -76,6 +83,28 @@ impl Material {
                     "material {name} must be a positive finite number, got {v}"
                 ));
             }
+        }
+        let (lo, hi) = STIFFNESS_RANGE;
+        for (name, k) in [
+            ("stretching stiffness E π r²", self.ks()),
+            ("bending stiffness E π r⁴ / 4", self.kb()),
+        ] {
+            if !(lo..=hi).contains(&k) {
+                return Err(format!(
+                    "radius {:e} and Young's modulus {:e} give a {name} = {k:e}, out of the \
+                     range the solvers handle ({lo:e} to {hi:e}); choose scene units where \
+                     the radius is nearer 1",
+                    self.radius, self.young
+                ));
+            }
+        }
+        let k = 2.0 * self.anchor_weight;
+        if !(lo..=hi).contains(&k) {
+            return Err(format!(
+                "the anchor weight {:e} gives an anchor stiffness 2µ = {k:e}, out of the range \
+                 the solvers handle ({lo:e} to {hi:e})",
+                self.anchor_weight
+            ));
         }
         Ok(())
     }

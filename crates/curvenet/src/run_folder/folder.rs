@@ -93,6 +93,21 @@ impl FolderLock {
     /// [`FolderError::Held`] when another process holds it; [`FolderError::Io`] when the lock
     /// file cannot be opened.
     pub fn acquire(dir: &Path) -> Result<FolderLock, FolderError> {
+        Self::take(dir, false)
+    }
+
+    /// Locks `dir` (which must exist) for a command that reads a finished run and writes
+    /// beside it (`curvenet view`, `export`): any number of them at once, never beside a run
+    /// (which holds the lock alone).
+    ///
+    /// # Errors
+    ///
+    /// As [`Self::acquire`].
+    pub fn acquire_shared(dir: &Path) -> Result<FolderLock, FolderError> {
+        Self::take(dir, true)
+    }
+
+    fn take(dir: &Path, shared: bool) -> Result<FolderLock, FolderError> {
         let path = dir.join(LOCK_FILE);
         let file = OpenOptions::new()
             .create(true)
@@ -100,7 +115,12 @@ impl FolderLock {
             .write(true)
             .open(&path)
             .map_err(|e| FolderError::Io(format!("{}: {e}", path.display())))?;
-        match file.try_lock() {
+        let locked = if shared {
+            file.try_lock_shared()
+        } else {
+            file.try_lock()
+        };
+        match locked {
             Ok(()) => Ok(FolderLock {
                 _file: Some(file),
                 warning: None,
@@ -293,6 +313,22 @@ mod tests {
         let _ = std::fs::remove_dir_all(&d);
         std::fs::create_dir_all(&d).unwrap();
         d
+    }
+
+    #[test]
+    fn shared_locks_share_the_folder_and_keep_a_run_out() {
+        let d = tmp("shared");
+        let a = FolderLock::acquire_shared(&d).expect("first reader");
+        let b = FolderLock::acquire_shared(&d).expect("second reader");
+        assert!(matches!(FolderLock::acquire(&d), Err(FolderError::Held(_))));
+        drop((a, b));
+        let run = FolderLock::acquire(&d).expect("the run");
+        assert!(matches!(
+            FolderLock::acquire_shared(&d),
+            Err(FolderError::Held(_))
+        ));
+        drop(run);
+        let _ = std::fs::remove_dir_all(&d);
     }
 
     #[test]

@@ -57,6 +57,10 @@ pub struct RunSetup {
         skip_serializing_if = "crate::constraints::ConstraintParams::is_default"
     )]
     pub constraints: crate::constraints::ConstraintParams,
+    /// The physical mode's options as given (absent in the paper's mode, and in runs recorded
+    /// before they were): a run resumed with others is refused.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub physical: Option<crate::physics::PhysicalOptions>,
 }
 
 /// The final network of a run.
@@ -176,12 +180,12 @@ impl LocalSearchRecord {
         };
         format!(
             "local search from the greedy's final network and the best single curves ({} \
-             starts): best from {from}, {} move(s); curves {:?}, length {:.6}, {value} \
+             starts): best from {from}, {} move(s); curves {:?}, length {}, {value} \
              {:.6e} ({greedy}); {} subsets evaluated, {} structures relaxed",
             self.starts.len(),
             self.moves.len(),
             self.curves,
-            self.length,
+            crate::fmt::length(self.length),
             self.lambda,
             self.evaluations,
             self.structures

@@ -2,43 +2,66 @@
 //! `--budget was 0.3, now 0.4`, `the curves' content differs from the run's (…)`.
 //!
 //! Inputs are compared by content, never by the paths as typed: the same file given by another
-//! path resumes the run (which keeps its recorded description). The options come first, in the
-//! set-up's order; then the network the inputs build (against `network.json`); then anything
-//! else of the set-up, named by its place in `result.json`.
+//! path resumes the run (which keeps its recorded description). The options come first (the
+//! physical mode's, then the others in the set-up's order); then the mesh (against `mesh.obj`)
+//! and the network the inputs build (against `network.json`, naming the first curve that
+//! differs); then anything else of the set-up, named by its place in `result.json`.
 
 use super::schema::RunSetup;
+use crate::io::TriMesh;
 use crate::network::Network;
 use serde_json::Value;
 use std::path::Path;
 
-/// Places in `result.json`'s set-up and the option a user sets them with.
-const OPTIONS: &[(&str, &str)] = &[
-    ("input.example", "the example"),
-    ("input.scale", "--scale"),
-    ("build.edge_length", "--edge-length"),
-    ("build.supports", "--supports"),
-    ("build.merge_joints_below", "--merge-joints"),
-    ("stability.material.radius", "--radius"),
-    ("stability.material.young", "--young"),
-    ("stability.material.anchor_weight", "--anchor-weight"),
-    ("stability.eigen.count", "--eigen-count"),
-    ("stability.tuning.prune", "--no-prune"),
-    ("greedy.keep", "--keep"),
+/// Places in `result.json`'s set-up, the option a user sets them with, and what an absent value
+/// reads as (the option's default). The physical mode's options come first: in that mode
+/// `--radius` and `--young` describe the physical rods (`physical.radius`), and the paper's
+/// model keeps its defaults, so a resume without `--units` is named as such, not as a change
+/// of `--radius`.
+const OPTIONS: &[(&str, &str, &str)] = &[
+    ("input.example", "the example", NOT_GIVEN),
+    ("physical.units", "--units", NOT_GIVEN),
+    ("physical.material", "--material", NOT_GIVEN),
+    ("physical.young", "--young", NOT_GIVEN),
+    ("physical.density", "--density", NOT_GIVEN),
+    ("physical.strength", "--strength", NOT_GIVEN),
+    ("physical.radius", "--radius", NOT_GIVEN),
+    ("physical.tube", "--tube", NOT_GIVEN),
+    ("physical.load", "--load", NOT_GIVEN),
+    ("physical.gravity", "--gravity", NOT_GIVEN),
+    ("stability.objective", "--objective", "lambda"),
+    ("input.scale", "--scale", NOT_GIVEN),
+    ("build.edge_length", "--edge-length", NOT_GIVEN),
+    ("build.supports", "--supports", NOT_GIVEN),
+    ("build.merge_joints_below", "--merge-joints", NOT_GIVEN),
+    ("stability.material.radius", "--radius", NOT_GIVEN),
+    ("stability.material.young", "--young", NOT_GIVEN),
+    (
+        "stability.material.anchor_weight",
+        "--anchor-weight",
+        NOT_GIVEN,
+    ),
+    ("stability.eigen.count", "--eigen-count", NOT_GIVEN),
+    ("greedy.keep", "--keep", NOT_GIVEN),
     (
         "constraints.groups",
         "the groups (--groups, the curve files' \"group\")",
+        "none",
     ),
-    ("constraints.symmetry", "--symmetry"),
-    ("constraints.connected", "--connected"),
-    ("constraints.min_curves", "--min-curves"),
-    ("constraints.max_gap", "--max-gap"),
-    ("constraints.max_deviation", "--max-deviation"),
+    ("constraints.symmetry", "--symmetry", NOT_GIVEN),
+    ("constraints.connected", "--connected", NOT_GIVEN),
+    ("constraints.min_curves", "--min-curves", NOT_GIVEN),
+    ("constraints.max_gap", "--max-gap", NOT_GIVEN),
+    ("constraints.max_deviation", "--max-deviation", NOT_GIVEN),
 ];
 
-/// A value as a user reads it: numbers and words bare, `none` for an option not given.
-fn show(v: Option<&Value>) -> String {
+/// How an option not given reads.
+const NOT_GIVEN: &str = "not given";
+
+/// A value as a user reads it: numbers and words bare, `absent` for an option not given.
+fn show(v: Option<&Value>, absent: &str) -> String {
     match v {
-        None | Some(Value::Null) => "none".into(),
+        None | Some(Value::Null) => absent.into(),
         Some(Value::String(s)) => s.clone(),
         Some(v) => v.to_string(),
     }
@@ -72,9 +95,9 @@ fn first_difference(a: Option<&Value>, b: Option<&Value>, path: &str) -> Option<
 /// The budget in words: `--budget 0.3` or `--budget-length 500`.
 fn budget_words(v: Option<&Value>) -> (Option<&'static str>, String) {
     match v.and_then(Value::as_object).and_then(|o| o.iter().next()) {
-        Some((k, x)) if k == "fraction" => (Some("--budget"), show(Some(x))),
-        Some((k, x)) if k == "length" => (Some("--budget-length"), show(Some(x))),
-        _ => (None, show(v)),
+        Some((k, x)) if k == "fraction" => (Some("--budget"), show(Some(x), NOT_GIVEN)),
+        Some((k, x)) if k == "length" => (Some("--budget-length"), show(Some(x), NOT_GIVEN)),
+        _ => (None, show(v, NOT_GIVEN)),
     }
 }
 
@@ -94,35 +117,25 @@ fn budget_difference(old: &Value, new: &Value) -> Option<String> {
 
 /// The first option whose value differs between `old` and `new` (the set-ups as JSON).
 fn option_difference(old: &Value, new: &Value) -> Option<String> {
-    let mut found = None;
-    for (i, (path, name)) in OPTIONS.iter().enumerate() {
-        if first_difference(at(old, path), at(new, path), path).is_some() {
-            found = Some((i, *path, *name));
-            break;
-        }
-    }
+    let found = OPTIONS
+        .iter()
+        .position(|(path, _, _)| first_difference(at(old, path), at(new, path), path).is_some());
     // The budget belongs after the material options and before the keep list.
     let budget_at = OPTIONS
         .iter()
-        .position(|(p, _)| *p == "greedy.keep")
+        .position(|(p, _, _)| *p == "greedy.keep")
         .unwrap_or(OPTIONS.len());
-    if found.is_none_or(|(i, _, _)| i >= budget_at)
+    if found.is_none_or(|i| i >= budget_at)
         && let Some(d) = budget_difference(old, new)
     {
         return Some(d);
     }
-    let (_, path, name) = found?;
-    let (a, b) = (at(old, path), at(new, path));
-    Some(if path == "stability.tuning.prune" {
-        let given = |v: Option<&Value>| v == Some(&Value::Bool(false));
-        format!(
-            "{name} was {}, now {}",
-            if given(a) { "given" } else { "not given" },
-            if given(b) { "given" } else { "not given" }
-        )
-    } else {
-        format!("{name} was {}, now {}", show(a), show(b))
-    })
+    let (path, name, absent) = OPTIONS[found?];
+    Some(format!(
+        "{name} was {}, now {}",
+        show(at(old, path), absent),
+        show(at(new, path), absent)
+    ))
 }
 
 /// Whether an input was given (`mesh`), in words, for a run and its resume.
@@ -148,9 +161,111 @@ fn without_paths(mut v: Value) -> Value {
     v
 }
 
-/// What differs between the run recorded in `dir` (its `setup` and `network.json`) and the
-/// one asked for (`setup`, building `network`), first difference first; `None` when the run
-/// can be resumed.
+/// How the mesh given now differs from the run's `mesh.obj` (the surface as the run wrote it,
+/// in scene units): `None` when it is the same, or when either is missing (whether a mesh was
+/// given at all is compared with the options).
+fn mesh_difference(dir: &Path, mesh: Option<&TriMesh>) -> Option<String> {
+    let stored = std::fs::read_to_string(dir.join("mesh.obj")).ok()?;
+    let now = crate::io::mesh_to_obj(mesh?);
+    if stored == now {
+        return None;
+    }
+    let count = |t: &str, p: &str| t.lines().filter(|l| l.starts_with(p)).count();
+    let (v0, f0, v1, f1) = (
+        count(&stored, "v "),
+        count(&stored, "f "),
+        count(&now, "v "),
+        count(&now, "f "),
+    );
+    let what = "--mesh's content differs from the run's";
+    if (v0, f0) != (v1, f1) {
+        return Some(format!(
+            "{what}: {v1} vertices and {f1} triangles, the run's {v0} and {f0}"
+        ));
+    }
+    let (mut v, mut f) = (0, 0);
+    for (a, b) in stored.lines().zip(now.lines()) {
+        if a != b {
+            if a.starts_with("v ") {
+                return Some(format!("{what}: its vertex {v} moved"));
+            }
+            if a.starts_with("f ") {
+                return Some(format!("{what}: its triangle {f} differs"));
+            }
+            break;
+        }
+        v += usize::from(a.starts_with("v "));
+        f += usize::from(a.starts_with("f "));
+    }
+    Some(what.to_string())
+}
+
+/// The first curve whose rod differs between two networks: its vertices' rest positions, its
+/// edges' rest lengths, closed or open, its anchors (compared by position along the rod, so a
+/// change of one curve does not name every later one).
+fn first_differing_curve(old: &Network, new: &Network) -> Option<usize> {
+    (0..old.rods.len().min(new.rods.len())).find(|&c| {
+        let (a, b) = (&old.rods[c], &new.rods[c]);
+        let points = |n: &Network, vs: &[u32]| {
+            vs.iter()
+                .map(|&v| n.positions[v as usize].to_array())
+                .collect::<Vec<_>>()
+        };
+        a.closed != b.closed
+            || a.rest_lengths != b.rest_lengths
+            || points(old, &a.vertices) != points(new, &b.vertices)
+            || points(old, &a.anchors) != points(new, &b.anchors)
+    })
+}
+
+/// How the network the inputs build now (`built`, as `network.json` would hold it) differs
+/// from the run's `network.json` (`stored`), in words: the first curve that differs, else the
+/// counts. Both are read back alike, so equal numbers compare equal.
+fn network_difference(
+    stored: &[u8],
+    built: &[u8],
+    recorded: &RunSetup,
+    setup: &RunSetup,
+) -> String {
+    let what = if recorded.input.example.is_some() {
+        "the example's curve files differ"
+    } else {
+        "the curves files' content differs"
+    };
+    let mut names = String::new();
+    if recorded.input.curve_files != setup.input.curve_files {
+        names = format!(
+            "; the run read {}, now {}",
+            recorded.input.curve_files.join(", "),
+            setup.input.curve_files.join(", ")
+        );
+    }
+    let read = |b: &[u8]| serde_json::from_slice::<Network>(b).ok();
+    let first = read(stored)
+        .zip(read(built))
+        .and_then(|(old, new)| first_differing_curve(&old, &new));
+    let (n0, n1) = (recorded.network.curves, setup.network.curves);
+    match first {
+        Some(c) => format!(
+            "{what} from the run's: curve {c} is not the one recorded in network.json (its \
+             points, lengths or supports differ){names}"
+        ),
+        None if n0 != n1 => format!(
+            "{what} from the run's: the run had {n0} curves, now {n1} (the first {} are the \
+             same){names}",
+            n0.min(n1)
+        ),
+        None => format!(
+            "{what} from the run's (the network they build now, {n1} curves and {} vertices, \
+             is not the one recorded in network.json, {n0} curves and {} vertices{names})",
+            setup.network.vertices, recorded.network.vertices
+        ),
+    }
+}
+
+/// What differs between the run recorded in `dir` (its `setup`, `mesh.obj` and
+/// `network.json`) and the one asked for (`setup`, with `mesh`, building `network`), first
+/// difference first; `None` when the run can be resumed.
 ///
 /// # Errors
 ///
@@ -159,12 +274,14 @@ pub fn resume_difference(
     dir: &Path,
     recorded: &RunSetup,
     setup: &RunSetup,
+    mesh: Option<&TriMesh>,
     network: &Network,
 ) -> Result<Option<String>, String> {
     let to_value = |s: &RunSetup| serde_json::to_value(s).map_err(|e| e.to_string());
     let (old, new) = (to_value(recorded)?, to_value(setup)?);
     if let Some(d) = presence_difference(&old, &new, "input.mesh", "--mesh")
         .or_else(|| option_difference(&old, &new))
+        .or_else(|| mesh_difference(dir, mesh))
     {
         return Ok(Some(d));
     }
@@ -172,34 +289,14 @@ pub fn resume_difference(
     let stored = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
     let built = serde_json::to_vec(network).map_err(|e| e.to_string())?;
     if stored != built {
-        let what = if recorded.input.example.is_some() {
-            "the example's curve files differ"
-        } else {
-            "the curves files' content differs"
-        };
-        let mut names = String::new();
-        if recorded.input.curve_files != setup.input.curve_files {
-            names = format!(
-                "; the run read {}, now {}",
-                recorded.input.curve_files.join(", "),
-                setup.input.curve_files.join(", ")
-            );
-        }
-        return Ok(Some(format!(
-            "{what} from the run's (the network they build now, {} curves and {} vertices, is \
-             not the one recorded in network.json, {} curves and {} vertices{names})",
-            setup.network.curves,
-            setup.network.vertices,
-            recorded.network.curves,
-            recorded.network.vertices
-        )));
+        return Ok(Some(network_difference(&stored, &built, recorded, setup)));
     }
     let (old, new) = (without_paths(old), without_paths(new));
     Ok(first_difference(Some(&old), Some(&new), "").map(|p| {
         format!(
             "the set-up's {p} was {}, now {}",
-            show(at(&old, &p)),
-            show(at(&new, &p))
+            show(at(&old, &p), "none"),
+            show(at(&new, &p), "none")
         )
     }))
 }
@@ -230,12 +327,6 @@ mod tests {
             Some("--edge-length was 100.0, now 50.0"),
             "the first difference first"
         );
-        let mut c = a.clone();
-        c["stability"]["tuning"]["prune"] = json!(false);
-        assert_eq!(
-            option_difference(&a, &c).as_deref(),
-            Some("--no-prune was not given, now given")
-        );
         let mut d = a.clone();
         d["greedy"]["keep"] = json!([1, 2]);
         assert_eq!(
@@ -247,5 +338,57 @@ mod tests {
             first_difference(Some(&a), Some(&d), "").as_deref(),
             Some("greedy.keep")
         );
+        // The objective in a user's words, the paper's by default.
+        let mut f = a.clone();
+        f["stability"]["objective"] = json!("frequency");
+        assert_eq!(
+            option_difference(&a, &f).as_deref(),
+            Some("--objective was lambda, now frequency")
+        );
+        // The physical mode's options before the paper's radius they leave at its default.
+        let mut mm = a.clone();
+        mm["physical"] = json!({"units": "mm", "radius": "0.01"});
+        mm["stability"]["material"] = json!({"radius": 2.0});
+        let mut paper = a.clone();
+        paper["stability"]["material"] = json!({"radius": 0.01});
+        assert_eq!(
+            option_difference(&mm, &paper).as_deref(),
+            Some("--units was mm, now not given")
+        );
+        let mut m = mm.clone();
+        m["physical"]["units"] = json!("m");
+        assert_eq!(
+            option_difference(&mm, &m).as_deref(),
+            Some("--units was mm, now m")
+        );
+        m["physical"]["units"] = json!("mm");
+        m["physical"]["density"] = json!("1000kg/m3");
+        assert_eq!(
+            option_difference(&mm, &m).as_deref(),
+            Some("--density was not given, now 1000kg/m3")
+        );
+        // An option no longer offered is not named.
+        assert!(OPTIONS.iter().all(|(_, name, _)| *name != "--no-prune"));
+    }
+
+    #[test]
+    fn networks_name_their_first_differing_curve() {
+        use crate::network::checks::tests::polyline;
+        use crate::network::{BuildParams, build_network};
+        let line = |y: f64| polyline(&[[-2.0, y, 0.0], [0.0, y, 0.0], [2.0, y, 0.0]]);
+        let cross = |x: f64| polyline(&[[x, -2.0, 0.0], [x, 0.0, 0.0], [x, 2.0, 0.0]]);
+        let params = BuildParams {
+            edge_length: 0.5,
+            ..BuildParams::default()
+        };
+        let build = |curves: &[crate::io::Polyline]| build_network(curves, &params).expect("net").0;
+        let a = build(&[line(-1.0), line(1.0), cross(-1.0), cross(1.0)]);
+        // Curve 3 runs further past its crossings: the others keep their joints.
+        let longer = polyline(&[[1.0, -2.0, 0.0], [1.0, 0.0, 0.0], [1.0, 2.5, 0.0]]);
+        let b = build(&[line(-1.0), line(1.0), cross(-1.0), longer]);
+        assert_eq!(first_differing_curve(&a, &a), None);
+        assert_eq!(first_differing_curve(&a, &b), Some(3));
+        let c = build(&[line(-1.0), line(1.0), cross(-1.0)]);
+        assert_eq!(first_differing_curve(&a, &c), None);
     }
 }

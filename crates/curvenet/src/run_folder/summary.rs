@@ -1,6 +1,7 @@
 //! `summary.txt` and the warnings a run's record calls for.
 
 use super::ResultFile;
+use crate::fmt;
 use crate::simplify::greedy::IterationRecord;
 use crate::stability::Objective;
 
@@ -142,24 +143,25 @@ pub fn summary(r: &ResultFile) -> String {
     );
     let _ = writeln!(
         s,
-        "budget: {:.6} of {:.6} total rest length",
-        r.budget, r.setup.total_length
+        "budget: {} of {} total rest length",
+        fmt::length(r.budget),
+        fmt::length(r.setup.total_length)
     );
     if let (Some(f), Some(l)) = (first, last) {
         let _ = writeln!(
             s,
-            "start: {} curves, length {:.6}, {value} {:.6e}{}{}",
+            "start: {} curves, length {}, {value} {:.6e}{}{}",
             f.curves.len(),
-            f.length,
+            fmt::length(f.length),
             f.lambda,
             freq(f),
             unstable_suffix(f)
         );
         let _ = writeln!(
             s,
-            "final: {} curves, length {:.6}, {value} {:.6e}{}{}",
+            "final: {} curves, length {}, {value} {:.6e}{}{}",
             l.curves.len(),
-            l.length,
+            fmt::length(l.length),
             l.lambda,
             freq(l),
             unstable_suffix(l)

@@ -113,18 +113,22 @@ impl<'a> OutputWriter<'a> {
         Ok(w)
     }
 
-    /// Continues an interrupted run in `dir`: checks that it was made with `setup` and returns
-    /// the writer and the point to resume from (`None` if the run already completed).
+    /// Continues an interrupted run in `dir`: checks that it was made with `setup` (and
+    /// `mesh`, against the run's `mesh.obj`) and returns the writer and the point to resume
+    /// from (`None` if the run already completed).
     pub fn resume(
         dir: &Path,
         network: &'a Network,
         setup: &RunSetup,
+        mesh: Option<&crate::io::TriMesh>,
     ) -> Result<(Self, Option<ResumePoint>), String> {
         let result = ResultFile::read(dir)?;
         let mut warnings = Vec::new();
         // Inputs compared by content: the same file by another path resumes the run, which
         // keeps its recorded description.
-        if let Some(d) = super::setup_diff::resume_difference(dir, &result.setup, setup, network)? {
+        if let Some(d) =
+            super::setup_diff::resume_difference(dir, &result.setup, setup, mesh, network)?
+        {
             return Err(format!(
                 "{}: cannot resume: {d}; use another --out or drop --resume",
                 dir.display()

@@ -57,6 +57,10 @@ use std::collections::BinaryHeap;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
+/// The longest time limit accepted, seconds (about 31 years: no limit in practice; a
+/// [`Duration`] cannot hold much longer ones).
+pub const MAX_TIME_LIMIT: f64 = 1e9;
+
 /// Parameters of the exact solver.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
@@ -277,7 +281,9 @@ fn run(
         seq: 0,
     };
     search.push(root);
-    let deadline = params.time_limit.map(Duration::from_secs_f64);
+    let deadline = params
+        .time_limit
+        .and_then(|t| Duration::try_from_secs_f64(t).ok());
     let status = search.run(|| deadline.is_some_and(|d| start.elapsed() >= d), cancel)?;
     search.info.eigen_solves = problem.eigen_solves() - solves0.0;
     search.info.relax_solves = problem.relax_solves() - solves0.1;
@@ -296,6 +302,13 @@ fn check(problem: &FixedProblem<'_>, params: &ExactParams) -> Result<(), Simplif
     if problem.keep().is_empty() && problem.lengths().iter().all(|&l| l > budget) {
         return Err(SimplifyError::Params(format!(
             "no feasible subset: every curve is longer than the budget {budget:.6}"
+        )));
+    }
+    if let Some(t) = params.time_limit
+        && !(0.0..=MAX_TIME_LIMIT).contains(&t)
+    {
+        return Err(SimplifyError::Params(format!(
+            "exact: the time limit must lie between 0 and {MAX_TIME_LIMIT:e} seconds, got {t}"
         )));
     }
     if params.wave == 0 {

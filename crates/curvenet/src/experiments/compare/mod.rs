@@ -97,7 +97,7 @@ pub struct Surface {
 impl CompareParams {
     /// Checks the parameters: sizes within 2..=30 (exhaustive search is exponential), at least
     /// one instance, a budget fraction in `(0, 1]`, a positive edge length and subset limit, a
-    /// finite non-negative time limit.
+    /// time limit between 0 and [`crate::simplify::exact::MAX_TIME_LIMIT`] seconds.
     pub fn validate(&self) -> Result<(), String> {
         if self.sizes.is_empty() || self.sizes.iter().any(|n| !(2..=30).contains(n)) {
             return Err(format!(
@@ -111,10 +111,10 @@ impl CompareParams {
         }
         Budget::Fraction(self.budget).validate()?;
         check_build(self.edge_length, self.max_subsets)?;
-        if !(self.exact_time_limit.is_finite() && self.exact_time_limit >= 0.0) {
+        let max = crate::simplify::exact::MAX_TIME_LIMIT;
+        if !(0.0..=max).contains(&self.exact_time_limit) {
             return Err(format!(
-                "the exact solver's time limit must be a finite number of seconds, at least 0, \
-                 got {}",
+                "the exact solver's time limit must lie between 0 and {max:e} seconds, got {}",
                 self.exact_time_limit
             ));
         }

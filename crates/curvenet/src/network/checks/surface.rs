@@ -177,7 +177,7 @@ pub fn far_from_mesh_warning(found: &FarFromMesh, mesh_name: &str) -> Option<Str
          bounding-box diagonal {:.4e}, from the surface): {}{}{hint}",
         found.curves.len(),
         found.threshold,
-        100.0 * found.threshold / found.diagonal,
+        crate::fmt::percent(100.0 * found.threshold / found.diagonal),
         found.diagonal,
         listed.join(", "),
         if more > 0 {
@@ -252,6 +252,8 @@ mod tests {
         assert!((f.max_distance - 0.5).abs() < 1e-12);
         let w = far_from_mesh_warning(&found, "m.obj").unwrap();
         assert!(w.contains("curve 1 (c.txt:3: 1 of 3 points"), "{w}");
+        // The share of the diagonal as a person writes it, not `2.9999999999999996%`.
+        assert!(w.contains(", 3.00% of its bounding-box diagonal"), "{w}");
         assert!(!w.contains("same units"), "{w}");
         // Every curve far: the hint about units.
         let far = vec![polyline(&[[10.0, 0.0, 0.0], [11.0, 0.0, 0.0]])];

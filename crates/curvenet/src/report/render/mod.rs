@@ -21,7 +21,7 @@ pub mod raster;
 pub mod scene;
 
 pub use font::{ADVANCE, LINE_HEIGHT, descent, glyph, text_width};
-pub use pictures::{PICTURE_SIZE, fmt_sci, mode_picture, network_picture};
+pub use pictures::{PICTURE_SIZE, mode_picture, network_picture};
 pub use raster::Image;
 pub use scene::{Stroke, View, colormap, draw_mesh, draw_strokes};
 

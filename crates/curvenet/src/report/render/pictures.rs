@@ -4,6 +4,7 @@
 use super::raster::Image;
 use super::scene::{Stroke, View, colormap, draw_mesh, draw_strokes};
 use super::{INK, KEPT, REMOVED, Rgb, rgb8};
+use crate::fmt::significant;
 use crate::geom::Vec3;
 use crate::network::Network;
 use crate::run_folder::{RunFolder, positions_at, record_instability};
@@ -35,23 +36,6 @@ fn legend(img: &mut Image, y: i64, items: &[(Rgb, &str)]) {
     for (c, label) in items {
         img.fill_rect(x, y + 5, 28, 4, *c, 1.0);
         x = img.text(x + 36, y, label, 2, INK) + 28;
-    }
-}
-
-/// Formats a number with `sig` significant digits in the style of `summary.txt`.
-pub fn fmt_sci(v: f64, sig: usize) -> String {
-    if v == 0.0 {
-        return "0".into();
-    }
-    if !v.is_finite() {
-        return format!("{v}");
-    }
-    let e = v.abs().log10().floor() as i32;
-    if (-3..5).contains(&e) {
-        let decimals = (sig as i32 - 1 - e).max(0) as usize;
-        format!("{v:.decimals$}")
-    } else {
-        format!("{:.*e}", sig.saturating_sub(1), v)
     }
 }
 
@@ -95,16 +79,16 @@ pub fn network_picture(run: &RunFolder, k: usize) -> Result<Image, String> {
                 "iteration {k}: {} of {} curves, length {} ({}% of {})",
                 rec.curves.len(),
                 net.rods.len(),
-                fmt_sci(rec.length, 6),
-                fmt_sci(100.0 * rec.length / total.max(f64::MIN_POSITIVE), 3),
-                fmt_sci(total, 6)
+                significant(rec.length, 6),
+                significant(100.0 * rec.length / total.max(f64::MIN_POSITIVE), 3),
+                significant(total, 6)
             ),
             format!(
                 "{} = {}{}   budget {}   supports {}",
                 run.result.setup.stability.objective.value_symbol(),
-                fmt_sci(rec.lambda, 4),
+                significant(rec.lambda, 4),
                 unstable_note(rec),
-                fmt_sci(run.result.budget, 6),
+                significant(run.result.budget, 6),
                 net.supports.name()
             ),
         ],
@@ -245,27 +229,15 @@ pub fn mode_picture(run: &RunFolder, k: usize) -> Result<Image, String> {
             format!(
                 "worst-case mode, iteration {k}: {} = {}{} ({} curves)",
                 run.result.setup.stability.objective.value_symbol(),
-                fmt_sci(rec.lambda, 4),
+                significant(rec.lambda, 4),
                 unstable_note(rec),
                 kept.len()
             ),
             format!(
                 "grey: equilibrium; colour: along the mode ×{} (largest move 8% of size)",
-                fmt_sci(amp, 3)
+                significant(amp, 3)
             ),
         ],
     );
     Ok(img)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn numbers_format() {
-        assert_eq!(fmt_sci(1234.5678, 6), "1234.57");
-        assert_eq!(fmt_sci(2.301247e-9, 4), "2.301e-9");
-        assert_eq!(fmt_sci(0.0, 4), "0");
-    }
 }
