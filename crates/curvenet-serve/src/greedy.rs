@@ -5,10 +5,13 @@
 //! structure.
 //!
 //! The run starts from the whole network, as `curvenet simplify` does, whatever structure is
-//! current: its iterations are those of `simplify` with the same budget and keep list.
+//! current: its iterations are those of `simplify` with the same budget, keep list and design
+//! constraints (the session's, bound to the run's budget and keep list by the caller).
 
 use crate::design::Design;
 use curvenet::cancel::Cancel;
+use curvenet::constraints::Constraints;
+use curvenet::physics::PhysicalSummary;
 use curvenet::simplify::greedy::{GreedyHooks, IterationRecord};
 use curvenet::simplify::{Budget, GreedyParams, SimplifyError, greedy};
 use curvenet::stability::Evaluation;
@@ -49,6 +52,9 @@ pub struct Step {
     pub negative_modes: usize,
     /// The curve removed next (`None` on the last iteration).
     pub removed: Option<usize>,
+    /// In the physical mode, the structure's physical numbers.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub physical: Option<PhysicalSummary>,
 }
 
 impl Step {
@@ -61,6 +67,7 @@ impl Step {
             zero_modes: r.zero_modes,
             negative_modes: r.negative_modes,
             removed: r.removed,
+            physical: r.physical.clone(),
         }
     }
 }
@@ -120,6 +127,15 @@ pub enum GreedyError {
     /// No run has recorded an iteration yet.
     #[error("no greedy iteration recorded yet: start a run with POST /api/greedy")]
     NoRun,
+    /// A local search is computing (only one at a time).
+    #[error("a local search is already computing; cancel it (POST /api/local/cancel) or wait")]
+    LocalBusy,
+    /// No local search is computing (cancel).
+    #[error("no local search is computing")]
+    LocalNotRunning,
+    /// No local search has a result to adopt.
+    #[error("no local search result yet: start one with POST /api/local and wait for it to end")]
+    NoLocalResult,
     /// No recorded iteration of that index.
     #[error("no iteration {asked}: the greedy recorded iterations 0..{last}")]
     NoIteration {
@@ -139,6 +155,24 @@ pub struct Request {
     pub keep: Vec<usize>,
     /// Stop after this many removals.
     pub max_removals: Option<usize>,
+}
+
+impl Request {
+    /// The greedy's parameters of the request, checked against `design`'s network.
+    ///
+    /// # Errors
+    ///
+    /// [`GreedyError::Params`] for a budget out of `(0, 1]`, an unknown curve to keep or a
+    /// keep list holding every curve.
+    pub fn checked(&self, design: &Design) -> Result<GreedyParams, GreedyError> {
+        let mut params = GreedyParams::new(Budget::Fraction(self.budget));
+        params.keep = self.keep.clone();
+        params.max_removals = self.max_removals;
+        params
+            .validate(design.analyzer().curve_count())
+            .map_err(GreedyError::Params)?;
+        Ok(params)
+    }
 }
 
 /// The state shared by the run's thread and the handlers.
@@ -196,7 +230,8 @@ impl Runner {
         r
     }
 
-    /// Starts a run on `design`'s network with `request`; answers its first progress.
+    /// Starts a run on `design`'s network with `request`, honouring `constraints` (bound to
+    /// the request's budget and keep list: [`Request::checked`]); answers its first progress.
     ///
     /// # Errors
     ///
@@ -206,13 +241,10 @@ impl Runner {
         self: &Arc<Self>,
         design: Arc<Design>,
         request: Request,
+        constraints: Option<Constraints>,
     ) -> Result<Progress, GreedyError> {
-        let n = design.analyzer().curve_count();
-        let mut params = GreedyParams::new(Budget::Fraction(request.budget));
-        params.keep = request.keep;
-        params.max_removals = request.max_removals;
-        params.validate(n).map_err(GreedyError::Params)?;
-        let total = design.analyzer().total_length(&(0..n).collect::<Vec<_>>());
+        let params = request.checked(&design)?;
+        let total = design.total_length();
         let mut s = self.lock();
         if s.status == RunStatus::Running {
             return Err(GreedyError::Busy);
@@ -231,18 +263,24 @@ impl Runner {
         let progress = progress_of(&s);
         drop(s);
         let runner = Arc::clone(self);
-        std::thread::spawn(move || runner.run(&design, &params, cancel));
+        std::thread::spawn(move || runner.run(&design, &params, constraints.as_ref(), cancel));
         Ok(progress)
     }
 
     /// The run's body, on its own thread: the library's greedy, its outcome recorded.
-    fn run(&self, design: &Design, params: &GreedyParams, cancel: Cancel) {
+    fn run(
+        &self,
+        design: &Design,
+        params: &GreedyParams,
+        constraints: Option<&Constraints>,
+        cancel: Cancel,
+    ) {
         let mut hooks = Hooks {
             runner: self,
             cancel,
         };
         let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            greedy(design.analyzer(), params, None, None, &mut hooks)
+            greedy(design.analyzer(), params, constraints, None, &mut hooks)
         }));
         let mut s = self.lock();
         s.elapsed = s.started.map(|t| t.elapsed());
@@ -266,6 +304,11 @@ impl Runner {
     /// The progress of the current (or last) run.
     pub fn progress(&self) -> Progress {
         progress_of(&self.lock())
+    }
+
+    /// Asks the run to stop if one computes (the design it runs on is being replaced).
+    pub fn stop(&self) {
+        self.lock().cancel.cancel();
     }
 
     /// Asks the computing run to stop (it does within a second, keeping its iterations).
