@@ -200,6 +200,14 @@ impl LocalRunner {
                     s.result = Some(LocalResult::of(&o, constraints.as_ref()));
                 }
                 Ok(Err(SimplifyError::Cancelled)) => s.status = RunStatus::Cancelled,
+                Ok(Err(e @ SimplifyError::Params(_))) => {
+                    s.status = RunStatus::Error;
+                    s.error = Some(format!(
+                        "the local search failed: {e}; it starts from the current structure \
+                         (when it fits) and from single curves: make a structure that fits \
+                         current (a greedy iteration, for one) and start it again"
+                    ));
+                }
                 Ok(Err(e)) => {
                     s.status = RunStatus::Error;
                     s.error = Some(format!("the local search failed: {e}"));
