@@ -53,24 +53,12 @@ impl Drop for Served {
     }
 }
 
+/// `curvenet serve --curves grid.txt` (with the quiet options and `extra`) in `dir`.
 fn serve(dir: &PathBuf, extra: &[&str]) -> Served {
-    let mut child = Command::new(BIN)
-        .args(["serve", "--curves", "grid.txt", "--port", "0"])
-        .args(QUIET)
-        .args(extra)
-        .current_dir(dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut line = String::new();
-    BufReader::new(child.stdout.take().unwrap())
-        .read_line(&mut line)
-        .unwrap();
-    Served {
-        child,
-        url: line.trim().to_string(),
-    }
+    let mut args = vec!["--curves", "grid.txt"];
+    args.extend_from_slice(QUIET);
+    args.extend_from_slice(extra);
+    serve_with(dir, &args, None)
 }
 
 /// One request to the server at `url`; the status and the JSON body.
@@ -220,22 +208,9 @@ fn simplified(dir: &PathBuf) -> PathBuf {
 
 /// `curvenet serve --run DIR` with `extra` options, its stdout's first line read.
 fn serve_run(dir: &PathBuf, run: &str, extra: &[&str]) -> Served {
-    let mut child = Command::new(BIN)
-        .args(["serve", "--run", run, "--port", "0"])
-        .args(extra)
-        .current_dir(dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut line = String::new();
-    BufReader::new(child.stdout.take().unwrap())
-        .read_line(&mut line)
-        .unwrap();
-    Served {
-        child,
-        url: line.trim().to_string(),
-    }
+    let mut args = vec!["--run", run];
+    args.extend_from_slice(extra);
+    serve_with(dir, &args, None)
 }
 
 #[test]

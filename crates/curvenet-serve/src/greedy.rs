@@ -9,15 +9,15 @@
 //! constraints (the session's, bound to the run's budget and keep list by the caller).
 
 use crate::design::Design;
+use crate::job::Job;
 use curvenet::cancel::Cancel;
 use curvenet::constraints::Constraints;
 use curvenet::physics::PhysicalSummary;
 use curvenet::simplify::greedy::{GreedyHooks, IterationRecord};
-use curvenet::simplify::{Budget, GreedyParams, SimplifyError, greedy};
+use curvenet::simplify::{Budget, GreedyParams, greedy};
 use curvenet::stability::Evaluation;
 use serde::Serialize;
 use std::sync::{Arc, Mutex, MutexGuard};
-use std::time::{Duration, Instant};
 
 /// Where the greedy is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -176,39 +176,17 @@ impl Request {
 }
 
 /// The state shared by the run's thread and the handlers.
-#[derive(Debug)]
+#[derive(Debug, Default)]
 struct Shared {
-    status: RunStatus,
-    request: Option<(f64, f64)>,
+    job: Job,
     iterations: Vec<Step>,
     stop: Option<String>,
-    error: Option<String>,
-    started: Option<Instant>,
-    elapsed: Option<Duration>,
-    cancel: Cancel,
 }
 
 /// The server's greedy: at most one run at a time, its progress and its iterations.
-#[derive(Debug)]
+#[derive(Debug, Default)]
 pub struct Runner {
     shared: Mutex<Shared>,
-}
-
-impl Default for Runner {
-    fn default() -> Self {
-        Runner {
-            shared: Mutex::new(Shared {
-                status: RunStatus::Idle,
-                request: None,
-                iterations: Vec::new(),
-                stop: None,
-                error: None,
-                started: None,
-                elapsed: None,
-                cancel: Cancel::never(),
-            }),
-        }
-    }
 }
 
 impl Runner {
@@ -218,8 +196,8 @@ impl Runner {
         let r = Runner::default();
         {
             let mut s = r.lock();
-            s.status = RunStatus::Done;
-            s.request = Some(budget);
+            s.job.status = RunStatus::Done;
+            s.job.request = Some(budget);
             s.iterations = records
                 .iter()
                 .enumerate()
@@ -246,20 +224,15 @@ impl Runner {
         let params = request.checked(&design)?;
         let total = design.total_length();
         let mut s = self.lock();
-        if s.status == RunStatus::Running {
+        if s.job.is_running() {
             return Err(GreedyError::Busy);
         }
-        let cancel = Cancel::new();
         *s = Shared {
-            status: RunStatus::Running,
-            request: Some((request.budget, request.budget * total)),
+            job: Job::running((request.budget, request.budget * total)),
             iterations: Vec::new(),
             stop: None,
-            error: None,
-            started: Some(Instant::now()),
-            elapsed: None,
-            cancel: cancel.clone(),
         };
+        let cancel = s.job.token();
         let progress = progress_of(&s);
         drop(s);
         let runner = Arc::clone(self);
@@ -283,21 +256,8 @@ impl Runner {
             greedy(design.analyzer(), params, constraints, None, &mut hooks)
         }));
         let mut s = self.lock();
-        s.elapsed = s.started.map(|t| t.elapsed());
-        match outcome {
-            Ok(Ok(out)) => {
-                s.status = RunStatus::Done;
-                s.stop = Some(out.stop.to_string());
-            }
-            Ok(Err(SimplifyError::Cancelled)) => s.status = RunStatus::Cancelled,
-            Ok(Err(e)) => {
-                s.status = RunStatus::Error;
-                s.error = Some(format!("the greedy failed: {e}"));
-            }
-            Err(_) => {
-                s.status = RunStatus::Error;
-                s.error = Some("the greedy stopped unexpectedly (an internal error)".into());
-            }
+        if let Some(out) = s.job.end(outcome, "greedy") {
+            s.stop = Some(out.stop.to_string());
         }
     }
 
@@ -308,7 +268,7 @@ impl Runner {
 
     /// Asks the run to stop if one computes (the design it runs on is being replaced).
     pub fn stop(&self) {
-        self.lock().cancel.cancel();
+        self.lock().job.cancel();
     }
 
     /// Asks the computing run to stop (it does within a second, keeping its iterations).
@@ -318,17 +278,17 @@ impl Runner {
     /// [`GreedyError::NotRunning`] when no run computes.
     pub fn cancel(&self) -> Result<Progress, GreedyError> {
         let s = self.lock();
-        if s.status != RunStatus::Running {
+        if !s.job.is_running() {
             return Err(GreedyError::NotRunning);
         }
-        s.cancel.cancel();
+        s.job.cancel();
         Ok(progress_of(&s))
     }
 
     /// The recorded iterations (of a run still computing: those so far).
     pub fn iterations(&self) -> (RunStatus, Vec<Step>) {
         let s = self.lock();
-        (s.status, s.iterations.clone())
+        (s.job.status, s.iterations.clone())
     }
 
     /// The curves of recorded iteration `k`.
@@ -357,9 +317,9 @@ impl Runner {
 
 fn progress_of(s: &Shared) -> Progress {
     Progress {
-        status: s.status,
-        budget: s.request.map(|r| r.0),
-        budget_length: s.request.map(|r| r.1),
+        status: s.job.status,
+        budget: s.job.budget(),
+        budget_length: s.job.budget_length(),
         iterations: s.iterations.len(),
         last: s.iterations.last().map(|l| Last {
             iteration: l.iteration,
@@ -368,11 +328,8 @@ fn progress_of(s: &Shared) -> Progress {
             curves: l.curves.len(),
         }),
         stop: s.stop.clone(),
-        error: s.error.clone(),
-        elapsed_ms: s
-            .elapsed
-            .or_else(|| s.started.map(|t| t.elapsed()))
-            .map(|d| d.as_secs_f64() * 1e3),
+        error: s.job.error.clone(),
+        elapsed_ms: s.job.elapsed_ms(),
     }
 }
 

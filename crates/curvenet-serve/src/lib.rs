@@ -24,6 +24,7 @@ pub mod constraints;
 pub mod design;
 pub mod export;
 pub mod greedy;
+mod job;
 pub mod local;
 pub mod workspace;
 

@@ -13,14 +13,13 @@
 
 use crate::design::Design;
 use crate::greedy::{GreedyError, Request, RunStatus};
-use curvenet::cancel::Cancel;
+use crate::job::Job;
 use curvenet::constraints::Constraints;
 use curvenet::simplify::SimplifyError;
 use curvenet::simplify::exhaustive::SubsetScore;
 use curvenet::simplify::local::{LocalOutcome, LocalParams, local_search};
 use serde::Serialize;
 use std::sync::{Arc, Mutex, MutexGuard};
-use std::time::{Duration, Instant};
 
 /// A network the search evaluated.
 #[derive(Clone, Debug, Serialize)]
@@ -104,39 +103,17 @@ pub struct LocalProgress {
 }
 
 /// The state shared by the search's thread and the handlers.
-#[derive(Debug)]
+#[derive(Debug, Default)]
 struct Shared {
-    status: RunStatus,
-    request: Option<(f64, f64)>,
+    job: Job,
     from: Option<Vec<usize>>,
     result: Option<LocalResult>,
-    error: Option<String>,
-    started: Option<Instant>,
-    elapsed: Option<Duration>,
-    cancel: Cancel,
 }
 
 /// The server's local search: at most one at a time, its progress and its result.
-#[derive(Debug)]
+#[derive(Debug, Default)]
 pub struct LocalRunner {
     shared: Mutex<Shared>,
-}
-
-impl Default for LocalRunner {
-    fn default() -> Self {
-        LocalRunner {
-            shared: Mutex::new(Shared {
-                status: RunStatus::Idle,
-                request: None,
-                from: None,
-                result: None,
-                error: None,
-                started: None,
-                elapsed: None,
-                cancel: Cancel::never(),
-            }),
-        }
-    }
 }
 
 impl LocalRunner {
@@ -161,20 +138,15 @@ impl LocalRunner {
         };
         let from = design.current().summary.curves.clone();
         let mut s = self.lock();
-        if s.status == RunStatus::Running {
+        if s.job.is_running() {
             return Err(GreedyError::LocalBusy);
         }
-        let cancel = Cancel::new();
         *s = Shared {
-            status: RunStatus::Running,
-            request: Some((request.budget, request.budget * design.total_length())),
+            job: Job::running((request.budget, request.budget * design.total_length())),
             from: Some(from.clone()),
             result: None,
-            error: None,
-            started: Some(Instant::now()),
-            elapsed: None,
-            cancel: cancel.clone(),
         };
+        let cancel = s.job.token();
         let progress = progress_of(&s);
         drop(s);
         let runner = Arc::clone(self);
@@ -188,35 +160,23 @@ impl LocalRunner {
                     &cancel,
                 )
             }));
+            // A search with no start that fits says how to give it one.
+            let outcome = outcome.map(|r| {
+                r.map_err(|e| match e {
+                    SimplifyError::Params(m) => SimplifyError::Params(format!(
+                        "{m}; it starts from the current structure (when it fits) and from \
+                         single curves: make a structure that fits current (a greedy \
+                         iteration, for one) and start it again"
+                    )),
+                    e => e,
+                })
+            });
             let mut s = runner.lock();
-            s.elapsed = s.started.map(|t| t.elapsed());
-            match outcome {
-                Ok(Ok(o)) => {
-                    s.status = if o.cancelled {
-                        RunStatus::Cancelled
-                    } else {
-                        RunStatus::Done
-                    };
-                    s.result = Some(LocalResult::of(&o, constraints.as_ref()));
+            if let Some(o) = s.job.end(outcome, "local search") {
+                if o.cancelled {
+                    s.job.status = RunStatus::Cancelled;
                 }
-                Ok(Err(SimplifyError::Cancelled)) => s.status = RunStatus::Cancelled,
-                Ok(Err(e @ SimplifyError::Params(_))) => {
-                    s.status = RunStatus::Error;
-                    s.error = Some(format!(
-                        "the local search failed: {e}; it starts from the current structure \
-                         (when it fits) and from single curves: make a structure that fits \
-                         current (a greedy iteration, for one) and start it again"
-                    ));
-                }
-                Ok(Err(e)) => {
-                    s.status = RunStatus::Error;
-                    s.error = Some(format!("the local search failed: {e}"));
-                }
-                Err(_) => {
-                    s.status = RunStatus::Error;
-                    s.error =
-                        Some("the local search stopped unexpectedly (an internal error)".into());
-                }
+                s.result = Some(LocalResult::of(&o, constraints.as_ref()));
             }
         });
         Ok(progress)
@@ -235,16 +195,16 @@ impl LocalRunner {
     /// [`GreedyError::LocalNotRunning`] when no search computes.
     pub fn cancel(&self) -> Result<LocalProgress, GreedyError> {
         let s = self.lock();
-        if s.status != RunStatus::Running {
+        if !s.job.is_running() {
             return Err(GreedyError::LocalNotRunning);
         }
-        s.cancel.cancel();
+        s.job.cancel();
         Ok(progress_of(&s))
     }
 
     /// Asks the search to stop if one computes (the design it runs on is being replaced).
     pub fn stop(&self) {
-        self.lock().cancel.cancel();
+        self.lock().job.cancel();
     }
 
     /// The curves of the best network found, once a search has ended with one.
@@ -255,7 +215,7 @@ impl LocalRunner {
     /// it failed).
     pub fn best(&self) -> Result<Vec<usize>, GreedyError> {
         let s = self.lock();
-        match (&s.status, &s.result) {
+        match (&s.job.status, &s.result) {
             (RunStatus::Running, _) | (_, None) => Err(GreedyError::NoLocalResult),
             (_, Some(r)) => Ok(r.best.curves.clone()),
         }
@@ -269,15 +229,12 @@ impl LocalRunner {
 
 fn progress_of(s: &Shared) -> LocalProgress {
     LocalProgress {
-        status: s.status,
-        budget: s.request.map(|r| r.0),
-        budget_length: s.request.map(|r| r.1),
+        status: s.job.status,
+        budget: s.job.budget(),
+        budget_length: s.job.budget_length(),
         from: s.from.clone(),
         result: s.result.clone(),
-        error: s.error.clone(),
-        elapsed_ms: s
-            .elapsed
-            .or_else(|| s.started.map(|t| t.elapsed()))
-            .map(|d| d.as_secs_f64() * 1e3),
+        error: s.job.error.clone(),
+        elapsed_ms: s.job.elapsed_ms(),
     }
 }
