@@ -370,3 +370,37 @@ fn concurrent_clients_setting_constraints_and_searching_see_whole_states() {
     assert_eq!(m["value"], curves_of(&state).len() as f64);
     assert_eq!(c["current"], state["constraints"]);
 }
+
+#[test]
+fn a_long_local_search_can_be_cancelled_and_does_not_block_the_other_requests() {
+    let ex = curvenet::paper::load_embedded("tower", curvenet::rod::Supports::default()).unwrap();
+    let addr = serve(&ex.curves, &ex.build);
+    let started = ok(addr, "POST", "/api/local", "{\"budget\":0.3}");
+    assert_eq!(started["status"], "running");
+    assert_refused(
+        addr,
+        "POST",
+        "/api/local",
+        "{\"budget\":0.3}",
+        409,
+        "already computing",
+    );
+    // Reads are answered while it runs.
+    let t = Instant::now();
+    ok(addr, "GET", "/api/state", "");
+    assert!(t.elapsed() < Duration::from_secs(5));
+    let cancelled = ok(addr, "POST", "/api/local/cancel", "");
+    assert_eq!(cancelled["status"], "running");
+    let end = wait(addr, "/api/local");
+    assert_eq!(end["status"], "cancelled", "{end}");
+    assert!(end["elapsed_ms"].as_f64().unwrap() < 60_000.0, "{end}");
+    // A run folder cannot be loaded from a server started without a folder to load from.
+    assert_refused(
+        addr,
+        "POST",
+        "/api/run",
+        "{\"path\":\".\"}",
+        403,
+        "loads no run folder",
+    );
+}
