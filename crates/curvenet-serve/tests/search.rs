@@ -156,7 +156,11 @@ fn bad_local_search_and_constraint_requests_get_a_4xx_and_leave_the_state_alone(
     let addr = serve(&curves, &build);
     post_set(addr, &[0, 1, 2, 3, 4, 5]);
     let before = ok(addr, "GET", "/api/state", "");
+    let huge = format!("{{\"groups\":\"{}\"}}", "a: 0 1\\n".repeat(200_000));
+    let huge_path = format!("{{\"path\":\"{}\"}}", "x/".repeat(600_000));
     let cases: &[(&str, &str, &str, u16, &str)] = &[
+        ("POST", "/api/constraints", &huge, 413, "length limit"),
+        ("POST", "/api/run", &huge_path, 413, "length limit"),
         ("POST", "/api/local/cancel", "", 409, "no local search"),
         (
             "POST",
