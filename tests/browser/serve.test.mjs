@@ -1,14 +1,17 @@
 // Opens the app `curvenet serve` answers at / in a real browser (Debian's headless Chromium
 // through playwright-core) and uses it: a click on a curve removes it (λ changes, the curve is
 // drawn as removed), a short greedy from the budget slider runs to its end, a step through its
-// iterations, undo. No console errors, and no request but to the server.
+// iterations, undo. On a small random network in the physical mode: the physical numbers and
+// the gravity deflection shown, a design constraint set from the form, the local search run
+// from its button and its best network adopted, a run folder loaded from the page. No console
+// errors, and no request but to the server.
 //
 // Run from this folder:  npm ci && npm test
 // Environment: see common.mjs (CURVENET_BIN, CHROMIUM, BROWSER_DEMO).
 
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { spawn } from 'node:child_process';
+import { execFileSync, spawn } from 'node:child_process';
 import fs from 'node:fs';
 import path from 'node:path';
 import readline from 'node:readline';
@@ -120,6 +123,74 @@ test('the app of curvenet serve works in headless Chromium', { timeout: 600_000 
     assert.match(await obj.text(), /^# curvenet export/);
 
     await page.screenshot({ path: path.join(outDir, 'serve.png') });
+    assert.deepEqual(foreign, [], 'the page made no request but to the server');
+    assert.deepEqual(problems, [], 'no console errors');
+  } finally {
+    await close();
+    proc.kill('SIGTERM');
+  }
+});
+
+test('the local search, a constraint, the physical numbers and loading a run in the app', { timeout: 300_000 }, async () => {
+  const dir = path.join(outDir, 'serve-small');
+  fs.rmSync(dir, { recursive: true, force: true });
+  fs.mkdirSync(dir, { recursive: true });
+  const geo = path.join(dir, 'geo.json');
+  execFileSync(binary(), ['trace', '--mesh', 'dome', '--geodesics', '8', '--seed', '3', '--out', geo], { stdio: 'ignore' });
+  const run = path.join(dir, 'run');
+  execFileSync(binary(), ['simplify', '--curves', geo, '--mesh', 'dome', '--budget', '0.6', '--out', run], { stdio: 'ignore' });
+  const { proc, url } = await serve(['--curves', geo, '--mesh', 'dome', '--units', 'mm', '--material', 'steel', '--radius', '10']);
+  const { page, problems, close } = await openBrowser();
+  const foreign = [];
+  try {
+    page.on('request', (r) => { if (!r.url().startsWith(url + '/')) foreign.push(r.url()); });
+    await page.goto(url + '/');
+    const ready = () => page.waitForFunction(() => window.curvenet && (window.curvenet.error || (window.curvenet.app && window.curvenet.app.ready && window.curvenet.app.constraints)), null, { timeout: 60_000 });
+    await ready();
+    assert.equal(await page.evaluate(() => window.curvenet.error), null);
+
+    // The physical numbers of the current structure, and its gravity deflection.
+    assert.ok(await page.isVisible('#stat-physical'));
+    assert.match(await page.textContent('#stat-physical'), /first frequency [0-9.e+-]+ Hz/);
+    assert.match(await page.textContent('#stat-physical'), /utilisation .* \(curve \d+/);
+    await page.check('input[name=deform][value=gravity]');
+    assert.match(await page.textContent('#deform-info'), /largest deflection/);
+
+    // A constraint from the form: the kept curves connected.
+    await page.click('#constraints-box summary');
+    await page.check('#c-connected');
+    await page.click('#set-constraints');
+    await page.waitForFunction(() => window.curvenet.app.margins !== null, null, { timeout: 30_000 });
+    assert.match(await page.textContent('#constraint-margins'), /constraints met: ✓ separate structures: 1 \(limit 1\)/);
+
+    // The local search from the current structure, then its best network adopted.
+    await page.fill('#budget', '0.5');
+    await page.click('#run-local');
+    await page.waitForFunction(() => {
+      const l = window.curvenet.app.local;
+      return l && l.status !== 'running' && l.status !== 'idle';
+    }, null, { timeout: 120_000 });
+    const local = await page.evaluate(() => window.curvenet.app.local);
+    assert.equal(local.status, 'done', JSON.stringify(local));
+    assert.match(await page.textContent('#local-progress'), /done; best: /);
+    const best = local.result.best.curves;
+    await page.click('#adopt-local');
+    await edited(page, 1);
+    assert.deepEqual(await page.evaluate(() => window.curvenet.keptCurves()), best);
+    assert.match(await page.textContent('#constraint-margins'), /constraints met: ✓ length \(budget of the last search\): .*separate structures: 1/);
+    assert.match(await page.textContent('#stat-physical'), /Hz/);
+
+    // A run folder loaded from the page: the page comes back on its answer.
+    const result = JSON.parse(fs.readFileSync(path.join(run, 'result.json'), 'utf8'));
+    await page.fill('#run-path', run);
+    await Promise.all([page.waitForNavigation({ timeout: 60_000 }), page.click('#load-run')]);
+    await ready();
+    assert.match(await page.title(), /serve-small\/run/);
+    assert.deepEqual(await page.evaluate(() => window.curvenet.keptCurves()), result.answer.curves);
+    await page.waitForFunction(() => window.curvenet.app.steps.length > 0, null, { timeout: 30_000 });
+    assert.equal(await page.evaluate(() => window.curvenet.app.steps.length), result.iterations.length);
+
+    await page.screenshot({ path: path.join(outDir, 'serve-small.png') });
     assert.deepEqual(foreign, [], 'the page made no request but to the server');
     assert.deepEqual(problems, [], 'no console errors');
   } finally {

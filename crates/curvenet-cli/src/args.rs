@@ -89,6 +89,17 @@ pub struct ServeArgs {
     /// Port to listen on (0: any free port).
     #[arg(long, default_value_t = 8765, value_parser = port, allow_hyphen_values = true)]
     pub port: u16,
+    /// Open the page in the default browser once the server answers.
+    #[arg(long, conflicts_with = "bench")]
+    pub open: bool,
+    /// The folder whose run folders the page may load (default: the current folder); a run
+    /// folder outside it is refused.
+    #[arg(long, value_name = "DIR", conflicts_with = "bench")]
+    pub runs: Option<PathBuf>,
+    /// What the searches maximise and `lambda` reports: lambda (the paper's λ_eq) or
+    /// frequency (μ_min of H v = μ M v with the lumped mass). See docs/units.md.
+    #[arg(long, default_value = "lambda", value_parser = parse_objective, conflicts_with = "run")]
+    pub objective: curvenet::stability::Objective,
     /// Measure instead of serving: a fixed sequence of single-curve removals and restores,
     /// each edit's time at the server printed beside a cold analysis of the same structure
     /// (docs/serve.md, *Benchmark*).
@@ -100,6 +111,9 @@ pub struct ServeArgs {
     /// Material and solver options.
     #[command(flatten)]
     pub physics: PhysicsArgs,
+    /// The physical mode (every state also gives its physical numbers).
+    #[command(flatten)]
+    pub physical: PhysicalModeArgs,
 }
 
 /// `curvenet view`.
@@ -110,7 +124,7 @@ pub struct ViewArgs {
     /// The HTML file to write (default DIR/viewer.html).
     #[arg(long)]
     pub output: Option<PathBuf>,
-    /// Open the page in the default browser (xdg-open).
+    /// Open the page in the default browser.
     #[arg(long)]
     pub open: bool,
     /// Do not compute the gravity deflection of every iteration.

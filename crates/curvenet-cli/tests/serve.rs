@@ -53,24 +53,12 @@ impl Drop for Served {
     }
 }
 
+/// `curvenet serve --curves grid.txt` (with the quiet options and `extra`) in `dir`.
 fn serve(dir: &PathBuf, extra: &[&str]) -> Served {
-    let mut child = Command::new(BIN)
-        .args(["serve", "--curves", "grid.txt", "--port", "0"])
-        .args(QUIET)
-        .args(extra)
-        .current_dir(dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut line = String::new();
-    BufReader::new(child.stdout.take().unwrap())
-        .read_line(&mut line)
-        .unwrap();
-    Served {
-        child,
-        url: line.trim().to_string(),
-    }
+    let mut args = vec!["--curves", "grid.txt"];
+    args.extend_from_slice(QUIET);
+    args.extend_from_slice(extra);
+    serve_with(dir, &args, None)
 }
 
 /// One request to the server at `url`; the status and the JSON body.
@@ -162,6 +150,14 @@ fn serve_usage_errors_exit_2_naming_the_option() {
             &["--example", "nowhere", "--curves", "x"],
             "cannot be used with",
         ),
+        (&["--runs", "nowhere"], "--runs nowhere: no such folder"),
+        (&["--material", "steel"], "--units"),
+        (&["--units", "furlong"], "--units"),
+        (
+            &["--density", "7850kg/m3"],
+            "--density belongs to the physical mode",
+        ),
+        (&["--objective", "beauty"], "--objective"),
     ];
     for (extra, says) in cases {
         let out = Command::new(BIN)
@@ -257,22 +253,9 @@ fn simplified(dir: &PathBuf) -> PathBuf {
 
 /// `curvenet serve --run DIR` with `extra` options, its stdout's first line read.
 fn serve_run(dir: &PathBuf, run: &str, extra: &[&str]) -> Served {
-    let mut child = Command::new(BIN)
-        .args(["serve", "--run", run, "--port", "0"])
-        .args(extra)
-        .current_dir(dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut line = String::new();
-    BufReader::new(child.stdout.take().unwrap())
-        .read_line(&mut line)
-        .unwrap();
-    Served {
-        child,
-        url: line.trim().to_string(),
-    }
+    let mut args = vec!["--run", run];
+    args.extend_from_slice(extra);
+    serve_with(dir, &args, None)
 }
 
 #[test]
@@ -350,5 +333,293 @@ fn serve_run_usage_errors_exit_2_naming_the_folder_or_the_option() {
         assert!(out.stdout.is_empty(), "{args:?}");
     }
     assert!(run.join("result.json").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `curvenet serve ARGS --port 0` in `dir` with `path` as its PATH when given, stderr to
+/// `dir/stderr.txt`; its stdout's first line read.
+fn serve_with(dir: &PathBuf, args: &[&str], path: Option<&str>) -> Served {
+    let mut cmd = Command::new(BIN);
+    cmd.arg("serve")
+        .args(args)
+        .args(["--port", "0"])
+        .current_dir(dir)
+        .stdout(Stdio::piped())
+        .stderr(std::fs::File::create(dir.join("stderr.txt")).unwrap());
+    if let Some(p) = path {
+        cmd.env("PATH", p);
+    }
+    let mut child = cmd.spawn().unwrap();
+    let mut line = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    Served {
+        child,
+        url: line.trim().to_string(),
+    }
+}
+
+/// `curvenet analyze --json ARGS` in `dir`: its JSON.
+fn analyze_json(dir: &PathBuf, args: &[&str]) -> serde_json::Value {
+    let out = Command::new(BIN)
+        .args(["analyze", "--json"])
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+#[test]
+fn serve_answers_with_the_lambda_of_analyze_on_a_random_geodesic_network() {
+    let dir = folder("geodesics");
+    let out = Command::new(BIN)
+        .args([
+            "trace",
+            "--mesh",
+            "dome",
+            "--geodesics",
+            "12",
+            "--seed",
+            "5",
+        ])
+        .args(["--out", "geo.json"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let input = ["--curves", "geo.json", "--mesh", "dome"];
+    let s = serve_with(&dir, &input, None);
+    // Random removal sets (SplitMix64-like steps, fixed seed), each against a cold analyze.
+    let mut x: u64 = 0x9e37_79b9_7f4a_7c15;
+    let mut next = || {
+        x = x.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = x;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    };
+    for removed in [1, 2, 3, 4] {
+        let mut ids: Vec<usize> = (0..12).collect();
+        for i in 0..removed {
+            let j = i + (next() % (12 - i) as u64) as usize;
+            ids.swap(i, j);
+        }
+        let mut gone = ids[..removed].to_vec();
+        gone.sort_unstable();
+        let kept: Vec<usize> = (0..12).filter(|c| !gone.contains(c)).collect();
+        let (status, state) = request(
+            &s.url,
+            "POST",
+            "/api/set",
+            &format!("{{\"curves\":{kept:?}}}"),
+        );
+        assert_eq!(status, 200, "{state}");
+        let list: Vec<String> = gone.iter().map(usize::to_string).collect();
+        let mut args = input.to_vec();
+        let list = list.join(",");
+        args.extend(["--remove", &list]);
+        let cold = analyze_json(&dir, &args);
+        assert_close(&state, cold["lambda"].as_f64().unwrap());
+        assert_eq!(state["zero_modes"], cold["zero_modes"], "{gone:?}");
+        assert_eq!(state["negative_modes"], cold["negative_modes"], "{gone:?}");
+    }
+    drop(s);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn serve_in_the_physical_mode_gives_the_physical_numbers_of_analyze() {
+    let dir = folder("physical");
+    let physical = ["--units", "m", "--material", "steel"];
+    let mut args = vec!["--curves", "grid.txt"];
+    args.extend_from_slice(QUIET);
+    args.extend_from_slice(&physical);
+    let s = serve_with(&dir, &args, None);
+    let (status, state) = request(&s.url, "POST", "/api/toggle", r#"{"curve":2}"#);
+    assert_eq!(status, 200, "{state}");
+    let mut cold_args = args.clone();
+    cold_args.extend(["--remove", "2"]);
+    let cold = analyze_json(&dir, &cold_args);
+    assert_close(&state, cold["lambda"].as_f64().unwrap());
+    let (p, q) = (&state["physical"], &cold["physical"]);
+    for key in [
+        "first_frequency_hz",
+        "self_weight_max_deflection",
+        "assembly_max_bending_stress_mpa",
+        "assembly_max_axial_stress_mpa",
+        "mass_kg",
+    ] {
+        let (a, b) = (p[key].as_f64().unwrap(), q[key].as_f64().unwrap());
+        assert!(
+            (a - b).abs() <= 1e-9 * b.abs(),
+            "{key}: served {a}, analyze {b}"
+        );
+    }
+    assert_eq!(
+        p["load_max_deflection"]["vertex"],
+        q["load_max_deflection"]["vertex"]
+    );
+    assert_eq!(p["max_utilisation"]["curve"], q["max_utilisation"]["curve"]);
+    assert_eq!(p["units"], "m");
+    // The state and the page carry them too; without the physical mode nothing is added.
+    let (_, now) = request(&s.url, "GET", "/api/state", "");
+    assert_eq!(now["physical"], state["physical"]);
+    drop(s);
+    let mut plain = vec!["--curves", "grid.txt"];
+    plain.extend_from_slice(QUIET);
+    let s = serve_with(&dir, &plain, None);
+    let (_, state) = request(&s.url, "GET", "/api/state", "");
+    assert!(state.get("physical").is_none(), "{state}");
+    drop(s);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_run_folder_is_loaded_from_the_page_and_bad_paths_are_refused() {
+    let dir = folder("load");
+    let run = simplified(&dir);
+    std::fs::create_dir_all(dir.join("broken")).unwrap();
+    std::fs::write(dir.join("broken/result.json"), "{\"version\": ").unwrap();
+    std::fs::create_dir_all(dir.join("empty")).unwrap();
+    let outside = folder("load-outside");
+    let outside_run = simplified(&outside);
+    #[cfg(unix)]
+    std::os::unix::fs::symlink(&outside_run, dir.join("link")).unwrap();
+    let result: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(run.join("result.json")).unwrap()).unwrap();
+    // Served from its inputs, with curve 3 removed.
+    let mut args = vec!["--curves", "grid.txt", "--remove", "3"];
+    args.extend_from_slice(QUIET);
+    let s = serve_with(&dir, &args, None);
+    let (_, before) = request(&s.url, "GET", "/api/state", "");
+    let cases: &[(&str, u16, &str)] = &[
+        (r#"{"path":"nowhere"}"#, 422, "nowhere: no such folder"),
+        (r#"{"path":"broken"}"#, 422, "result.json"),
+        (r#"{"path":"empty"}"#, 422, "result.json"),
+        (r#"{"path":"grid.txt"}"#, 422, "not a folder"),
+        (r#"{"path":""}"#, 422, "give the folder of a run"),
+        (r#"{"path":"/"}"#, 403, "outside the folder"),
+        (r#"{"path":"../"}"#, 403, "outside the folder"),
+        (r#"{"path":"run/../.."}"#, 403, "outside the folder"),
+        (r#"{"path":"link"}"#, 403, "outside the folder"),
+        (r#"{"path":5}"#, 400, "malformed JSON"),
+        (r#"{"dir":"run"}"#, 400, "unknown field"),
+        (r#"{"path":"run""#, 400, "malformed JSON"),
+    ];
+    for (body, status, says) in cases {
+        let (got, answer) = request(&s.url, "POST", "/api/run", body);
+        assert_eq!(got, *status, "{body}: {answer}");
+        let message = answer["error"].as_str().unwrap_or_default();
+        assert!(message.contains(says), "{body}: {message}");
+    }
+    let (_, after) = request(&s.url, "GET", "/api/state", "");
+    assert_eq!(after, before, "a refused load changes nothing");
+
+    // The run: its answer current, its iterations to step through, the page renamed.
+    let (status, loaded) = request(&s.url, "POST", "/api/run", r#"{"path":"run"}"#);
+    assert_eq!(status, 200, "{loaded}");
+    assert_eq!(loaded["state"]["curves"], result["answer"]["curves"]);
+    let (_, state) = request(&s.url, "GET", "/api/state", "");
+    assert_eq!(state["curves"], result["answer"]["curves"]);
+    let (_, listed) = request(&s.url, "GET", "/api/greedy/iterations", "");
+    let recorded = result["iterations"].as_array().unwrap();
+    assert_eq!(
+        listed["iterations"].as_array().unwrap().len(),
+        recorded.len()
+    );
+    assert_eq!(loaded["iterations"], recorded.len());
+    let (status, step) = request(&s.url, "POST", "/api/greedy/step", r#"{"iteration":0}"#);
+    assert_eq!(status, 200);
+    assert_eq!(step["curves"], serde_json::json!([0, 1, 2, 3, 4, 5]));
+    assert_close(&step, analyze(&dir, ""));
+    drop(s);
+    // --runs names the folder runs are loaded from.
+    let runs = outside.display().to_string();
+    let mut args = vec!["--curves", "grid.txt", "--runs", &runs];
+    args.extend_from_slice(QUIET);
+    let s = serve_with(&dir, &args, None);
+    let body = format!("{{\"path\":\"{}\"}}", outside_run.display());
+    let (status, loaded) = request(&s.url, "POST", "/api/run", &body);
+    assert_eq!(status, 200, "{loaded}");
+    let (status, refused) = request(&s.url, "POST", "/api/run", r#"{"path":"../"}"#);
+    assert_eq!(status, 403, "{refused}");
+    drop(s);
+    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_dir_all(&outside);
+}
+
+#[test]
+fn serve_open_starts_the_browser_and_a_missing_one_is_a_warning() {
+    let dir = folder("open");
+    // A stand-in browser that records what it was asked to open.
+    let bin = dir.join("bin");
+    std::fs::create_dir_all(&bin).unwrap();
+    let opener = bin.join("xdg-open");
+    std::fs::write(
+        &opener,
+        format!(
+            "#!/bin/sh\n[ -n \"$1\" ] && echo \"$1\" > {}\nexit 0\n",
+            dir.join("opened.txt").display()
+        ),
+    )
+    .unwrap();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&opener, std::fs::Permissions::from_mode(0o755)).unwrap();
+    }
+    let mut args = vec!["--curves", "grid.txt", "--open"];
+    args.extend_from_slice(QUIET);
+    let path = format!("{}:/bin:/usr/bin", bin.display());
+    let s = serve_with(&dir, &args, Some(&path));
+    let start = std::time::Instant::now();
+    while !dir.join("opened.txt").exists() && start.elapsed().as_secs() < 20 {
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    std::thread::sleep(std::time::Duration::from_millis(100));
+    let opened = std::fs::read_to_string(dir.join("opened.txt")).unwrap_or_default();
+    assert_eq!(opened.trim(), s.url);
+    drop(s);
+    // No browser at all: a warning, and the server serves.
+    let empty = dir.join("empty");
+    std::fs::create_dir_all(&empty).unwrap();
+    let s = serve_with(&dir, &args, Some(&empty.display().to_string()));
+    let (status, _) = request(&s.url, "GET", "/api/state", "");
+    assert_eq!(status, 200);
+    let stderr = std::fs::read_to_string(dir.join("stderr.txt")).unwrap();
+    assert!(
+        stderr.contains("warning: could not open a browser"),
+        "{stderr}"
+    );
+    assert!(stderr.contains(&s.url), "{stderr}");
+    drop(s);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_host_that_is_not_loopback_is_warned_about_with_the_address_bound() {
+    let dir = folder("host");
+    let mut args = vec!["--curves", "grid.txt", "--host", "0.0.0.0"];
+    args.extend_from_slice(QUIET);
+    let s = serve_with(&dir, &args, None);
+    let port = s.url.rsplit(':').next().unwrap().to_string();
+    assert_ne!(port, "0");
+    let stderr = std::fs::read_to_string(dir.join("stderr.txt")).unwrap();
+    assert!(
+        stderr.contains(&format!("listens on 0.0.0.0:{port},")),
+        "{stderr}"
+    );
+    drop(s);
     let _ = std::fs::remove_dir_all(&dir);
 }

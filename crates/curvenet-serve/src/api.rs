@@ -1,11 +1,19 @@
 //! The HTTP API: routes, handlers and the JSON errors every bad request gets. The greedy's
-//! routes are in [`greedy`], the export's in [`export`].
+//! routes are in [`greedy`], the local search's in [`local`], the design constraints' in
+//! [`constraints`], loading a run folder in [`run`], the export's in [`export`].
+//!
+//! Every handler works on the workspace current when its request arrives ([`AppState`]):
+//! loading a run folder replaces it whole, and a request already answering finishes on the
+//! workspace it started with.
 
+mod constraints;
 mod export;
 mod greedy;
+mod local;
+mod run;
 
-use crate::design::{Design, DesignError, Edited, Summary};
-use crate::greedy::Runner;
+use crate::design::{DesignError, Edited, Evaluated, Summary};
+use crate::workspace::Workspace;
 use axum::Router;
 use axum::body::Bytes;
 use axum::extract::rejection::BytesRejection;
@@ -13,9 +21,12 @@ use axum::extract::{DefaultBodyLimit, FromRef, State};
 use axum::http::{Method, StatusCode, Uri, header};
 use axum::response::{Html, IntoResponse, Response};
 use axum::routing::{get, post};
+use curvenet::physics::PhysicalParams;
 use serde::Serialize;
 use serde::de::DeserializeOwned;
-use std::sync::Arc;
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+use std::sync::{Arc, RwLock};
 
 /// The largest request body accepted (a list of every curve id of a large network fits).
 pub const BODY_LIMIT: usize = 1 << 20;
@@ -31,40 +42,84 @@ const ENDPOINTS: &[(&str, &str)] = &[
     ("/api/greedy/cancel", "POST"),
     ("/api/greedy/iterations", "GET"),
     ("/api/greedy/step", "POST"),
+    ("/api/local", "GET, POST"),
+    ("/api/local/cancel", "POST"),
+    ("/api/local/adopt", "POST"),
+    ("/api/constraints", "GET, POST"),
+    ("/api/run", "POST"),
     ("/api/export", "GET"),
 ];
 
-/// What the handlers share: the design and its greedy.
+/// What a server is configured with beyond its first workspace.
+#[derive(Clone, Debug, Default)]
+pub struct ServeConfig {
+    /// The folder whose run folders `POST /api/run` may load (`None`: loading is refused).
+    /// Canonical paths are compared, so `..` and symbolic links cannot leave it.
+    pub runs_root: Option<PathBuf>,
+    /// The physical mode's parameters applied to a run folder loaded (`None`: the paper's
+    /// mode).
+    pub physical: Option<PhysicalParams>,
+}
+
+/// What the handlers share: the current workspace (replaced whole when a run folder is
+/// loaded) and the configuration.
 #[derive(Clone, Debug)]
 pub struct AppState {
-    /// The network being designed and its current structure.
-    pub design: Arc<Design>,
-    /// The greedy runs on it.
-    pub greedy: Arc<Runner>,
-    /// What is served, for the page's title: an example's name, the curve files, a run folder.
-    pub name: Arc<str>,
+    shared: Arc<Shared>,
+}
+
+#[derive(Debug)]
+struct Shared {
+    current: RwLock<Arc<Workspace>>,
+    config: ServeConfig,
+    /// A run folder is being loaded (one at a time).
+    loading: AtomicBool,
 }
 
 impl AppState {
-    /// The state of `design` named `name`, no greedy run yet.
-    pub fn new(design: Design, name: &str) -> Self {
+    /// The state serving `workspace` with `config`.
+    pub fn new(workspace: Workspace, config: ServeConfig) -> Self {
         AppState {
-            design: Arc::new(design),
-            greedy: Arc::new(Runner::default()),
-            name: name.into(),
+            shared: Arc::new(Shared {
+                current: RwLock::new(Arc::new(workspace)),
+                config,
+                loading: AtomicBool::new(false),
+            }),
         }
     }
-}
 
-impl FromRef<AppState> for Arc<Design> {
-    fn from_ref(s: &AppState) -> Self {
-        s.design.clone()
+    /// The workspace served now.
+    pub fn workspace(&self) -> Arc<Workspace> {
+        let w = self
+            .shared
+            .current
+            .read()
+            .unwrap_or_else(|e| e.into_inner());
+        Arc::clone(&w)
+    }
+
+    /// Serves `workspace` from now on; the one it replaces is handed back (its searches asked
+    /// to stop).
+    pub fn replace(&self, workspace: Workspace) -> Arc<Workspace> {
+        let mut w = self
+            .shared
+            .current
+            .write()
+            .unwrap_or_else(|e| e.into_inner());
+        let old = std::mem::replace(&mut *w, Arc::new(workspace));
+        old.stop();
+        old
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &ServeConfig {
+        &self.shared.config
     }
 }
 
-impl FromRef<AppState> for Arc<Runner> {
+impl FromRef<AppState> for Arc<Workspace> {
     fn from_ref(s: &AppState) -> Self {
-        s.greedy.clone()
+        s.workspace()
     }
 }
 
@@ -81,6 +136,14 @@ pub fn router(app: AppState) -> Router {
         .route("/api/greedy/cancel", post(greedy::cancel))
         .route("/api/greedy/iterations", get(greedy::iterations))
         .route("/api/greedy/step", post(greedy::step))
+        .route("/api/local", get(local::progress).post(local::start))
+        .route("/api/local/cancel", post(local::cancel))
+        .route("/api/local/adopt", post(local::adopt))
+        .route(
+            "/api/constraints",
+            get(constraints::get).post(constraints::set),
+        )
+        .route("/api/run", post(run::load))
         .route("/api/export", get(export::export))
         .fallback(not_found)
         .method_not_allowed_fallback(method_not_allowed)
@@ -117,7 +180,9 @@ impl From<DesignError> for ApiError {
             DesignError::UnknownCurve { .. } | DesignError::Empty => {
                 StatusCode::UNPROCESSABLE_ENTITY
             }
-            DesignError::Analysis(_) => StatusCode::INTERNAL_SERVER_ERROR,
+            DesignError::Analysis(_) | DesignError::Physical(_) => {
+                StatusCode::INTERNAL_SERVER_ERROR
+            }
         };
         ApiError::new(status, e.to_string())
     }
@@ -140,20 +205,45 @@ struct ToggleBody {
     curve: usize,
 }
 
-/// A summary with the server-side time of its computation.
+/// A state: the summary and, with design constraints in force, the structure's margins.
+#[derive(Serialize)]
+pub(crate) struct StateAnswer {
+    #[serde(flatten)]
+    summary: Summary,
+    /// `{"met", "margins"}` of the session's constraints (absent when none is in force).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    constraints: Option<serde_json::Value>,
+}
+
+impl StateAnswer {
+    /// The state of `structure` in `ws`.
+    pub(crate) fn of(ws: &Workspace, structure: &Evaluated) -> Self {
+        let net = ws.design.analyzer().network();
+        let s = &structure.summary;
+        StateAnswer {
+            summary: s.clone(),
+            constraints: ws
+                .constraints()
+                .margins(net, &s.curves, &structure.displacement),
+        }
+    }
+}
+
+/// A state with the server-side time of its computation.
 #[derive(Serialize)]
 pub(crate) struct EditAnswer {
     #[serde(flatten)]
-    summary: Summary,
+    state: StateAnswer,
     elapsed_ms: f64,
     /// Where the answer came from: the cache, a warm start or the drawn state.
     from: crate::design::Source,
 }
 
-impl From<Edited> for EditAnswer {
-    fn from(e: Edited) -> Self {
+impl EditAnswer {
+    /// The answer to the edit `e` in `ws`.
+    pub(crate) fn of(ws: &Workspace, e: &Edited) -> Self {
         EditAnswer {
-            summary: e.summary,
+            state: StateAnswer::of(ws, &e.structure),
             elapsed_ms: e.elapsed.as_secs_f64() * 1e3,
             from: e.source,
         }
@@ -170,6 +260,37 @@ struct ModeAnswer {
     mode: Vec<f64>,
     /// Displacements from the rest state at equilibrium, 3 numbers per vertex.
     displacement: Vec<f64>,
+    /// The deflection under the gravity load at the equilibrium (`null` when the structure
+    /// is not positive definite).
+    gravity: Option<Gravity>,
+}
+
+/// A gravity deflection for drawing.
+#[derive(Serialize)]
+pub(crate) struct Gravity {
+    /// Displacements under the load, 3 numbers per vertex.
+    pub(crate) displacement: Vec<f64>,
+    /// The largest vertex displacement.
+    pub(crate) max_displacement: f64,
+    /// Where it occurs.
+    pub(crate) vertex: usize,
+}
+
+impl Gravity {
+    /// The gravity deflection of `structure` (computed on first use).
+    pub(crate) fn of(ws: &Workspace, structure: &Evaluated) -> Option<Self> {
+        let g = structure.gravity(ws.design.analyzer())?;
+        let (vertex, max_displacement) = g
+            .chunks(3)
+            .map(|c| (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt())
+            .enumerate()
+            .fold((0, 0.0f64), |b, x| if x.1 > b.1 { x } else { b });
+        Some(Gravity {
+            displacement: g.to_vec(),
+            max_displacement,
+            vertex,
+        })
+    }
 }
 
 /// `GET /api/network`: the network's geometry, for drawing.
@@ -204,12 +325,12 @@ pub(crate) fn parse<T: DeserializeOwned>(
     serde_json::from_value(value).map_err(malformed)
 }
 
-/// Runs `f` on the design off the async runtime (the analyses take up to seconds).
+/// Runs `f` on the workspace off the async runtime (the analyses take up to seconds).
 async fn blocking<T: Send + 'static>(
-    design: Arc<Design>,
-    f: impl FnOnce(&Design) -> Result<T, DesignError> + Send + 'static,
+    ws: Arc<Workspace>,
+    f: impl FnOnce(&Workspace) -> Result<T, DesignError> + Send + 'static,
 ) -> Result<T, ApiError> {
-    off_runtime(move || f(&design).map_err(ApiError::from)).await
+    off_runtime(move || f(&ws).map_err(ApiError::from)).await
 }
 
 /// Runs `f` on a blocking thread, off the async runtime.
@@ -225,56 +346,56 @@ pub(crate) async fn off_runtime<T: Send + 'static>(
 }
 
 /// `GET /`: the app page over the current structure.
-async fn index(State(app): State<AppState>) -> Result<Html<String>, ApiError> {
+async fn index(State(ws): State<Arc<Workspace>>) -> Result<Html<String>, ApiError> {
     let page = off_runtime(move || {
-        crate::app::page(&app.design, &app.name)
-            .map_err(|e| ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, e))
+        crate::app::page(&ws).map_err(|e| ApiError::new(StatusCode::INTERNAL_SERVER_ERROR, e))
     })
     .await?;
     Ok(Html(page))
 }
 
-async fn state(State(design): State<Arc<Design>>) -> ApiResult<Summary> {
-    let s = blocking(design, |d| Ok(d.current().summary.clone())).await?;
+async fn state(State(ws): State<Arc<Workspace>>) -> ApiResult<StateAnswer> {
+    let s = blocking(ws, |w| Ok(StateAnswer::of(w, &w.design.current()))).await?;
     Ok(axum::Json(s))
 }
 
 async fn set(
-    State(design): State<Arc<Design>>,
+    State(ws): State<Arc<Workspace>>,
     body: Result<Bytes, BytesRejection>,
 ) -> ApiResult<EditAnswer> {
     let SetBody { curves } = parse(body)?;
-    let e = blocking(design, move |d| d.set(&curves)).await?;
-    Ok(axum::Json(e.into()))
+    let e = blocking(ws, move |w| Ok(EditAnswer::of(w, &w.design.set(&curves)?))).await?;
+    Ok(axum::Json(e))
 }
 
 async fn toggle(
-    State(design): State<Arc<Design>>,
+    State(ws): State<Arc<Workspace>>,
     body: Result<Bytes, BytesRejection>,
 ) -> ApiResult<EditAnswer> {
     let ToggleBody { curve } = parse(body)?;
-    let e = blocking(design, move |d| d.toggle(curve)).await?;
-    Ok(axum::Json(e.into()))
+    let e = blocking(ws, move |w| Ok(EditAnswer::of(w, &w.design.toggle(curve)?))).await?;
+    Ok(axum::Json(e))
 }
 
-async fn mode(State(design): State<Arc<Design>>) -> ApiResult<ModeAnswer> {
-    let m = blocking(design, |d| {
-        let c = d.current();
+async fn mode(State(ws): State<Arc<Workspace>>) -> ApiResult<ModeAnswer> {
+    let m = blocking(ws, |w| {
+        let c = w.design.current();
         Ok(ModeAnswer {
             curves: c.summary.curves.clone(),
             lambda: c.summary.lambda,
             status: c.summary.status,
             mode: c.mode.clone(),
             displacement: c.displacement.clone(),
+            gravity: Gravity::of(w, &c),
         })
     })
     .await?;
     Ok(axum::Json(m))
 }
 
-async fn network(State(design): State<Arc<Design>>) -> ApiResult<NetworkAnswer> {
-    let n = blocking(design, |d| {
-        let net = d.analyzer().network();
+async fn network(State(ws): State<Arc<Workspace>>) -> ApiResult<NetworkAnswer> {
+    let n = blocking(ws, |w| {
+        let net = w.design.analyzer().network();
         Ok(NetworkAnswer {
             positions: net.rest_coordinates(),
             curves: net.rods.iter().map(|r| r.vertices.clone()).collect(),

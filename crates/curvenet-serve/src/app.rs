@@ -1,39 +1,53 @@
 //! The page at `/`: the viewer in its app mode ([`curvenet::report::viewer::app_html`]) over
-//! the design's network and current structure; its script edits the structure through the
-//! JSON API. Self-contained: it loads nothing but this server's API.
+//! the workspace's network, surface and current structure; its script edits the structure
+//! through the JSON API. Self-contained: it loads nothing but this server's API.
 
-use crate::design::Design;
+use crate::api::Gravity;
+use crate::workspace::Workspace;
 use curvenet::run_folder::instability;
 use serde_json::{Value, json};
 
-/// The page of `design`, titled after `name` (what is served: an example, files, a run).
+/// The page of `ws`, titled after what is served (an example, files, a run).
 ///
 /// # Errors
 ///
 /// The page's data cannot be written (it always can).
-pub fn page(design: &Design, name: &str) -> Result<String, String> {
-    let analyzer = design.analyzer();
+pub fn page(ws: &Workspace) -> Result<String, String> {
+    let analyzer = ws.design.analyzer();
     let net = analyzer.network();
     let params = analyzer.params();
-    let all: Vec<usize> = (0..net.rods.len()).collect();
+    let physical = analyzer.physical().map(|p| {
+        json!({
+            "units": p.physical.units.to_string(),
+            "material": p.physical.material.name,
+        })
+    });
     let setup = json!({
-        "example": name,
+        "example": &*ws.name,
         "supports": net.supports.name(),
         "material": params.material,
         "gravity": params.gravity,
         "budget": null,
-        "total_length": analyzer.total_length(&all),
+        "total_length": ws.design.total_length(),
         "complete": true,
         "stop": null,
+        "physical": physical,
     });
-    let title = format!("curvenet serve: {name}");
-    curvenet::report::viewer::app_html(net, &title, setup, live(design))
+    let objective = params.objective;
+    let objective = json!({
+        "name": objective.name(),
+        "value": objective.value_symbol(),
+        "score": objective.score_symbol(),
+    });
+    let title = format!("curvenet serve: {}", ws.name);
+    curvenet::report::viewer::app_html(net, &title, setup, live(ws), ws.mesh.as_deref(), objective)
 }
 
 /// The current structure as the viewer's live structure: the summary's numbers (an unstable
-/// structure named as such), the equilibrium displacements and the worst-case mode in full.
-pub fn live(design: &Design) -> Value {
-    let c = design.current();
+/// structure named as such), the equilibrium displacements, the worst-case mode and the
+/// gravity deflection in full.
+pub fn live(ws: &Workspace) -> Value {
+    let c = ws.design.current();
     let mut v = serde_json::to_value(&c.summary).unwrap_or_else(|_| json!({}));
     let s = &c.summary;
     v["unstable"] = json!(instability(s.lambda, s.zero_modes, s.negative_modes));
@@ -41,5 +55,13 @@ pub fn live(design: &Design) -> Value {
     v["score"] = Value::Null;
     v["u"] = json!({ "full": c.displacement });
     v["mode"] = json!({ "full": c.mode });
+    v["gravity"] = match Gravity::of(ws, &c) {
+        Some(g) => json!({
+            "full": g.displacement,
+            "max_displacement": g.max_displacement,
+            "vertex": g.vertex,
+        }),
+        None => Value::Null,
+    };
     v
 }

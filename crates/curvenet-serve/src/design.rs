@@ -5,14 +5,20 @@
 //! ([`Analyzer::analyze_edit`], which falls back to the drawn state when the warm answer is
 //! not a stable equilibrium), and every structure analysed is kept in a cache bounded by
 //! memory ([`Cache`]), so a set seen before (a restored curve, an undo) is answered at once.
+//!
+//! In the physical mode (an analyzer [`Analyzer::with_physical`]) each structure also gets its
+//! physical analysis ([`analyze_physical`]: frequencies, deflections, stresses), cached with
+//! it. The gravity deflection of a structure is computed when it is first asked for
+//! ([`Evaluated::gravity`]), not with the edit.
 
 use crate::cache::Cache;
+use curvenet::physics::{PhysicalReport, analyze_physical};
 use curvenet::rod::ActiveSet;
 use curvenet::stability::{
     Analysis, Analyzer, CurveShare, EditFrom, EditStart, Spectrum, StabilityError,
 };
 use serde::Serialize;
-use std::sync::{Arc, Mutex, MutexGuard};
+use std::sync::{Arc, Mutex, MutexGuard, OnceLock};
 use std::time::{Duration, Instant};
 
 /// Why an edit was refused.
@@ -32,6 +38,9 @@ pub enum DesignError {
     /// The analysis itself failed (the eigen solver).
     #[error("the analysis failed: {0}")]
     Analysis(StabilityError),
+    /// The physical analysis failed.
+    #[error("the physical analysis failed: {0}")]
+    Physical(String),
 }
 
 /// Whether a structure holds its shape, in words a designer reads.
@@ -78,6 +87,10 @@ pub struct Summary {
     pub converged: bool,
     /// Curves carrying the worst-case mode, largest share first (at most eight).
     pub mode_curves: Vec<CurveShare>,
+    /// In the physical mode, the structure's physical analysis (`analyze --json`'s
+    /// `physical` object): frequencies, deflections, stresses, utilisation.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub physical: Option<PhysicalReport>,
 }
 
 /// One evaluated structure: its summary and the vectors a drawing needs.
@@ -91,12 +104,29 @@ pub struct Evaluated {
     pub mode: Vec<f64>,
     /// The spectrum: the next edit's eigen solve starts from its vectors.
     spectrum: Spectrum,
+    /// The gravity deflection, once asked for.
+    gravity: OnceLock<Option<Vec<f64>>>,
 }
 
 impl Evaluated {
-    /// Bytes of memory it holds (what the cache counts).
+    /// The deflection under the analyzer's gravity load, `H u = f` at the equilibrium (3 per
+    /// vertex; `None` when the Hessian is not positive definite), computed on first use.
+    pub fn gravity(&self, analyzer: &Analyzer) -> Option<&[f64]> {
+        self.gravity
+            .get_or_init(|| {
+                curvenet::report::viewer::gravity_deflection(
+                    analyzer,
+                    &self.summary.curves,
+                    &self.displacement,
+                )
+            })
+            .as_deref()
+    }
+
+    /// Bytes of memory it holds (what the cache counts; the gravity deflection counted
+    /// whether or not it was computed).
     pub fn bytes(&self) -> usize {
-        let floats = self.displacement.len()
+        let floats = 2 * self.displacement.len()
             + self.mode.len()
             + self.spectrum.vectors.nrows() * self.spectrum.vectors.ncols();
         8 * floats + 64 * self.summary.eigenvalues.len() + 8 * self.summary.curves.len() + 512
@@ -135,6 +165,8 @@ pub struct Edited {
     pub elapsed: Duration,
     /// The cache, a warm start or the drawn state.
     pub source: Source,
+    /// The structure itself (its equilibrium, its mode).
+    pub structure: Arc<Evaluated>,
 }
 
 /// The current structure and the cache of every structure analysed, under one lock.
@@ -181,7 +213,7 @@ impl Design {
     ) -> Result<Self, DesignError> {
         let active = checked_set(&analyzer, curves)?;
         let analysis = analyzer.analyze(&active, None).map_err(design_error)?;
-        let first = Arc::new(evaluated(&analyzer, &active, analysis));
+        let first = Arc::new(evaluated(&analyzer, &active, analysis)?);
         let mut cache = Cache::new(cache_bytes);
         cache.insert(first.summary.curves.clone(), first.clone(), first.bytes());
         Ok(Design {
@@ -196,6 +228,12 @@ impl Design {
     /// The analyzer (the network, its model and parameters).
     pub fn analyzer(&self) -> &Analyzer {
         &self.analyzer
+    }
+
+    /// The total rest length of the whole network.
+    pub fn total_length(&self) -> f64 {
+        let all: Vec<usize> = (0..self.analyzer.curve_count()).collect();
+        self.analyzer.total_length(&all)
     }
 
     /// The current structure.
@@ -261,17 +299,18 @@ impl Design {
                     .analyzer
                     .analyze_edit(active, from)
                     .map_err(design_error)?;
-                let next = Arc::new(evaluated(&self.analyzer, active, edit.analysis));
+                let next = Arc::new(evaluated(&self.analyzer, active, edit.analysis)?);
                 store.cache.insert(key, next.clone(), next.bytes());
                 (next, edit.start.into())
             }
         };
         let elapsed = start.elapsed();
-        store.current = next.clone();
+        store.current = Arc::clone(&next);
         Ok(Edited {
             summary: next.summary.clone(),
             elapsed,
             source,
+            structure: next,
         })
     }
 
@@ -325,8 +364,20 @@ fn design_error(e: StabilityError) -> DesignError {
     }
 }
 
-/// The summary and vectors of `analysis` of `active`.
-fn evaluated(analyzer: &Analyzer, active: &ActiveSet, analysis: Analysis) -> Evaluated {
+/// The summary and vectors of `analysis` of `active`, with its physical analysis in the
+/// physical mode.
+fn evaluated(
+    analyzer: &Analyzer,
+    active: &ActiveSet,
+    analysis: Analysis,
+) -> Result<Evaluated, DesignError> {
+    let physical = match analyzer.physical() {
+        Some(p) => Some(
+            analyze_physical(analyzer.network(), p, active)
+                .map_err(|e| DesignError::Physical(e.to_string()))?,
+        ),
+        None => None,
+    };
     let curves = active.curves();
     let sp = &analysis.spectrum;
     let status = if sp.negative_modes > 0 {
@@ -346,12 +397,14 @@ fn evaluated(analyzer: &Analyzer, active: &ActiveSet, analysis: Analysis) -> Eva
         converged: analysis.newton.converged,
         mode_curves: analysis.mode_curves.iter().take(8).copied().collect(),
         curves,
+        physical,
     };
     let mode = analysis.mode();
-    Evaluated {
+    Ok(Evaluated {
         summary,
         displacement: analysis.displacement,
         mode,
         spectrum: analysis.spectrum,
-    }
+        gravity: OnceLock::new(),
+    })
 }

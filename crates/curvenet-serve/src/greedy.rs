@@ -5,16 +5,19 @@
 //! structure.
 //!
 //! The run starts from the whole network, as `curvenet simplify` does, whatever structure is
-//! current: its iterations are those of `simplify` with the same budget and keep list.
+//! current: its iterations are those of `simplify` with the same budget, keep list and design
+//! constraints (the session's, bound to the run's budget and keep list by the caller).
 
 use crate::design::Design;
+use crate::job::Job;
 use curvenet::cancel::Cancel;
+use curvenet::constraints::Constraints;
+use curvenet::physics::PhysicalSummary;
 use curvenet::simplify::greedy::{GreedyHooks, IterationRecord};
-use curvenet::simplify::{Budget, GreedyParams, SimplifyError, greedy};
+use curvenet::simplify::{Budget, GreedyParams, greedy};
 use curvenet::stability::Evaluation;
 use serde::Serialize;
 use std::sync::{Arc, Mutex, MutexGuard};
-use std::time::{Duration, Instant};
 
 /// Where the greedy is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -49,6 +52,9 @@ pub struct Step {
     pub negative_modes: usize,
     /// The curve removed next (`None` on the last iteration).
     pub removed: Option<usize>,
+    /// In the physical mode, the structure's physical numbers.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub physical: Option<PhysicalSummary>,
 }
 
 impl Step {
@@ -61,6 +67,7 @@ impl Step {
             zero_modes: r.zero_modes,
             negative_modes: r.negative_modes,
             removed: r.removed,
+            physical: r.physical.clone(),
         }
     }
 }
@@ -120,6 +127,15 @@ pub enum GreedyError {
     /// No run has recorded an iteration yet.
     #[error("no greedy iteration recorded yet: start a run with POST /api/greedy")]
     NoRun,
+    /// A local search is computing (only one at a time).
+    #[error("a local search is already computing; cancel it (POST /api/local/cancel) or wait")]
+    LocalBusy,
+    /// No local search is computing (cancel).
+    #[error("no local search is computing")]
+    LocalNotRunning,
+    /// No local search has a result to adopt.
+    #[error("no local search result yet: start one with POST /api/local and wait for it to end")]
+    NoLocalResult,
     /// No recorded iteration of that index.
     #[error("no iteration {asked}: the greedy recorded iterations 0..{last}")]
     NoIteration {
@@ -141,40 +157,36 @@ pub struct Request {
     pub max_removals: Option<usize>,
 }
 
+impl Request {
+    /// The greedy's parameters of the request, checked against `design`'s network.
+    ///
+    /// # Errors
+    ///
+    /// [`GreedyError::Params`] for a budget out of `(0, 1]`, an unknown curve to keep or a
+    /// keep list holding every curve.
+    pub fn checked(&self, design: &Design) -> Result<GreedyParams, GreedyError> {
+        let mut params = GreedyParams::new(Budget::Fraction(self.budget));
+        params.keep = self.keep.clone();
+        params.max_removals = self.max_removals;
+        params
+            .validate(design.analyzer().curve_count())
+            .map_err(GreedyError::Params)?;
+        Ok(params)
+    }
+}
+
 /// The state shared by the run's thread and the handlers.
-#[derive(Debug)]
+#[derive(Debug, Default)]
 struct Shared {
-    status: RunStatus,
-    request: Option<(f64, f64)>,
+    job: Job,
     iterations: Vec<Step>,
     stop: Option<String>,
-    error: Option<String>,
-    started: Option<Instant>,
-    elapsed: Option<Duration>,
-    cancel: Cancel,
 }
 
 /// The server's greedy: at most one run at a time, its progress and its iterations.
-#[derive(Debug)]
+#[derive(Debug, Default)]
 pub struct Runner {
     shared: Mutex<Shared>,
-}
-
-impl Default for Runner {
-    fn default() -> Self {
-        Runner {
-            shared: Mutex::new(Shared {
-                status: RunStatus::Idle,
-                request: None,
-                iterations: Vec::new(),
-                stop: None,
-                error: None,
-                started: None,
-                elapsed: None,
-                cancel: Cancel::never(),
-            }),
-        }
-    }
 }
 
 impl Runner {
@@ -184,8 +196,8 @@ impl Runner {
         let r = Runner::default();
         {
             let mut s = r.lock();
-            s.status = RunStatus::Done;
-            s.request = Some(budget);
+            s.job.status = RunStatus::Done;
+            s.job.request = Some(budget);
             s.iterations = records
                 .iter()
                 .enumerate()
@@ -196,7 +208,8 @@ impl Runner {
         r
     }
 
-    /// Starts a run on `design`'s network with `request`; answers its first progress.
+    /// Starts a run on `design`'s network with `request`, honouring `constraints` (bound to
+    /// the request's budget and keep list: [`Request::checked`]); answers its first progress.
     ///
     /// # Errors
     ///
@@ -206,66 +219,56 @@ impl Runner {
         self: &Arc<Self>,
         design: Arc<Design>,
         request: Request,
+        constraints: Option<Constraints>,
     ) -> Result<Progress, GreedyError> {
-        let n = design.analyzer().curve_count();
-        let mut params = GreedyParams::new(Budget::Fraction(request.budget));
-        params.keep = request.keep;
-        params.max_removals = request.max_removals;
-        params.validate(n).map_err(GreedyError::Params)?;
-        let total = design.analyzer().total_length(&(0..n).collect::<Vec<_>>());
+        let params = request.checked(&design)?;
+        let total = design.total_length();
         let mut s = self.lock();
-        if s.status == RunStatus::Running {
+        if s.job.is_running() {
             return Err(GreedyError::Busy);
         }
-        let cancel = Cancel::new();
         *s = Shared {
-            status: RunStatus::Running,
-            request: Some((request.budget, request.budget * total)),
+            job: Job::running((request.budget, request.budget * total)),
             iterations: Vec::new(),
             stop: None,
-            error: None,
-            started: Some(Instant::now()),
-            elapsed: None,
-            cancel: cancel.clone(),
         };
+        let cancel = s.job.token();
         let progress = progress_of(&s);
         drop(s);
         let runner = Arc::clone(self);
-        std::thread::spawn(move || runner.run(&design, &params, cancel));
+        std::thread::spawn(move || runner.run(&design, &params, constraints.as_ref(), cancel));
         Ok(progress)
     }
 
     /// The run's body, on its own thread: the library's greedy, its outcome recorded.
-    fn run(&self, design: &Design, params: &GreedyParams, cancel: Cancel) {
+    fn run(
+        &self,
+        design: &Design,
+        params: &GreedyParams,
+        constraints: Option<&Constraints>,
+        cancel: Cancel,
+    ) {
         let mut hooks = Hooks {
             runner: self,
             cancel,
         };
         let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            greedy(design.analyzer(), params, None, None, &mut hooks)
+            greedy(design.analyzer(), params, constraints, None, &mut hooks)
         }));
         let mut s = self.lock();
-        s.elapsed = s.started.map(|t| t.elapsed());
-        match outcome {
-            Ok(Ok(out)) => {
-                s.status = RunStatus::Done;
-                s.stop = Some(out.stop.to_string());
-            }
-            Ok(Err(SimplifyError::Cancelled)) => s.status = RunStatus::Cancelled,
-            Ok(Err(e)) => {
-                s.status = RunStatus::Error;
-                s.error = Some(format!("the greedy failed: {e}"));
-            }
-            Err(_) => {
-                s.status = RunStatus::Error;
-                s.error = Some("the greedy stopped unexpectedly (an internal error)".into());
-            }
+        if let Some(out) = s.job.end(outcome, "greedy") {
+            s.stop = Some(out.stop.to_string());
         }
     }
 
     /// The progress of the current (or last) run.
     pub fn progress(&self) -> Progress {
         progress_of(&self.lock())
+    }
+
+    /// Asks the run to stop if one computes (the design it runs on is being replaced).
+    pub fn stop(&self) {
+        self.lock().job.cancel();
     }
 
     /// Asks the computing run to stop (it does within a second, keeping its iterations).
@@ -275,17 +278,17 @@ impl Runner {
     /// [`GreedyError::NotRunning`] when no run computes.
     pub fn cancel(&self) -> Result<Progress, GreedyError> {
         let s = self.lock();
-        if s.status != RunStatus::Running {
+        if !s.job.is_running() {
             return Err(GreedyError::NotRunning);
         }
-        s.cancel.cancel();
+        s.job.cancel();
         Ok(progress_of(&s))
     }
 
     /// The recorded iterations (of a run still computing: those so far).
     pub fn iterations(&self) -> (RunStatus, Vec<Step>) {
         let s = self.lock();
-        (s.status, s.iterations.clone())
+        (s.job.status, s.iterations.clone())
     }
 
     /// The curves of recorded iteration `k`.
@@ -314,9 +317,9 @@ impl Runner {
 
 fn progress_of(s: &Shared) -> Progress {
     Progress {
-        status: s.status,
-        budget: s.request.map(|r| r.0),
-        budget_length: s.request.map(|r| r.1),
+        status: s.job.status,
+        budget: s.job.budget(),
+        budget_length: s.job.budget_length(),
         iterations: s.iterations.len(),
         last: s.iterations.last().map(|l| Last {
             iteration: l.iteration,
@@ -325,11 +328,8 @@ fn progress_of(s: &Shared) -> Progress {
             curves: l.curves.len(),
         }),
         stop: s.stop.clone(),
-        error: s.error.clone(),
-        elapsed_ms: s
-            .elapsed
-            .or_else(|| s.started.map(|t| t.elapsed()))
-            .map(|d| d.as_secs_f64() * 1e3),
+        error: s.job.error.clone(),
+        elapsed_ms: s.job.elapsed_ms(),
     }
 }
 

@@ -3,25 +3,36 @@
 //!
 //! A [`Design`] holds the network's [`curvenet::stability::Analyzer`] and the current
 //! structure behind one lock, each edit warm-started from a nearby equilibrium and every
-//! structure analysed kept in a [`cache::Cache`]; a [`Runner`] runs the greedy on it, one run
-//! at a time on a thread of its own ([`greedy`]); [`export`] writes the current structure as a
-//! file; [`api::router`] answers HTTP requests about them (docs/serve.md) and serves the page
-//! of [`app`] at `/` (the viewer grown into a design tool), running every analysis off the
-//! async runtime; [`Server`] binds a socket and serves the router on a tokio runtime of its
-//! own; [`bench`] measures edit latencies against cold analyses. The core library stays free
-//! of tokio: only this crate (and the command line's `serve` feature) depends on it.
+//! structure analysed kept in a [`cache::Cache`] (with its physical analysis in the physical
+//! mode); a [`Runner`] runs the greedy on it, one run at a time on a thread of its own
+//! ([`greedy`]), a [`LocalRunner`] the local search from the current structure ([`local`]);
+//! [`constraints`] holds the session's design constraints, which both searches honour;
+//! a [`Workspace`] ties them to one network, and [`workspace::open_run`] makes one of a run
+//! folder; [`export`] writes the current structure as a file; [`api::router`] answers HTTP
+//! requests about the current workspace (docs/serve.md; loading a run folder replaces it) and
+//! serves the page of [`app`] at `/` (the viewer grown into a design tool), running every
+//! analysis off the async runtime; [`Server`] binds a socket and serves the router on a tokio
+//! runtime of its own; [`bench`] measures edit latencies against cold analyses. The core
+//! library stays free of tokio: only this crate (and the command line's `serve` feature)
+//! depends on it.
 
 pub mod api;
 pub mod app;
 pub mod bench;
 pub mod cache;
+pub mod constraints;
 pub mod design;
 pub mod export;
 pub mod greedy;
+mod job;
+pub mod local;
+pub mod workspace;
 
-pub use api::{AppState, router};
+pub use api::{AppState, ServeConfig, router};
 pub use design::{Design, DesignError, Edited, Evaluated, Source, Status, Summary};
 pub use greedy::{Progress, RunStatus, Runner, Step};
+pub use local::{LocalProgress, LocalRunner};
+pub use workspace::Workspace;
 
 use std::net::SocketAddr;
 
@@ -63,11 +74,12 @@ impl Server {
     ///
     /// The listener failed.
     pub fn run(self, design: Design) -> std::io::Result<()> {
-        self.serve(AppState::new(design, "network"))
+        let ws = Workspace::new(design, "network");
+        self.serve(AppState::new(ws, ServeConfig::default()))
     }
 
-    /// Serves requests about `app` (a design and its greedy) until the process ends (or the
-    /// listener fails).
+    /// Serves requests about `app` (a workspace and the configuration) until the process ends
+    /// (or the listener fails).
     ///
     /// # Errors
     ///

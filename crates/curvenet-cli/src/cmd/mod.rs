@@ -41,6 +41,14 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     }
 }
 
+/// Opens `what` (a URL or a file) in the default browser without waiting for it; a failure
+/// is a warning saying what to open by hand.
+pub fn open_in_browser(what: &str) {
+    if let Err(e) = open::that_detached(what) {
+        eprintln!("warning: could not open a browser ({e}); open {what} in one");
+    }
+}
+
 /// Where the paper's files are read from: the folder `--data` names (which must exist), or the
 /// copies embedded in curvenet.
 pub fn data_source(folder: Option<&std::path::Path>) -> anyhow::Result<paper::DataSource> {

@@ -1,31 +1,45 @@
 //! `curvenet serve`: the network of the inputs (or of a paper's example, or of a run folder)
 //! over a local JSON API (docs/serve.md), each edit warm-started from a nearby equilibrium and
-//! giving the `λ` of `curvenet analyze --remove`; `--bench` measures edits against cold
-//! analyses instead.
+//! giving the `λ` of `curvenet analyze --remove` (and, in the physical mode, its physical
+//! numbers); `--bench` measures edits against cold analyses instead.
 
-use super::{check_curve_ids, load_inputs, print_warnings, stability_params};
+use super::{check_curve_ids, load_inputs, physical_mode, print_warnings, stability_params};
 use crate::args::{InputArgs, ServeArgs};
 use crate::exit::usage;
+use curvenet::io::TriMesh;
 use curvenet::network::{BuildParams, build_network};
-use curvenet::run_folder::RunFolder;
+use curvenet::physics::PhysicalParams;
 use curvenet::stability::Analyzer;
 use curvenet_serve::bench::BenchParams;
-use curvenet_serve::{AppState, Design, DesignError, Runner, Server};
+use curvenet_serve::workspace::open_run;
+use curvenet_serve::{AppState, Design, DesignError, Runner, ServeConfig, Server, Workspace};
 use std::net::{SocketAddr, ToSocketAddrs};
-use std::path::Path;
-use std::sync::Arc;
+use std::path::{Path, PathBuf};
 
 pub fn run(a: ServeArgs) -> anyhow::Result<()> {
     // The benchmark listens on nothing.
     let server = if a.bench { None } else { Some(bind(&a)?) };
-    let (analyzer, kept, runner) = match &a.run {
-        Some(dir) => from_run(dir, &a.remove)?,
-        None => {
-            let (analyzer, kept) = from_inputs(&a)?;
-            (analyzer, kept, Runner::default())
-        }
+    // A run folder (given or loaded from the page) gets the physical mode's options alone:
+    // its curves' own materials and units are not recorded in it.
+    // Options that need a curve file's units serve a run folder in the paper's mode.
+    let run_physical = match physical_mode(&a.physics, &a.physical, None, &[]) {
+        Ok((p, _)) => p,
+        Err(e) if a.run.is_some() => return Err(e),
+        Err(_) => None,
     };
+    let served = match &a.run {
+        Some(dir) => from_run(dir, run_physical.as_ref())?,
+        None => from_inputs(&a)?,
+    };
+    let Served {
+        analyzer,
+        kept,
+        greedy,
+        mesh,
+    } = served;
+    check_curve_ids("--remove", &a.remove, analyzer.curve_count())?;
     let n = analyzer.curve_count();
+    let kept: Vec<usize> = kept.into_iter().filter(|c| !a.remove.contains(c)).collect();
     let design = Design::new(analyzer, &kept).map_err(|e| match e {
         DesignError::Empty => usage("--remove would remove every curve; nothing is left to serve"),
         e => anyhow::Error::new(e),
@@ -50,9 +64,9 @@ pub fn run(a: ServeArgs) -> anyhow::Result<()> {
         print!("{}", report.text(&name));
         return Ok(());
     };
-    let bound = server.local_addr()?;
+    let url = curvenet_serve::url(server.local_addr()?);
     // The first line on stdout: scripts and tests read the URL from it.
-    println!("{}", curvenet_serve::url(bound));
+    println!("{url}");
     let s = design.current().summary.clone();
     eprintln!(
         "serving {} of {n} curves: λ = {:.6e} ({}); Ctrl-C stops",
@@ -60,19 +74,36 @@ pub fn run(a: ServeArgs) -> anyhow::Result<()> {
         s.lambda,
         s.status.word()
     );
-    let app = AppState {
-        design: Arc::new(design),
-        greedy: Arc::new(runner),
-        name: name.into(),
+    if let Some(p) = &s.physical {
+        print_warnings(&p.warnings);
+    }
+    if a.open {
+        super::open_in_browser(&url);
+    }
+    let ws = Workspace::new(design, &name)
+        .with_greedy(greedy)
+        .with_mesh(mesh);
+    let config = ServeConfig {
+        runs_root: Some(runs_root(a.runs.as_deref())?),
+        physical: run_physical,
     };
-    server.serve(app)?;
+    server.serve(AppState::new(ws, config))?;
     Ok(())
 }
 
-/// The analyzer of the inputs (or of `--example`) and the curves kept at the start.
-fn from_inputs(a: &ServeArgs) -> anyhow::Result<(Analyzer, Vec<usize>)> {
-    let params = stability_params(&a.physics)?;
-    let (curves, build, warnings) = match &a.example {
+/// What `serve` starts on: the analyzer, the curves kept, the greedy's iterations (a run
+/// folder's) and the surface.
+struct Served {
+    analyzer: Analyzer,
+    kept: Vec<usize>,
+    greedy: Runner,
+    mesh: Option<TriMesh>,
+}
+
+/// The analyzer of the inputs (or of `--example`), in the physical mode when asked, every
+/// curve kept.
+fn from_inputs(a: &ServeArgs) -> anyhow::Result<Served> {
+    let (curves, build, warnings, mesh, physical, paper) = match &a.example {
         Some(name) => {
             let data = super::data_source(a.data.as_deref())?;
             let supports = a.physics.supports.unwrap_or_default();
@@ -81,8 +112,9 @@ fn from_inputs(a: &ServeArgs) -> anyhow::Result<(Analyzer, Vec<usize>)> {
                 merge_joints_below: a.physics.merge_joints,
                 ..ex.build.clone()
             };
-            let warnings = ex.warnings.iter().map(|w| w.to_string()).collect();
-            (ex.curves, build, warnings)
+            let warnings: Vec<String> = ex.warnings.iter().map(|w| w.to_string()).collect();
+            let (physical, paper) = physical_mode(&a.physics, &a.physical, None, &[])?;
+            (ex.curves, build, warnings, Some(ex.mesh), physical, paper)
         }
         None => {
             let input = InputArgs {
@@ -92,58 +124,95 @@ fn from_inputs(a: &ServeArgs) -> anyhow::Result<(Analyzer, Vec<usize>)> {
                 edge_length: a.edge_length,
             };
             let inputs = load_inputs(&input, &a.physics)?;
-            (inputs.curves, inputs.build, inputs.warnings)
+            let (physical, paper) = physical_mode(
+                &a.physics,
+                &a.physical,
+                inputs.file_units.as_deref(),
+                &inputs.specs,
+            )?;
+            let mesh = inputs.mesh;
+            (
+                inputs.curves,
+                inputs.build,
+                inputs.warnings,
+                mesh,
+                physical,
+                paper,
+            )
         }
     };
     print_warnings(&warnings);
+    let mut params = stability_params(&paper)?;
+    params.objective = a.objective;
     let n = curves.len();
     check_curve_ids("--remove", &a.remove, n)?;
     let (network, info) = build_network(&curves, &build)?;
     print_warnings(&info.warnings);
-    let analyzer = Analyzer::new(network, params).map_err(usage)?;
-    let kept = (0..n).filter(|c| !a.remove.contains(c)).collect();
-    Ok((analyzer, kept))
-}
-
-/// The analyzer of a run folder's network and material, the curves of its answer (of its last
-/// iteration when it has none) less `remove`, and its greedy iterations.
-fn from_run(dir: &Path, remove: &[usize]) -> anyhow::Result<(Analyzer, Vec<usize>, Runner)> {
-    let run = RunFolder::open(dir).map_err(usage)?;
-    print_warnings(&run.warnings);
-    let r = &run.result;
-    check_curve_ids("--remove", remove, run.network.rods.len())?;
-    let analyzer = Analyzer::new(run.network.clone(), r.setup.stability.clone())
-        .map_err(|e| usage(format!("{}: {e}", dir.join("result.json").display())))?;
-    let start = match &r.answer {
-        Some(a) => &a.curves,
-        None => &r.iterations[run.last_index()].curves,
-    };
-    let kept = start
-        .iter()
-        .copied()
-        .filter(|c| !remove.contains(c))
-        .collect();
-    let fraction = r.budget / r.setup.total_length;
-    let stop = r.stop.map(|s| s.to_string());
-    let runner = Runner::finished(&r.iterations, (fraction, r.budget), stop);
-    Ok((analyzer, kept, runner))
-}
-
-/// The server bound to `--host` and `--port` (a warning when it is not a loopback address).
-fn bind(a: &ServeArgs) -> anyhow::Result<Server> {
-    let addr = address(&a.host, a.port)?;
-    if !addr.ip().is_loopback() {
-        eprintln!(
-            "warning: --host {} listens on {addr}, reachable from other machines: anyone who \
-             reaches it can edit the design and keep the server computing",
-            a.host
-        );
+    let mut analyzer = Analyzer::new(network, params).map_err(usage)?;
+    if let Some(p) = physical {
+        analyzer = analyzer.with_physical(p).map_err(usage)?;
     }
-    Server::bind(addr).map_err(|e| {
+    Ok(Served {
+        analyzer,
+        kept: (0..n).collect(),
+        greedy: Runner::default(),
+        mesh,
+    })
+}
+
+/// The run folder `dir` as `--run` serves it: its network and material, its answer to start
+/// on, its greedy iterations, its surface.
+fn from_run(dir: &Path, physical: Option<&PhysicalParams>) -> anyhow::Result<Served> {
+    let run = open_run(dir, physical).map_err(usage)?;
+    print_warnings(&run.warnings);
+    Ok(Served {
+        analyzer: run.analyzer,
+        kept: run.kept,
+        greedy: run.greedy,
+        mesh: run.mesh,
+    })
+}
+
+/// The folder the page may load run folders from: `--runs` (which must be a folder), or the
+/// current folder.
+fn runs_root(runs: Option<&Path>) -> anyhow::Result<PathBuf> {
+    match runs {
+        Some(dir) => dir
+            .canonicalize()
+            .ok()
+            .filter(|d| d.is_dir())
+            .ok_or_else(|| {
+                usage(format!(
+                    "--runs {}: no such folder (the folder whose run folders the page may load)",
+                    dir.display()
+                ))
+            }),
+        None => Ok(std::env::current_dir()?),
+    }
+}
+
+/// The server bound to `--host` and `--port` (a warning naming the address bound when it is
+/// not a loopback address).
+fn bind(a: &ServeArgs) -> anyhow::Result<Server> {
+    if let Some(dir) = &a.runs {
+        runs_root(Some(dir))?;
+    }
+    let addr = address(&a.host, a.port)?;
+    let server = Server::bind(addr).map_err(|e| {
         usage(format!(
             "cannot listen on {addr}: {e} (choose another --port, or --port 0 for any free one)"
         ))
-    })
+    })?;
+    if !addr.ip().is_loopback() {
+        let bound = server.local_addr().unwrap_or(addr);
+        eprintln!(
+            "warning: --host {} listens on {bound}, reachable from other machines: anyone who \
+             reaches it can edit the design, load run folders under the served folder and \
+             keep the server computing",
+            a.host
+        );
+    }
+    Ok(server)
 }
 
 /// The socket address of `--host` and `--port`.

@@ -23,17 +23,7 @@ pub fn run(a: ViewArgs) -> anyhow::Result<()> {
     write_viewer(&run, &path, &options).map_err(internal)?;
     println!("{}", path.display());
     if a.open {
-        match std::process::Command::new("xdg-open").arg(&path).status() {
-            Ok(s) if s.success() => {}
-            Ok(s) => eprintln!(
-                "warning: xdg-open exited with {s}; open {} in a browser",
-                path.display()
-            ),
-            Err(e) => eprintln!(
-                "warning: could not run xdg-open ({e}); open {} in a browser",
-                path.display()
-            ),
-        }
+        super::open_in_browser(&path.display().to_string());
     }
     Ok(())
 }

@@ -1,8 +1,8 @@
 //! `GET /api/export?format=obj|csv|json`: the current structure as a file to save.
 
 use super::{ApiError, off_runtime};
-use crate::design::Design;
 use crate::export::{Format, export as export_file};
+use crate::workspace::Workspace;
 use axum::extract::rejection::QueryRejection;
 use axum::extract::{Query, State};
 use axum::http::{StatusCode, header};
@@ -18,7 +18,7 @@ pub(super) struct ExportQuery {
 }
 
 pub(super) async fn export(
-    State(design): State<Arc<Design>>,
+    State(ws): State<Arc<Workspace>>,
     query: Result<Query<ExportQuery>, QueryRejection>,
 ) -> Result<Response, ApiError> {
     let Query(q) = query.map_err(|e| {
@@ -31,7 +31,7 @@ pub(super) async fn export(
         )
     })?;
     let format = Format::parse(&q.format).map_err(|e| ApiError::new(StatusCode::BAD_REQUEST, e))?;
-    let (name, text) = off_runtime(move || Ok(export_file(&design, format))).await?;
+    let (name, text) = off_runtime(move || Ok(export_file(&ws.design, format))).await?;
     Ok((
         [
             (header::CONTENT_TYPE, format.content_type().to_string()),

@@ -2,8 +2,8 @@
 //! `POST /api/greedy/cancel`, `GET /api/greedy/iterations`, `POST /api/greedy/step`.
 
 use super::{ApiError, ApiResult, EditAnswer, blocking, off_runtime, parse};
-use crate::design::Design;
-use crate::greedy::{GreedyError, Progress, Request, RunStatus, Runner, Step};
+use crate::greedy::{GreedyError, Progress, Request, RunStatus, Step};
+use crate::workspace::Workspace;
 use axum::body::Bytes;
 use axum::extract::State;
 use axum::extract::rejection::BytesRejection;
@@ -14,9 +14,12 @@ use std::sync::Arc;
 impl From<GreedyError> for ApiError {
     fn from(e: GreedyError) -> Self {
         let status = match e {
-            GreedyError::Busy | GreedyError::NotRunning | GreedyError::NoRun => {
-                StatusCode::CONFLICT
-            }
+            GreedyError::Busy
+            | GreedyError::NotRunning
+            | GreedyError::NoRun
+            | GreedyError::LocalBusy
+            | GreedyError::LocalNotRunning
+            | GreedyError::NoLocalResult => StatusCode::CONFLICT,
             GreedyError::Params(_) | GreedyError::NoIteration { .. } => {
                 StatusCode::UNPROCESSABLE_ENTITY
             }
@@ -25,16 +28,40 @@ impl From<GreedyError> for ApiError {
     }
 }
 
-/// The body of `POST /api/greedy`.
+/// The body of `POST /api/greedy` (and, without `max_removals`, of `POST /api/local`).
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct StartBody {
+pub(super) struct StartBody {
     /// The budget: a fraction of the network's total rest length, in (0, 1].
     budget: f64,
     #[serde(default)]
     keep: Vec<usize>,
     #[serde(default)]
     max_removals: Option<usize>,
+}
+
+impl From<StartBody> for Request {
+    fn from(b: StartBody) -> Self {
+        Request {
+            budget: b.budget,
+            keep: b.keep,
+            max_removals: b.max_removals,
+        }
+    }
+}
+
+/// The session's constraints bound to the budget and keep list of `request`, checked first
+/// (a bad request is refused before the constraints are bound).
+pub(super) fn constraints_for(
+    ws: &Workspace,
+    request: &Request,
+) -> Result<Option<curvenet::constraints::Constraints>, ApiError> {
+    let params = request.checked(&ws.design)?;
+    let net = ws.design.analyzer().network();
+    let budget = params.budget.length(ws.design.total_length());
+    ws.constraints()
+        .for_search(net, ws.mesh.as_deref(), budget, &params.keep)
+        .map_err(|m| ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, m))
 }
 
 /// The body of `POST /api/greedy/step`.
@@ -60,43 +87,40 @@ pub(super) struct StepAnswer {
 }
 
 pub(super) async fn start(
-    State(design): State<Arc<Design>>,
-    State(runner): State<Arc<Runner>>,
+    State(ws): State<Arc<Workspace>>,
     body: Result<Bytes, BytesRejection>,
 ) -> ApiResult<Progress> {
     let b: StartBody = parse(body)?;
-    let request = Request {
-        budget: b.budget,
-        keep: b.keep,
-        max_removals: b.max_removals,
-    };
-    let p = off_runtime(move || Ok(runner.start(design, request)?)).await?;
+    let request = Request::from(b);
+    let p = off_runtime(move || {
+        let constraints = constraints_for(&ws, &request)?;
+        Ok(ws
+            .greedy
+            .start(Arc::clone(&ws.design), request, constraints)?)
+    })
+    .await?;
     Ok(axum::Json(p))
 }
 
-pub(super) async fn progress(State(runner): State<Arc<Runner>>) -> ApiResult<Progress> {
-    Ok(axum::Json(runner.progress()))
+pub(super) async fn progress(State(ws): State<Arc<Workspace>>) -> ApiResult<Progress> {
+    Ok(axum::Json(ws.greedy.progress()))
 }
 
-pub(super) async fn cancel(State(runner): State<Arc<Runner>>) -> ApiResult<Progress> {
-    Ok(axum::Json(runner.cancel()?))
+pub(super) async fn cancel(State(ws): State<Arc<Workspace>>) -> ApiResult<Progress> {
+    Ok(axum::Json(ws.greedy.cancel()?))
 }
 
-pub(super) async fn iterations(State(runner): State<Arc<Runner>>) -> ApiResult<IterationsAnswer> {
-    let (status, iterations) = runner.iterations();
+pub(super) async fn iterations(State(ws): State<Arc<Workspace>>) -> ApiResult<IterationsAnswer> {
+    let (status, iterations) = ws.greedy.iterations();
     Ok(axum::Json(IterationsAnswer { status, iterations }))
 }
 
 pub(super) async fn step(
-    State(design): State<Arc<Design>>,
-    State(runner): State<Arc<Runner>>,
+    State(ws): State<Arc<Workspace>>,
     body: Result<Bytes, BytesRejection>,
 ) -> ApiResult<StepAnswer> {
     let StepBody { iteration } = parse(body)?;
-    let curves = runner.curves_of(iteration)?;
-    let e = blocking(design, move |d| d.set(&curves)).await?;
-    Ok(axum::Json(StepAnswer {
-        iteration,
-        edit: e.into(),
-    }))
+    let curves = ws.greedy.curves_of(iteration)?;
+    let e = blocking(ws, move |w| Ok(EditAnswer::of(w, &w.design.set(&curves)?))).await?;
+    Ok(axum::Json(StepAnswer { iteration, edit: e }))
 }

@@ -32,6 +32,7 @@
 use super::export::{answer_fabrication_csv, fabrication_csv, rod_joints, rod_supports};
 use super::plot::lambda_plot;
 use super::render::{mode_picture, network_picture};
+use crate::io::TriMesh;
 use crate::network::Network;
 use crate::rod::ActiveSet;
 use crate::run_folder::{RunFolder, Which};
@@ -196,6 +197,7 @@ pub fn viewer_data(run: &RunFolder, options: &ViewerOptions) -> Result<Value, St
                 "removed": it.removed,
                 "score": it.score,
                 "newton_iterations": it.newton.iterations,
+                "physical": it.physical,
                 "u": encode_i16(&restrict(&states[k], &verts)),
                 "mode": encode_i16(&restrict(&modes[k], &verts)),
                 "gravity": g,
@@ -203,17 +205,7 @@ pub fn viewer_data(run: &RunFolder, options: &ViewerOptions) -> Result<Value, St
         })
         .collect();
     let chosen = chosen_data(run, options)?;
-    let mesh = run.mesh.as_ref().map(|m| {
-        let faces: Vec<u8> = m
-            .faces
-            .iter()
-            .flat_map(|f| f.iter().flat_map(|i| i.to_le_bytes()))
-            .collect();
-        json!({
-            "vertices": encode_f32(m.vertices.iter().flat_map(|p| p.to_array())),
-            "faces": { "u32": base64(&faces) },
-        })
-    });
+    let mesh = mesh_json(run.mesh.as_ref());
     let s = &r.setup;
     Ok(json!({
         "format": "curvenet-viewer",
@@ -247,6 +239,22 @@ pub fn viewer_data(run: &RunFolder, options: &ViewerOptions) -> Result<Value, St
         "chosen": chosen,
         "mesh": mesh,
     }))
+}
+
+/// The surface as the viewer draws it: vertices as base64 `f32`, faces as base64 `u32`.
+fn mesh_json(mesh: Option<&TriMesh>) -> Value {
+    let Some(m) = mesh else {
+        return Value::Null;
+    };
+    let faces: Vec<u8> = m
+        .faces
+        .iter()
+        .flat_map(|f| f.iter().flat_map(|i| i.to_le_bytes()))
+        .collect();
+    json!({
+        "vertices": encode_f32(m.vertices.iter().flat_map(|p| p.to_array())),
+        "faces": { "u32": base64(&faces) },
+    })
 }
 
 /// The viewer's description of every rod of `net`: vertices, closed, rest length, anchors,
@@ -377,9 +385,17 @@ pub fn viewer_html(run: &RunFolder, options: &ViewerOptions) -> Result<String, S
 /// The page `curvenet serve` answers at `/`: the viewer in its app mode, with the app's script
 /// (`report/viewer/app.js`) that edits the structure over the server's JSON API. The data is
 /// the run page's with one live structure in place of the iterations: `setup` as a run's
-/// (`total_length`, `material`, ...; `budget` null), `live` as an iteration's with `u` and
-/// `mode` given in full (`{"full": [3 numbers per vertex]}`).
-pub fn app_html(net: &Network, title: &str, setup: Value, live: Value) -> Result<String, String> {
+/// (`total_length`, `material`, ...; `budget` null), `live` as an iteration's with `u`, `mode`
+/// and `gravity` given in full (`{"full": [3 numbers per vertex]}`), the surface `mesh` when
+/// known and `objective` as a run's (its name and the symbols of its value and score).
+pub fn app_html(
+    net: &Network,
+    title: &str,
+    setup: Value,
+    live: Value,
+    mesh: Option<&TriMesh>,
+    objective: Value,
+) -> Result<String, String> {
     let data = json!({
         "format": "curvenet-viewer",
         "version": 1,
@@ -387,12 +403,13 @@ pub fn app_html(net: &Network, title: &str, setup: Value, live: Value) -> Result
         "title": title,
         "start": 0,
         "answer": false,
+        "objective": objective,
         "setup": setup,
         "positions": encode_f32(net.positions.iter().flat_map(|p| p.to_array())),
         "rods": rods_json(net),
         "removed_at": vec![None::<usize>; net.rods.len()],
         "iterations": [live],
-        "mesh": null,
+        "mesh": mesh_json(mesh),
     });
     let json = serde_json::to_string(&data).map_err(|e| e.to_string())?;
     let json = json.replace("</", "<\\/");

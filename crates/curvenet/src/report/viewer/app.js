@@ -1,13 +1,19 @@
 // curvenet serve: the viewer grown into a design tool. Loaded after viewer.js only on the page
 // `curvenet serve` answers at /, it talks to that server alone (its JSON API, docs/serve.md):
 // a click on a curve removes or restores it, undo and redo, the greedy from a budget slider
-// (progress, cancel, then a slider over its iterations), and saving the current structure.
+// (progress, cancel, then a slider over its iterations), the local search from the current
+// structure (progress, cancel, adopt its best network), the design constraints (set for the
+// session, the current structure's margins shown), loading a run folder, and saving the
+// current structure.
 (function () {
   'use strict';
   const cv = window.curvenet;
   if (!cv || !cv.ready || !cv.showLive) return;
   const $ = (id) => document.getElementById(id);
-  const app = { busy: false, edits: 0, past: 0, future: 0, greedy: null, steps: [], error: null };
+  const app = {
+    busy: false, edits: 0, past: 0, future: 0, greedy: null, steps: [], local: null,
+    constraints: null, margins: null, error: null,
+  };
   cv.app = app;
 
   const box = document.createElement('fieldset');
@@ -27,10 +33,30 @@
     <div class="row" id="greedy-steps" hidden><label for="greedy-iter">step</label>
       <input type="range" id="greedy-iter" min="0" max="0" step="1" value="0" aria-label="greedy iteration">
       <span id="greedy-iter-text"></span></div>
+    <div class="row"><button id="run-local" type="button" title="local search from the current structure within the budget">Run local search</button>
+      <button id="cancel-local" type="button" disabled>Cancel</button>
+      <button id="adopt-local" type="button" disabled title="make the local search's best network current">Adopt</button></div>
+    <div id="local-progress" class="note"></div>
+    <details id="constraints-box"><summary>constraints</summary>
+      <div class="row"><label><input type="checkbox" id="c-connected"> connected</label>
+        <label for="c-min-curves">min curves</label> <input type="number" id="c-min-curves" min="1" step="1" style="width:4em"></div>
+      <div class="row"><label for="c-symmetry">symmetry</label>
+        <input type="text" id="c-symmetry" placeholder="none, mirror, auto, rotate:N" style="width:11em"></div>
+      <div class="row"><label for="c-max-gap">max gap</label> <input type="number" id="c-max-gap" min="0" step="any" style="width:6em">
+        <label for="c-max-deviation">max deviation</label> <input type="number" id="c-max-deviation" min="0" step="any" style="width:6em"></div>
+      <div><label for="c-groups">groups (one per line: <code>NAME: 0 1 4-7</code>)</label>
+        <textarea id="c-groups" rows="2" style="width:100%"></textarea></div>
+      <div class="row"><button id="set-constraints" type="button">Apply</button>
+        <button id="clear-constraints" type="button">Clear</button></div>
+      <div id="constraint-notes" class="note"></div>
+    </details>
+    <div id="constraint-margins" class="note"></div>
     <div class="row">save
       <a id="save-obj" href="api/export?format=obj" download>OBJ</a>
       <a id="save-csv" href="api/export?format=csv" download>CSV</a>
-      <a id="save-json" href="api/export?format=json" download>JSON</a></div>`;
+      <a id="save-json" href="api/export?format=json" download>JSON</a></div>
+    <div class="row"><input type="text" id="run-path" placeholder="run folder on the server" aria-label="run folder" style="flex:1">
+      <button id="load-run" type="button">Load run</button></div>`;
   const panel = $('panel');
   panel.insertBefore(box, $('setup').nextSibling);
 
@@ -62,13 +88,31 @@
     for (let tries = 0; tries < 4; tries++) {
       const m = await api('GET', 'api/mode');
       if (m.curves.join() === summary.curves.join()) {
-        cv.showLive(Object.assign({}, summary, { u: { full: m.displacement }, mode: { full: m.mode } }));
+        const g = m.gravity && { full: m.gravity.displacement, max_displacement: m.gravity.max_displacement, vertex: m.gravity.vertex };
+        cv.showLive(Object.assign({}, summary, { u: { full: m.displacement }, mode: { full: m.mode }, gravity: g || null }));
         current = summary.curves.slice();
+        showMargins(summary.constraints);
         return;
       }
       summary = await api('GET', 'api/state');
     }
     throw new Error('the structure keeps changing (another client is editing)');
+  }
+
+  // The current structure's margin for each constraint in force.
+  const marginNames = {
+    budget: 'length (budget of the last search)', keep: 'keep-list curves missing', groups: 'groups split',
+    symmetry: 'symmetry orbits split', connected: 'separate structures', min_curves: 'curves',
+    max_gap: 'largest gap', max_deviation: 'largest deviation',
+  };
+  function showMargins(c) {
+    app.margins = c || null;
+    const box = $('constraint-margins');
+    if (!c) { box.textContent = ''; return; }
+    const rows = Object.entries(c.margins).map(([k, m]) =>
+      `${m.met ? '✓' : '✗'} ${marginNames[k] || k}: ${sci(m.value, 4)} (limit ${sci(m.limit, 4)})`);
+    box.textContent = `constraints ${c.met ? 'met' : 'NOT met'}: ` + rows.join('; ');
+    box.className = c.met ? 'note' : 'note bad';
   }
 
   // History of structures for undo and redo (curve lists).
@@ -179,7 +223,107 @@
     edit(() => api('POST', 'api/greedy/step', { iteration: k }));
   });
 
+  // The local search from the current structure, with the budget of the slider.
+  function localText(p) {
+    const pct = p.budget ? ` to ${Math.round(100 * p.budget)}%` : '';
+    const r = p.result;
+    const best = r ? `best: ${r.best.curves.length} curves, ${goalValue} ${sci(r.best.lambda, 4)}, length ${sci(r.best.length, 5)}`
+      + ` (${r.moves} moves from ${r.given && r.start.curves.join() === r.given.curves.join() ? 'the current structure' : 'a single-curve start'}, ${r.evaluations} networks evaluated)` : '';
+    switch (p.status) {
+      case 'idle': return '';
+      case 'running': return `local search${pct} running… ${sci(p.elapsed_ms / 1000, 3)} s`;
+      case 'done': return `local search${pct} done; ${best}`;
+      case 'cancelled': return `local search cancelled; ${best || 'nothing found'}`;
+      default: return `local search failed: ${p.error}`;
+    }
+  }
+  const goalValue = (cv.objective && cv.objective.value) || 'λ';
+  let localPolling = false;
+  async function pollLocal() {
+    if (localPolling) return;
+    localPolling = true;
+    try {
+      for (;;) {
+        const p = await api('GET', 'api/local');
+        app.local = p;
+        $('local-progress').textContent = localText(p);
+        const running = p.status === 'running';
+        $('run-local').disabled = running;
+        $('cancel-local').disabled = !running;
+        $('adopt-local').disabled = running || !p.result;
+        if (!running) break;
+        await new Promise((r) => setTimeout(r, 200));
+      }
+    } catch (e) {
+      msg(e.message, true);
+    }
+    localPolling = false;
+  }
+  $('run-local').addEventListener('click', async () => {
+    try {
+      await api('POST', 'api/local', { budget: Number(budget.value) });
+      pollLocal();
+    } catch (e) {
+      msg(e.message, true);
+    }
+  });
+  $('cancel-local').addEventListener('click', () => api('POST', 'api/local/cancel').catch((e) => msg(e.message, true)));
+  $('adopt-local').addEventListener('click', () => edit(() => api('POST', 'api/local/adopt')));
+
+  // The design constraints of the session.
+  function constraintsBody() {
+    const num = (id) => ($(id).value.trim() === '' ? undefined : Number($(id).value));
+    const body = { connected: $('c-connected').checked };
+    const sym = $('c-symmetry').value.trim();
+    if (sym) body.symmetry = sym;
+    if (num('c-min-curves') !== undefined) body.min_curves = num('c-min-curves');
+    if (num('c-max-gap') !== undefined) body.max_gap = num('c-max-gap');
+    if (num('c-max-deviation') !== undefined) body.max_deviation = num('c-max-deviation');
+    if ($('c-groups').value.trim()) body.groups = $('c-groups').value;
+    return body;
+  }
+  function showConstraints(a) {
+    app.constraints = a;
+    const c = a.constraints;
+    $('c-connected').checked = !!c.connected;
+    $('c-min-curves').value = c.min_curves ?? '';
+    $('c-symmetry').value = c.symmetry === 'none' ? '' : c.symmetry;
+    $('c-max-gap').value = c.max_gap ?? '';
+    $('c-max-deviation').value = c.max_deviation ?? '';
+    $('c-groups').value = (c.groups || []).map((g) => `${g.name.replace(/:/g, ' ')}: ${g.curves.join(' ')}`).join('\n');
+    $('constraint-notes').textContent = a.notes.join(' ');
+    showMargins(a.current);
+  }
+  async function setConstraints(body) {
+    try {
+      showConstraints(await api('POST', 'api/constraints', body));
+      msg(app.margins ? 'constraints set: the greedy and the local search honour them' : 'no constraint in force');
+    } catch (e) {
+      msg(e.message, true);
+    }
+  }
+  $('set-constraints').addEventListener('click', () => setConstraints(constraintsBody()));
+  $('clear-constraints').addEventListener('click', () => setConstraints({}));
+
+  // Loading a run folder replaces the served network: the page is loaded again.
+  $('load-run').addEventListener('click', async () => {
+    const path = $('run-path').value.trim();
+    if (!path) { msg('give the folder of a run (holding result.json)', true); return; }
+    $('load-run').disabled = true;
+    $('app-busy').textContent = 'loading…';
+    try {
+      await api('POST', 'api/run', { path });
+      location.reload();
+    } catch (e) {
+      msg(e.message, true);
+      $('app-busy').textContent = '';
+      $('load-run').disabled = false;
+    }
+  });
+
   buttons();
   poll();
+  pollLocal();
+  api('GET', 'api/constraints').then(showConstraints).catch((e) => msg(e.message, true));
   app.ready = true;
 })();

@@ -40,6 +40,7 @@
   const D = JSON.parse($('curvenet-data').textContent);
   // What the iterations' numbers are: λ_eq (the paper's) or μ_min (the frequency objective).
   const goal = D.objective || { value: 'λ_eq', score: 'λ_fix' };
+  state.objective = goal;
   if (D.objective && D.objective.name !== 'lambda') {
     $('label-lambda').textContent = goal.value;
     $('chart').title = `${goal.value} along the greedy; click to jump`;
@@ -482,6 +483,8 @@
     $('stat-status').textContent = it.status
       || (it.negative_modes ? 'unstable' : (it.zero_modes ? 'mechanism' : 'stable'));
     $('stat-eigen').textContent = it.eigenvalues ? it.eigenvalues.map((x) => sci(x, 3)).join(', ') : '–';
+    $('row-physical').hidden = !it.physical;
+    $('stat-physical').textContent = it.physical ? physicalText(it.physical) : '–';
     $('stat-removed').textContent = own ? '–' : (it.removed === null ? 'none (last iteration)' : `curve ${it.removed} (${goal.score} ${sci(it.score, 4)})`);
     state.iteration = ui.k;
     state.chosen = ui.c;
@@ -504,6 +507,34 @@
     $('deform-info').textContent = info;
     drawChart();
     showInfo();
+  }
+
+  // The physical mode's numbers of a structure, one per line: an iteration's record (numbers)
+  // or the server's full analysis (deflection and utilisation with where they occur).
+  function physicalText(p) {
+    const unit = p.units ? ` ${p.units}` : ' (scene units)';
+    const len = (x) => (x === null || x === undefined) ? 'none (unstable)' : sci(x, 4) + unit;
+    const load = p.load_max_deflection;
+    const lines = [
+      p.first_frequency_hz === null || p.first_frequency_hz === undefined
+        ? 'first frequency: none (unstable)' : `first frequency ${sci(p.first_frequency_hz, 4)} Hz`,
+      `self-weight deflection ${len(p.self_weight_max_deflection)}`,
+      `worst-load deflection ${len(load && typeof load === 'object' ? load.max : load)}`
+        + (load && typeof load === 'object' ? ` at vertex ${load.vertex}` : ''),
+      `assembly stress: bending ${sci(p.assembly_max_bending_stress_mpa, 4)} MPa, axial ${sci(p.assembly_max_axial_stress_mpa, 4)} MPa`,
+    ];
+    const u = p.max_utilisation;
+    if (u !== null && u !== undefined) {
+      lines.push(typeof u === 'object'
+        ? `utilisation ${sci(u.value, 3)} (curve ${u.curve}${u.near ? ', ' + u.near : ''}: ${sci(u.stress_mpa, 4)} of ${sci(u.strength_mpa, 4)} MPa)`
+        : `utilisation ${sci(u, 3)}`);
+    }
+    if (p.mass_kg !== undefined) lines.push(`mass ${sci(p.mass_kg, 4)} kg`);
+    if (p.overstressed_curves && p.overstressed_curves.length) {
+      lines.push(`would break when bent: curves ${p.overstressed_curves.join(' ')}`);
+    }
+    for (const w of (p.warnings || [])) lines.push(`warning: ${w}`);
+    return lines.join('\n');
   }
 
   function drawChart() {

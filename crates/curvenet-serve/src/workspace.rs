@@ -1,0 +1,135 @@
+//! [`Workspace`]: one served network with everything a session does on it — its [`Design`]
+//! (the current structure and the cache), its greedy and local search, its design
+//! constraints, its surface — and [`open_run`], the workspace of a run folder (what
+//! `serve --run DIR` starts on and `POST /api/run` loads).
+
+use crate::constraints::SessionConstraints;
+use crate::design::{Design, DesignError};
+use crate::greedy::Runner;
+use crate::local::LocalRunner;
+use curvenet::io::TriMesh;
+use curvenet::physics::PhysicalParams;
+use curvenet::run_folder::RunFolder;
+use curvenet::stability::Analyzer;
+use std::path::Path;
+use std::sync::{Arc, Mutex, MutexGuard};
+
+/// One served network and the session's work on it.
+#[derive(Debug)]
+pub struct Workspace {
+    /// The network being designed and its current structure.
+    pub design: Arc<Design>,
+    /// The greedy runs on it.
+    pub greedy: Arc<Runner>,
+    /// The local searches on it.
+    pub local: Arc<LocalRunner>,
+    /// What is served, for the page's title: an example's name, the curve files, a run folder.
+    pub name: Arc<str>,
+    /// The surface, when known (drawn by the page; `max_gap` needs it).
+    pub mesh: Option<Arc<TriMesh>>,
+    constraints: Mutex<SessionConstraints>,
+}
+
+impl Workspace {
+    /// The workspace of `design` named `name`: no greedy run, no surface, no constraint.
+    pub fn new(design: Design, name: &str) -> Self {
+        Workspace {
+            design: Arc::new(design),
+            greedy: Arc::new(Runner::default()),
+            local: Arc::new(LocalRunner::default()),
+            name: name.into(),
+            mesh: None,
+            constraints: Mutex::new(SessionConstraints::default()),
+        }
+    }
+
+    /// With the greedy `runner` (a run folder's iterations).
+    pub fn with_greedy(mut self, runner: Runner) -> Self {
+        self.greedy = Arc::new(runner);
+        self
+    }
+
+    /// With the surface `mesh`.
+    pub fn with_mesh(mut self, mesh: Option<TriMesh>) -> Self {
+        self.mesh = mesh.map(Arc::new);
+        self
+    }
+
+    /// The session's design constraints (a panic elsewhere leaves the last whole state).
+    pub fn constraints(&self) -> MutexGuard<'_, SessionConstraints> {
+        self.constraints.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Asks its running searches to stop (the workspace is being replaced).
+    pub fn stop(&self) {
+        self.greedy.stop();
+        self.local.stop();
+    }
+}
+
+/// A run folder read for serving.
+#[derive(Debug)]
+pub struct ServedRun {
+    /// The analyzer of the run's network and material (in the physical mode when asked).
+    pub analyzer: Analyzer,
+    /// The curves to start on: the run's answer (its last iteration when it has none).
+    pub kept: Vec<usize>,
+    /// The run's greedy iterations, as a finished run.
+    pub greedy: Runner,
+    /// The run's surface, when it has one.
+    pub mesh: Option<TriMesh>,
+    /// Problems reading it that did not stop the reading.
+    pub warnings: Vec<String>,
+}
+
+impl ServedRun {
+    /// The workspace of the run (its first structure analysed) less `remove`, named `name`.
+    ///
+    /// # Errors
+    ///
+    /// `remove` leaves no curve, or the analysis failed.
+    pub fn workspace(self, remove: &[usize], name: &str) -> Result<Workspace, DesignError> {
+        let kept: Vec<usize> = self
+            .kept
+            .iter()
+            .copied()
+            .filter(|c| !remove.contains(c))
+            .collect();
+        let design = Design::new(self.analyzer, &kept)?;
+        Ok(Workspace::new(design, name)
+            .with_greedy(self.greedy)
+            .with_mesh(self.mesh))
+    }
+}
+
+/// Reads the run folder `dir` for serving: its network and material as the run recorded them
+/// (with `physical`, the physical mode's parameters, applied to it), its answer to start on,
+/// its greedy iterations.
+///
+/// # Errors
+///
+/// A message naming the file when `dir` is not a readable curvenet run folder.
+pub fn open_run(dir: &Path, physical: Option<&PhysicalParams>) -> Result<ServedRun, String> {
+    let run = RunFolder::open(dir)?;
+    let r = &run.result;
+    let in_result = |e: String| format!("{}: {e}", dir.join("result.json").display());
+    let mut analyzer =
+        Analyzer::new(run.network.clone(), r.setup.stability.clone()).map_err(in_result)?;
+    if let Some(p) = physical {
+        analyzer = analyzer.with_physical(p.clone()).map_err(in_result)?;
+    }
+    let kept = match &r.answer {
+        Some(a) => a.curves.clone(),
+        None => r.iterations[run.last_index()].curves.clone(),
+    };
+    let fraction = r.budget / r.setup.total_length;
+    let stop = r.stop.map(|s| s.to_string());
+    let greedy = Runner::finished(&r.iterations, (fraction, r.budget), stop);
+    Ok(ServedRun {
+        analyzer,
+        kept,
+        greedy,
+        mesh: run.mesh,
+        warnings: run.warnings,
+    })
+}
