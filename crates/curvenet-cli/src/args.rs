@@ -313,9 +313,9 @@ pub struct DemoArgs {
     /// What runs after the greedy.
     #[command(flatten)]
     pub after: AfterGreedyArgs,
-    /// Design constraints. Without any, the demo designs with its own: --connected and
-    /// --max-gap 900 (22.5% of the surface's extent), left out with a note on networks where
-    /// nothing can meet them.
+    /// Design constraints. Without any, the demo on the dome designs with its own: --connected
+    /// and --max-gap 900 (22.5% of the surface's extent), left out with a note on networks
+    /// where nothing can meet them (other surfaces run without constraints).
     #[command(flatten)]
     pub constraints: ConstraintArgs,
     /// Run the demo without its default constraints (the paper's problem alone).

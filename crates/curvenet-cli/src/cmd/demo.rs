@@ -1,8 +1,8 @@
 //! `curvenet demo`: the whole pipeline with no input files: random geodesics traced on a
 //! built-in surface (as the reference's command-line scenes: largest extent 4000, h = 100),
-//! then the greedy to the budget under design constraints (the demo's own, [`DEFAULT_GAP`]
-//! and one connected structure, unless the user gives any or `--unconstrained`), with every
-//! output a real run writes.
+//! then the greedy to the budget, on the default dome under design constraints (the demo's
+//! own, [`DEFAULT_GAP`] and one connected structure, unless the user gives any or
+//! `--unconstrained`), with every output a real run writes.
 
 use super::greedy_run::{GreedyJob, run_greedy};
 use super::stability_params;
@@ -25,7 +25,9 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
         || a.constraints.min_curves.is_some()
         || a.constraints.max_gap.is_some()
         || a.constraints.max_deviation.is_some();
-    let defaults = !given && !a.unconstrained;
+    // On the dome, the default surface: elsewhere the gap and connectivity they ask can leave
+    // the greedy no network to end on (tent, stadium), so the demo there runs unconstrained.
+    let defaults = !given && !a.unconstrained && a.surface == "dome";
     let mut constraints = super::constraint_params(&a.constraints, Vec::new())?;
     if defaults {
         constraints.connected = true;
