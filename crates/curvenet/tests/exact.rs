@@ -358,11 +358,11 @@ fn a_certificate_tightened_by_branch_and_bound() {
     let loose = c.upper_bound;
     // A node budget too small to finish: a valid bound, not proven.
     let mut partial = c.clone();
-    tighten_certificate(&p, &mut partial, 2, &never).expect("tighten");
+    tighten_certificate(&p, &mut partial, None, 2, &never).expect("tighten");
     assert!(!partial.proven_optimum && partial.branch_and_bound_nodes <= 2);
     assert!(partial.upper_bound >= ex.best.lambda && partial.upper_bound <= loose);
     // Enough nodes: the optimum, proven.
-    tighten_certificate(&p, &mut c, 100_000, &never).expect("tighten");
+    tighten_certificate(&p, &mut c, None, 100_000, &never).expect("tighten");
     assert!(c.proven_optimum);
     assert!(c.best_found >= ex.best.lambda * (1.0 - 1e-7) && c.best_found <= ex.best.lambda);
     assert!(c.upper_bound >= ex.best.lambda && c.upper_bound <= loose);

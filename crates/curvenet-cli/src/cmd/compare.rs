@@ -1,10 +1,13 @@
 //! `curvenet compare`: the paper's Fig. 10 experiment, or (`--fresh N`) the searches that give
-//! a run's answer on networks drawn afresh.
+//! a run's answer on networks drawn afresh, or (`--constraints N`) what each design constraint
+//! costs.
 
 use super::surface::read_mesh_arg;
 use crate::args::CompareArgs;
 use crate::exit::usage;
-use curvenet::experiments::compare::{CompareParams, FreshParams, Surface, compare, fresh};
+use curvenet::experiments::compare::{
+    Case, CompareParams, ConstrainedParams, FreshParams, Surface, compare, constrained, fresh,
+};
 use curvenet::io;
 use curvenet::paper;
 use curvenet::simplify::SimplifyError;
@@ -32,6 +35,9 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
     }
     if let Some(networks) = a.fresh {
         return run_fresh(&a, networks, surfaces);
+    }
+    if let Some(networks) = a.constraints {
+        return run_constrained(&a, networks, surfaces, &data);
     }
     if a.objective != curvenet::stability::Objective::Lambda {
         return Err(usage(format!(
@@ -84,6 +90,43 @@ fn run_fresh(a: &CompareArgs, networks: usize, surfaces: Vec<Surface>) -> anyhow
         surfaces.into_iter().map(|s| (s.name, s.mesh)).collect();
     let bar = networks_bar(networks);
     let report = fresh(&params, &surfaces, &|done, _| bar.set_position(done as u64))?;
+    bar.finish_and_clear();
+    print_and_write(a, &report.markdown(), &report)
+}
+
+/// `compare --constraints N`: the report of [`constrained`] on the examples asked for and `N`
+/// random networks, printed, and written as asked.
+fn run_constrained(
+    a: &CompareArgs,
+    networks: usize,
+    surfaces: Vec<Surface>,
+    data: &paper::DataSource,
+) -> anyhow::Result<()> {
+    let mut cases = Vec::new();
+    for name in a.examples.iter().filter(|n| n.as_str() != "none") {
+        let ex = paper::load_from(name, data, Default::default())
+            .map_err(|e| usage(format!("--examples {name}: {e}")))?;
+        let (network, _) = curvenet::network::build_network(&ex.curves, &ex.build)?;
+        cases.push(Case {
+            name: name.clone(),
+            network,
+            mesh: ex.mesh,
+            budget: curvenet::simplify::Budget::Fraction(ex.setup.budget_fraction),
+            keep: ex.setup.keep.clone(),
+            exhaustive: false,
+        });
+    }
+    let params = ConstrainedParams {
+        networks,
+        seed: a.seed,
+        ..ConstrainedParams::default()
+    };
+    let surfaces: Vec<(String, curvenet::io::TriMesh)> =
+        surfaces.into_iter().map(|s| (s.name, s.mesh)).collect();
+    let bar = networks_bar(cases.len() + networks);
+    let report = constrained(&params, cases, &surfaces, &|done, _| {
+        bar.set_position(done as u64)
+    })?;
     bar.finish_and_clear();
     print_and_write(a, &report.markdown(), &report)
 }

@@ -1,6 +1,8 @@
 //! `curvenet demo`: the whole pipeline with no input files: random geodesics traced on a
 //! built-in surface (as the reference's command-line scenes: largest extent 4000, h = 100),
-//! then the greedy to the budget, with every output a real run writes.
+//! then the greedy to the budget, on the default dome under design constraints (the demo's
+//! own, [`DEFAULT_GAP`] and one connected structure, unless the user gives any or
+//! `--unconstrained`), with every output a real run writes.
 
 use super::greedy_run::{GreedyJob, run_greedy};
 use super::stability_params;
@@ -11,7 +13,26 @@ use curvenet::run_folder::InputDescription;
 use curvenet::simplify::Budget;
 use curvenet::trace::{Generator, SURFACE_NAMES, builtin_surface, generate, scale_to_extent};
 
+/// The demo's default largest gap (scene units; the surfaces' largest extent is 4000): on the
+/// default dome it makes the greedy keep a curve near every part of the surface (its
+/// unconstrained answer leaves a gap of about 1450).
+pub const DEFAULT_GAP: f64 = 900.0;
+
 pub fn run(a: DemoArgs) -> anyhow::Result<()> {
+    let given = a.constraints.groups.is_some()
+        || a.constraints.symmetry.is_some()
+        || a.constraints.connected
+        || a.constraints.min_curves.is_some()
+        || a.constraints.max_gap.is_some()
+        || a.constraints.max_deviation.is_some();
+    // On the dome, the default surface: elsewhere the gap and connectivity they ask can leave
+    // the greedy no network to end on (tent, stadium), so the demo there runs unconstrained.
+    let defaults = !given && !a.unconstrained && a.surface == "dome";
+    let mut constraints = super::constraint_params(&a.constraints, Vec::new())?;
+    if defaults {
+        constraints.connected = true;
+        constraints.max_gap = Some(DEFAULT_GAP);
+    }
     let surface = builtin_surface(&a.surface).ok_or_else(|| {
         usage(format!(
             "unknown built-in surface '{}' (known: {})",
@@ -46,6 +67,13 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
         a.surface,
         a.budget
     );
+    if defaults {
+        println!(
+            "design constraints (the demo's defaults; --unconstrained leaves them out): one \
+             connected structure (--connected) and no point of the surface farther than \
+             {DEFAULT_GAP} from a kept curve (--max-gap {DEFAULT_GAP})"
+        );
+    }
     run_greedy(GreedyJob {
         curves: traced.curves,
         build: BuildParams {
@@ -76,6 +104,7 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
         resume: false,
         force: a.force,
         mesh: Some(mesh),
-        constraints: super::constraint_params(&a.constraints, Vec::new())?,
+        constraints,
+        default_constraints: defaults,
     })
 }

@@ -106,5 +106,6 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
         force: a.force,
         mesh: Some(ex.mesh),
         constraints: super::constraint_params(&a.constraints, Vec::new())?,
+        default_constraints: false,
     })
 }

@@ -60,6 +60,9 @@ pub struct GreedyJob {
     pub mesh: Option<TriMesh>,
     /// Design constraints every search honours.
     pub constraints: ConstraintParams,
+    /// The constraints are the command's own defaults, not the user's (`demo`): when nothing
+    /// can meet them on this network, a note says so and the run goes on without them.
+    pub default_constraints: bool,
 }
 
 /// The budget from the options, or `default` (a fraction) when none is given.
@@ -103,7 +106,7 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
     let total = network.total_length(&(0..n).collect::<Vec<_>>());
     let budget = job.budget.length(total);
     print_warnings(&start_warnings(&network, &info, &job.keep, budget, total));
-    let constraints = constraints_of(&network, &job, budget)?;
+    let (constraints, constraint_params) = constraints_of(&network, &job, budget)?;
     let setup = RunSetup {
         input: job.input,
         build: job.build.clone(),
@@ -111,7 +114,7 @@ pub fn run_greedy(job: GreedyJob) -> anyhow::Result<()> {
         greedy: params.clone(),
         network: info.clone(),
         total_length: total,
-        constraints: job.constraints.clone(),
+        constraints: constraint_params,
         physical: job.physical_options.clone(),
     };
     let mut analyzer = Analyzer::new(network, job.stability).map_err(usage)?;
@@ -221,29 +224,36 @@ fn start_warnings(
     warnings
 }
 
-/// The run's design constraints, their notes printed. Infeasible combinations stop the run
-/// here, before any work, saying why. Without design constraints a budget nothing meets is
-/// only a warning ([`start_warnings`]): the greedy runs as ever.
-fn constraints_of(network: &Network, job: &GreedyJob, budget: f64) -> anyhow::Result<Constraints> {
-    let constraints = if job.constraints.is_default() {
+/// The run's design constraints, their notes printed, and the settings in force. Infeasible
+/// combinations stop the run here, before any work, saying why (the command's own default
+/// constraints are dropped instead, with a note). Without design constraints a budget nothing
+/// meets is only a warning ([`start_warnings`]): the greedy runs as ever.
+fn constraints_of(
+    network: &Network,
+    job: &GreedyJob,
+    budget: f64,
+) -> anyhow::Result<(Constraints, ConstraintParams)> {
+    let mut params = job.constraints.clone();
+    let constraints = if params.is_default() {
         Constraints::none(network, budget, &job.keep)
     } else {
-        Constraints::new(
-            network,
-            job.mesh.as_ref(),
-            &job.constraints,
-            budget,
-            &job.keep,
-        )
-        .map_err(|e| match e {
-            ConstraintError::Usage(m) => usage(m),
-            ConstraintError::Infeasible(m) => usage(format!("the constraints cannot be met: {m}")),
-        })?
+        match Constraints::new(network, job.mesh.as_ref(), &params, budget, &job.keep) {
+            Ok(c) => c,
+            Err(e) if job.default_constraints => {
+                eprintln!("note: the default constraints are left out on this network: {e}");
+                params = ConstraintParams::default();
+                Constraints::none(network, budget, &job.keep)
+            }
+            Err(ConstraintError::Usage(m)) => return Err(usage(m)),
+            Err(ConstraintError::Infeasible(m)) => {
+                return Err(usage(format!("the constraints cannot be met: {m}")));
+            }
+        }
     };
     for note in constraints.notes() {
         eprintln!("note: {note}");
     }
-    Ok(constraints)
+    Ok((constraints, params))
 }
 
 /// The run folder's writer and the point to resume from: a new folder, or with `resume` the
@@ -411,6 +421,7 @@ impl AfterGreedy {
                     analyzer,
                     out,
                     params,
+                    constraints,
                     outcome,
                     certified.as_deref().unwrap_or_default(),
                     self.certificate_nodes,
@@ -704,10 +715,12 @@ fn optional_step<T>(
 /// The fixed-geometry certificate of `curves` (the answer): `λ_fix` at the full network's
 /// equilibrium (iteration 0's state) against the relaxation's certified bound on any network
 /// within the budget.
+#[allow(clippy::too_many_arguments)]
 fn certificate_of(
     analyzer: &Analyzer,
     out: &Path,
     params: &GreedyParams,
+    constraints: &Constraints,
     outcome: &GreedyOutcome,
     curves: &[usize],
     nodes: Option<usize>,
@@ -729,7 +742,13 @@ fn certificate_of(
     let mut c = certificate(&problem, curves, &CertifyParams::default(), cancel)?;
     // Branch and bound nodes: as given, or about 1e6 unknowns' worth of eigen solves.
     let nodes = nodes.unwrap_or_else(|| (1e6 / analyzer.model().dofs().max(1) as f64) as usize);
-    tighten_certificate(&problem, &mut c, nodes.min(100_000), cancel)?;
+    tighten_certificate(
+        &problem,
+        &mut c,
+        Some(constraints),
+        nodes.min(100_000),
+        cancel,
+    )?;
     Ok(c)
 }
 

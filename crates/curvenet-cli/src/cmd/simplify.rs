@@ -28,5 +28,6 @@ pub fn run(a: SimplifyArgs) -> anyhow::Result<()> {
         force: a.greedy.force,
         mesh: inputs.mesh,
         constraints,
+        default_constraints: false,
     })
 }

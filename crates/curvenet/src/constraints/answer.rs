@@ -312,8 +312,9 @@ fn no_answer(constraints: &Constraints, offers: &[Offer]) -> NoAnswer {
 
 impl Answer {
     /// One line for summaries: where it comes from, its size, length and value (`value`
-    /// names it: `λ_eq`, or `μ_min` under the frequency objective), and the tightest margins
-    /// beyond the budget's.
+    /// names it: `λ_eq`, or `μ_min` under the frequency objective), and each constraint asked
+    /// for beyond the budget with its standing (groups and orbits whole, one structure, the
+    /// number of curves, the largest gap and deviation against their limits).
     pub fn describe(&self, value: &str) -> String {
         let place = self.iteration.map_or_else(
             || format!("the {}'s network", self.source.replace('_', " ")),
@@ -327,6 +328,22 @@ impl Answer {
             crate::fmt::percent(100.0 * m.budget.value / m.budget.limit),
             self.lambda
         );
+        if m.groups.is_some() {
+            s.push_str("; groups whole");
+        }
+        if m.symmetry.is_some() {
+            s.push_str("; symmetric (orbits whole)");
+        }
+        if let Some(c) = &m.connected {
+            s.push_str(&if c.value == 1.0 {
+                "; one connected structure".to_string()
+            } else {
+                format!("; {} separate structures", c.value)
+            });
+        }
+        if let Some(k) = &m.min_curves {
+            s.push_str(&format!("; {} curves (at least {})", k.value, k.limit));
+        }
         let named = [
             ("largest gap", m.max_gap.as_ref()),
             ("largest deviation", m.max_deviation.as_ref()),

@@ -465,16 +465,21 @@ pub fn write_viewer(run: &RunFolder, path: &Path, options: &ViewerOptions) -> Re
     crate::io::write_atomic(path, html.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// Writes `final.png`, `mode.png` (the answer's iteration, else the last: see
-/// [`RunFolder::shown_index`]) and `lambda.png` into the run folder.
+/// Writes `final.png`, `mode.png` (the answer, wherever it comes from; without one, or
+/// without its state, the iteration of [`RunFolder::shown_index`]) and `lambda.png` into the
+/// run folder.
 pub fn write_pictures(run: &RunFolder) -> Result<Vec<PathBuf>, String> {
-    let k = run.shown_index();
+    let which = if run.result.answer.is_some() && run.displacement_of(Which::Answer).is_ok() {
+        Which::Answer
+    } else {
+        Which::Iteration(run.shown_index())
+    };
     let mut out = Vec::new();
     let p = run.dir.join("final.png");
-    network_picture(run, k)?.write_png(&p)?;
+    network_picture(run, which)?.write_png(&p)?;
     out.push(p);
     let p = run.dir.join("mode.png");
-    mode_picture(run, k)?.write_png(&p)?;
+    mode_picture(run, which)?.write_png(&p)?;
     out.push(p);
     let p = run.dir.join("lambda.png");
     lambda_plot(&run.result).write_png(&p)?;

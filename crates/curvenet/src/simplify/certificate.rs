@@ -17,6 +17,7 @@
 use super::SimplifyError;
 use super::exact::{Best, ExactParams, ExactStatus, exact};
 use crate::cancel::Cancel;
+use crate::constraints::Constraints;
 use crate::stability::StabilityError;
 use crate::stability::fixed::{FixedProblem, Node, Rayleigh, RelaxParams, Status};
 use rayon::prelude::*;
@@ -114,6 +115,11 @@ pub struct Certificate {
     /// finished run's.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub cancelled: bool,
+    /// True when the branch and bound honoured the run's design constraints: its bound and
+    /// its best subset are then over the networks that meet them (the relaxation's bound,
+    /// over every network within the budget, bounds those too).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub constrained: bool,
 }
 
 impl Certificate {
@@ -142,8 +148,13 @@ impl Certificate {
                 self.curves, self.lambda_fix
             ),
         };
+        let within = if self.constrained {
+            "the budget and the design constraints"
+        } else {
+            "the budget"
+        };
         format!(
-            "certificate: no network within the budget can exceed λ_fix = {:.6e} (stability \
+            "certificate: no network within {within} can exceed λ_fix = {:.6e} (stability \
              at the full network's equilibrium shape, not relaxed){note}; {reach}; the best \
              λ_fix met while bounding is {:.6e} {:?}",
             self.upper_bound, self.best_found, self.best_found_curves,
@@ -177,6 +188,7 @@ pub fn certificate(
         branch_and_bound_nodes: 0,
         proven_optimum: false,
         cancelled: report.cancelled,
+        constrained: false,
     })
 }
 
@@ -185,15 +197,24 @@ pub fn certificate(
 /// the bound becomes the smaller of the relaxation's and the search's (the largest bound of
 /// the nodes left open, or the optimum when the search finished), and the best subset found
 /// is updated. Cancelled, it keeps what the search had proved.
+///
+/// Under design `constraints` (bound to the problem's budget and keep list) the branch and
+/// bound honours them, as [`exact`] does: only networks that meet them become its incumbents,
+/// so its bound and its best subset are over those networks (a valid bound either way: the
+/// relaxation's bound covers every network within the budget, the constrained ones among
+/// them). The best subset the relaxation met is then replaced by the search's when it breaks
+/// a constraint.
 pub fn tighten_certificate(
     problem: &FixedProblem<'_>,
     certificate: &mut Certificate,
+    constraints: Option<&Constraints>,
     max_nodes: usize,
     cancel: &Cancel,
 ) -> Result<(), SimplifyError> {
     if max_nodes == 0 || certificate.cancelled {
         return Ok(());
     }
+    let constraints = constraints.filter(|c| c.is_active());
     let params = ExactParams {
         time_limit: None,
         max_nodes,
@@ -203,9 +224,16 @@ pub fn tighten_certificate(
         certificate.curves.clone(),
         certificate.best_found_curves.clone(),
     ];
-    let o = exact(problem, &params, None, &seeds, cancel)?;
+    let o = exact(problem, &params, constraints, &seeds, cancel)?;
     certificate.branch_and_bound_nodes = o.info.nodes;
     certificate.cancelled = o.status == ExactStatus::Cancelled;
+    if let Some(c) = constraints {
+        certificate.constrained = true;
+        if c.check(&certificate.best_found_curves).is_err() && !o.curves.is_empty() {
+            certificate.best_found = o.lambda_fix;
+            certificate.best_found_curves = o.curves.clone();
+        }
+    }
     if o.lambda_fix > certificate.best_found {
         certificate.best_found = o.lambda_fix;
         certificate.best_found_curves = o.curves.clone();

@@ -3,6 +3,7 @@
 //! constrained optimum, and constraints that ask for nothing leave every search as it is
 //! without constraints.
 
+use super::certificate::{CertifyParams, certificate, tighten_certificate};
 use super::exact::{ExactParams, exact};
 use super::exhaustive::{ExhaustiveParams, exhaustive};
 use super::local::{LocalParams, local_search_multi};
@@ -51,8 +52,9 @@ fn case(
     }
 }
 
-/// Pavilions (ring, three arches, three short arches) under a rotation, groups, connectivity
-/// with a number of curves; a grid of lines over a square under a largest gap.
+/// Pavilions (ring, three arches, three short arches) under a rotation, a mirror (a vertical
+/// plane through an arch: orbits of one and two curves), groups, connectivity with a number of
+/// curves; a grid of lines over a square under a largest gap.
 fn cases() -> Vec<Case> {
     let pav = || network(&pavilion(3, true, 0.0));
     let mesh = square_mesh(500.0, 0.0, 8);
@@ -66,6 +68,17 @@ fn cases() -> Vec<Case> {
                 ..Default::default()
             },
             0.55,
+            &[],
+        ),
+        case(
+            "mirror",
+            pav(),
+            None,
+            ConstraintParams {
+                symmetry: SymmetryOption::Mirror,
+                ..Default::default()
+            },
+            0.5,
             &[],
         ),
         case(
@@ -264,6 +277,41 @@ fn the_exact_search_finds_the_constrained_optimum_of_the_fixed_objective() {
     }
 }
 
+/// The certificate tightened under the constraints: its bound covers the constrained optimum
+/// of `λ_fix`, its best subset meets the constraints, and with enough nodes it is that optimum.
+#[test]
+fn the_certificate_honours_the_constraints() {
+    for k in cases() {
+        let c = &k.constraints;
+        let problem =
+            FixedProblem::new(&k.analyzer, Budget::Fraction(k.fraction), &k.keep).expect("problem");
+        let sets = feasible(c);
+        let brute = sets
+            .iter()
+            .map(|s| problem.lambda_fix(s).expect("evaluates"))
+            .fold(f64::NEG_INFINITY, f64::max);
+        let never = Cancel::new();
+        let mut cert =
+            certificate(&problem, &sets[0], &CertifyParams::default(), &never).expect("runs");
+        tighten_certificate(&problem, &mut cert, Some(c), 100_000, &never).expect("tightens");
+        assert!(cert.constrained, "{}", k.name);
+        assert!(
+            cert.describe().contains("the design constraints"),
+            "{}",
+            k.name
+        );
+        assert!(c.check(&cert.best_found_curves).is_ok(), "{}", k.name);
+        assert!(cert.upper_bound >= brute * (1.0 - 1e-9), "{}", k.name);
+        assert!(cert.proven_optimum, "{}", k.name);
+        assert!(
+            (cert.best_found - brute).abs() <= 1e-6 * brute.abs(),
+            "{}: {} vs {brute}",
+            k.name,
+            cert.best_found
+        );
+    }
+}
+
 /// Constraints that ask for nothing leave every search as it is.
 #[test]
 fn empty_constraints_leave_every_search_as_it_is() {
@@ -407,4 +455,18 @@ fn the_local_searchs_single_unit_starts_meet_the_constraints() {
     }
     println!("single-unit starts searched on: {with_singles:?}");
     assert!(with_singles.len() >= 3, "{with_singles:?}");
+}
+
+/// The mirror case is one: orbits of two curves (arches the plane swaps) beside curves the
+/// plane maps onto themselves, so its searches move pairs and single curves.
+#[test]
+fn the_mirror_case_pairs_curves() {
+    let k = cases()
+        .into_iter()
+        .find(|k| k.name == "mirror")
+        .expect("the mirror case");
+    let found = k.constraints.symmetry().expect("a mirror plane");
+    assert_eq!(found.option(), SymmetryOption::Mirror);
+    assert!(found.orbits.iter().any(|o| o.len() == 2), "{found:?}");
+    assert!(found.orbits.iter().any(|o| o.len() == 1), "{found:?}");
 }

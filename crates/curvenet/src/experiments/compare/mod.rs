@@ -31,12 +31,16 @@
 //! - [`summary`]: the figures per size ([`SizeSummary`]) and the report ([`CompareReport`]);
 //! - [`fresh`]: the generalisation measurement on networks drawn afresh (sizes, budgets,
 //!   surfaces and seeds varied), the searches that give a run's answer against the optimum
-//!   ([`fresh()`], [`FreshReport`]).
+//!   ([`fresh()`], [`FreshReport`]);
+//! - [`constrained`]: what each design constraint costs, on given networks and random ones
+//!   ([`constrained()`], [`ConstrainedReport`]).
 
+pub mod constrained;
 pub mod fresh;
 pub mod instance;
 pub mod summary;
 
+pub use constrained::{Case, ConstrainedParams, ConstrainedReport, ConstrainedRow, constrained};
 pub use fresh::{FreshParams, FreshReport, FreshRow, fresh};
 pub use instance::{InstanceResult, instance_network};
 pub use summary::{CompareReport, SizeSummary};

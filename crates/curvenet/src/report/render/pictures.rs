@@ -7,7 +7,7 @@ use super::{INK, KEPT, REMOVED, Rgb, rgb8};
 use crate::fmt::significant;
 use crate::geom::Vec3;
 use crate::network::Network;
-use crate::run_folder::{RunFolder, positions_at, record_instability};
+use crate::run_folder::{Chosen, RunFolder, Which, positions_at};
 
 /// Width and height of the pictures.
 pub const PICTURE_SIZE: (usize, usize) = (960, 720);
@@ -39,12 +39,13 @@ fn legend(img: &mut Image, y: i64, items: &[(Rgb, &str)]) {
     }
 }
 
-/// The picture of iteration `k`: the surface, the removed curves at rest (thin, faint) and the
-/// kept curves at equilibrium.
-pub fn network_picture(run: &RunFolder, k: usize) -> Result<Image, String> {
-    let rec = run.record(k)?;
+/// The picture of a network of the run (an iteration, the answer or an alternative): the
+/// surface, the removed curves at rest (thin, faint) and the kept curves at equilibrium.
+pub fn network_picture(run: &RunFolder, which: impl Into<Which>) -> Result<Image, String> {
+    let which = which.into();
+    let rec = run.network_of(which)?;
     let net = &run.network;
-    let u = run.displacement(k)?;
+    let u = run.displacement_of(which)?;
     let eq = positions_at(net, Some(&u));
     let rest = positions_at(net, None);
     let (w, h) = PICTURE_SIZE;
@@ -76,7 +77,8 @@ pub fn network_picture(run: &RunFolder, k: usize) -> Result<Image, String> {
         &mut img,
         &[
             format!(
-                "iteration {k}: {} of {} curves, length {} ({}% of {})",
+                "{}: {} of {} curves, length {} ({}% of {})",
+                rec.what,
                 rec.curves.len(),
                 net.rods.len(),
                 significant(rec.length, 6),
@@ -87,7 +89,7 @@ pub fn network_picture(run: &RunFolder, k: usize) -> Result<Image, String> {
                 "{} = {}{}   budget {}   supports {}",
                 run.result.setup.stability.objective.value_symbol(),
                 significant(rec.lambda, 4),
-                unstable_note(rec),
+                unstable_note(&rec),
                 significant(run.result.budget, 6),
                 net.supports.name()
             ),
@@ -105,8 +107,8 @@ pub fn network_picture(run: &RunFolder, k: usize) -> Result<Image, String> {
 }
 
 /// `  UNSTABLE: …` after a recorded network's `λ_eq` in a title when it is unstable.
-fn unstable_note(rec: &crate::simplify::greedy::IterationRecord) -> String {
-    record_instability(rec).map_or_else(String::new, |w| {
+fn unstable_note(rec: &Chosen) -> String {
+    rec.unstable.as_ref().map_or_else(String::new, |w| {
         format!("  {}", w.replacen("unstable", "UNSTABLE", 1))
     })
 }
@@ -168,11 +170,12 @@ fn colour_bar(img: &mut Image, w: usize) {
 /// The worst-case mode of iteration `k`: the equilibrium (thin, grey) and the equilibrium
 /// displaced along the mode, scaled so the largest displacement is 8% of the network's size,
 /// coloured by the displacement's magnitude.
-pub fn mode_picture(run: &RunFolder, k: usize) -> Result<Image, String> {
-    let rec = run.record(k)?;
+pub fn mode_picture(run: &RunFolder, which: impl Into<Which>) -> Result<Image, String> {
+    let which = which.into();
+    let rec = run.network_of(which)?;
     let net = &run.network;
-    let eq = positions_at(net, Some(&run.displacement(k)?));
-    let mode = run.mode(k)?;
+    let eq = positions_at(net, Some(&run.displacement_of(which)?));
+    let mode = run.mode_of(which)?;
     let kept = &rec.curves;
     let (mag, max) = mode_magnitudes(net, kept, &mode);
     let on_kept = |pos: &[Vec3]| -> Vec<Vec3> {
@@ -227,10 +230,11 @@ pub fn mode_picture(run: &RunFolder, k: usize) -> Result<Image, String> {
         &mut img,
         &[
             format!(
-                "worst-case mode, iteration {k}: {} = {}{} ({} curves)",
+                "worst-case mode, {}: {} = {}{} ({} curves)",
+                rec.what,
                 run.result.setup.stability.objective.value_symbol(),
                 significant(rec.lambda, 4),
-                unstable_note(rec),
+                unstable_note(&rec),
                 kept.len()
             ),
             format!(
