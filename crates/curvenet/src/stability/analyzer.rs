@@ -315,6 +315,26 @@ impl Analyzer {
         (relaxed.info, relaxed.hess)
     }
 
+    /// [`Self::relax`] from displacements `u` near the equilibrium (a nearby structure's):
+    /// one factorization preconditions every later step ([`Equilibrium::relax_near`]),
+    /// factoring with `symbolic`; also hands out the Hessian at the equilibrium.
+    pub(super) fn relax_near(
+        &self,
+        active: &ActiveSet,
+        u: &mut [f64],
+        symbolic: &Arc<SymbolicFactor>,
+    ) -> (NewtonInfo, Vec<f64>) {
+        let relaxed = Equilibrium {
+            model: &self.model,
+            active,
+            symbolic,
+            params: &self.params.newton,
+            tuning: &self.params.tuning.solver,
+        }
+        .relax_near(u);
+        (relaxed.info, relaxed.hess)
+    }
+
     /// Smallest eigenpairs of `active`'s Hessian at displacements `u` (no relaxation):
     /// `λ_fix(active | A)` when `u` is the equilibrium of `A`.
     pub fn spectrum(
