@@ -304,14 +304,7 @@ impl Analyzer {
         factor: Option<Cholesky>,
         symbolic: &Arc<SymbolicFactor>,
     ) -> (NewtonInfo, Vec<f64>) {
-        let relaxed = Equilibrium {
-            model: &self.model,
-            active,
-            symbolic,
-            params: &self.params.newton,
-            tuning: &self.params.tuning.solver,
-        }
-        .relax(u, factor);
+        let relaxed = self.equilibrium(active, symbolic).relax(u, factor);
         (relaxed.info, relaxed.hess)
     }
 
@@ -324,15 +317,23 @@ impl Analyzer {
         u: &mut [f64],
         symbolic: &Arc<SymbolicFactor>,
     ) -> (NewtonInfo, Vec<f64>) {
-        let relaxed = Equilibrium {
+        let relaxed = self.equilibrium(active, symbolic).relax_near(u);
+        (relaxed.info, relaxed.hess)
+    }
+
+    /// The equilibrium problem of `active`, factored with `symbolic`.
+    fn equilibrium<'a>(
+        &'a self,
+        active: &'a ActiveSet,
+        symbolic: &'a Arc<SymbolicFactor>,
+    ) -> Equilibrium<'a> {
+        Equilibrium {
             model: &self.model,
             active,
             symbolic,
             params: &self.params.newton,
             tuning: &self.params.tuning.solver,
         }
-        .relax_near(u);
-        (relaxed.info, relaxed.hess)
     }
 
     /// Smallest eigenpairs of `active`'s Hessian at displacements `u` (no relaxation):

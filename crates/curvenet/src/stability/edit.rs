@@ -187,11 +187,8 @@ fn extend_along(rod: &crate::rod::Rod, held: &[bool], from: &[f64], u: &mut [f64
 
 #[cfg(test)]
 mod tests {
-    use crate::network::{BuildParams, build_network};
-    use crate::rod::Supports;
+    use crate::stability::test_support::{dome_analyzer as dome, dome_analyzer_with};
     use crate::stability::{Analyzer, EditFrom, EditStart, Objective, StabilityParams};
-
-    use crate::stability::test_support::dome_analyzer as dome;
 
     /// A removal and a restore, warm-started, give the cold analysis's `λ` and equilibrium;
     /// the loose vertices stay drawn. The warm relaxations factor once and take Krylov steps.
@@ -205,18 +202,11 @@ mod tests {
     /// cold analysis's.
     #[test]
     fn warm_edits_give_the_cold_frequency_objective() {
-        let scene = crate::builtin::dome_arcs(2000.0, 700.0, 3, 3);
-        let build = BuildParams {
-            edge_length: 150.0,
-            supports: Supports::Clamped,
-            ..Default::default()
-        };
-        let (net, _) = build_network(&scene.curves, &build).expect("builds");
         let params = StabilityParams {
             objective: Objective::Frequency,
             ..Default::default()
         };
-        edits_match_cold(&Analyzer::new(net, params).expect("analyzer"));
+        edits_match_cold(&dome_analyzer_with(params));
     }
 
     /// Warm edits of `an` (two removals, then restores) against cold analyses of the same
