@@ -11,6 +11,7 @@
 //! cache.
 
 use crate::design::{Design, DesignError, Source, Status};
+use curvenet::profile::{self, Snapshot};
 use curvenet::rng::SplitMix64;
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -59,6 +60,8 @@ pub struct EditRow {
     pub status: Status,
     /// The cold analysis of the same set (computed edits only): milliseconds and `λ`.
     pub cold: Option<(f64, f64)>,
+    /// Where the edit's time went (the library's phase timers, over the edit alone).
+    pub phases: Snapshot,
 }
 
 /// The benchmark's edits.
@@ -87,7 +90,9 @@ pub fn run(design: &Design, params: BenchParams) -> Result<BenchReport, DesignEr
     let mut edits = Vec::new();
     let mut removed = Vec::new();
     let edit = |op: Op, curve: usize, edits: &mut Vec<EditRow>| -> Result<(), DesignError> {
+        profile::reset();
         let e = design.toggle(curve)?;
+        let phases = profile::snapshot();
         let cold = if e.source == Source::Cache {
             None
         } else {
@@ -106,6 +111,7 @@ pub fn run(design: &Design, params: BenchParams) -> Result<BenchReport, DesignEr
             lambda: e.summary.lambda,
             status: e.summary.status,
             cold,
+            phases,
         });
         Ok(())
     };
@@ -249,7 +255,39 @@ impl BenchReport {
             "speed-up (cold median / computed edit median): {speedup:.1}x; largest |Δλ|/λ over stable states: {:.1e}",
             self.largest_difference()
         );
+        s.push_str(&self.phases());
         s
+    }
+
+    /// Where the warm edits' time goes: medians over them of each phase's milliseconds and
+    /// calls (the phases overlap: the relaxation holds its factorizations and solves).
+    fn phases(&self) -> String {
+        let warm: Vec<&Snapshot> = self
+            .edits
+            .iter()
+            .filter(|e| e.source == Source::Warm)
+            .map(|e| &e.phases)
+            .collect();
+        if warm.is_empty() {
+            return String::new();
+        }
+        let median =
+            |f: &dyn Fn(&Snapshot) -> f64| median_p90(warm.iter().map(|p| f(p)).collect()).0;
+        let phase = |name: &str, f: &dyn Fn(&Snapshot) -> profile::PhaseTotal| {
+            format!(
+                "{name} {:.1} ms ({})",
+                median(&|p| f(p).seconds * 1e3),
+                median(&|p| f(p).calls as f64)
+            )
+        };
+        format!(
+            "a warm edit's phases (medians, ms and calls): {}, {}; within them {}, {}, {}\n",
+            phase("relaxation", &|p| p.relax),
+            phase("spectrum", &|p| p.eigen),
+            phase("factorizations", &|p| p.factor),
+            phase("solves", &|p| p.solve),
+            phase("assembly", &|p| p.assemble),
+        )
     }
 }
 

@@ -5,6 +5,8 @@
 //! - `supernodal`: the numeric factorization and substitutions with independent subtrees of
 //!   the elimination tree in parallel;
 //! - [`newton`]: the equilibrium of any structure (`docs/model.md`, *Equilibrium*);
+//! - [`pcg`]: conjugate gradients preconditioned by a nearby matrix's factor (Newton's steps
+//!   near an equilibrium);
 //! - [`ordering`]: fill-reducing orderings (AMD, nested dissection with METIS);
 //! - [`lanczos`]: thick-restart block Lanczos for the largest eigenpairs of an operator;
 //! - [`eigen`]: the shift-and-invert driver giving the smallest eigenpairs of a Hessian
@@ -16,6 +18,7 @@ pub mod factor;
 pub mod lanczos;
 pub mod newton;
 pub mod ordering;
+pub mod pcg;
 mod supernodal;
 pub mod tuning;
 

@@ -9,6 +9,16 @@
 //! energy differences are below round-off, a step is accepted if it reduces `‖∇E‖`. In the
 //! quadratic phase a step may reuse the last factorization ([`SolverTuning::chord_below`]).
 //!
+//! **Near an equilibrium** ([`Equilibrium::relax_near`]: a structure relaxed from a nearby
+//! structure's equilibrium) every step after the first solves its Newton system by conjugate
+//! gradients preconditioned with the last factorization ([`super::pcg`]), to a forcing
+//! tolerance that tightens as `‖∇E‖` falls (inexact Newton: superlinear convergence), so one
+//! factorization serves the whole solve while the Hessian stays close to the factored one. A
+//! step whose solve needs more than [`KRYLOV_MAX_SOLVES`] solves, meets non-positive
+//! curvature or fails its line search is taken afresh; one that took more than a few solves
+//! or did not halve `‖∇E‖` is followed by a fresh factorization, which then preconditions the
+//! later steps.
+//!
 //! **Convergence** is judged against a scale `g₀`: the structure's gradient norm in the drawn
 //! state (so the tolerance means the same for every solve of it, whatever state it starts
 //! from), but never below the forces' natural scale
@@ -19,6 +29,7 @@
 //! stopping is reported ([`NewtonStop`]), never hidden.
 
 use super::factor::{Cholesky, SymbolicFactor};
+use super::pcg;
 use super::tuning::SolverTuning;
 use crate::rod::model::{Assembly, Terms};
 use crate::rod::{ActiveSet, EnergyModel};
@@ -85,6 +96,23 @@ impl NewtonParams {
 /// factorization's step by its square), or the next step factors afresh.
 const CHORD_CUT: f64 = 0.25;
 
+/// A Krylov step's forcing term: its Newton system is solved to `η‖∇E‖` with
+/// `η = min(KRYLOV_ETA, √(‖∇E‖/g₀))`, and at least to half the tolerance.
+const KRYLOV_ETA: f64 = 0.1;
+
+/// Solves a Krylov step may take; beyond them the step factors afresh (a factorization costs
+/// some tens of solves).
+pub const KRYLOV_MAX_SOLVES: usize = 12;
+
+/// A Krylov step must cut `‖∇E‖` by this factor, or the next step factors afresh.
+const KRYLOV_CUT: f64 = 0.5;
+
+/// A Krylov step that took more solves than this makes the next step factor afresh: the
+/// factored Hessian has drifted from the current one, and the later steps, which solve to
+/// tighter tolerances, would take ever more (a solve, bound by memory bandwidth, costs a
+/// sixth to a twentieth of a factorization).
+const KRYLOV_REFACTOR_AFTER: usize = 3;
+
 /// Shifts of the projected Hessian tried (each ten times the last) before giving up.
 const MAX_SHIFTS: usize = 40;
 
@@ -147,6 +175,13 @@ pub struct NewtonInfo {
     pub factorizations: usize,
     /// Iterations that reused an earlier factorization.
     pub chord_steps: usize,
+    /// Iterations whose direction came from conjugate gradients preconditioned with an
+    /// earlier factorization ([`Equilibrium::relax_near`]).
+    #[serde(default)]
+    pub krylov_steps: usize,
+    /// Solves with an earlier factorization those steps took.
+    #[serde(default)]
+    pub krylov_solves: usize,
     /// Iterations whose direction came from the projected (convex) Hessian.
     pub projected_steps: usize,
     /// Largest diagonal shift `τ` used.
@@ -221,9 +256,22 @@ impl Equilibrium<'_> {
     /// `warm`, a factorization of a nearby Hessian of the same structure (e.g. at a previous
     /// equilibrium), serves the first step; only the work changes, never the tolerance met.
     pub fn relax(&self, x: &mut [f64], warm: Option<Cholesky>) -> Relaxed {
+        self.relax_with(x, warm, false)
+    }
+
+    /// Relaxes the structure from displacements `x` near its equilibrium (e.g. a nearby
+    /// structure's): the first step factors the Hessian, and the later ones solve theirs by
+    /// conjugate gradients preconditioned with that factorization (Krylov steps, see the
+    /// module documentation). The same tolerance as [`Self::relax`].
+    pub fn relax_near(&self, x: &mut [f64]) -> Relaxed {
+        self.relax_with(x, None, true)
+    }
+
+    fn relax_with(&self, x: &mut [f64], warm: Option<Cholesky>, krylov: bool) -> Relaxed {
         let _timer = crate::profile::Timer::new(crate::profile::Phase::Relax);
         let mut cur = self.model.assemble(x, self.active, true);
         let mut solver = Solver::new(self, &cur, warm);
+        solver.krylov = krylov;
         let Err(stop) = solver.run(x, &mut cur);
         Relaxed {
             info: solver.finish(stop),
@@ -267,6 +315,8 @@ struct Direction {
     factor: Cholesky,
     /// From the projected Hessian (a saddle nearby): a full step may be extended.
     projected: bool,
+    /// Solved by conjugate gradients with an earlier factorization (a Krylov step).
+    krylov: bool,
 }
 
 /// What a line search found: the step length, and the assembly at the new point when the
@@ -294,11 +344,15 @@ struct Solver<'a> {
     /// The last factorization, for chord steps at later points.
     stale: Option<Cholesky>,
     last_projected: bool,
-    /// Whether the last step was a chord step.
+    /// Whether the last step reused an earlier factorization (a chord or Krylov step).
     last_chord: bool,
-    /// A chord step's line search just failed: the step is retried with a fresh
-    /// factorization.
+    /// A chord or Krylov step's line search just failed, or a Krylov step did not cut
+    /// `‖∇E‖` enough: the next step factors afresh.
     retry_fresh: bool,
+    /// Steps after the first are Krylov steps ([`Equilibrium::relax_near`]).
+    krylov: bool,
+    /// Solves the last Krylov solve took.
+    last_krylov_solves: usize,
     /// `‖∇E‖` before the last step if it was a full one, and whether it was a chord step.
     full_step: Option<(f64, bool)>,
 }
@@ -323,6 +377,8 @@ impl<'a> Solver<'a> {
                 energy: cur.energy,
                 factorizations: 0,
                 chord_steps: 0,
+                krylov_steps: 0,
+                krylov_solves: 0,
                 projected_steps: 0,
                 max_shift: 0.0,
                 escape_doublings: 0,
@@ -336,6 +392,8 @@ impl<'a> Solver<'a> {
             last_projected: false,
             last_chord: false,
             retry_fresh: false,
+            krylov: false,
+            last_krylov_solves: 0,
             full_step: None,
         }
     }
@@ -359,11 +417,15 @@ impl<'a> Solver<'a> {
             self.stop_test(g_norm, cur.energy)?;
             let chord_now = self.chord_now(g_norm);
             let dir = self.direction(x, cur, g_norm, chord_now)?;
-            if self.eq.tuning.chord_below > 0.0 {
+            let reused = chord_now || dir.krylov;
+            if self.krylov {
+                self.last_chord = dir.krylov;
+            }
+            if self.krylov || self.eq.tuning.chord_below > 0.0 {
                 self.stale = Some(dir.factor);
             }
             match self.line_search(x, cur, &dir.d, g_norm, dir.projected) {
-                None if chord_now => {
+                None if reused => {
                     // The old factor's step found nothing: try a fresh factorization's.
                     self.retry_fresh = true;
                     self.last_chord = false;
@@ -375,7 +437,15 @@ impl<'a> Solver<'a> {
                     return Err(NewtonStop::RoundoffFloor);
                 }
                 None => return Err(NewtonStop::LineSearchFailed),
-                Some(step) => self.accept(x, cur, step, g_norm, chord_now)?,
+                Some(step) => {
+                    self.accept(x, cur, step, g_norm, chord_now)?;
+                    if dir.krylov
+                        && (norm(&cur.grad) > KRYLOV_CUT * g_norm
+                            || self.last_krylov_solves > KRYLOV_REFACTOR_AFTER)
+                    {
+                        self.retry_fresh = true;
+                    }
+                }
             }
         }
     }
@@ -421,6 +491,10 @@ impl<'a> Solver<'a> {
     /// Whether this step reuses the last factorization ([`SolverTuning::chord_below`]), which
     /// it then takes as the current one.
     fn chord_now(&mut self, g_norm: f64) -> bool {
+        if self.krylov {
+            // Krylov steps subsume chord steps (a chord step is their first iterate).
+            return false;
+        }
         let quadratic = self.full_step.is_some_and(|(g0, chord)| {
             let cut = if chord {
                 CHORD_CUT
@@ -464,6 +538,19 @@ impl<'a> Solver<'a> {
                 d,
                 factor,
                 projected: false,
+                krylov: false,
+            });
+        }
+        if self.krylov
+            && !std::mem::take(&mut self.retry_fresh)
+            && let Some(factor) = self.stale.take()
+            && let Some(d) = self.krylov_direction(cur, g_norm, &factor)
+        {
+            return Ok(Direction {
+                d,
+                factor,
+                projected: false,
+                krylov: true,
             });
         }
         // After a projected step the exact Hessian is usually still indefinite: try it again
@@ -484,9 +571,40 @@ impl<'a> Solver<'a> {
                 d,
                 factor,
                 projected: false,
+                krylov: false,
             }),
             None => self.projected_direction(x, cur),
         }
+    }
+
+    /// The Newton direction of the current Hessian by conjugate gradients preconditioned
+    /// with `factor` (an earlier factorization), to the forcing tolerance; `None` when the
+    /// solve fails (see [`pcg::solve`]) or the direction is not one of descent.
+    fn krylov_direction(
+        &mut self,
+        cur: &Assembly,
+        g_norm: f64,
+        factor: &Cholesky,
+    ) -> Option<Vec<f64>> {
+        let eta = KRYLOV_ETA.min(relative(g_norm, self.g_ref).sqrt());
+        let target = (eta * g_norm).max(0.5 * self.eq.params.rel_tol * self.g_ref);
+        let pattern = self.eq.model.pattern();
+        let found = pcg::solve(
+            pattern,
+            &cur.hess,
+            factor,
+            &cur.grad,
+            target,
+            KRYLOV_MAX_SOLVES,
+        );
+        self.info.krylov_solves += found.solves;
+        self.last_krylov_solves = found.solves;
+        let d = found.x?;
+        let gd = dot(&d, &cur.grad);
+        (gd > 0.0 && gd.is_finite()).then(|| {
+            self.info.krylov_steps += 1;
+            d
+        })
     }
 
     /// The direction from the Hessian with every term's local Hessian projected to be
@@ -508,6 +626,7 @@ impl<'a> Solver<'a> {
                     d,
                     factor,
                     projected: true,
+                    krylov: false,
                 });
             }
             if attempt == MAX_SHIFTS {

@@ -304,15 +304,36 @@ impl Analyzer {
         factor: Option<Cholesky>,
         symbolic: &Arc<SymbolicFactor>,
     ) -> (NewtonInfo, Vec<f64>) {
-        let relaxed = Equilibrium {
+        let relaxed = self.equilibrium(active, symbolic).relax(u, factor);
+        (relaxed.info, relaxed.hess)
+    }
+
+    /// [`Self::relax`] from displacements `u` near the equilibrium (a nearby structure's):
+    /// one factorization preconditions every later step ([`Equilibrium::relax_near`]),
+    /// factoring with `symbolic`; also hands out the Hessian at the equilibrium.
+    pub(super) fn relax_near(
+        &self,
+        active: &ActiveSet,
+        u: &mut [f64],
+        symbolic: &Arc<SymbolicFactor>,
+    ) -> (NewtonInfo, Vec<f64>) {
+        let relaxed = self.equilibrium(active, symbolic).relax_near(u);
+        (relaxed.info, relaxed.hess)
+    }
+
+    /// The equilibrium problem of `active`, factored with `symbolic`.
+    fn equilibrium<'a>(
+        &'a self,
+        active: &'a ActiveSet,
+        symbolic: &'a Arc<SymbolicFactor>,
+    ) -> Equilibrium<'a> {
+        Equilibrium {
             model: &self.model,
             active,
             symbolic,
             params: &self.params.newton,
             tuning: &self.params.tuning.solver,
         }
-        .relax(u, factor);
-        (relaxed.info, relaxed.hess)
     }
 
     /// Smallest eigenpairs of `active`'s Hessian at displacements `u` (no relaxation):

@@ -39,6 +39,10 @@ pub enum Preset {
     /// that holds its neighbour (clustered smallest eigenvalues), its residual to
     /// [`SCORE_TOL`].
     Score,
+    /// An edit's spectrum ([`super::Analyzer::analyze_edit`]): the user's pairs, the lowest
+    /// (`λ`, served) to [`SPECTRUM_TOL`] at least, the others (shown) to
+    /// [`SPECTRUM_TRAILING_TOL`]: values accurate far beyond what is displayed.
+    Edit,
     /// `λ_fix` of a set at the full network's equilibrium: four pairs (the certificates of
     /// its low modes) to the user's tolerance, at most 1e-10.
     Fixed,
@@ -61,6 +65,10 @@ impl Preset {
                 p.block_size = SOLVE_GROUP.min(k);
                 p.solve_group = 1;
                 p.max_basis = p.max_basis.max(p.count + 6 * p.block_size);
+            }
+            Preset::Edit => {
+                p.tol = p.tol.max(SPECTRUM_TOL);
+                p.trailing_tol = Some(SPECTRUM_TRAILING_TOL.max(p.tol));
             }
             Preset::Score => {
                 p.count = 1;
@@ -107,6 +115,7 @@ mod tests {
             Preset::Analysis,
             Preset::Greedy { modes: 1 },
             Preset::Greedy { modes: 6 },
+            Preset::Edit,
             Preset::Score,
             Preset::Fixed,
             Preset::Relaxation,
