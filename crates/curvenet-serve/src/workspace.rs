@@ -119,7 +119,7 @@ pub fn open_run(dir: &Path, physical: Option<&PhysicalParams>) -> Result<ServedR
         analyzer = analyzer.with_physical(p.clone()).map_err(in_result)?;
     }
     let kept = match &r.answer {
-        Some(a) => a.curves.clone(),
+        Some(a) => a.found.curves.clone(),
         None => r.iterations[run.last_index()].curves.clone(),
     };
     let fraction = r.budget / r.setup.total_length;

@@ -540,7 +540,7 @@ fn max_deviation_excludes_exactly_the_networks_over_it() {
             .filter(|b| b.4 <= limit && b.3 == 0 && b.1 > 0.0)
             .max_by(|a, b| a.1.total_cmp(&b.1))
             .expect("a stable subset within the limit");
-        assert_eq!(a.curves, stable_within.0, "seed {seed}");
+        assert_eq!(a.found.curves, stable_within.0, "seed {seed}");
         let m = a.margins.max_deviation.expect("measured");
         assert!(m.met && m.value == stable_within.4 && m.limit == limit);
         println!(

@@ -409,7 +409,7 @@ impl AfterGreedy {
         }
         // The certificate is of the answer (the greedy's final network when there is none).
         let certified = match &chosen.answer {
-            Ok(a) => Some(a.curves.clone()),
+            Ok(a) => Some(a.found.curves.clone()),
             Err(_) => outcome.iterations.last().map(|it| it.curves.clone()),
         };
         writer.set_answer(chosen.answer, chosen.state);
@@ -618,9 +618,15 @@ fn answer_of(
     }
     let choice = choose(constraints, &offers, found.alternatives);
     let state_of = |a: &Answer| {
-        a.iteration
+        a.found
+            .iteration
             .is_none()
-            .then(|| states.iter().find(|s| s.0 == a.curves).map(|s| s.1.clone()))
+            .then(|| {
+                states
+                    .iter()
+                    .find(|s| s.0 == a.found.curves)
+                    .map(|s| s.1.clone())
+            })
             .flatten()
     };
     Chosen {

@@ -113,20 +113,6 @@ pub struct StableNetwork {
     pub over_budget_percent: f64,
 }
 
-impl std::ops::Deref for Answer {
-    type Target = Found;
-    fn deref(&self) -> &Found {
-        &self.found
-    }
-}
-
-impl std::ops::Deref for StableNetwork {
-    type Target = Found;
-    fn deref(&self) -> &Found {
-        &self.found
-    }
-}
-
 /// Why there is no answer (`no_answer` in `result.json`, beside `"answer": null`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct NoAnswer {
@@ -316,17 +302,22 @@ impl Answer {
     /// for beyond the budget with its standing (groups and orbits whole, one structure, the
     /// number of curves, the largest gap and deviation against their limits).
     pub fn describe(&self, value: &str) -> String {
-        let place = self.iteration.map_or_else(
-            || format!("the {}'s network", self.source.replace('_', " ")),
-            |k| format!("the {}'s iteration {k}", self.source.replace('_', " ")),
+        let place = self.found.iteration.map_or_else(
+            || format!("the {}'s network", self.found.source.replace('_', " ")),
+            |k| {
+                format!(
+                    "the {}'s iteration {k}",
+                    self.found.source.replace('_', " ")
+                )
+            },
         );
         let m = &self.margins;
         let mut s = format!(
             "{place}, {} curves, length {} ({}% of the budget), {value} {:.6e}",
-            self.curves.len(),
-            crate::fmt::length(self.length),
+            self.found.curves.len(),
+            crate::fmt::length(self.found.length),
             crate::fmt::percent(100.0 * m.budget.value / m.budget.limit),
-            self.lambda
+            self.found.lambda
         );
         if m.groups.is_some() {
             s.push_str("; groups whole");
@@ -368,17 +359,17 @@ impl NoAnswer {
         let mut s = format!("no answer: {}", self.reason);
         match &self.smallest_stable {
             Some(n) => {
-                let place = n.iteration.map_or_else(
-                    || format!("the {}'s network", n.source),
+                let place = n.found.iteration.map_or_else(
+                    || format!("the {}'s network", n.found.source),
                     |k| format!("iteration {k}"),
                 );
                 s.push_str(&format!(
                     "\nsmallest stable network of the run: {place}, {} curves, length {} ({:+.1}% \
                      of the budget), {value} {:.6e}",
-                    n.curves.len(),
-                    crate::fmt::length(n.length),
+                    n.found.curves.len(),
+                    crate::fmt::length(n.found.length),
                     n.over_budget_percent,
-                    n.lambda
+                    n.found.lambda
                 ));
             }
             None => s.push_str("\nno stable network was found in the run"),
@@ -427,11 +418,15 @@ mod tests {
         let ch = choose(&c, &offers, 5);
         let a = ch.answer.expect("an answer");
         assert_eq!(
-            (a.source.as_str(), a.curves.clone()),
+            (a.found.source.as_str(), a.found.curves.clone()),
             ("local_search", vec![0, 1, 3])
         );
         assert!(a.margins.all_met());
-        let alt: Vec<Vec<usize>> = ch.alternatives.iter().map(|x| x.curves.clone()).collect();
+        let alt: Vec<Vec<usize>> = ch
+            .alternatives
+            .iter()
+            .map(|x| x.found.curves.clone())
+            .collect();
         // [0, 1, 2] is [1, 2] with the ring added, and less stable: dominated.
         assert_eq!(alt, vec![vec![1, 2]], "distinct, best first, undominated");
         assert_eq!(choose(&c, &offers, 1).alternatives.len(), 1);
@@ -465,19 +460,27 @@ mod tests {
         ];
         let ch = choose(&c, &offers, 3);
         let a = ch.answer.expect("an answer");
-        assert_eq!(a.curves, vec![0, 1, 2]);
-        let alt: Vec<Vec<usize>> = ch.alternatives.iter().map(|x| x.curves.clone()).collect();
+        assert_eq!(a.found.curves, vec![0, 1, 2]);
+        let alt: Vec<Vec<usize>> = ch
+            .alternatives
+            .iter()
+            .map(|x| x.found.curves.clone())
+            .collect();
         assert_eq!(alt, vec![vec![1, 2, 5], vec![0, 1, 3], vec![0, 2, 3]]);
         for w in ch.alternatives.windows(2) {
-            assert!(w[0].lambda >= w[1].lambda);
+            assert!(w[0].found.lambda >= w[1].found.lambda);
         }
-        assert!(ch.alternatives.iter().all(|x| x.lambda <= a.lambda));
+        assert!(
+            ch.alternatives
+                .iter()
+                .all(|x| x.found.lambda <= a.found.lambda)
+        );
         assert!(!distinct(&c, &[0, 1, 2], &[0, 1, 2, 5]));
         assert!(distinct(&c, &[0, 1, 2], &[1, 2, 5]));
         // More asked for than there are: the rest, no error.
         let all = choose(&c, &offers, 50).alternatives;
         assert_eq!(all.len(), 4);
-        assert_eq!(all[3].curves, vec![0, 3, 4]);
+        assert_eq!(all[3].found.curves, vec![0, 3, 4]);
     }
 
     #[test]
@@ -501,7 +504,7 @@ mod tests {
         assert!(none.reason.contains("zero mode"), "{}", none.reason);
         assert!(none.reason.contains("iteration 2"), "{}", none.reason);
         let s = none.smallest_stable.clone().expect("iteration 1 is stable");
-        assert_eq!(s.iteration, Some(1));
+        assert_eq!(s.found.iteration, Some(1));
         assert!(s.over_budget_percent > 0.0);
         assert!(
             none.describe("λ_eq")

@@ -305,21 +305,21 @@ fn chosen_data(run: &RunFolder, options: &ViewerOptions) -> Result<Vec<Value>, S
     for ((w, label), a) in which.iter().zip(answers) {
         let mut e = json!({
             "label": label,
-            "source": a.source,
-            "iteration": a.iteration,
-            "curves": a.curves,
-            "length": a.length,
-            "lambda": a.lambda,
+            "source": a.found.source,
+            "iteration": a.found.iteration,
+            "curves": a.found.curves,
+            "length": a.found.length,
+            "lambda": a.found.lambda,
             "zero_modes": a.zero_modes,
             "negative_modes": a.negative_modes,
         });
-        if a.iteration.is_none() {
+        if a.found.iteration.is_none() {
             let u = run.displacement_of(*w)?;
             let mode = run.mode_of(*w)?;
-            let verts = active_vertices(run, &a.curves);
+            let verts = active_vertices(run, &a.found.curves);
             let g = analyzer
                 .as_ref()
-                .and_then(|an| gravity_deflection(an, &a.curves, &u))
+                .and_then(|an| gravity_deflection(an, &a.found.curves, &u))
                 .map(|g| gravity_field(&restrict(&g, &verts), &verts));
             e["u"] = encode_i16(&restrict(&u, &verts));
             e["mode"] = encode_i16(&restrict(&mode, &verts));

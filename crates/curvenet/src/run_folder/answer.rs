@@ -137,7 +137,7 @@ pub fn alternative_offers(
             .answer
             .iter()
             .chain(&chosen.alternatives)
-            .map(|a| a.curves.clone())
+            .map(|a| a.found.curves.clone())
             .collect();
         let room = BATCH.min(evaluation_cap(count) - evaluated);
         let batch: Vec<&SubsetScore> = rest

@@ -73,19 +73,19 @@ impl RunFolder {
             } else {
                 format!("alternative {}", i + usize::from(result.answer.is_none()))
             };
-            if a.curves.is_empty() {
+            if a.found.curves.is_empty() {
                 return Err(format!(
                     "{}: {what} has no curves",
                     dir.join("result.json").display()
                 ));
             }
-            if let Some(&c) = a.curves.iter().find(|&&c| c >= n) {
+            if let Some(&c) = a.found.curves.iter().find(|&&c| c >= n) {
                 return Err(format!(
                     "{}: {what} names curve {c}, but network.json has {n} curves",
                     dir.join("result.json").display()
                 ));
             }
-            if let Some(k) = a.iteration.filter(|&k| k >= result.iterations.len()) {
+            if let Some(k) = a.found.iteration.filter(|&k| k >= result.iterations.len()) {
                 return Err(format!(
                     "{}: {what} names iteration {k}, but the run recorded {}",
                     dir.join("result.json").display(),
@@ -142,7 +142,7 @@ impl RunFolder {
         self.result
             .answer
             .as_ref()
-            .and_then(|a| a.iteration)
+            .and_then(|a| a.found.iteration)
             .filter(|&k| k < self.iteration_count())
             .unwrap_or_else(|| self.last_index())
     }
@@ -232,18 +232,18 @@ impl RunFolder {
             Which::Alternative(n) => (format!("alternative {n}"), format!("alternative-{n}")),
             _ => ("the answer".to_string(), "answer".to_string()),
         };
-        let place = a.iteration.map_or_else(
-            || format!(" (the {}'s network)", a.source.replace('_', " ")),
+        let place = a.found.iteration.map_or_else(
+            || format!(" (the {}'s network)", a.found.source.replace('_', " ")),
             |k| format!(" (iteration {k})"),
         );
         Ok(Chosen {
             what: format!("{what}{place}"),
             tag,
-            curves: a.curves.clone(),
-            length: a.length,
-            lambda: a.lambda,
-            iteration: a.iteration,
-            unstable: super::instability(a.lambda, a.zero_modes, a.negative_modes),
+            curves: a.found.curves.clone(),
+            length: a.found.length,
+            lambda: a.found.lambda,
+            iteration: a.found.iteration,
+            unstable: super::instability(a.found.lambda, a.zero_modes, a.negative_modes),
         })
     }
 

@@ -200,7 +200,7 @@ pub fn summary(r: &ResultFile) -> String {
             i + 1,
             i + 1,
             a.describe(value),
-            a.curves
+            a.found.curves
         );
     }
     s

@@ -254,7 +254,7 @@ impl<'a> OutputWriter<'a> {
         state: Option<&NetworkState>,
         what: &str,
     ) -> Result<Vec<f64>, String> {
-        match (a.iteration, state) {
+        match (a.found.iteration, state) {
             (_, Some(s)) => Ok(s.displacement.clone()),
             (Some(k), None) => read_f64_file(&self.dir.join(format!("states/{k:04}.bin"))),
             (None, None) => Err(format!("the {what}'s equilibrium is not known")),
@@ -270,7 +270,7 @@ impl<'a> OutputWriter<'a> {
         state: Option<&NetworkState>,
     ) -> Result<(), String> {
         let u = self.equilibrium_of(a, state, stem)?;
-        let obj = io::curves_to_obj(&network_polylines(self.network, &a.curves, Some(&u)));
+        let obj = io::curves_to_obj(&network_polylines(self.network, &a.found.curves, Some(&u)));
         self.write(&format!("{stem}.obj"), obj)?;
         if let Some(s) = state {
             self.write(&format!("states/{stem}.bin"), f64_bytes(&s.displacement))?;

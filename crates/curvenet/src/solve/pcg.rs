@@ -6,24 +6,32 @@
 //! many iterations as `F⁻¹ H` has eigenvalues away from one: few while `E` is small next to
 //! the soft eigenvalues of `H`, or of low rank. Starting from zero, every iterate `d` is a
 //! descent direction of the quadratic model (`gᵀd > 0` for `H` positive definite on the
-//! Krylov space); a direction of non-positive curvature ends the solve.
+//! Krylov space). The iteration is faer's (`faer::matrix_free::conjugate_gradient`), over the
+//! pattern's symmetric product and the factor's substitution; a direction of negative
+//! curvature ends it (faer reports the operator as not positive definite).
 
 use super::factor::{Cholesky, Schedule};
 use crate::sparse::Pattern;
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::matrix_free::conjugate_gradient::{
+    CgParams, conjugate_gradient, conjugate_gradient_scratch,
+};
+use faer::matrix_free::{InitialGuessStatus, LinOp, Precond};
+use faer::{Mat, MatMut, MatRef, Par};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// What a preconditioned solve found.
 #[derive(Debug)]
 pub struct Pcg {
-    /// The solution (the residual at most the target), or `None`: the target was not
-    /// reached within the solves allowed, or the matrix showed a direction of non-positive
-    /// curvature.
+    /// The solution (the residual below the target), or `None`: the target was not reached
+    /// within the solves allowed, or the matrix showed a direction of negative curvature.
     pub x: Option<Vec<f64>>,
     /// Solves with the factor it took (one per iteration).
     pub solves: usize,
 }
 
 /// Solves `H x = b` (`H` given by its upper-triangle `values` on `pattern`) from `x = 0` by
-/// conjugate gradients preconditioned with `factor`, until `‖b − H x‖ ≤ target`, with at most
+/// conjugate gradients preconditioned with `factor`, until `‖b − H x‖ < target`, with at most
 /// `max_solves` solves.
 pub fn solve(
     pattern: &Pattern,
@@ -34,68 +42,129 @@ pub fn solve(
     max_solves: usize,
 ) -> Pcg {
     let n = b.len();
-    let mut x = vec![0.0; n];
-    let mut r = b.to_vec();
-    let mut z = r.clone();
-    let mut hp = vec![0.0; n];
-    let mut solves = 0;
-    if norm(&r) <= target {
-        return Pcg { x: Some(x), solves };
+    let op = Symmetric { pattern, values };
+    let precond = Substitution {
+        factor,
+        n,
+        solves: AtomicUsize::new(0),
+        max_solves,
+    };
+    let params = CgParams {
+        initial_guess: InitialGuessStatus::Zero,
+        abs_tolerance: target,
+        rel_tolerance: 0.0,
+        // The first solve comes before the first iteration, one more after each.
+        max_iters: max_solves.max(1),
+        ..Default::default()
+    };
+    let mut x = Mat::<f64>::zeros(n, 1);
+    let rhs = MatRef::from_column_major_slice(b, n, 1);
+    let mut mem = MemBuffer::new(conjugate_gradient_scratch(&precond, &op, 1, Par::Seq));
+    let found = conjugate_gradient(
+        x.as_mut(),
+        &precond,
+        &op,
+        rhs,
+        params,
+        |_| {},
+        Par::Seq,
+        MemStack::new(&mut mem),
+    );
+    let solves = precond.solves.load(Ordering::Relaxed);
+    let x = match found {
+        Ok(_) => Some(x.col(0).iter().copied().collect()),
+        Err(_) => None,
+    };
+    Pcg { x, solves }
+}
+
+/// `H` as faer's operator: the pattern's symmetric product.
+#[derive(Debug)]
+struct Symmetric<'a> {
+    pattern: &'a Pattern,
+    values: &'a [f64],
+}
+
+impl LinOp<f64> for Symmetric<'_> {
+    fn apply_scratch(&self, _rhs_ncols: usize, _par: Par) -> StackReq {
+        StackReq::EMPTY
     }
-    precondition(factor, &mut z);
-    solves += 1;
-    let mut p = z.clone();
-    let mut rz = dot(&r, &z);
-    loop {
-        pattern.sym_matvec(values, &p, &mut hp);
-        let curvature = dot(&p, &hp);
-        if !(curvature > 0.0 && rz > 0.0 && curvature.is_finite()) {
-            return Pcg { x: None, solves };
+
+    fn nrows(&self) -> usize {
+        self.pattern.n
+    }
+
+    fn ncols(&self) -> usize {
+        self.pattern.n
+    }
+
+    fn apply(&self, mut out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, _: Par, _: &mut MemStack) {
+        for j in 0..rhs.ncols() {
+            let x: Vec<f64> = rhs.col(j).iter().copied().collect();
+            let mut y = vec![0.0; self.pattern.n];
+            self.pattern.sym_matvec(self.values, &x, &mut y);
+            for (i, v) in y.into_iter().enumerate() {
+                out[(i, j)] = v;
+            }
         }
-        let alpha = rz / curvature;
-        for i in 0..n {
-            x[i] += alpha * p[i];
-            r[i] -= alpha * hp[i];
-        }
-        if norm(&r) <= target {
-            return Pcg { x: Some(x), solves };
-        }
-        if solves >= max_solves {
-            return Pcg { x: None, solves };
-        }
-        z.copy_from_slice(&r);
-        precondition(factor, &mut z);
-        solves += 1;
-        let rz_next = dot(&r, &z);
-        let beta = rz_next / rz;
-        rz = rz_next;
-        for i in 0..n {
-            p[i] = z[i] + beta * p[i];
-        }
+    }
+
+    fn conj_apply(&self, out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, par: Par, s: &mut MemStack) {
+        self.apply(out, rhs, par, s);
     }
 }
 
-/// `z ← F⁻¹ z` by one sequential substitution: the solves of a CG run form a chain that
-/// leaves the other cores idle, and a substitution split across cores waits on them whenever
-/// the machine is busy with other work (bit-identical either way).
-fn precondition(factor: &Cholesky, z: &mut [f64]) {
-    let n = z.len();
-    let column = faer::MatMut::from_column_major_slice_mut(z, n, 1);
-    factor.solve_in_place(column, Schedule::Groups(1));
+/// `F⁻¹` as faer's preconditioner, counting its solves, at most `max_solves`: faer applies it
+/// once more after its last iteration, whose result a solve that stops there never uses, so
+/// that application is skipped. Each solve is one sequential substitution:
+/// the solves of a CG run form a chain that leaves the other cores idle, and a substitution
+/// split across cores waits on them whenever the machine is busy with other work
+/// (bit-identical either way).
+#[derive(Debug)]
+struct Substitution<'a> {
+    factor: &'a Cholesky,
+    n: usize,
+    solves: AtomicUsize,
+    max_solves: usize,
 }
 
-fn norm(v: &[f64]) -> f64 {
-    dot(v, v).sqrt()
+impl LinOp<f64> for Substitution<'_> {
+    fn apply_scratch(&self, _rhs_ncols: usize, _par: Par) -> StackReq {
+        StackReq::EMPTY
+    }
+
+    fn nrows(&self) -> usize {
+        self.n
+    }
+
+    fn ncols(&self) -> usize {
+        self.n
+    }
+
+    fn apply(&self, mut out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, _: Par, _: &mut MemStack) {
+        out.copy_from(rhs);
+        if self.solves.fetch_add(1, Ordering::Relaxed) < self.max_solves {
+            self.factor.solve_in_place(out, Schedule::Groups(1));
+        } else {
+            self.solves.fetch_sub(1, Ordering::Relaxed);
+        }
+    }
+
+    fn conj_apply(&self, out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, par: Par, s: &mut MemStack) {
+        self.apply(out, rhs, par, s);
+    }
 }
 
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
+impl Precond<f64> for Substitution<'_> {}
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::solve::factor::SymbolicFactor;
+
+    fn norm(v: &[f64]) -> f64 {
+        v.iter().map(|x| x * x).sum::<f64>().sqrt()
+    }
 
     /// The tridiagonal matrix `tridiag(−1, d, −1)` of size `n` (upper triangle).
     fn tridiagonal(n: usize, d: f64) -> (Pattern, Vec<f64>) {

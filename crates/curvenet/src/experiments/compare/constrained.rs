@@ -500,9 +500,9 @@ fn run_setting(
     row.seconds = start.elapsed().as_secs_f64();
     match choice.answer {
         Ok(a) => {
-            row.lambda = Some(a.lambda);
-            row.curves = a.curves;
-            row.source = a.source;
+            row.lambda = Some(a.found.lambda);
+            row.curves = a.found.curves;
+            row.source = a.found.source;
         }
         Err(e) => row.no_answer = Some(e.reason),
     }
