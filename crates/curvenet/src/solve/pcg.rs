@@ -50,7 +50,9 @@ pub fn solve(
         max_solves,
     };
     let params = CgParams {
-        initial_guess: InitialGuessStatus::Zero,
+        // With `Zero` faer 0.24 leaves its residual unset; from a zero guess the residual
+        // `b − H·0` is `b` either way.
+        initial_guess: InitialGuessStatus::MaybeNonZero,
         abs_tolerance: target,
         rel_tolerance: 0.0,
         // The first solve comes before the first iteration, one more after each.
