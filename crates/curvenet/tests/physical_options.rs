@@ -256,3 +256,44 @@ fn absurd_quantities_are_refused_naming_their_option() {
     };
     assert!(o.resolve(None, &[]).is_ok());
 }
+
+/// What a curve file says is never ignored: its `units` or a curve's own material or section
+/// turn on the physical mode; without a length unit, a curve's material, section or pre-bent
+/// rest shape is refused naming the curve.
+#[test]
+fn a_curve_files_physical_fields_turn_on_the_physical_mode_or_are_refused() {
+    use curvenet::material::{CurveSpec, MaterialSpec, RestShape};
+    let none = PhysicalOptions::default();
+    // The file's units alone: steel, the paper's radius.
+    let p = none.resolve(Some("mm"), &[]).unwrap().unwrap();
+    assert_eq!(p.physical.units, LengthUnit::Millimetre);
+    assert_eq!(p.physical.material.name, "steel");
+    let aluminium = CurveSpec {
+        material: Some(MaterialSpec {
+            preset: Some("aluminium".into()),
+            ..Default::default()
+        }),
+        ..Default::default()
+    };
+    let specs = [CurveSpec::default(), aluminium.clone()];
+    let p = none.resolve(Some("m"), &specs).unwrap().unwrap();
+    assert_eq!(p.physical.units, LengthUnit::Metre);
+    // A curve's own material with no unit anywhere: refused naming the curve.
+    let e = none.resolve(None, &specs).unwrap_err();
+    assert!(e.contains("curve 1") && e.contains("--units"), "{e}");
+    // A pre-bent curve in the paper's mode: refused naming the curve.
+    let bent = CurveSpec {
+        rest: Some(RestShape::PreBent),
+        ..Default::default()
+    };
+    let e = none
+        .resolve(
+            None,
+            &[CurveSpec::default(), CurveSpec::default(), bent.clone()],
+        )
+        .unwrap_err();
+    assert!(e.contains("curve 2") && e.contains("pre-bent"), "{e}");
+    // With the file's units it is analysed pre-bent.
+    let p = none.resolve(Some("mm"), &[bent]).unwrap().unwrap();
+    assert_eq!(p.rest, vec![RestShape::PreBent]);
+}

@@ -163,6 +163,10 @@ pub struct PhysicalReport {
 /// (result.json's `physical` of each iteration; [`PhysicalReport`] is the whole analysis).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PhysicalSummary {
+    /// The scene's length unit (`mm`, `cm` or `m`): the deflections' unit (absent in runs
+    /// recorded before it was).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub units: Option<String>,
     /// No zero or negative mode among the computed ones.
     pub stable: bool,
     /// The structure's mass, kg.
@@ -190,6 +194,7 @@ impl PhysicalReport {
     /// What a search records of this analysis per iteration.
     pub fn summary(&self) -> PhysicalSummary {
         PhysicalSummary {
+            units: Some(self.units.clone()),
             stable: self.stable,
             mass_kg: self.mass_kg,
             mu_min: self.mu_min,

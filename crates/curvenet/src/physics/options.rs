@@ -55,16 +55,23 @@ impl PhysicalOptions {
     /// a curve file declared (used when `--units` is not given; `--units` wins), `specs` the
     /// curve files' per-curve material, section and rest shape (curve `c` at `specs[c]`).
     ///
+    /// The physical mode is on when the options give `--units` or `--material`, when the
+    /// curve file declares its `units`, or when a curve carries its own material or section:
+    /// nothing a file says is ignored.
+    ///
     /// # Errors
     ///
     /// A message naming the option for an unknown unit or material, a value without its unit
-    /// or with another quantity's, a non-positive value, or a missing section.
+    /// or with another quantity's, a non-positive value, or a missing section; naming the
+    /// curve when it sets a material or section (or a pre-bent rest shape) and no length unit
+    /// is known.
     pub fn resolve(
         &self,
         file_units: Option<&str>,
         specs: &[CurveSpec],
     ) -> Result<Option<PhysicalParams>, String> {
-        if !self.is_physical() {
+        let file_physical = specs.iter().position(CurveSpec::is_physical);
+        if !self.is_physical() && file_units.is_none() && file_physical.is_none() {
             for (name, given) in [
                 ("--density", &self.density),
                 ("--strength", &self.strength),
@@ -80,6 +87,15 @@ impl PhysicalOptions {
                     ));
                 }
             }
+            if let Some(c) = specs
+                .iter()
+                .position(|s| s.rest == Some(material::RestShape::PreBent))
+            {
+                return Err(format!(
+                    "curve {c} is pre-bent (\"rest\": \"pre-bent\"): rest shapes are analysed in \
+                     the physical mode; give --units mm|cm|m (or the curve file's \"units\")"
+                ));
+            }
             return Ok(None);
         }
         let units: LengthUnit = match (&self.units, file_units) {
@@ -88,9 +104,13 @@ impl PhysicalOptions {
                 .parse()
                 .map_err(|e| format!("the curve file's units: {e}"))?,
             (None, None) => {
-                return Err(
-                    "--material needs the scene's length unit: give --units mm|cm|m".into(),
-                );
+                return Err(match (&self.material, file_physical) {
+                    (None, Some(c)) => format!(
+                        "curve {c} sets its own material or section, which needs the scene's \
+                         length unit: give --units mm|cm|m (or the curve file's \"units\")"
+                    ),
+                    _ => "--material needs the scene's length unit: give --units mm|cm|m".into(),
+                });
             }
         };
         let mut material = presets::preset(self.material.as_deref().unwrap_or(DEFAULT_MATERIAL))

@@ -82,13 +82,13 @@ impl Analyzer {
         let model = self.model();
         let mask = model.vertex_mask(active);
         let mut u = self.edit_displacement(from, active, &mask);
-        let modes = super::evaluate::restrict(from.modes, &mask);
+        let start_block = edit_start_block(from.modes, &mask, &self.params().eigen);
         let symbolic = self.symbolic_for(active);
         let (newton, h) = self.relax_near(active, &mut u, &symbolic);
         let trusted = newton.converged && newton.projected_steps == 0;
         if trusted {
             let eigen = Preset::Edit.params(&self.params().eigen);
-            let start = (modes.ncols() > 0).then(|| modes.as_ref());
+            let start = Some(start_block.as_ref());
             let (spectrum, ()) = self.in_metric(active, &h, |h| {
                 let s = numerics::spectrum(model.pattern(), h, &symbolic, start, &eigen)?;
                 Ok((s, ()))
@@ -140,6 +140,34 @@ impl Analyzer {
         }
         u
     }
+}
+
+/// The eigen solver's start block for an edit: the previous structure's lowest modes
+/// restricted to the new one, all but one column of a block, and one random column over the
+/// held vertices. The previous modes alone can miss the new structure's lowest mode
+/// entirely: a symmetric network's modes are symmetric or antisymmetric, and a Krylov space
+/// grown from vectors orthogonal to the new lowest mode never holds it (a 3 × 3 grid of arcs
+/// reported its second-lowest eigenvalue as `λ`). The random column gives every mode a part
+/// of the start, and the inverted operator brings the lowest to the front at once.
+fn edit_start_block(
+    modes: MatRef<'_, f64>,
+    mask: &[bool],
+    eigen: &crate::solve::eigen::EigenParams,
+) -> faer::Mat<f64> {
+    let warm = modes.ncols().min(eigen.block_size.saturating_sub(1));
+    let restricted = super::evaluate::restrict(modes.subcols(0, warm), mask);
+    let mut block = faer::Mat::<f64>::zeros(modes.nrows(), warm + 1);
+    block.subcols_mut(0, warm).copy_from(&restricted);
+    let mut rng = crate::rng::SplitMix64::new(eigen.seed);
+    for (v, &held) in mask.iter().enumerate() {
+        for a in 0..3 {
+            let x = rng.uniform(-1.0, 1.0);
+            if held {
+                block[(3 * v + a, warm)] = x;
+            }
+        }
+    }
+    block
 }
 
 /// Sets the displacements in `u` of `rod`'s vertices not `held` by interpolating `from`
@@ -196,6 +224,28 @@ mod tests {
     fn warm_edits_give_the_cold_lambda() {
         let krylov = edits_match_cold(&dome());
         assert!(krylov > 0, "no Krylov step");
+    }
+
+    /// An edit whose new lowest mode is orthogonal to every previous mode (a symmetric grid:
+    /// curve 4's mode after curves 1 and 5 go, from modes living on curve 1) still finds it:
+    /// the start block holds a random column.
+    #[test]
+    fn an_edit_finds_a_lowest_mode_the_previous_modes_miss() {
+        let an = crate::stability::test_support::grid_analyzer();
+        let all = an.all();
+        let from_set = all.without(4);
+        let before = an.analyze(&from_set, None).unwrap();
+        for next in [all.without(1).without(5), all.without(3).without(5)] {
+            let from = EditStart {
+                active: &from_set,
+                displacement: &before.displacement,
+                modes: before.spectrum.vectors.as_ref(),
+            };
+            let edit = an.analyze_edit(&next, from).unwrap();
+            let cold = an.analyze(&next, None).unwrap();
+            let (w, c) = (edit.analysis.lambda(), cold.lambda());
+            assert!((w - c).abs() <= 1e-6 * c.abs(), "warm {w:e}, cold {c:e}");
+        }
     }
 
     /// Under the frequency objective an edit's value is `μ_min` of the mass metric, as the
