@@ -467,9 +467,10 @@ pub struct AfterGreedyArgs {
     #[arg(long = "certificate-nodes", value_parser = count(0, 100_000), allow_hyphen_values = true)]
     pub certificate_nodes: Option<usize>,
     /// After the greedy, run the local search from its final network (when within the
-    /// budget) and from the three stiffest single curves that fit the budget (add / drop /
-    /// swap moves with part steps, then variable-depth chains; `λ_eq` relaxed from the drawn
-    /// state) and record its best network in result.json next to the greedy's
+    /// budget), from the three stiffest single curves that fit the budget and, under
+    /// --min-curves or --max-gap, from the three best networks grown to meet them (add / drop
+    /// / swap moves with part steps, then variable-depth chains; `λ_eq` relaxed from the
+    /// drawn state) and record its best network in result.json next to the greedy's
     /// (`local_search`).
     #[arg(long = "local-search")]
     pub local_search: bool,

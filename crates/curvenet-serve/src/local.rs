@@ -7,7 +7,8 @@
 //! The search is the one `curvenet simplify --local-search` runs after the greedy: moves
 //! (add, drop, swap, part steps, variable-depth chains) within the budget, from the given
 //! start (here the current structure, when it fits the budget and the constraints) and from
-//! the three stiffest single curves, honouring the session's design constraints. It has no
+//! the three stiffest single curves (and, under a minimum number of curves or a largest gap,
+//! the best networks grown to meet it), honouring the session's design constraints. It has no
 //! intermediate progress: it reports its result when it ends (a cancelled search reports the
 //! best network it had reached).
 

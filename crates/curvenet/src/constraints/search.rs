@@ -83,6 +83,72 @@ impl Constraints {
             .collect()
     }
 
+    /// How far `set` is from the constraints that adding curves can meet: the curves
+    /// missing to `--min-curves`, the unmet parts of the surface under `--max-gap`, and the
+    /// structures beyond one under `--connected`; 0 when all three hold.
+    pub(crate) fn shortfall(&self, set: &CurveSet) -> usize {
+        let few = self
+            .params
+            .min_curves
+            .map_or(0, |k| k.saturating_sub(set.len()));
+        let gap = self.coverage.as_ref().map_or(0, |cov| cov.unmet(set));
+        let parts = if self.adjacency.is_some() {
+            self.parts(set).saturating_sub(1)
+        } else {
+            0
+        };
+        few + gap + parts
+    }
+
+    /// Whether the searches need starts [`Self::grow`] builds: `--min-curves` or `--max-gap`
+    /// is in force, which a single unit rarely meets.
+    pub fn needs_grown_starts(&self) -> bool {
+        self.params.min_curves.is_some() || self.coverage.is_some()
+    }
+
+    /// A set meeting every constraint but `--max-deviation`, grown from unit `seed` with the
+    /// units holding the keep list: while the set falls short ([`Self::shortfall`]), the unit
+    /// that fits the budget left and removes the most shortfall per unit of length joins it
+    /// (ties to the lower unit). `None` when the seed is forced or over the budget, or when
+    /// no unit that fits reduces the shortfall. Ascending.
+    pub fn grow(&self, seed: usize) -> Option<Vec<usize>> {
+        if self.forced[seed] {
+            return None;
+        }
+        let mut set = self.forced_set.clone();
+        set.union_with(&self.unit_sets[seed]);
+        let unit_length = |u: usize| self.length(&self.units[u]);
+        let mut length = self.length(&set.to_vec());
+        if length > self.budget {
+            return None;
+        }
+        loop {
+            let short = self.shortfall(&set);
+            if short == 0 {
+                return self.check_set(&set, length).is_ok().then(|| set.to_vec());
+            }
+            let mut best: Option<(f64, usize)> = None;
+            for u in 0..self.units.len() {
+                if self.unit_sets[u].intersects(&set) || length + unit_length(u) > self.budget {
+                    continue;
+                }
+                let mut next = set.clone();
+                next.union_with(&self.unit_sets[u]);
+                let gain = short.saturating_sub(self.shortfall(&next));
+                if gain == 0 {
+                    continue;
+                }
+                let rate = gain as f64 / unit_length(u).max(f64::MIN_POSITIVE);
+                if best.is_none_or(|(r, _)| rate > r) {
+                    best = Some((rate, u));
+                }
+            }
+            let (_, u) = best?;
+            set.union_with(&self.unit_sets[u]);
+            length = self.length(&set.to_vec());
+        }
+    }
+
     /// `curves` without unit `u`, ascending.
     pub fn without_unit(&self, curves: &[usize], u: usize) -> Vec<usize> {
         let mut out: Vec<usize> = curves

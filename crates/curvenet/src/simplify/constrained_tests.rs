@@ -361,7 +361,7 @@ fn empty_constraints_leave_every_search_as_it_is() {
 /// start given is skipped, not an error.
 #[test]
 fn the_local_searchs_single_unit_starts_meet_the_constraints() {
-    use super::local::{SINGLE_STARTS, local_search};
+    use super::local::{GROWN_EVALUATED, SINGLE_STARTS, local_search};
     let mut all = cases();
     all.push(case(
         "groups, keep 0",
@@ -403,13 +403,41 @@ fn the_local_searchs_single_unit_starts_meet_the_constraints() {
             })
             .collect();
         singles.sort_by(|a, b| b.1.total_cmp(&a.1));
+        // Under --min-curves or --max-gap, then the grown starts, by brute force: from each
+        // unit as a seed (shortest first) the set grown to meet the constraints, the first
+        // GROWN_EVALUATED distinct ones, the best SINGLE_STARTS by λ_eq.
+        let mut grown_expected: Vec<Vec<usize>> = Vec::new();
+        if c.needs_grown_starts() {
+            let mut seeds: Vec<usize> = (0..c.units().len()).collect();
+            seeds.sort_by(|&a, &b| c.length(&c.units()[a]).total_cmp(&c.length(&c.units()[b])));
+            let mut grown: Vec<Vec<usize>> = Vec::new();
+            for u in seeds {
+                if let Some(s) = c.grow(u)
+                    && c.check(&s).is_ok()
+                    && !grown.contains(&s)
+                    && grown.len() < GROWN_EVALUATED
+                {
+                    grown.push(s);
+                }
+            }
+            let mut ranked: Vec<(Vec<usize>, f64)> = grown
+                .into_iter()
+                .map(|s| {
+                    let l = k.analyzer.lambda_eq(&k.analyzer.set(&s)).expect("λ");
+                    (s, l)
+                })
+                .collect();
+            ranked.sort_by(|a, b| b.1.total_cmp(&a.1));
+            grown_expected.extend(ranked.into_iter().take(SINGLE_STARTS).map(|(s, _)| s));
+        }
         let any_single = !singles.is_empty();
+        let any_start = any_single || !grown_expected.is_empty();
         let name = k.name;
         let o = match local_search(&k.analyzer, &lp, Some(c), &start, &never) {
             Ok(o) => o,
             Err(e) => {
                 // Nothing to start from: the greedy ended over the budget, no unit fits.
-                assert!(c.check(&start).is_err() && !any_single, "{name}: {e}");
+                assert!(c.check(&start).is_err() && !any_start, "{name}: {e}");
                 continue;
             }
         };
@@ -422,6 +450,11 @@ fn the_local_searchs_single_unit_starts_meet_the_constraints() {
         let mut expected: Vec<Vec<usize>> =
             o.given().map(|g| g.curves.clone()).into_iter().collect();
         for (s, _) in singles.into_iter().take(SINGLE_STARTS) {
+            if !expected.contains(&s) {
+                expected.push(s);
+            }
+        }
+        for s in grown_expected.iter().cloned() {
             if !expected.contains(&s) {
                 expected.push(s);
             }
@@ -447,10 +480,10 @@ fn the_local_searchs_single_unit_starts_meet_the_constraints() {
         let everything: Vec<usize> = (0..c.curve_count()).collect();
         match local_search(&k.analyzer, &lp, Some(c), &everything, &never) {
             Ok(o) => assert!(
-                any_single && !o.given_searched && c.check(&o.best.curves).is_ok(),
+                any_start && !o.given_searched && c.check(&o.best.curves).is_ok(),
                 "{name}"
             ),
-            Err(e) => assert!(!any_single, "{name}: {e}"),
+            Err(e) => assert!(!any_start, "{name}: {e}"),
         }
     }
     println!("single-unit starts searched on: {with_singles:?}");

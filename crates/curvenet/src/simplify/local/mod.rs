@@ -75,7 +75,13 @@
 //! that no chain from there reaches; the stiffest single curves start the search among them.
 //! The searches share their evaluations (a set met by two costs one). A given start that is
 //! not feasible (the greedy ended over the budget) is skipped: the single-curve starts need no
-//! feasible greedy. [`local_search_multi`] searches from the starts it is given, only.
+//! feasible greedy. Under `--min-curves` or `--max-gap` a single unit rarely meets the
+//! constraints and the greedy, which may not remove a unit whose removal breaks them, often
+//! stops over the budget; so the search also starts from sets *grown* to meet them
+//! ([`Constraints::grow`]: from each unit as a seed, shortest first, the unit that removes
+//! the most shortfall per unit of length joins until none is left), the [`SINGLE_STARTS`]
+//! best of the first [`GROWN_EVALUATED`] distinct ones.
+//! [`local_search_multi`] searches from the starts it is given, only.
 //! Measured against the exhaustive optimum in `docs/compare.md` (*Generalisation*) and
 //! `docs/benchmarks.md` (*Local search*).
 //!
@@ -103,6 +109,10 @@ use starts::MultiStart;
 /// Single-curve (single-unit) starts [`local_search`] searches from besides the start it is
 /// given: the best this many by `λ_eq`.
 pub const SINGLE_STARTS: usize = 3;
+
+/// Grown starts evaluated before the best [`SINGLE_STARTS`] of them are searched from
+/// (module documentation, *Starts*).
+pub const GROWN_EVALUATED: usize = 12;
 
 /// How the local search uses its moves (see the module documentation).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -334,6 +344,18 @@ pub fn local_search(
         match runs.single_starts() {
             Ok(singles) => {
                 for s in singles {
+                    if !runs.search(&s)? {
+                        break;
+                    }
+                }
+            }
+            Err(Stopped) => runs.stopped = true,
+        }
+    }
+    if !runs.stopped {
+        match runs.grown_starts() {
+            Ok(grown) => {
+                for s in grown {
                     if !runs.search(&s)? {
                         break;
                     }

@@ -1,9 +1,10 @@
-//! The local search's starts: the start given and the best single-curve (single-unit) sets,
-//! searched in turn over one shared memo; the best outcome kept.
+//! The local search's starts: the start given, the best single-curve (single-unit) sets and,
+//! under `--min-curves` or `--max-gap`, the best sets grown to meet them, searched in turn
+//! over one shared memo; the best outcome kept.
 
 use super::evaluator::{Evaluator, Memo, Stopped, visited};
 use super::search::search_from;
-use super::{LocalOutcome, LocalParams, SINGLE_STARTS};
+use super::{GROWN_EVALUATED, LocalOutcome, LocalParams, SINGLE_STARTS};
 use crate::cancel::Cancel;
 use crate::constraints::Constraints;
 use crate::simplify::SimplifyError;
@@ -145,10 +146,46 @@ impl<'s> MultiStart<'s> {
                 .collect(),
         };
         let sets: Vec<Vec<usize>> = sets.into_iter().filter(|s| self.feasible(s)).collect();
+        self.best_of(sets)
+    }
+
+    /// Under `--min-curves` or `--max-gap`, the [`SINGLE_STARTS`] best *grown* starts (module
+    /// documentation, *Starts*), best first: from each unit as a seed, shortest seed first,
+    /// a set grown to meet the constraints ([`Constraints::grow`]); the first
+    /// [`GROWN_EVALUATED`] distinct feasible ones are evaluated and ranked by the search's
+    /// value, ties to the earlier seed. None without those constraints.
+    pub(super) fn grown_starts(&mut self) -> Result<Vec<Vec<usize>>, Stopped> {
+        let Some(c) = self.constraints.filter(|c| c.needs_grown_starts()) else {
+            return Ok(Vec::new());
+        };
+        let mut seeds: Vec<usize> = (0..c.units().len()).collect();
+        // Stable: equal lengths keep the order of the units.
+        seeds.sort_by(|&a, &b| c.length(&c.units()[a]).total_cmp(&c.length(&c.units()[b])));
+        let mut sets: Vec<Vec<usize>> = Vec::new();
+        for seed in seeds {
+            if self.cancel.is_cancelled() {
+                return Err(Stopped);
+            }
+            if let Some(set) = c.grow(seed)
+                && self.feasible(&set)
+                && !sets.contains(&set)
+            {
+                sets.push(set);
+                if sets.len() == GROWN_EVALUATED {
+                    break;
+                }
+            }
+        }
+        self.best_of(sets)
+    }
+
+    /// The [`SINGLE_STARTS`] sets of `sets` of the best finite values, best first, ties to
+    /// the earlier set.
+    fn best_of(&mut self, sets: Vec<Vec<usize>>) -> Result<Vec<Vec<usize>>, Stopped> {
         let entries = Evaluator {
             analyzer: self.analyzer,
             constraints: self.constraints,
-            keep: keep.clone(),
+            keep: self.params.keep.clone(),
             tolerance: self.params.tolerance,
             memo: &mut self.memo,
             cancel: self.cancel,
@@ -157,7 +194,7 @@ impl<'s> MultiStart<'s> {
         let mut ranked: Vec<usize> = (0..sets.len())
             .filter(|&i| entries[i].value.is_finite())
             .collect();
-        // Stable: equal values keep the order of the curves.
+        // Stable: equal values keep the order of the sets.
         ranked.sort_by(|&a, &b| entries[b].value.total_cmp(&entries[a].value));
         Ok(ranked
             .into_iter()
