@@ -102,7 +102,6 @@ use super::{Budget, SimplifyError};
 use crate::cancel::Cancel;
 use crate::constraints::Constraints;
 use crate::stability::Analyzer;
-use evaluator::Stopped;
 use serde::{Deserialize, Serialize};
 use starts::MultiStart;
 
@@ -340,30 +339,8 @@ pub fn local_search(
     if given {
         runs.search(start)?;
     }
-    if !runs.stopped {
-        match runs.single_starts() {
-            Ok(singles) => {
-                for s in singles {
-                    if !runs.search(&s)? {
-                        break;
-                    }
-                }
-            }
-            Err(Stopped) => runs.stopped = true,
-        }
-    }
-    if !runs.stopped {
-        match runs.grown_starts() {
-            Ok(grown) => {
-                for s in grown {
-                    if !runs.search(&s)? {
-                        break;
-                    }
-                }
-            }
-            Err(Stopped) => runs.stopped = true,
-        }
-    }
+    runs.search_each(MultiStart::single_starts)?;
+    runs.search_each(MultiStart::grown_starts)?;
     runs.finish(given)
 }
 

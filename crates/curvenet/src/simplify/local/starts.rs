@@ -113,6 +113,28 @@ impl<'s> MultiStart<'s> {
         Ok(!self.stopped)
     }
 
+    /// Searches from each start `starts` gives, in turn, unless the run has stopped; a
+    /// cancelled evaluation of the starts stops it.
+    pub(super) fn search_each(
+        &mut self,
+        starts: impl FnOnce(&mut Self) -> Result<Vec<Vec<usize>>, Stopped>,
+    ) -> Result<(), SimplifyError> {
+        if self.stopped {
+            return Ok(());
+        }
+        match starts(self) {
+            Ok(sets) => {
+                for s in sets {
+                    if !self.search(&s)? {
+                        break;
+                    }
+                }
+            }
+            Err(Stopped) => self.stopped = true,
+        }
+        Ok(())
+    }
+
     /// The [`SINGLE_STARTS`] best single-curve starts (module documentation, *Starts*), best
     /// first: each curve (under constraints, each unit) with the keep list, when that is a
     /// feasible start, ranked by the search's value (`λ_eq`; sets over `--max-deviation` and
