@@ -143,3 +143,28 @@ impl Pattern {
         col.into_iter().fold(0.0, f64::max)
     }
 }
+
+/// The tridiagonal matrix `tridiag(−1, d, −1)` of size `n`: its pattern and upper-triangle
+/// values (the solvers' unit tests).
+#[cfg(test)]
+pub(crate) fn tridiagonal(n: usize, d: f64) -> (Pattern, Vec<f64>) {
+    let mut col_ptr = vec![0];
+    let (mut row_idx, mut diag, mut values) = (Vec::new(), Vec::new(), Vec::new());
+    for j in 0..n {
+        if j > 0 {
+            row_idx.push(j - 1);
+            values.push(-1.0);
+        }
+        diag.push(row_idx.len());
+        row_idx.push(j);
+        values.push(d);
+        col_ptr.push(row_idx.len());
+    }
+    let pattern = Pattern {
+        n,
+        col_ptr,
+        row_idx,
+        diag,
+    };
+    (pattern, values)
+}

@@ -163,32 +163,10 @@ impl Precond<f64> for Substitution<'_> {}
 mod tests {
     use super::*;
     use crate::solve::factor::SymbolicFactor;
+    use crate::sparse::tridiagonal;
 
     fn norm(v: &[f64]) -> f64 {
         v.iter().map(|x| x * x).sum::<f64>().sqrt()
-    }
-
-    /// The tridiagonal matrix `tridiag(−1, d, −1)` of size `n` (upper triangle).
-    fn tridiagonal(n: usize, d: f64) -> (Pattern, Vec<f64>) {
-        let mut col_ptr = vec![0];
-        let (mut row_idx, mut diag, mut values) = (Vec::new(), Vec::new(), Vec::new());
-        for j in 0..n {
-            if j > 0 {
-                row_idx.push(j - 1);
-                values.push(-1.0);
-            }
-            diag.push(row_idx.len());
-            row_idx.push(j);
-            values.push(d);
-            col_ptr.push(row_idx.len());
-        }
-        let pattern = Pattern {
-            n,
-            col_ptr,
-            row_idx,
-            diag,
-        };
-        (pattern, values)
     }
 
     #[test]

@@ -342,24 +342,7 @@ mod tests {
     /// The tridiagonal matrix `tridiag(−1, 2, −1) − 2.5 I` of size `n` (upper triangle) and
     /// its eigenvalues `2 − 2 cos(kπ/(n+1)) − 2.5`, ascending.
     fn shifted_laplacian(n: usize) -> (Pattern, Vec<f64>, Vec<f64>) {
-        let mut col_ptr = vec![0];
-        let (mut row_idx, mut diag, mut values) = (Vec::new(), Vec::new(), Vec::new());
-        for j in 0..n {
-            if j > 0 {
-                row_idx.push(j - 1);
-                values.push(-1.0);
-            }
-            diag.push(row_idx.len());
-            row_idx.push(j);
-            values.push(2.0 - 2.5);
-            col_ptr.push(row_idx.len());
-        }
-        let pattern = Pattern {
-            n,
-            col_ptr,
-            row_idx,
-            diag,
-        };
+        let (pattern, values) = crate::sparse::tridiagonal(n, 2.0 - 2.5);
         let exact = (1..=n)
             .map(|k| 2.0 - 2.0 * (k as f64 * std::f64::consts::PI / (n as f64 + 1.0)).cos() - 2.5)
             .collect();
