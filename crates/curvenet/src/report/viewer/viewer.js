@@ -271,7 +271,9 @@
   // What is shown: the key of fields() and the record.
   function key() { return ui.c !== null && chosen[ui.c].iteration === null ? 'c' + ui.c : ui.k; }
   function shown() { return netOf(key()); }
+  const FOV = 35 * Math.PI / 180;
   const cam = { target: [0, 0, 0], dist: 1.6 * size, yaw: -60 * Math.PI / 180, pitch: 25 * Math.PI / 180 };
+  cam.dist = fitDistance();
   const camHome = JSON.parse(JSON.stringify(cam));
 
   // ---------- geometry of the current state ----------
@@ -370,11 +372,37 @@
     const up = [r[1] * fw[2] - r[2] * fw[1], r[2] * fw[0] - r[0] * fw[2], r[0] * fw[1] - r[1] * fw[0]];
     return { e, fw, r, up };
   }
+  // The part of the canvas the panels leave free: [left, right) in CSS pixels.
+  function freeArea() {
+    const W = canvas.clientWidth;
+    const panel = $('panel'), info = $('info');
+    const left = W > 2 * panel.offsetWidth ? panel.offsetLeft + panel.offsetWidth : 0;
+    const right = !info.hidden && W > 2 * info.offsetWidth ? info.offsetLeft : W;
+    return right > left ? { left, right, W } : { left: 0, right: W, W };
+  }
+  // The camera distance at which the drawn network's bounding box, seen from the current
+  // direction, fits the free part of the canvas with a margin: each corner c (from the
+  // target) must satisfy |c·r| ≤ tan(half width)·(d + c·fw) and |c·up| ≤ tan(half fov)·(d + c·fw).
+  function fitDistance() {
+    const { fw, r, up } = basis();
+    const { left, right, W } = freeArea();
+    const H = Math.max(1, canvas.clientHeight);
+    const tv = Math.tan(0.5 * FOV);
+    const th = tv * ((right - left) / H);
+    const half = [0, 1, 2].map((k) => 0.5 * (hi[k] - lo[k]));
+    let d = 0;
+    for (let i = 0; i < 8; i++) {
+      const c = half.map((h, k) => ((i >> k) & 1 ? h : -h));
+      const dot = (a) => a[0] * c[0] + a[1] * c[1] + a[2] * c[2];
+      d = Math.max(d, Math.abs(dot(r)) / th - dot(fw), Math.abs(dot(up)) / tv - dot(fw));
+    }
+    return W > 0 && d > 0 ? 1.08 * d : 1.6 * size;
+  }
   function mvp() {
     const { e, fw, r, up } = basis();
     const aspect = canvas.width / Math.max(1, canvas.height);
     const near = Math.max(cam.dist - size, cam.dist * 0.02), far = cam.dist + 2 * size;
-    const t = 1 / Math.tan(0.5 * 35 * Math.PI / 180);
+    const t = 1 / Math.tan(0.5 * FOV);
     // view matrix rows: r, up, -fw; column-major projection * view.
     const view = [
       r[0], up[0], -fw[0], 0, r[1], up[1], -fw[1], 0, r[2], up[2], -fw[2], 0,
@@ -388,12 +416,9 @@
       for (let k = 0; k < 4; k++) s += proj[k * 4 + i] * view[j * 4 + k];
       m[j * 4 + i] = s;
     }
-    // Centre the scene in the part of the canvas the panel leaves free.
-    const W = canvas.clientWidth;
-    const panel = $('panel'), info = $('info');
-    const left = W > 2 * panel.offsetWidth ? panel.offsetLeft + panel.offsetWidth : 0;
-    const right = !info.hidden && W > 2 * info.offsetWidth ? info.offsetLeft : W;
-    const tx = right > left ? (left + right - W) / W : 0;
+    // Centre the scene in the part of the canvas the panels leave free.
+    const { left, right, W } = freeArea();
+    const tx = W > 0 ? (left + right - W) / W : 0;
     for (let j = 0; j < 4; j++) m[j * 4] += tx * m[j * 4 + 3];
     return { m, e };
   }
@@ -698,7 +723,11 @@
   $('show-mesh').addEventListener('change', (ev) => { ui.mesh = ev.target.checked; requestDraw(); });
   $('show-removed').addEventListener('change', (ev) => { ui.removed = ev.target.checked; build(); });
   $('show-supports').addEventListener('change', (ev) => { ui.supports = ev.target.checked; build(); });
-  $('reset').addEventListener('click', () => { Object.assign(cam, JSON.parse(JSON.stringify(camHome))); requestDraw(); });
+  $('reset').addEventListener('click', () => {
+    Object.assign(cam, JSON.parse(JSON.stringify(camHome)));
+    cam.dist = fitDistance();
+    requestDraw();
+  });
   if (!meshBuf) { $('show-mesh').checked = false; $('show-mesh').disabled = true; }
 
   let drag = null;
