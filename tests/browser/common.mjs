@@ -58,3 +58,26 @@ export async function openBrowser() {
     throw e;
   }
 }
+
+// The points of the kept curves (ends, quarters, middle) that the page draws outside the part
+// of the canvas its panel leaves free, undeformed: the first view must show the whole network.
+export async function outsideTheView(page) {
+  const deform = await page.evaluate(() => document.querySelector('input[name=deform]:checked').value);
+  await page.check('input[name=deform][value=none]');
+  await page.waitForTimeout(100);
+  const outside = await page.evaluate(() => {
+    const cv = window.curvenet;
+    const canvas = document.getElementById('view');
+    const left = document.getElementById('panel').getBoundingClientRect().right;
+    const bad = [];
+    for (const c of cv.keptCurves()) {
+      for (const t of [0, 0.25, 0.5, 0.75, 1]) {
+        const q = cv.screenPointOf(c, t);
+        if (!q || q[0] < left || q[0] > canvas.clientWidth || q[1] < 0 || q[1] > canvas.clientHeight) bad.push({ c, t, q });
+      }
+    }
+    return bad;
+  });
+  await page.check(`input[name=deform][value=${deform}]`);
+  return outside;
+}

@@ -15,7 +15,7 @@ import { execFileSync, spawn } from 'node:child_process';
 import fs from 'node:fs';
 import path from 'node:path';
 import readline from 'node:readline';
-import { binary, openBrowser, outDir, root } from './common.mjs';
+import { binary, openBrowser, outDir, outsideTheView, root } from './common.mjs';
 
 // Starts `curvenet serve` on a free port; resolves with the process and the URL it prints first.
 function serve(args) {
@@ -52,6 +52,7 @@ test('the app of curvenet serve works in headless Chromium', { timeout: 600_000 
     const html = await page.content();
     assert.ok(!/https?:\/\/(?!127\.0\.0\.1)/.test(html), 'the page references no outside URL');
     await page.waitForFunction(() => window.curvenet.frames > 2, null, { timeout: 30_000 });
+    assert.deepEqual(await outsideTheView(page), [], 'the first view shows the whole tower');
     const all = await page.evaluate(() => window.curvenet.keptCurves());
     const lambda0 = await page.textContent('#stat-lambda');
     assert.equal(await page.textContent('#stat-status'), 'stable');

@@ -13,7 +13,7 @@ import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
 import path from 'node:path';
 import { pathToFileURL } from 'node:url';
-import { binary, openBrowser, outDir, root } from './common.mjs';
+import { binary, openBrowser, outDir, outsideTheView, root } from './common.mjs';
 
 function curvenet(args) {
   return execFileSync(binary(), args, { cwd: root, encoding: 'utf8', stdio: ['ignore', 'pipe', 'inherit'] });
@@ -59,6 +59,7 @@ test('the viewer of a demo run works in headless Chromium', { timeout: 600_000 }
     });
     assert.ok(pixels.drawn > 0.02 * pixels.total, `canvas mostly blank: ${JSON.stringify(pixels)}`);
     assert.ok(pixels.colours > 8, `too few colours: ${JSON.stringify(pixels)}`);
+    assert.deepEqual(await outsideTheView(page), [], 'the first view shows the whole network');
 
     // The page opens on the answer; the answer and each alternative have a button that shows
     // that network (its curves, λ).
