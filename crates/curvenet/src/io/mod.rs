@@ -257,6 +257,20 @@ pub struct CurveFile {
     pub groups: Vec<Option<String>>,
 }
 
+impl CurveFile {
+    /// Curves of a format that says nothing about materials, units or groups.
+    fn plain(curves: Vec<Polyline>, warnings: Vec<InputWarning>) -> Self {
+        let groups = vec![None; curves.len()];
+        CurveFile {
+            curves,
+            warnings,
+            specs: Vec::new(),
+            units: None,
+            groups,
+        }
+    }
+}
+
 /// The mesh of one file, with the warnings found while reading it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MeshFile {
