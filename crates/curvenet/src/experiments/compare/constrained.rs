@@ -25,16 +25,14 @@
 //! connected feasible subsets when the setting asks nothing else, as
 //! [`super::fresh`] does).
 
-use super::fresh::COUNT_CAP;
-use super::instance::traced_network;
-use super::{check_build, mean};
+use super::fresh::{COUNT_CAP, reaches};
+use super::{check_build, check_draw, connected_only, mean, scaled};
 use crate::cancel::Cancel;
 use crate::constraints::answer::choose;
 use crate::constraints::{ConstraintParams, Constraints, Group, SymmetryOption};
 use crate::geom::Aabb;
 use crate::io::TriMesh;
 use crate::network::Network;
-use crate::rng::SplitMix64;
 use crate::rod::ActiveSet;
 use crate::run_folder::{evaluated_offer, greedy_offers};
 use crate::simplify::exhaustive::{ExhaustiveParams, exhaustive};
@@ -42,7 +40,6 @@ use crate::simplify::greedy::{GreedyParams, NoHooks, greedy};
 use crate::simplify::local::{LocalParams, local_search};
 use crate::simplify::{Budget, SimplifyError};
 use crate::stability::{Analyzer, Prepare, Preset, StabilityParams, Warm};
-use crate::trace::scale_to_extent;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -94,19 +91,11 @@ impl Default for ConstrainedParams {
 impl ConstrainedParams {
     /// Checks the parameters.
     pub fn validate(&self) -> Result<(), String> {
-        if !(2 <= self.min_curves && self.min_curves <= self.max_curves && self.max_curves <= 20) {
-            return Err(format!(
-                "the numbers of curves must satisfy 2 ≤ {} ≤ {} ≤ 20",
-                self.min_curves, self.max_curves
-            ));
-        }
-        if !(0.0 < self.min_budget && self.min_budget <= self.max_budget && self.max_budget <= 1.0)
-        {
-            return Err(format!(
-                "the budgets must satisfy 0 < {} ≤ {} ≤ 1",
-                self.min_budget, self.max_budget
-            ));
-        }
+        check_draw(
+            (self.min_curves, self.max_curves),
+            20,
+            (self.min_budget, self.max_budget),
+        )?;
         for (name, f) in [
             ("gap", self.gap_fraction),
             ("deviation", self.deviation_fraction),
@@ -211,10 +200,7 @@ pub fn constrained(
             "random networks need surfaces".into(),
         ));
     }
-    let scaled: Vec<(String, TriMesh)> = surfaces
-        .iter()
-        .map(|(name, m)| (name.clone(), scale_to_extent(m, 4000.0).0))
-        .collect();
+    let scaled = scaled(surfaces.iter().map(|(n, m)| (n, m)));
     let total = cases.len() + params.networks;
     let mut rows = Vec::new();
     let mut done = 0;
@@ -236,40 +222,28 @@ pub fn constrained(
     })
 }
 
-/// Random network `k`: a SplitMix64 stream from the base seed and `k` draws its curves, budget
-/// (rounded to 0.01) and tracing seed; the surfaces in rotation; drawn again (up to 20 times)
-/// when the tracing or the build fails.
+/// Random network `k` of the draw ([`super::draw`]).
 fn draw(
     params: &ConstrainedParams,
     scaled: &[(String, TriMesh)],
     k: usize,
 ) -> Result<Case, SimplifyError> {
-    let mut rng = SplitMix64::new(
-        u64::from(params.seed)
-            .wrapping_mul(0xD1B5_4A32_D192_ED03)
-            .wrapping_add(k as u64),
-    );
-    let (name, mesh) = &scaled[k % scaled.len()];
-    let span = (params.max_curves - params.min_curves + 1) as u64;
-    for _ in 0..20 {
-        let n = params.min_curves + rng.below(span) as usize;
-        let budget = (100.0 * rng.uniform(params.min_budget, params.max_budget)).round() / 100.0;
-        let budget = budget.clamp(params.min_budget, params.max_budget);
-        let seed = rng.next_u64() as u32;
-        if let Some(network) = traced_network(mesh, n, seed, params.edge_length) {
-            return Ok(Case {
-                name: format!("{name} #{k} (seed {seed})"),
-                network,
-                mesh: mesh.clone(),
-                budget: Budget::Fraction(budget),
-                keep: Vec::new(),
-                exhaustive: true,
-            });
-        }
-    }
-    Err(SimplifyError::Params(format!(
-        "network {k}: could not build a network on {name} after 20 tries"
-    )))
+    let d = super::draw(
+        scaled,
+        k,
+        u64::from(params.seed).wrapping_mul(0xD1B5_4A32_D192_ED03),
+        (params.min_curves, params.max_curves),
+        (params.min_budget, params.max_budget),
+        params.edge_length,
+    )?;
+    Ok(Case {
+        name: format!("{} #{k} (seed {})", d.surface, d.seed),
+        network: d.network,
+        mesh: scaled[k % scaled.len()].1.clone(),
+        budget: Budget::Fraction(d.budget),
+        keep: Vec::new(),
+        exhaustive: true,
+    })
 }
 
 /// The largest side of the mesh's bounding box.
@@ -386,12 +360,7 @@ fn measure(
         if random && case.exhaustive {
             let analyzer = analyzer_of(case)?;
             let constraints = if setting == "none" {
-                let only = ConstraintParams {
-                    connected: true,
-                    ..ConstraintParams::default()
-                };
-                Constraints::new(&case.network, None, &only, cap, &case.keep)
-                    .map_err(|e| SimplifyError::Params(e.to_string()))?
+                connected_only(&case.network, cap, &case.keep)?
             } else {
                 out.constraints.take().expect("bound")
             };
@@ -621,7 +590,7 @@ impl ConstrainedReport {
             .iter()
             .filter(|r| {
                 let o = r.optimum.unwrap_or(f64::NAN);
-                r.lambda.is_some_and(|l| l >= o - 1e-6 * o.abs())
+                r.lambda.is_some_and(|l| reaches(l, o))
             })
             .count();
         let count = |f: &dyn Fn(&ConstrainedRow) -> Option<bool>| {

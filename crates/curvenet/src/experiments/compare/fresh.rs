@@ -29,20 +29,17 @@
 //! optimum (within the relative tolerance 1e-6: the searches and exhaustive search share one
 //! evaluation, so an optimum found is the same number).
 
-use super::instance::traced_network;
-use super::{check_build, mean};
+use super::{check_build, check_draw, connected_only, mean, scaled};
 use crate::cancel::Cancel;
-use crate::constraints::{ConstraintParams, Constraints};
+use crate::constraints::Constraints;
 use crate::io::TriMesh;
 use crate::network::Network;
-use crate::rng::SplitMix64;
 use crate::rod::ActiveSet;
 use crate::simplify::exhaustive::{ExhaustiveParams, exhaustive};
 use crate::simplify::greedy::{GreedyParams, NoHooks, greedy};
 use crate::simplify::local::{LocalParams, local_search};
 use crate::simplify::{Budget, SimplifyError, StopReason};
 use crate::stability::{Analyzer, Objective, StabilityParams};
-use crate::trace::scale_to_extent;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -103,19 +100,11 @@ impl FreshParams {
         if self.networks == 0 {
             return Err("--fresh needs at least one network".into());
         }
-        if !(2 <= self.min_curves && self.min_curves <= self.max_curves && self.max_curves <= 40) {
-            return Err(format!(
-                "the numbers of curves must satisfy 2 ≤ {} ≤ {} ≤ 40",
-                self.min_curves, self.max_curves
-            ));
-        }
-        if !(0.0 < self.min_budget && self.min_budget <= self.max_budget && self.max_budget <= 1.0)
-        {
-            return Err(format!(
-                "the budgets must satisfy 0 < {} ≤ {} ≤ 1",
-                self.min_budget, self.max_budget
-            ));
-        }
+        check_draw(
+            (self.min_curves, self.max_curves),
+            40,
+            (self.min_budget, self.max_budget),
+        )?;
         check_build(self.edge_length, self.max_subsets)
     }
 }
@@ -172,8 +161,13 @@ impl FreshRow {
 
     /// Whether greedy + local search reached the optimum, when decided.
     pub fn reached(&self) -> Option<bool> {
-        self.optimum.map(|o| self.local >= o - REACHED * o.abs())
+        self.optimum.map(|o| reaches(self.local, o))
     }
+}
+
+/// Whether a search's `λ_eq` reached the optimum `opt` (within [`REACHED`]).
+pub(super) fn reaches(v: f64, opt: f64) -> bool {
+    v >= opt - REACHED * opt.abs()
 }
 
 /// A search's `λ_eq` over the optimum's, 0 when it found nothing stable.
@@ -226,7 +220,7 @@ impl FreshReport {
         );
         let greedy_reached = decided
             .iter()
-            .filter(|r| r.optimum.is_some_and(|o| r.greedy >= o - REACHED * o.abs()))
+            .filter(|r| r.optimum.is_some_and(|o| reaches(r.greedy, o)))
             .count();
         let mut s = format!(
             "{} networks drawn afresh (seed {}; {}–{} curves, budgets {:.2}–{:.2}, surfaces {}); \
@@ -341,10 +335,7 @@ pub fn fresh(
     if surfaces.is_empty() {
         return Err(SimplifyError::Params("--fresh needs surfaces".into()));
     }
-    let scaled: Vec<(String, TriMesh)> = surfaces
-        .iter()
-        .map(|(name, m)| (name.clone(), scale_to_extent(m, 4000.0).0))
-        .collect();
+    let scaled = scaled(surfaces.iter().map(|(n, m)| (n, m)));
     let mut rows = Vec::with_capacity(params.networks);
     for k in 0..params.networks {
         rows.push(row(params, &scaled, k)?);
@@ -363,34 +354,24 @@ fn draw(
     scaled: &[(String, TriMesh)],
     k: usize,
 ) -> Result<(FreshRow, Network), SimplifyError> {
-    let mut rng = SplitMix64::new(
-        u64::from(params.seed)
-            .wrapping_mul(0x9E37_79B9_7F4A_7C15)
-            .wrapping_add(k as u64),
-    );
-    let (name, mesh) = &scaled[k % scaled.len()];
-    let span = (params.max_curves - params.min_curves + 1) as u64;
-    for _ in 0..20 {
-        let n = params.min_curves + rng.below(span) as usize;
-        let budget = (100.0 * rng.uniform(params.min_budget, params.max_budget)).round() / 100.0;
-        let budget = budget.clamp(params.min_budget, params.max_budget);
-        let seed = rng.next_u64() as u32;
-        if let Some(net) = traced_network(mesh, n, seed, params.edge_length) {
-            let row = FreshRow {
-                index: k,
-                surface: name.clone(),
-                seed,
-                n,
-                budget,
-                vertices: net.vertex_count(),
-                ..FreshRow::default()
-            };
-            return Ok((row, net));
-        }
-    }
-    Err(SimplifyError::Params(format!(
-        "network {k}: could not build a network on {name} after 20 tries"
-    )))
+    let d = super::draw(
+        scaled,
+        k,
+        u64::from(params.seed).wrapping_mul(0x9E37_79B9_7F4A_7C15),
+        (params.min_curves, params.max_curves),
+        (params.min_budget, params.max_budget),
+        params.edge_length,
+    )?;
+    let row = FreshRow {
+        index: k,
+        surface: d.surface,
+        seed: d.seed,
+        n: d.n,
+        budget: d.budget,
+        vertices: d.network.vertex_count(),
+        ..FreshRow::default()
+    };
+    Ok((row, d.network))
 }
 
 /// Network `k`'s figures.
@@ -447,12 +428,7 @@ fn row(
         return Ok(row);
     }
     // Only connected sets: exact for the optimum (see the module's doc).
-    let connected = ConstraintParams {
-        connected: true,
-        ..ConstraintParams::default()
-    };
-    let connected = Constraints::new(analyzer.network(), None, &connected, cap, &[])
-        .map_err(|e| SimplifyError::Params(e.to_string()))?;
+    let connected = connected_only(analyzer.network(), cap, &[])?;
     row.connected = connected
         .feasible_subsets(params.max_subsets)
         .map_or(params.max_subsets + 1, |s| s.len());
@@ -499,10 +475,7 @@ mod tests {
             "dome".to_string(),
             crate::trace::builtin_surface("dome").expect("dome"),
         )];
-        let scaled: Vec<(String, TriMesh)> = surfaces
-            .iter()
-            .map(|(n, m)| (n.clone(), scale_to_extent(m, 4000.0).0))
-            .collect();
+        let scaled = scaled(surfaces.iter().map(|(n, m)| (n, m)));
         let mut disconnected_seen = false;
         for k in 0..2 {
             let (row, network) = draw(&params, &scaled, k).expect("drawn");
@@ -519,11 +492,7 @@ mod tests {
             };
             let all = ex(None);
             let cap = budget.length(analyzer.lengths().iter().sum());
-            let only = ConstraintParams {
-                connected: true,
-                ..ConstraintParams::default()
-            };
-            let c = Constraints::new(analyzer.network(), None, &only, cap, &[]).expect("bound");
+            let c = connected_only(analyzer.network(), cap, &[]).expect("bound");
             let connected = ex(Some(&c));
             disconnected_seen |= connected.all.len() < all.all.len();
             assert_eq!(

@@ -45,9 +45,13 @@ pub use fresh::{FreshParams, FreshReport, FreshRow, fresh};
 pub use instance::{InstanceResult, instance_network};
 pub use summary::{CompareReport, SizeSummary};
 
+use crate::constraints::{ConstraintParams, Constraints};
 use crate::io::TriMesh;
+use crate::network::Network;
+use crate::rng::SplitMix64;
 use crate::simplify::{Budget, SimplifyError};
 use crate::trace::scale_to_extent;
+use instance::traced_network;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -139,6 +143,92 @@ fn check_build(edge_length: f64, max_subsets: usize) -> Result<(), String> {
     Ok(())
 }
 
+/// Checks a random draw's ranges: `2 ≤ min_curves ≤ max_curves ≤ most` curves and
+/// `0 < min_budget ≤ max_budget ≤ 1`.
+fn check_draw(curves: (usize, usize), most: usize, budgets: (f64, f64)) -> Result<(), String> {
+    let ((c0, c1), (b0, b1)) = (curves, budgets);
+    if !(2 <= c0 && c0 <= c1 && c1 <= most) {
+        return Err(format!(
+            "the numbers of curves must satisfy 2 ≤ {c0} ≤ {c1} ≤ {most}"
+        ));
+    }
+    if !(0.0 < b0 && b0 <= b1 && b1 <= 1.0) {
+        return Err(format!("the budgets must satisfy 0 < {b0} ≤ {b1} ≤ 1"));
+    }
+    Ok(())
+}
+
+/// A network of a random draw.
+struct Drawn {
+    /// The surface's name.
+    surface: String,
+    /// Its curves.
+    n: usize,
+    /// Its budget fraction.
+    budget: f64,
+    /// The seed its geodesics were traced with.
+    seed: u32,
+    /// The network.
+    network: Network,
+}
+
+/// Network `k` of a random draw: a SplitMix64 stream seeded by `seed` and `k` draws the number
+/// of curves (uniform in `curves`), the budget (uniform in `budgets`, rounded to 0.01) and the
+/// tracing seed; the `scaled` surfaces are taken in rotation. A network whose tracing or build
+/// fails is drawn again (up to 20 times).
+fn draw(
+    scaled: &[(String, TriMesh)],
+    k: usize,
+    seed: u64,
+    curves: (usize, usize),
+    budgets: (f64, f64),
+    edge_length: f64,
+) -> Result<Drawn, SimplifyError> {
+    let mut rng = SplitMix64::new(seed.wrapping_add(k as u64));
+    let (name, mesh) = &scaled[k % scaled.len()];
+    for _ in 0..20 {
+        let n = curves.0 + rng.below((curves.1 - curves.0 + 1) as u64) as usize;
+        let budget = (100.0 * rng.uniform(budgets.0, budgets.1)).round() / 100.0;
+        let budget = budget.clamp(budgets.0, budgets.1);
+        let seed = rng.next_u64() as u32;
+        if let Some(network) = traced_network(mesh, n, seed, edge_length) {
+            let surface = name.clone();
+            return Ok(Drawn {
+                surface,
+                n,
+                budget,
+                seed,
+                network,
+            });
+        }
+    }
+    Err(SimplifyError::Params(format!(
+        "network {k}: could not build a network on {name} after 20 tries"
+    )))
+}
+
+/// The surfaces scaled to the experiments' extent, 4000.
+fn scaled<'a>(surfaces: impl Iterator<Item = (&'a String, &'a TriMesh)>) -> Vec<(String, TriMesh)> {
+    surfaces
+        .map(|(name, m)| (name.clone(), scale_to_extent(m, 4000.0).0))
+        .collect()
+}
+
+/// The constraints that keep only the connected subsets of `network` within `cap` (and
+/// keeping `keep`): exhaustive search over them finds the optimum (see [`mod@fresh`]).
+fn connected_only(
+    network: &Network,
+    cap: f64,
+    keep: &[usize],
+) -> Result<Constraints, SimplifyError> {
+    let only = ConstraintParams {
+        connected: true,
+        ..ConstraintParams::default()
+    };
+    Constraints::new(network, None, &only, cap, keep)
+        .map_err(|e| SimplifyError::Params(e.to_string()))
+}
+
 /// Mean of the values (NaN when there is none).
 fn mean(values: impl Iterator<Item = f64>) -> f64 {
     let (sum, count) = values.fold((0.0, 0usize), |(s, c), v| (s + v, c + 1));
@@ -155,10 +245,7 @@ pub fn compare(
         return Err(SimplifyError::Params("compare needs surfaces".into()));
     }
     params.validate().map_err(SimplifyError::Params)?;
-    let scaled: Vec<(String, TriMesh)> = surfaces
-        .iter()
-        .map(|s| (s.name.clone(), scale_to_extent(&s.mesh, 4000.0).0))
-        .collect();
+    let scaled = scaled(surfaces.iter().map(|s| (&s.name, &s.mesh)));
     let total = params.sizes.len() * params.instances;
     let mut instances = Vec::new();
     let mut summary = Vec::new();
