@@ -89,13 +89,15 @@ impl Default for ConstrainedParams {
 }
 
 impl ConstrainedParams {
+    /// The ranges of curves and budgets of the random networks.
+    fn ranges(&self) -> ((usize, usize), (f64, f64)) {
+        let p = self;
+        ((p.min_curves, p.max_curves), (p.min_budget, p.max_budget))
+    }
+
     /// Checks the parameters.
     pub fn validate(&self) -> Result<(), String> {
-        check_draw(
-            (self.min_curves, self.max_curves),
-            20,
-            (self.min_budget, self.max_budget),
-        )?;
+        check_draw(self.ranges(), 20)?;
         for (name, f) in [
             ("gap", self.gap_fraction),
             ("deviation", self.deviation_fraction),
@@ -228,22 +230,22 @@ fn draw(
     scaled: &[(String, TriMesh)],
     k: usize,
 ) -> Result<Case, SimplifyError> {
-    let d = super::draw(
+    let seed = u64::from(params.seed).wrapping_mul(0xD1B5_4A32_D192_ED03);
+    super::draw(
         scaled,
         k,
-        u64::from(params.seed).wrapping_mul(0xD1B5_4A32_D192_ED03),
-        (params.min_curves, params.max_curves),
-        (params.min_budget, params.max_budget),
+        seed,
+        params.ranges(),
         params.edge_length,
-    )?;
-    Ok(Case {
-        name: format!("{} #{k} (seed {})", d.surface, d.seed),
-        network: d.network,
-        mesh: scaled[k % scaled.len()].1.clone(),
-        budget: Budget::Fraction(d.budget),
-        keep: Vec::new(),
-        exhaustive: true,
-    })
+        |surface, _, budget, seed, network| Case {
+            name: format!("{surface} #{k} (seed {seed})"),
+            network,
+            mesh: scaled[k % scaled.len()].1.clone(),
+            budget: Budget::Fraction(budget),
+            keep: Vec::new(),
+            exhaustive: true,
+        },
+    )
 }
 
 /// The largest side of the mesh's bounding box.

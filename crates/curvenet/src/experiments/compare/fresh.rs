@@ -95,16 +95,18 @@ impl Default for FreshParams {
 }
 
 impl FreshParams {
+    /// The ranges of curves and budgets drawn.
+    fn ranges(&self) -> ((usize, usize), (f64, f64)) {
+        let p = self;
+        ((p.min_curves, p.max_curves), (p.min_budget, p.max_budget))
+    }
+
     /// Checks the parameters.
     pub fn validate(&self) -> Result<(), String> {
         if self.networks == 0 {
             return Err("--fresh needs at least one network".into());
         }
-        check_draw(
-            (self.min_curves, self.max_curves),
-            40,
-            (self.min_budget, self.max_budget),
-        )?;
+        check_draw(self.ranges(), 40)?;
         check_build(self.edge_length, self.max_subsets)
     }
 }
@@ -354,24 +356,26 @@ fn draw(
     scaled: &[(String, TriMesh)],
     k: usize,
 ) -> Result<(FreshRow, Network), SimplifyError> {
-    let d = super::draw(
+    let seed = u64::from(params.seed).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    super::draw(
         scaled,
         k,
-        u64::from(params.seed).wrapping_mul(0x9E37_79B9_7F4A_7C15),
-        (params.min_curves, params.max_curves),
-        (params.min_budget, params.max_budget),
+        seed,
+        params.ranges(),
         params.edge_length,
-    )?;
-    let row = FreshRow {
-        index: k,
-        surface: d.surface,
-        seed: d.seed,
-        n: d.n,
-        budget: d.budget,
-        vertices: d.network.vertex_count(),
-        ..FreshRow::default()
-    };
-    Ok((row, d.network))
+        |surface, n, budget, seed, net| {
+            let row = FreshRow {
+                index: k,
+                surface: surface.into(),
+                seed,
+                n,
+                budget,
+                vertices: net.vertex_count(),
+                ..FreshRow::default()
+            };
+            (row, net)
+        },
+    )
 }
 
 /// Network `k`'s figures.

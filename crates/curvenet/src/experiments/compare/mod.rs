@@ -143,10 +143,10 @@ fn check_build(edge_length: f64, max_subsets: usize) -> Result<(), String> {
     Ok(())
 }
 
-/// Checks a random draw's ranges: `2 ≤ min_curves ≤ max_curves ≤ most` curves and
-/// `0 < min_budget ≤ max_budget ≤ 1`.
-fn check_draw(curves: (usize, usize), most: usize, budgets: (f64, f64)) -> Result<(), String> {
-    let ((c0, c1), (b0, b1)) = (curves, budgets);
+/// Checks a random draw's ranges of curves and budgets: `2 ≤ min ≤ max ≤ most` curves and
+/// `0 < min ≤ max ≤ 1`.
+fn check_draw(ranges: ((usize, usize), (f64, f64)), most: usize) -> Result<(), String> {
+    let ((c0, c1), (b0, b1)) = ranges;
     if !(2 <= c0 && c0 <= c1 && c1 <= most) {
         return Err(format!(
             "the numbers of curves must satisfy 2 ≤ {c0} ≤ {c1} ≤ {most}"
@@ -158,32 +158,19 @@ fn check_draw(curves: (usize, usize), most: usize, budgets: (f64, f64)) -> Resul
     Ok(())
 }
 
-/// A network of a random draw.
-struct Drawn {
-    /// The surface's name.
-    surface: String,
-    /// Its curves.
-    n: usize,
-    /// Its budget fraction.
-    budget: f64,
-    /// The seed its geodesics were traced with.
-    seed: u32,
-    /// The network.
-    network: Network,
-}
-
-/// Network `k` of a random draw: a SplitMix64 stream seeded by `seed` and `k` draws the number
-/// of curves (uniform in `curves`), the budget (uniform in `budgets`, rounded to 0.01) and the
-/// tracing seed; the `scaled` surfaces are taken in rotation. A network whose tracing or build
-/// fails is drawn again (up to 20 times).
-fn draw(
+/// Network `k` of a random draw, as `make(surface, curves, budget fraction, tracing seed,
+/// network)` gives it: a SplitMix64 stream seeded by `seed` and `k` draws the number of curves
+/// (uniform in `curves`), the budget (uniform in `budgets`, rounded to 0.01) and the tracing
+/// seed; the `scaled` surfaces are taken in rotation. A network whose tracing or build fails is
+/// drawn again (up to 20 times).
+fn draw<T>(
     scaled: &[(String, TriMesh)],
     k: usize,
     seed: u64,
-    curves: (usize, usize),
-    budgets: (f64, f64),
+    (curves, budgets): ((usize, usize), (f64, f64)),
     edge_length: f64,
-) -> Result<Drawn, SimplifyError> {
+    make: impl FnOnce(&str, usize, f64, u32, Network) -> T,
+) -> Result<T, SimplifyError> {
     let mut rng = SplitMix64::new(seed.wrapping_add(k as u64));
     let (name, mesh) = &scaled[k % scaled.len()];
     for _ in 0..20 {
@@ -192,14 +179,7 @@ fn draw(
         let budget = budget.clamp(budgets.0, budgets.1);
         let seed = rng.next_u64() as u32;
         if let Some(network) = traced_network(mesh, n, seed, edge_length) {
-            let surface = name.clone();
-            return Ok(Drawn {
-                surface,
-                n,
-                budget,
-                seed,
-                network,
-            });
+            return Ok(make(name, n, budget, seed, network));
         }
     }
     Err(SimplifyError::Params(format!(
