@@ -15,11 +15,6 @@ use crate::stability::Evaluation;
 use crate::stability::candidates::Carried;
 use std::path::{Path, PathBuf};
 
-/// The output folder's writer thread.
-fn background() -> Result<io::BackgroundWriter, String> {
-    io::BackgroundWriter::new().map_err(|e| format!("cannot start the output writer thread: {e}"))
-}
-
 /// An OBJ of a recorded network, with a comment line first naming it unstable when it is.
 fn with_instability(record: &IterationRecord, obj: String) -> String {
     match super::summary::record_instability(record) {
@@ -98,17 +93,7 @@ impl<'a> OutputWriter<'a> {
             no_answer: None,
             alternatives: Vec::new(),
         };
-        let w = OutputWriter {
-            dir: dir.to_path_buf(),
-            network,
-            result,
-            files: background()?,
-            warnings: Vec::new(),
-            cancel: None,
-            progress: None,
-            answer: None,
-            alternatives: Vec::new(),
-        };
+        let w = Self::new(dir, network, result, Vec::new())?;
         w.write_result()?;
         Ok(w)
     }
@@ -159,20 +144,29 @@ impl<'a> OutputWriter<'a> {
             // Nothing usable was recorded: start over.
             result.iterations.clear();
         }
-        Ok((
-            OutputWriter {
-                dir: dir.to_path_buf(),
-                network,
-                result,
-                files: background()?,
-                warnings,
-                cancel: None,
-                progress: None,
-                answer: None,
-                alternatives: Vec::new(),
-            },
-            point,
-        ))
+        Ok((Self::new(dir, network, result, warnings)?, point))
+    }
+
+    /// A writer of `result` into `dir`, with its thread started.
+    fn new(
+        dir: &Path,
+        network: &'a Network,
+        result: ResultFile,
+        warnings: Vec<String>,
+    ) -> Result<Self, String> {
+        let files = io::BackgroundWriter::new()
+            .map_err(|e| format!("cannot start the output writer thread: {e}"))?;
+        Ok(OutputWriter {
+            dir: dir.to_path_buf(),
+            network,
+            result,
+            files,
+            warnings,
+            cancel: None,
+            progress: None,
+            answer: None,
+            alternatives: Vec::new(),
+        })
     }
 
     /// Writes the surface mesh (scene units) as `mesh.obj`, for viewers and pictures.
