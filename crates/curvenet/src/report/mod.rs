@@ -40,19 +40,15 @@ impl UnitsNote {
         lengths.sort_by(f64::total_cmp);
         let median = lengths.get(lengths.len() / 2).copied().unwrap_or(0.0);
         let slenderness = median / material.radius;
-        let warning = if slenderness < 20.0 {
+        let extreme = if slenderness < 20.0 {
+            Some(("large", " (rods are usually 100–10000× longer than thick)"))
+        } else {
+            (slenderness > 1e6).then_some(("tiny", ""))
+        };
+        let warning = if let Some((size, usual)) = extreme {
             Some(format!(
-                "rod radius {} is large against the median curve length {}: slenderness {} \
-                 (rods are usually 100–10000× longer than thick); check the scene's units or \
-                 set --radius",
-                material.radius,
-                fmt::length(median),
-                fmt::significant(slenderness, 4)
-            ))
-        } else if slenderness > 1e6 {
-            Some(format!(
-                "rod radius {} is tiny against the median curve length {}: slenderness {}; \
-                 check the scene's units or set --radius",
+                "rod radius {} is {size} against the median curve length {}: slenderness \
+                 {}{usual}; check the scene's units or set --radius",
                 material.radius,
                 fmt::length(median),
                 fmt::significant(slenderness, 4)

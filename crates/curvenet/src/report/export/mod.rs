@@ -140,6 +140,16 @@ pub fn unstable_header(why: &str) -> String {
     format!("WARNING: this network is {why}; it cannot stand as built (not a network to fabricate)")
 }
 
+/// `text` with the [`unstable_header`] of a network that is unstable (`why`) as a `#` comment
+/// after its first line.
+fn with_unstable_header(mut text: String, why: Option<&str>) -> String {
+    if let Some(w) = why {
+        let first = text.find('\n').map_or(text.len(), |i| i + 1);
+        text.insert_str(first, &format!("# {}\n", unstable_header(w)));
+    }
+    text
+}
+
 /// A number in Rust's shortest round-trip form.
 fn num(v: f64) -> String {
     format!("{v:?}")
