@@ -26,7 +26,7 @@
 //! [`super::fresh`] does).
 
 use super::fresh::{COUNT_CAP, reaches};
-use super::{check_build, check_draw, connected_only, mean, scaled};
+use super::{RandomDraw, check_build, connected_only, mean, scaled};
 use crate::cancel::Cancel;
 use crate::constraints::answer::choose;
 use crate::constraints::{ConstraintParams, Constraints, Group, SymmetryOption};
@@ -46,20 +46,9 @@ use std::time::Instant;
 /// Parameters of the measurement.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ConstrainedParams {
-    /// Random networks to draw.
-    pub networks: usize,
-    /// Base seed.
-    pub seed: u32,
-    /// Fewest curves of a random network.
-    pub min_curves: usize,
-    /// Most curves of a random network.
-    pub max_curves: usize,
-    /// Smallest budget fraction of a random network.
-    pub min_budget: f64,
-    /// Largest budget fraction of a random network.
-    pub max_budget: f64,
-    /// Edge length `h` of the random networks (surfaces at extent 4000).
-    pub edge_length: f64,
+    /// The random networks drawn.
+    #[serde(flatten)]
+    pub draw: RandomDraw,
     /// Exhaustive search on a random network only up to this many subsets.
     pub max_subsets: usize,
     /// `--max-gap` as a fraction of the surface's extent.
@@ -73,13 +62,15 @@ pub struct ConstrainedParams {
 impl Default for ConstrainedParams {
     fn default() -> Self {
         ConstrainedParams {
-            networks: 20,
-            seed: 1,
-            min_curves: 8,
-            max_curves: 12,
-            min_budget: 0.2,
-            max_budget: 0.4,
-            edge_length: 100.0,
+            draw: RandomDraw {
+                networks: 20,
+                seed: 1,
+                min_curves: 8,
+                max_curves: 12,
+                min_budget: 0.2,
+                max_budget: 0.4,
+                edge_length: 100.0,
+            },
             max_subsets: 20_000,
             gap_fraction: 0.3,
             deviation_fraction: 0.001,
@@ -89,15 +80,9 @@ impl Default for ConstrainedParams {
 }
 
 impl ConstrainedParams {
-    /// The ranges of curves and budgets of the random networks.
-    fn ranges(&self) -> ((usize, usize), (f64, f64)) {
-        let p = self;
-        ((p.min_curves, p.max_curves), (p.min_budget, p.max_budget))
-    }
-
     /// Checks the parameters.
     pub fn validate(&self) -> Result<(), String> {
-        check_draw(self.ranges(), 20)?;
+        self.draw.validate(20)?;
         for (name, f) in [
             ("gap", self.gap_fraction),
             ("deviation", self.deviation_fraction),
@@ -109,7 +94,7 @@ impl ConstrainedParams {
         if self.min_kept == 0 {
             return Err("the minimum number of curves must be at least 1".into());
         }
-        check_build(self.edge_length, self.max_subsets)
+        check_build(self.draw.edge_length, self.max_subsets)
     }
 }
 
@@ -188,7 +173,7 @@ pub struct ConstrainedReport {
     pub rows: Vec<ConstrainedRow>,
 }
 
-/// Runs the measurement on the `cases` and on `params.networks` random networks traced on
+/// Runs the measurement on the `cases` and on `params.draw.networks` random networks traced on
 /// `surfaces` (names and meshes, any scale); `progress(done, total)` after each network.
 pub fn constrained(
     params: &ConstrainedParams,
@@ -197,13 +182,14 @@ pub fn constrained(
     progress: &dyn Fn(usize, usize),
 ) -> Result<ConstrainedReport, SimplifyError> {
     params.validate().map_err(SimplifyError::Params)?;
-    if params.networks > 0 && surfaces.is_empty() {
+    let networks = params.draw.networks;
+    if networks > 0 && surfaces.is_empty() {
         return Err(SimplifyError::Params(
             "random networks need surfaces".into(),
         ));
     }
     let scaled = scaled(surfaces.iter().map(|(n, m)| (n, m)));
-    let total = cases.len() + params.networks;
+    let total = cases.len() + networks;
     let mut rows = Vec::new();
     let mut done = 0;
     for case in cases {
@@ -211,7 +197,7 @@ pub fn constrained(
         done += 1;
         progress(done, total);
     }
-    for k in 0..params.networks {
+    for k in 0..networks {
         let case = draw(params, &scaled, k)?;
         rows.extend(measure(params, &case, true)?);
         done += 1;
@@ -230,22 +216,15 @@ fn draw(
     scaled: &[(String, TriMesh)],
     k: usize,
 ) -> Result<Case, SimplifyError> {
-    let seed = u64::from(params.seed).wrapping_mul(0xD1B5_4A32_D192_ED03);
-    super::draw(
-        scaled,
-        k,
-        seed,
-        params.ranges(),
-        params.edge_length,
-        |surface, _, budget, seed, network| Case {
-            name: format!("{surface} #{k} (seed {seed})"),
-            network,
-            mesh: scaled[k % scaled.len()].1.clone(),
-            budget: Budget::Fraction(budget),
-            keep: Vec::new(),
-            exhaustive: true,
-        },
-    )
+    let mix = 0xD1B5_4A32_D192_ED03;
+    (params.draw).network(scaled, k, mix, |surface, _, budget, seed, network| Case {
+        name: format!("{surface} #{k} (seed {seed})"),
+        network,
+        mesh: scaled[k % scaled.len()].1.clone(),
+        budget: Budget::Fraction(budget),
+        keep: Vec::new(),
+        exhaustive: true,
+    })
 }
 
 /// The largest side of the mesh's bounding box.
@@ -305,13 +284,6 @@ fn settings_of(
     (p, value)
 }
 
-/// What one setting's run found.
-struct Outcome {
-    row: ConstrainedRow,
-    /// The constraints bound (to test the unconstrained networks against).
-    constraints: Option<Constraints>,
-}
-
 /// Every setting on `case`.
 fn measure(
     params: &ConstrainedParams,
@@ -339,32 +311,32 @@ fn measure(
             value,
             ..ConstrainedRow::default()
         };
-        let mut out = run_setting(case, &cp, cap, base)?;
-        let Some(c) = out.constraints.as_ref() else {
-            rows.push(out.row);
+        let (mut row, mut bound) = run_setting(case, &cp, cap, base)?;
+        let Some(c) = bound.as_ref() else {
+            rows.push(row);
             continue;
         };
         if setting == "none" {
-            if out.row.lambda.is_some() {
+            if row.lambda.is_some() {
                 let analyzer = analyzer_of(case)?;
                 let dev = analyzer
-                    .deviation(&analyzer.set(&out.row.curves))
+                    .deviation(&analyzer.set(&row.curves))
                     .unwrap_or(f64::NAN);
-                free = Some((out.row.curves.clone(), dev));
+                free = Some((row.curves.clone(), dev));
             }
         } else {
             let breaks = |(curves, dev): &(Vec<usize>, f64)| {
                 c.check(curves).is_err() || !c.deviation_ok(*dev)
             };
-            out.row.unconstrained_answer_breaks = free.as_ref().map(breaks);
-            out.row.unconstrained_optimum_breaks = free_optimum.as_ref().map(breaks);
+            row.unconstrained_answer_breaks = free.as_ref().map(breaks);
+            row.unconstrained_optimum_breaks = free_optimum.as_ref().map(breaks);
         }
         if random && case.exhaustive {
             let analyzer = analyzer_of(case)?;
             let constraints = if setting == "none" {
                 connected_only(&case.network, cap, &case.keep)?
             } else {
-                out.constraints.take().expect("bound")
+                bound.take().expect("bound")
             };
             let ex = exhaustive(
                 &analyzer,
@@ -377,7 +349,7 @@ fn measure(
                 &Cancel::never(),
             );
             if let Ok(ex) = ex {
-                out.row.optimum = Some(ex.best.lambda);
+                row.optimum = Some(ex.best.lambda);
                 if setting == "none" {
                     let dev = analyzer
                         .deviation(&analyzer.set(&ex.best.curves))
@@ -386,7 +358,7 @@ fn measure(
                 }
             }
         }
-        rows.push(out.row);
+        rows.push(row);
     }
     Ok(rows)
 }
@@ -396,21 +368,20 @@ fn analyzer_of(case: &Case) -> Result<Analyzer, SimplifyError> {
     Analyzer::new(case.network.clone(), StabilityParams::default()).map_err(SimplifyError::Params)
 }
 
-/// One setting's run: the constraints bound, the greedy, the local search, the answer chosen.
+/// One setting's run: the constraints bound, the greedy, the local search, the answer chosen;
+/// its row, and the constraints bound (`None` when it did not run) to test the unconstrained
+/// networks against.
 fn run_setting(
     case: &Case,
     cp: &ConstraintParams,
     cap: f64,
     mut row: ConstrainedRow,
-) -> Result<Outcome, SimplifyError> {
+) -> Result<(ConstrainedRow, Option<Constraints>), SimplifyError> {
     let constraints = match Constraints::new(&case.network, Some(&case.mesh), cp, cap, &case.keep) {
         Ok(c) => c,
         Err(e) => {
             row.skipped = Some(e.to_string());
-            return Ok(Outcome {
-                row,
-                constraints: None,
-            });
+            return Ok((row, None));
         }
     };
     if cp.symmetry == SymmetryOption::Auto {
@@ -418,10 +389,7 @@ fn run_setting(
             Some(s) => row.value = s.option().to_string(),
             None => {
                 row.skipped = Some("no symmetry".into());
-                return Ok(Outcome {
-                    row,
-                    constraints: None,
-                });
+                return Ok((row, None));
             }
         }
     }
@@ -435,10 +403,7 @@ fn run_setting(
         Ok(g) => g,
         Err(e) => {
             row.skipped = Some(format!("the greedy failed: {e}"));
-            return Ok(Outcome {
-                row,
-                constraints: None,
-            });
+            return Ok((row, None));
         }
     };
     let mut offers = greedy_offers(&g.iterations);
@@ -477,10 +442,7 @@ fn run_setting(
         }
         Err(e) => row.no_answer = Some(e.reason),
     }
-    Ok(Outcome {
-        row,
-        constraints: Some(constraints),
-    })
+    Ok((row, Some(constraints)))
 }
 
 impl ConstrainedReport {
@@ -502,16 +464,11 @@ impl ConstrainedReport {
         if random.is_empty() {
             return s;
         }
-        let p = &self.params;
+        let d = &self.params.draw;
+        let what = d.describe(&self.surfaces);
         s.push_str(&format!(
-            "{} random geodesic networks (seed {}; {}–{} curves, budgets {:.2}–{:.2}, surfaces {}):\n\n",
-            p.networks,
-            p.seed,
-            p.min_curves,
-            p.max_curves,
-            p.min_budget,
-            p.max_budget,
-            self.surfaces.join(", ")
+            "{} random geodesic networks ({what}):\n\n",
+            d.networks
         ));
         s.push_str(
             "| constraint | networks run | no answer | answer λ_eq / unconstrained answer's (mean) | answer / constrained optimum (mean) | constrained optimum reached | seconds (mean) | unconstrained answer breaks it | unconstrained optimum breaks it |\n\
@@ -625,11 +582,14 @@ mod tests {
     #[test]
     fn two_small_networks() {
         let params = ConstrainedParams {
-            networks: 2,
-            min_curves: 7,
-            max_curves: 8,
-            min_budget: 0.3,
-            max_budget: 0.35,
+            draw: RandomDraw {
+                networks: 2,
+                min_curves: 7,
+                max_curves: 8,
+                min_budget: 0.3,
+                max_budget: 0.35,
+                ..ConstrainedParams::default().draw
+            },
             ..ConstrainedParams::default()
         };
         let dome = crate::trace::builtin_surface("dome").expect("dome");

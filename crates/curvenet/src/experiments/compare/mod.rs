@@ -143,48 +143,88 @@ fn check_build(edge_length: f64, max_subsets: usize) -> Result<(), String> {
     Ok(())
 }
 
-/// Checks a random draw's ranges of curves and budgets: `2 ≤ min ≤ max ≤ most` curves and
-/// `0 < min ≤ max ≤ 1`.
-fn check_draw(ranges: ((usize, usize), (f64, f64)), most: usize) -> Result<(), String> {
-    let ((c0, c1), (b0, b1)) = ranges;
-    if !(2 <= c0 && c0 <= c1 && c1 <= most) {
-        return Err(format!(
-            "the numbers of curves must satisfy 2 ≤ {c0} ≤ {c1} ≤ {most}"
-        ));
-    }
-    if !(0.0 < b0 && b0 <= b1 && b1 <= 1.0) {
-        return Err(format!("the budgets must satisfy 0 < {b0} ≤ {b1} ≤ 1"));
-    }
-    Ok(())
+/// What a random draw of networks varies (`compare --fresh`, `compare --constraints`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RandomDraw {
+    /// Networks to draw.
+    pub networks: usize,
+    /// Base seed.
+    pub seed: u32,
+    /// Fewest curves of a network.
+    pub min_curves: usize,
+    /// Most curves of a network.
+    pub max_curves: usize,
+    /// Smallest budget fraction.
+    pub min_budget: f64,
+    /// Largest budget fraction.
+    pub max_budget: f64,
+    /// Edge length `h` (scene units, surfaces at extent 4000).
+    pub edge_length: f64,
 }
 
-/// Network `k` of a random draw, as `make(surface, curves, budget fraction, tracing seed,
-/// network)` gives it: a SplitMix64 stream seeded by `seed` and `k` draws the number of curves
-/// (uniform in `curves`), the budget (uniform in `budgets`, rounded to 0.01) and the tracing
-/// seed; the `scaled` surfaces are taken in rotation. A network whose tracing or build fails is
-/// drawn again (up to 20 times).
-fn draw<T>(
-    scaled: &[(String, TriMesh)],
-    k: usize,
-    seed: u64,
-    (curves, budgets): ((usize, usize), (f64, f64)),
-    edge_length: f64,
-    make: impl FnOnce(&str, usize, f64, u32, Network) -> T,
-) -> Result<T, SimplifyError> {
-    let mut rng = SplitMix64::new(seed.wrapping_add(k as u64));
-    let (name, mesh) = &scaled[k % scaled.len()];
-    for _ in 0..20 {
-        let n = curves.0 + rng.below((curves.1 - curves.0 + 1) as u64) as usize;
-        let budget = (100.0 * rng.uniform(budgets.0, budgets.1)).round() / 100.0;
-        let budget = budget.clamp(budgets.0, budgets.1);
-        let seed = rng.next_u64() as u32;
-        if let Some(network) = traced_network(mesh, n, seed, edge_length) {
-            return Ok(make(name, n, budget, seed, network));
+impl RandomDraw {
+    /// Checks the ranges: `2 ≤ min_curves ≤ max_curves ≤ most`, `0 < min_budget ≤ max_budget
+    /// ≤ 1`.
+    fn validate(&self, most: usize) -> Result<(), String> {
+        let (c0, c1, b0, b1) = (
+            self.min_curves,
+            self.max_curves,
+            self.min_budget,
+            self.max_budget,
+        );
+        if !(2 <= c0 && c0 <= c1 && c1 <= most) {
+            return Err(format!(
+                "the numbers of curves must satisfy 2 ≤ {c0} ≤ {c1} ≤ {most}"
+            ));
         }
+        if !(0.0 < b0 && b0 <= b1 && b1 <= 1.0) {
+            return Err(format!("the budgets must satisfy 0 < {b0} ≤ {b1} ≤ 1"));
+        }
+        Ok(())
     }
-    Err(SimplifyError::Params(format!(
-        "network {k}: could not build a network on {name} after 20 tries"
-    )))
+
+    /// The draw in words: `seed 1; 8–18 curves, budgets 0.10–0.50, surfaces a, b`.
+    fn describe(&self, surfaces: &[String]) -> String {
+        format!(
+            "seed {}; {}–{} curves, budgets {:.2}–{:.2}, surfaces {}",
+            self.seed,
+            self.min_curves,
+            self.max_curves,
+            self.min_budget,
+            self.max_budget,
+            surfaces.join(", ")
+        )
+    }
+
+    /// Network `k`, as `make(surface, curves, budget fraction, tracing seed, network)` gives
+    /// it: a SplitMix64 stream seeded by the base seed times `mix`, plus `k`, draws the number
+    /// of curves (uniform), the budget (uniform, rounded to 0.01) and the tracing seed; the
+    /// `scaled` surfaces are taken in rotation. A network whose tracing or build fails is
+    /// drawn again (up to 20 times).
+    fn network<T>(
+        &self,
+        scaled: &[(String, TriMesh)],
+        k: usize,
+        mix: u64,
+        make: impl FnOnce(&str, usize, f64, u32, Network) -> T,
+    ) -> Result<T, SimplifyError> {
+        let seed = u64::from(self.seed).wrapping_mul(mix);
+        let mut rng = SplitMix64::new(seed.wrapping_add(k as u64));
+        let (name, mesh) = &scaled[k % scaled.len()];
+        let span = (self.max_curves - self.min_curves + 1) as u64;
+        for _ in 0..20 {
+            let n = self.min_curves + rng.below(span) as usize;
+            let budget = (100.0 * rng.uniform(self.min_budget, self.max_budget)).round() / 100.0;
+            let budget = budget.clamp(self.min_budget, self.max_budget);
+            let seed = rng.next_u64() as u32;
+            if let Some(network) = traced_network(mesh, n, seed, self.edge_length) {
+                return Ok(make(name, n, budget, seed, network));
+            }
+        }
+        Err(SimplifyError::Params(format!(
+            "network {k}: could not build a network on {name} after 20 tries"
+        )))
+    }
 }
 
 /// The surfaces scaled to the experiments' extent, 4000.
