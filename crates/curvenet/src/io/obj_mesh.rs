@@ -70,7 +70,9 @@ pub fn parse_obj_mesh(text: &str, file: &str) -> Result<MeshFile, InputError> {
     let mut warnings = Vec::new();
     let mut faces = Vec::with_capacity(face_records.len());
     for face in &face_records {
-        let idx = (face.refs.iter())
+        let idx = face
+            .refs
+            .iter()
             .map(|&(r, line)| resolve(r, line, vertices.len(), file))
             .collect::<Result<Vec<_>, _>>()?;
         for k in 1..idx.len() - 1 {
@@ -87,11 +89,8 @@ pub fn parse_obj_mesh(text: &str, file: &str) -> Result<MeshFile, InputError> {
                     ),
                 ));
             } else {
-                faces.push([
-                    to_u32(tri[0], face.line, file)?,
-                    to_u32(tri[1], face.line, file)?,
-                    to_u32(tri[2], face.line, file)?,
-                ]);
+                let [a, b, c] = tri.map(|i| to_u32(i, face.line, file));
+                faces.push([a?, b?, c?]);
             }
         }
     }
