@@ -217,14 +217,16 @@ fn draw(
     k: usize,
 ) -> Result<Case, SimplifyError> {
     let mix = 0xD1B5_4A32_D192_ED03;
-    (params.draw).network(scaled, k, mix, |surface, _, budget, seed, network| Case {
-        name: format!("{surface} #{k} (seed {seed})"),
-        network,
-        mesh: scaled[k % scaled.len()].1.clone(),
-        budget: Budget::Fraction(budget),
-        keep: Vec::new(),
-        exhaustive: true,
-    })
+    params
+        .draw
+        .network(scaled, k, mix, |surface, _, budget, seed, network| Case {
+            name: format!("{surface} #{k} (seed {seed})"),
+            network,
+            mesh: scaled[k % scaled.len()].1.clone(),
+            budget: Budget::Fraction(budget),
+            keep: Vec::new(),
+            exhaustive: true,
+        })
 }
 
 /// The largest side of the mesh's bounding box.

@@ -315,18 +315,20 @@ fn draw(
     k: usize,
 ) -> Result<(FreshRow, Network), SimplifyError> {
     let mix = 0x9E37_79B9_7F4A_7C15;
-    (params.draw).network(scaled, k, mix, |surface, n, budget, seed, net| {
-        let row = FreshRow {
-            index: k,
-            surface: surface.into(),
-            seed,
-            n,
-            budget,
-            vertices: net.vertex_count(),
-            ..FreshRow::default()
-        };
-        (row, net)
-    })
+    params
+        .draw
+        .network(scaled, k, mix, |surface, n, budget, seed, net| {
+            let row = FreshRow {
+                index: k,
+                surface: surface.into(),
+                seed,
+                n,
+                budget,
+                vertices: net.vertex_count(),
+                ..FreshRow::default()
+            };
+            (row, net)
+        })
 }
 
 /// Network `k`'s figures.
