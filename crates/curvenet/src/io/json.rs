@@ -127,16 +127,16 @@ pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError
     let json_error = |e: serde_json::Error| {
         InputError::parse(file, e.line(), format!("invalid curvenet-curves JSON: {e}"))
     };
+    let fail = |line: usize, message: String| Err(InputError::parse(file, line.max(1), message));
     // The format is one object; say so before serde does (it also builds structs from arrays,
     // and would then complain about "trailing characters").
     let body = text.trim_start();
     let line = 1 + text[..text.len() - body.len()].matches('\n').count();
     if body.is_empty() {
-        return Err(InputError::parse(
-            file,
+        return fail(
             line,
             format!("the file is empty; expected a JSON object with \"format\": \"{FORMAT}\""),
-        ));
+        );
     }
     if !body.starts_with('{') {
         let found = match body.as_bytes()[0] {
@@ -145,64 +145,50 @@ pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError
             b'-' | b'0'..=b'9' => "a number",
             _ => "something else",
         };
-        return Err(InputError::parse(
-            file,
+        return fail(
             line,
             format!(
                 "expected a JSON object with \"format\": \"{FORMAT}\" and \"curves\", found \
                  {found}"
             ),
-        ));
+        );
     }
     let header: Header = serde_json::from_str(text).map_err(json_error)?;
     let located = locate(text).unwrap_or_default();
     match header.format {
         Some(serde_json::Value::String(f)) if f == FORMAT => {}
         Some(other) => {
-            return Err(InputError::parse(
-                file,
-                located.format_line.max(1),
+            return fail(
+                located.format_line,
                 format!(
                     "not a curvenet curves file: \"format\" is {}, expected \"{FORMAT}\"",
                     shorten(&other.to_string())
                 ),
-            ));
+            );
         }
         None => {
-            return Err(InputError::parse(
-                file,
+            return fail(
                 1,
                 format!("not a curvenet curves file: no \"format\" field (expected \"{FORMAT}\")"),
-            ));
+            );
         }
     }
     match header.version {
         Some(v) if v.as_u64() == Some(VERSION) => {}
         Some(v) => {
-            return Err(InputError::parse(
-                file,
-                located.version_line.max(1),
+            return fail(
+                located.version_line,
                 format!(
                     "unsupported \"version\" {}; this reader supports version {VERSION}",
                     shorten(&v.to_string())
                 ),
-            ));
+            );
         }
-        None => {
-            return Err(InputError::parse(
-                file,
-                1,
-                format!("no \"version\" field (expected {VERSION})"),
-            ));
-        }
+        None => return fail(1, format!("no \"version\" field (expected {VERSION})")),
     }
     let document: Document = serde_json::from_str(text).map_err(json_error)?;
     if document.curves.is_empty() {
-        return Err(InputError::parse(
-            file,
-            located.curves_line.max(1),
-            "no curves: \"curves\" is empty",
-        ));
+        return fail(located.curves_line, "no curves: \"curves\" is empty".into());
     }
 
     let mut warnings = Vec::new();
