@@ -88,31 +88,25 @@ pub fn export_files(
     format: ExportFormat,
 ) -> Result<Vec<(String, String)>, String> {
     use ExportFormat::*;
+    type Make = fn(&RunFolder, Which) -> Result<String, String>;
+    // Each file: its format, its name around the tag, what writes it.
+    let files: [(ExportFormat, &str, &str, Make); 7] = [
+        (Obj, "curves_", ".obj", |r, w| curves_obj(r, w, false)),
+        (Obj, "curves_", "_rest.obj", |r, w| curves_obj(r, w, true)),
+        (Json, "curves_", ".json", |r, w| curves_json(r, w, true)),
+        (Json, "curves_", "_equilibrium.json", |r, w| {
+            curves_json(r, w, false)
+        }),
+        (Csv, "fabrication_", ".csv", |r, w| fabrication_csv(r, w)),
+        (Csv, "points_", ".csv", |r, w| points_csv(r, w)),
+        (Network, "network_", ".json", |r, w| network_json(r, w)),
+    ];
     let which = which.into();
     let k = run.network_of(which)?.tag;
-    let mut out = Vec::new();
-    if matches!(format, Obj | All) {
-        out.push((format!("curves_{k}.obj"), curves_obj(run, which, false)?));
-        out.push((
-            format!("curves_{k}_rest.obj"),
-            curves_obj(run, which, true)?,
-        ));
-    }
-    if matches!(format, Json | All) {
-        out.push((format!("curves_{k}.json"), curves_json(run, which, true)?));
-        out.push((
-            format!("curves_{k}_equilibrium.json"),
-            curves_json(run, which, false)?,
-        ));
-    }
-    if matches!(format, Csv | All) {
-        out.push((format!("fabrication_{k}.csv"), fabrication_csv(run, which)?));
-        out.push((format!("points_{k}.csv"), points_csv(run, which)?));
-    }
-    if matches!(format, Network | All) {
-        out.push((format!("network_{k}.json"), network_json(run, which)?));
-    }
-    Ok(out)
+    let wanted = files.iter().filter(|f| format == All || format == f.0);
+    wanted
+        .map(|(_, stem, end, make)| Ok((format!("{stem}{k}{end}"), make(run, which)?)))
+        .collect()
 }
 
 /// Writes the files of `format` for iteration `k` (any [`Which`]) into the folder `out`
