@@ -245,55 +245,48 @@ pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError
 /// round-trip form; a non-finite coordinate (which no reader produces) is written as `null`,
 /// which the reader rejects.
 pub fn curves_to_json(curves: &[Polyline]) -> String {
-    let mut out = String::new();
-    out.push_str("{\n  \"format\": ");
-    push_json_string(&mut out, FORMAT);
-    let _ = write!(out, ",\n  \"version\": {VERSION},\n  \"curves\": [");
-    for (i, curve) in curves.iter().enumerate() {
-        out.push_str(if i == 0 { "\n    {\n" } else { ",\n    {\n" });
-        if let Some(label) = &curve.label {
-            out.push_str("      \"label\": ");
-            push_json_string(&mut out, label);
-            out.push_str(",\n");
-        }
-        let _ = writeln!(out, "      \"closed\": {},", curve.closed);
-        out.push_str("      \"points\": [");
-        for (j, p) in curve.points.iter().enumerate() {
-            out.push_str(if j == 0 {
-                "\n        ["
-            } else {
-                ",\n        ["
-            });
-            for (k, v) in [p.x, p.y, p.z].into_iter().enumerate() {
-                if k > 0 {
-                    out.push_str(", ");
-                }
+    let curves = curves.iter().map(|curve| {
+        let points = curve.points.iter().map(|p| {
+            let number = |v: f64| {
+                let mut out = String::new();
                 if v.is_finite() {
                     push_number(&mut out, v);
                 } else {
                     out.push_str("null");
                 }
-            }
-            out.push(']');
-        }
-        out.push_str(if curve.points.is_empty() {
-            "]\n"
-        } else {
-            "\n      ]\n"
+                out
+            };
+            format!("[{}, {}, {}]", number(p.x), number(p.y), number(p.z))
         });
-        out.push_str("    }");
-    }
-    out.push_str(if curves.is_empty() {
-        "]\n}\n"
-    } else {
-        "\n  ]\n}\n"
+        let label = curve.label.as_deref().map_or_else(String::new, |l| {
+            format!("      \"label\": {},\n", json_string(l))
+        });
+        format!(
+            "{{\n{label}      \"closed\": {},\n      \"points\": {}\n    }}",
+            curve.closed,
+            json_list(points, "      ")
+        )
     });
-    out
+    format!(
+        "{{\n  \"format\": {},\n  \"version\": {VERSION},\n  \"curves\": {}\n}}\n",
+        json_string(FORMAT),
+        json_list(curves, "  ")
+    )
 }
 
-/// Appends `s` as a JSON string literal.
-fn push_json_string(out: &mut String, s: &str) {
-    out.push('"');
+/// A JSON list of `items`, one a line, its closing bracket indented by `indent`; `[]` when
+/// empty.
+fn json_list(items: impl Iterator<Item = String>, indent: &str) -> String {
+    let lines: Vec<String> = items.map(|i| format!("\n{indent}  {i}")).collect();
+    if lines.is_empty() {
+        return "[]".into();
+    }
+    format!("[{}\n{indent}]", lines.join(","))
+}
+
+/// `s` as a JSON string literal.
+fn json_string(s: &str) -> String {
+    let mut out = String::from('"');
     for c in s.chars() {
         match c {
             '"' => out.push_str("\\\""),
@@ -308,6 +301,7 @@ fn push_json_string(out: &mut String, s: &str) {
         }
     }
     out.push('"');
+    out
 }
 
 /// Where things are in a curvenet-curves document: 1-based lines, 0 where not found.
