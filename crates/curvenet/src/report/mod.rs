@@ -372,21 +372,16 @@ impl AnalysisReport {
                 .collect::<Vec<_>>()
                 .join(", ")
         );
-        match &self.gravity {
-            Some(g) => {
-                let _ = writeln!(
-                    s,
-                    "gravity deflection: max {:.4e} at vertex {}, compliance {:.4e}",
+        let gravity = self.gravity.as_ref().map_or_else(
+            || "not computed (structure not positive definite)".to_string(),
+            |g| {
+                format!(
+                    "max {:.4e} at vertex {}, compliance {:.4e}",
                     g.max_displacement, g.vertex, g.compliance
-                );
-            }
-            None => {
-                let _ = writeln!(
-                    s,
-                    "gravity deflection: not computed (structure not positive definite)"
-                );
-            }
-        }
+                )
+            },
+        );
+        let _ = writeln!(s, "gravity deflection: {gravity}");
         let _ = writeln!(
             s,
             "units: radius {} vs median curve length {} (slenderness {})",

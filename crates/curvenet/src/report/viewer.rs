@@ -290,10 +290,8 @@ fn chosen_data(run: &RunFolder, options: &ViewerOptions) -> Result<Vec<Value>, S
     for n in 1..=r.alternatives.len() {
         which.push((Which::Alternative(n), format!("alternative {n}")));
     }
-    let analyzer = match options.gravity && !which.is_empty() {
-        true => Some(analyzer_of(run)?),
-        false => None,
-    };
+    let gravity = options.gravity && !which.is_empty();
+    let analyzer = gravity.then(|| analyzer_of(run)).transpose()?;
     let answers = r.answer.iter().chain(&r.alternatives);
     let mut out = Vec::new();
     for ((w, label), a) in which.iter().zip(answers) {

@@ -62,17 +62,17 @@ pub enum ExportFormat {
 impl std::str::FromStr for ExportFormat {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
-        Ok(match s {
-            "obj" => ExportFormat::Obj,
-            "json" => ExportFormat::Json,
-            "csv" => ExportFormat::Csv,
-            "network" => ExportFormat::Network,
-            "all" => ExportFormat::All,
-            _ => {
-                return Err(format!(
-                    "unknown export format '{s}' (expected obj, json, csv, network or all)"
-                ));
-            }
+        use ExportFormat::*;
+        let names = [
+            ("obj", Obj),
+            ("json", Json),
+            ("csv", Csv),
+            ("network", Network),
+            ("all", All),
+        ];
+        let found = names.into_iter().find(|n| n.0 == s);
+        found.map(|n| n.1).ok_or_else(|| {
+            format!("unknown export format '{s}' (expected obj, json, csv, network or all)")
         })
     }
 }
