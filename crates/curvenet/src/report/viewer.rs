@@ -29,7 +29,7 @@
 //! `final.png`, `mode.png`, `lambda.png` ([`super::render`], [`super::plot`]), `viewer.html`
 //! and `fabrication.csv` (the final network, [`super::export::fabrication_csv`]).
 
-use super::export::{answer_fabrication_csv, fabrication_csv, rod_joints, rod_supports};
+use super::export::{fabrication_csv, rod_joints, rod_supports};
 use super::plot::lambda_plot;
 use super::render::{mode_picture, network_picture};
 use crate::io::TriMesh;
@@ -502,7 +502,7 @@ pub fn write_run_outputs(dir: &Path) -> Result<RunOutputs, String> {
     };
     out.files.extend(write_pictures(&run)?);
     let p = dir.join("fabrication.csv");
-    match answer_fabrication_csv(&run) {
+    match fabrication_csv(&run, Which::Answer).ok() {
         Some(csv) => {
             crate::io::write_atomic(&p, csv.as_bytes())
                 .map_err(|e| format!("{}: {e}", p.display()))?;

@@ -38,7 +38,7 @@ pub use network_file::{
     network_file, network_json, parse_network_file, read_network_file,
 };
 pub use rods::{RodJoint, arc_lengths, end_support, rod_joints, rod_supports};
-pub use tables::{answer_fabrication_csv, fabrication_csv, fabrication_table, points_csv};
+pub use tables::{fabrication_csv, fabrication_table, points_csv};
 
 use crate::io;
 use crate::run_folder::{RunFolder, Which};

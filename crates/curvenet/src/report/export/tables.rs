@@ -59,12 +59,6 @@ pub fn fabrication_csv(run: &RunFolder, which: impl Into<Which>) -> Result<Strin
     Ok(super::with_unstable_header(table, rec.unstable.as_deref()))
 }
 
-/// The fabrication table of the run's answer (the network to build), `None` when the run
-/// has none.
-pub fn answer_fabrication_csv(run: &RunFolder) -> Option<String> {
-    fabrication_csv(run, Which::Answer).ok()
-}
-
 /// The fabrication table of the structure `curves` of `net`, of total rest length `length`
 /// (`what` names it in the header): one row per kept rod.
 pub fn fabrication_table(net: &Network, what: &str, curves: &[usize], length: f64) -> String {
