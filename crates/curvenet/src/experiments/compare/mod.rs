@@ -34,6 +34,9 @@
 //!   ([`fresh()`], [`FreshReport`]);
 //! - [`constrained`]: what each design constraint costs, on given networks and random ones
 //!   ([`constrained()`], [`ConstrainedReport`]).
+//!
+//! Both draw their random networks alike ([`RandomDraw`]: how many, the base seed, the ranges of
+//! curves and budgets, the edge length).
 
 pub mod constrained;
 pub mod fresh;
