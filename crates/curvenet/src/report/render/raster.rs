@@ -60,7 +60,7 @@ impl Image {
         let (x0, y0) = (lo.0.floor().max(0.0), lo.1.floor().max(0.0));
         let x1 = hi.0.ceil().min(self.width as f64 - 1.0);
         let y1 = hi.1.ceil().min(self.height as f64 - 1.0);
-        (x0 <= x1 && y0 <= y1).then(|| (x0 as usize..=x1 as usize, y0 as usize..=y1 as usize))
+        (x0 <= x1 && y0 <= y1).then_some((x0 as usize..=x1 as usize, y0 as usize..=y1 as usize))
     }
 
     /// Fills a triangle given in screen coordinates `(x, y, depth)`, shaded `color`, with a

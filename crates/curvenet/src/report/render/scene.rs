@@ -123,7 +123,8 @@ pub struct Stroke {
 pub fn draw_strokes(img: &mut Image, view: &View, strokes: &[Stroke], bias: f64) {
     // Each segment: its depth (at its middle), its place in the input (ties), its ends on the
     // screen, its stroke and its ends' points.
-    let mut segs: Vec<(f64, usize, [f64; 3], [f64; 3], &Stroke, [usize; 2])> = Vec::new();
+    type Segment<'a> = (f64, usize, [f64; 3], [f64; 3], &'a Stroke, [usize; 2]);
+    let mut segs: Vec<Segment<'_>> = Vec::new();
     for s in strokes {
         let n = s.points.len();
         let count = if s.closed { n } else { n.saturating_sub(1) };
