@@ -116,17 +116,15 @@ impl PhysicalOptions {
         let mut material = presets::preset(self.material.as_deref().unwrap_or(DEFAULT_MATERIAL))
             .map_err(|e| format!("--material: {e}"))?;
         let mut modified = false;
-        if let Some(t) = &self.young {
-            material.young_pa = quantity("--young", t)?;
-            modified = true;
-        }
-        if let Some(t) = &self.density {
-            material.density_kg_m3 = quantity("--density", t)?;
-            modified = true;
-        }
-        if let Some(t) = &self.strength {
-            material.strength_pa = quantity("--strength", t)?;
-            modified = true;
+        for (name, given, slot) in [
+            ("--young", &self.young, &mut material.young_pa),
+            ("--density", &self.density, &mut material.density_kg_m3),
+            ("--strength", &self.strength, &mut material.strength_pa),
+        ] {
+            if let Some(t) = given {
+                *slot = quantity(name, t)?;
+                modified = true;
+            }
         }
         if modified {
             material.name = format!("{} (modified)", material.name);
@@ -142,16 +140,14 @@ impl PhysicalOptions {
             },
         }
         .resolve(units);
-        section.validate().map_err(|e| {
-            format!(
-                "{}: {e}",
-                if self.tube.is_some() {
-                    "--tube"
-                } else {
-                    "--radius"
-                }
-            )
-        })?;
+        let section_option = if self.tube.is_some() {
+            "--tube"
+        } else {
+            "--radius"
+        };
+        section
+            .validate()
+            .map_err(|e| format!("{section_option}: {e}"))?;
         let mut physical = Physical::uniform(units, material, section);
         if let Some(t) = &self.load {
             physical.load_n_per_m = quantity("--load", t)?;
@@ -161,15 +157,7 @@ impl PhysicalOptions {
         }
         let physical = physical.with_curve_specs(specs)?;
         physical.validate()?;
-        check_stiffness(
-            &physical,
-            specs,
-            if self.tube.is_some() {
-                "--tube"
-            } else {
-                "--radius"
-            },
-        )?;
+        check_stiffness(&physical, specs, section_option)?;
         let mut params = PhysicalParams::new(physical);
         params.rest = specs.iter().map(|s| s.rest.unwrap_or_default()).collect();
         Ok(Some(params))
