@@ -462,7 +462,11 @@ impl Detector {
     /// The orbits of `perm`'s cycles, each ascending, ordered by their smallest curve.
     fn orbits(&self, perm: &[usize]) -> Vec<Vec<usize>> {
         let all: Vec<usize> = (0..perm.len()).collect();
-        curve_components(perm.len(), &all, perm.iter().enumerate().map(|(i, &j)| [i, j]))
+        curve_components(
+            perm.len(),
+            &all,
+            perm.iter().enumerate().map(|(i, &j)| [i, j]),
+        )
     }
 
     fn found(&self, symmetry: Symmetry, perm: &[usize], mismatch: f64) -> SymmetryFound {
@@ -553,7 +557,10 @@ impl Detector {
                 if best.is_some_and(|b| order <= b.0) {
                     break;
                 }
-                if self.matching(&self.rotation_about(axis, order).0, order).is_ok() {
+                if self
+                    .matching(&self.rotation_about(axis, order).0, order)
+                    .is_ok()
+                {
                     best = Some((order, axis));
                     break;
                 }

@@ -147,7 +147,8 @@ fn cells(nx: usize, ny: usize, flip: bool, id: impl Fn(usize, usize) -> usize) -
                 [[a, b, d], [b, c, d]]
             };
             for [x, y, z] in pair {
-                tri(&mut faces, x, if flip { z } else { y }, if flip { y } else { z });
+                let (y, z) = if flip { (z, y) } else { (y, z) };
+                tri(&mut faces, x, y, z);
             }
         }
     }
