@@ -3,7 +3,7 @@
 //! ordinary meshes) and the curves that stray from it ([`curves_far_from_mesh`]: a wrong scale
 //! or units, the mesh of another scene).
 
-use super::LIST_LIMIT;
+use super::{LIST_LIMIT, and_more};
 use crate::geom::{Aabb, Bvh, Vec3, closest_point_on_triangle};
 use crate::io::{Origin, Polyline, TriMesh};
 
@@ -165,7 +165,6 @@ pub fn far_from_mesh_warning(found: &FarFromMesh, mesh_name: &str) -> Option<Str
             )
         })
         .collect();
-    let more = found.curves.len().saturating_sub(LIST_LIMIT);
     let hint = if found.curves.len() == found.checked {
         "; no curve lies on the surface: are the mesh and the curves in the same units and \
          position?"
@@ -180,11 +179,7 @@ pub fn far_from_mesh_warning(found: &FarFromMesh, mesh_name: &str) -> Option<Str
         crate::fmt::percent(100.0 * found.threshold / found.diagonal),
         found.diagonal,
         listed.join(", "),
-        if more > 0 {
-            format!(" and {more} more")
-        } else {
-            String::new()
-        },
+        and_more(found.curves.len()),
     ))
 }
 
