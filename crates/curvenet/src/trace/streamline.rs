@@ -73,7 +73,7 @@ pub struct StreamlineRecord {
 }
 
 /// The result of [`trace_streamlines`].
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Streamlines {
     /// Accepted streamlines, in seed order.
     pub curves: Vec<Polyline>,
@@ -135,16 +135,7 @@ pub fn trace_streamlines(
         return Err(TraceError::NoBoundary);
     }
     let spacing = total / options.seeds as f64;
-    let mut out = Streamlines {
-        curves: Vec::new(),
-        records: Vec::new(),
-        started: 0,
-        singular: 0,
-        stalled: 0,
-        too_long: 0,
-        duplicates: 0,
-        failed: 0,
-    };
+    let mut out = Streamlines::default();
     let min_sin = options.min_inward_angle.sin();
     for seed in 0..options.seeds {
         let Some(sp) = seed_point(topo, (seed as f64 + 0.5) * spacing) else {

@@ -234,19 +234,17 @@ fn validate(options: &FieldOptions) -> Result<(), TraceError> {
             expected: "a symmetry order in 1..=12 (4: two directions, 6: three)",
         });
     }
-    if !(options.magnitude_threshold >= 0.0) || !options.magnitude_threshold.is_finite() {
-        return Err(TraceError::InvalidParameter {
-            name: "magnitude_threshold",
-            value: options.magnitude_threshold,
-            expected: "a finite non-negative number",
-        });
-    }
-    if !(options.penalty >= 0.0) || !options.penalty.is_finite() {
-        return Err(TraceError::InvalidParameter {
-            name: "penalty",
-            value: options.penalty,
-            expected: "a finite non-negative number",
-        });
+    for (name, value) in [
+        ("magnitude_threshold", options.magnitude_threshold),
+        ("penalty", options.penalty),
+    ] {
+        if !(value >= 0.0) || !value.is_finite() {
+            return Err(TraceError::InvalidParameter {
+                name,
+                value,
+                expected: "a finite non-negative number",
+            });
+        }
     }
     Ok(())
 }
