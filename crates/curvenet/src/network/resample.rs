@@ -63,13 +63,13 @@ pub(super) fn resample(
         })?;
         rods.push(rod);
     }
-    let joints = joints_at(&joint_vertex, &rods, positions.len());
-    let network = Network {
+    let mut network = Network {
         positions,
         rods,
-        joints,
+        joints: Vec::new(),
         supports: params.supports,
     };
+    network.joints = joints_at(&joint_vertex, &network);
     let info = BuildInfo {
         curves: geo.len(),
         vertices: network.vertex_count(),
@@ -211,24 +211,14 @@ fn fold_back(positions: &[Vec3], verts: &[u32], closed: bool) -> Option<(Vec3, f
 }
 
 /// The joints at the joints' vertices, with the curves through each, by vertex.
-fn joints_at(joint_vertex: &[Option<u32>], rods: &[Rod], vertex_count: usize) -> Vec<Joint> {
-    let mut vertex_curves: Vec<Vec<u32>> = vec![Vec::new(); vertex_count];
-    for (c, r) in rods.iter().enumerate() {
-        for &v in &r.vertices {
-            vertex_curves[v as usize].push(c as u32);
-        }
-    }
+fn joints_at(joint_vertex: &[Option<u32>], network: &Network) -> Vec<Joint> {
+    let vertex_curves = network.vertex_curves();
     let mut joints: Vec<Joint> = joint_vertex
         .iter()
         .flatten()
-        .map(|&jv| {
-            let mut cs = vertex_curves[jv as usize].clone();
-            cs.sort_unstable();
-            cs.dedup();
-            Joint {
-                vertex: jv,
-                curves: cs,
-            }
+        .map(|&jv| Joint {
+            vertex: jv,
+            curves: vertex_curves[jv as usize].clone(),
         })
         .collect();
     joints.sort_by_key(|j| j.vertex);
