@@ -331,21 +331,9 @@ impl MeshTopology {
         self.edge_faces(e).len() == 1
     }
 
-    /// True when edge `e` has more than two faces.
-    pub fn is_non_manifold_edge(&self, e: usize) -> bool {
-        self.edge_faces(e).len() > 2
-    }
-
     /// True when vertex `v` lies on a boundary edge.
     pub fn is_boundary_vertex(&self, v: usize) -> bool {
         self.boundary_vertex[v]
-    }
-
-    /// Edges with more than two faces, in edge order.
-    pub fn non_manifold_edges(&self) -> Vec<usize> {
-        (0..self.edges.len())
-            .filter(|&e| self.is_non_manifold_edge(e))
-            .collect()
     }
 
     /// Unit normal of face `f` in its vertex order (zero for a degenerate face).
@@ -650,7 +638,9 @@ mod tests {
             [0.5, 0.0, 1.0],
         ];
         let topo = MeshTopology::new(&mesh(&v, &[[0, 1, 2], [1, 0, 3], [0, 1, 4]])).unwrap();
-        let nm = topo.non_manifold_edges();
+        let nm: Vec<usize> = (0..topo.edge_count())
+            .filter(|&e| topo.edge_faces(e).len() > 2)
+            .collect();
         assert_eq!(nm.len(), 1);
         assert_eq!(topo.edge(nm[0]), [0, 1]);
         assert!(matches!(
