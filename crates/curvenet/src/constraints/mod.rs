@@ -427,9 +427,11 @@ impl Constraints {
             .iter()
             .map(|g| CurveSet::from_curves(n, &g.curves))
             .collect();
-        let orbits = symmetry
-            .as_ref()
-            .map_or_else(Vec::new, |f| symmetry::orbit_sets(f, n));
+        let orbits: Vec<CurveSet> = symmetry
+            .iter()
+            .flat_map(|f| &f.orbits)
+            .map(|o| CurveSet::from_curves(n, o))
+            .collect();
         let all: Vec<usize> = (0..n).collect();
         let units = curve_components(n, &all, groups.iter().chain(&orbits).map(CurveSet::iter));
         let mut unit_of = vec![0; n];

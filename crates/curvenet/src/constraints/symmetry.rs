@@ -31,7 +31,6 @@
 //! tried) and lists every order dividing it, largest first, then the mirror: the caller keeps
 //! the largest whose orbits the budget allows.
 
-use super::CurveSet;
 use crate::geom::point_segment_distance;
 use crate::geom::{Aabb, Vec3};
 use crate::network::Network;
@@ -627,15 +626,6 @@ pub fn find(
         SymmetryOption::Mirror => d().mirror().map(|f| vec![f]),
         SymmetryOption::Auto => Ok(d().all()),
     }
-}
-
-/// The orbits as sets (for the constraint tests).
-pub fn orbit_sets(found: &SymmetryFound, n: usize) -> Vec<CurveSet> {
-    found
-        .orbits
-        .iter()
-        .map(|o| CurveSet::from_curves(n, o))
-        .collect()
 }
 
 /// The first curve of `perm` that is not a bijection's, or on a cycle whose length does not
