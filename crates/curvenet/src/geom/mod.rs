@@ -265,32 +265,17 @@ impl Aabb {
 
     /// True when the two boxes share a point (boundaries included).
     pub fn overlaps(&self, o: &Aabb) -> bool {
-        self.min.x <= o.max.x
-            && o.min.x <= self.max.x
-            && self.min.y <= o.max.y
-            && o.min.y <= self.max.y
-            && self.min.z <= o.max.z
-            && o.min.z <= self.max.z
+        (0..3).all(|k| self.min[k] <= o.max[k] && o.min[k] <= self.max[k])
     }
 
     /// True when the box holds `p` (boundary included).
     pub fn contains(&self, p: Vec3) -> bool {
-        self.min.x <= p.x
-            && p.x <= self.max.x
-            && self.min.y <= p.y
-            && p.y <= self.max.y
-            && self.min.z <= p.z
-            && p.z <= self.max.z
+        (0..3).all(|k| self.min[k] <= p[k] && p[k] <= self.max[k])
     }
 
     /// Distance from `p` to the box (0 inside).
     pub fn distance_to(&self, p: Vec3) -> f64 {
-        Vec3::new(
-            (self.min.x - p.x).max(p.x - self.max.x).max(0.0),
-            (self.min.y - p.y).max(p.y - self.max.y).max(0.0),
-            (self.min.z - p.z).max(p.z - self.max.z).max(0.0),
-        )
-        .norm()
+        (self.min - p).max(p - self.max).max(Vec3::ZERO).norm()
     }
 
     /// The box grown by `r` on every side.

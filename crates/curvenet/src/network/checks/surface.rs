@@ -26,15 +26,10 @@ impl MeshDistance {
     pub fn new(mesh: &TriMesh) -> Self {
         let triangles = mesh.finite_triangles();
         let boxes: Vec<Aabb> = triangles.iter().map(Aabb::of_points).collect();
-        let mut bounds = Aabb::EMPTY;
-        for b in &boxes {
-            bounds.add(b.min);
-            bounds.add(b.max);
-        }
         MeshDistance {
             tree: Bvh::new(boxes),
+            bounds: Aabb::of_points(triangles.iter().flatten()),
             triangles,
-            bounds,
         }
     }
 
