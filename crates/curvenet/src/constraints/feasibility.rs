@@ -15,11 +15,7 @@
 //!   forced units leave.
 
 use super::{Constraints, CurveSet};
-
-/// `x` with seven significant digits, for messages.
-fn num(x: f64) -> String {
-    crate::fmt::length(x)
-}
+use crate::fmt::length as num;
 
 /// Curve ids as `0, 3, 5` (at most a dozen, then a count).
 fn list(curves: impl IntoIterator<Item = usize>) -> String {

@@ -187,15 +187,12 @@ impl SymmetryFound {
                 p(normal)
             ),
         };
-        let mut sizes: Vec<usize> = self.orbits.iter().map(Vec::len).collect();
-        sizes.sort_unstable();
-        sizes.dedup();
-        let counts: Vec<String> = sizes
-            .iter()
-            .map(|&s| {
-                let k = self.orbits.iter().filter(|o| o.len() == s).count();
-                format!("{k} of {s} curve{}", if s == 1 { "" } else { "s" })
-            })
+        let mut by_size = std::collections::BTreeMap::new();
+        for o in &self.orbits {
+            *by_size.entry(o.len()).or_insert(0) += 1;
+        }
+        let counts: Vec<String> = (by_size.iter())
+            .map(|(&s, k)| format!("{k} of {s} curve{}", if s == 1 { "" } else { "s" }))
             .collect();
         format!(
             "{what}: {} orbits ({}); curves match to {:.1e} of the scene's size (tolerance {:.1e})",

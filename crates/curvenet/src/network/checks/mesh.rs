@@ -139,10 +139,7 @@ fn zero_area(a: Vec3, b: Vec3, c: Vec3) -> bool {
         .iter()
         .flat_map(|p| p.to_array())
         .fold(0.0f64, |m, v| m.max(v.abs()));
-    if !largest.is_finite() {
-        return true;
-    }
-    if largest == 0.0 {
+    if !largest.is_finite() || largest == 0.0 {
         return true;
     }
     let exponent = largest.log2().ceil().clamp(-1000.0, 1000.0) as i32;
