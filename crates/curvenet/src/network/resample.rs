@@ -52,15 +52,8 @@ pub(super) fn resample(
             };
             verts.push(v);
         }
-        let rod = lock(&positions, verts, g, params).map_err(|message| {
-            let c = &curves[ci];
-            BuildError::DegenerateCurve {
-                file: c.origin.file.clone(),
-                line: c.origin.line,
-                curve: ci,
-                message,
-            }
-        })?;
+        let rod = lock(&positions, verts, g, params)
+            .map_err(|message| BuildError::degenerate(curves, ci, message))?;
         rods.push(rod);
     }
     let mut network = Network {

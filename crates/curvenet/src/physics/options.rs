@@ -3,7 +3,10 @@
 //! [`PhysicalParams`]: one place for the command line and any other front end.
 
 use super::analysis::PhysicalParams;
-use crate::material::{self, CurveSpec, Physical, SectionSpec, presets};
+use crate::material::{
+    self, CurveSpec, DENSITY_RANGE_KG_M3, LINE_LOAD_RANGE_N_PER_M, Physical, STRESS_RANGE_PA,
+    SectionSpec, presets,
+};
 use crate::rod::Material;
 use crate::units::{LengthUnit, Quantity, STANDARD_GRAVITY, parse_quantity};
 
@@ -168,25 +171,10 @@ impl PhysicalOptions {
 /// ([`crate::material`]'s bounds: far beyond any material, and keeping every stiffness, mass
 /// and load within floating-point range).
 const QUANTITIES: &[(&str, Quantity, &str, (f64, f64))] = &[
-    ("--young", Quantity::Stress, "Pa", material::STRESS_RANGE_PA),
-    (
-        "--density",
-        Quantity::Density,
-        "kg/m3",
-        material::DENSITY_RANGE_KG_M3,
-    ),
-    (
-        "--strength",
-        Quantity::Stress,
-        "Pa",
-        material::STRESS_RANGE_PA,
-    ),
-    (
-        "--load",
-        Quantity::LineLoad,
-        "N/m",
-        material::LINE_LOAD_RANGE_N_PER_M,
-    ),
+    ("--young", Quantity::Stress, "Pa", STRESS_RANGE_PA),
+    ("--density", Quantity::Density, "kg/m3", DENSITY_RANGE_KG_M3),
+    ("--strength", Quantity::Stress, "Pa", STRESS_RANGE_PA),
+    ("--load", Quantity::LineLoad, "N/m", LINE_LOAD_RANGE_N_PER_M),
 ];
 
 /// The largest gravity component accepted, m/s² (about 1000 g).
