@@ -38,20 +38,18 @@ pub(super) fn resample(
     let mut rods = Vec::with_capacity(geo.len());
     for (ci, g) in geo.iter().enumerate() {
         let stations = stations(g, &passes[ci], params.edge_length);
-        let mut verts = Vec::with_capacity(stations.len());
-        for &(s, joint) in &stations {
-            let v = match joint {
-                Some(j) => *joint_vertex[j].get_or_insert_with(|| {
-                    positions.push(seeds[j].position);
-                    (positions.len() - 1) as u32
-                }),
-                None => {
-                    positions.push(g.point_at(s));
-                    (positions.len() - 1) as u32
+        let add = |p: Vec3, positions: &mut Vec<Vec3>| {
+            positions.push(p);
+            (positions.len() - 1) as u32
+        };
+        let verts: Vec<u32> = (stations.iter())
+            .map(|&(s, joint)| match joint {
+                Some(j) => {
+                    *joint_vertex[j].get_or_insert_with(|| add(seeds[j].position, &mut positions))
                 }
-            };
-            verts.push(v);
-        }
+                None => add(g.point_at(s), &mut positions),
+            })
+            .collect();
         let rod = lock(&positions, verts, g, params)
             .map_err(|message| BuildError::degenerate(curves, ci, message))?;
         rods.push(rod);

@@ -247,17 +247,16 @@ impl MeshTopology {
                         None => break,
                     }
                 }
-                let mut arc = Vec::with_capacity(verts.len());
-                let mut s = 0.0;
-                arc.push(0.0);
+                let mut arc = vec![0.0];
                 for w in verts.windows(2) {
-                    s += self.vertices[w[0]].dist(self.vertices[w[1]]);
-                    arc.push(s);
+                    arc.push(arc[arc.len() - 1] + self.vertices[w[0]].dist(self.vertices[w[1]]));
                 }
-                let open_length = s;
+                let open_length = arc[arc.len() - 1];
                 let length = match (closed, verts.first(), verts.last()) {
-                    (true, Some(&a), Some(&b)) => s + self.vertices[a].dist(self.vertices[b]),
-                    _ => s,
+                    (true, Some(&a), Some(&b)) => {
+                        open_length + self.vertices[a].dist(self.vertices[b])
+                    }
+                    _ => open_length,
                 };
                 loops.push(BoundaryLoop {
                     vertices: verts,
