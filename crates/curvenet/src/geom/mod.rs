@@ -12,7 +12,7 @@ pub use bvh::Bvh;
 pub use closest::{closest_point_on_triangle, point_segment_distance, segment_closest_points};
 
 use serde::{Deserialize, Serialize};
-use std::ops::{Add, AddAssign, Div, Index, IndexMut, Mul, Neg, Sub, SubAssign};
+use std::ops::{Add, AddAssign, Div, Index, IndexMut, Mul, Neg, Sub};
 
 /// A point or direction in 3D.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -172,26 +172,11 @@ impl AddAssign for Vec3 {
     }
 }
 
-impl SubAssign for Vec3 {
-    #[inline]
-    fn sub_assign(&mut self, o: Vec3) {
-        *self = *self - o;
-    }
-}
-
 impl Mul<f64> for Vec3 {
     type Output = Vec3;
     #[inline]
     fn mul(self, s: f64) -> Vec3 {
         Vec3::new(self.x * s, self.y * s, self.z * s)
-    }
-}
-
-impl Mul<Vec3> for f64 {
-    type Output = Vec3;
-    #[inline]
-    fn mul(self, v: Vec3) -> Vec3 {
-        v * self
     }
 }
 
