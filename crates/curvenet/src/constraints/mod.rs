@@ -445,11 +445,7 @@ impl Constraints {
         let mut forced_set = CurveSet::new(n);
         for &k in keep {
             forced[unit_of[k]] = true;
-        }
-        for (u, &f) in forced.iter().enumerate() {
-            if f {
-                forced_set.union_with(&unit_sets[u]);
-            }
+            forced_set.union_with(&unit_sets[unit_of[k]]);
         }
         let adjacency = params.connected.then(|| {
             let mut adj = vec![CurveSet::new(n); n];

@@ -158,8 +158,8 @@ impl PhysicalOptions {
         if let Some(t) = &self.gravity {
             physical.gravity = parse_gravity(t)?;
         }
+        // Validated with the curves' overrides.
         let physical = physical.with_curve_specs(specs)?;
-        physical.validate()?;
         check_stiffness(&physical, specs, section_option)?;
         let mut params = PhysicalParams::new(physical);
         params.rest = specs.iter().map(|s| s.rest.unwrap_or_default()).collect();
