@@ -513,11 +513,6 @@ impl Constraints {
         self.symmetry.as_ref()
     }
 
-    /// The surface coverage test, with `--max-gap`.
-    pub fn coverage(&self) -> Option<&Coverage> {
-        self.coverage.as_ref()
-    }
-
     /// What the analysis found and decided (the symmetry, groups widened by the keep list,
     /// the surface's sampling), one line each, for the user.
     pub fn notes(&self) -> &[String] {

@@ -44,7 +44,7 @@ fn brute_ok(net: &Network, c: &Constraints, s: &[usize], mesh: Option<&TriMesh>)
         }
     }
     if let (Some(d), Some(_)) = (p.max_gap, mesh) {
-        let g = c.coverage().expect("coverage").gap(s);
+        let g = c.coverage.as_ref().expect("coverage").gap(s);
         if g.value > d {
             return false;
         }

@@ -285,11 +285,6 @@ impl MeshTopology {
         self.edges.len()
     }
 
-    /// Vertex positions.
-    pub fn vertices(&self) -> &[Vec3] {
-        &self.vertices
-    }
-
     /// Position of vertex `v` (`v` must be a vertex index).
     pub fn position(&self, v: usize) -> Vec3 {
         self.vertices[v]

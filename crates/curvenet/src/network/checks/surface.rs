@@ -38,11 +38,6 @@ impl MeshDistance {
         self.triangles.len()
     }
 
-    /// Length of the diagonal of the usable triangles' bounding box (0 without triangles).
-    pub fn diagonal(&self) -> f64 {
-        self.bounds.extent().norm()
-    }
-
     /// The distance from `p` to the surface and the nearest triangle (an index among the usable
     /// ones); `None` for a mesh without usable triangles or a non-finite `p`.
     pub fn distance(&self, p: Vec3) -> Option<(f64, usize)> {
@@ -105,7 +100,7 @@ pub struct FarFromMesh {
 /// positive finite number.
 pub fn curves_far_from_mesh(curves: &[Polyline], mesh: &TriMesh, relative: f64) -> FarFromMesh {
     let index = MeshDistance::new(mesh);
-    let diagonal = index.diagonal();
+    let diagonal = index.bounds.extent().norm();
     let threshold = relative * diagonal;
     let mut out = FarFromMesh {
         diagonal,
