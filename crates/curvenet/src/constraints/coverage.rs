@@ -218,15 +218,10 @@ impl Coverage {
                     .fold(f64::INFINITY, f64::min);
             }
         });
-        let (mut worst, mut at) = (0.0f64, 0usize);
-        for (i, &x) in d.iter().enumerate() {
-            if x > worst {
-                worst = x;
-                at = i;
-            }
-        }
+        let (at, value) = (d.iter().copied().enumerate())
+            .fold((0, 0.0), |best, x| if x.1 > best.1 { x } else { best });
         Gap {
-            value: worst,
+            value,
             at: self.samples[at],
         }
     }
