@@ -590,9 +590,11 @@ impl Constraints {
         };
         let mut left = set.clone();
         let mut parts = 0;
-        while let Some(start) = { left.iter().next() } {
-            parts += 1;
-            left.difference_with(&self.component(adj, start, &left));
+        for start in set.iter() {
+            if left.contains(start) {
+                parts += 1;
+                left.difference_with(&self.component(adj, start, &left));
+            }
         }
         parts
     }
