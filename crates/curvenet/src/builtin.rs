@@ -77,10 +77,7 @@ pub fn dome_arcs(base: f64, height: f64, families: usize, per_family: usize) -> 
             curves.push(Polyline {
                 points,
                 closed: false,
-                origin: Origin {
-                    file: "<builtin:dome>".into(),
-                    line: 0,
-                },
+                origin: Origin::new("<builtin:dome>", 0),
                 label: Some(format!("family {f} arc {k}")),
             });
         }

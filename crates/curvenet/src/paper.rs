@@ -56,7 +56,7 @@ pub struct Setup {
 }
 
 /// Table 1 of the paper for one example.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
 pub struct PaperFigures {
     /// Curves in the input network.
     pub curves_in: usize,
@@ -83,136 +83,100 @@ pub fn setup(name: &str) -> Option<Setup> {
     };
     let s = match name {
         "hill" => Setup {
-            name: "hill",
-            mesh: "hill.obj",
-            mesh_scale: 50.0,
             curves: vec![("hill_3.txt", 50.0)],
             generated: Some(GeneratedCurves { count: 70, seed: 2 }),
             generated_scale: 50.0,
-            pre_resample: None,
-            edge_length: 100.0,
-            budget_fraction: 0.05,
             keep: vec![0, 1],
             paper: p(73, 9, 6319, 17.7),
+            ..plain("hill", "hill.obj", 50.0, 100.0, 0.05)
         },
         "roof" => Setup {
-            name: "roof",
-            mesh: "roof.obj",
-            mesh_scale: 70.0,
             curves: vec![("roof_75.txt", 70.0)],
-            generated: None,
-            generated_scale: 1.0,
-            pre_resample: None,
-            edge_length: 140.0,
-            budget_fraction: 0.05,
-            keep: vec![],
             paper: p(75, 7, 2813, 4.6),
+            ..plain("roof", "roof.obj", 70.0, 140.0, 0.05)
         },
+        // The reference scales this mesh by 60 but not its curves, which then float far from
+        // it; the curves lie on the mesh as it is, so neither is scaled.
         "kagome" => Setup {
-            name: "kagome",
-            mesh: "kagome.obj",
-            // The reference scales this mesh by 60 but not its curves, which then float far from
-            // it; the curves lie on the mesh as it is, so neither is scaled.
-            mesh_scale: 1.0,
             curves: vec![("kagome_114_regular.txt", 1.0)],
-            generated: None,
-            generated_scale: 1.0,
-            pre_resample: None,
-            edge_length: 2.0,
-            budget_fraction: 0.05,
-            keep: vec![],
             paper: p(114, 23, 10224, 53.9),
+            ..plain("kagome", "kagome.obj", 1.0, 2.0, 0.05)
         },
         // Traced on the mesh as it is, unscaled (h = 50 in file units), as the paper's run
         // did (docs/model.md, *The paper's examples*).
         "stadium" => Setup {
-            name: "stadium",
-            mesh: "stadium.obj",
-            mesh_scale: 1.0,
-            curves: vec![],
             generated: Some(GeneratedCurves {
                 count: 100,
                 seed: 4,
             }),
-            generated_scale: 1.0,
-            pre_resample: None,
-            edge_length: 50.0,
-            budget_fraction: 0.10,
-            keep: vec![],
             paper: p(100, 25, 6646, 16.9),
+            ..plain("stadium", "stadium.obj", 1.0, 50.0, 0.10)
         },
         "tower" => Setup {
-            name: "tower",
-            mesh: "tower.obj",
-            mesh_scale: 10.0,
             curves: vec![("tower_top_ring.txt", 10.0), ("tower_32.txt", 10.0)],
-            generated: None,
-            generated_scale: 1.0,
-            pre_resample: None,
-            edge_length: 20.0,
-            budget_fraction: 0.20,
             keep: vec![0],
             paper: p(33, 9, 5699, 2.5),
+            ..plain("tower", "tower.obj", 10.0, 20.0, 0.20)
         },
         "shell" => Setup {
-            name: "shell",
-            mesh: "shell.obj",
-            mesh_scale: 50.0,
             curves: vec![("shell_3.txt", 50.0), ("shell_100.txt", 50.0)],
-            generated: None,
-            generated_scale: 1.0,
-            pre_resample: None,
-            edge_length: 50.0,
-            budget_fraction: 0.05,
-            keep: vec![],
             paper: p(63, 5, 5504, 7.1),
+            ..plain("shell", "shell.obj", 50.0, 50.0, 0.05)
         },
         "bunny" => Setup {
-            name: "bunny",
-            mesh: "bunny_modified.obj",
-            mesh_scale: 22.222,
-            curves: vec![],
             generated: Some(GeneratedCurves { count: 75, seed: 9 }),
-            generated_scale: 1.0,
             pre_resample: Some((2.0, 22.222)),
-            edge_length: 44.4,
-            budget_fraction: 0.10,
             keep: vec![60, 65, 67],
             paper: p(75, 7, 25442, 266.0),
+            ..plain("bunny", "bunny_modified.obj", 22.222, 44.4, 0.10)
         },
         "tent" => Setup {
-            name: "tent",
-            mesh: "tent.obj",
-            mesh_scale: 50.0,
             curves: vec![("tent_3_regular_curves.txt", 1.0), ("tent_curves.txt", 1.0)],
             generated: Some(GeneratedCurves { count: 66, seed: 2 }),
-            generated_scale: 1.0,
             pre_resample: Some((2.0, 50.0)),
-            edge_length: 100.0,
-            budget_fraction: 0.05,
             keep: vec![0, 1],
             paper: p(112, 42, 6107, 24.7),
+            ..plain("tent", "tent.obj", 50.0, 100.0, 0.05)
         },
         "arcshell" => Setup {
-            name: "arcshell",
-            mesh: "shell.obj",
-            mesh_scale: 50.0,
             curves: vec![
                 ("shell_arcs.txt", 1.0),
                 ("shell_elipse.txt", 1.0),
                 ("shell_100_for_arcs.txt", 1.0),
             ],
-            generated: None,
-            generated_scale: 1.0,
             pre_resample: Some((2.0, 50.0)),
-            edge_length: 100.0,
-            budget_fraction: 0.10,
             keep: (0..7).collect(),
             paper: p(67, 21, 3514, 2.6),
+            ..plain("arcshell", "shell.obj", 50.0, 100.0, 0.10)
         },
         _ => return None,
     };
     Some(s)
+}
+
+/// An example's set-up with what most examples have: no curve file, no generated curves, no
+/// resampling before the build, no curve that every network keeps (the paper's figures are
+/// each example's own).
+fn plain(
+    name: &'static str,
+    mesh: &'static str,
+    mesh_scale: f64,
+    edge_length: f64,
+    budget_fraction: f64,
+) -> Setup {
+    Setup {
+        name,
+        mesh,
+        mesh_scale,
+        curves: Vec::new(),
+        generated: None,
+        generated_scale: 1.0,
+        pre_resample: None,
+        edge_length,
+        budget_fraction,
+        keep: Vec::new(),
+        paper: PaperFigures::default(),
+    }
 }
 
 /// Why an example could not be loaded.

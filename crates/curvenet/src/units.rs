@@ -123,25 +123,14 @@ pub enum Quantity {
 }
 
 impl Quantity {
-    /// What the quantity is, for messages.
-    pub fn describe(self) -> &'static str {
+    /// For messages: what the quantity is (`a stress`), the suffixes it accepts, an example.
+    pub fn words(self) -> [&'static str; 3] {
         match self {
-            Quantity::Stress => "a stress",
-            Quantity::Density => "a density",
-            Quantity::Length => "a length",
-            Quantity::LineLoad => "a line load",
-            Quantity::Acceleration => "an acceleration",
-        }
-    }
-
-    /// The suffixes it accepts, for messages.
-    pub fn suffixes(self) -> &'static str {
-        match self {
-            Quantity::Stress => "Pa, kPa, MPa, GPa, N/mm2, N/m2",
-            Quantity::Density => "kg/m3, g/cm3, t/m3",
-            Quantity::Length => "mm, cm, m",
-            Quantity::LineLoad => "N/m, kN/m, N/mm",
-            Quantity::Acceleration => "m/s2",
+            Quantity::Stress => ["a stress", "Pa, kPa, MPa, GPa, N/mm2, N/m2", "210GPa"],
+            Quantity::Density => ["a density", "kg/m3, g/cm3, t/m3", "7850kg/m3"],
+            Quantity::Length => ["a length", "mm, cm, m", "10mm"],
+            Quantity::LineLoad => ["a line load", "N/m, kN/m, N/mm", "1kN/m"],
+            Quantity::Acceleration => ["an acceleration", "m/s2", "9.81m/s2"],
         }
     }
 }
@@ -228,13 +217,10 @@ pub fn parse_quantity(
     what: &str,
     bare: Option<f64>,
 ) -> Result<f64, String> {
+    let [is, suffixes, example] = kind.words();
     let (number, suffix) = split_number(text);
     let value: f64 = number.parse().map_err(|_| {
-        format!(
-            "{what} {text:?}: expected a number with a unit ({}), e.g. {}",
-            kind.suffixes(),
-            example(kind)
-        )
+        format!("{what} {text:?}: expected a number with a unit ({suffixes}), e.g. {example}")
     })?;
     if !value.is_finite() {
         return Err(format!("{what} {text:?}: not a finite number"));
@@ -243,9 +229,7 @@ pub fn parse_quantity(
         return match bare {
             Some(f) => Ok(value * f),
             None => Err(format!(
-                "{what} {text:?} needs a unit ({}), e.g. {}",
-                kind.suffixes(),
-                example(kind)
+                "{what} {text:?} needs a unit ({suffixes}), e.g. {example}"
             )),
         };
     }
@@ -253,29 +237,14 @@ pub fn parse_quantity(
     match SUFFIXES.iter().find(|(s, _, _)| *s == norm) {
         Some(&(_, k, f)) if k == kind => Ok(value * f),
         Some(&(_, k, _)) => Err(format!(
-            "{what} {text:?}: {suffix} is a unit of {}, but {what} takes {} ({})",
-            k.describe()
+            "{what} {text:?}: {suffix} is a unit of {}, but {what} takes {is} ({suffixes})",
+            k.words()[0]
                 .trim_start_matches("a ")
                 .trim_start_matches("an "),
-            kind.describe(),
-            kind.suffixes()
         )),
         None => Err(format!(
-            "{what} {text:?}: unknown unit {suffix:?} for {} (expected {})",
-            kind.describe(),
-            kind.suffixes()
+            "{what} {text:?}: unknown unit {suffix:?} for {is} (expected {suffixes})"
         )),
-    }
-}
-
-/// An example value of `kind`, for messages.
-fn example(kind: Quantity) -> &'static str {
-    match kind {
-        Quantity::Stress => "210GPa",
-        Quantity::Density => "7850kg/m3",
-        Quantity::Length => "10mm",
-        Quantity::LineLoad => "1kN/m",
-        Quantity::Acceleration => "9.81m/s2",
     }
 }
 

@@ -365,7 +365,7 @@ fn objectives_on_the_paper_examples() {
 #[test]
 #[ignore]
 fn objectives_on_fresh_random_networks() {
-    use curvenet::experiments::compare::{FreshParams, fresh};
+    use curvenet::experiments::compare::{FreshParams, RandomDraw, fresh};
     let networks = std::env::var("CURVENET_FRESH")
         .ok()
         .and_then(|v| v.parse().ok())
@@ -380,10 +380,14 @@ fn objectives_on_fresh_random_networks() {
         })
         .collect();
     let run = |objective| {
+        let defaults = FreshParams::default();
         let params = FreshParams {
-            networks,
+            draw: RandomDraw {
+                networks,
+                ..defaults.draw
+            },
             objective,
-            ..FreshParams::default()
+            ..defaults
         };
         fresh(&params, &surfaces, &|_, _| {}).expect("fresh")
     };

@@ -6,7 +6,8 @@ use super::surface::read_mesh_arg;
 use crate::args::CompareArgs;
 use crate::exit::usage;
 use curvenet::experiments::compare::{
-    Case, CompareParams, ConstrainedParams, FreshParams, Surface, compare, constrained, fresh,
+    Case, CompareParams, ConstrainedParams, FreshParams, RandomDraw, Surface, compare, constrained,
+    fresh,
 };
 use curvenet::io;
 use curvenet::paper;
@@ -80,11 +81,15 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
 
 /// `compare --fresh N`: the report of [`fresh`] printed, and written as asked.
 fn run_fresh(a: &CompareArgs, networks: usize, surfaces: Vec<Surface>) -> anyhow::Result<()> {
+    let defaults = FreshParams::default();
     let params = FreshParams {
-        networks,
-        seed: a.seed,
+        draw: RandomDraw {
+            networks,
+            seed: a.seed,
+            ..defaults.draw
+        },
         objective: a.objective,
-        ..FreshParams::default()
+        ..defaults
     };
     let surfaces: Vec<(String, curvenet::io::TriMesh)> =
         surfaces.into_iter().map(|s| (s.name, s.mesh)).collect();
@@ -116,10 +121,14 @@ fn run_constrained(
             exhaustive: false,
         });
     }
+    let defaults = ConstrainedParams::default();
     let params = ConstrainedParams {
-        networks,
-        seed: a.seed,
-        ..ConstrainedParams::default()
+        draw: RandomDraw {
+            networks,
+            seed: a.seed,
+            ..defaults.draw
+        },
+        ..defaults
     };
     let surfaces: Vec<(String, curvenet::io::TriMesh)> =
         surfaces.into_iter().map(|s| (s.name, s.mesh)).collect();

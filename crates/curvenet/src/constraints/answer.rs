@@ -302,15 +302,11 @@ impl Answer {
     /// for beyond the budget with its standing (groups and orbits whole, one structure, the
     /// number of curves, the largest gap and deviation against their limits).
     pub fn describe(&self, value: &str) -> String {
-        let place = self.found.iteration.map_or_else(
-            || format!("the {}'s network", self.found.source.replace('_', " ")),
-            |k| {
-                format!(
-                    "the {}'s iteration {k}",
-                    self.found.source.replace('_', " ")
-                )
-            },
-        );
+        let source = self.found.source.replace('_', " ");
+        let place = match self.found.iteration {
+            Some(k) => format!("the {source}'s iteration {k}"),
+            None => format!("the {source}'s network"),
+        };
         let m = &self.margins;
         let mut s = format!(
             "{place}, {} curves, length {} ({}% of the budget), {value} {:.6e}",

@@ -26,7 +26,7 @@
 
 use super::CurveSet;
 use crate::geom::point_segment_distance;
-use crate::geom::{Aabb, Vec3};
+use crate::geom::{Aabb, Bvh, Vec3};
 use crate::io::TriMesh;
 use crate::network::Network;
 use rayon::prelude::*;
@@ -43,84 +43,13 @@ pub struct Gap {
     pub at: Vec3,
 }
 
-/// Samples of the surface as a uniform grid of cells (CSR: the samples of cell `k` are
-/// `items[start[k]..start[k + 1]]`).
-struct Grid {
-    origin: Vec3,
-    cell: f64,
-    dims: [usize; 3],
-    start: Vec<u32>,
-    items: Vec<u32>,
-}
-
-impl Grid {
-    fn new(points: &[Vec3], cell: f64) -> Grid {
-        let bounds = Aabb::of_points(points);
-        let ext = bounds.extent();
-        let dims = [ext.x, ext.y, ext.z].map(|e| ((e / cell).floor() as usize + 1).max(1));
-        let mut grid = Grid {
-            origin: bounds.min,
-            cell,
-            dims,
-            start: Vec::new(),
-            items: Vec::new(),
-        };
-        let cells = dims[0] * dims[1] * dims[2];
-        let keys: Vec<usize> = points.iter().map(|&p| grid.key(grid.coords(p))).collect();
-        let mut count = vec![0u32; cells + 1];
-        for &k in &keys {
-            count[k + 1] += 1;
-        }
-        for k in 0..cells {
-            count[k + 1] += count[k];
-        }
-        let mut fill = count.clone();
-        let mut items = vec![0u32; points.len()];
-        for (i, &k) in keys.iter().enumerate() {
-            items[fill[k] as usize] = i as u32;
-            fill[k] += 1;
-        }
-        grid.start = count;
-        grid.items = items;
-        grid
-    }
-
-    fn coords(&self, p: Vec3) -> [usize; 3] {
-        let d = p - self.origin;
-        let c = |v: f64, n: usize| ((v / self.cell).floor().max(0.0) as usize).min(n - 1);
-        [
-            c(d.x, self.dims[0]),
-            c(d.y, self.dims[1]),
-            c(d.z, self.dims[2]),
-        ]
-    }
-
-    fn key(&self, c: [usize; 3]) -> usize {
-        (c[0] * self.dims[1] + c[1]) * self.dims[2] + c[2]
-    }
-
-    /// Calls `f` with every sample in a cell that meets the box `[lo, hi]`.
-    fn visit(&self, lo: Vec3, hi: Vec3, mut f: impl FnMut(usize)) {
-        let (a, b) = (self.coords(lo), self.coords(hi));
-        for x in a[0]..=b[0] {
-            for y in a[1]..=b[1] {
-                for z in a[2]..=b[2] {
-                    let k = self.key([x, y, z]);
-                    for &i in &self.items[self.start[k] as usize..self.start[k + 1] as usize] {
-                        f(i as usize);
-                    }
-                }
-            }
-        }
-    }
-}
-
 /// The surface's samples and what each needs, for one limit `D`.
 pub struct Coverage {
     limit: f64,
     spacing: f64,
     samples: Vec<Vec3>,
-    grid: Grid,
+    /// The samples, for box queries.
+    tree: Bvh,
     /// The distinct minimal masks: a feasible set meets each.
     needs: Vec<CurveSet>,
     /// A sample of each need.
@@ -158,12 +87,11 @@ impl Coverage {
                     .collect()
             })
             .collect();
-        let largest = Aabb::of_points(&samples).largest_extent();
-        let grid = Grid::new(&samples, limit.max(largest / 100.0).max(f64::MIN_POSITIVE));
+        let tree = Bvh::new(samples.iter().map(|&p| Aabb { min: p, max: p }).collect());
         let mut cov = Coverage {
             limit,
             spacing,
-            grid,
+            tree,
             needs: Vec::new(),
             need_points: Vec::new(),
             segments,
@@ -194,9 +122,8 @@ impl Coverage {
     /// The samples of the surface within `radius` of curve `c`, ascending.
     fn within(&self, c: usize, radius: f64) -> Vec<u32> {
         let mut hit = vec![false; self.samples.len()];
-        let pad = Vec3::new(radius, radius, radius);
         for &(a, b) in &self.segments[c] {
-            self.grid.visit(a.min(b) - pad, a.max(b) + pad, |i| {
+            self.near_segment(a, b, radius, |i| {
                 if !hit[i] && point_segment_distance(self.samples[i], a, b) <= radius {
                     hit[i] = true;
                 }
@@ -205,6 +132,13 @@ impl Coverage {
         (0..self.samples.len() as u32)
             .filter(|&i| hit[i as usize])
             .collect()
+    }
+
+    /// Calls `f` on every sample in the box around the segment `[a, b]` grown by `radius`
+    /// (every sample within `radius` of it, and others).
+    fn near_segment(&self, a: Vec3, b: Vec3, radius: f64, mut f: impl FnMut(usize)) {
+        let q = Aabb::of_points([&a, &b]).inflated(radius);
+        self.tree.overlapping(&q, |i| f(i as usize));
     }
 
     /// The limit `D`.
@@ -261,10 +195,9 @@ impl Coverage {
         // samples near it; the others are measured against every kept segment.
         let mut d = vec![f64::INFINITY; m];
         let r = self.limit;
-        let pad = Vec3::new(r, r, r);
         for &c in curves {
             for &(a, b) in &self.segments[c] {
-                self.grid.visit(a.min(b) - pad, a.max(b) + pad, |i| {
+                self.near_segment(a, b, r, |i| {
                     let x = point_segment_distance(self.samples[i], a, b);
                     if x < d[i] {
                         d[i] = x;
@@ -285,15 +218,10 @@ impl Coverage {
                     .fold(f64::INFINITY, f64::min);
             }
         });
-        let (mut worst, mut at) = (0.0f64, 0usize);
-        for (i, &x) in d.iter().enumerate() {
-            if x > worst {
-                worst = x;
-                at = i;
-            }
-        }
+        let (at, value) = (d.iter().copied().enumerate())
+            .fold((0, 0.0), |best, x| if x.1 > best.1 { x } else { best });
         Gap {
-            value: worst,
+            value,
             at: self.samples[at],
         }
     }

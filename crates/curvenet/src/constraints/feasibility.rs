@@ -15,11 +15,7 @@
 //!   forced units leave.
 
 use super::{Constraints, CurveSet};
-
-/// `x` with seven significant digits, for messages.
-fn num(x: f64) -> String {
-    crate::fmt::length(x)
-}
+use crate::fmt::length as num;
 
 /// Curve ids as `0, 3, 5` (at most a dozen, then a count).
 fn list(curves: impl IntoIterator<Item = usize>) -> String {
@@ -149,28 +145,17 @@ impl Constraints {
     }
 
     fn analyse_connected(&self, forced: &[usize]) -> Result<(), String> {
-        if self.adjacency.is_none() || forced.is_empty() {
+        let (Some(adj), Some(&first)) = (&self.adjacency, forced.first()) else {
             return Ok(());
-        }
+        };
         // The part of the whole network holding the first forced curve.
         let all = CurveSet::from_curves(self.n, &(0..self.n).collect::<Vec<_>>());
-        let adj = self.adjacency.as_ref().expect("connected");
-        let mut reach = CurveSet::new(self.n);
-        reach.insert(forced[0]);
-        let mut stack = vec![forced[0]];
-        while let Some(c) = stack.pop() {
-            for d in adj[c].iter() {
-                if all.contains(d) && !reach.contains(d) {
-                    reach.insert(d);
-                    stack.push(d);
-                }
-            }
-        }
+        let reach = self.component(adj, first, &all);
         if let Some(&c) = forced.iter().find(|&&c| !reach.contains(c)) {
             return Err(format!(
                 "--connected: curves {} and {c} (kept with the keep list) lie in separate parts \
                  of the network, which no kept curves can join",
-                forced[0]
+                first
             ));
         }
         Ok(())

@@ -50,6 +50,7 @@ pub fn parse_groups(text: &str, file: &str) -> Result<Vec<Group>, InputError> {
     let mut listed: std::collections::HashMap<usize, (String, usize)> = Default::default();
     for (i, raw) in text.lines().enumerate() {
         let line = i + 1;
+        let err = |message: String| InputError::parse(file, line, message);
         let body = raw.split('#').next().unwrap_or("").trim();
         if body.is_empty() {
             continue;
@@ -58,18 +59,17 @@ pub fn parse_groups(text: &str, file: &str) -> Result<Vec<Group>, InputError> {
             Some((name, ids)) => {
                 let name = name.trim();
                 if name.is_empty() {
-                    return Err(InputError::parse(file, line, "empty group name before `:`"));
+                    return Err(err("empty group name before `:`".into()));
                 }
                 (name.to_owned(), ids)
             }
             None => (format!("line {line}"), body),
         };
         if let Some(g) = groups.iter().find(|g| g.name == name) {
-            return Err(InputError::parse(
-                file,
-                line,
-                format!("group name `{name}` is already used ({})", g.origin),
-            ));
+            return Err(err(format!(
+                "group name `{name}` is already used ({})",
+                g.origin
+            )));
         }
         let mut curves = Vec::new();
         for token in ids.split(|c: char| c == ',' || c.is_whitespace()) {
@@ -79,11 +79,7 @@ pub fn parse_groups(text: &str, file: &str) -> Result<Vec<Group>, InputError> {
             parse_token(token, file, line, &mut curves)?;
         }
         if curves.is_empty() {
-            return Err(InputError::parse(
-                file,
-                line,
-                format!("group `{name}` lists no curve ids"),
-            ));
+            return Err(err(format!("group `{name}` lists no curve ids")));
         }
         for &c in &curves {
             if let Some((other, at)) = listed.get(&c) {
@@ -92,11 +88,9 @@ pub fn parse_groups(text: &str, file: &str) -> Result<Vec<Group>, InputError> {
                 } else {
                     format!("in group `{other}` (line {at})")
                 };
-                return Err(InputError::parse(
-                    file,
-                    line,
-                    format!("curve {c} is already listed {place}: a curve belongs to one group"),
-                ));
+                return Err(err(format!(
+                    "curve {c} is already listed {place}: a curve belongs to one group"
+                )));
             }
             listed.insert(c, (name.clone(), line));
         }
@@ -117,48 +111,33 @@ fn parse_token(
     line: usize,
     curves: &mut Vec<usize>,
 ) -> Result<(), InputError> {
+    let err = |message: String| InputError::parse(file, line, message);
     let id = |t: &str| -> Result<usize, InputError> {
         if t.is_empty() || !t.bytes().all(|b| b.is_ascii_digit()) {
-            return Err(InputError::parse(
-                file,
-                line,
-                format!(
-                    "`{}` is not a curve id (a number from 0) nor a range `A-B`",
-                    shorten(token)
-                ),
-            ));
+            return Err(err(format!(
+                "`{}` is not a curve id (a number from 0) nor a range `A-B`",
+                shorten(token)
+            )));
         }
-        t.parse::<usize>().map_err(|_| {
-            InputError::parse(
-                file,
-                line,
-                format!("curve id `{}` is too large", shorten(t)),
-            )
-        })
+        t.parse::<usize>()
+            .map_err(|_| err(format!("curve id `{}` is too large", shorten(t))))
     };
     match token.split_once('-') {
         None => curves.push(id(token)?),
         Some((a, b)) => {
             let (a, b) = (id(a)?, id(b)?);
             if b < a {
-                return Err(InputError::parse(
-                    file,
-                    line,
-                    format!("range {a}-{b} runs backwards (write {b}-{a})"),
-                ));
+                return Err(err(format!("range {a}-{b} runs backwards (write {b}-{a})")));
             }
             if b - a >= MAX_RANGE {
-                return Err(InputError::parse(
-                    file,
-                    line,
-                    format!("range {a}-{b} is longer than any network ({MAX_RANGE} ids)"),
-                ));
+                return Err(err(format!(
+                    "range {a}-{b} is longer than any network ({MAX_RANGE} ids)"
+                )));
             }
             for c in a..=b {
-                if curves.contains(&c) {
-                    continue;
+                if !curves.contains(&c) {
+                    curves.push(c);
                 }
-                curves.push(c);
             }
         }
     }

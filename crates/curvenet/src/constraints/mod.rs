@@ -52,7 +52,7 @@ pub use symmetry::{Symmetry, SymmetryFound, SymmetryOption};
 
 use crate::io::TriMesh;
 use crate::network::Network;
-use crate::network::crossings::UnionFind;
+use crate::network::subnet::curve_components;
 use serde::{Deserialize, Serialize};
 
 /// The constraint settings, as given on the command line and recorded in `result.json`.
@@ -215,12 +215,9 @@ impl Margin {
 
     fn lower(value: f64, limit: f64) -> Self {
         Margin {
-            value,
-            limit,
             margin: value - limit,
             met: value >= limit,
-            at: None,
-            resolution: None,
+            ..Margin::upper(value, limit)
         }
     }
 }
@@ -430,39 +427,25 @@ impl Constraints {
             .iter()
             .map(|g| CurveSet::from_curves(n, &g.curves))
             .collect();
-        let orbits = symmetry
-            .as_ref()
-            .map_or_else(Vec::new, |f| symmetry::orbit_sets(f, n));
-        let mut uf = UnionFind::new(n);
-        for set in groups.iter().chain(&orbits) {
-            let mut it = set.iter();
-            if let Some(first) = it.next() {
-                for c in it {
-                    uf.union(first, c);
-                }
-            }
-        }
-        let mut units: Vec<Vec<usize>> = Vec::new();
+        let orbits: Vec<CurveSet> = symmetry
+            .iter()
+            .flat_map(|f| &f.orbits)
+            .map(|o| CurveSet::from_curves(n, o))
+            .collect();
+        let all: Vec<usize> = (0..n).collect();
+        let units = curve_components(n, &all, groups.iter().chain(&orbits).map(CurveSet::iter));
         let mut unit_of = vec![0; n];
-        let mut slot = std::collections::HashMap::new();
-        for c in 0..n {
-            let u = *slot.entry(uf.find(c)).or_insert_with(|| {
-                units.push(Vec::new());
-                units.len() - 1
-            });
-            units[u].push(c);
-            unit_of[c] = u;
+        for (u, unit) in units.iter().enumerate() {
+            for &c in unit {
+                unit_of[c] = u;
+            }
         }
         let unit_sets: Vec<CurveSet> = units.iter().map(|u| CurveSet::from_curves(n, u)).collect();
         let mut forced = vec![false; units.len()];
         let mut forced_set = CurveSet::new(n);
         for &k in keep {
             forced[unit_of[k]] = true;
-        }
-        for (u, &f) in forced.iter().enumerate() {
-            if f {
-                forced_set.union_with(&unit_sets[u]);
-            }
+            forced_set.union_with(&unit_sets[unit_of[k]]);
         }
         let adjacency = params.connected.then(|| {
             let mut adj = vec![CurveSet::new(n); n];
@@ -530,11 +513,6 @@ impl Constraints {
         self.symmetry.as_ref()
     }
 
-    /// The surface coverage test, with `--max-gap`.
-    pub fn coverage(&self) -> Option<&Coverage> {
-        self.coverage.as_ref()
-    }
-
     /// What the analysis found and decided (the symmetry, groups widened by the keep list,
     /// the surface's sampling), one line each, for the user.
     pub fn notes(&self) -> &[String] {
@@ -552,9 +530,6 @@ impl Constraints {
     /// Tests `curves` against the budget, the keep list and every constraint except
     /// `--max-deviation` (which needs the equilibrium).
     pub fn check(&self, curves: &[usize]) -> Result<(), Violation> {
-        if curves.is_empty() {
-            return Err(Violation::Empty);
-        }
         let set = CurveSet::from_curves(self.n, curves);
         self.check_set(&set, self.length(curves))
     }
@@ -607,30 +582,37 @@ impl Constraints {
         })
     }
 
-    /// The number of connected structures `set` makes (through shared vertices; needs
-    /// `--connected`, else each curve counts alone... only called with it).
+    /// The number of connected structures `set` makes (through shared vertices; with
+    /// `--connected`, else each curve counts alone).
     fn parts(&self, set: &CurveSet) -> usize {
         let Some(adj) = &self.adjacency else {
             return set.len();
         };
         let mut left = set.clone();
         let mut parts = 0;
-        loop {
-            let first = left.iter().next();
-            let Some(start) = first else { break };
-            parts += 1;
-            let mut stack = vec![start];
-            left.remove(start);
-            while let Some(c) = stack.pop() {
-                for d in adj[c].iter() {
-                    if left.contains(d) {
-                        left.remove(d);
-                        stack.push(d);
-                    }
-                }
+        for start in set.iter() {
+            if left.contains(start) {
+                parts += 1;
+                left.difference_with(&self.component(adj, start, &left));
             }
         }
         parts
+    }
+
+    /// The curves of `within` that `start` reaches through shared vertices without leaving
+    /// `within` (`adj`: each curve's neighbours).
+    fn component(&self, adj: &[CurveSet], start: usize, within: &CurveSet) -> CurveSet {
+        let mut reach = CurveSet::from_curves(self.n, &[start]);
+        let mut stack = vec![start];
+        while let Some(c) = stack.pop() {
+            for d in adj[c].iter() {
+                if within.contains(d) && !reach.contains(d) {
+                    reach.insert(d);
+                    stack.push(d);
+                }
+            }
+        }
+        reach
     }
 
     /// Every constraint's margin for `curves`; `deviation` is their largest displacement at

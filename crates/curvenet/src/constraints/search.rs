@@ -149,17 +149,6 @@ impl Constraints {
         }
     }
 
-    /// `curves` without unit `u`, ascending.
-    pub fn without_unit(&self, curves: &[usize], u: usize) -> Vec<usize> {
-        let mut out: Vec<usize> = curves
-            .iter()
-            .copied()
-            .filter(|&c| self.unit_of[c] != u)
-            .collect();
-        out.sort_unstable();
-        out
-    }
-
     /// The moves from `cur` (a feasible set) to feasible sets, with the set each leads to
     /// (ascending): adds (with `add`), drops (with `drop`), then swaps (the unit leaving, then
     /// the unit entering), each by ascending unit, none moving a `locked` unit.

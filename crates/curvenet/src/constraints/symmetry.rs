@@ -31,11 +31,10 @@
 //! tried) and lists every order dividing it, largest first, then the mirror: the caller keeps
 //! the largest whose orbits the budget allows.
 
-use super::CurveSet;
 use crate::geom::point_segment_distance;
 use crate::geom::{Aabb, Vec3};
 use crate::network::Network;
-use crate::network::crossings::UnionFind;
+use crate::network::subnet::curve_components;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -47,6 +46,13 @@ pub const MAX_ORDER: u32 = 64;
 
 /// Samples per curve in the distance test.
 pub const SAMPLES: usize = 48;
+
+/// The coordinate axes, the last candidate axes.
+const UNIT_AXES: [Vec3; 3] = [
+    Vec3::new(1.0, 0.0, 0.0),
+    Vec3::new(0.0, 1.0, 0.0),
+    Vec3::new(0.0, 0.0, 1.0),
+];
 
 /// The `--symmetry` setting.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -181,15 +187,12 @@ impl SymmetryFound {
                 p(normal)
             ),
         };
-        let mut sizes: Vec<usize> = self.orbits.iter().map(Vec::len).collect();
-        sizes.sort_unstable();
-        sizes.dedup();
-        let counts: Vec<String> = sizes
-            .iter()
-            .map(|&s| {
-                let k = self.orbits.iter().filter(|o| o.len() == s).count();
-                format!("{k} of {s} curve{}", if s == 1 { "" } else { "s" })
-            })
+        let mut by_size = std::collections::BTreeMap::new();
+        for o in &self.orbits {
+            *by_size.entry(o.len()).or_insert(0) += 1;
+        }
+        let counts: Vec<String> = (by_size.iter())
+            .map(|(&s, k)| format!("{k} of {s} curve{}", if s == 1 { "" } else { "s" }))
             .collect();
         format!(
             "{what}: {} orbits ({}); curves match to {:.1e} of the scene's size (tolerance {:.1e})",
@@ -217,16 +220,6 @@ enum Transform {
 }
 
 impl Transform {
-    fn rotation(center: Vec3, axis: Vec3, order: u32) -> Self {
-        let t = std::f64::consts::TAU / f64::from(order);
-        Transform::Rotate {
-            center,
-            axis,
-            cos: t.cos(),
-            sin: t.sin(),
-        }
-    }
-
     fn apply(&self, p: Vec3) -> Vec3 {
         match *self {
             Transform::Rotate {
@@ -355,12 +348,7 @@ impl Detector {
     /// The candidate rotation axes, in the documented order, without repeats.
     fn axes(&self) -> Vec<Vec3> {
         let mut out: Vec<Vec3> = Vec::new();
-        let unit = [
-            Vec3::new(1.0, 0.0, 0.0),
-            Vec3::new(0.0, 1.0, 0.0),
-            Vec3::new(0.0, 0.0, 1.0),
-        ];
-        for a in self.principal.iter().chain(&unit) {
+        for a in self.principal.iter().chain(&UNIT_AXES) {
             push_direction(&mut out, *a);
         }
         out
@@ -469,21 +457,12 @@ impl Detector {
 
     /// The orbits of `perm`'s cycles, each ascending, ordered by their smallest curve.
     fn orbits(&self, perm: &[usize]) -> Vec<Vec<usize>> {
-        let n = perm.len();
-        let mut uf = UnionFind::new(n);
-        for (i, &j) in perm.iter().enumerate() {
-            uf.union(i, j);
-        }
-        let mut parts: Vec<Vec<usize>> = Vec::new();
-        let mut slot = std::collections::HashMap::new();
-        for c in 0..n {
-            let k = *slot.entry(uf.find(c)).or_insert_with(|| {
-                parts.push(Vec::new());
-                parts.len() - 1
-            });
-            parts[k].push(c);
-        }
-        parts
+        let all: Vec<usize> = (0..perm.len()).collect();
+        curve_components(
+            perm.len(),
+            &all,
+            perm.iter().enumerate().map(|(i, &j)| [i, j]),
+        )
     }
 
     fn found(&self, symmetry: Symmetry, perm: &[usize], mismatch: f64) -> SymmetryFound {
@@ -503,17 +482,25 @@ impl Detector {
             &format!("rotation of order {order}"),
             order,
             self.axes(),
-            |axis| {
-                (
-                    Transform::rotation(self.center, axis, order),
-                    Symmetry::Rotation {
-                        order,
-                        center: self.center.to_array(),
-                        axis: axis.to_array(),
-                    },
-                )
-            },
+            |axis| self.rotation_about(axis, order),
         )
+    }
+
+    /// The rotation of `order` about the axis through the centroid along `axis`.
+    fn rotation_about(&self, axis: Vec3, order: u32) -> (Transform, Symmetry) {
+        let t = std::f64::consts::TAU / f64::from(order);
+        let transform = Transform::Rotate {
+            center: self.center,
+            axis,
+            cos: t.cos(),
+            sin: t.sin(),
+        };
+        let symmetry = Symmetry::Rotation {
+            order,
+            center: self.center.to_array(),
+            axis: axis.to_array(),
+        };
+        (transform, symmetry)
     }
 
     /// The first candidate mirror plane that is a symmetry, or why none is.
@@ -566,8 +553,10 @@ impl Detector {
                 if best.is_some_and(|b| order <= b.0) {
                     break;
                 }
-                let t = Transform::rotation(self.center, axis, order);
-                if self.matching(&t, order).is_ok() {
+                if self
+                    .matching(&self.rotation_about(axis, order).0, order)
+                    .is_ok()
+                {
                     best = Some((order, axis));
                     break;
                 }
@@ -576,17 +565,9 @@ impl Detector {
         let mut out = Vec::new();
         if let Some((top, axis)) = best {
             for order in (2..=top).rev().filter(|d| top % d == 0) {
-                let t = Transform::rotation(self.center, axis, order);
+                let (t, symmetry) = self.rotation_about(axis, order);
                 if let Ok((perm, worst)) = self.matching(&t, order) {
-                    out.push(self.found(
-                        Symmetry::Rotation {
-                            order,
-                            center: self.center.to_array(),
-                            axis: axis.to_array(),
-                        },
-                        &perm,
-                        worst,
-                    ));
+                    out.push(self.found(symmetry, &perm, worst));
                 }
             }
         }
@@ -635,25 +616,13 @@ pub fn find(
     option: SymmetryOption,
     tolerance: f64,
 ) -> Result<Vec<SymmetryFound>, String> {
-    if option == SymmetryOption::None {
-        return Ok(Vec::new());
-    }
-    let d = Detector::new(net, tolerance);
+    let d = || Detector::new(net, tolerance);
     match option {
         SymmetryOption::None => Ok(Vec::new()),
-        SymmetryOption::Rotate(n) => d.rotation(n).map(|f| vec![f]),
-        SymmetryOption::Mirror => d.mirror().map(|f| vec![f]),
-        SymmetryOption::Auto => Ok(d.all()),
+        SymmetryOption::Rotate(n) => d().rotation(n).map(|f| vec![f]),
+        SymmetryOption::Mirror => d().mirror().map(|f| vec![f]),
+        SymmetryOption::Auto => Ok(d().all()),
     }
-}
-
-/// The orbits as sets (for the constraint tests).
-pub fn orbit_sets(found: &SymmetryFound, n: usize) -> Vec<CurveSet> {
-    found
-        .orbits
-        .iter()
-        .map(|o| CurveSet::from_curves(n, o))
-        .collect()
 }
 
 /// The first curve of `perm` that is not a bijection's, or on a cycle whose length does not
@@ -753,13 +722,8 @@ fn principal_axes(curves: &[CurveGeo], center: Vec3) -> [Vec3; 3] {
         }
     }
     let mat = faer::Mat::<f64>::from_fn(3, 3, |i, j| 0.5 * (m[i][j] + m[j][i]));
-    let unit = [
-        Vec3::new(1.0, 0.0, 0.0),
-        Vec3::new(0.0, 1.0, 0.0),
-        Vec3::new(0.0, 0.0, 1.0),
-    ];
     let Ok(eig) = mat.self_adjoint_eigen(faer::Side::Lower) else {
-        return unit;
+        return UNIT_AXES;
     };
     let s = eig.S();
     let u = eig.U();

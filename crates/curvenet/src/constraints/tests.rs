@@ -44,7 +44,7 @@ fn brute_ok(net: &Network, c: &Constraints, s: &[usize], mesh: Option<&TriMesh>)
         }
     }
     if let (Some(d), Some(_)) = (p.max_gap, mesh) {
-        let g = c.coverage().expect("coverage").gap(s);
+        let g = c.coverage.as_ref().expect("coverage").gap(s);
         if g.value > d {
             return false;
         }
@@ -105,7 +105,7 @@ fn against_brute_force(net: &Network, c: &Constraints, mesh: Option<&TriMesh>) {
     // The greedy's candidates from the whole network.
     let all: Vec<usize> = (0..n).collect();
     for u in c.removal_candidates(&all) {
-        let rest = c.without_unit(&all, u);
+        let rest: Vec<usize> = all.iter().copied().filter(|&x| c.unit_of(x) != u).collect();
         assert!(!rest.is_empty());
         assert!(c.check_shape(&CurveSet::from_curves(n, &rest)).is_ok());
     }

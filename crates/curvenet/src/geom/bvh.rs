@@ -53,16 +53,6 @@ impl Bvh {
         &self.boxes[i as usize]
     }
 
-    /// Number of items.
-    pub fn len(&self) -> usize {
-        self.boxes.len()
-    }
-
-    /// True when the tree holds no item.
-    pub fn is_empty(&self) -> bool {
-        self.boxes.is_empty()
-    }
-
     /// Calls `f` for every item whose box overlaps `q` (boundaries included).
     pub fn overlapping(&self, q: &Aabb, f: impl FnMut(u32)) {
         self.visit(|b| b.overlaps(q), f);
@@ -223,7 +213,6 @@ mod tests {
             })
             .collect();
         let bvh = Bvh::new(boxes.clone());
-        assert_eq!(bvh.len(), 300);
         for _ in 0..100 {
             let p = Vec3::new(
                 22.0 * rng.next_f64() - 1.0,

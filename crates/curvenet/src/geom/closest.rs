@@ -55,6 +55,11 @@ pub fn segment_closest_points(p0: Vec3, p1: Vec3, q0: Vec3, q1: Vec3) -> (f64, f
 
 /// Distance from `p` to the segment `[a, b]` (a point when `a = b`).
 pub fn point_segment_distance(p: Vec3, a: Vec3, b: Vec3) -> f64 {
+    p.dist(closest_point_on_segment(p, a, b))
+}
+
+/// The point of the segment `[a, b]` closest to `p` (`a` when `a = b`).
+fn closest_point_on_segment(p: Vec3, a: Vec3, b: Vec3) -> Vec3 {
     let d = b - a;
     let len2 = d.norm2();
     let t = if len2 > 0.0 {
@@ -62,7 +67,7 @@ pub fn point_segment_distance(p: Vec3, a: Vec3, b: Vec3) -> f64 {
     } else {
         0.0
     };
-    p.dist(a + d * t)
+    a + d * t
 }
 
 /// The point of triangle `abc` closest to `p` (Ericson, *Real-Time Collision Detection*, §5.1.5,
@@ -77,14 +82,7 @@ pub fn closest_point_on_triangle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
     let mut best = a;
     let mut best_d = f64::INFINITY;
     for (u, v) in [(a, b), (b, c), (c, a)] {
-        let d = v - u;
-        let len2 = d.norm2();
-        let t = if len2 > 0.0 {
-            ((p - u).dot(d) / len2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let q = u + d * t;
+        let q = closest_point_on_segment(p, u, v);
         let dq = p.dist(q);
         if dq < best_d {
             best_d = dq;

@@ -12,7 +12,7 @@ pub use bvh::Bvh;
 pub use closest::{closest_point_on_triangle, point_segment_distance, segment_closest_points};
 
 use serde::{Deserialize, Serialize};
-use std::ops::{Add, AddAssign, Div, Index, IndexMut, Mul, Neg, Sub, SubAssign};
+use std::ops::{Add, AddAssign, Div, Index, IndexMut, Mul, Neg, Sub};
 
 /// A point or direction in 3D.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -172,26 +172,11 @@ impl AddAssign for Vec3 {
     }
 }
 
-impl SubAssign for Vec3 {
-    #[inline]
-    fn sub_assign(&mut self, o: Vec3) {
-        *self = *self - o;
-    }
-}
-
 impl Mul<f64> for Vec3 {
     type Output = Vec3;
     #[inline]
     fn mul(self, s: f64) -> Vec3 {
         Vec3::new(self.x * s, self.y * s, self.z * s)
-    }
-}
-
-impl Mul<Vec3> for f64 {
-    type Output = Vec3;
-    #[inline]
-    fn mul(self, v: Vec3) -> Vec3 {
-        v * self
     }
 }
 
@@ -265,32 +250,17 @@ impl Aabb {
 
     /// True when the two boxes share a point (boundaries included).
     pub fn overlaps(&self, o: &Aabb) -> bool {
-        self.min.x <= o.max.x
-            && o.min.x <= self.max.x
-            && self.min.y <= o.max.y
-            && o.min.y <= self.max.y
-            && self.min.z <= o.max.z
-            && o.min.z <= self.max.z
+        (0..3).all(|k| self.min[k] <= o.max[k] && o.min[k] <= self.max[k])
     }
 
     /// True when the box holds `p` (boundary included).
     pub fn contains(&self, p: Vec3) -> bool {
-        self.min.x <= p.x
-            && p.x <= self.max.x
-            && self.min.y <= p.y
-            && p.y <= self.max.y
-            && self.min.z <= p.z
-            && p.z <= self.max.z
+        (0..3).all(|k| self.min[k] <= p[k] && p[k] <= self.max[k])
     }
 
     /// Distance from `p` to the box (0 inside).
     pub fn distance_to(&self, p: Vec3) -> f64 {
-        Vec3::new(
-            (self.min.x - p.x).max(p.x - self.max.x).max(0.0),
-            (self.min.y - p.y).max(p.y - self.max.y).max(0.0),
-            (self.min.z - p.z).max(p.z - self.max.z).max(0.0),
-        )
-        .norm()
+        (self.min - p).max(p - self.max).max(Vec3::ZERO).norm()
     }
 
     /// The box grown by `r` on every side.

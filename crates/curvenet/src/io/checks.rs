@@ -27,6 +27,24 @@ pub(crate) fn parse_coordinate(token: &str, file: &str, line: usize) -> Result<f
     }
 }
 
+/// Parses every token (with its line) as a coordinate: the first three as a point, and how
+/// many there were.
+pub(crate) fn parse_coordinates<'a>(
+    tokens: impl IntoIterator<Item = (&'a str, usize)>,
+    file: &str,
+) -> Result<(Vec3, usize), InputError> {
+    let mut coords = [0.0; 3];
+    let mut count = 0;
+    for (token, line) in tokens {
+        let v = parse_coordinate(token, file, line)?;
+        if let Some(slot) = coords.get_mut(count) {
+            *slot = v;
+        }
+        count += 1;
+    }
+    Ok((Vec3::from(coords), count))
+}
+
 /// A token cut to a length fit for an error message.
 pub(crate) fn shorten(token: &str) -> String {
     const MAX: usize = 40;
@@ -43,6 +61,16 @@ pub(crate) fn shorten(token: &str) -> String {
 pub(crate) fn push_number(out: &mut String, v: f64) {
     // Writing into a String cannot fail.
     let _ = write!(out, "{v:?}");
+}
+
+/// Appends a point as `x y z` with [`push_number`].
+pub(crate) fn push_point(out: &mut String, p: Vec3) {
+    for (k, v) in [p.x, p.y, p.z].into_iter().enumerate() {
+        if k > 0 {
+            out.push(' ');
+        }
+        push_number(out, v);
+    }
 }
 
 /// A label fit for a one-line record: line breaks and other control characters become spaces and
@@ -65,6 +93,17 @@ pub(crate) enum Closure {
     Closed,
     /// Declared open; the points are kept as they are.
     Open,
+}
+
+impl Closure {
+    /// Closure as a curve declares it: `Some(true)` closed, `Some(false)` open, `None` detected.
+    pub(crate) fn declared(closed: Option<bool>) -> Self {
+        match closed {
+            None => Closure::Detect,
+            Some(true) => Closure::Closed,
+            Some(false) => Closure::Open,
+        }
+    }
 }
 
 /// A curve as read, before normalisation and validation.

@@ -24,10 +24,9 @@
 //! `pre-bent`); their forms are in [`crate::material::spec`].
 //!
 //! `serde_json` validates the document and reports syntax and type errors with their line and
-//! column. Its number parsing may be off by one unit in the last place, so a light scan of the
-//! (already validated) text also records where each curve and point is, and reads every
-//! coordinate again with Rust's exact float parser: values written by [`curves_to_json`] come
-//! back bit for bit.
+//! column, and reads every coordinate exactly (its `float_roundtrip` parser): values written by
+//! [`curves_to_json`] come back bit for bit. The lines of the curves and points, for the
+//! messages of the curve checks, come from the pieces of text it hands back for them.
 
 use super::checks::{Closure, RawCurve, finish_curve, push_number, shorten};
 use super::{CurveFile, InputError, Polyline};
@@ -35,6 +34,7 @@ use crate::geom::Vec3;
 use crate::material::CurveSpec;
 use serde::Deserialize;
 use serde::de::IgnoredAny;
+use serde_json::value::RawValue;
 use std::fmt::Write as _;
 
 /// The value of the `format` field.
@@ -127,16 +127,16 @@ pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError
     let json_error = |e: serde_json::Error| {
         InputError::parse(file, e.line(), format!("invalid curvenet-curves JSON: {e}"))
     };
+    let fail = |line: usize, message: String| Err(InputError::parse(file, line.max(1), message));
     // The format is one object; say so before serde does (it also builds structs from arrays,
     // and would then complain about "trailing characters").
     let body = text.trim_start();
     let line = 1 + text[..text.len() - body.len()].matches('\n').count();
     if body.is_empty() {
-        return Err(InputError::parse(
-            file,
+        return fail(
             line,
             format!("the file is empty; expected a JSON object with \"format\": \"{FORMAT}\""),
-        ));
+        );
     }
     if !body.starts_with('{') {
         let found = match body.as_bytes()[0] {
@@ -145,64 +145,50 @@ pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError
             b'-' | b'0'..=b'9' => "a number",
             _ => "something else",
         };
-        return Err(InputError::parse(
-            file,
+        return fail(
             line,
             format!(
                 "expected a JSON object with \"format\": \"{FORMAT}\" and \"curves\", found \
                  {found}"
             ),
-        ));
+        );
     }
     let header: Header = serde_json::from_str(text).map_err(json_error)?;
     let located = locate(text).unwrap_or_default();
     match header.format {
         Some(serde_json::Value::String(f)) if f == FORMAT => {}
         Some(other) => {
-            return Err(InputError::parse(
-                file,
-                located.format_line.max(1),
+            return fail(
+                located.format_line,
                 format!(
                     "not a curvenet curves file: \"format\" is {}, expected \"{FORMAT}\"",
                     shorten(&other.to_string())
                 ),
-            ));
+            );
         }
         None => {
-            return Err(InputError::parse(
-                file,
+            return fail(
                 1,
                 format!("not a curvenet curves file: no \"format\" field (expected \"{FORMAT}\")"),
-            ));
+            );
         }
     }
     match header.version {
         Some(v) if v.as_u64() == Some(VERSION) => {}
         Some(v) => {
-            return Err(InputError::parse(
-                file,
-                located.version_line.max(1),
+            return fail(
+                located.version_line,
                 format!(
                     "unsupported \"version\" {}; this reader supports version {VERSION}",
                     shorten(&v.to_string())
                 ),
-            ));
+            );
         }
-        None => {
-            return Err(InputError::parse(
-                file,
-                1,
-                format!("no \"version\" field (expected {VERSION})"),
-            ));
-        }
+        None => return fail(1, format!("no \"version\" field (expected {VERSION})")),
     }
     let document: Document = serde_json::from_str(text).map_err(json_error)?;
     if document.curves.is_empty() {
-        return Err(InputError::parse(
-            file,
-            located.curves_line.max(1),
-            "no curves: \"curves\" is empty",
-        ));
+        return fail(located.curves_line, "no curves: \"curves\" is empty".into());
     }
 
     let mut warnings = Vec::new();
@@ -211,8 +197,10 @@ pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError
     let mut groups = Vec::with_capacity(document.curves.len());
     for (index, curve) in document.curves.into_iter().enumerate() {
         groups.push(curve.group.map(|g| g.0));
-        let loc = located.curves.get(index);
-        let curve_line = loc.map_or(0, |c| c.line);
+        let (curve_line, point_lines) = located
+            .curves
+            .get(index)
+            .map_or((0, &[][..]), |c| (c.0, &c.1[..]));
         let spec = CurveSpec::from_json(
             curve.material.as_ref(),
             curve.section.as_ref(),
@@ -224,23 +212,18 @@ pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError
             .points
             .iter()
             .enumerate()
-            .map(|(j, &coords)| {
-                let point_loc = loc.and_then(|c| c.points.get(j));
-                let line = point_loc.map_or(curve_line, |p| p.line);
-                let exact = point_loc.and_then(PointLoc::exact);
-                (Vec3::from(exact.unwrap_or(coords)), line)
+            .map(|(j, &p)| {
+                (
+                    Vec3::from(p),
+                    point_lines.get(j).copied().unwrap_or(curve_line),
+                )
             })
             .collect();
-        let closure = match curve.closed {
-            None => Closure::Detect,
-            Some(true) => Closure::Closed,
-            Some(false) => Closure::Open,
-        };
         let raw = RawCurve {
             index,
             line: curve_line,
             label: curve.label,
-            closure,
+            closure: Closure::declared(curve.closed),
             points,
         };
         curves.push(finish_curve(raw, file, &mut warnings)?);
@@ -262,55 +245,48 @@ pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError
 /// round-trip form; a non-finite coordinate (which no reader produces) is written as `null`,
 /// which the reader rejects.
 pub fn curves_to_json(curves: &[Polyline]) -> String {
-    let mut out = String::new();
-    out.push_str("{\n  \"format\": ");
-    push_json_string(&mut out, FORMAT);
-    let _ = write!(out, ",\n  \"version\": {VERSION},\n  \"curves\": [");
-    for (i, curve) in curves.iter().enumerate() {
-        out.push_str(if i == 0 { "\n    {\n" } else { ",\n    {\n" });
-        if let Some(label) = &curve.label {
-            out.push_str("      \"label\": ");
-            push_json_string(&mut out, label);
-            out.push_str(",\n");
-        }
-        let _ = writeln!(out, "      \"closed\": {},", curve.closed);
-        out.push_str("      \"points\": [");
-        for (j, p) in curve.points.iter().enumerate() {
-            out.push_str(if j == 0 {
-                "\n        ["
-            } else {
-                ",\n        ["
-            });
-            for (k, v) in [p.x, p.y, p.z].into_iter().enumerate() {
-                if k > 0 {
-                    out.push_str(", ");
-                }
+    let curves = curves.iter().map(|curve| {
+        let points = curve.points.iter().map(|p| {
+            let number = |v: f64| {
+                let mut out = String::new();
                 if v.is_finite() {
                     push_number(&mut out, v);
                 } else {
                     out.push_str("null");
                 }
-            }
-            out.push(']');
-        }
-        out.push_str(if curve.points.is_empty() {
-            "]\n"
-        } else {
-            "\n      ]\n"
+                out
+            };
+            format!("[{}, {}, {}]", number(p.x), number(p.y), number(p.z))
         });
-        out.push_str("    }");
-    }
-    out.push_str(if curves.is_empty() {
-        "]\n}\n"
-    } else {
-        "\n  ]\n}\n"
+        let label = curve.label.as_deref().map_or_else(String::new, |l| {
+            format!("      \"label\": {},\n", json_string(l))
+        });
+        format!(
+            "{{\n{label}      \"closed\": {},\n      \"points\": {}\n    }}",
+            curve.closed,
+            json_list(points, "      ")
+        )
     });
-    out
+    format!(
+        "{{\n  \"format\": {},\n  \"version\": {VERSION},\n  \"curves\": {}\n}}\n",
+        json_string(FORMAT),
+        json_list(curves, "  ")
+    )
 }
 
-/// Appends `s` as a JSON string literal.
-fn push_json_string(out: &mut String, s: &str) {
-    out.push('"');
+/// A JSON list of `items`, one a line, its closing bracket indented by `indent`; `[]` when
+/// empty.
+fn json_list(items: impl Iterator<Item = String>, indent: &str) -> String {
+    let lines: Vec<String> = items.map(|i| format!("\n{indent}  {i}")).collect();
+    if lines.is_empty() {
+        return "[]".into();
+    }
+    format!("[{}\n{indent}]", lines.join(","))
+}
+
+/// `s` as a JSON string literal.
+fn json_string(s: &str) -> String {
+    let mut out = String::from('"');
     for c in s.chars() {
         match c {
             '"' => out.push_str("\\\""),
@@ -325,262 +301,61 @@ fn push_json_string(out: &mut String, s: &str) {
         }
     }
     out.push('"');
+    out
 }
 
-/// Where things are in a curvenet-curves document (0 = not found).
+/// Where things are in a curvenet-curves document: 1-based lines, 0 where not found.
 #[derive(Default)]
-struct Located<'a> {
+struct Located {
     format_line: usize,
     version_line: usize,
     curves_line: usize,
-    curves: Vec<CurveLoc<'a>>,
+    /// Each curve's line (its opening brace) and its points' lines.
+    curves: Vec<(usize, Vec<usize>)>,
 }
 
-/// Where one curve is: the line of its opening brace, and its points.
-struct CurveLoc<'a> {
-    line: usize,
-    points: Vec<PointLoc<'a>>,
-}
-
-/// Where one point is, and the text of its coordinates.
-struct PointLoc<'a> {
-    line: usize,
-    numbers: Vec<&'a str>,
-}
-
-impl PointLoc<'_> {
-    /// The coordinates read exactly from their text, if there are three finite ones.
-    fn exact(&self) -> Option<[f64; 3]> {
-        let [x, y, z] = self.numbers.as_slice() else {
-            return None;
-        };
-        let mut out = [0.0; 3];
-        for (slot, text) in out.iter_mut().zip([x, y, z]) {
-            *slot = text.parse::<f64>().ok().filter(|v| v.is_finite())?;
-        }
-        Some(out)
+/// Records where the parts of a document that `serde_json` accepted are, from the pieces of
+/// the text it hands back for them ([`RawValue`]). `None` when the document does not have the
+/// shape (it then only costs the line numbers).
+fn locate(text: &str) -> Option<Located> {
+    #[derive(Deserialize)]
+    struct Root<'a> {
+        #[serde(borrow)]
+        format: Option<&'a RawValue>,
+        #[serde(borrow)]
+        version: Option<&'a RawValue>,
+        #[serde(borrow)]
+        curves: Option<&'a RawValue>,
     }
-}
-
-/// A JSON value with the line it starts on; only what locating needs is kept.
-enum Node<'a> {
-    Object(usize, Vec<(String, Node<'a>)>),
-    Array(usize, Vec<Node<'a>>),
-    Number(usize, &'a str),
-    Other(usize),
-}
-
-impl Node<'_> {
-    fn line(&self) -> usize {
-        match self {
-            Node::Object(l, _) | Node::Array(l, _) | Node::Number(l, _) | Node::Other(l) => *l,
-        }
+    #[derive(Deserialize)]
+    struct Curve<'a> {
+        #[serde(borrow, default)]
+        points: Vec<&'a RawValue>,
     }
-
-    fn member(&self, key: &str) -> Option<&Self> {
-        match self {
-            Node::Object(_, members) => members.iter().find(|(k, _)| k == key).map(|(_, v)| v),
-            _ => None,
-        }
-    }
-
-    fn items(&self) -> &[Self] {
-        match self {
-            Node::Array(_, items) => items,
-            _ => &[],
-        }
-    }
-}
-
-/// Scans a document that `serde_json` accepted and records where its parts are. `None` when the
-/// scan does not understand the text (it then only costs the line numbers).
-fn locate(text: &str) -> Option<Located<'_>> {
-    let mut scanner = Scanner {
-        text,
-        pos: 0,
-        line: 1,
-        depth: 0,
+    let newlines: Vec<usize> = text.match_indices('\n').map(|(i, _)| i).collect();
+    // Every piece is a slice of `text`: its line is 1 + the newlines before it.
+    let line = |piece: &RawValue| {
+        let offset = piece.get().as_ptr() as usize - text.as_ptr() as usize;
+        1 + newlines.partition_point(|&n| n < offset)
     };
-    let root = scanner.value()?;
-    let mut located = Located {
-        format_line: root.member("format").map_or(0, Node::line),
-        version_line: root.member("version").map_or(0, Node::line),
-        ..Located::default()
-    };
-    if let Some(curves) = root.member("curves") {
-        located.curves_line = curves.line();
-        located.curves = curves
-            .items()
-            .iter()
-            .map(|curve| CurveLoc {
-                line: curve.line(),
-                points: curve
-                    .member("points")
-                    .map(Node::items)
-                    .unwrap_or_default()
-                    .iter()
-                    .map(|point| PointLoc {
-                        line: point.line(),
-                        numbers: point
-                            .items()
-                            .iter()
-                            .filter_map(|n| match n {
-                                Node::Number(_, t) => Some(*t),
-                                _ => None,
-                            })
-                            .collect(),
-                    })
-                    .collect(),
+    let root: Root<'_> = serde_json::from_str(text).ok()?;
+    let curves: Vec<&RawValue> = root
+        .curves
+        .and_then(|c| serde_json::from_str(c.get()).ok())
+        .unwrap_or_default();
+    Some(Located {
+        format_line: root.format.map_or(0, line),
+        version_line: root.version.map_or(0, line),
+        curves_line: root.curves.map_or(0, line),
+        curves: curves
+            .into_iter()
+            .map(|c| {
+                let points = serde_json::from_str::<Curve<'_>>(c.get())
+                    .map_or_else(|_| Vec::new(), |c| c.points.into_iter().map(line).collect());
+                (line(c), points)
             })
-            .collect();
-    }
-    Some(located)
-}
-
-/// A small JSON reader that tracks lines. It trusts `serde_json` to have validated the text and
-/// bails out (`None`) on anything unexpected rather than reporting errors.
-struct Scanner<'a> {
-    text: &'a str,
-    pos: usize,
-    line: usize,
-    depth: usize,
-}
-
-impl<'a> Scanner<'a> {
-    /// Deeper nesting than `serde_json` accepts; a guard against runaway recursion.
-    const MAX_DEPTH: usize = 256;
-
-    fn peek(&self) -> Option<u8> {
-        self.text.as_bytes().get(self.pos).copied()
-    }
-
-    fn skip_ws(&mut self) {
-        while let Some(b) = self.peek() {
-            match b {
-                b'\n' => self.line += 1,
-                b' ' | b'\t' | b'\r' => {}
-                _ => break,
-            }
-            self.pos += 1;
-        }
-    }
-
-    fn expect(&mut self, byte: u8) -> Option<()> {
-        self.skip_ws();
-        (self.peek()? == byte).then(|| self.pos += 1)
-    }
-
-    fn value(&mut self) -> Option<Node<'a>> {
-        self.skip_ws();
-        let line = self.line;
-        match self.peek()? {
-            b'{' => self.nested(|s| s.object(line)),
-            b'[' => self.nested(|s| s.array(line)),
-            b'"' => self.string().map(|_| Node::Other(line)),
-            b'-' | b'0'..=b'9' => {
-                let start = self.pos;
-                while matches!(
-                    self.peek(),
-                    Some(b'-' | b'+' | b'.' | b'e' | b'E' | b'0'..=b'9')
-                ) {
-                    self.pos += 1;
-                }
-                Some(Node::Number(line, self.text.get(start..self.pos)?))
-            }
-            b't' | b'f' | b'n' => {
-                while self.peek().is_some_and(|b| b.is_ascii_alphabetic()) {
-                    self.pos += 1;
-                }
-                Some(Node::Other(line))
-            }
-            _ => None,
-        }
-    }
-
-    fn nested(&mut self, f: impl FnOnce(&mut Self) -> Option<Node<'a>>) -> Option<Node<'a>> {
-        if self.depth >= Self::MAX_DEPTH {
-            return None;
-        }
-        self.depth += 1;
-        let node = f(self);
-        self.depth -= 1;
-        node
-    }
-
-    fn object(&mut self, line: usize) -> Option<Node<'a>> {
-        self.expect(b'{')?;
-        let mut members = Vec::new();
-        self.skip_ws();
-        if self.peek()? == b'}' {
-            self.pos += 1;
-            return Some(Node::Object(line, members));
-        }
-        loop {
-            self.skip_ws();
-            let raw = self.string()?;
-            let key = if raw.contains('\\') {
-                serde_json::from_str::<String>(raw).ok()?
-            } else {
-                raw.get(1..raw.len().saturating_sub(1))?.to_owned()
-            };
-            self.expect(b':')?;
-            members.push((key, self.value()?));
-            self.skip_ws();
-            match self.peek()? {
-                b',' => self.pos += 1,
-                b'}' => {
-                    self.pos += 1;
-                    return Some(Node::Object(line, members));
-                }
-                _ => return None,
-            }
-        }
-    }
-
-    fn array(&mut self, line: usize) -> Option<Node<'a>> {
-        self.expect(b'[')?;
-        let mut items = Vec::new();
-        self.skip_ws();
-        if self.peek()? == b']' {
-            self.pos += 1;
-            return Some(Node::Array(line, items));
-        }
-        loop {
-            items.push(self.value()?);
-            self.skip_ws();
-            match self.peek()? {
-                b',' => self.pos += 1,
-                b']' => {
-                    self.pos += 1;
-                    return Some(Node::Array(line, items));
-                }
-                _ => return None,
-            }
-        }
-    }
-
-    /// Reads a string literal and returns it with its quotes, escapes untouched.
-    fn string(&mut self) -> Option<&'a str> {
-        let start = self.pos;
-        if self.peek()? != b'"' {
-            return None;
-        }
-        self.pos += 1;
-        loop {
-            match self.peek()? {
-                b'\\' => self.pos += 2,
-                b'"' => {
-                    self.pos += 1;
-                    return self.text.get(start..self.pos);
-                }
-                b'\n' => {
-                    self.line += 1;
-                    self.pos += 1;
-                }
-                _ => self.pos += 1,
-            }
-        }
-    }
+            .collect(),
+    })
 }
 
 #[cfg(test)]
@@ -839,7 +614,7 @@ mod tests {
     }
 
     #[test]
-    fn the_scanner_gives_up_quietly() {
+    fn locating_gives_up_quietly() {
         assert!(locate("{\"a\": ").is_none());
         assert!(locate("{\"a\" 1}").is_none());
         assert!(locate("\"unterminated").is_none());

@@ -257,6 +257,20 @@ pub struct CurveFile {
     pub groups: Vec<Option<String>>,
 }
 
+impl CurveFile {
+    /// Curves of a format that says nothing about materials, units or groups.
+    fn plain(curves: Vec<Polyline>, warnings: Vec<InputWarning>) -> Self {
+        let groups = vec![None; curves.len()];
+        CurveFile {
+            curves,
+            warnings,
+            specs: Vec::new(),
+            units: None,
+            groups,
+        }
+    }
+}
+
 /// The mesh of one file, with the warnings found while reading it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MeshFile {
@@ -277,23 +291,15 @@ pub struct MeshFile {
 /// cannot be read, [`InputError::Parse`] for text that is not UTF-8 and for everything the
 /// format's parser rejects.
 pub fn read_curves(path: &Path) -> Result<CurveFile, InputError> {
-    let file = path.display().to_string();
-    reject_directory(path, &file)?;
-    let parse: fn(&str, &str) -> Result<CurveFile, InputError> = match extension(path).as_deref() {
-        Some("txt") => parse_reference_curves,
-        Some("obj") => parse_obj_polylines,
-        Some("json") => parse_json_curves,
-        _ => {
-            return Err(InputError::UnsupportedFormat {
-                file,
-                message: "unsupported curve file extension: expected .txt (reference format), \
-                          .obj (polylines) or .json (curvenet-curves)"
-                    .to_owned(),
-            });
-        }
+    let parse: Option<Parser<CurveFile>> = match extension(path).as_deref() {
+        Some("txt") => Some(parse_reference_curves),
+        Some("obj") => Some(parse_obj_polylines),
+        Some("json") => Some(parse_json_curves),
+        _ => None,
     };
-    let text = read_text(path, &file)?;
-    parse(&text, &file)
+    let expected = "unsupported curve file extension: expected .txt (reference format), .obj \
+                    (polylines) or .json (curvenet-curves)";
+    read_with(path, parse, expected)
 }
 
 /// Reads an OBJ triangle mesh (`v` and `f` records) with [`parse_obj_mesh`].
@@ -304,31 +310,37 @@ pub fn read_curves(path: &Path) -> Result<CurveFile, InputError> {
 /// [`InputError::Io`] when the file cannot be read, [`InputError::Parse`] for text that is not
 /// UTF-8 and for everything [`parse_obj_mesh`] rejects.
 pub fn read_mesh(path: &Path) -> Result<MeshFile, InputError> {
-    let file = path.display().to_string();
-    reject_directory(path, &file)?;
-    if extension(path).as_deref() != Some("obj") {
-        return Err(InputError::UnsupportedFormat {
-            file,
-            message: "unsupported mesh file extension: expected .obj".to_owned(),
-        });
-    }
-    let text = read_text(path, &file)?;
-    parse_obj_mesh(&text, &file)
+    let obj = extension(path).as_deref() == Some("obj");
+    let parse: Option<Parser<MeshFile>> = obj.then_some(parse_obj_mesh);
+    read_with(
+        path,
+        parse,
+        "unsupported mesh file extension: expected .obj",
+    )
 }
 
-/// A directory where a file is expected is an [`InputError::Io`] that says so (before its
-/// extension, which a directory's name need not have, is looked at).
-fn reject_directory(path: &Path, file: &str) -> Result<(), InputError> {
+/// A parser of one format: the text, and the file's name for messages.
+type Parser<T> = fn(&str, &str) -> Result<T, InputError>;
+
+/// Reads `path` with `parse`, the parser its extension names (`None`: an
+/// [`InputError::UnsupportedFormat`] saying what was `expected`). A directory is an
+/// [`InputError::Io`] that says so, before its extension (which a directory's name need not
+/// have) is looked at.
+fn read_with<T>(path: &Path, parse: Option<Parser<T>>, expected: &str) -> Result<T, InputError> {
+    let file = path.display().to_string();
     if path.is_dir() {
-        return Err(InputError::Io {
-            file: file.to_owned(),
-            source: std::io::Error::new(
-                std::io::ErrorKind::InvalidInput,
-                "it is a directory, not a file",
-            ),
-        });
+        let source = std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "it is a directory, not a file",
+        );
+        return Err(InputError::Io { file, source });
     }
-    Ok(())
+    let Some(parse) = parse else {
+        let message = expected.to_owned();
+        return Err(InputError::UnsupportedFormat { file, message });
+    };
+    let text = read_text(path, &file)?;
+    parse(&text, &file)
 }
 
 /// The lower-cased extension of `path`, if it has one.

@@ -13,8 +13,10 @@
 //! curves that follow it (a bare `o` clears it). Other records are ignored, except that `f`
 //! records earn a warning (the file is a mesh) and free-form geometry is an error.
 
-use super::checks::{Closure, RawCurve, finish_curve, one_line_label, push_number};
-use super::obj_lexer::{VertexRef, parse_vertex, parse_vertex_ref, plural, records, resolve};
+use super::checks::{Closure, RawCurve, finish_curve, one_line_label};
+use super::obj_lexer::{
+    VertexRef, parse_vertex, plural, push_vertices, records, resolve, vertex_suffix,
+};
 use super::{CurveFile, InputError, InputWarning, Polyline};
 use crate::geom::Vec3;
 
@@ -49,20 +51,11 @@ pub fn parse_obj_polylines(text: &str, file: &str) -> Result<CurveFile, InputErr
     for record in records(text) {
         match record.keyword {
             "v" => vertices.push(parse_vertex(&record, file)?),
-            "l" => {
-                let refs = record
-                    .args
-                    .iter()
-                    .map(|&(token, line)| {
-                        parse_vertex_ref(token, line, vertices.len(), file).map(|r| (r, line))
-                    })
-                    .collect::<Result<Vec<_>, _>>()?;
-                lines.push(LineRecord {
-                    line: record.line,
-                    label: label.clone(),
-                    refs,
-                });
-            }
+            "l" => lines.push(LineRecord {
+                line: record.line,
+                label: label.clone(),
+                refs: record.vertex_refs(vertices.len(), file)?,
+            }),
             "o" => label = one_line_label(&record.rest),
             "f" => {
                 let (_, count) = faces.get_or_insert((record.line, 0));
@@ -124,14 +117,7 @@ pub fn parse_obj_polylines(text: &str, file: &str) -> Result<CurveFile, InputErr
         };
         curves.push(finish_curve(raw, file, &mut warnings)?);
     }
-    let groups = vec![None; curves.len()];
-    Ok(CurveFile {
-        curves,
-        warnings,
-        groups,
-        specs: Vec::new(),
-        units: None,
-    })
+    Ok(CurveFile::plain(curves, warnings))
 }
 
 /// An `o` name for a label: one line, without `#` (a comment) or a trailing backslash (a
@@ -151,16 +137,9 @@ pub fn curves_to_obj(curves: &[Polyline]) -> String {
         "# curvenet curves: {} curve{}, {total} vert{}\n",
         curves.len(),
         plural(curves.len()),
-        if total == 1 { "ex" } else { "ices" }
+        vertex_suffix(total)
     );
-    for p in curves.iter().flat_map(|c| &c.points) {
-        out.push('v');
-        for v in [p.x, p.y, p.z] {
-            out.push(' ');
-            push_number(&mut out, v);
-        }
-        out.push('\n');
-    }
+    push_vertices(&mut out, curves.iter().flat_map(|c| &c.points));
     let mut first_index = 1usize;
     let mut named = false;
     for curve in curves {

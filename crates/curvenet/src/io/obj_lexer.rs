@@ -3,7 +3,7 @@
 //! vertices and vertex references.
 
 use super::InputError;
-use super::checks::{parse_coordinate, shorten};
+use super::checks::{parse_coordinates, push_point, shorten};
 use crate::geom::Vec3;
 
 /// One logical OBJ record, such as `v 1 2 3` or `l 1 2 3`.
@@ -75,16 +75,9 @@ fn make_record<'a>(pieces: &[(&'a str, usize)]) -> Option<ObjRecord<'a>> {
 /// Reads the coordinates of a `v` record: `x y z`, `x y z w` (the weight is checked and
 /// ignored) or `x y z r g b` (the vertex-colour extension; the colour is checked and ignored).
 pub(crate) fn parse_vertex(record: &ObjRecord<'_>, file: &str) -> Result<Vec3, InputError> {
-    let mut coords = [0.0; 3];
-    for (k, &(token, line)) in record.args.iter().enumerate() {
-        let v = parse_coordinate(token, file, line)?;
-        if k < 3 {
-            coords[k] = v;
-        }
-    }
-    match record.args.len() {
-        3 | 4 | 6 => Ok(Vec3::from(coords)),
-        n => {
+    match parse_coordinates(record.args.iter().copied(), file)? {
+        (p, 3 | 4 | 6) => Ok(p),
+        (_, n) => {
             let line = record.args.last().map_or(record.line, |&(_, l)| l);
             let what = if n < 3 {
                 "truncated vertex"
@@ -106,6 +99,37 @@ pub(crate) fn parse_vertex(record: &ObjRecord<'_>, file: &str) -> Result<Vec3, I
 /// `"s"` unless `n` is 1.
 pub(crate) fn plural(n: usize) -> &'static str {
     if n == 1 { "" } else { "s" }
+}
+
+/// What follows `vert` for `n` vertices: `"ex"` for one, else `"ices"`.
+pub(crate) fn vertex_suffix(n: usize) -> &'static str {
+    if n == 1 { "ex" } else { "ices" }
+}
+
+/// Appends a `v x y z` record per point, numbers in the shortest round-trip form.
+pub(crate) fn push_vertices<'a>(out: &mut String, points: impl IntoIterator<Item = &'a Vec3>) {
+    for &p in points {
+        out.push_str("v ");
+        push_point(out, p);
+        out.push('\n');
+    }
+}
+
+impl ObjRecord<'_> {
+    /// The record's arguments read as vertex references (an `l` or `f` record), each with its
+    /// line.
+    pub(crate) fn vertex_refs(
+        &self,
+        vertex_count: usize,
+        file: &str,
+    ) -> Result<Vec<(VertexRef, usize)>, InputError> {
+        self.args
+            .iter()
+            .map(|&(token, line)| {
+                parse_vertex_ref(token, line, vertex_count, file).map(|r| (r, line))
+            })
+            .collect()
+    }
 }
 
 /// A vertex reference from an `l` or `f` record, resolved as far as possible while reading.
@@ -193,7 +217,7 @@ pub(crate) fn resolve(
                 "vertex index {} refers to a missing vertex; the file defines {vertex_count} \
                  vert{}",
                 i as u128 + 1,
-                if vertex_count == 1 { "ex" } else { "ices" }
+                vertex_suffix(vertex_count)
             ),
         )),
     }

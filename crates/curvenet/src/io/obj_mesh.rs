@@ -4,8 +4,9 @@
 //! (relative) indices; polygons are split into triangle fans. Everything else (`l`, `vn`, `vt`,
 //! `o`, `g`, `usemtl`, comments, …) is ignored.
 
-use super::checks::push_number;
-use super::obj_lexer::{VertexRef, parse_vertex, parse_vertex_ref, plural, records, resolve};
+use super::obj_lexer::{
+    VertexRef, parse_vertex, plural, push_vertices, records, resolve, vertex_suffix,
+};
 use super::{InputError, InputWarning, MeshFile, TriMesh};
 use crate::geom::Vec3;
 
@@ -38,13 +39,7 @@ pub fn parse_obj_mesh(text: &str, file: &str) -> Result<MeshFile, InputError> {
         match record.keyword {
             "v" => vertices.push(parse_vertex(&record, file)?),
             "f" => {
-                let refs = record
-                    .args
-                    .iter()
-                    .map(|&(token, line)| {
-                        parse_vertex_ref(token, line, vertices.len(), file).map(|r| (r, line))
-                    })
-                    .collect::<Result<Vec<_>, _>>()?;
+                let refs = record.vertex_refs(vertices.len(), file)?;
                 if refs.len() < 3 {
                     return Err(InputError::parse(
                         file,
@@ -67,7 +62,7 @@ pub fn parse_obj_mesh(text: &str, file: &str) -> Result<MeshFile, InputError> {
             format!(
                 "no faces: the file has no `f` records ({} vert{})",
                 vertices.len(),
-                if vertices.len() == 1 { "ex" } else { "ices" }
+                vertex_suffix(vertices.len())
             ),
         ));
     }
@@ -75,10 +70,11 @@ pub fn parse_obj_mesh(text: &str, file: &str) -> Result<MeshFile, InputError> {
     let mut warnings = Vec::new();
     let mut faces = Vec::with_capacity(face_records.len());
     for face in &face_records {
-        let mut idx = Vec::with_capacity(face.refs.len());
-        for &(r, line) in &face.refs {
-            idx.push(resolve(r, line, vertices.len(), file)?);
-        }
+        let idx = face
+            .refs
+            .iter()
+            .map(|&(r, line)| resolve(r, line, vertices.len(), file))
+            .collect::<Result<Vec<_>, _>>()?;
         for k in 1..idx.len() - 1 {
             let tri = [idx[0], idx[k], idx[k + 1]];
             if let Some(problem) = degeneracy(&vertices, tri) {
@@ -93,11 +89,8 @@ pub fn parse_obj_mesh(text: &str, file: &str) -> Result<MeshFile, InputError> {
                     ),
                 ));
             } else {
-                faces.push([
-                    to_u32(tri[0], face.line, file)?,
-                    to_u32(tri[1], face.line, file)?,
-                    to_u32(tri[2], face.line, file)?,
-                ]);
+                let [a, b, c] = tri.map(|i| to_u32(i, face.line, file));
+                faces.push([a?, b?, c?]);
             }
         }
     }
@@ -167,22 +160,11 @@ pub fn mesh_to_obj(mesh: &TriMesh) -> String {
     let mut out = format!(
         "# curvenet mesh: {} vert{}, {} face{}\n",
         mesh.vertices.len(),
-        if mesh.vertices.len() == 1 {
-            "ex"
-        } else {
-            "ices"
-        },
+        vertex_suffix(mesh.vertices.len()),
         mesh.faces.len(),
         plural(mesh.faces.len())
     );
-    for p in &mesh.vertices {
-        out.push('v');
-        for v in [p.x, p.y, p.z] {
-            out.push(' ');
-            push_number(&mut out, v);
-        }
-        out.push('\n');
-    }
+    push_vertices(&mut out, &mesh.vertices);
     for f in &mesh.faces {
         out.push('f');
         for i in f {

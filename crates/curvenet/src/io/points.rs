@@ -31,28 +31,16 @@ pub fn curves_from_points(file: &str, curves: Vec<PointCurve>) -> Result<CurveFi
     let mut warnings = Vec::new();
     let mut out = Vec::with_capacity(curves.len());
     for (index, c) in curves.into_iter().enumerate() {
-        let closure = match c.closed {
-            None => Closure::Detect,
-            Some(true) => Closure::Closed,
-            Some(false) => Closure::Open,
-        };
         let raw = RawCurve {
             index,
             line: c.line,
             label: c.label,
-            closure,
+            closure: Closure::declared(c.closed),
             points: c.points.into_iter().map(|p| (p, c.line)).collect(),
         };
         out.push(finish_curve(raw, file, &mut warnings)?);
     }
-    let groups = vec![None; out.len()];
-    Ok(CurveFile {
-        curves: out,
-        warnings,
-        groups,
-        specs: Vec::new(),
-        units: None,
-    })
+    Ok(CurveFile::plain(out, warnings))
 }
 
 #[cfg(test)]

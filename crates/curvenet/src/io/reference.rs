@@ -13,10 +13,9 @@
 //! curve repeats its first point last.
 
 use super::checks::{
-    Closure, RawCurve, finish_curve, one_line_label, parse_coordinate, push_number, shorten,
+    Closure, RawCurve, finish_curve, one_line_label, parse_coordinates, push_point, shorten,
 };
 use super::{CurveFile, InputError, Polyline};
-use crate::geom::Vec3;
 
 /// The keyword that opens a curve.
 const CURVE: &str = "CURVE";
@@ -65,15 +64,8 @@ pub fn parse_reference_curves(text: &str, file: &str) -> Result<CurveFile, Input
                 ),
             ));
         };
-        let mut coords = [0.0; 3];
-        let mut count = 0;
-        for token in std::iter::once(first).chain(tokens) {
-            let v = parse_coordinate(token, file, line)?;
-            if count < 3 {
-                coords[count] = v;
-            }
-            count += 1;
-        }
+        let tokens = std::iter::once(first).chain(tokens).map(|t| (t, line));
+        let (point, count) = parse_coordinates(tokens, file)?;
         if count != 3 {
             let what = if count < 3 {
                 "truncated point"
@@ -86,7 +78,7 @@ pub fn parse_reference_curves(text: &str, file: &str) -> Result<CurveFile, Input
                 format!("{what}: expected 3 coordinates `x y z`, found {count}"),
             ));
         }
-        curve.points.push((Vec3::from(coords), line));
+        curve.points.push((point, line));
     }
     match current {
         Some(raw) => curves.push(finish_curve(raw, file, &mut warnings)?),
@@ -98,14 +90,7 @@ pub fn parse_reference_curves(text: &str, file: &str) -> Result<CurveFile, Input
             ));
         }
     }
-    let groups = vec![None; curves.len()];
-    Ok(CurveFile {
-        curves,
-        warnings,
-        groups,
-        specs: Vec::new(),
-        units: None,
-    })
+    Ok(CurveFile::plain(curves, warnings))
 }
 
 /// Writes curves in the reference text format. Each curve opens with `CURVE <label>` (a bare
@@ -121,12 +106,8 @@ pub fn curves_to_reference_text(curves: &[Polyline]) -> String {
         }
         out.push('\n');
         let closing = curve.points.first().filter(|_| curve.closed);
-        for p in curve.points.iter().chain(closing) {
-            push_number(&mut out, p.x);
-            out.push(' ');
-            push_number(&mut out, p.y);
-            out.push(' ');
-            push_number(&mut out, p.z);
+        for &p in curve.points.iter().chain(closing) {
+            push_point(&mut out, p);
             out.push('\n');
         }
     }
@@ -140,6 +121,7 @@ mod tests {
         assert_input_error, assert_same_curves, reference_file, sample_curves,
     };
     use super::*;
+    use crate::geom::Vec3;
 
     fn assert_err(text: &str, line: usize, phrase: &str) {
         assert_input_error(

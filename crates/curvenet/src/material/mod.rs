@@ -286,17 +286,11 @@ impl Physical {
     pub fn with_curve_specs(mut self, specs: &[CurveSpec]) -> Result<Self, String> {
         let mut curves = Vec::new();
         for (c, spec) in specs.iter().enumerate() {
-            let material = match &spec.material {
-                Some(m) => Some(
-                    m.resolve(&self.material)
-                        .map_err(|e| format!("curve {c}: {e}"))?,
-                ),
-                None => None,
-            };
-            let section = match &spec.section {
-                Some(s) => Some(s.resolve(self.units)),
-                None => None,
-            };
+            let material = (spec.material.as_ref())
+                .map(|m| m.resolve(&self.material))
+                .transpose()
+                .map_err(|e| format!("curve {c}: {e}"))?;
+            let section = spec.section.map(|s| s.resolve(self.units));
             if material.is_some() || section.is_some() {
                 curves.push(CurveOverride {
                     curve: c,

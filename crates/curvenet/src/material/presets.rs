@@ -13,49 +13,32 @@
 
 use super::PhysicalMaterial;
 
-/// One preset: its name, the other names it answers to, and its values in SI.
-struct Preset {
-    name: &'static str,
-    aliases: &'static [&'static str],
-    young_pa: f64,
-    density_kg_m3: f64,
-    strength_pa: f64,
-}
+/// The presets: name, the other names it answers to, then Young's modulus (Pa), density
+/// (kg/m³) and strength (Pa).
+type Preset = (&'static str, &'static [&'static str], f64, f64, f64);
 
 const PRESETS: &[Preset] = &[
-    Preset {
-        name: "steel",
-        aliases: &["s355"],
-        young_pa: 210e9,
-        density_kg_m3: 7850.0,
-        strength_pa: 355e6,
-    },
-    Preset {
-        name: "aluminium",
-        aliases: &["aluminum", "al", "6061-t6"],
-        young_pa: 70e9,
-        density_kg_m3: 2700.0,
-        strength_pa: 240e6,
-    },
-    Preset {
-        name: "gfrp",
-        aliases: &["glass-fibre", "glass-fiber", "fibreglass", "fiberglass"],
-        young_pa: 25e9,
-        density_kg_m3: 1850.0,
-        strength_pa: 400e6,
-    },
-    Preset {
-        name: "timber",
-        aliases: &["wood", "c24"],
-        young_pa: 11e9,
-        density_kg_m3: 420.0,
-        strength_pa: 24e6,
-    },
+    ("steel", &["s355"], 210e9, 7850.0, 355e6),
+    (
+        "aluminium",
+        &["aluminum", "al", "6061-t6"],
+        70e9,
+        2700.0,
+        240e6,
+    ),
+    (
+        "gfrp",
+        &["glass-fibre", "glass-fiber", "fibreglass", "fiberglass"],
+        25e9,
+        1850.0,
+        400e6,
+    ),
+    ("timber", &["wood", "c24"], 11e9, 420.0, 24e6),
 ];
 
 /// The preset names, for help and messages.
 pub fn names() -> Vec<&'static str> {
-    PRESETS.iter().map(|p| p.name).collect()
+    PRESETS.iter().map(|p| p.0).collect()
 }
 
 /// The preset called `name` (or one of its aliases, any case).
@@ -67,13 +50,15 @@ pub fn preset(name: &str) -> Result<PhysicalMaterial, String> {
     let key = name.trim().to_ascii_lowercase();
     PRESETS
         .iter()
-        .find(|p| p.name == key || p.aliases.contains(&key.as_str()))
-        .map(|p| PhysicalMaterial {
-            name: p.name.to_owned(),
-            young_pa: p.young_pa,
-            density_kg_m3: p.density_kg_m3,
-            strength_pa: p.strength_pa,
-        })
+        .find(|p| p.0 == key || p.1.contains(&key.as_str()))
+        .map(
+            |&(name, _, young_pa, density_kg_m3, strength_pa)| PhysicalMaterial {
+                name: name.to_owned(),
+                young_pa,
+                density_kg_m3,
+                strength_pa,
+            },
+        )
         .ok_or_else(|| {
             format!(
                 "unknown material '{}' (expected one of: {})",

@@ -59,20 +59,6 @@ impl Section {
         }
     }
 
-    /// The same section with every length multiplied by `s`.
-    pub fn scaled(&self, s: f64) -> Section {
-        match *self {
-            Section::Solid { radius } => Section::Solid { radius: radius * s },
-            Section::Tube {
-                outer_diameter,
-                wall,
-            } => Section::Tube {
-                outer_diameter: outer_diameter * s,
-                wall: wall * s,
-            },
-        }
-    }
-
     /// A short description in scene units (`solid r 10`, `tube 60 × 4`).
     pub fn describe(&self) -> String {
         match *self {
@@ -173,11 +159,5 @@ mod tests {
         for b in bad {
             assert!(b.validate().is_err(), "{b:?}");
         }
-        assert_eq!(
-            s.scaled(0.001),
-            Section::Solid {
-                radius: 10.0 * 0.001
-            }
-        );
     }
 }

@@ -53,11 +53,6 @@ impl Length {
             Length::Metres(v) => v / units.metres(),
         }
     }
-
-    /// True when the length was written without a unit.
-    pub fn is_scene(self) -> bool {
-        matches!(self, Length::Scene(_))
-    }
 }
 
 /// A section as written.
@@ -92,24 +87,6 @@ impl SectionSpec {
                 wall: wall.to_scene(units),
             },
         }
-    }
-
-    /// The section in scene units when no unit is known (the paper's mode): lengths with a
-    /// unit are an error.
-    pub fn scene_only(&self) -> Result<Section, String> {
-        let ok = match self {
-            SectionSpec::Solid { radius } => radius.is_scene(),
-            SectionSpec::Tube {
-                outer_diameter,
-                wall,
-            } => outer_diameter.is_scene() && wall.is_scene(),
-        };
-        if !ok {
-            return Err(
-                "a section given with a unit needs the scene's unit: give --units mm|cm|m".into(),
-            );
-        }
-        Ok(self.resolve(LengthUnit::Metre))
     }
 
     /// A tube written as `DxT` (outer diameter × wall), e.g. `60x4` or `60mm x 4mm`.
@@ -412,7 +389,6 @@ mod tests {
         );
         assert!(SectionSpec::parse_tube("60", "--tube").is_err());
         assert!(SectionSpec::parse_tube("60x4x2", "--tube").is_err());
-        assert!(t.scene_only().is_err());
         let r = Length::parse("1.5cm", "--radius").unwrap();
         assert!((r.to_scene(LengthUnit::Millimetre) - 15.0).abs() < 1e-12);
     }

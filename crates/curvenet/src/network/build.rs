@@ -104,6 +104,18 @@ pub enum BuildError {
     },
 }
 
+impl BuildError {
+    /// Curve `curve` of `curves` cannot be a rod: `message` says why.
+    pub(super) fn degenerate(curves: &[Polyline], curve: usize, message: String) -> Self {
+        BuildError::DegenerateCurve {
+            file: curves[curve].origin.file.clone(),
+            line: curves[curve].origin.line,
+            curve,
+            message,
+        }
+    }
+}
+
 /// What construction found, for reports.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BuildInfo {
@@ -157,13 +169,8 @@ pub fn build_network(
         .iter()
         .map(|c| CurveGeometry::new(c.points.clone(), c.closed))
         .collect();
-    for (i, (g, c)) in geo.iter().zip(curves).enumerate() {
-        check_curve(g).map_err(|message| BuildError::DegenerateCurve {
-            file: c.origin.file.clone(),
-            line: c.origin.line,
-            curve: i,
-            message,
-        })?;
+    for (i, g) in geo.iter().enumerate() {
+        check_curve(g).map_err(|message| BuildError::degenerate(curves, i, message))?;
     }
     // Each open curve gets at least 2 edges per piece, a closed one at least 3; the estimate
     // is made in floating point so that a tiny h cannot overflow it.

@@ -245,15 +245,11 @@ fn merge_hits(curves: &[CurveGeometry], mut hits: Vec<Crossing>) -> Vec<Crossing
             .then(x.b.s.total_cmp(&y.b.s))
     });
     let mut out = Vec::new();
-    let mut start = 0;
-    while start < hits.len() {
-        let key = (hits[start].a.curve, hits[start].b.curve);
-        let mut end = start;
-        while end < hits.len() && (hits[end].a.curve, hits[end].b.curve) == key {
-            end += 1;
-        }
-        let group = &hits[start..end];
-        let (ga, gb) = (&curves[key.0 as usize], &curves[key.1 as usize]);
+    for group in hits.chunk_by(|x, y| (x.a.curve, x.b.curve) == (y.a.curve, y.b.curve)) {
+        let (ga, gb) = (
+            &curves[group[0].a.curve as usize],
+            &curves[group[0].b.curve as usize],
+        );
         let mut uf = UnionFind::new(group.len());
         let reach = group.iter().map(|h| h.a.segment_length).fold(0.0, f64::max);
         for i in 0..group.len() {
@@ -280,7 +276,6 @@ fn merge_hits(curves: &[CurveGeometry], mut hits: Vec<Crossing>) -> Vec<Crossing
         let mut reps: Vec<usize> = best.into_iter().flatten().collect();
         reps.sort_unstable();
         out.extend(reps.into_iter().map(|k| group[k]));
-        start = end;
     }
     out
 }

@@ -133,27 +133,26 @@ fn joint_seeds(
 ) -> (Vec<JointSeed>, Vec<usize>) {
     let n = crossings.len();
     let mut joint_of = vec![usize::MAX; n];
-    let mut seeds: Vec<JointSeed> = Vec::new();
-    let mut sums: Vec<(Vec3, usize)> = Vec::new();
+    // Per joint: the sum of its crossings' midpoints, their number, the largest tolerance.
+    let mut sums: Vec<(Vec3, usize, f64)> = Vec::new();
     for k in 0..n {
         let r = uf.find(k);
         if joint_of[r] == usize::MAX {
-            joint_of[r] = seeds.len();
-            seeds.push(JointSeed {
-                position: Vec3::ZERO,
-                tolerance: 0.0,
-            });
-            sums.push((Vec3::ZERO, 0));
+            joint_of[r] = sums.len();
+            sums.push((Vec3::ZERO, 0, 0.0));
         }
         let j = joint_of[r];
         joint_of[k] = j;
         sums[j].0 += crossings[k].midpoint();
         sums[j].1 += 1;
-        seeds[j].tolerance = seeds[j].tolerance.max(tol_of(k));
+        sums[j].2 = sums[j].2.max(tol_of(k));
     }
-    for (seed, (sum, count)) in seeds.iter_mut().zip(&sums) {
-        seed.position = *sum / *count as f64;
-    }
+    let seeds = (sums.into_iter())
+        .map(|(sum, count, tolerance)| JointSeed {
+            position: sum / count as f64,
+            tolerance,
+        })
+        .collect();
     (seeds, joint_of)
 }
 

@@ -38,38 +38,29 @@ pub(super) fn resample(
     let mut rods = Vec::with_capacity(geo.len());
     for (ci, g) in geo.iter().enumerate() {
         let stations = stations(g, &passes[ci], params.edge_length);
-        let mut verts = Vec::with_capacity(stations.len());
-        for &(s, joint) in &stations {
-            let v = match joint {
-                Some(j) => *joint_vertex[j].get_or_insert_with(|| {
-                    positions.push(seeds[j].position);
-                    (positions.len() - 1) as u32
-                }),
-                None => {
-                    positions.push(g.point_at(s));
-                    (positions.len() - 1) as u32
+        let add = |p: Vec3, positions: &mut Vec<Vec3>| {
+            positions.push(p);
+            (positions.len() - 1) as u32
+        };
+        let verts: Vec<u32> = (stations.iter())
+            .map(|&(s, joint)| match joint {
+                Some(j) => {
+                    *joint_vertex[j].get_or_insert_with(|| add(seeds[j].position, &mut positions))
                 }
-            };
-            verts.push(v);
-        }
-        let rod = lock(&positions, verts, g, params).map_err(|message| {
-            let c = &curves[ci];
-            BuildError::DegenerateCurve {
-                file: c.origin.file.clone(),
-                line: c.origin.line,
-                curve: ci,
-                message,
-            }
-        })?;
+                None => add(g.point_at(s), &mut positions),
+            })
+            .collect();
+        let rod = lock(&positions, verts, g, params)
+            .map_err(|message| BuildError::degenerate(curves, ci, message))?;
         rods.push(rod);
     }
-    let joints = joints_at(&joint_vertex, &rods, positions.len());
-    let network = Network {
+    let mut network = Network {
         positions,
         rods,
-        joints,
+        joints: Vec::new(),
         supports: params.supports,
     };
+    network.joints = joints_at(&joint_vertex, &network);
     let info = BuildInfo {
         curves: geo.len(),
         vertices: network.vertex_count(),
@@ -211,24 +202,14 @@ fn fold_back(positions: &[Vec3], verts: &[u32], closed: bool) -> Option<(Vec3, f
 }
 
 /// The joints at the joints' vertices, with the curves through each, by vertex.
-fn joints_at(joint_vertex: &[Option<u32>], rods: &[Rod], vertex_count: usize) -> Vec<Joint> {
-    let mut vertex_curves: Vec<Vec<u32>> = vec![Vec::new(); vertex_count];
-    for (c, r) in rods.iter().enumerate() {
-        for &v in &r.vertices {
-            vertex_curves[v as usize].push(c as u32);
-        }
-    }
+fn joints_at(joint_vertex: &[Option<u32>], network: &Network) -> Vec<Joint> {
+    let vertex_curves = network.vertex_curves();
     let mut joints: Vec<Joint> = joint_vertex
         .iter()
         .flatten()
-        .map(|&jv| {
-            let mut cs = vertex_curves[jv as usize].clone();
-            cs.sort_unstable();
-            cs.dedup();
-            Joint {
-                vertex: jv,
-                curves: cs,
-            }
+        .map(|&jv| Joint {
+            vertex: jv,
+            curves: vertex_curves[jv as usize].clone(),
         })
         .collect();
     joints.sort_by_key(|j| j.vertex);

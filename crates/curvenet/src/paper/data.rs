@@ -12,109 +12,41 @@ use std::path::{Path, PathBuf};
 /// The authors' MIT licence text, shipped with the embedded files.
 pub const LICENSE: &str = include_str!("../../data/paper/LICENSE");
 
+/// `(path, bytes)` of each file named, embedded from `data/paper`.
+macro_rules! embed {
+    ($($path:literal),* $(,)?) => {
+        &[$(($path, include_bytes!(concat!("../../data/paper/", $path)))),*]
+    };
+}
+
 /// The embedded files, by path relative to the data folder (`meshes/NAME.obj`,
 /// `curves/NAME.txt`), in name order.
-const FILES: &[(&str, &[u8])] = &[
-    (
-        "meshes/1wave.obj",
-        include_bytes!("../../data/paper/meshes/1wave.obj"),
-    ),
-    (
-        "meshes/2waves.obj",
-        include_bytes!("../../data/paper/meshes/2waves.obj"),
-    ),
-    (
-        "meshes/bunny_modified.obj",
-        include_bytes!("../../data/paper/meshes/bunny_modified.obj"),
-    ),
-    (
-        "meshes/half_sphere.obj",
-        include_bytes!("../../data/paper/meshes/half_sphere.obj"),
-    ),
-    (
-        "meshes/hill.obj",
-        include_bytes!("../../data/paper/meshes/hill.obj"),
-    ),
-    (
-        "meshes/kagome.obj",
-        include_bytes!("../../data/paper/meshes/kagome.obj"),
-    ),
-    (
-        "meshes/leaf.obj",
-        include_bytes!("../../data/paper/meshes/leaf.obj"),
-    ),
-    (
-        "meshes/roof.obj",
-        include_bytes!("../../data/paper/meshes/roof.obj"),
-    ),
-    (
-        "meshes/shell.obj",
-        include_bytes!("../../data/paper/meshes/shell.obj"),
-    ),
-    (
-        "meshes/sine_disk.obj",
-        include_bytes!("../../data/paper/meshes/sine_disk.obj"),
-    ),
-    (
-        "meshes/stadium.obj",
-        include_bytes!("../../data/paper/meshes/stadium.obj"),
-    ),
-    (
-        "meshes/tent.obj",
-        include_bytes!("../../data/paper/meshes/tent.obj"),
-    ),
-    (
-        "meshes/tower.obj",
-        include_bytes!("../../data/paper/meshes/tower.obj"),
-    ),
-    (
-        "curves/hill_3.txt",
-        include_bytes!("../../data/paper/curves/hill_3.txt"),
-    ),
-    (
-        "curves/kagome_114_regular.txt",
-        include_bytes!("../../data/paper/curves/kagome_114_regular.txt"),
-    ),
-    (
-        "curves/roof_75.txt",
-        include_bytes!("../../data/paper/curves/roof_75.txt"),
-    ),
-    (
-        "curves/shell_100.txt",
-        include_bytes!("../../data/paper/curves/shell_100.txt"),
-    ),
-    (
-        "curves/shell_100_for_arcs.txt",
-        include_bytes!("../../data/paper/curves/shell_100_for_arcs.txt"),
-    ),
-    (
-        "curves/shell_3.txt",
-        include_bytes!("../../data/paper/curves/shell_3.txt"),
-    ),
-    (
-        "curves/shell_arcs.txt",
-        include_bytes!("../../data/paper/curves/shell_arcs.txt"),
-    ),
-    (
-        "curves/shell_elipse.txt",
-        include_bytes!("../../data/paper/curves/shell_elipse.txt"),
-    ),
-    (
-        "curves/tent_3_regular_curves.txt",
-        include_bytes!("../../data/paper/curves/tent_3_regular_curves.txt"),
-    ),
-    (
-        "curves/tent_curves.txt",
-        include_bytes!("../../data/paper/curves/tent_curves.txt"),
-    ),
-    (
-        "curves/tower_32.txt",
-        include_bytes!("../../data/paper/curves/tower_32.txt"),
-    ),
-    (
-        "curves/tower_top_ring.txt",
-        include_bytes!("../../data/paper/curves/tower_top_ring.txt"),
-    ),
+const FILES: &[(&str, &[u8])] = embed![
+    "meshes/1wave.obj",
+    "meshes/2waves.obj",
+    "meshes/bunny_modified.obj",
+    "meshes/half_sphere.obj",
+    "meshes/hill.obj",
+    "meshes/kagome.obj",
+    "meshes/leaf.obj",
+    "meshes/roof.obj",
+    "meshes/shell.obj",
+    "meshes/sine_disk.obj",
+    "meshes/stadium.obj",
+    "meshes/tent.obj",
+    "meshes/tower.obj",
+    "curves/hill_3.txt",
+    "curves/kagome_114_regular.txt",
+    "curves/roof_75.txt",
+    "curves/shell_100.txt",
+    "curves/shell_100_for_arcs.txt",
+    "curves/shell_3.txt",
+    "curves/shell_arcs.txt",
+    "curves/shell_elipse.txt",
+    "curves/tent_3_regular_curves.txt",
+    "curves/tent_curves.txt",
+    "curves/tower_32.txt",
+    "curves/tower_top_ring.txt",
 ];
 
 /// The paths of the embedded files (`meshes/…`, `curves/…`).

@@ -253,6 +253,10 @@ pub fn analyze_physical(
         symbolic: &symbolic,
         hess: &relaxed.hess,
         keep: held.iter().flat_map(|&h| [h; 3]).collect(),
+        network,
+        active,
+        held: &held,
+        phys,
     };
 
     // Natural frequencies: H v = μ M v.
@@ -266,10 +270,7 @@ pub fn analyze_physical(
     let frequencies = frequencies_hz(&modes.values, &signs.positive);
     let mut warnings = solve_warnings(&relaxed.info, &signs, &modes);
     let (load_max_deflection, self_weight_deflection) = if stable {
-        (
-            Some(at.worst_load(network, active, &held, phys)?),
-            at.self_weight(network, active, &held, phys),
-        )
+        (Some(at.worst_load()?), at.self_weight())
     } else {
         (None, None)
     };
@@ -349,12 +350,18 @@ fn solve_warnings(newton: &NewtonInfo, signs: &ModeSigns, modes: &Spectrum) -> V
 }
 
 /// The structure at its equilibrium: the energy's Hessian there and the coordinates the
-/// structure holds (those of its vertices, three per vertex).
+/// structure holds (those of its vertices, three per vertex), with the network, its active
+/// curves and the physical parameters.
 struct AtEquilibrium<'a> {
     model: &'a EnergyModel,
     symbolic: &'a Arc<SymbolicFactor>,
     hess: &'a [f64],
     keep: Vec<bool>,
+    network: &'a Network,
+    active: &'a ActiveSet,
+    /// The vertices of the structure.
+    held: &'a [bool],
+    phys: &'a Physical,
 }
 
 impl AtEquilibrium<'_> {
@@ -399,36 +406,29 @@ impl AtEquilibrium<'_> {
 
     /// The largest deflection under the worst-case distributed load of the run's intensity:
     /// the lowest pair of `H v = μ_L Λ v` (`Λ` the lumped lengths), `v = Λ^{-1/2} ṽ`.
-    fn worst_load(
-        &self,
-        network: &Network,
-        active: &ActiveSet,
-        held: &[bool],
-        phys: &Physical,
-    ) -> Result<Deflection, PhysicsError> {
-        let lengths = lumped_lengths(network, active);
+    fn worst_load(&self) -> Result<Deflection, PhysicsError> {
+        let lengths = lumped_lengths(self.network, self.active);
         let s = inverse_sqrt_coordinates(&lengths);
         let pair = self.lowest(&lengths, 1)?;
         let v: Vec<f64> = (0..s.len()).map(|i| s[i] * pair.vectors[(i, 0)]).collect();
-        let (vertex, max) =
-            worst_load_deflection(pair.lambda(), &v, &lengths, held, phys.load_scene());
+        let (vertex, max) = worst_load_deflection(
+            pair.lambda(),
+            &v,
+            &lengths,
+            self.held,
+            self.phys.load_scene(),
+        );
         Ok(Deflection { max, vertex })
     }
 
     /// The self-weight deflection, linearised at the equilibrium (`H u = M g`): the vertex
     /// and the largest displacement (`None` when `H` does not factorize).
-    fn self_weight(
-        &self,
-        network: &Network,
-        active: &ActiveSet,
-        held: &[bool],
-        phys: &Physical,
-    ) -> Option<(usize, f64)> {
+    fn self_weight(&self) -> Option<(usize, f64)> {
         let factor =
             Cholesky::factorize(self.symbolic, self.model.pattern(), self.hess, 0.0, None).ok()?;
-        let mut w = self_weight(network, phys, active);
+        let mut w = self_weight(self.network, self.phys, self.active);
         factor.solve_vec(&mut w);
-        Some(max_displacement(&w, held))
+        Some(max_displacement(&w, self.held))
     }
 }
 

@@ -2,7 +2,7 @@
 //! that imply absurd dimensions.
 
 use super::stress::Stresses;
-use crate::geom::Vec3;
+use crate::geom::Aabb;
 use crate::material::Physical;
 use crate::rod::Network;
 
@@ -77,20 +77,7 @@ pub fn units_warnings(network: &Network, physical: &Physical) -> Vec<String> {
     }
     let u = physical.units;
     let m = u.metres();
-    let (lo, hi) = network.positions.iter().fold(
-        (
-            Vec3::new(f64::MAX, f64::MAX, f64::MAX),
-            Vec3::new(f64::MIN, f64::MIN, f64::MIN),
-        ),
-        |(lo, hi), p| {
-            (
-                Vec3::new(lo.x.min(p.x), lo.y.min(p.y), lo.z.min(p.z)),
-                Vec3::new(hi.x.max(p.x), hi.y.max(p.y), hi.z.max(p.z)),
-            )
-        },
-    );
-    let d = hi - lo;
-    let extent = d.x.max(d.y).max(d.z) * m;
+    let extent = Aabb::of_points(&network.positions).largest_extent() * m;
     if !(MIN_EXTENT_M..=MAX_EXTENT_M).contains(&extent) {
         out.push(format!(
             "with --units {u} the network is {} across: are the coordinates in {u}?",

@@ -3,7 +3,10 @@
 //! [`PhysicalParams`]: one place for the command line and any other front end.
 
 use super::analysis::PhysicalParams;
-use crate::material::{self, CurveSpec, Physical, SectionSpec, presets};
+use crate::material::{
+    self, CurveSpec, DENSITY_RANGE_KG_M3, LINE_LOAD_RANGE_N_PER_M, Physical, STRESS_RANGE_PA,
+    SectionSpec, presets,
+};
 use crate::rod::Material;
 use crate::units::{LengthUnit, Quantity, STANDARD_GRAVITY, parse_quantity};
 
@@ -116,17 +119,15 @@ impl PhysicalOptions {
         let mut material = presets::preset(self.material.as_deref().unwrap_or(DEFAULT_MATERIAL))
             .map_err(|e| format!("--material: {e}"))?;
         let mut modified = false;
-        if let Some(t) = &self.young {
-            material.young_pa = quantity("--young", t)?;
-            modified = true;
-        }
-        if let Some(t) = &self.density {
-            material.density_kg_m3 = quantity("--density", t)?;
-            modified = true;
-        }
-        if let Some(t) = &self.strength {
-            material.strength_pa = quantity("--strength", t)?;
-            modified = true;
+        for (name, given, slot) in [
+            ("--young", &self.young, &mut material.young_pa),
+            ("--density", &self.density, &mut material.density_kg_m3),
+            ("--strength", &self.strength, &mut material.strength_pa),
+        ] {
+            if let Some(t) = given {
+                *slot = quantity(name, t)?;
+                modified = true;
+            }
         }
         if modified {
             material.name = format!("{} (modified)", material.name);
@@ -142,16 +143,14 @@ impl PhysicalOptions {
             },
         }
         .resolve(units);
-        section.validate().map_err(|e| {
-            format!(
-                "{}: {e}",
-                if self.tube.is_some() {
-                    "--tube"
-                } else {
-                    "--radius"
-                }
-            )
-        })?;
+        let section_option = if self.tube.is_some() {
+            "--tube"
+        } else {
+            "--radius"
+        };
+        section
+            .validate()
+            .map_err(|e| format!("{section_option}: {e}"))?;
         let mut physical = Physical::uniform(units, material, section);
         if let Some(t) = &self.load {
             physical.load_n_per_m = quantity("--load", t)?;
@@ -159,17 +158,9 @@ impl PhysicalOptions {
         if let Some(t) = &self.gravity {
             physical.gravity = parse_gravity(t)?;
         }
+        // Validated with the curves' overrides.
         let physical = physical.with_curve_specs(specs)?;
-        physical.validate()?;
-        check_stiffness(
-            &physical,
-            specs,
-            if self.tube.is_some() {
-                "--tube"
-            } else {
-                "--radius"
-            },
-        )?;
+        check_stiffness(&physical, specs, section_option)?;
         let mut params = PhysicalParams::new(physical);
         params.rest = specs.iter().map(|s| s.rest.unwrap_or_default()).collect();
         Ok(Some(params))
@@ -180,25 +171,10 @@ impl PhysicalOptions {
 /// ([`crate::material`]'s bounds: far beyond any material, and keeping every stiffness, mass
 /// and load within floating-point range).
 const QUANTITIES: &[(&str, Quantity, &str, (f64, f64))] = &[
-    ("--young", Quantity::Stress, "Pa", material::STRESS_RANGE_PA),
-    (
-        "--density",
-        Quantity::Density,
-        "kg/m3",
-        material::DENSITY_RANGE_KG_M3,
-    ),
-    (
-        "--strength",
-        Quantity::Stress,
-        "Pa",
-        material::STRESS_RANGE_PA,
-    ),
-    (
-        "--load",
-        Quantity::LineLoad,
-        "N/m",
-        material::LINE_LOAD_RANGE_N_PER_M,
-    ),
+    ("--young", Quantity::Stress, "Pa", STRESS_RANGE_PA),
+    ("--density", Quantity::Density, "kg/m3", DENSITY_RANGE_KG_M3),
+    ("--strength", Quantity::Stress, "Pa", STRESS_RANGE_PA),
+    ("--load", Quantity::LineLoad, "N/m", LINE_LOAD_RANGE_N_PER_M),
 ];
 
 /// The largest gravity component accepted, m/s² (about 1000 g).

@@ -141,10 +141,10 @@ pub fn assembly_stresses(
         };
         // Bending at every vertex with a bending term (the interior ones, or all of a closed
         // rod), the same stencils as the energy's.
-        let centers: Box<dyn Iterator<Item = usize>> = if rod.closed {
-            Box::new(0..m)
+        let centers = if rod.closed {
+            0..m
         } else {
-            Box::new(1..m.saturating_sub(1))
+            1..m.saturating_sub(1)
         };
         for i in centers {
             let (prev, next) = ((i + ne - 1) % ne, i % ne);

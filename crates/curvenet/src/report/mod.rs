@@ -40,19 +40,15 @@ impl UnitsNote {
         lengths.sort_by(f64::total_cmp);
         let median = lengths.get(lengths.len() / 2).copied().unwrap_or(0.0);
         let slenderness = median / material.radius;
-        let warning = if slenderness < 20.0 {
+        let extreme = if slenderness < 20.0 {
+            Some(("large", " (rods are usually 100–10000× longer than thick)"))
+        } else {
+            (slenderness > 1e6).then_some(("tiny", ""))
+        };
+        let warning = if let Some((size, usual)) = extreme {
             Some(format!(
-                "rod radius {} is large against the median curve length {}: slenderness {} \
-                 (rods are usually 100–10000× longer than thick); check the scene's units or \
-                 set --radius",
-                material.radius,
-                fmt::length(median),
-                fmt::significant(slenderness, 4)
-            ))
-        } else if slenderness > 1e6 {
-            Some(format!(
-                "rod radius {} is tiny against the median curve length {}: slenderness {}; \
-                 check the scene's units or set --radius",
+                "rod radius {} is {size} against the median curve length {}: slenderness \
+                 {}{usual}; check the scene's units or set --radius",
                 material.radius,
                 fmt::length(median),
                 fmt::significant(slenderness, 4)
@@ -84,17 +80,10 @@ impl UnitsNote {
     }
 }
 
-/// Where a mode moves most.
-#[derive(Clone, Debug, PartialEq)]
-struct ModePeak {
-    vertex: usize,
-    position: crate::geom::Vec3,
-    curves: Vec<usize>,
-}
-
-/// The vertex where the worst-case mode of `analysis` moves most, with its rest position and
-/// the curves through it; `None` when no mode was computed.
-fn mode_peak(network: &Network, analysis: &Analysis) -> Option<ModePeak> {
+/// Where the worst-case mode of `analysis` moves most, in words: `; it moves most at vertex V
+/// (x, y, z) on curve(s) a, b` (its rest position, the curves through it); `None` when no mode
+/// was computed.
+fn mode_peak(network: &Network, analysis: &Analysis) -> Option<String> {
     let vectors = &analysis.spectrum.vectors;
     if vectors.ncols() == 0 || vectors.nrows() != network.dofs() {
         return None;
@@ -107,18 +96,21 @@ fn mode_peak(network: &Network, analysis: &Analysis) -> Option<ModePeak> {
         .filter(|(_, a)| a.is_finite())
         .max_by(|x, y| x.1.total_cmp(&y.1).then(y.0.cmp(&x.0)))?
         .0;
-    let curves = network
+    let curves: Vec<String> = network
         .rods
         .iter()
         .enumerate()
         .filter(|(_, r)| r.vertices.contains(&(vertex as u32)))
-        .map(|(c, _)| c)
+        .map(|(c, _)| c.to_string())
         .collect();
-    Some(ModePeak {
-        vertex,
-        position: network.positions[vertex],
-        curves,
-    })
+    let p = network.positions[vertex];
+    Some(format!(
+        "; it moves most at vertex {vertex} ({:.4e}, {:.4e}, {:.4e}) on curve(s) {}",
+        p.x,
+        p.y,
+        p.z,
+        curves.join(", ")
+    ))
 }
 
 /// The object printed by `analyze --json` (docs/formats.md).
@@ -177,15 +169,6 @@ pub struct AnalysisReport {
 }
 
 impl AnalysisReport {
-    /// Drops the units note's warning: in the physical mode the paper's model keeps its
-    /// default radius as a stand-in, and the physical analysis checks the real section against
-    /// the scene instead.
-    pub fn drop_units_warning(&mut self) {
-        if let Some(w) = self.units.warning.take() {
-            self.warnings.retain(|x| *x != w);
-        }
-    }
-
     /// The report of an analysis whose spectrum is `objective`'s (the analyzer's): under the
     /// frequency objective `lambda` is `μ_min` and the first frequency is added when the
     /// structure is stable.
@@ -202,7 +185,9 @@ impl AnalysisReport {
     /// without the paper model's warning (the physical analysis checks the section against
     /// the scene).
     pub fn use_physical_radius(&mut self, network: &Network, radius: f64) {
-        self.drop_units_warning();
+        if let Some(w) = self.units.warning.take() {
+            self.warnings.retain(|x| *x != w);
+        }
         let material = Material {
             radius,
             ..Material::default()
@@ -251,25 +236,10 @@ impl AnalysisReport {
             .map(|c| c.curve.to_string())
             .collect();
         let unstable = sp.zero_modes > 0 || sp.negative_modes > 0;
-        let peak = if unstable {
-            mode_peak(network, analysis)
-        } else {
-            None
-        };
-        let place = peak.map_or_else(String::new, |p| {
-            format!(
-                "; it moves most at vertex {} ({:.4e}, {:.4e}, {:.4e}) on curve(s) {}",
-                p.vertex,
-                p.position.x,
-                p.position.y,
-                p.position.z,
-                p.curves
-                    .iter()
-                    .map(|c| c.to_string())
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            )
-        });
+        let place = unstable
+            .then(|| mode_peak(network, analysis))
+            .flatten()
+            .unwrap_or_default();
         if sp.zero_modes > 0 {
             warnings.push(format!(
                 "the structure has {} zero mode(s) (a mechanism): |λ| ≤ {:.3e}; the mode lives \
@@ -402,21 +372,16 @@ impl AnalysisReport {
                 .collect::<Vec<_>>()
                 .join(", ")
         );
-        match &self.gravity {
-            Some(g) => {
-                let _ = writeln!(
-                    s,
-                    "gravity deflection: max {:.4e} at vertex {}, compliance {:.4e}",
+        let gravity = self.gravity.as_ref().map_or_else(
+            || "not computed (structure not positive definite)".to_string(),
+            |g| {
+                format!(
+                    "max {:.4e} at vertex {}, compliance {:.4e}",
                     g.max_displacement, g.vertex, g.compliance
-                );
-            }
-            None => {
-                let _ = writeln!(
-                    s,
-                    "gravity deflection: not computed (structure not positive definite)"
-                );
-            }
-        }
+                )
+            },
+        );
+        let _ = writeln!(s, "gravity deflection: {gravity}");
         let _ = writeln!(
             s,
             "units: radius {} vs median curve length {} (slenderness {})",

@@ -8,6 +8,7 @@
 use super::render::{INK, Image, KEPT, REMOVED, Rgb, rgb8, text_width};
 use crate::fmt::significant;
 use crate::run_folder::ResultFile;
+use crate::simplify::greedy::IterationRecord;
 
 /// Size of `lambda.png`.
 pub const PLOT_SIZE: (usize, usize) = (960, 800);
@@ -190,14 +191,11 @@ pub fn lambda_plot(result: &ResultFile) -> Image {
     let (w, h) = PLOT_SIZE;
     let mut img = Image::new(w, h);
     let its = &result.iterations;
-    let lam: Vec<(f64, f64)> = its
-        .iter()
-        .map(|i| (i.curves.len() as f64, i.lambda))
-        .collect();
-    let len: Vec<(f64, f64)> = its
-        .iter()
-        .map(|i| (i.curves.len() as f64, i.length))
-        .collect();
+    // A figure of each iteration against its number of curves.
+    let series = |f: fn(&IterationRecord) -> f64| -> Vec<(f64, f64)> {
+        its.iter().map(|i| (i.curves.len() as f64, f(i))).collect()
+    };
+    let (lam, len) = (series(|i| i.lambda), series(|i| i.length));
     let first = its.first().map_or(1.0, |i| i.curves.len() as f64);
     let last = its.last().map_or(0.0, |i| i.curves.len() as f64);
     let x_range = if first > last {

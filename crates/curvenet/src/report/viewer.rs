@@ -29,7 +29,7 @@
 //! `final.png`, `mode.png`, `lambda.png` ([`super::render`], [`super::plot`]), `viewer.html`
 //! and `fabrication.csv` (the final network, [`super::export::fabrication_csv`]).
 
-use super::export::{answer_fabrication_csv, fabrication_csv, rod_joints, rod_supports};
+use super::export::{fabrication_csv, rod_joints, rod_supports};
 use super::plot::lambda_plot;
 use super::render::{mode_picture, network_picture};
 use crate::io::TriMesh;
@@ -160,8 +160,7 @@ pub fn viewer_data(run: &RunFolder, options: &ViewerOptions) -> Result<Value, St
         .collect::<Result<_, _>>()?;
     let modes: Vec<Vec<f64>> = (0..n).map(|k| run.mode(k)).collect::<Result<_, _>>()?;
     let gravity: Vec<Option<Vec<f64>>> = if options.gravity {
-        let analyzer = Analyzer::new(net.clone(), r.setup.stability.clone())
-            .map_err(|e| format!("{}: {e}", run.dir.join("result.json").display()))?;
+        let analyzer = analyzer_of(run)?;
         (0..n)
             .into_par_iter()
             .map(|k| gravity_deflection(&analyzer, &r.iterations[k].curves, &states[k]))
@@ -183,9 +182,7 @@ pub fn viewer_data(run: &RunFolder, options: &ViewerOptions) -> Result<Value, St
         .enumerate()
         .map(|(k, it)| {
             let verts = active_vertices(run, &it.curves);
-            let g = gravity[k]
-                .as_ref()
-                .map(|g| gravity_field(&restrict(g, &verts), &verts));
+            let g = gravity[k].as_ref().map(|g| gravity_field(g, &verts));
             json!({
                 "curves": it.curves,
                 "length": it.length,
@@ -293,13 +290,8 @@ fn chosen_data(run: &RunFolder, options: &ViewerOptions) -> Result<Vec<Value>, S
     for n in 1..=r.alternatives.len() {
         which.push((Which::Alternative(n), format!("alternative {n}")));
     }
-    let analyzer = match options.gravity && !which.is_empty() {
-        true => Some(
-            Analyzer::new(run.network.clone(), r.setup.stability.clone())
-                .map_err(|e| format!("{}: {e}", run.dir.join("result.json").display()))?,
-        ),
-        false => None,
-    };
+    let gravity = options.gravity && !which.is_empty();
+    let analyzer = gravity.then(|| analyzer_of(run)).transpose()?;
     let answers = r.answer.iter().chain(&r.alternatives);
     let mut out = Vec::new();
     for ((w, label), a) in which.iter().zip(answers) {
@@ -320,7 +312,7 @@ fn chosen_data(run: &RunFolder, options: &ViewerOptions) -> Result<Vec<Value>, S
             let g = analyzer
                 .as_ref()
                 .and_then(|an| gravity_deflection(an, &a.found.curves, &u))
-                .map(|g| gravity_field(&restrict(&g, &verts), &verts));
+                .map(|g| gravity_field(&g, &verts));
             e["u"] = encode_i16(&restrict(&u, &verts));
             e["mode"] = encode_i16(&restrict(&mode, &verts));
             e["gravity"] = json!(g);
@@ -330,9 +322,16 @@ fn chosen_data(run: &RunFolder, options: &ViewerOptions) -> Result<Vec<Value>, S
     Ok(out)
 }
 
-/// The gravity deflection over `verts` (restricted), encoded with its largest displacement
-/// and the vertex where it is.
-fn gravity_field(restricted: &[f64], verts: &[usize]) -> Value {
+/// An analyzer of the run's network with its stability settings.
+fn analyzer_of(run: &RunFolder) -> Result<Analyzer, String> {
+    Analyzer::new(run.network.clone(), run.result.setup.stability.clone())
+        .map_err(|e| format!("{}: {e}", run.dir.join("result.json").display()))
+}
+
+/// The gravity deflection over `verts`, encoded with its largest displacement and the vertex
+/// where it is.
+fn gravity_field(deflection: &[f64], verts: &[usize]) -> Value {
+    let restricted = restrict(deflection, verts);
     let (mut vmax, mut dmax) = (0usize, 0.0f64);
     for (i, c) in restricted.chunks(3).enumerate() {
         let d = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt();
@@ -340,7 +339,7 @@ fn gravity_field(restricted: &[f64], verts: &[usize]) -> Value {
             (vmax, dmax) = (verts[i], d);
         }
     }
-    let mut e = encode_i16(restricted);
+    let mut e = encode_i16(&restricted);
     e["max_displacement"] = json!(dmax);
     e["vertex"] = json!(vmax);
     e
@@ -374,12 +373,7 @@ fn html_escape(s: &str) -> String {
 
 /// The self-contained viewer page of a run.
 pub fn viewer_html(run: &RunFolder, options: &ViewerOptions) -> Result<String, String> {
-    let data = viewer_data(run, options)?;
-    let json = serde_json::to_string(&data).map_err(|e| e.to_string())?;
-    // Inside <script>, "</" could close the element: JSON allows "\/" for "/".
-    let json = json.replace("</", "<\\/");
-    let title = html_escape(&title_of(run));
-    Ok(page(&title, &json, ""))
+    page(&title_of(run), &viewer_data(run, options)?, "")
 }
 
 /// The page `curvenet serve` answers at `/`: the viewer in its app mode, with the app's script
@@ -411,25 +405,25 @@ pub fn app_html(
         "iterations": [live],
         "mesh": mesh_json(mesh),
     });
-    let json = serde_json::to_string(&data).map_err(|e| e.to_string())?;
-    let json = json.replace("</", "<\\/");
-    let script = format!("<script>\n{APP_SCRIPT}\n</script>");
-    Ok(page(&html_escape(title), &json, &script))
+    page(title, &data, &format!("<script>\n{APP_SCRIPT}\n</script>"))
 }
 
 /// The viewer's template filled: `title` (escaped), the data's JSON (`</` escaped) and the app's
 /// script element (empty for a run's page).
-fn page(title: &str, json: &str, app: &str) -> String {
-    fill_template(
+fn page(title: &str, data: &Value, app: &str) -> Result<String, String> {
+    let json = serde_json::to_string(data).map_err(|e| e.to_string())?;
+    // Inside <script>, "</" could close the element: JSON allows "\/" for "/".
+    let json = json.replace("</", "<\\/");
+    Ok(fill_template(
         TEMPLATE,
         &[
-            ("TITLE", title),
+            ("TITLE", &html_escape(title)),
             ("STYLE", STYLE),
             ("SCRIPT", SCRIPT),
-            ("DATA", json),
+            ("DATA", &json),
             ("APP", app),
         ],
-    )
+    ))
 }
 
 /// Replaces every `{{NAME}}` of `template` (and only of the template: values are not scanned)
@@ -508,7 +502,7 @@ pub fn write_run_outputs(dir: &Path) -> Result<RunOutputs, String> {
     };
     out.files.extend(write_pictures(&run)?);
     let p = dir.join("fabrication.csv");
-    match answer_fabrication_csv(&run) {
+    match fabrication_csv(&run, Which::Answer).ok() {
         Some(csv) => {
             crate::io::write_atomic(&p, csv.as_bytes())
                 .map_err(|e| format!("{}: {e}", p.display()))?;

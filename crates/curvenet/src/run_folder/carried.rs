@@ -31,45 +31,29 @@ pub fn read_carried(
     warnings: &mut Vec<String>,
 ) -> Carried {
     let path = dir.join(carried_file(k));
-    let consequence = "the run goes on without them: the same removals, but the recorded \
-                       bounds will differ from an uninterrupted run's in the last digits";
-    let bytes = match std::fs::read(&path) {
-        Ok(b) => b,
+    let problem = match std::fs::read(&path) {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            warnings.push(format!(
-                "{}: missing (the test vectors iteration {k} handed on); {consequence}",
-                path.display()
-            ));
-            return Vec::new();
+            format!("missing (the test vectors iteration {k} handed on)")
         }
-        Err(e) => {
-            warnings.push(format!(
-                "{}: cannot be read ({e}); {consequence}",
-                path.display()
-            ));
-            return Vec::new();
-        }
-    };
-    match carried_from_bytes(&bytes, curves, dofs) {
-        Some((iteration, carried)) if iteration == k => carried,
-        Some((iteration, _)) => {
-            warnings.push(format!(
-                "{}: holds the test vectors of iteration {iteration}, not of iteration {k}, \
-                 the last recorded; {consequence}",
-                path.display()
-            ));
-            Vec::new()
-        }
-        None => {
-            warnings.push(format!(
-                "{}: damaged ({} bytes, not the test vectors of {curves} curves with {dofs} \
-                 unknowns); {consequence}",
-                path.display(),
+        Err(e) => format!("cannot be read ({e})"),
+        Ok(bytes) => match carried_from_bytes(&bytes, curves, dofs) {
+            Some((iteration, carried)) if iteration == k => return carried,
+            Some((iteration, _)) => format!(
+                "holds the test vectors of iteration {iteration}, not of iteration {k}, the last \
+                 recorded"
+            ),
+            None => format!(
+                "damaged ({} bytes, not the test vectors of {curves} curves with {dofs} unknowns)",
                 bytes.len()
-            ));
-            Vec::new()
-        }
-    }
+            ),
+        },
+    };
+    warnings.push(format!(
+        "{}: {problem}; the run goes on without them: the same removals, but the recorded \
+         bounds will differ from an uninterrupted run's in the last digits",
+        path.display()
+    ));
+    Vec::new()
 }
 
 /// The carried vectors' file: the index of the iteration that handed the vectors on (u64), the

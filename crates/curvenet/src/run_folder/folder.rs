@@ -37,11 +37,23 @@ pub const RUN_FILES: &[&str] = &[
 pub const RUN_FOLDERS: &[&str] = &["modes", "states", "iterations", "export"];
 
 /// Why a folder cannot take a run.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum FolderError {
     /// Another process holds the folder's lock (a run is writing there).
+    #[error(
+        "{}: another curvenet run is writing in this folder; wait for it to end or give \
+         another --out",
+        .0.display()
+    )]
     Held(PathBuf),
     /// The folder is not empty and not a curvenet run: what it holds (the first entries).
+    #[error(
+        "{}: the folder is not empty and is not a curvenet run's (it holds {}); give an empty \
+         or new folder, or --force to run there anyway (the run's own files are replaced, the \
+         others kept)",
+        dir.display(),
+        foreign.join(", ")
+    )]
     NotARun {
         /// The folder.
         dir: PathBuf,
@@ -49,32 +61,9 @@ pub enum FolderError {
         foreign: Vec<String>,
     },
     /// A file system error, with the path.
+    #[error("{0}")]
     Io(String),
 }
-
-impl std::fmt::Display for FolderError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            FolderError::Held(dir) => write!(
-                f,
-                "{}: another curvenet run is writing in this folder; wait for it to end or \
-                 give another --out",
-                dir.display()
-            ),
-            FolderError::NotARun { dir, foreign } => write!(
-                f,
-                "{}: the folder is not empty and is not a curvenet run's (it holds {}); give an \
-                 empty or new folder, or --force to run there anyway (the run's own files are \
-                 replaced, the others kept)",
-                dir.display(),
-                foreign.join(", ")
-            ),
-            FolderError::Io(m) => f.write_str(m),
-        }
-    }
-}
-
-impl std::error::Error for FolderError {}
 
 /// The folder's lock, held while alive (the operating system releases it when the process
 /// ends, however it ends).

@@ -82,6 +82,12 @@ pub fn read_f64_file(path: &Path) -> Result<Vec<f64>, String> {
         .collect())
 }
 
+/// Reads a JSON file; errors name the file (and the line of a parse error).
+pub(crate) fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    serde_json::from_str(&text).map_err(|e| format!("{}:{}: {e}", path.display(), e.line()))
+}
+
 /// Positions of all vertices at displacements `u` (`None`: the rest state).
 pub fn positions_at(net: &Network, u: Option<&[f64]>) -> Vec<Vec3> {
     net.positions

@@ -40,59 +40,10 @@ impl RunFolder {
         }
         let result = ResultFile::read(dir)?;
         let net_path = dir.join("network.json");
-        let text = std::fs::read_to_string(&net_path)
-            .map_err(|e| format!("{}: {e}", net_path.display()))?;
-        let network: Network = serde_json::from_str(&text)
-            .map_err(|e| format!("{}:{}: {e}", net_path.display(), e.line()))?;
+        let network: Network = super::read_json(&net_path)?;
         check_network(&network).map_err(|e| format!("{}: {e}", net_path.display()))?;
-        let n = network.rods.len();
-        if result.iterations.is_empty() {
-            return Err(format!(
-                "{}: no iteration recorded yet",
-                dir.join("result.json").display()
-            ));
-        }
-        for (k, it) in result.iterations.iter().enumerate() {
-            if it.curves.is_empty() {
-                return Err(format!(
-                    "{}: iteration {k} has no curves",
-                    dir.join("result.json").display()
-                ));
-            }
-            if let Some(&c) = it.curves.iter().chain(it.removed.iter()).find(|&&c| c >= n) {
-                return Err(format!(
-                    "{}: iteration {k} names curve {c}, but network.json has {n} curves",
-                    dir.join("result.json").display()
-                ));
-            }
-        }
-        let chosen = result.answer.iter().chain(&result.alternatives);
-        for (i, a) in chosen.enumerate() {
-            let what = if i == 0 && result.answer.is_some() {
-                "the answer".to_string()
-            } else {
-                format!("alternative {}", i + usize::from(result.answer.is_none()))
-            };
-            if a.found.curves.is_empty() {
-                return Err(format!(
-                    "{}: {what} has no curves",
-                    dir.join("result.json").display()
-                ));
-            }
-            if let Some(&c) = a.found.curves.iter().find(|&&c| c >= n) {
-                return Err(format!(
-                    "{}: {what} names curve {c}, but network.json has {n} curves",
-                    dir.join("result.json").display()
-                ));
-            }
-            if let Some(k) = a.found.iteration.filter(|&k| k >= result.iterations.len()) {
-                return Err(format!(
-                    "{}: {what} names iteration {k}, but the run recorded {}",
-                    dir.join("result.json").display(),
-                    result.iterations.len()
-                ));
-            }
-        }
+        check_result(&result, network.rods.len())
+            .map_err(|e| format!("{}: {e}", dir.join("result.json").display()))?;
         let mut warnings = Vec::new();
         let mesh_path = dir.join("mesh.obj");
         let mesh = if mesh_path.is_file() {
@@ -302,6 +253,47 @@ pub struct Chosen {
     /// What makes it unstable, when it is (a zero or negative mode: see
     /// [`super::instability`]); never for the answer or an alternative.
     pub unstable: Option<String>,
+}
+
+/// Checks that a run's record names only curves of its network (`n` of them) and iterations
+/// it recorded, and that every network it records has curves.
+fn check_result(result: &ResultFile, n: usize) -> Result<(), String> {
+    if result.iterations.is_empty() {
+        return Err("no iteration recorded yet".into());
+    }
+    for (k, it) in result.iterations.iter().enumerate() {
+        if it.curves.is_empty() {
+            return Err(format!("iteration {k} has no curves"));
+        }
+        if let Some(&c) = it.curves.iter().chain(it.removed.iter()).find(|&&c| c >= n) {
+            return Err(format!(
+                "iteration {k} names curve {c}, but network.json has {n} curves"
+            ));
+        }
+    }
+    let chosen = result.answer.iter().chain(&result.alternatives);
+    for (i, a) in chosen.enumerate() {
+        let what = if i == 0 && result.answer.is_some() {
+            "the answer".to_string()
+        } else {
+            format!("alternative {}", i + usize::from(result.answer.is_none()))
+        };
+        if a.found.curves.is_empty() {
+            return Err(format!("{what} has no curves"));
+        }
+        if let Some(&c) = a.found.curves.iter().find(|&&c| c >= n) {
+            return Err(format!(
+                "{what} names curve {c}, but network.json has {n} curves"
+            ));
+        }
+        if let Some(k) = a.found.iteration.filter(|&k| k >= result.iterations.len()) {
+            return Err(format!(
+                "{what} names iteration {k}, but the run recorded {}",
+                result.iterations.len()
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Checks that a network is consistent: finite positions, indices in range, one positive

@@ -243,10 +243,7 @@ impl ResultFile {
     /// Reads `DIR/result.json`.
     pub fn read(dir: &Path) -> Result<ResultFile, String> {
         let path = dir.join("result.json");
-        let text =
-            std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let r: ResultFile = serde_json::from_str(&text)
-            .map_err(|e| format!("{}:{}: {e}", path.display(), e.line()))?;
+        let r: ResultFile = super::read_json(&path)?;
         if r.version != VERSION {
             return Err(format!(
                 "{}: unsupported version {} (expected {VERSION})",

@@ -171,12 +171,8 @@ fn mesh_difference(dir: &Path, mesh: Option<&TriMesh>) -> Option<String> {
         return None;
     }
     let count = |t: &str, p: &str| t.lines().filter(|l| l.starts_with(p)).count();
-    let (v0, f0, v1, f1) = (
-        count(&stored, "v "),
-        count(&stored, "f "),
-        count(&now, "v "),
-        count(&now, "f "),
-    );
+    let counts = |t: &str| (count(t, "v "), count(t, "f "));
+    let ((v0, f0), (v1, f1)) = (counts(&stored), counts(&now));
     let what = "--mesh's content differs from the run's";
     if (v0, f0) != (v1, f1) {
         return Some(format!(

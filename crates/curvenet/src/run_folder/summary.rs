@@ -148,24 +148,17 @@ pub fn summary(r: &ResultFile) -> String {
         fmt::length(r.setup.total_length)
     );
     if let (Some(f), Some(l)) = (first, last) {
-        let _ = writeln!(
-            s,
-            "start: {} curves, length {}, {value} {:.6e}{}{}",
-            f.curves.len(),
-            fmt::length(f.length),
-            f.lambda,
-            freq(f),
-            unstable_suffix(f)
-        );
-        let _ = writeln!(
-            s,
-            "final: {} curves, length {}, {value} {:.6e}{}{}",
-            l.curves.len(),
-            fmt::length(l.length),
-            l.lambda,
-            freq(l),
-            unstable_suffix(l)
-        );
+        for (what, it) in [("start", f), ("final", l)] {
+            let _ = writeln!(
+                s,
+                "{what}: {} curves, length {}, {value} {:.6e}{}{}",
+                it.curves.len(),
+                fmt::length(it.length),
+                it.lambda,
+                freq(it),
+                unstable_suffix(it)
+            );
+        }
         let _ = writeln!(s, "kept curves: {:?}", l.curves);
     }
     let removed: Vec<String> = r

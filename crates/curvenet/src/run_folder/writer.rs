@@ -15,13 +15,10 @@ use crate::stability::Evaluation;
 use crate::stability::candidates::Carried;
 use std::path::{Path, PathBuf};
 
-/// The output folder's writer thread.
-fn background() -> Result<io::BackgroundWriter, String> {
-    io::BackgroundWriter::new().map_err(|e| format!("cannot start the output writer thread: {e}"))
-}
-
-/// An OBJ of a recorded network, with a comment line first naming it unstable when it is.
-fn with_instability(record: &IterationRecord, obj: String) -> String {
+/// The OBJ of a recorded network at displacements `u`, with a comment line first naming it
+/// unstable when it is.
+fn record_obj(network: &Network, record: &IterationRecord, u: &[f64]) -> String {
+    let obj = io::curves_to_obj(&network_polylines(network, &record.curves, Some(u)));
     match super::summary::record_instability(record) {
         Some(w) => format!("# WARNING: this network is {w}; it cannot stand as built\n{obj}"),
         None => obj,
@@ -98,17 +95,7 @@ impl<'a> OutputWriter<'a> {
             no_answer: None,
             alternatives: Vec::new(),
         };
-        let w = OutputWriter {
-            dir: dir.to_path_buf(),
-            network,
-            result,
-            files: background()?,
-            warnings: Vec::new(),
-            cancel: None,
-            progress: None,
-            answer: None,
-            alternatives: Vec::new(),
-        };
+        let w = Self::new(dir, network, result, Vec::new())?;
         w.write_result()?;
         Ok(w)
     }
@@ -159,20 +146,29 @@ impl<'a> OutputWriter<'a> {
             // Nothing usable was recorded: start over.
             result.iterations.clear();
         }
-        Ok((
-            OutputWriter {
-                dir: dir.to_path_buf(),
-                network,
-                result,
-                files: background()?,
-                warnings,
-                cancel: None,
-                progress: None,
-                answer: None,
-                alternatives: Vec::new(),
-            },
-            point,
-        ))
+        Ok((Self::new(dir, network, result, warnings)?, point))
+    }
+
+    /// A writer of `result` into `dir`, with its thread started.
+    fn new(
+        dir: &Path,
+        network: &'a Network,
+        result: ResultFile,
+        warnings: Vec<String>,
+    ) -> Result<Self, String> {
+        let files = io::BackgroundWriter::new()
+            .map_err(|e| format!("cannot start the output writer thread: {e}"))?;
+        Ok(OutputWriter {
+            dir: dir.to_path_buf(),
+            network,
+            result,
+            files,
+            warnings,
+            cancel: None,
+            progress: None,
+            answer: None,
+            alternatives: Vec::new(),
+        })
     }
 
     /// Writes the surface mesh (scene units) as `mesh.obj`, for viewers and pictures.
@@ -354,8 +350,7 @@ impl<'a> OutputWriter<'a> {
         self.flush()?;
         let k = outcome.iterations.len() - 1;
         let u = read_f64_file(&self.dir.join(format!("states/{k:04}.bin")))?;
-        let obj = io::curves_to_obj(&network_polylines(self.network, &last.curves, Some(&u)));
-        self.write("final.obj", with_instability(last, obj))?;
+        self.write("final.obj", record_obj(self.network, last, &u))?;
         let answer_path = self.dir.join("answer.obj");
         self.remove_stale(answer_state.is_some(), self.alternatives.len())?;
         for (i, (a, state)) in self.alternatives.iter().enumerate() {
@@ -395,33 +390,16 @@ impl GreedyHooks for OutputWriter<'_> {
 
     fn iteration(&mut self, record: &IterationRecord, eval: &Evaluation) -> Result<(), String> {
         let k = self.result.iterations.len();
-        self.write(
-            &format!("modes/{k:04}.bin"),
-            f64_bytes(
-                &eval
-                    .spectrum
-                    .vectors
-                    .col(0)
-                    .iter()
-                    .copied()
-                    .collect::<Vec<_>>(),
-            ),
-        )?;
-        self.write(&format!("states/{k:04}.bin"), f64_bytes(&eval.displacement))?;
         let v = &eval.spectrum.vectors;
         let all: Vec<f64> = (0..v.ncols())
             .flat_map(|j| v.col(j).iter().copied().collect::<Vec<_>>())
             .collect();
+        // The worst-case mode is the first column.
+        self.write(&format!("modes/{k:04}.bin"), f64_bytes(&all[..v.nrows()]))?;
+        self.write(&format!("states/{k:04}.bin"), f64_bytes(&eval.displacement))?;
         self.write(&format!("states/{k:04}.modes.bin"), f64_bytes(&all))?;
-        let obj = io::curves_to_obj(&network_polylines(
-            self.network,
-            &record.curves,
-            Some(&eval.displacement),
-        ));
-        self.write(
-            &format!("iterations/{k:04}.obj"),
-            with_instability(record, obj),
-        )?;
+        let obj = record_obj(self.network, record, &eval.displacement);
+        self.write(&format!("iterations/{k:04}.obj"), obj)?;
         self.result.iterations.push(record.clone());
         self.write_result()?;
         if let Some(p) = self.progress {

@@ -16,10 +16,7 @@
 
 use super::TraceError;
 use super::topology::MeshTopology;
-use super::walk::{
-    Entry, Exit, exit_face, in_plane, inward_normal, straightest, unfold, vertex_fan,
-};
-use crate::geom::Vec3;
+use super::walk::{Exit, Walker, in_plane, inward_normal, straightest, vertex_fan};
 use crate::io::{Origin, Polyline};
 use serde::{Deserialize, Serialize};
 
@@ -149,126 +146,66 @@ pub fn trace_geodesic(
 
     let cap = options.length_cap(topo);
     let max_steps = options.step_cap(topo);
-    let mut walker = Walker {
-        face,
-        pos: start.point,
-        dir,
-        entry: Entry::Edge(start.edge),
-        points: vec![start.point],
-        faces: Vec::new(),
-        length: 0.0,
-        cap,
-    };
+    let mut walker = Walker::new(face, start.point, dir, start.edge, cap);
     let mut vertex_passes = 0;
     for _ in 0..max_steps {
         if topo.is_degenerate(walker.face) {
             return Err(TraceError::DegenerateFace { face: walker.face });
         }
         walker.dir = in_plane(topo, walker.face, walker.dir);
-        match exit_face(
-            topo,
-            walker.face,
-            walker.pos,
-            walker.dir,
-            walker.entry,
-            options.vertex_snap,
-        ) {
+        match walker.exit(topo, options.vertex_snap) {
             Exit::Edge { edge, point } => {
                 walker.advance(point)?;
                 match topo.across(edge, walker.face)? {
                     None => {
-                        return walker.finish(
-                            start,
-                            theta,
-                            GeodesicEnd::BoundaryEdge(edge),
-                            vertex_passes,
-                        );
+                        let end = GeodesicEnd::BoundaryEdge(edge);
+                        return finish(walker, start, theta, end, vertex_passes);
                     }
-                    Some(next) => {
-                        walker.dir = unfold(topo, walker.dir, edge, next);
-                        walker.face = next;
-                        walker.entry = Entry::Edge(edge);
-                    }
+                    Some(next) => walker.cross(topo, edge, next),
                 }
             }
             Exit::Vertex(v) => {
                 walker.advance(topo.position(v))?;
-                let fan = match vertex_fan(topo, v, walker.face)? {
-                    None => {
-                        return walker.finish(
-                            start,
-                            theta,
-                            GeodesicEnd::BoundaryVertex(v),
-                            vertex_passes,
-                        );
-                    }
-                    Some(fan) => fan,
+                let Some(fan) = vertex_fan(topo, v, walker.face)? else {
+                    let end = GeodesicEnd::BoundaryVertex(v);
+                    return finish(walker, start, theta, end, vertex_passes);
                 };
                 vertex_passes += 1;
                 let (k, dir) = straightest(topo, v, &fan, walker.dir);
-                walker.face = fan.faces[k];
-                walker.dir = dir;
-                walker.entry = Entry::Vertex(v);
+                walker.turn(v, fan.faces[k], dir);
             }
         }
     }
     Err(TraceError::StepCap { steps: max_steps })
 }
 
-/// The state of a walk.
-struct Walker {
-    face: usize,
-    pos: Vec3,
-    dir: Vec3,
-    entry: Entry,
-    points: Vec<Vec3>,
-    faces: Vec<usize>,
-    length: f64,
-    cap: f64,
-}
-
-impl Walker {
-    /// Moves to `point` in the current face.
-    fn advance(&mut self, point: Vec3) -> Result<(), TraceError> {
-        self.length += self.pos.dist(point);
-        if self.length > self.cap {
-            return Err(TraceError::LengthCap { cap: self.cap });
-        }
-        if point != self.pos {
-            self.points.push(point);
-            self.faces.push(self.face);
-        }
-        self.pos = point;
-        Ok(())
+/// The path the finished walk drew (an error for a path of zero length).
+fn finish(
+    walker: Walker,
+    start: super::topology::BoundaryPoint,
+    theta: f64,
+    end: GeodesicEnd,
+    vertex_passes: usize,
+) -> Result<GeodesicPath, TraceError> {
+    if walker.points.len() < 2 {
+        return Err(TraceError::InvalidParameter {
+            name: "theta",
+            value: theta,
+            expected: "an angle that enters the surface (the path has zero length)",
+        });
     }
-
-    fn finish(
-        self,
-        start: super::topology::BoundaryPoint,
-        theta: f64,
-        end: GeodesicEnd,
-        vertex_passes: usize,
-    ) -> Result<GeodesicPath, TraceError> {
-        if self.points.len() < 2 {
-            return Err(TraceError::InvalidParameter {
-                name: "theta",
-                value: theta,
-                expected: "an angle that enters the surface (the path has zero length)",
-            });
-        }
-        Ok(GeodesicPath {
-            polyline: Polyline {
-                points: self.points,
-                closed: false,
-                origin: Origin::new("<geodesic>", 0),
-                label: None,
-            },
-            length: self.length,
-            start,
-            theta,
-            end,
-            vertex_passes,
-            faces: self.faces,
-        })
-    }
+    Ok(GeodesicPath {
+        polyline: Polyline {
+            points: walker.points,
+            closed: false,
+            origin: Origin::new("<geodesic>", 0),
+            label: None,
+        },
+        length: walker.length,
+        start,
+        theta,
+        end,
+        vertex_passes,
+        faces: walker.faces,
+    })
 }

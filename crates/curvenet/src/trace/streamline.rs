@@ -23,7 +23,7 @@ use super::field::DirectionField;
 use super::geodesic::TraceOptions;
 use super::topology::MeshTopology;
 use super::walk::{
-    Entry, Exit, angle_between, exit_face, in_plane, inward_normal, straightest, unfold, vertex_fan,
+    Entry, Exit, Walker, angle_between, in_plane, inward_normal, straightest, vertex_fan,
 };
 use crate::geom::{Vec3, segment_closest_points};
 use crate::io::{Origin, Polyline};
@@ -73,7 +73,7 @@ pub struct StreamlineRecord {
 }
 
 /// The result of [`trace_streamlines`].
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Streamlines {
     /// Accepted streamlines, in seed order.
     pub curves: Vec<Polyline>,
@@ -135,16 +135,7 @@ pub fn trace_streamlines(
         return Err(TraceError::NoBoundary);
     }
     let spacing = total / options.seeds as f64;
-    let mut out = Streamlines {
-        curves: Vec::new(),
-        records: Vec::new(),
-        started: 0,
-        singular: 0,
-        stalled: 0,
-        too_long: 0,
-        duplicates: 0,
-        failed: 0,
-    };
+    let mut out = Streamlines::default();
     let min_sin = options.min_inward_angle.sin();
     for seed in 0..options.seeds {
         let Some(sp) = seed_point(topo, (seed as f64 + 0.5) * spacing) else {
@@ -244,39 +235,25 @@ fn seed_point(topo: &MeshTopology, mut s: f64) -> Option<SeedPoint> {
 fn trace_one(
     topo: &MeshTopology,
     field: &DirectionField,
-    mut face: usize,
-    mut pos: Vec3,
-    mut dir: Vec3,
+    face: usize,
+    pos: Vec3,
+    dir: Vec3,
     edge: usize,
     options: &TraceOptions,
 ) -> Result<Vec<Vec3>, TraceError> {
-    let cap = options.length_cap(topo);
     let max_steps = options.step_cap(topo);
-    let mut entry = Entry::Edge(edge);
-    let mut points = vec![pos];
-    let mut length = 0.0;
-    let mut advance = |pos: &mut Vec3, to: Vec3, points: &mut Vec<Vec3>| {
-        length += pos.dist(to);
-        if to != *pos {
-            points.push(to);
-        }
-        *pos = to;
-        if length > cap {
-            Err(TraceError::LengthCap { cap })
-        } else {
-            Ok(())
-        }
-    };
+    let mut w = Walker::new(face, pos, dir, edge, options.length_cap(topo));
     for _ in 0..max_steps {
+        let face = w.face;
         if field.is_singular(face) {
             return Err(TraceError::Singularity { face });
         }
         if topo.is_degenerate(face) {
             return Err(TraceError::DegenerateFace { face });
         }
-        if let Entry::Edge(e) = entry {
+        if let Entry::Edge(e) = w.entry {
             let fd = field
-                .best_direction(face, in_plane(topo, face, dir))
+                .best_direction(face, in_plane(topo, face, w.dir))
                 .ok_or(TraceError::Singularity { face })?;
             let [a, b] = topo.edge(e);
             let c = topo
@@ -285,26 +262,22 @@ fn trace_one(
             if fd.dot(inward_normal(topo, a, b, c)) <= 1e-12 {
                 return Err(TraceError::Stalled { face });
             }
-            dir = fd;
+            w.dir = fd;
         }
-        match exit_face(topo, face, pos, dir, entry, options.vertex_snap) {
+        match w.exit(topo, options.vertex_snap) {
             Exit::Edge { edge, point } => {
-                advance(&mut pos, point, &mut points)?;
+                w.advance(point)?;
                 match topo.across(edge, face)? {
-                    None => return finish(points),
-                    Some(next) => {
-                        dir = unfold(topo, dir, edge, next);
-                        face = next;
-                        entry = Entry::Edge(edge);
-                    }
+                    None => return finish(w.points),
+                    Some(next) => w.cross(topo, edge, next),
                 }
             }
             Exit::Vertex(v) => {
-                advance(&mut pos, topo.position(v), &mut points)?;
+                w.advance(topo.position(v))?;
                 let Some(fan) = vertex_fan(topo, v, face)? else {
-                    return finish(points);
+                    return finish(w.points);
                 };
-                let (k, straight) = straightest(topo, v, &fan, dir);
+                let (k, straight) = straightest(topo, v, &fan, w.dir);
                 let m = fan.faces.len();
                 // Try the face holding the straight continuation first, then its neighbours.
                 let mut chosen = None;
@@ -333,9 +306,7 @@ fn trace_one(
                     }
                 }
                 let (g, fd) = chosen.ok_or(TraceError::Stalled { face })?;
-                face = g;
-                dir = fd;
-                entry = Entry::Vertex(v);
+                w.turn(v, g, fd);
             }
         }
     }

@@ -247,17 +247,16 @@ impl MeshTopology {
                         None => break,
                     }
                 }
-                let mut arc = Vec::with_capacity(verts.len());
-                let mut s = 0.0;
-                arc.push(0.0);
+                let mut arc = vec![0.0];
                 for w in verts.windows(2) {
-                    s += self.vertices[w[0]].dist(self.vertices[w[1]]);
-                    arc.push(s);
+                    arc.push(arc[arc.len() - 1] + self.vertices[w[0]].dist(self.vertices[w[1]]));
                 }
-                let open_length = s;
+                let open_length = arc[arc.len() - 1];
                 let length = match (closed, verts.first(), verts.last()) {
-                    (true, Some(&a), Some(&b)) => s + self.vertices[a].dist(self.vertices[b]),
-                    _ => s,
+                    (true, Some(&a), Some(&b)) => {
+                        open_length + self.vertices[a].dist(self.vertices[b])
+                    }
+                    _ => open_length,
                 };
                 loops.push(BoundaryLoop {
                     vertices: verts,
@@ -284,11 +283,6 @@ impl MeshTopology {
     /// Number of edges.
     pub fn edge_count(&self) -> usize {
         self.edges.len()
-    }
-
-    /// Vertex positions.
-    pub fn vertices(&self) -> &[Vec3] {
-        &self.vertices
     }
 
     /// Position of vertex `v` (`v` must be a vertex index).
@@ -331,21 +325,9 @@ impl MeshTopology {
         self.edge_faces(e).len() == 1
     }
 
-    /// True when edge `e` has more than two faces.
-    pub fn is_non_manifold_edge(&self, e: usize) -> bool {
-        self.edge_faces(e).len() > 2
-    }
-
     /// True when vertex `v` lies on a boundary edge.
     pub fn is_boundary_vertex(&self, v: usize) -> bool {
         self.boundary_vertex[v]
-    }
-
-    /// Edges with more than two faces, in edge order.
-    pub fn non_manifold_edges(&self) -> Vec<usize> {
-        (0..self.edges.len())
-            .filter(|&e| self.is_non_manifold_edge(e))
-            .collect()
     }
 
     /// Unit normal of face `f` in its vertex order (zero for a degenerate face).
@@ -650,7 +632,9 @@ mod tests {
             [0.5, 0.0, 1.0],
         ];
         let topo = MeshTopology::new(&mesh(&v, &[[0, 1, 2], [1, 0, 3], [0, 1, 4]])).unwrap();
-        let nm = topo.non_manifold_edges();
+        let nm: Vec<usize> = (0..topo.edge_count())
+            .filter(|&e| topo.edge_faces(e).len() > 2)
+            .collect();
         assert_eq!(nm.len(), 1);
         assert_eq!(topo.edge(nm[0]), [0, 1]);
         assert!(matches!(

@@ -37,6 +37,69 @@ pub(crate) enum Exit {
     Vertex(usize),
 }
 
+/// A walk under way: its face, position, direction and how it entered the face, and the
+/// polyline so far (stopped once longer than `cap`).
+pub(crate) struct Walker {
+    pub face: usize,
+    pub pos: Vec3,
+    pub dir: Vec3,
+    pub entry: Entry,
+    pub points: Vec<Vec3>,
+    /// The face each segment of `points` crosses.
+    pub faces: Vec<usize>,
+    pub length: f64,
+    cap: f64,
+}
+
+impl Walker {
+    /// A walk from `pos` on edge `edge` of `face`, heading along `dir`.
+    pub fn new(face: usize, pos: Vec3, dir: Vec3, edge: usize, cap: f64) -> Self {
+        Walker {
+            face,
+            pos,
+            dir,
+            entry: Entry::Edge(edge),
+            points: vec![pos],
+            faces: Vec::new(),
+            length: 0.0,
+            cap,
+        }
+    }
+
+    /// Where the walk leaves its face ([`exit_face`]).
+    pub fn exit(&self, topo: &MeshTopology, snap: f64) -> Exit {
+        exit_face(topo, self.face, self.pos, self.dir, self.entry, snap)
+    }
+
+    /// Moves to `point` of the current face; an error past the length cap.
+    pub fn advance(&mut self, point: Vec3) -> Result<(), TraceError> {
+        self.length += self.pos.dist(point);
+        if self.length > self.cap {
+            return Err(TraceError::LengthCap { cap: self.cap });
+        }
+        if point != self.pos {
+            self.points.push(point);
+            self.faces.push(self.face);
+        }
+        self.pos = point;
+        Ok(())
+    }
+
+    /// Crosses edge `e` into face `next`, the direction unfolded ([`unfold`]).
+    pub fn cross(&mut self, topo: &MeshTopology, e: usize, next: usize) {
+        self.dir = unfold(topo, self.dir, e, next);
+        self.face = next;
+        self.entry = Entry::Edge(e);
+    }
+
+    /// Leaves vertex `v` into face `face` along `dir`.
+    pub fn turn(&mut self, v: usize, face: usize, dir: Vec3) {
+        self.face = face;
+        self.dir = dir;
+        self.entry = Entry::Vertex(v);
+    }
+}
+
 /// Component of `v` orthogonal to the unit vector `u`.
 #[inline]
 fn reject(v: Vec3, u: Vec3) -> Vec3 {

@@ -25,16 +25,14 @@
 //! connected feasible subsets when the setting asks nothing else, as
 //! [`super::fresh`] does).
 
-use super::fresh::COUNT_CAP;
-use super::instance::traced_network;
-use super::{check_build, mean};
+use super::fresh::{COUNT_CAP, reaches};
+use super::{RandomDraw, check_build, connected_only, mean, scaled};
 use crate::cancel::Cancel;
 use crate::constraints::answer::choose;
 use crate::constraints::{ConstraintParams, Constraints, Group, SymmetryOption};
 use crate::geom::Aabb;
 use crate::io::TriMesh;
 use crate::network::Network;
-use crate::rng::SplitMix64;
 use crate::rod::ActiveSet;
 use crate::run_folder::{evaluated_offer, greedy_offers};
 use crate::simplify::exhaustive::{ExhaustiveParams, exhaustive};
@@ -42,27 +40,15 @@ use crate::simplify::greedy::{GreedyParams, NoHooks, greedy};
 use crate::simplify::local::{LocalParams, local_search};
 use crate::simplify::{Budget, SimplifyError};
 use crate::stability::{Analyzer, Prepare, Preset, StabilityParams, Warm};
-use crate::trace::scale_to_extent;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
 /// Parameters of the measurement.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ConstrainedParams {
-    /// Random networks to draw.
-    pub networks: usize,
-    /// Base seed.
-    pub seed: u32,
-    /// Fewest curves of a random network.
-    pub min_curves: usize,
-    /// Most curves of a random network.
-    pub max_curves: usize,
-    /// Smallest budget fraction of a random network.
-    pub min_budget: f64,
-    /// Largest budget fraction of a random network.
-    pub max_budget: f64,
-    /// Edge length `h` of the random networks (surfaces at extent 4000).
-    pub edge_length: f64,
+    /// The random networks drawn.
+    #[serde(flatten)]
+    pub draw: RandomDraw,
     /// Exhaustive search on a random network only up to this many subsets.
     pub max_subsets: usize,
     /// `--max-gap` as a fraction of the surface's extent.
@@ -76,13 +62,15 @@ pub struct ConstrainedParams {
 impl Default for ConstrainedParams {
     fn default() -> Self {
         ConstrainedParams {
-            networks: 20,
-            seed: 1,
-            min_curves: 8,
-            max_curves: 12,
-            min_budget: 0.2,
-            max_budget: 0.4,
-            edge_length: 100.0,
+            draw: RandomDraw {
+                networks: 20,
+                seed: 1,
+                min_curves: 8,
+                max_curves: 12,
+                min_budget: 0.2,
+                max_budget: 0.4,
+                edge_length: 100.0,
+            },
             max_subsets: 20_000,
             gap_fraction: 0.3,
             deviation_fraction: 0.001,
@@ -94,19 +82,7 @@ impl Default for ConstrainedParams {
 impl ConstrainedParams {
     /// Checks the parameters.
     pub fn validate(&self) -> Result<(), String> {
-        if !(2 <= self.min_curves && self.min_curves <= self.max_curves && self.max_curves <= 20) {
-            return Err(format!(
-                "the numbers of curves must satisfy 2 ≤ {} ≤ {} ≤ 20",
-                self.min_curves, self.max_curves
-            ));
-        }
-        if !(0.0 < self.min_budget && self.min_budget <= self.max_budget && self.max_budget <= 1.0)
-        {
-            return Err(format!(
-                "the budgets must satisfy 0 < {} ≤ {} ≤ 1",
-                self.min_budget, self.max_budget
-            ));
-        }
+        self.draw.validate(20)?;
         for (name, f) in [
             ("gap", self.gap_fraction),
             ("deviation", self.deviation_fraction),
@@ -118,7 +94,7 @@ impl ConstrainedParams {
         if self.min_kept == 0 {
             return Err("the minimum number of curves must be at least 1".into());
         }
-        check_build(self.edge_length, self.max_subsets)
+        check_build(self.draw.edge_length, self.max_subsets)
     }
 }
 
@@ -197,7 +173,7 @@ pub struct ConstrainedReport {
     pub rows: Vec<ConstrainedRow>,
 }
 
-/// Runs the measurement on the `cases` and on `params.networks` random networks traced on
+/// Runs the measurement on the `cases` and on `params.draw.networks` random networks traced on
 /// `surfaces` (names and meshes, any scale); `progress(done, total)` after each network.
 pub fn constrained(
     params: &ConstrainedParams,
@@ -206,16 +182,14 @@ pub fn constrained(
     progress: &dyn Fn(usize, usize),
 ) -> Result<ConstrainedReport, SimplifyError> {
     params.validate().map_err(SimplifyError::Params)?;
-    if params.networks > 0 && surfaces.is_empty() {
+    let networks = params.draw.networks;
+    if networks > 0 && surfaces.is_empty() {
         return Err(SimplifyError::Params(
             "random networks need surfaces".into(),
         ));
     }
-    let scaled: Vec<(String, TriMesh)> = surfaces
-        .iter()
-        .map(|(name, m)| (name.clone(), scale_to_extent(m, 4000.0).0))
-        .collect();
-    let total = cases.len() + params.networks;
+    let scaled = scaled(surfaces.iter().map(|(n, m)| (n, m)));
+    let total = cases.len() + networks;
     let mut rows = Vec::new();
     let mut done = 0;
     for case in cases {
@@ -223,7 +197,7 @@ pub fn constrained(
         done += 1;
         progress(done, total);
     }
-    for k in 0..params.networks {
+    for k in 0..networks {
         let case = draw(params, &scaled, k)?;
         rows.extend(measure(params, &case, true)?);
         done += 1;
@@ -236,40 +210,23 @@ pub fn constrained(
     })
 }
 
-/// Random network `k`: a SplitMix64 stream from the base seed and `k` draws its curves, budget
-/// (rounded to 0.01) and tracing seed; the surfaces in rotation; drawn again (up to 20 times)
-/// when the tracing or the build fails.
+/// Random network `k` of the draw ([`super::draw`]).
 fn draw(
     params: &ConstrainedParams,
     scaled: &[(String, TriMesh)],
     k: usize,
 ) -> Result<Case, SimplifyError> {
-    let mut rng = SplitMix64::new(
-        u64::from(params.seed)
-            .wrapping_mul(0xD1B5_4A32_D192_ED03)
-            .wrapping_add(k as u64),
-    );
-    let (name, mesh) = &scaled[k % scaled.len()];
-    let span = (params.max_curves - params.min_curves + 1) as u64;
-    for _ in 0..20 {
-        let n = params.min_curves + rng.below(span) as usize;
-        let budget = (100.0 * rng.uniform(params.min_budget, params.max_budget)).round() / 100.0;
-        let budget = budget.clamp(params.min_budget, params.max_budget);
-        let seed = rng.next_u64() as u32;
-        if let Some(network) = traced_network(mesh, n, seed, params.edge_length) {
-            return Ok(Case {
-                name: format!("{name} #{k} (seed {seed})"),
-                network,
-                mesh: mesh.clone(),
-                budget: Budget::Fraction(budget),
-                keep: Vec::new(),
-                exhaustive: true,
-            });
-        }
-    }
-    Err(SimplifyError::Params(format!(
-        "network {k}: could not build a network on {name} after 20 tries"
-    )))
+    let mix = 0xD1B5_4A32_D192_ED03;
+    params
+        .draw
+        .network(scaled, k, mix, |surface, _, budget, seed, network| Case {
+            name: format!("{surface} #{k} (seed {seed})"),
+            network,
+            mesh: scaled[k % scaled.len()].1.clone(),
+            budget: Budget::Fraction(budget),
+            keep: Vec::new(),
+            exhaustive: true,
+        })
 }
 
 /// The largest side of the mesh's bounding box.
@@ -329,13 +286,6 @@ fn settings_of(
     (p, value)
 }
 
-/// What one setting's run found.
-struct Outcome {
-    row: ConstrainedRow,
-    /// The constraints bound (to test the unconstrained networks against).
-    constraints: Option<Constraints>,
-}
-
 /// Every setting on `case`.
 fn measure(
     params: &ConstrainedParams,
@@ -363,37 +313,32 @@ fn measure(
             value,
             ..ConstrainedRow::default()
         };
-        let mut out = run_setting(case, &cp, cap, base)?;
-        let Some(c) = out.constraints.as_ref() else {
-            rows.push(out.row);
+        let (mut row, mut bound) = run_setting(case, &cp, cap, base)?;
+        let Some(c) = bound.as_ref() else {
+            rows.push(row);
             continue;
         };
         if setting == "none" {
-            if out.row.lambda.is_some() {
+            if row.lambda.is_some() {
                 let analyzer = analyzer_of(case)?;
                 let dev = analyzer
-                    .deviation(&analyzer.set(&out.row.curves))
+                    .deviation(&analyzer.set(&row.curves))
                     .unwrap_or(f64::NAN);
-                free = Some((out.row.curves.clone(), dev));
+                free = Some((row.curves.clone(), dev));
             }
         } else {
             let breaks = |(curves, dev): &(Vec<usize>, f64)| {
                 c.check(curves).is_err() || !c.deviation_ok(*dev)
             };
-            out.row.unconstrained_answer_breaks = free.as_ref().map(breaks);
-            out.row.unconstrained_optimum_breaks = free_optimum.as_ref().map(breaks);
+            row.unconstrained_answer_breaks = free.as_ref().map(breaks);
+            row.unconstrained_optimum_breaks = free_optimum.as_ref().map(breaks);
         }
         if random && case.exhaustive {
             let analyzer = analyzer_of(case)?;
             let constraints = if setting == "none" {
-                let only = ConstraintParams {
-                    connected: true,
-                    ..ConstraintParams::default()
-                };
-                Constraints::new(&case.network, None, &only, cap, &case.keep)
-                    .map_err(|e| SimplifyError::Params(e.to_string()))?
+                connected_only(&case.network, cap, &case.keep)?
             } else {
-                out.constraints.take().expect("bound")
+                bound.take().expect("bound")
             };
             let ex = exhaustive(
                 &analyzer,
@@ -406,7 +351,7 @@ fn measure(
                 &Cancel::never(),
             );
             if let Ok(ex) = ex {
-                out.row.optimum = Some(ex.best.lambda);
+                row.optimum = Some(ex.best.lambda);
                 if setting == "none" {
                     let dev = analyzer
                         .deviation(&analyzer.set(&ex.best.curves))
@@ -415,7 +360,7 @@ fn measure(
                 }
             }
         }
-        rows.push(out.row);
+        rows.push(row);
     }
     Ok(rows)
 }
@@ -425,21 +370,20 @@ fn analyzer_of(case: &Case) -> Result<Analyzer, SimplifyError> {
     Analyzer::new(case.network.clone(), StabilityParams::default()).map_err(SimplifyError::Params)
 }
 
-/// One setting's run: the constraints bound, the greedy, the local search, the answer chosen.
+/// One setting's run: the constraints bound, the greedy, the local search, the answer chosen;
+/// its row, and the constraints bound (`None` when it did not run) to test the unconstrained
+/// networks against.
 fn run_setting(
     case: &Case,
     cp: &ConstraintParams,
     cap: f64,
     mut row: ConstrainedRow,
-) -> Result<Outcome, SimplifyError> {
+) -> Result<(ConstrainedRow, Option<Constraints>), SimplifyError> {
     let constraints = match Constraints::new(&case.network, Some(&case.mesh), cp, cap, &case.keep) {
         Ok(c) => c,
         Err(e) => {
             row.skipped = Some(e.to_string());
-            return Ok(Outcome {
-                row,
-                constraints: None,
-            });
+            return Ok((row, None));
         }
     };
     if cp.symmetry == SymmetryOption::Auto {
@@ -447,10 +391,7 @@ fn run_setting(
             Some(s) => row.value = s.option().to_string(),
             None => {
                 row.skipped = Some("no symmetry".into());
-                return Ok(Outcome {
-                    row,
-                    constraints: None,
-                });
+                return Ok((row, None));
             }
         }
     }
@@ -464,10 +405,7 @@ fn run_setting(
         Ok(g) => g,
         Err(e) => {
             row.skipped = Some(format!("the greedy failed: {e}"));
-            return Ok(Outcome {
-                row,
-                constraints: None,
-            });
+            return Ok((row, None));
         }
     };
     let mut offers = greedy_offers(&g.iterations);
@@ -506,10 +444,7 @@ fn run_setting(
         }
         Err(e) => row.no_answer = Some(e.reason),
     }
-    Ok(Outcome {
-        row,
-        constraints: Some(constraints),
-    })
+    Ok((row, Some(constraints)))
 }
 
 impl ConstrainedReport {
@@ -531,16 +466,11 @@ impl ConstrainedReport {
         if random.is_empty() {
             return s;
         }
-        let p = &self.params;
+        let d = &self.params.draw;
+        let what = d.describe(&self.surfaces);
         s.push_str(&format!(
-            "{} random geodesic networks (seed {}; {}–{} curves, budgets {:.2}–{:.2}, surfaces {}):\n\n",
-            p.networks,
-            p.seed,
-            p.min_curves,
-            p.max_curves,
-            p.min_budget,
-            p.max_budget,
-            self.surfaces.join(", ")
+            "{} random geodesic networks ({what}):\n\n",
+            d.networks
         ));
         s.push_str(
             "| constraint | networks run | no answer | answer λ_eq / unconstrained answer's (mean) | answer / constrained optimum (mean) | constrained optimum reached | seconds (mean) | unconstrained answer breaks it | unconstrained optimum breaks it |\n\
@@ -621,7 +551,7 @@ impl ConstrainedReport {
             .iter()
             .filter(|r| {
                 let o = r.optimum.unwrap_or(f64::NAN);
-                r.lambda.is_some_and(|l| l >= o - 1e-6 * o.abs())
+                r.lambda.is_some_and(|l| reaches(l, o))
             })
             .count();
         let count = |f: &dyn Fn(&ConstrainedRow) -> Option<bool>| {
@@ -654,11 +584,14 @@ mod tests {
     #[test]
     fn two_small_networks() {
         let params = ConstrainedParams {
-            networks: 2,
-            min_curves: 7,
-            max_curves: 8,
-            min_budget: 0.3,
-            max_budget: 0.35,
+            draw: RandomDraw {
+                networks: 2,
+                min_curves: 7,
+                max_curves: 8,
+                min_budget: 0.3,
+                max_budget: 0.35,
+                ..ConstrainedParams::default().draw
+            },
             ..ConstrainedParams::default()
         };
         let dome = crate::trace::builtin_surface("dome").expect("dome");

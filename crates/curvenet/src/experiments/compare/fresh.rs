@@ -29,20 +29,17 @@
 //! optimum (within the relative tolerance 1e-6: the searches and exhaustive search share one
 //! evaluation, so an optimum found is the same number).
 
-use super::instance::traced_network;
-use super::{check_build, mean};
+use super::{RandomDraw, check_build, connected_only, mean, scaled};
 use crate::cancel::Cancel;
-use crate::constraints::{ConstraintParams, Constraints};
+use crate::constraints::Constraints;
 use crate::io::TriMesh;
 use crate::network::Network;
-use crate::rng::SplitMix64;
 use crate::rod::ActiveSet;
 use crate::simplify::exhaustive::{ExhaustiveParams, exhaustive};
 use crate::simplify::greedy::{GreedyParams, NoHooks, greedy};
 use crate::simplify::local::{LocalParams, local_search};
 use crate::simplify::{Budget, SimplifyError, StopReason};
 use crate::stability::{Analyzer, Objective, StabilityParams};
-use crate::trace::scale_to_extent;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -56,20 +53,9 @@ pub const COUNT_CAP: usize = 1_000_000;
 /// Parameters of the measurement.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FreshParams {
-    /// Networks to draw.
-    pub networks: usize,
-    /// Base seed.
-    pub seed: u32,
-    /// Fewest curves of a network.
-    pub min_curves: usize,
-    /// Most curves of a network.
-    pub max_curves: usize,
-    /// Smallest budget fraction.
-    pub min_budget: f64,
-    /// Largest budget fraction.
-    pub max_budget: f64,
-    /// Edge length `h` (scene units, surfaces at extent 4000).
-    pub edge_length: f64,
+    /// The networks drawn.
+    #[serde(flatten)]
+    pub draw: RandomDraw,
     /// Exhaustive search only on networks of at most this many curves.
     pub exhaustive_max_curves: usize,
     /// … and at most this many connected feasible subsets (the sets it evaluates).
@@ -83,13 +69,15 @@ pub struct FreshParams {
 impl Default for FreshParams {
     fn default() -> Self {
         FreshParams {
-            networks: 100,
-            seed: 1,
-            min_curves: 8,
-            max_curves: 18,
-            min_budget: 0.1,
-            max_budget: 0.5,
-            edge_length: 100.0,
+            draw: RandomDraw {
+                networks: 100,
+                seed: 1,
+                min_curves: 8,
+                max_curves: 18,
+                min_budget: 0.1,
+                max_budget: 0.5,
+                edge_length: 100.0,
+            },
             exhaustive_max_curves: 18,
             max_subsets: 20_000,
             objective: Objective::Lambda,
@@ -100,23 +88,11 @@ impl Default for FreshParams {
 impl FreshParams {
     /// Checks the parameters.
     pub fn validate(&self) -> Result<(), String> {
-        if self.networks == 0 {
+        if self.draw.networks == 0 {
             return Err("--fresh needs at least one network".into());
         }
-        if !(2 <= self.min_curves && self.min_curves <= self.max_curves && self.max_curves <= 40) {
-            return Err(format!(
-                "the numbers of curves must satisfy 2 ≤ {} ≤ {} ≤ 40",
-                self.min_curves, self.max_curves
-            ));
-        }
-        if !(0.0 < self.min_budget && self.min_budget <= self.max_budget && self.max_budget <= 1.0)
-        {
-            return Err(format!(
-                "the budgets must satisfy 0 < {} ≤ {} ≤ 1",
-                self.min_budget, self.max_budget
-            ));
-        }
-        check_build(self.edge_length, self.max_subsets)
+        self.draw.validate(40)?;
+        check_build(self.draw.edge_length, self.max_subsets)
     }
 }
 
@@ -164,16 +140,9 @@ pub struct FreshRow {
     pub exhaustive_seconds: f64,
 }
 
-impl FreshRow {
-    /// (greedy + local search) / optimum, when decided.
-    pub fn ratio(&self) -> Option<f64> {
-        self.optimum.map(|o| ratio(self.local, o))
-    }
-
-    /// Whether greedy + local search reached the optimum, when decided.
-    pub fn reached(&self) -> Option<bool> {
-        self.optimum.map(|o| self.local >= o - REACHED * o.abs())
-    }
+/// Whether a search's `λ_eq` reached the optimum `opt` (within [`REACHED`]).
+pub(super) fn reaches(v: f64, opt: f64) -> bool {
+    v >= opt - REACHED * opt.abs()
 }
 
 /// A search's `λ_eq` over the optimum's, 0 when it found nothing stable.
@@ -202,46 +171,30 @@ impl FreshReport {
         self.rows.iter().filter(|r| r.optimum.is_some()).collect()
     }
 
-    /// Mean (greedy + local search) / optimum over the decided networks.
-    pub fn mean_ratio(&self) -> f64 {
-        mean(self.decided().iter().filter_map(|r| r.ratio()))
-    }
-
-    /// Decided networks where greedy + local search reached the optimum.
-    pub fn reached(&self) -> usize {
-        self.decided()
-            .iter()
-            .filter(|r| r.reached() == Some(true))
-            .count()
+    /// Over the decided networks, the mean of a search's `λ_eq` (`value` of a row) over the
+    /// optimum, and how many reached the optimum.
+    fn against_optimum(&self, value: fn(&FreshRow) -> f64) -> (f64, usize) {
+        let decided = self.decided();
+        let pairs = decided.iter().filter_map(|r| Some((value(r), r.optimum?)));
+        let reached = pairs.clone().filter(|&(v, o)| reaches(v, o)).count();
+        (mean(pairs.map(|(v, o)| ratio(v, o))), reached)
     }
 
     /// The summary and the per-network table, as Markdown.
     pub fn markdown(&self) -> String {
         let p = &self.params;
         let decided = self.decided();
-        let greedy_mean = mean(
-            decided
-                .iter()
-                .map(|r| ratio(r.greedy, r.optimum.unwrap_or(f64::NAN))),
-        );
-        let greedy_reached = decided
-            .iter()
-            .filter(|r| r.optimum.is_some_and(|o| r.greedy >= o - REACHED * o.abs()))
-            .count();
+        let (greedy_mean, greedy_reached) = self.against_optimum(|r| r.greedy);
+        let (local_mean, local_reached) = self.against_optimum(|r| r.local);
         let mut s = format!(
-            "{} networks drawn afresh (seed {}; {}–{} curves, budgets {:.2}–{:.2}, surfaces {}); \
+            "{} networks drawn afresh ({}); \
              exhaustive search over the connected feasible subsets on {} of them (at most {} \
              curves and {} connected feasible subsets; {} skipped{}).\n\n\
              | search | mean % of the optimum λ_eq | optimum reached |\n|---|---|---|\n\
              | greedy | {:.1}% | {}/{} ({:.1}%) |\n\
              | greedy + local search | {:.1}% | {}/{} ({:.1}%) |\n",
             self.rows.len(),
-            p.seed,
-            p.min_curves,
-            p.max_curves,
-            p.min_budget,
-            p.max_budget,
-            self.surfaces.join(", "),
+            p.draw.describe(&self.surfaces),
             decided.len(),
             p.exhaustive_max_curves,
             p.max_subsets,
@@ -251,10 +204,10 @@ impl FreshReport {
             greedy_reached,
             decided.len(),
             percent(greedy_reached, decided.len()),
-            100.0 * self.mean_ratio(),
-            self.reached(),
+            100.0 * local_mean,
+            local_reached,
             decided.len(),
-            percent(self.reached(), decided.len()),
+            percent(local_reached, decided.len()),
         );
         s.push_str(
             "\n| # | surface | curves | budget | feasible subsets | connected | greedy | greedy + local search | optimum λ_eq |\n\
@@ -341,14 +294,12 @@ pub fn fresh(
     if surfaces.is_empty() {
         return Err(SimplifyError::Params("--fresh needs surfaces".into()));
     }
-    let scaled: Vec<(String, TriMesh)> = surfaces
-        .iter()
-        .map(|(name, m)| (name.clone(), scale_to_extent(m, 4000.0).0))
-        .collect();
-    let mut rows = Vec::with_capacity(params.networks);
-    for k in 0..params.networks {
+    let scaled = scaled(surfaces.iter().map(|(n, m)| (n, m)));
+    let networks = params.draw.networks;
+    let mut rows = Vec::with_capacity(networks);
+    for k in 0..networks {
         rows.push(row(params, &scaled, k)?);
-        progress(k + 1, params.networks);
+        progress(k + 1, networks);
     }
     Ok(FreshReport {
         params: params.clone(),
@@ -363,34 +314,21 @@ fn draw(
     scaled: &[(String, TriMesh)],
     k: usize,
 ) -> Result<(FreshRow, Network), SimplifyError> {
-    let mut rng = SplitMix64::new(
-        u64::from(params.seed)
-            .wrapping_mul(0x9E37_79B9_7F4A_7C15)
-            .wrapping_add(k as u64),
-    );
-    let (name, mesh) = &scaled[k % scaled.len()];
-    let span = (params.max_curves - params.min_curves + 1) as u64;
-    for _ in 0..20 {
-        let n = params.min_curves + rng.below(span) as usize;
-        let budget = (100.0 * rng.uniform(params.min_budget, params.max_budget)).round() / 100.0;
-        let budget = budget.clamp(params.min_budget, params.max_budget);
-        let seed = rng.next_u64() as u32;
-        if let Some(net) = traced_network(mesh, n, seed, params.edge_length) {
+    let mix = 0x9E37_79B9_7F4A_7C15;
+    params
+        .draw
+        .network(scaled, k, mix, |surface, n, budget, seed, net| {
             let row = FreshRow {
                 index: k,
-                surface: name.clone(),
+                surface: surface.into(),
                 seed,
                 n,
                 budget,
                 vertices: net.vertex_count(),
                 ..FreshRow::default()
             };
-            return Ok((row, net));
-        }
-    }
-    Err(SimplifyError::Params(format!(
-        "network {k}: could not build a network on {name} after 20 tries"
-    )))
+            (row, net)
+        })
 }
 
 /// Network `k`'s figures.
@@ -447,12 +385,7 @@ fn row(
         return Ok(row);
     }
     // Only connected sets: exact for the optimum (see the module's doc).
-    let connected = ConstraintParams {
-        connected: true,
-        ..ConstraintParams::default()
-    };
-    let connected = Constraints::new(analyzer.network(), None, &connected, cap, &[])
-        .map_err(|e| SimplifyError::Params(e.to_string()))?;
+    let connected = connected_only(analyzer.network(), cap, &[])?;
     row.connected = connected
         .feasible_subsets(params.max_subsets)
         .map_or(params.max_subsets + 1, |s| s.len());
@@ -489,20 +422,20 @@ mod tests {
     #[test]
     fn connected_subsets_hold_the_optimum() {
         let params = FreshParams {
-            min_curves: 8,
-            max_curves: 9,
-            min_budget: 0.3,
-            max_budget: 0.4,
+            draw: RandomDraw {
+                min_curves: 8,
+                max_curves: 9,
+                min_budget: 0.3,
+                max_budget: 0.4,
+                ..FreshParams::default().draw
+            },
             ..FreshParams::default()
         };
         let surfaces = [(
             "dome".to_string(),
             crate::trace::builtin_surface("dome").expect("dome"),
         )];
-        let scaled: Vec<(String, TriMesh)> = surfaces
-            .iter()
-            .map(|(n, m)| (n.clone(), scale_to_extent(m, 4000.0).0))
-            .collect();
+        let scaled = scaled(surfaces.iter().map(|(n, m)| (n, m)));
         let mut disconnected_seen = false;
         for k in 0..2 {
             let (row, network) = draw(&params, &scaled, k).expect("drawn");
@@ -519,11 +452,7 @@ mod tests {
             };
             let all = ex(None);
             let cap = budget.length(analyzer.lengths().iter().sum());
-            let only = ConstraintParams {
-                connected: true,
-                ..ConstraintParams::default()
-            };
-            let c = Constraints::new(analyzer.network(), None, &only, cap, &[]).expect("bound");
+            let c = connected_only(analyzer.network(), cap, &[]).expect("bound");
             let connected = ex(Some(&c));
             disconnected_seen |= connected.all.len() < all.all.len();
             assert_eq!(
@@ -546,11 +475,14 @@ mod tests {
     fn networks_no_curve_of_which_fits_the_budget_are_skipped() {
         let mesh = crate::constraints::testing::square_mesh(500.0, 0.0, 8);
         let params = FreshParams {
-            networks: 2,
-            min_curves: 8,
-            max_curves: 8,
-            min_budget: 0.01,
-            max_budget: 0.01,
+            draw: RandomDraw {
+                networks: 2,
+                min_curves: 8,
+                max_curves: 8,
+                min_budget: 0.01,
+                max_budget: 0.01,
+                ..FreshParams::default().draw
+            },
             ..FreshParams::default()
         };
         let r = fresh(&params, &[("square".into(), mesh)], &|_, _| {}).expect("runs");

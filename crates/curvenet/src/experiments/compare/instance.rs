@@ -18,8 +18,9 @@ use crate::trace::{Generator, generate};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
-/// One instance's figures.
+/// One instance's figures (a figure a report does not hold reads as 0).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
 pub struct InstanceResult {
     /// Curves requested.
     pub n: usize,
@@ -46,7 +47,6 @@ pub struct InstanceResult {
     /// Best `λ_eq` found by random search.
     pub random: f64,
     /// Wall time of the greedy (seconds).
-    #[serde(default)]
     pub greedy_seconds: f64,
     /// `λ_eq` after the local search (its default: descent, part steps, chains) from the
     /// greedy's final set.
@@ -56,38 +56,27 @@ pub struct InstanceResult {
     /// Moves it kept.
     pub local_moves: usize,
     /// Chains it built (the last one, which found nothing, included).
-    #[serde(default)]
     pub local_chains: usize,
     /// Distinct subsets it evaluated.
-    #[serde(default)]
     pub local_evaluations: usize,
     /// Connected structures it relaxed (its own analyzer: nothing cached beforehand).
-    #[serde(default)]
     pub local_structures: usize,
     /// Its wall time (seconds).
-    #[serde(default)]
     pub local_seconds: f64,
     /// `λ_eq` after single improving moves (first improvement, no part steps) from the
     /// greedy's final set.
-    #[serde(default)]
     pub single: f64,
     /// Its curves.
-    #[serde(default)]
     pub single_curves: Vec<usize>,
     /// Moves it took.
-    #[serde(default)]
     pub single_moves: usize,
     /// Distinct subsets it evaluated.
-    #[serde(default)]
     pub single_evaluations: usize,
     /// Its wall time (seconds, its own analyzer).
-    #[serde(default)]
     pub single_seconds: f64,
     /// Wall time of exhaustive search over `λ_eq` (seconds).
-    #[serde(default)]
     pub exhaustive_seconds: f64,
     /// Connected structures exhaustive search relaxed.
-    #[serde(default)]
     pub exhaustive_structures: usize,
     /// `λ_eq` of the multi-start local search (from the greedy's set and every curve alone).
     pub multi: f64,

@@ -34,6 +34,9 @@
 //!   ([`fresh()`], [`FreshReport`]);
 //! - [`constrained`]: what each design constraint costs, on given networks and random ones
 //!   ([`constrained()`], [`ConstrainedReport`]).
+//!
+//! Both draw their random networks alike ([`RandomDraw`]: how many, the base seed, the ranges of
+//! curves and budgets, the edge length).
 
 pub mod constrained;
 pub mod fresh;
@@ -45,9 +48,13 @@ pub use fresh::{FreshParams, FreshReport, FreshRow, fresh};
 pub use instance::{InstanceResult, instance_network};
 pub use summary::{CompareReport, SizeSummary};
 
+use crate::constraints::{ConstraintParams, Constraints};
 use crate::io::TriMesh;
+use crate::network::Network;
+use crate::rng::SplitMix64;
 use crate::simplify::{Budget, SimplifyError};
 use crate::trace::scale_to_extent;
+use instance::traced_network;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -139,6 +146,112 @@ fn check_build(edge_length: f64, max_subsets: usize) -> Result<(), String> {
     Ok(())
 }
 
+/// What a random draw of networks varies (`compare --fresh`, `compare --constraints`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RandomDraw {
+    /// Networks to draw.
+    pub networks: usize,
+    /// Base seed.
+    pub seed: u32,
+    /// Fewest curves of a network.
+    pub min_curves: usize,
+    /// Most curves of a network.
+    pub max_curves: usize,
+    /// Smallest budget fraction.
+    pub min_budget: f64,
+    /// Largest budget fraction.
+    pub max_budget: f64,
+    /// Edge length `h` (scene units, surfaces at extent 4000).
+    pub edge_length: f64,
+}
+
+impl RandomDraw {
+    /// Checks the ranges: `2 ≤ min_curves ≤ max_curves ≤ most`, `0 < min_budget ≤ max_budget
+    /// ≤ 1`.
+    fn validate(&self, most: usize) -> Result<(), String> {
+        let (c0, c1, b0, b1) = (
+            self.min_curves,
+            self.max_curves,
+            self.min_budget,
+            self.max_budget,
+        );
+        if !(2 <= c0 && c0 <= c1 && c1 <= most) {
+            return Err(format!(
+                "the numbers of curves must satisfy 2 ≤ {c0} ≤ {c1} ≤ {most}"
+            ));
+        }
+        if !(0.0 < b0 && b0 <= b1 && b1 <= 1.0) {
+            return Err(format!("the budgets must satisfy 0 < {b0} ≤ {b1} ≤ 1"));
+        }
+        Ok(())
+    }
+
+    /// The draw in words: `seed 1; 8–18 curves, budgets 0.10–0.50, surfaces a, b`.
+    fn describe(&self, surfaces: &[String]) -> String {
+        format!(
+            "seed {}; {}–{} curves, budgets {:.2}–{:.2}, surfaces {}",
+            self.seed,
+            self.min_curves,
+            self.max_curves,
+            self.min_budget,
+            self.max_budget,
+            surfaces.join(", ")
+        )
+    }
+
+    /// Network `k`, as `make(surface, curves, budget fraction, tracing seed, network)` gives
+    /// it: a SplitMix64 stream seeded by the base seed times `mix`, plus `k`, draws the number
+    /// of curves (uniform), the budget (uniform, rounded to 0.01) and the tracing seed; the
+    /// `scaled` surfaces are taken in rotation. A network whose tracing or build fails is
+    /// drawn again (up to 20 times).
+    fn network<T>(
+        &self,
+        scaled: &[(String, TriMesh)],
+        k: usize,
+        mix: u64,
+        make: impl FnOnce(&str, usize, f64, u32, Network) -> T,
+    ) -> Result<T, SimplifyError> {
+        let seed = u64::from(self.seed).wrapping_mul(mix);
+        let mut rng = SplitMix64::new(seed.wrapping_add(k as u64));
+        let (name, mesh) = &scaled[k % scaled.len()];
+        let span = (self.max_curves - self.min_curves + 1) as u64;
+        for _ in 0..20 {
+            let n = self.min_curves + rng.below(span) as usize;
+            let budget = (100.0 * rng.uniform(self.min_budget, self.max_budget)).round() / 100.0;
+            let budget = budget.clamp(self.min_budget, self.max_budget);
+            let seed = rng.next_u64() as u32;
+            if let Some(network) = traced_network(mesh, n, seed, self.edge_length) {
+                return Ok(make(name, n, budget, seed, network));
+            }
+        }
+        Err(SimplifyError::Params(format!(
+            "network {k}: could not build a network on {name} after 20 tries"
+        )))
+    }
+}
+
+/// The surfaces scaled to the experiments' extent, 4000.
+fn scaled<'a>(surfaces: impl Iterator<Item = (&'a String, &'a TriMesh)>) -> Vec<(String, TriMesh)> {
+    surfaces
+        .map(|(name, m)| (name.clone(), scale_to_extent(m, 4000.0).0))
+        .collect()
+}
+
+/// The constraints that keep only the connected subsets of `network` within `cap` (and
+/// keeping `keep`): exhaustive search over them finds the optimum (see [`mod@fresh`]).
+fn connected_only(
+    network: &Network,
+    cap: f64,
+    keep: &[usize],
+) -> Result<Constraints, SimplifyError> {
+    let only = ConstraintParams {
+        connected: true,
+        ..ConstraintParams::default()
+    };
+    Constraints::new(network, None, &only, cap, keep)
+        .map_err(|e| SimplifyError::Params(e.to_string()))
+}
+
 /// Mean of the values (NaN when there is none).
 fn mean(values: impl Iterator<Item = f64>) -> f64 {
     let (sum, count) = values.fold((0.0, 0usize), |(s, c), v| (s + v, c + 1));
@@ -155,10 +268,7 @@ pub fn compare(
         return Err(SimplifyError::Params("compare needs surfaces".into()));
     }
     params.validate().map_err(SimplifyError::Params)?;
-    let scaled: Vec<(String, TriMesh)> = surfaces
-        .iter()
-        .map(|s| (s.name.clone(), scale_to_extent(&s.mesh, 4000.0).0))
-        .collect();
+    let scaled = scaled(surfaces.iter().map(|s| (&s.name, &s.mesh)));
     let total = params.sizes.len() * params.instances;
     let mut instances = Vec::new();
     let mut summary = Vec::new();

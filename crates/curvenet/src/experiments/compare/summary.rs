@@ -4,8 +4,9 @@ use super::instance::InstanceResult;
 use super::{CompareParams, mean};
 use serde::{Deserialize, Serialize};
 
-/// Figures of one size `N` over its instances.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// Figures of one size `N` over its instances (a figure a report does not hold reads as 0).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
 pub struct SizeSummary {
     /// Number of curves.
     pub n: usize,
@@ -28,50 +29,35 @@ pub struct SizeSummary {
     /// Smallest (greedy + local search) / optimum.
     pub local_ratio_min: f64,
     /// Instances where it reached the optimum (within the relative tie tolerance 1e-7).
-    #[serde(default)]
     pub local_optimal: usize,
     /// Mean of (greedy + single improving moves) / optimum (`λ_eq`).
-    #[serde(default)]
     pub single_ratio_mean: f64,
     /// Smallest (greedy + single improving moves) / optimum.
-    #[serde(default)]
     pub single_ratio_min: f64,
     /// Mean wall time of the greedy (seconds per network).
-    #[serde(default)]
     pub greedy_seconds_mean: f64,
     /// Mean number of the greedy's evaluations (candidates scored on `λ_fix`, plus one
     /// `λ_eq` per iteration).
-    #[serde(default)]
     pub greedy_evaluations_mean: f64,
     /// Mean distinct subsets the local search evaluated.
-    #[serde(default)]
     pub local_evaluations_mean: f64,
     /// Mean connected structures it relaxed.
-    #[serde(default)]
     pub local_structures_mean: f64,
     /// Mean moves it kept.
-    #[serde(default)]
     pub local_moves_mean: f64,
     /// Mean chains it built.
-    #[serde(default)]
     pub local_chains_mean: f64,
     /// Mean wall time (seconds per network).
-    #[serde(default)]
     pub local_seconds_mean: f64,
     /// Largest wall time (seconds).
-    #[serde(default)]
     pub local_seconds_max: f64,
     /// Mean distinct subsets single improving moves evaluated.
-    #[serde(default)]
     pub single_evaluations_mean: f64,
     /// Mean wall time of single improving moves (seconds per network).
-    #[serde(default)]
     pub single_seconds_mean: f64,
     /// Mean connected structures exhaustive search relaxed.
-    #[serde(default)]
     pub exhaustive_structures_mean: f64,
     /// Mean wall time of exhaustive search (seconds per network).
-    #[serde(default)]
     pub exhaustive_seconds_mean: f64,
     /// Mean of multi-start local search / optimum (`λ_eq`).
     pub multi_ratio_mean: f64,

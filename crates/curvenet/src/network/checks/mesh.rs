@@ -1,6 +1,6 @@
 //! Connectivity and shape problems of a triangle mesh.
 
-use super::{LIST_LIMIT, more_marker};
+use super::{LIST_LIMIT, listed};
 use crate::geom::Vec3;
 use crate::io::TriMesh;
 use std::collections::HashMap;
@@ -85,17 +85,11 @@ pub fn mesh_warnings(mesh: &TriMesh, mesh_name: &str) -> Vec<String> {
     }
     let d = &scan.duplicates;
     if !d.is_empty() {
-        let pairs: Vec<String> = d
-            .iter()
-            .take(LIST_LIMIT)
-            .map(|(k, first)| format!("{} = {}", k + 1, first + 1))
-            .collect();
         warnings.push(format!(
             "mesh {mesh_name}: {} duplicate face(s) (the same three vertices as an earlier face): \
-             faces {}{}",
+             faces {}",
             d.len(),
-            pairs.join(", "),
-            more_marker(d.len())
+            listed(d, ", ", |(k, first)| format!("{} = {}", k + 1, first + 1))
         ));
     }
     warnings.extend(edge_warnings(&scan.edges, mesh_name));
@@ -117,30 +111,22 @@ fn edge_warnings(edges: &HashMap<(u32, u32), (usize, usize)>, mesh_name: &str) -
     flipped.sort_unstable();
     let mut warnings = Vec::new();
     if !non_manifold.is_empty() {
-        let list: Vec<String> = non_manifold
-            .iter()
-            .take(LIST_LIMIT)
-            .map(|(u, v, c)| format!("{}–{} ({c} faces)", u + 1, v + 1))
-            .collect();
         warnings.push(format!(
-            "mesh {mesh_name}: {} non-manifold edge(s) shared by more than two faces: vertices {}{}",
+            "mesh {mesh_name}: {} non-manifold edge(s) shared by more than two faces: vertices {}",
             non_manifold.len(),
-            list.join(", "),
-            more_marker(non_manifold.len())
+            listed(&non_manifold, ", ", |(u, v, c)| format!(
+                "{}–{} ({c} faces)",
+                u + 1,
+                v + 1
+            ))
         ));
     }
     if !flipped.is_empty() {
-        let list: Vec<String> = flipped
-            .iter()
-            .take(LIST_LIMIT)
-            .map(|(u, v)| format!("{}–{}", u + 1, v + 1))
-            .collect();
         warnings.push(format!(
             "mesh {mesh_name}: {} edge(s) where two faces disagree on orientation (the faces \
-             run the edge the same way): vertices {}{}",
+             run the edge the same way): vertices {}",
             flipped.len(),
-            list.join(", "),
-            more_marker(flipped.len())
+            listed(&flipped, ", ", |(u, v)| format!("{}–{}", u + 1, v + 1))
         ));
     }
     warnings
@@ -153,10 +139,7 @@ fn zero_area(a: Vec3, b: Vec3, c: Vec3) -> bool {
         .iter()
         .flat_map(|p| p.to_array())
         .fold(0.0f64, |m, v| m.max(v.abs()));
-    if !largest.is_finite() {
-        return true;
-    }
-    if largest == 0.0 {
+    if !largest.is_finite() || largest == 0.0 {
         return true;
     }
     let exponent = largest.log2().ceil().clamp(-1000.0, 1000.0) as i32;

@@ -36,9 +36,20 @@ pub const SHORT_EDGE: f64 = 1e-2;
 /// At most this many items are listed in one warning; the rest are counted or marked.
 const LIST_LIMIT: usize = 8;
 
-/// `" …"` after a list of `len` items cut at [`LIST_LIMIT`], else nothing.
-fn more_marker(len: usize) -> &'static str {
-    if len > LIST_LIMIT { " …" } else { "" }
+/// The first [`LIST_LIMIT`] of `items` shown by `show` and joined by `sep`, then `" …"` when
+/// some are left out.
+fn listed<T>(items: &[T], sep: &str, show: impl Fn(&T) -> String) -> String {
+    let shown: Vec<String> = items.iter().take(LIST_LIMIT).map(show).collect();
+    let more = if items.len() > LIST_LIMIT { " …" } else { "" };
+    format!("{}{more}", shown.join(sep))
+}
+
+/// `" and N more"` after a list of `len` items cut at [`LIST_LIMIT`], else nothing.
+fn and_more(len: usize) -> String {
+    match len.checked_sub(LIST_LIMIT) {
+        Some(more) if more > 0 => format!(" and {more} more"),
+        _ => String::new(),
+    }
 }
 
 /// The warnings of a freshly built network: curves that cross nothing (closed ones float
@@ -82,11 +93,7 @@ fn isolated_warnings(
             "{} curve(s) cross no other curve and stand on their supports alone: {}{}",
             isolated.len(),
             list.join(", "),
-            if isolated.len() > LIST_LIMIT {
-                format!(" and {} more", isolated.len() - LIST_LIMIT)
-            } else {
-                String::new()
-            }
+            and_more(isolated.len())
         ));
     }
     let floating: Vec<String> = isolated
@@ -116,23 +123,17 @@ fn overlap_warning(overlaps: &[Overlap]) -> Option<String> {
     if overlaps.is_empty() {
         return None;
     }
-    let list: Vec<String> = overlaps
-        .iter()
-        .take(LIST_LIMIT)
-        .map(|o| {
-            format!(
-                "{} and {} over {:.4e} from ({:.4e}, {:.4e}, {:.4e})",
-                o.a, o.b, o.length, o.start.x, o.start.y, o.start.z
-            )
-        })
-        .collect();
+    let list = listed(overlaps, "; ", |o| {
+        format!(
+            "{} and {} over {:.4e} from ({:.4e}, {:.4e}, {:.4e})",
+            o.a, o.b, o.length, o.start.x, o.start.y, o.start.z
+        )
+    });
     Some(format!(
         "{} pair(s) of curves run together (within the crossing tolerance of each other, \
-         not crossing): curves {}{}; construction joins each such pair at one point, not \
+         not crossing): curves {list}; construction joins each such pair at one point, not \
          along its length",
         overlaps.len(),
-        list.join("; "),
-        more_marker(overlaps.len())
     ))
 }
 

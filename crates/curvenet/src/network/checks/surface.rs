@@ -3,7 +3,7 @@
 //! ordinary meshes) and the curves that stray from it ([`curves_far_from_mesh`]: a wrong scale
 //! or units, the mesh of another scene).
 
-use super::LIST_LIMIT;
+use super::{LIST_LIMIT, and_more};
 use crate::geom::{Aabb, Bvh, Vec3, closest_point_on_triangle};
 use crate::io::{Origin, Polyline, TriMesh};
 
@@ -26,26 +26,16 @@ impl MeshDistance {
     pub fn new(mesh: &TriMesh) -> Self {
         let triangles = mesh.finite_triangles();
         let boxes: Vec<Aabb> = triangles.iter().map(Aabb::of_points).collect();
-        let mut bounds = Aabb::EMPTY;
-        for b in &boxes {
-            bounds.add(b.min);
-            bounds.add(b.max);
-        }
         MeshDistance {
             tree: Bvh::new(boxes),
+            bounds: Aabb::of_points(triangles.iter().flatten()),
             triangles,
-            bounds,
         }
     }
 
     /// Number of usable triangles.
     pub fn triangle_count(&self) -> usize {
         self.triangles.len()
-    }
-
-    /// Length of the diagonal of the usable triangles' bounding box (0 without triangles).
-    pub fn diagonal(&self) -> f64 {
-        self.bounds.extent().norm()
     }
 
     /// The distance from `p` to the surface and the nearest triangle (an index among the usable
@@ -110,7 +100,7 @@ pub struct FarFromMesh {
 /// positive finite number.
 pub fn curves_far_from_mesh(curves: &[Polyline], mesh: &TriMesh, relative: f64) -> FarFromMesh {
     let index = MeshDistance::new(mesh);
-    let diagonal = index.diagonal();
+    let diagonal = index.bounds.extent().norm();
     let threshold = relative * diagonal;
     let mut out = FarFromMesh {
         diagonal,
@@ -165,7 +155,6 @@ pub fn far_from_mesh_warning(found: &FarFromMesh, mesh_name: &str) -> Option<Str
             )
         })
         .collect();
-    let more = found.curves.len().saturating_sub(LIST_LIMIT);
     let hint = if found.curves.len() == found.checked {
         "; no curve lies on the surface: are the mesh and the curves in the same units and \
          position?"
@@ -180,11 +169,7 @@ pub fn far_from_mesh_warning(found: &FarFromMesh, mesh_name: &str) -> Option<Str
         crate::fmt::percent(100.0 * found.threshold / found.diagonal),
         found.diagonal,
         listed.join(", "),
-        if more > 0 {
-            format!(" and {more} more")
-        } else {
-            String::new()
-        },
+        and_more(found.curves.len()),
     ))
 }
 

@@ -23,12 +23,8 @@ pub fn curves_obj(run: &RunFolder, which: impl Into<Which>, rest: bool) -> Resul
     let which = which.into();
     let rec = run.network_of(which)?;
     let u = displacement(run, which, rest)?;
-    let mut obj = structure_obj(&run.network, &rec.curves, u.as_deref(), &rec.what);
-    if let Some(w) = &rec.unstable {
-        let first = obj.find('\n').map_or(obj.len(), |i| i + 1);
-        obj.insert_str(first, &format!("# {}\n", super::unstable_header(w)));
-    }
-    Ok(obj)
+    let obj = structure_obj(&run.network, &rec.curves, u.as_deref(), &rec.what);
+    Ok(super::with_unstable_header(obj, rec.unstable.as_deref()))
 }
 
 /// OBJ polylines of `curves` of `net` at displacements `u` (`None`: the designed rest state);

@@ -38,7 +38,7 @@ pub use network_file::{
     network_file, network_json, parse_network_file, read_network_file,
 };
 pub use rods::{RodJoint, arc_lengths, end_support, rod_joints, rod_supports};
-pub use tables::{answer_fabrication_csv, fabrication_csv, fabrication_table, points_csv};
+pub use tables::{fabrication_csv, fabrication_table, points_csv};
 
 use crate::io;
 use crate::run_folder::{RunFolder, Which};
@@ -62,17 +62,17 @@ pub enum ExportFormat {
 impl std::str::FromStr for ExportFormat {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
-        Ok(match s {
-            "obj" => ExportFormat::Obj,
-            "json" => ExportFormat::Json,
-            "csv" => ExportFormat::Csv,
-            "network" => ExportFormat::Network,
-            "all" => ExportFormat::All,
-            _ => {
-                return Err(format!(
-                    "unknown export format '{s}' (expected obj, json, csv, network or all)"
-                ));
-            }
+        use ExportFormat::*;
+        let names = [
+            ("obj", Obj),
+            ("json", Json),
+            ("csv", Csv),
+            ("network", Network),
+            ("all", All),
+        ];
+        let found = names.into_iter().find(|n| n.0 == s);
+        found.map(|n| n.1).ok_or_else(|| {
+            format!("unknown export format '{s}' (expected obj, json, csv, network or all)")
         })
     }
 }
@@ -88,31 +88,25 @@ pub fn export_files(
     format: ExportFormat,
 ) -> Result<Vec<(String, String)>, String> {
     use ExportFormat::*;
+    type Make = fn(&RunFolder, Which) -> Result<String, String>;
+    // Each file: its format, its name around the tag, what writes it.
+    let files: [(ExportFormat, &str, &str, Make); 7] = [
+        (Obj, "curves_", ".obj", |r, w| curves_obj(r, w, false)),
+        (Obj, "curves_", "_rest.obj", |r, w| curves_obj(r, w, true)),
+        (Json, "curves_", ".json", |r, w| curves_json(r, w, true)),
+        (Json, "curves_", "_equilibrium.json", |r, w| {
+            curves_json(r, w, false)
+        }),
+        (Csv, "fabrication_", ".csv", |r, w| fabrication_csv(r, w)),
+        (Csv, "points_", ".csv", |r, w| points_csv(r, w)),
+        (Network, "network_", ".json", |r, w| network_json(r, w)),
+    ];
     let which = which.into();
     let k = run.network_of(which)?.tag;
-    let mut out = Vec::new();
-    if matches!(format, Obj | All) {
-        out.push((format!("curves_{k}.obj"), curves_obj(run, which, false)?));
-        out.push((
-            format!("curves_{k}_rest.obj"),
-            curves_obj(run, which, true)?,
-        ));
-    }
-    if matches!(format, Json | All) {
-        out.push((format!("curves_{k}.json"), curves_json(run, which, true)?));
-        out.push((
-            format!("curves_{k}_equilibrium.json"),
-            curves_json(run, which, false)?,
-        ));
-    }
-    if matches!(format, Csv | All) {
-        out.push((format!("fabrication_{k}.csv"), fabrication_csv(run, which)?));
-        out.push((format!("points_{k}.csv"), points_csv(run, which)?));
-    }
-    if matches!(format, Network | All) {
-        out.push((format!("network_{k}.json"), network_json(run, which)?));
-    }
-    Ok(out)
+    let wanted = files.iter().filter(|f| format == All || format == f.0);
+    wanted
+        .map(|(_, stem, end, make)| Ok((format!("{stem}{k}{end}"), make(run, which)?)))
+        .collect()
 }
 
 /// Writes the files of `format` for iteration `k` (any [`Which`]) into the folder `out`
@@ -138,6 +132,16 @@ pub fn write_exports(
 /// [`crate::run_folder::instability`]): the files say it cannot be built as it is.
 pub fn unstable_header(why: &str) -> String {
     format!("WARNING: this network is {why}; it cannot stand as built (not a network to fabricate)")
+}
+
+/// `text` with the [`unstable_header`] of a network that is unstable (`why`) as a `#` comment
+/// after its first line.
+fn with_unstable_header(mut text: String, why: Option<&str>) -> String {
+    if let Some(w) = why {
+        let first = text.find('\n').map_or(text.len(), |i| i + 1);
+        text.insert_str(first, &format!("# {}\n", unstable_header(w)));
+    }
+    text
 }
 
 /// A number in Rust's shortest round-trip form.

@@ -147,25 +147,19 @@ impl NetworkFile {
         }
         let _ = writeln!(out, "  \"supports\": {},", j(&self.supports));
         let _ = writeln!(out, "  \"material\": {},", j(&self.material));
-        out.push_str("  \"positions\": [");
-        for (i, p) in self.positions.iter().enumerate() {
-            out.push_str(if i == 0 { "\n    " } else { ",\n    " });
-            out.push_str(&j(p));
-        }
-        out.push_str("\n  ],\n  \"rods\": [");
-        for (i, r) in self.rods.iter().enumerate() {
-            out.push_str(if i == 0 { "\n    " } else { ",\n    " });
-            out.push_str(&j(r));
-        }
-        out.push_str("\n  ]");
+        // One list item a line.
+        let list = |name: &str, items: Vec<String>| {
+            let body: Vec<String> = items.iter().map(|i| format!("\n    {i}")).collect();
+            format!("  \"{name}\": [{}\n  ]", body.join(","))
+        };
+        let mut lists = vec![
+            list("positions", self.positions.iter().map(j).collect()),
+            list("rods", self.rods.iter().map(j).collect()),
+        ];
         if let Some(eq) = &self.equilibrium {
-            out.push_str(",\n  \"equilibrium\": [");
-            for (i, c) in eq.iter().enumerate() {
-                out.push_str(if i == 0 { "\n    " } else { ",\n    " });
-                out.push_str(&j(c));
-            }
-            out.push_str("\n  ]");
+            lists.push(list("equilibrium", eq.iter().map(j).collect()));
         }
+        out.push_str(&lists.join(",\n"));
         out.push_str("\n}\n");
         out
     }

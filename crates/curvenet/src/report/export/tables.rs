@@ -54,23 +54,9 @@ pub fn points_csv(run: &RunFolder, which: impl Into<Which>) -> Result<String, St
 /// The fabrication table of iteration `k` (any [`Which`]): one row per kept rod.
 pub fn fabrication_csv(run: &RunFolder, which: impl Into<Which>) -> Result<String, String> {
     let rec = run.network_of(which.into())?;
-    let mut table = fabrication_table(
-        &run.network,
-        &format!("{} of {}", rec.what, run.dir.display()),
-        &rec.curves,
-        rec.length,
-    );
-    if let Some(w) = &rec.unstable {
-        let first = table.find('\n').map_or(table.len(), |i| i + 1);
-        table.insert_str(first, &format!("# {}\n", super::unstable_header(w)));
-    }
-    Ok(table)
-}
-
-/// The fabrication table of the run's answer (the network to build), `None` when the run
-/// has none.
-pub fn answer_fabrication_csv(run: &RunFolder) -> Option<String> {
-    fabrication_csv(run, Which::Answer).ok()
+    let what = format!("{} of {}", rec.what, run.dir.display());
+    let table = fabrication_table(&run.network, &what, &rec.curves, rec.length);
+    Ok(super::with_unstable_header(table, rec.unstable.as_deref()))
 }
 
 /// The fabrication table of the structure `curves` of `net`, of total rest length `length`

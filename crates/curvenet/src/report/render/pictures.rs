@@ -15,13 +15,20 @@ pub const PICTURE_SIZE: (usize, usize) = (960, 720);
 /// Azimuth and elevation of the pictures' camera.
 const CAMERA: (f64, f64) = (-60.0, 28.0);
 
-fn fit_points(run: &RunFolder, extra: &[Vec3]) -> Vec<Vec3> {
-    let mut pts: Vec<Vec3> = run.network.positions.clone();
+/// A blank picture with a view that fits `fit` and the run's surface into the picture less a
+/// margin (`right` pixels on the right), the surface drawn.
+fn canvas(run: &RunFolder, mut fit: Vec<Vec3>, right: f64) -> (Image, View) {
+    let (w, h) = PICTURE_SIZE;
+    let mut img = Image::new(w, h);
     if let Some(m) = &run.mesh {
-        pts.extend_from_slice(&m.vertices);
+        fit.extend_from_slice(&m.vertices);
     }
-    pts.extend_from_slice(extra);
-    pts
+    let rect = (30.0, 80.0, w as f64 - right, h as f64 - 140.0);
+    let view = View::fit(&fit, CAMERA.0, CAMERA.1, rect);
+    if let Some(m) = &run.mesh {
+        draw_mesh(&mut img, &view, &m.vertices, &m.faces);
+    }
+    (img, view)
 }
 
 fn title(img: &mut Image, lines: &[String]) {
@@ -48,17 +55,7 @@ pub fn network_picture(run: &RunFolder, which: impl Into<Which>) -> Result<Image
     let u = run.displacement_of(which)?;
     let eq = positions_at(net, Some(&u));
     let rest = positions_at(net, None);
-    let (w, h) = PICTURE_SIZE;
-    let mut img = Image::new(w, h);
-    let view = View::fit(
-        &fit_points(run, &eq),
-        CAMERA.0,
-        CAMERA.1,
-        (30.0, 80.0, w as f64 - 60.0, h as f64 - 140.0),
-    );
-    if let Some(m) = &run.mesh {
-        draw_mesh(&mut img, &view, &m.vertices, &m.faces);
-    }
+    let (mut img, view) = canvas(run, [&net.positions[..], &eq].concat(), 60.0);
     let kept: std::collections::BTreeSet<usize> = rec.curves.iter().copied().collect();
     // Removed curves first, underneath the kept ones.
     let (mut removed, mut kept_strokes) = (Vec::new(), Vec::new());
@@ -97,7 +94,7 @@ pub fn network_picture(run: &RunFolder, which: impl Into<Which>) -> Result<Image
     );
     legend(
         &mut img,
-        h as i64 - 40,
+        PICTURE_SIZE.1 as i64 - 40,
         &[
             (KEPT, "kept curves (equilibrium)"),
             (REMOVED, "removed curves (rest)"),
@@ -190,22 +187,7 @@ pub fn mode_picture(run: &RunFolder, which: impl Into<Which>) -> Result<Image, S
         .enumerate()
         .map(|(v, &p)| p + Vec3::new(mode[3 * v], mode[3 * v + 1], mode[3 * v + 2]) * amp)
         .collect();
-    let (w, h) = PICTURE_SIZE;
-    let mut img = Image::new(w, h);
-    let mut fit = on_kept(&eq);
-    fit.extend(on_kept(&moved));
-    if let Some(m) = &run.mesh {
-        fit.extend_from_slice(&m.vertices);
-    }
-    let view = View::fit(
-        &fit,
-        CAMERA.0,
-        CAMERA.1,
-        (30.0, 80.0, w as f64 - 130.0, h as f64 - 140.0),
-    );
-    if let Some(m) = &run.mesh {
-        draw_mesh(&mut img, &view, &m.vertices, &m.faces);
-    }
+    let (mut img, view) = canvas(run, [on_kept(&eq), on_kept(&moved)].concat(), 130.0);
     let bias = 1e-3 * view.scale() * size;
     let grey = rgb8(150, 150, 160);
     let base: Vec<Stroke> = kept
@@ -225,7 +207,7 @@ pub fn mode_picture(run: &RunFolder, which: impl Into<Which>) -> Result<Image, S
         .map(|&c| curve_stroke(net, c, &moved, shade, 3.0, 0.35))
         .collect();
     draw_strokes(&mut img, &view, &shown, bias);
-    colour_bar(&mut img, w);
+    colour_bar(&mut img, PICTURE_SIZE.0);
     title(
         &mut img,
         &[

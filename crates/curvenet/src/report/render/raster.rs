@@ -2,6 +2,7 @@
 //! thick lines (coverage from the distance to the segment), PNG encoding (`png` crate).
 
 use super::{BACKGROUND, Rgb};
+use std::ops::RangeInclusive;
 use std::path::Path;
 
 /// An RGB image with a depth buffer (larger depth = nearer the viewer).
@@ -49,6 +50,19 @@ impl Image {
         }
     }
 
+    /// The columns and rows of the pixels in the box from `lo` to `hi` (image coordinates)
+    /// that lie in the image; `None` when none does.
+    fn pixels_in(
+        &self,
+        lo: (f64, f64),
+        hi: (f64, f64),
+    ) -> Option<(RangeInclusive<usize>, RangeInclusive<usize>)> {
+        let (x0, y0) = (lo.0.floor().max(0.0), lo.1.floor().max(0.0));
+        let x1 = hi.0.ceil().min(self.width as f64 - 1.0);
+        let y1 = hi.1.ceil().min(self.height as f64 - 1.0);
+        (x0 <= x1 && y0 <= y1).then_some((x0 as usize..=x1 as usize, y0 as usize..=y1 as usize))
+    }
+
     /// Fills a triangle given in screen coordinates `(x, y, depth)`, shaded `color`, with a
     /// depth test and depth writes.
     pub fn triangle(&mut self, p: [[f64; 3]; 3], color: Rgb) {
@@ -57,35 +71,14 @@ impl Image {
         if !(area.abs() > 1e-12) {
             return;
         }
-        let min_x = p
-            .iter()
-            .map(|q| q[0])
-            .fold(f64::INFINITY, f64::min)
-            .floor()
-            .max(0.0);
-        let max_x = p
-            .iter()
-            .map(|q| q[0])
-            .fold(f64::NEG_INFINITY, f64::max)
-            .ceil()
-            .min(self.width as f64 - 1.0);
-        let min_y = p
-            .iter()
-            .map(|q| q[1])
-            .fold(f64::INFINITY, f64::min)
-            .floor()
-            .max(0.0);
-        let max_y = p
-            .iter()
-            .map(|q| q[1])
-            .fold(f64::NEG_INFINITY, f64::max)
-            .ceil()
-            .min(self.height as f64 - 1.0);
-        if !(min_x <= max_x && min_y <= max_y) {
+        let [xs, ys] = [0, 1].map(|k| p.map(|q| q[k]));
+        let lo = |v: [f64; 3]| v.into_iter().fold(f64::INFINITY, f64::min);
+        let hi = |v: [f64; 3]| v.into_iter().fold(f64::NEG_INFINITY, f64::max);
+        let Some((cols, rows)) = self.pixels_in((lo(xs), lo(ys)), (hi(xs), hi(ys))) else {
             return;
-        }
-        for y in min_y as usize..=max_y as usize {
-            for x in min_x as usize..=max_x as usize {
+        };
+        for y in rows {
+            for x in cols.clone() {
                 let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
                 let w0 = ((p[1][0] - px) * (p[2][1] - py) - (p[2][0] - px) * (p[1][1] - py)) / area;
                 let w1 = ((p[2][0] - px) * (p[0][1] - py) - (p[0][0] - px) * (p[2][1] - py)) / area;
@@ -119,19 +112,14 @@ impl Image {
         let r = 0.5 * width;
         let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
         let len2 = dx * dx + dy * dy;
-        let x0 = (a[0].min(b[0]) - r - 1.0).floor().max(0.0);
-        let x1 = (a[0].max(b[0]) + r + 1.0)
-            .ceil()
-            .min(self.width as f64 - 1.0);
-        let y0 = (a[1].min(b[1]) - r - 1.0).floor().max(0.0);
-        let y1 = (a[1].max(b[1]) + r + 1.0)
-            .ceil()
-            .min(self.height as f64 - 1.0);
-        if !(x0 <= x1 && y0 <= y1) {
+        let Some((cols, rows)) = self.pixels_in(
+            (a[0].min(b[0]) - r - 1.0, a[1].min(b[1]) - r - 1.0),
+            (a[0].max(b[0]) + r + 1.0, a[1].max(b[1]) + r + 1.0),
+        ) else {
             return;
-        }
-        for y in y0 as usize..=y1 as usize {
-            for x in x0 as usize..=x1 as usize {
+        };
+        for y in rows {
+            for x in cols.clone() {
                 let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
                 let t = if len2 > 0.0 {
                     (((px - a[0]) * dx + (py - a[1]) * dy) / len2).clamp(0.0, 1.0)

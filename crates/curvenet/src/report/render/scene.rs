@@ -121,17 +121,10 @@ pub struct Stroke {
 /// Draws strokes: all their segments sorted far to near (ties by order), each with a depth
 /// test against the surface only.
 pub fn draw_strokes(img: &mut Image, view: &View, strokes: &[Stroke], bias: f64) {
-    struct Segment {
-        depth: f64,
-        order: usize,
-        a: [f64; 3],
-        b: [f64; 3],
-        ca: Rgb,
-        cb: Rgb,
-        width: f64,
-        hidden_alpha: f64,
-    }
-    let mut segs: Vec<Segment> = Vec::new();
+    // Each segment: its depth (at its middle), its place in the input (ties), its ends on the
+    // screen, its stroke and its ends' points.
+    type Segment<'a> = (f64, usize, [f64; 3], [f64; 3], &'a Stroke, [usize; 2]);
+    let mut segs: Vec<Segment<'_>> = Vec::new();
     for s in strokes {
         let n = s.points.len();
         let count = if s.closed { n } else { n.saturating_sub(1) };
@@ -142,21 +135,20 @@ pub fn draw_strokes(img: &mut Image, view: &View, strokes: &[Stroke], bias: f64)
             if !(a.iter().chain(&b).all(|x| x.is_finite())) {
                 continue;
             }
-            segs.push(Segment {
-                depth: 0.5 * (a[2] + b[2]),
-                order: segs.len(),
-                a,
-                b,
-                ca: s.colors[i0],
-                cb: s.colors[i1],
-                width: s.width,
-                hidden_alpha: s.hidden_alpha,
-            });
+            segs.push((0.5 * (a[2] + b[2]), segs.len(), a, b, s, [i0, i1]));
         }
     }
-    segs.sort_by(|x, y| x.depth.total_cmp(&y.depth).then(x.order.cmp(&y.order)));
-    for s in segs {
-        img.line(s.a, s.b, s.width, s.ca, s.cb, s.hidden_alpha, bias);
+    segs.sort_by(|x, y| x.0.total_cmp(&y.0).then(x.1.cmp(&y.1)));
+    for (_, _, a, b, s, [i0, i1]) in segs {
+        img.line(
+            a,
+            b,
+            s.width,
+            s.colors[i0],
+            s.colors[i1],
+            s.hidden_alpha,
+            bias,
+        );
     }
 }
 

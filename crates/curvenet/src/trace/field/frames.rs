@@ -48,15 +48,14 @@ pub(super) fn orient(topo: &MeshTopology) -> Result<Vec<i8>, TraceError> {
 /// Per-face tangent frame `(x_f, y_f)`: `x_f` along the face's first edge, `y_f = n_f × x_f`
 /// with the normal oriented by `sign`.
 pub(super) fn face_frames(topo: &MeshTopology, sign: &[i8]) -> Vec<(Vec3, Vec3)> {
-    let nf = topo.face_count();
-    let mut frames = Vec::with_capacity(nf);
-    for f in 0..nf {
-        let [a, b, _] = topo.face_points(f);
-        let x = (b - a).normalized();
-        let nrm = topo.face_normal(f) * f64::from(sign[f]);
-        frames.push((x, nrm.cross(x)));
-    }
-    frames
+    (0..topo.face_count())
+        .map(|f| {
+            let [a, b, _] = topo.face_points(f);
+            let x = (b - a).normalized();
+            let nrm = topo.face_normal(f) * f64::from(sign[f]);
+            (x, nrm.cross(x))
+        })
+        .collect()
 }
 
 /// The boundary constraints: per face its value `z_f` (unit where constrained, zero elsewhere)

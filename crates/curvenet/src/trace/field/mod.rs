@@ -109,23 +109,6 @@ impl DirectionField {
         self.values.len()
     }
 
-    /// The symmetry order `N`.
-    pub fn degree(&self) -> u32 {
-        self.degree
-    }
-
-    /// The face value `z_f` as `(re, im)` in the face's frame (magnitude 1 on constrained
-    /// faces, at most about 1 elsewhere).
-    pub fn value(&self, f: usize) -> (f64, f64) {
-        self.values[f]
-    }
-
-    /// Magnitude `|z_f|`.
-    pub fn magnitude(&self, f: usize) -> f64 {
-        let (a, b) = self.values[f];
-        a.hypot(b)
-    }
-
     /// True when face `f` is singular (see the module documentation).
     pub fn is_singular(&self, f: usize) -> bool {
         self.singular[f]
@@ -134,11 +117,6 @@ impl DirectionField {
     /// Interior vertices of non-zero index, with the index numerator `k` (index = `k / N`).
     pub fn singular_vertices(&self) -> &[(usize, i64)] {
         &self.singular_vertices
-    }
-
-    /// The face's tangent frame `(x_f, y_f)`.
-    pub fn frame(&self, f: usize) -> (Vec3, Vec3) {
-        self.frames[f]
     }
 
     /// The `N` unit directions of face `f` (empty where the field vanishes).
@@ -234,19 +212,17 @@ fn validate(options: &FieldOptions) -> Result<(), TraceError> {
             expected: "a symmetry order in 1..=12 (4: two directions, 6: three)",
         });
     }
-    if !(options.magnitude_threshold >= 0.0) || !options.magnitude_threshold.is_finite() {
-        return Err(TraceError::InvalidParameter {
-            name: "magnitude_threshold",
-            value: options.magnitude_threshold,
-            expected: "a finite non-negative number",
-        });
-    }
-    if !(options.penalty >= 0.0) || !options.penalty.is_finite() {
-        return Err(TraceError::InvalidParameter {
-            name: "penalty",
-            value: options.penalty,
-            expected: "a finite non-negative number",
-        });
+    for (name, value) in [
+        ("magnitude_threshold", options.magnitude_threshold),
+        ("penalty", options.penalty),
+    ] {
+        if !(value >= 0.0) || !value.is_finite() {
+            return Err(TraceError::InvalidParameter {
+                name,
+                value,
+                expected: "a finite non-negative number",
+            });
+        }
     }
     Ok(())
 }
