@@ -15,7 +15,7 @@ use crate::cache::Cache;
 use curvenet::physics::{PhysicalReport, analyze_physical};
 use curvenet::rod::ActiveSet;
 use curvenet::stability::{
-    Analysis, Analyzer, CurveShare, EditFrom, EditStart, Spectrum, StabilityError,
+    Analysis, Analyzer, CurveShare, EDIT_PAIRS, EditFrom, EditStart, Spectrum, StabilityError,
 };
 use serde::Serialize;
 use std::sync::{Arc, Mutex, MutexGuard, OnceLock};
@@ -81,7 +81,7 @@ pub struct Summary {
     pub length: f64,
     /// Stable, a mechanism, or unstable.
     pub status: Status,
-    /// The smallest eigenvalues, ascending.
+    /// The two smallest eigenvalues, ascending (`λ` and the next: how isolated `λ` is).
     pub eigenvalues: Vec<f64>,
     /// Whether the equilibrium solve converged (when not, `λ` is measured where it stopped).
     pub converged: bool,
@@ -393,7 +393,7 @@ fn evaluated(
         zero_modes: sp.zero_modes,
         negative_modes: sp.negative_modes,
         status,
-        eigenvalues: sp.values.clone(),
+        eigenvalues: sp.values.iter().take(EDIT_PAIRS).copied().collect(),
         converged: analysis.newton.converged,
         mode_curves: analysis.mode_curves.iter().take(8).copied().collect(),
         curves,

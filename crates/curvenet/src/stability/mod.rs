@@ -60,7 +60,7 @@ pub use analyzer::Analyzer;
 pub use edit::{Edit, EditFrom, EditStart};
 pub use evaluate::{Evaluation, Prepare, Warm, Work};
 pub use params::{Budget, GravityParams, Objective, StabilityParams, Technique, Tuning};
-pub use presets::{Preset, SCORE_TOL, SPECTRUM_TOL, SPECTRUM_TRAILING_TOL};
+pub use presets::{EDIT_PAIRS, Preset, SCORE_TOL, SPECTRUM_TOL, SPECTRUM_TRAILING_TOL};
 pub use subsets::Part;
 
 pub use crate::rod::ActiveSet;

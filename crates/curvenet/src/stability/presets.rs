@@ -17,6 +17,11 @@ pub const SPECTRUM_TOL: f64 = 1e-6;
 /// bounds); their values stay accurate to about 1e-8 / gap.
 pub const SPECTRUM_TRAILING_TOL: f64 = 1e-4;
 
+/// Pairs an edit computes ([`Preset::Edit`]): `λ` and the next eigenvalue, which shows how
+/// isolated `λ` is (two modes of a symmetric network share one value). The start of the next
+/// edit's eigen solve holds both modes.
+pub const EDIT_PAIRS: usize = 2;
+
 /// Residual tolerance of a candidate's score and a set's `λ_eq` (at least): the value's error
 /// is about its square over the gap, below the tie tolerance's 1e-7.
 pub const SCORE_TOL: f64 = 1e-8;
@@ -39,9 +44,10 @@ pub enum Preset {
     /// that holds its neighbour (clustered smallest eigenvalues), its residual to
     /// [`SCORE_TOL`].
     Score,
-    /// An edit's spectrum ([`super::Analyzer::analyze_edit`]): the user's pairs, the lowest
-    /// (`λ`, served) to [`SPECTRUM_TOL`] at least, the others (shown) to
-    /// [`SPECTRUM_TRAILING_TOL`]: values accurate far beyond what is displayed.
+    /// An edit's spectrum ([`super::Analyzer::analyze_edit`]): [`EDIT_PAIRS`] pairs (fewer if
+    /// the user asks for fewer), the lowest (`λ`, served) to [`SPECTRUM_TOL`] at least, the
+    /// other (shown) to [`SPECTRUM_TRAILING_TOL`]: values accurate far beyond what is
+    /// displayed.
     Edit,
     /// `λ_fix` of a set at the full network's equilibrium: four pairs (the certificates of
     /// its low modes) to the user's tolerance, at most 1e-10.
@@ -67,6 +73,7 @@ impl Preset {
                 p.max_basis = p.max_basis.max(p.count + 6 * p.block_size);
             }
             Preset::Edit => {
+                p.count = p.count.min(EDIT_PAIRS);
                 p.tol = p.tol.max(SPECTRUM_TOL);
                 p.trailing_tol = Some(SPECTRUM_TRAILING_TOL.max(p.tol));
             }
