@@ -17,6 +17,7 @@ use faer::matrix_free::conjugate_gradient::{
     CgParams, conjugate_gradient, conjugate_gradient_scratch,
 };
 use faer::matrix_free::{InitialGuessStatus, LinOp, Precond};
+use faer::reborrow::ReborrowMut;
 use faer::{Mat, MatMut, MatRef, Par};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -102,11 +103,18 @@ impl LinOp<f64> for Symmetric<'_> {
 
     fn apply(&self, mut out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, _: Par, _: &mut MemStack) {
         for j in 0..rhs.ncols() {
-            let x: Vec<f64> = rhs.col(j).iter().copied().collect();
-            let mut y = vec![0.0; self.pattern.n];
-            self.pattern.sym_matvec(self.values, &x, &mut y);
-            for (i, v) in y.into_iter().enumerate() {
-                out[(i, j)] = v;
+            let x = rhs.col(j).try_as_col_major().map(|c| c.as_slice());
+            let y = out.rb_mut().col_mut(j).try_as_col_major_mut();
+            match (x, y) {
+                (Some(x), Some(y)) => self.pattern.sym_matvec(self.values, x, y.as_slice_mut()),
+                _ => {
+                    let x: Vec<f64> = rhs.col(j).iter().copied().collect();
+                    let mut y = vec![0.0; self.pattern.n];
+                    self.pattern.sym_matvec(self.values, &x, &mut y);
+                    for (i, v) in y.into_iter().enumerate() {
+                        out[(i, j)] = v;
+                    }
+                }
             }
         }
     }
