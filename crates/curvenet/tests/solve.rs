@@ -11,8 +11,8 @@ use curvenet::geom::Vec3;
 use curvenet::rod::model::Terms;
 use curvenet::rod::{ActiveSet, Supports};
 use curvenet::solve::{
-    Backend, Cholesky, EigenOptions, NewtonStop, Reuse, Schedule, Spectrum, SymbolicFactor,
-    smallest_eigenpairs,
+    Backend, Cholesky, EigenOptions, Equilibrium, NewtonStop, Reuse, Schedule, Spectrum,
+    SymbolicFactor, smallest_eigenpairs,
 };
 use curvenet::stability::{Analyzer, StabilityParams};
 
@@ -425,6 +425,34 @@ fn saddle_escapes_reach_the_same_equilibrium_sooner() {
         plain.factorizations
     );
     assert_same_equilibrium((&escaping, &u1), (&plain, &u0), 1e-10);
+}
+
+/// A relaxation from near an equilibrium (`Equilibrium::relax_near`, a warm edit's) stops at
+/// the first saddle it meets instead of walking over it: from the kagome's drawn state, which
+/// lies before one, it reports the stop and takes no step of the saddle escape, where
+/// `relax` passes the saddle and converges.
+#[test]
+fn a_relaxation_near_an_equilibrium_stops_at_a_saddle() {
+    let Some(net) = paper_network("kagome") else {
+        return;
+    };
+    let a = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
+    let all = a.all();
+    let eq = Equilibrium {
+        model: a.model(),
+        active: &all,
+        symbolic: a.symbolic(),
+        params: &a.params().newton,
+        tuning: &a.params().tuning.solver,
+    };
+    let mut u = vec![0.0; a.model().dofs()];
+    let near = eq.relax_near(&mut u).info;
+    assert_eq!(near.stop, NewtonStop::Saddle, "{near:?}");
+    assert!(!near.converged);
+    assert_eq!(near.projected_steps, 0);
+    let mut u = vec![0.0; a.model().dofs()];
+    let cold = eq.relax(&mut u, None).info;
+    assert!(cold.converged && cold.projected_steps > 0, "{cold:?}");
 }
 
 /// In Newton's quadratic phase the last factorization serves the step

@@ -17,7 +17,9 @@
 //! step whose solve needs more than [`KRYLOV_MAX_SOLVES`] solves, meets non-positive
 //! curvature or fails its line search is taken afresh; one that took more than a few solves
 //! or did not halve `‖∇E‖` is followed by a fresh factorization, which then preconditions the
-//! later steps.
+//! later steps. Such a relaxation stops where the Hessian is indefinite ([`NewtonStop::Saddle`])
+//! rather than walk over the saddle: its caller trusts only a path that met none, and analyses
+//! the structure from the drawn state otherwise.
 //!
 //! **Convergence** is judged against a scale `g₀`: the structure's gradient norm in the drawn
 //! state (so the tolerance means the same for every solve of it, whatever state it starts
@@ -139,6 +141,9 @@ pub enum NewtonStop {
     LineSearchFailed,
     /// The energy or gradient became non-finite.
     NonFinite,
+    /// A relaxation from near an equilibrium ([`Equilibrium::relax_near`]) met an indefinite
+    /// Hessian (a saddle on the way) and stopped there.
+    Saddle,
 }
 
 impl std::fmt::Display for NewtonStop {
@@ -150,6 +155,7 @@ impl std::fmt::Display for NewtonStop {
             NewtonStop::Stalled => "stalled",
             NewtonStop::LineSearchFailed => "no step reduced the energy",
             NewtonStop::NonFinite => "non-finite energy",
+            NewtonStop::Saddle => "stopped at a saddle",
         })
     }
 }
@@ -262,7 +268,9 @@ impl Equilibrium<'_> {
     /// Relaxes the structure from displacements `x` near its equilibrium (e.g. a nearby
     /// structure's): the first step factors the Hessian, and the later ones solve theirs by
     /// conjugate gradients preconditioned with that factorization (Krylov steps, see the
-    /// module documentation). The same tolerance as [`Self::relax`].
+    /// module documentation). The same tolerance as [`Self::relax`]. It never walks over a
+    /// saddle: where the Hessian is indefinite it stops ([`NewtonStop::Saddle`]), since a
+    /// start near one equilibrium that passes a saddle may end in another.
     pub fn relax_near(&self, x: &mut [f64]) -> Relaxed {
         self.relax_with(x, None, true)
     }
@@ -573,6 +581,9 @@ impl<'a> Solver<'a> {
                 projected: false,
                 krylov: false,
             }),
+            // A relaxation from near an equilibrium is kept only if it never meets a saddle
+            // (see `relax_near`): the rest of its path would be wasted.
+            None if self.krylov => Err(NewtonStop::Saddle),
             None => self.projected_direction(x, cur),
         }
     }

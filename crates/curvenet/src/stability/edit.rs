@@ -21,10 +21,11 @@
 //! **Which equilibrium.** A cold analysis relaxes from the drawn state; a warm start could in
 //! principle reach another equilibrium. Only a stable structure has an isolated one that a
 //! warm start is trusted to share with the cold solve: the warm answer is kept when Newton
-//! converged without a step of its saddle escape (the projected Hessian) and the spectrum is
-//! positive. Otherwise (a mechanism, whose equilibria form a family; an unstable or
-//! unconverged state; a path that crossed a saddle) the structure is analysed again from the
-//! drawn state, exactly as [`Analyzer::analyze`] does, and [`Edit::start`] says so.
+//! converged without meeting a saddle (the warm relaxation stops at the first indefinite
+//! Hessian instead of walking over it) and the spectrum is positive. Otherwise (a mechanism,
+//! whose equilibria form a family; an unstable or unconverged state; a path that met a saddle)
+//! the structure is analysed again from the drawn state, exactly as [`Analyzer::analyze`]
+//! does, and [`Edit::start`] says so.
 
 use super::presets::Preset;
 use super::{Analysis, Analyzer, StabilityError, numerics};
@@ -85,8 +86,8 @@ impl Analyzer {
         let start_block = edit_start_block(from.modes, &mask, &self.params().eigen);
         let symbolic = self.symbolic_for(active);
         let (newton, h) = self.relax_near(active, &mut u, &symbolic);
-        let trusted = newton.converged && newton.projected_steps == 0;
-        if trusted {
+        // `relax_near` stops at a saddle: converged means it never passed one.
+        if newton.converged {
             let eigen = Preset::Edit.params(&self.params().eigen);
             let start = Some(start_block.as_ref());
             let (spectrum, ()) = self.in_metric(active, &h, |h| {
