@@ -270,25 +270,33 @@ pub fn network_json(run: &RunFolder, which: impl Into<Which>) -> Result<String, 
 
 /// Reads a network file and checks it. See [`load_network`] for the network alone.
 pub fn read_network_file(path: &Path) -> Result<NetworkFile, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    parse_network_file(&text).map_err(|e| format!("{}: {e}", path.display()))
+    read_checked(path).map(|(f, _)| f)
 }
 
 /// Parses and checks the text of a network file.
 pub fn parse_network_file(text: &str) -> Result<NetworkFile, String> {
-    let f: NetworkFile =
-        serde_json::from_str(text).map_err(|e| format!("line {}: {e}", e.line()))?;
-    f.to_network()?;
-    Ok(f)
+    parse_checked(text).map(|(f, _)| f)
 }
 
 /// Loads the network of a network file written by [`network_json`] (no resampling: the
 /// vertices, rest lengths and anchors are used as they are). Rod `i` of the result is the
 /// file's rod `i`; the file's material is in [`read_network_file`]'s result.
 pub fn load_network(path: &Path) -> Result<Network, String> {
-    let f = read_network_file(path)?;
-    f.to_network()
-        .map_err(|e| format!("{}: {e}", path.display()))
+    read_checked(path).map(|(_, n)| n)
+}
+
+/// A network file and its network (building the network is the file's check), errors
+/// prefixed with the path.
+fn read_checked(path: &Path) -> Result<(NetworkFile, Network), String> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    parse_checked(&text).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+fn parse_checked(text: &str) -> Result<(NetworkFile, Network), String> {
+    let f: NetworkFile =
+        serde_json::from_str(text).map_err(|e| format!("line {}: {e}", e.line()))?;
+    let network = f.to_network()?;
+    Ok((f, network))
 }
 
 /// Compact JSON of a value (numbers in the shortest round-trip form).
