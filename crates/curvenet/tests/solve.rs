@@ -455,6 +455,49 @@ fn a_relaxation_near_an_equilibrium_stops_at_a_saddle() {
     assert!(cold.converged && cold.projected_steps > 0, "{cold:?}");
 }
 
+/// The substitutions of Krylov steps split across the cores
+/// (`SolverTuning::split_solves_above`, for large factors) give the relaxation of one
+/// sequential substitution each, bit for bit: the arched shell relaxed near its equilibrium
+/// after the greedy's first removal, in pools of one and two threads.
+#[test]
+fn split_krylov_substitutions_give_the_same_relaxation() {
+    let Some(net) = paper_network("arcshell") else {
+        return;
+    };
+    let a = Analyzer::new(net.clone(), StabilityParams::default()).expect("analyzer");
+    assert!(
+        a.symbolic().parallel_solve_subtrees() > 1,
+        "a parallel schedule"
+    );
+    let mut start = vec![0.0; a.model().dofs()];
+    assert!(a.relax(&a.all(), &mut start).converged);
+    let after = a.all().without(30);
+    let relax_near = |split_solves_above: usize| {
+        let mut params = StabilityParams::default();
+        params.tuning.solver.split_solves_above = split_solves_above;
+        let eq = Equilibrium {
+            model: a.model(),
+            active: &after,
+            symbolic: a.symbolic(),
+            params: &params.newton,
+            tuning: &params.tuning.solver,
+        };
+        let mut u = start.clone();
+        let info = eq.relax_near(&mut u).info;
+        assert!(info.converged && info.krylov_steps > 0, "{info:?}");
+        (info, u.iter().map(|v| v.to_bits()).collect::<Vec<u64>>())
+    };
+    let sequential = relax_near(usize::MAX);
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool");
+        let split = pool.install(|| relax_near(0));
+        assert_eq!(split, sequential, "{threads} threads");
+    }
+}
+
 /// In Newton's quadratic phase the last factorization serves the step
 /// (`SolverTuning::chord_below`): the arched shell's relaxations (from its drawn state, then
 /// after the greedy's first removal from that equilibrium) end at the same equilibrium

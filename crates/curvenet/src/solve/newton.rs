@@ -30,7 +30,7 @@
 //! decreasing at the round-off floor within [`NewtonParams::floor_max_rel`]; every way of
 //! stopping is reported ([`NewtonStop`]), never hidden.
 
-use super::factor::{Cholesky, SymbolicFactor};
+use super::factor::{Cholesky, Schedule, SymbolicFactor};
 use super::pcg;
 use super::tuning::SolverTuning;
 use crate::rod::model::{Assembly, Terms};
@@ -600,6 +600,11 @@ impl<'a> Solver<'a> {
         let eta = KRYLOV_ETA.min(relative(g_norm, self.g_ref).sqrt());
         let target = (eta * g_norm).max(0.5 * self.eq.params.rel_tol * self.g_ref);
         let pattern = self.eq.model.pattern();
+        let schedule = if self.eq.symbolic.factor_nnz() > self.eq.tuning.split_solves_above {
+            Schedule::Subtrees
+        } else {
+            Schedule::Groups(1)
+        };
         let found = pcg::solve(
             pattern,
             &cur.hess,
@@ -607,6 +612,7 @@ impl<'a> Solver<'a> {
             &cur.grad,
             target,
             KRYLOV_MAX_SOLVES,
+            schedule,
         );
         self.info.krylov_solves += found.solves;
         self.last_krylov_solves = found.solves;

@@ -33,7 +33,7 @@ pub struct Pcg {
 
 /// Solves `H x = b` (`H` given by its upper-triangle `values` on `pattern`) from `x = 0` by
 /// conjugate gradients preconditioned with `factor`, until `‖b − H x‖ < target`, with at most
-/// `max_solves` solves.
+/// `max_solves` solves, each a substitution on `schedule`.
 pub fn solve(
     pattern: &Pattern,
     values: &[f64],
@@ -41,6 +41,7 @@ pub fn solve(
     b: &[f64],
     target: f64,
     max_solves: usize,
+    schedule: Schedule,
 ) -> Pcg {
     let n = b.len();
     let op = Symmetric { pattern, values };
@@ -49,6 +50,7 @@ pub fn solve(
         n,
         solves: AtomicUsize::new(0),
         max_solves,
+        schedule,
     };
     let params = CgParams {
         // With `Zero` faer 0.24 leaves its residual unset; from a zero guess the residual
@@ -126,16 +128,16 @@ impl LinOp<f64> for Symmetric<'_> {
 
 /// `F⁻¹` as faer's preconditioner, counting its solves, at most `max_solves`: faer applies it
 /// once more after its last iteration, whose result a solve that stops there never uses, so
-/// that application is skipped. Each solve is one sequential substitution:
-/// the solves of a CG run form a chain that leaves the other cores idle, and a substitution
-/// split across cores waits on them whenever the machine is busy with other work
-/// (bit-identical either way).
+/// that application is skipped. Each solve is one substitution on the caller's `schedule`
+/// (the solves of a CG run form a chain that leaves the other cores idle; see
+/// [`super::SolverTuning::split_solves_above`]).
 #[derive(Debug)]
 struct Substitution<'a> {
     factor: &'a Cholesky,
     n: usize,
     solves: AtomicUsize,
     max_solves: usize,
+    schedule: Schedule,
 }
 
 impl LinOp<f64> for Substitution<'_> {
@@ -154,7 +156,7 @@ impl LinOp<f64> for Substitution<'_> {
     fn apply(&self, mut out: MatMut<'_, f64>, rhs: MatRef<'_, f64>, _: Par, _: &mut MemStack) {
         out.copy_from(rhs);
         if self.solves.fetch_add(1, Ordering::Relaxed) < self.max_solves {
-            self.factor.solve_in_place(out, Schedule::Groups(1));
+            self.factor.solve_in_place(out, self.schedule);
         } else {
             self.solves.fetch_sub(1, Ordering::Relaxed);
         }

@@ -35,6 +35,13 @@ pub struct SolverTuning {
     /// true, negative one, so its steps creep away from the saddle. 0 never extends a step;
     /// steps from the exact Hessian never are.
     pub escape_doublings: usize,
+    /// Factors storing more values than this split each substitution of a Krylov step (a
+    /// chain of one-column solves that leaves the other cores idle) across the cores
+    /// ([`super::Schedule::Subtrees`], bit-identical to one sequential substitution). Beyond the
+    /// caches a substitution is bound by one core's memory bandwidth, and the split adds the
+    /// other cores'; within them it gains little on an idle machine and waits on the cores
+    /// when they are busy. A function of the structure's size only; `usize::MAX` never splits.
+    pub split_solves_above: usize,
 }
 
 impl Default for SolverTuning {
@@ -44,6 +51,7 @@ impl Default for SolverTuning {
             chord_below: 1e-6,
             floor_near: 100.0,
             escape_doublings: 30,
+            split_solves_above: 4_000_000,
         }
     }
 }
