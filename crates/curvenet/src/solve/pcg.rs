@@ -191,19 +191,43 @@ mod tests {
             norm(&hx.iter().zip(&b).map(|(a, c)| a - c).collect::<Vec<_>>())
         };
         let exact = Cholesky::factorize(&symbolic, &pattern, &h, 0.0, None).unwrap();
-        let s = solve(&pattern, &h, &exact, &b, 1e-10 * norm(&b), 5);
+        let s = solve(
+            &pattern,
+            &h,
+            &exact,
+            &b,
+            1e-10 * norm(&b),
+            5,
+            Schedule::Groups(1),
+        );
         assert_eq!(s.solves, 1);
         assert!(residual(&s.x.unwrap()) <= 1e-10 * norm(&b));
         // A factor of a matrix changed in one entry: CG with it needs two or three solves.
         let mut near = h.clone();
         near[pattern.diag[30]] += 0.5;
         let f = Cholesky::factorize(&symbolic, &pattern, &near, 0.0, None).unwrap();
-        let s = solve(&pattern, &h, &f, &b, 1e-10 * norm(&b), 10);
+        let s = solve(
+            &pattern,
+            &h,
+            &f,
+            &b,
+            1e-10 * norm(&b),
+            10,
+            Schedule::Groups(1),
+        );
         assert!(s.solves <= 3, "{}", s.solves);
         assert!(residual(&s.x.unwrap()) <= 1e-10 * norm(&b));
         // Too few solves allowed: no answer.
         let far = Cholesky::factorize(&symbolic, &pattern, &h, 3.0, None).unwrap();
-        let s = solve(&pattern, &h, &far, &b, 1e-12 * norm(&b), 2);
+        let s = solve(
+            &pattern,
+            &h,
+            &far,
+            &b,
+            1e-12 * norm(&b),
+            2,
+            Schedule::Groups(1),
+        );
         assert!(s.x.is_none() && s.solves == 2);
     }
 
@@ -218,7 +242,7 @@ mod tests {
         let f = Cholesky::factorize(&symbolic, &pattern, &h, 2.0, None).unwrap();
         let theta = std::f64::consts::PI / (n as f64 + 1.0);
         let b: Vec<f64> = (1..=n).map(|i| (i as f64 * theta).sin()).collect();
-        let s = solve(&pattern, &h, &f, &b, 1e-12, 100);
+        let s = solve(&pattern, &h, &f, &b, 1e-12, 100, Schedule::Groups(1));
         assert!(s.x.is_none() && s.solves == 1, "{s:?}");
     }
 }
