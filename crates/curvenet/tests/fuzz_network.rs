@@ -596,3 +596,40 @@ fn hand_made_hard_cases() {
         info.warnings
     );
 }
+
+/// Merged joints never fold a curve back on itself. Three lines: `a` along x, `b` and `c`
+/// crossing it 0.8 apart and each other between them, so the three crossings lie within the
+/// merge distance (0.6) of their neighbours in space and form one joint, while `a` passes
+/// through it twice, 0.8 apart along it: pinned there twice, the piece between would be two
+/// edges out and back (a fold, whose Hessian has huge negative eigenvalues). The passes are one.
+#[test]
+fn merged_joints_never_fold_a_curve() {
+    let line = |a: Vec3, b: Vec3| Polyline {
+        points: (0..=40).map(|i| a.lerp(b, i as f64 / 40.0)).collect(),
+        closed: false,
+        origin: Origin::new("<test>", 0),
+        label: None,
+    };
+    let curves = vec![
+        line(Vec3::new(-50.0, 0.0, 0.0), Vec3::new(50.0, 0.0, 0.0)),
+        line(Vec3::new(-30.0, -30.0, 0.0), Vec3::new(30.0, 30.0, 0.0)),
+        line(Vec3::new(30.8, -30.0, 0.0), Vec3::new(-29.2, 30.0, 0.0)),
+    ];
+    let params = BuildParams {
+        edge_length: 10.0,
+        merge_joints_below: Some(0.06),
+        ..Default::default()
+    };
+    let (network, _) = build_network(&curves, &params).expect("builds");
+    check_network(&network, &curves).expect("sound");
+    assert_eq!(network.joints.len(), 1, "one merged joint");
+    for (c, rod) in network.rods.iter().enumerate() {
+        let v = &rod.vertices;
+        assert!(
+            v.windows(3).all(|w| w[0] != w[2]),
+            "rod {c} folds back: {v:?}"
+        );
+        let j = network.joints[0].vertex;
+        assert_eq!(v.iter().filter(|&&x| x == j).count(), 1, "rod {c}");
+    }
+}

@@ -36,10 +36,18 @@ pub(super) fn cluster_joints(
     let tol_of = |k: usize| crossings[k].tolerance.max(extra);
     union_in_space(crossings, &tol_of, &mut uf);
     let (seeds, joint_of) = joint_seeds(crossings, &tol_of, &mut uf);
+    // Merging joins crossings near each other in space, so one curve can pass through a
+    // merged joint twice a short way apart: the piece between would be a loop of two edges,
+    // out and back (a fold). Such passes are one.
+    let fold = if extra > 0.0 {
+        FOLD_LOOP * params.edge_length
+    } else {
+        0.0
+    };
     let mut passes: Vec<Vec<Pass>> = geo
         .iter()
         .zip(&on_curve)
-        .map(|(g, pts)| passes_of(g, pts, &joint_of, &seeds, params.tolerance))
+        .map(|(g, pts)| passes_of(g, pts, &joint_of, &seeds, params.tolerance, fold))
         .collect();
     // A joint needs two passes. Merging (`merge_joints_below` wider than a small loop) can fold
     // the two passes of a self-crossing into one; that joint is then no joint at all.
@@ -52,6 +60,9 @@ pub(super) fn cluster_joints(
     }
     (seeds, passes)
 }
+
+/// A loop shorter than this many edge lengths is resampled into two edges (a fold).
+const FOLD_LOOP: f64 = 2.5;
 
 /// Joins the crossings whose points on a common curve lie within its tolerance (or `extra`)
 /// in arc length; returns each curve's crossing points `(s, crossing)` sorted by arc length.
@@ -157,14 +168,16 @@ fn joint_seeds(
 }
 
 /// A curve's passes through joints, sorted by arc length: per joint, its points `pts`
-/// clustered by arc length (a closed curve's cluster may straddle `s = 0`), each cluster at
-/// its mean; an open curve's pass within the tolerance of an end becomes that end.
+/// clustered by arc length (within the tolerance, or `fold`; a closed curve's cluster may
+/// straddle `s = 0`), each cluster at its mean; an open curve's pass within the tolerance of
+/// an end becomes that end.
 fn passes_of(
     g: &CurveGeometry,
     pts: &[(f64, usize)],
     joint_of: &[usize],
     seeds: &[JointSeed],
     tolerance: f64,
+    fold: f64,
 ) -> Vec<Pass> {
     let len = g.length();
     let mut passes = Vec::new();
@@ -173,19 +186,20 @@ fn passes_of(
     for run in by_joint.chunk_by(|a, b| a.0 == b.0) {
         let j = run[0].0;
         let tol = seeds[j].tolerance.max(g.tolerance(tolerance));
+        let apart = tol.max(fold);
         let mut group: Vec<f64> = run.iter().map(|x| x.1).collect();
         // A closed curve's cluster may straddle s = 0: move the low side past L.
-        if g.closed && group.len() > 1 && group[0] + len - group[group.len() - 1] <= tol {
+        if g.closed && group.len() > 1 && group[0] + len - group[group.len() - 1] <= apart {
             let wrap_from = group
                 .windows(2)
-                .position(|w| w[1] - w[0] > tol)
+                .position(|w| w[1] - w[0] > apart)
                 .map_or(0, |p| p + 1);
             for v in &mut group[..wrap_from] {
                 *v += len;
             }
             group.sort_by(f64::total_cmp);
         }
-        for cluster in group.chunk_by(|a, b| !(b - a > tol)) {
+        for cluster in group.chunk_by(|a, b| !(b - a > apart)) {
             let mean = cluster.iter().sum::<f64>() / cluster.len() as f64;
             let mut s = if g.closed { mean.rem_euclid(len) } else { mean };
             if !g.closed {
