@@ -190,44 +190,23 @@ mod tests {
             pattern.sym_matvec(&h, x, &mut hx);
             norm(&hx.iter().zip(&b).map(|(a, c)| a - c).collect::<Vec<_>>())
         };
+        let cg = |f: &Cholesky, target: f64, max_solves: usize| {
+            solve(&pattern, &h, f, &b, target, max_solves, Schedule::Groups(1))
+        };
         let exact = Cholesky::factorize(&symbolic, &pattern, &h, 0.0, None).unwrap();
-        let s = solve(
-            &pattern,
-            &h,
-            &exact,
-            &b,
-            1e-10 * norm(&b),
-            5,
-            Schedule::Groups(1),
-        );
+        let s = cg(&exact, 1e-10 * norm(&b), 5);
         assert_eq!(s.solves, 1);
         assert!(residual(&s.x.unwrap()) <= 1e-10 * norm(&b));
         // A factor of a matrix changed in one entry: CG with it needs two or three solves.
         let mut near = h.clone();
         near[pattern.diag[30]] += 0.5;
         let f = Cholesky::factorize(&symbolic, &pattern, &near, 0.0, None).unwrap();
-        let s = solve(
-            &pattern,
-            &h,
-            &f,
-            &b,
-            1e-10 * norm(&b),
-            10,
-            Schedule::Groups(1),
-        );
+        let s = cg(&f, 1e-10 * norm(&b), 10);
         assert!(s.solves <= 3, "{}", s.solves);
         assert!(residual(&s.x.unwrap()) <= 1e-10 * norm(&b));
         // Too few solves allowed: no answer.
         let far = Cholesky::factorize(&symbolic, &pattern, &h, 3.0, None).unwrap();
-        let s = solve(
-            &pattern,
-            &h,
-            &far,
-            &b,
-            1e-12 * norm(&b),
-            2,
-            Schedule::Groups(1),
-        );
+        let s = cg(&far, 1e-12 * norm(&b), 2);
         assert!(s.x.is_none() && s.solves == 2);
     }
 
