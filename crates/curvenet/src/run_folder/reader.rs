@@ -1,14 +1,15 @@
 //! [`RunFolder`]: a run folder read back and checked, for the exports, pictures and viewer.
 //!
-//! [`RunFolder::open`] reads `result.json`, `network.json` and the optional `mesh.obj`, and
+//! [`RunFolder::read`] reads `result.json`, `network.json` and the optional `mesh.obj` through
+//! a [`RunFiles`] (confined to a folder of run folders or not: see [`super::files`]), and
 //! checks every index, length and number, so a missing or corrupt folder gives a clear error
 //! naming the file, never a panic. The iterations' side files (`states/KKKK.bin`, the mode
-//! files) are read on demand.
+//! files) are read on demand, through the same reader.
 
-use super::read_f64_file;
+use super::files::{RunFileError, RunFiles};
 use super::schema::ResultFile;
 use crate::constraints::answer::Answer;
-use crate::io::{self, TriMesh};
+use crate::io::{self, InputError, TriMesh};
 use crate::network::Network;
 use crate::simplify::greedy::IterationRecord;
 use std::path::{Path, PathBuf};
@@ -18,6 +19,8 @@ use std::path::{Path, PathBuf};
 pub struct RunFolder {
     /// The folder.
     pub dir: PathBuf,
+    /// How its files are read (every later read goes through it too).
+    pub files: RunFiles,
     /// `result.json`.
     pub result: ResultFile,
     /// `network.json`.
@@ -28,48 +31,72 @@ pub struct RunFolder {
     pub warnings: Vec<String>,
 }
 
+/// Why a run folder could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum RunFolderError {
+    /// One of its files could not be read or parsed.
+    #[error(transparent)]
+    File(#[from] RunFileError),
+    /// A file was read but does not hold what a run folder holds (an index out of range, an
+    /// unsupported version, …).
+    #[error("{file}: {problem}")]
+    Invalid {
+        /// The file, as its reader names it.
+        file: String,
+        /// What is wrong.
+        problem: String,
+    },
+}
+
+impl RunFolderError {
+    /// Whether it refused a path leading outside the folder runs are loaded from.
+    pub fn is_outside(&self) -> bool {
+        matches!(self, RunFolderError::File(RunFileError::Outside { .. }))
+    }
+}
+
 impl RunFolder {
     /// Reads `dir/result.json`, `dir/network.json` and (if present) `dir/mesh.obj`, and checks
     /// that they agree. Side files of the iterations are read on demand.
     pub fn open(dir: &Path) -> Result<RunFolder, String> {
-        if !dir.is_dir() {
-            return Err(format!(
-                "{}: not a folder (expected the output folder of a run, holding result.json)",
-                dir.display()
-            ));
-        }
-        let result = ResultFile::read(dir)?;
-        let net_path = dir.join("network.json");
-        let network: Network = super::read_json(&net_path)?;
-        check_network(&network).map_err(|e| format!("{}: {e}", net_path.display()))?;
-        check_result(&result, network.rods.len())
-            .map_err(|e| format!("{}: {e}", dir.join("result.json").display()))?;
-        let mut warnings = Vec::new();
-        let mesh_path = dir.join("mesh.obj");
-        let mesh = if mesh_path.is_file() {
-            match io::read_mesh(&mesh_path) {
-                Ok(m) if !m.mesh.faces.is_empty() => Some(m.mesh),
-                Ok(_) => {
-                    warnings.push(format!("{}: no faces; ignored", mesh_path.display()));
-                    None
-                }
-                Err(e) => {
-                    warnings.push(format!("{e}; the surface is left out"));
-                    None
-                }
+        Self::read(RunFiles::unconfined(dir)).map_err(|e| e.to_string())
+    }
+
+    /// Reads the run folder of `files` (`result.json`, `network.json` and, if present,
+    /// `mesh.obj`, each through `files`) and checks that they agree; its side files are read
+    /// on demand through `files` too.
+    ///
+    /// # Errors
+    ///
+    /// The folder is not there, a file cannot be read or parsed, or they do not agree (each
+    /// error naming the file as `files` names it).
+    pub fn read(files: RunFiles) -> Result<RunFolder, RunFolderError> {
+        if !files.folder_exists() {
+            return Err(RunFileError::NotAFolder {
+                file: files.shown(),
             }
-        } else {
-            None
+            .into());
+        }
+        let invalid = |rel: &str, problem: String| RunFolderError::Invalid {
+            file: files.name(rel),
+            problem,
         };
+        let result = ResultFile::read_from(&files)?;
+        let network: Network = files.read_json("network.json", "a curvenet network")?;
+        check_network(&network).map_err(|e| invalid("network.json", e))?;
+        check_result(&result, network.rods.len()).map_err(|e| invalid("result.json", e))?;
+        let mut warnings = Vec::new();
+        let mesh = read_mesh(&files, &mut warnings);
         if !result.complete {
             warnings.push(format!(
                 "{}: the run is not complete; showing the {} iteration(s) recorded",
-                dir.display(),
+                files.shown(),
                 result.iterations.len()
             ));
         }
         Ok(RunFolder {
-            dir: dir.to_path_buf(),
+            dir: files.dir().to_path_buf(),
+            files,
             result,
             network,
             mesh,
@@ -103,25 +130,25 @@ impl RunFolder {
         self.result.iterations.get(k).ok_or_else(|| {
             format!(
                 "{}: no iteration {k} (the run recorded iterations 0 to {})",
-                self.dir.display(),
+                self.files.shown(),
                 self.last_index()
             )
         })
     }
 
     fn vector_file(&self, rel: &str) -> Result<Vec<f64>, String> {
-        let path = self.dir.join(rel);
-        let v = read_f64_file(&path)?;
+        let v = self.files.read_f64(rel).map_err(|e| e.to_string())?;
+        let name = || self.files.name(rel);
         if v.len() != self.network.dofs() {
             return Err(format!(
                 "{}: {} values, expected 3·V = {} for network.json",
-                path.display(),
+                name(),
                 v.len(),
                 self.network.dofs()
             ));
         }
         if let Some(i) = v.iter().position(|x| !x.is_finite()) {
-            return Err(format!("{}: value {i} is not finite", path.display()));
+            return Err(format!("{}: value {i} is not finite", name()));
         }
         Ok(v)
     }
@@ -140,7 +167,7 @@ impl RunFolder {
 
     /// The answer or the `n`-th alternative (from 1) of the run.
     fn chosen(&self, which: Which) -> Result<&Answer, String> {
-        let none = |what: String| format!("{}: {what}", self.dir.display());
+        let none = |what: String| format!("{}: {what}", self.files.shown());
         match which {
             Which::Iteration(_) => unreachable!("an iteration is no chosen network"),
             Which::Answer => self.result.answer.as_ref().ok_or_else(|| {
@@ -253,6 +280,43 @@ pub struct Chosen {
     /// What makes it unstable, when it is (a zero or negative mode: see
     /// [`super::instability`]); never for the answer or an alternative.
     pub unstable: Option<String>,
+}
+
+/// The folder's `mesh.obj`, when it has a readable one with faces; what else is found there
+/// is a warning (the surface is optional).
+fn read_mesh(files: &RunFiles, warnings: &mut Vec<String>) -> Option<TriMesh> {
+    const MESH: &str = "mesh.obj";
+    let name = files.name(MESH);
+    let text = match files.read_text(MESH) {
+        Ok(text) => text,
+        Err(RunFileError::Missing { .. }) => return None,
+        Err(e) => {
+            warnings.push(format!("{e}; the surface is left out"));
+            return None;
+        }
+    };
+    match io::parse_obj_mesh(&text, &name) {
+        Ok(m) if !m.mesh.faces.is_empty() => Some(m.mesh),
+        Ok(_) => {
+            warnings.push(format!("{name}: no faces; ignored"));
+            None
+        }
+        Err(e) => {
+            let e = mesh_error(files, &e);
+            warnings.push(format!("{e}; the surface is left out"));
+            None
+        }
+    }
+}
+
+/// The error of a `mesh.obj` its parser refused: where, and (unconfined only) the parser's
+/// words, which may quote the line.
+fn mesh_error(files: &RunFiles, e: &InputError) -> RunFileError {
+    let problem = match e.line() {
+        Some(line) => format!("not a surface mesh (line {line})"),
+        None => "not a surface mesh".to_string(),
+    };
+    files.malformed("mesh.obj", problem, Some(e.message()))
 }
 
 /// Checks that a run's record names only curves of its network (`n` of them) and iterations
