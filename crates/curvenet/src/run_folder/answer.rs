@@ -47,9 +47,12 @@ pub fn measure_greedy_deviations(
     let dofs = 3 * network.positions.len();
     for o in offers.iter_mut() {
         let Some(k) = o.iteration else { continue };
-        let u = read_f64_file(&dir.join(format!("states/{k:04}.bin")))?;
+        let u = read_f64_file(&dir.join(crate::run_layout::state_file(k)))?;
         if u.len() < dofs {
-            return Err(format!("states/{k:04}.bin does not match the network"));
+            return Err(format!(
+                "{} does not match the network",
+                crate::run_layout::state_file(k)
+            ));
         }
         o.deviation = Some(max_displacement(network, &o.curves, &u));
     }

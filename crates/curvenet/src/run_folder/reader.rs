@@ -156,7 +156,7 @@ impl RunFolder {
     /// Equilibrium displacements of iteration `k` (`states/KKKK.bin`, 3·V values).
     pub fn displacement(&self, k: usize) -> Result<Vec<f64>, String> {
         self.record(k)?;
-        self.vector_file(&format!("states/{k:04}.bin"))
+        self.vector_file(&crate::run_layout::state_file(k))
     }
 
     /// Worst-case mode of iteration `k` (its `mode_file`, 3·V values).
@@ -230,7 +230,7 @@ impl RunFolder {
         let c = self.network_of(which)?;
         match c.iteration {
             Some(k) => self.displacement(k),
-            None => self.vector_file(&format!("states/{}.bin", c.tag)),
+            None => self.vector_file(&crate::run_layout::tagged_state_file(&c.tag)),
         }
     }
 
@@ -239,7 +239,7 @@ impl RunFolder {
         let c = self.network_of(which)?;
         match c.iteration {
             Some(k) => self.mode(k),
-            None => self.vector_file(&format!("modes/{}.bin", c.tag)),
+            None => self.vector_file(&crate::run_layout::tagged_mode_file(&c.tag)),
         }
     }
 }

@@ -46,7 +46,7 @@ pub struct OutputWriter<'a> {
     files: io::BackgroundWriter,
     /// What a resume found that the run can go on without ([`Self::warnings`]).
     warnings: Vec<String>,
-    cancel: Option<&'a std::sync::atomic::AtomicBool>,
+    cancel: crate::cancel::Cancel,
     /// Called after each iteration (e.g. to move a progress bar).
     progress: Option<&'a (dyn Fn(&IterationRecord) + Sync)>,
     /// The answer given by [`Self::set_answer`], with its equilibrium when it is not one of
@@ -125,10 +125,13 @@ impl<'a> OutputWriter<'a> {
             Some(last) if !result.complete && last.removed.is_some() => {
                 let k = result.iterations.len() - 1;
                 let n = network.dofs();
-                let displacement = read_f64_file(&dir.join(format!("states/{k:04}.bin")))?;
-                let modes = read_f64_file(&dir.join(format!("states/{k:04}.modes.bin")))?;
+                let displacement = read_f64_file(&dir.join(crate::run_layout::state_file(k)))?;
+                let modes = read_f64_file(&dir.join(crate::run_layout::state_modes_file(k)))?;
                 if displacement.len() != n || modes.is_empty() || modes.len() % n != 0 {
-                    return Err(format!("states/{k:04}.bin does not match the network"));
+                    return Err(format!(
+                        "{} does not match the network",
+                        crate::run_layout::state_file(k)
+                    ));
                 }
                 let modes = faer::Mat::from_fn(n, modes.len() / n, |i, j| modes[j * n + i]);
                 let carried = read_carried(dir, network.rods.len(), n, k, &mut warnings);
@@ -164,7 +167,7 @@ impl<'a> OutputWriter<'a> {
             result,
             files,
             warnings,
-            cancel: None,
+            cancel: crate::cancel::Cancel::never(),
             progress: None,
             answer: None,
             alternatives: Vec::new(),
@@ -176,9 +179,9 @@ impl<'a> OutputWriter<'a> {
         self.write("mesh.obj", io::mesh_to_obj(mesh))
     }
 
-    /// Polls `flag` for cancellation.
-    pub fn with_cancel(mut self, flag: &'a std::sync::atomic::AtomicBool) -> Self {
-        self.cancel = Some(flag);
+    /// Polls `cancel` (the run's token) between candidates and iterations.
+    pub fn with_cancel(mut self, cancel: crate::cancel::Cancel) -> Self {
+        self.cancel = cancel;
         self
     }
 
@@ -252,7 +255,7 @@ impl<'a> OutputWriter<'a> {
     ) -> Result<Vec<f64>, String> {
         match (a.found.iteration, state) {
             (_, Some(s)) => Ok(s.displacement.clone()),
-            (Some(k), None) => read_f64_file(&self.dir.join(format!("states/{k:04}.bin"))),
+            (Some(k), None) => read_f64_file(&self.dir.join(crate::run_layout::state_file(k))),
             (None, None) => Err(format!("the {what}'s equilibrium is not known")),
         }
     }
@@ -269,8 +272,14 @@ impl<'a> OutputWriter<'a> {
         let obj = io::curves_to_obj(&network_polylines(self.network, &a.found.curves, Some(&u)));
         self.write(&format!("{stem}.obj"), obj)?;
         if let Some(s) = state {
-            self.write(&format!("states/{stem}.bin"), f64_bytes(&s.displacement))?;
-            self.write(&format!("modes/{stem}.bin"), f64_bytes(&s.mode))?;
+            self.write(
+                &crate::run_layout::tagged_state_file(&stem),
+                f64_bytes(&s.displacement),
+            )?;
+            self.write(
+                &crate::run_layout::tagged_mode_file(&stem),
+                f64_bytes(&s.mode),
+            )?;
         }
         Ok(())
     }
@@ -281,8 +290,11 @@ impl<'a> OutputWriter<'a> {
     fn remove_stale(&self, own_answer_state: bool, count: usize) -> Result<(), String> {
         let mut stale: Vec<PathBuf> = Vec::new();
         if !own_answer_state {
-            stale.push(self.dir.join("states/answer.bin"));
-            stale.push(self.dir.join("modes/answer.bin"));
+            stale.push(
+                self.dir
+                    .join(crate::run_layout::tagged_state_file("answer")),
+            );
+            stale.push(self.dir.join(crate::run_layout::tagged_mode_file("answer")));
         }
         for sub in ["", "states", "modes"] {
             let Ok(entries) = std::fs::read_dir(self.dir.join(sub)) else {
@@ -349,7 +361,7 @@ impl<'a> OutputWriter<'a> {
         self.write_result()?;
         self.flush()?;
         let k = outcome.iterations.len() - 1;
-        let u = read_f64_file(&self.dir.join(format!("states/{k:04}.bin")))?;
+        let u = read_f64_file(&self.dir.join(crate::run_layout::state_file(k)))?;
         self.write("final.obj", record_obj(self.network, last, &u))?;
         let answer_path = self.dir.join("answer.obj");
         self.remove_stale(answer_state.is_some(), self.alternatives.len())?;
@@ -395,9 +407,15 @@ impl GreedyHooks for OutputWriter<'_> {
             .flat_map(|j| v.col(j).iter().copied().collect::<Vec<_>>())
             .collect();
         // The worst-case mode is the first column.
-        self.write(&format!("modes/{k:04}.bin"), f64_bytes(&all[..v.nrows()]))?;
-        self.write(&format!("states/{k:04}.bin"), f64_bytes(&eval.displacement))?;
-        self.write(&format!("states/{k:04}.modes.bin"), f64_bytes(&all))?;
+        self.write(
+            &crate::run_layout::mode_file(k),
+            f64_bytes(&all[..v.nrows()]),
+        )?;
+        self.write(
+            &crate::run_layout::state_file(k),
+            f64_bytes(&eval.displacement),
+        )?;
+        self.write(&crate::run_layout::state_modes_file(k), f64_bytes(&all))?;
         let obj = record_obj(self.network, record, &eval.displacement);
         self.write(&format!("iterations/{k:04}.obj"), obj)?;
         self.result.iterations.push(record.clone());
@@ -413,7 +431,6 @@ impl GreedyHooks for OutputWriter<'_> {
     }
 
     fn cancelled(&self) -> bool {
-        self.cancel
-            .is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed))
+        self.cancel.is_cancelled()
     }
 }

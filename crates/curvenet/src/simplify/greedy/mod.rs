@@ -459,7 +459,7 @@ impl<'a> State<'a> {
             removed_group: Vec::new(),
             score: None,
             candidates: Vec::new(),
-            mode_file: format!("modes/{k:04}.bin"),
+            mode_file: crate::run_layout::mode_file(k),
             physical: analyzer.physical_summary(&self.active)?,
             first_frequency: first_frequency(analyzer, &eval),
         };
