@@ -419,7 +419,7 @@ fn example_inputs(
             name: ex.setup.name.to_string(),
             budget: ex.setup.budget_fraction,
             keep: ex.setup.keep.clone(),
-            paper: ex.setup.paper.clone(),
+            paper: ex.setup.paper,
         }),
         curves: ex.curves,
         mesh: Some(ex.mesh),
