@@ -51,6 +51,11 @@ pub fn print_warnings(warnings: &[String]) {
     }
 }
 
+/// Prints the library's warnings in the command line's words, as [`print_warnings`] does.
+pub fn print_messages(warnings: &[Message]) {
+    print_warnings(&warnings.iter().map(say).collect::<Vec<_>>());
+}
+
 /// What a run shows on the terminal while it goes.
 pub struct Console {
     bar: Mutex<Option<ProgressBar>>,

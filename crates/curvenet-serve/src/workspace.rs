@@ -112,7 +112,9 @@ impl ServedRun {
 pub fn open_run(dir: &Path, physical: Option<&PhysicalParams>) -> Result<ServedRun, String> {
     let run = RunFolder::open(dir)?;
     let r = &run.result;
-    let in_result = |e: String| format!("{}: {e}", dir.join("result.json").display());
+    let in_result = |e: curvenet::stability::StabilityError| {
+        format!("{}: {e}", dir.join("result.json").display())
+    };
     let mut analyzer =
         Analyzer::new(run.network.clone(), r.setup.stability.clone()).map_err(in_result)?;
     if let Some(p) = physical {

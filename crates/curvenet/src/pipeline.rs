@@ -122,11 +122,12 @@ pub fn analyze(
     warnings: Vec<String>,
 ) -> Result<AnalyzeOutput, PipelineError> {
     let (network, info) = build_network(curves, build)?;
-    let mut analyzer = Analyzer::new(network, params.clone()).map_err(PipelineError::Params)?;
+    let mut analyzer =
+        Analyzer::new(network, params.clone()).map_err(|e| PipelineError::Params(e.to_string()))?;
     if let Some(p) = physical {
         analyzer = analyzer
             .with_physical(p.clone())
-            .map_err(PipelineError::Params)?;
+            .map_err(|e| PipelineError::Params(e.to_string()))?;
     }
     let mut active = ActiveSet::all(curves.len());
     for &c in removed {

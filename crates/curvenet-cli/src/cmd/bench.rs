@@ -252,7 +252,7 @@ fn run_once(
     let start = Instant::now();
     let outcome = pool.install(|| -> anyhow::Result<_> {
         let (network, _) = build_network(&ex.curves, &ex.build)?;
-        let analyzer = Analyzer::new(network, stability).map_err(usage)?;
+        let analyzer = Analyzer::new(network, stability).map_err(|e| usage(e.to_string()))?;
         let dofs = analyzer.model().dofs();
         Ok((greedy(&analyzer, &params, None, None, &mut NoHooks)?, dofs))
     })?;

@@ -5,6 +5,7 @@
 use crate::io::InputError;
 use crate::network::build::BuildError;
 use crate::paper::ExampleError;
+use crate::stability::StabilityError;
 use crate::words::{Message, Wording};
 use std::path::PathBuf;
 
@@ -112,5 +113,15 @@ impl AppError {
 impl From<Message> for AppError {
     fn from(m: Message) -> Self {
         AppError::Usage(m)
+    }
+}
+
+/// Parameters the user set are a usage error; a computation that failed is not.
+impl From<StabilityError> for AppError {
+    fn from(e: StabilityError) -> Self {
+        match e {
+            StabilityError::Params(m) => AppError::Usage(m),
+            e => AppError::Failed(e.to_string()),
+        }
     }
 }

@@ -225,9 +225,9 @@ fn score_all(
     let n = analyzer.curve_count();
     params.budget.validate().map_err(SimplifyError::Params)?;
     if let Some(&k) = params.keep.iter().find(|&&k| k >= n) {
-        return Err(SimplifyError::Params(format!(
-            "keep list names curve {k}, but there are {n} curves"
-        )));
+        return Err(SimplifyError::Params(
+            format!("keep list names curve {k}, but there are {n} curves").into(),
+        ));
     }
     let lengths = analyzer.lengths();
     let budget = params.budget.length(lengths.iter().sum());
@@ -238,14 +238,19 @@ fn score_all(
         }
         None => feasible_subsets(&lengths, budget, &params.keep, params.max_subsets),
     }
-    .map_err(SimplifyError::Params)?;
+    .map_err(|e| SimplifyError::Params(e.into()))?;
     if subsets.is_empty() {
-        return Err(SimplifyError::Params(match constraints {
-            Some(_) => format!("no subset meets the constraints within the budget {budget:.6}"),
-            None => {
-                format!("no feasible subset: the keep list alone exceeds the budget {budget:.6}")
+        return Err(SimplifyError::Params(
+            match constraints {
+                Some(_) => format!("no subset meets the constraints within the budget {budget:.6}"),
+                None => {
+                    format!(
+                        "no feasible subset: the keep list alone exceeds the budget {budget:.6}"
+                    )
+                }
             }
-        }));
+            .into(),
+        ));
     }
     let all: Vec<SubsetScore> = subsets
         .into_par_iter()

@@ -32,13 +32,14 @@ pub use crate::stability::Budget;
 pub use greedy::{GreedyHooks, GreedyOutcome, GreedyParams, StopReason, greedy};
 
 use crate::stability::StabilityError;
+use crate::words::Message;
 
 /// Why a search could not run.
 #[derive(Debug, thiserror::Error)]
 pub enum SimplifyError {
-    /// Bad parameters.
+    /// Bad parameters (the message names the option when a user set it).
     #[error("{0}")]
-    Params(String),
+    Params(Message),
     /// A stability computation failed.
     #[error(transparent)]
     Stability(StabilityError),

@@ -303,7 +303,7 @@ fn check_spec(setup: &Setup, spec: &RunSpec) -> Result<Budget, AppError> {
     };
     budget
         .validate()
-        .map_err(|e| AppError::usage(message![opt, ": ", e]))?;
+        .map_err(|e| AppError::Usage(e.prefixed([opt, ": ".into()])))?;
     if spec.alternatives > MAX_ALTERNATIVES {
         return Err(AppError::usage(message![
             given(Opt::Alternatives, spec.alternatives),

@@ -186,7 +186,7 @@ impl NetworkFile {
                 self.version
             ));
         }
-        self.material.validate()?;
+        self.material.validate().map_err(|e| e.to_string())?;
         let rods: Vec<Rod> = self
             .rods
             .iter()
