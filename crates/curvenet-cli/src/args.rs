@@ -279,6 +279,11 @@ pub struct BenchArgs {
     /// Print the rows as JSON lines too.
     #[arg(long)]
     pub json: bool,
+    /// The reference implementation's times measured on this machine, a JSON object of
+    /// seconds by example (`{"tower": 103.8}`): the table shows them and the ratio. Without
+    /// it, no ratio is shown.
+    #[arg(long, value_name = "FILE")]
+    pub reference: Option<PathBuf>,
     /// Run the one example given once, in this process, and print its JSON row only (the
     /// bench runs every run so, in a fresh process of its own).
     #[arg(long, hide = true)]

@@ -195,8 +195,12 @@ fn sigkill_again_and_again_during_the_greedy_then_resume_matches_an_uninterrupte
         }
         let out = child.wait_with_output().expect("curvenet ends");
         let stderr = String::from_utf8_lossy(&out.stderr);
+        // The build's own finding (two joints nearly coincide on this sketch) is printed by
+        // every run; a resume adds none of its own.
         assert!(
-            !stderr.contains("warning"),
+            !stderr
+                .lines()
+                .any(|l| l.contains("warning") && !l.contains("the shortest rest edge")),
             "a resume after a kill goes on without warnings: {stderr}"
         );
         if ended {

@@ -2,7 +2,7 @@
 //! than wiring the stages by hand.
 
 use crate::io::Polyline;
-use crate::network::{BuildInfo, BuildParams, Network, build_network};
+use crate::network::{BuildInfo, BuildParams, build_network};
 use crate::physics::PhysicalParams;
 use crate::report::AnalysisReport;
 use crate::rod::ActiveSet;
@@ -129,9 +129,21 @@ pub fn analyze(
             .with_physical(p.clone())
             .map_err(|e| PipelineError::Params(e.to_string()))?;
     }
-    let mut active = ActiveSet::all(curves.len());
+    analyze_built(analyzer, info, physical, removed, warnings)
+}
+
+/// [`analyze`] of a network already built (`info` its build's findings) in `analyzer`.
+pub fn analyze_built(
+    analyzer: Analyzer,
+    info: BuildInfo,
+    physical: Option<&PhysicalParams>,
+    removed: &[usize],
+    warnings: Vec<String>,
+) -> Result<AnalyzeOutput, PipelineError> {
+    let n = analyzer.network().rods.len();
+    let mut active = ActiveSet::all(n);
     for &c in removed {
-        if c >= curves.len() {
+        if c >= n {
             return Err(PipelineError::Params(format!(
                 "cannot remove curve {c}: no such curve"
             )));
@@ -139,6 +151,7 @@ pub fn analyze(
         active.remove(c);
     }
     let analysis = analyzer.analyze(&active, None)?;
+    let params = analyzer.params();
     let mut report = AnalysisReport::new(
         analyzer.network(),
         &info,
@@ -157,11 +170,6 @@ pub fn analyze(
         analysis,
         report,
     })
-}
-
-/// Convenience for tests: the network of `curves`.
-pub fn network(curves: &[Polyline], build: &BuildParams) -> Result<Network, PipelineError> {
-    Ok(build_network(curves, build)?.0)
 }
 
 #[cfg(test)]

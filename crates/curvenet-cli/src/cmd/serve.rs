@@ -73,8 +73,9 @@ pub fn run(a: ServeArgs) -> anyhow::Result<()> {
     println!("{url}");
     let s = design.current().summary.clone();
     eprintln!(
-        "serving {} of {n} curves: λ = {:.6e} ({}); Ctrl-C stops",
+        "serving {} of {n} curves: {} = {:.6e} ({}); Ctrl-C stops",
         s.curves.len(),
+        design.analyzer().objective().value_symbol(),
         s.lambda,
         s.status.word()
     );

@@ -6,6 +6,7 @@
 use super::setup::{Setup, check_curve_ids};
 use crate::app::AppError;
 use crate::physics::{PhysicalReport, analyze_physical};
+use crate::pipeline;
 use crate::report::AnalysisReport;
 use crate::rod::ActiveSet;
 use crate::stability::{Analysis, Analyzer};
@@ -64,11 +65,10 @@ pub fn analyze(
 ) -> Result<AnalyzeOutcome, AppError> {
     let n = setup.curve_count();
     check_curve_ids(Opt::Remove, remove, n)?;
-    let mut active = ActiveSet::all(n);
-    for &c in remove {
-        active.remove(c);
-    }
-    if active.curves().is_empty() {
+    let mut removed = remove.to_vec();
+    removed.sort_unstable();
+    removed.dedup();
+    if removed.len() >= n {
         return Err(AppError::usage(message![
             Opt::Remove,
             " would remove every curve; nothing is left to analyse"
@@ -76,35 +76,34 @@ pub fn analyze(
     }
     let analyzer = setup.analyzer()?;
     let info = setup.built().expect("built by the analyzer").1.clone();
-    let analysis = analyzer
-        .analyze(&active, None)
-        .map_err(|e| AppError::Failed(e.to_string()))?;
     let warnings = setup
         .inputs
         .warnings
         .iter()
         .map(|w| w.render(words))
         .collect();
-    let params = &setup.model.stability;
-    let mut report = AnalysisReport::new(
-        analyzer.network(),
-        &info,
-        &params.material,
-        &active,
-        &analysis,
-        warnings,
-    )
-    .with_objective(params.objective);
-    let physical = match &setup.model.physical {
+    let physical_params = setup.model.physical.as_ref();
+    let out = pipeline::analyze_built(analyzer, info, physical_params, &removed, warnings)
+        .map_err(|e| AppError::Failed(e.to_string()))?;
+    let physical = match physical_params {
         Some(p) => {
-            report.use_physical_radius(analyzer.network(), p.physical.section.outer_radius());
+            let mut active = ActiveSet::all(n);
+            for &c in &removed {
+                active.remove(c);
+            }
             Some(
-                analyze_physical(analyzer.network(), p, &active)
+                analyze_physical(out.analyzer.network(), p, &active)
                     .map_err(|e| AppError::Failed(e.to_string()))?,
             )
         }
         None => None,
     };
+    let pipeline::AnalyzeOutput {
+        analyzer,
+        analysis,
+        report,
+        ..
+    } = out;
     Ok(AnalyzeOutcome {
         analyzer,
         analysis,

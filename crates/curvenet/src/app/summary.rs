@@ -2,29 +2,25 @@
 //! figures, the times of the steps that ran and where the output is.
 
 use super::RunOutcome;
+use crate::physics::PhysicalSummary;
 use crate::run_folder::summary;
-use crate::simplify::greedy::IterationRecord;
 use std::fmt::Write;
 
 /// The finished run's summary (several lines, each ending in a newline).
 pub fn run_summary(outcome: &RunOutcome) -> String {
     let result = &outcome.result;
     let mut s = summary(result);
-    // The answer's figures when it is one of the greedy's networks, else the last one's,
-    // labelled as such.
-    let answer = result
-        .answer
-        .as_ref()
-        .and_then(|a| a.found.iteration)
-        .and_then(|k| result.iterations.get(k).map(|r| (r, "the answer")));
-    let shown = answer.or_else(|| {
-        result
+    // The answer's figures; without an answer, the greedy's last network's, said as such.
+    let shown = match &result.answer {
+        Some(a) => a.physical.as_ref().map(|p| (p, "the answer")),
+        None => result
             .iterations
             .last()
-            .map(|r| (r, "the greedy's last network"))
-    });
-    if let Some(line) = shown.and_then(|(r, what)| physical_line(r, what)) {
-        let _ = writeln!(s, "{line}");
+            .and_then(|r| r.physical.as_ref())
+            .map(|p| (p, "the greedy's last network, not an answer")),
+    };
+    if let Some((p, what)) = shown {
+        let _ = writeln!(s, "{}", physical_line(p, what));
     }
     if !outcome.already_complete {
         if result.local_search.is_some() {
@@ -47,9 +43,8 @@ pub fn run_summary(outcome: &RunOutcome) -> String {
     s
 }
 
-/// A network's physical figures in one line (the physical mode only).
-fn physical_line(record: &IterationRecord, what: &str) -> Option<String> {
-    let p = record.physical.as_ref()?;
+/// A network's physical figures in one line.
+fn physical_line(p: &PhysicalSummary, what: &str) -> String {
     let unit = p.units.as_deref().unwrap_or("(scene units)");
     let opt = |v: Option<f64>, unit: &str| {
         v.map_or("none (unstable)".into(), |v| format!("{v:.4} {unit}"))
@@ -74,5 +69,5 @@ fn physical_line(record: &IterationRecord, what: &str) -> Option<String> {
             ids.join(", ")
         );
     }
-    Some(line)
+    line
 }

@@ -101,6 +101,11 @@ pub struct Answer {
     pub negative_modes: usize,
     /// Every constraint's margin.
     pub margins: Margins,
+    /// In the physical mode, its physical figures (frequencies, deflections, stresses in a
+    /// material's units), set by the run once the answer is chosen; absent in the paper's
+    /// mode.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub physical: Option<crate::physics::PhysicalSummary>,
 }
 
 /// A stable network outside the budget, named when there is no answer.
@@ -195,6 +200,7 @@ fn answer_of(constraints: &Constraints, offer: &Offer) -> Answer {
         zero_modes: offer.zero_modes,
         negative_modes: offer.negative_modes,
         margins: constraints.margins(&offer.curves, offer.deviation),
+        physical: None,
     }
 }
 
@@ -359,12 +365,19 @@ impl NoAnswer {
                     || format!("the {}'s network", n.found.source),
                     |k| format!("iteration {k}"),
                 );
+                let budget = if n.over_budget_percent > 0.0 {
+                    format!("{:.1}% over the budget", n.over_budget_percent)
+                } else {
+                    format!(
+                        "within the budget, {}% of it",
+                        crate::fmt::percent(100.0 + n.over_budget_percent)
+                    )
+                };
                 s.push_str(&format!(
-                    "\nsmallest stable network of the run: {place}, {} curves, length {} ({:+.1}% \
-                     of the budget), {value} {:.6e}",
+                    "\nsmallest stable network of the run: {place}, {} curves, length {} \
+                     ({budget}), {value} {:.6e}",
                     n.found.curves.len(),
                     crate::fmt::length(n.found.length),
-                    n.over_budget_percent,
                     n.found.lambda
                 ));
             }

@@ -166,6 +166,10 @@ pub struct AnalysisReport {
     pub build: BuildInfo,
     /// Warnings (also printed on stderr).
     pub warnings: Vec<String>,
+    /// The analysis is the paper's model's beside a physical one (the physical mode): the
+    /// text says its figures are the paper's model's, not physical.
+    #[serde(skip)]
+    pub beside_physical: bool,
 }
 
 impl AnalysisReport {
@@ -185,6 +189,7 @@ impl AnalysisReport {
     /// without the paper model's warning (the physical analysis checks the section against
     /// the scene).
     pub fn use_physical_radius(&mut self, network: &Network, radius: f64) {
+        self.beside_physical = true;
         if let Some(w) = self.units.warning.take() {
             self.warnings.retain(|x| *x != w);
         }
@@ -283,6 +288,7 @@ impl AnalysisReport {
             units,
             build: build.clone(),
             warnings,
+            beside_physical: false,
         }
     }
 
@@ -381,7 +387,12 @@ impl AnalysisReport {
                 )
             },
         );
-        let _ = writeln!(s, "gravity deflection: {gravity}");
+        let model = if self.beside_physical {
+            " (the paper's model, in its own units: not a physical deflection)"
+        } else {
+            ""
+        };
+        let _ = writeln!(s, "gravity deflection{model}: {gravity}");
         let _ = writeln!(
             s,
             "units: radius {} vs median curve length {} (slenderness {})",

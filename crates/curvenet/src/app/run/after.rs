@@ -19,7 +19,7 @@ use crate::simplify::local::{LocalParams, local_search};
 use crate::simplify::{GreedyOutcome, GreedyParams};
 use crate::stability::fixed::FixedProblem;
 use crate::stability::{Analyzer, Evaluation, Prepare, Preset, Warm};
-use crate::words::Message;
+use crate::words::{Message, Opt, message};
 use std::path::Path;
 use std::time::Instant;
 
@@ -92,6 +92,23 @@ impl After {
         let alternatives_seconds = alternatives_start.elapsed().as_secs_f64();
         if cancel.is_cancelled() {
             return Err(stopped(Stage::Alternatives));
+        }
+        if chosen.answer.is_err() && !self.local_search {
+            let p = constraints.params();
+            let limits = [
+                (Opt::MaxGap, p.max_gap.is_some()),
+                (Opt::MaxDeviation, p.max_deviation.is_some()),
+            ];
+            if let Some(&(opt, _)) = limits.iter().find(|l| l.1) {
+                observer.note(&message![
+                    "no network of the greedy's path meets ",
+                    opt,
+                    "; ",
+                    Opt::LocalSearch,
+                    " searches beyond the path (from the best single curves and networks grown \
+                     to meet the limits) and may find one"
+                ]);
+            }
         }
         if self.alternatives > chosen.alternatives.len() {
             observer.note(&Message::from(format!(
@@ -194,7 +211,35 @@ fn answer_of(
         states.push((o.curves.clone(), s));
         offers.push(o);
     }
-    let choice = choose(constraints, &offers, found.alternatives);
+    let mut choice = choose(constraints, &offers, found.alternatives);
+    // In the physical mode every network offered to build carries its physical figures: a
+    // greedy iteration's as recorded, any other's analysed now.
+    if analyzer.physical().is_some() {
+        let answers = choice
+            .answer
+            .iter_mut()
+            .chain(choice.alternatives.iter_mut());
+        for a in answers {
+            a.physical = match a.found.iteration {
+                Some(k) => outcome.iterations.get(k).and_then(|r| r.physical.clone()),
+                None => {
+                    let n = analyzer.network().rods.len();
+                    let active = ActiveSet::from_curves(n, &a.found.curves);
+                    analyzer
+                        .physical_summary(&active)
+                        .map_err(|e| {
+                            observer.warning(&Message::from(format!(
+                                "the physical figures of the network of {} curves could not \
+                                 be computed: {e}",
+                                a.found.curves.len()
+                            )))
+                        })
+                        .ok()
+                        .flatten()
+                }
+            };
+        }
+    }
     let state_of = |a: &Answer| {
         a.found
             .iteration

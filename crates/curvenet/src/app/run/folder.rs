@@ -55,18 +55,16 @@ pub(super) fn claim(
 fn folder_error(e: FolderError) -> AppError {
     AppError::Usage(match e {
         FolderError::Held(dir) => message![
-            format!(
-                "{}: another curvenet run is writing in this folder; wait for it to end or \
-                 give another ",
-                dir.display()
-            ),
+            given(Opt::Out, dir.display()),
+            ": another curvenet run is writing in this folder; wait for it to end or give \
+             another ",
             Opt::Out
         ],
         FolderError::NotARun { dir, foreign } => message![
+            given(Opt::Out, dir.display()),
             format!(
-                "{}: the folder is not empty and is not a curvenet run's (it holds {}); give \
-                 an empty or new folder, or ",
-                dir.display(),
+                ": the folder is not empty and is not a curvenet run's (it holds {}); give an \
+                 empty or new folder, or ",
                 foreign.join(", ")
             ),
             Opt::Force,

@@ -292,8 +292,9 @@ fn check_spec(setup: &Setup, spec: &RunSpec) -> Result<Budget, AppError> {
             return Err(AppError::usage(message![
                 "give a budget: ",
                 Opt::Budget,
-                " (a fraction of the total length) or ",
-                Opt::BudgetLength
+                " FRACTION or ",
+                Opt::BudgetLength,
+                " L"
             ]));
         }
     };
