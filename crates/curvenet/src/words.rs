@@ -312,10 +312,32 @@ impl Message {
         Message(all)
     }
 
+    /// `messages` one after the other, `separator` between them.
+    pub fn join(messages: impl IntoIterator<Item = Message>, separator: &str) -> Self {
+        let mut all = Vec::new();
+        for (i, m) in messages.into_iter().enumerate() {
+            if i > 0 {
+                all.push(Piece::Text(separator.to_string()));
+            }
+            all.extend(m.0);
+        }
+        Message(all)
+    }
+
     /// This message with `pieces` after it.
     pub fn then(mut self, pieces: impl IntoIterator<Item = Piece>) -> Self {
         self.0.extend(pieces);
         self
+    }
+}
+
+/// A message's pieces, in order: `a.then(b)` appends message `b` to `a`.
+impl IntoIterator for Message {
+    type Item = Piece;
+    type IntoIter = std::vec::IntoIter<Piece>;
+
+    fn into_iter(self) -> Self::IntoIter {
+        self.0.into_iter()
     }
 }
 

@@ -512,11 +512,10 @@ pub fn write_run_outputs(dir: &Path) -> Result<RunOutputs, String> {
             if p.exists() {
                 std::fs::remove_file(&p).map_err(|e| format!("{}: {e}", p.display()))?;
             }
-            let why = run
-                .result
-                .no_answer
-                .as_ref()
-                .map_or_else(|| "the run has no answer".to_string(), |n| n.reason.clone());
+            let why = run.result.no_answer.as_ref().map_or_else(
+                || "the run has no answer".to_string(),
+                |n| n.reason.render(&crate::words::Recorded),
+            );
             out.warnings
                 .push(format!("no fabrication table: nothing to build ({why})"));
         }

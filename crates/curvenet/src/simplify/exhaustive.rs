@@ -18,6 +18,7 @@ use crate::cancel::Cancel;
 use crate::constraints::Constraints;
 use crate::stability::Analyzer;
 use crate::stability::fixed::FixedProblem;
+use crate::words::{Message, Opt, message};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -70,7 +71,7 @@ pub fn feasible_subsets(
     budget: f64,
     keep: &[usize],
     cap: usize,
-) -> Result<Vec<Vec<usize>>, String> {
+) -> Result<Vec<Vec<usize>>, Message> {
     let n = lengths.len();
     let mut forced = vec![false; n];
     for &k in keep {
@@ -238,7 +239,7 @@ fn score_all(
         }
         None => feasible_subsets(&lengths, budget, &params.keep, params.max_subsets),
     }
-    .map_err(|e| SimplifyError::Params(e.into()))?;
+    .map_err(SimplifyError::Params)?;
     if subsets.is_empty() {
         return Err(SimplifyError::Params(
             match constraints {
@@ -269,7 +270,10 @@ fn score_all(
     all.retain(|s| s.lambda != OVER_DEVIATION);
     let Some(best) = best_of(&all) else {
         return Err(SimplifyError::Params(if all.is_empty() {
-            "no subset within the budget keeps its equilibrium within --max-deviation".into()
+            message![
+                "no subset within the budget keeps its equilibrium within ",
+                Opt::MaxDeviation
+            ]
         } else {
             "no subset could be evaluated".into()
         }));

@@ -142,7 +142,7 @@ pub fn execute(
     constraint_params
         .groups
         .extend(setup.inputs.groups.iter().cloned());
-    constraint_params.validate().map_err(AppError::usage)?;
+    constraint_params.validate().map_err(AppError::Usage)?;
     // Held to the end of the run: another run into the folder is refused meanwhile.
     let (_lock, fresh) = folder::claim(&spec.out, spec.resume, spec.force, observer)?;
     let analyzer = setup.analyzer()?;
@@ -335,28 +335,29 @@ fn constraints_of(
     keep: &[usize],
     observer: &dyn Observer,
 ) -> Result<(Constraints, ConstraintParams), AppError> {
-    let constraints = if params.is_default() {
-        Constraints::none(network, budget, keep)
-    } else {
-        match Constraints::new(network, mesh, &params, budget, keep) {
-            Ok(c) => c,
-            Err(e) if defaults => {
-                observer.note(&message![format!(
-                    "the default constraints are left out on this network: {e}"
-                )]);
-                params = ConstraintParams::default();
-                Constraints::none(network, budget, keep)
+    let constraints =
+        if params.is_default() {
+            Constraints::none(network, budget, keep)
+        } else {
+            match Constraints::new(network, mesh, &params, budget, keep) {
+                Ok(c) => c,
+                Err(e) if defaults => {
+                    observer.note(&e.message().prefixed([
+                        "the default constraints are left out on this network: ".into(),
+                    ]));
+                    params = ConstraintParams::default();
+                    Constraints::none(network, budget, keep)
+                }
+                Err(ConstraintError::Usage(m)) => return Err(AppError::Usage(m)),
+                Err(ConstraintError::Infeasible(m)) => {
+                    return Err(AppError::Usage(
+                        m.prefixed(["the constraints cannot be met: ".into()]),
+                    ));
+                }
             }
-            Err(ConstraintError::Usage(m)) => return Err(AppError::usage(m)),
-            Err(ConstraintError::Infeasible(m)) => {
-                return Err(AppError::usage(format!(
-                    "the constraints cannot be met: {m}"
-                )));
-            }
-        }
-    };
+        };
     for note in constraints.notes() {
-        observer.note(&Message::from(note.clone()));
+        observer.note(note);
     }
     Ok((constraints, params))
 }

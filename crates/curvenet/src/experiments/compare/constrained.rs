@@ -443,7 +443,7 @@ fn run_setting(
             row.curves = a.found.curves;
             row.source = a.found.source;
         }
-        Err(e) => row.no_answer = Some(e.reason),
+        Err(e) => row.no_answer = Some(e.reason.render(&crate::words::Recorded)),
     }
     Ok((row, Some(constraints)))
 }
