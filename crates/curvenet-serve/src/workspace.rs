@@ -110,7 +110,7 @@ impl ServedRun {
 ///
 /// A message naming the file when `dir` is not a readable curvenet run folder.
 pub fn open_run(dir: &Path, physical: Option<&PhysicalParams>) -> Result<ServedRun, String> {
-    let run = RunFolder::open(dir)?;
+    let run = RunFolder::open(dir).map_err(|e| e.to_string())?;
     let r = &run.result;
     let in_result = |e: curvenet::stability::StabilityError| {
         format!("{}: {e}", dir.join("result.json").display())

@@ -5,6 +5,7 @@
 use crate::io::InputError;
 use crate::network::build::BuildError;
 use crate::paper::ExampleError;
+use crate::run_folder::RunFolderError;
 use crate::stability::StabilityError;
 use crate::words::{Message, Wording};
 use std::path::PathBuf;
@@ -113,6 +114,17 @@ impl AppError {
 impl From<Message> for AppError {
     fn from(m: Message) -> Self {
         AppError::Usage(m)
+    }
+}
+
+/// A run folder that cannot be resumed as asked, or lacks the network asked for, is a usage
+/// error; one that cannot be read or written is a failure.
+impl From<RunFolderError> for AppError {
+    fn from(e: RunFolderError) -> Self {
+        match e {
+            RunFolderError::Resume(m) | RunFolderError::Absent(m) => AppError::Usage(m),
+            e => AppError::Failed(e.to_string()),
+        }
     }
 }
 

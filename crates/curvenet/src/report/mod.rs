@@ -16,9 +16,53 @@ pub mod viewer;
 use crate::fmt;
 use crate::network::{BuildInfo, EdgeLengthStats, Network};
 use crate::rod::{ActiveSet, Material};
+use crate::run_folder::RunFolderError;
 use crate::stability::{Analysis, CurveShare, GravityDeflection, NewtonSummary, Objective};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// Why an export, a picture or the viewer could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum ReportError {
+    /// The run folder could not be read, or lacks the network asked for.
+    #[error(transparent)]
+    RunFolder(#[from] RunFolderError),
+    /// A file could not be read or written: its path and the system's reason.
+    #[error("{}: {error}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What the system said.
+        error: std::io::Error,
+    },
+    /// A network file holds what no export writes (the message names the file and line), or
+    /// a picture could not be encoded.
+    #[error("{0}")]
+    Invalid(String),
+}
+
+impl ReportError {
+    /// `path` could not be read or written.
+    pub fn io(path: &Path, error: std::io::Error) -> Self {
+        ReportError::Io {
+            path: path.to_path_buf(),
+            error,
+        }
+    }
+}
+
+impl From<String> for ReportError {
+    fn from(message: String) -> Self {
+        ReportError::Invalid(message)
+    }
+}
+
+impl From<&str> for ReportError {
+    fn from(message: &str) -> Self {
+        ReportError::Invalid(message.to_string())
+    }
+}
 
 /// The rod radius against the scene: what the units imply.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -57,9 +57,60 @@ pub use summary::{instability, record_instability, summary, unrelaxed, unstable}
 pub use writer::OutputWriter;
 
 use crate::geom::Vec3;
-use crate::io::{Origin, Polyline};
+use crate::io::{Origin, Polyline, WriteError};
 use crate::network::Network;
-use std::path::Path;
+use crate::words::Message;
+use std::path::{Path, PathBuf};
+
+/// Why a run folder could not be read, written or continued.
+#[derive(Debug, thiserror::Error)]
+pub enum RunFolderError {
+    /// A file could not be read or written: its path and the system's reason.
+    #[error("{}: {error}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What the system said.
+        error: std::io::Error,
+    },
+    /// A file written as the run went could not be (it names the file).
+    #[error(transparent)]
+    Write(#[from] WriteError),
+    /// A file holds what no run records (the message names the file, and the line of a JSON
+    /// error), or does not match the network.
+    #[error("{0}")]
+    Invalid(String),
+    /// The network asked for is not in the run (no answer, no such alternative or
+    /// iteration): the message says what the run holds.
+    #[error("{0}")]
+    Absent(Message),
+    /// The run asked for cannot continue the one recorded (a resume with other settings):
+    /// the message names the option that differs, for the user to fix.
+    #[error("{0}")]
+    Resume(Message),
+}
+
+impl RunFolderError {
+    /// `path` could not be read or written.
+    pub fn io(path: &Path, error: std::io::Error) -> Self {
+        RunFolderError::Io {
+            path: path.to_path_buf(),
+            error,
+        }
+    }
+}
+
+impl From<String> for RunFolderError {
+    fn from(message: String) -> Self {
+        RunFolderError::Invalid(message)
+    }
+}
+
+impl From<&str> for RunFolderError {
+    fn from(message: &str) -> Self {
+        RunFolderError::Invalid(message.to_string())
+    }
+}
 
 /// Writes a vector of f64 as little-endian bytes.
 pub fn f64_bytes(v: &[f64]) -> Vec<u8> {
@@ -67,14 +118,18 @@ pub fn f64_bytes(v: &[f64]) -> Vec<u8> {
 }
 
 /// Reads a file of little-endian f64.
-pub fn read_f64_file(path: &Path) -> Result<Vec<f64>, String> {
-    let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
+///
+/// # Errors
+///
+/// The file cannot be read, or is not a whole number of f64.
+pub fn read_f64_file(path: &Path) -> Result<Vec<f64>, RunFolderError> {
+    let bytes = std::fs::read(path).map_err(|e| RunFolderError::io(path, e))?;
     if bytes.len() % 8 != 0 {
-        return Err(format!(
+        return Err(RunFolderError::Invalid(format!(
             "{}: truncated file ({} bytes is not a whole number of f64)",
             path.display(),
             bytes.len()
-        ));
+        )));
     }
     Ok(bytes
         .chunks_exact(8)
@@ -83,9 +138,10 @@ pub fn read_f64_file(path: &Path) -> Result<Vec<f64>, String> {
 }
 
 /// Reads a JSON file; errors name the file (and the line of a parse error).
-pub(crate) fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    serde_json::from_str(&text).map_err(|e| format!("{}:{}: {e}", path.display(), e.line()))
+pub(crate) fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, RunFolderError> {
+    let text = std::fs::read_to_string(path).map_err(|e| RunFolderError::io(path, e))?;
+    serde_json::from_str(&text)
+        .map_err(|e| RunFolderError::Invalid(format!("{}:{}: {e}", path.display(), e.line())))
 }
 
 /// Positions of all vertices at displacements `u` (`None`: the rest state).

@@ -5,12 +5,13 @@
 //! naming the file, never a panic. The iterations' side files (`states/KKKK.bin`, the mode
 //! files) are read on demand.
 
-use super::read_f64_file;
 use super::schema::ResultFile;
+use super::{RunFolderError, read_f64_file};
 use crate::constraints::answer::Answer;
 use crate::io::{self, TriMesh};
 use crate::network::Network;
 use crate::simplify::greedy::IterationRecord;
+use crate::words::{Message, Opt, given, message};
 use std::path::{Path, PathBuf};
 
 /// A run's output folder, read and checked.
@@ -31,12 +32,13 @@ pub struct RunFolder {
 impl RunFolder {
     /// Reads `dir/result.json`, `dir/network.json` and (if present) `dir/mesh.obj`, and checks
     /// that they agree. Side files of the iterations are read on demand.
-    pub fn open(dir: &Path) -> Result<RunFolder, String> {
+    pub fn open(dir: &Path) -> Result<RunFolder, RunFolderError> {
         if !dir.is_dir() {
             return Err(format!(
                 "{}: not a folder (expected the output folder of a run, holding result.json)",
                 dir.display()
-            ));
+            )
+            .into());
         }
         let result = ResultFile::read(dir)?;
         let net_path = dir.join("network.json");
@@ -99,17 +101,17 @@ impl RunFolder {
     }
 
     /// The record of iteration `k`.
-    pub fn record(&self, k: usize) -> Result<&IterationRecord, String> {
+    pub fn record(&self, k: usize) -> Result<&IterationRecord, RunFolderError> {
         self.result.iterations.get(k).ok_or_else(|| {
-            format!(
+            RunFolderError::Absent(Message::from(format!(
                 "{}: no iteration {k} (the run recorded iterations 0 to {})",
                 self.dir.display(),
                 self.last_index()
-            )
+            )))
         })
     }
 
-    fn vector_file(&self, rel: &str) -> Result<Vec<f64>, String> {
+    fn vector_file(&self, rel: &str) -> Result<Vec<f64>, RunFolderError> {
         let path = self.dir.join(rel);
         let v = read_f64_file(&path)?;
         if v.len() != self.network.dofs() {
@@ -118,54 +120,62 @@ impl RunFolder {
                 path.display(),
                 v.len(),
                 self.network.dofs()
-            ));
+            )
+            .into());
         }
         if let Some(i) = v.iter().position(|x| !x.is_finite()) {
-            return Err(format!("{}: value {i} is not finite", path.display()));
+            return Err(format!("{}: value {i} is not finite", path.display()).into());
         }
         Ok(v)
     }
 
     /// Equilibrium displacements of iteration `k` (`states/KKKK.bin`, 3·V values).
-    pub fn displacement(&self, k: usize) -> Result<Vec<f64>, String> {
+    pub fn displacement(&self, k: usize) -> Result<Vec<f64>, RunFolderError> {
         self.record(k)?;
         self.vector_file(&crate::run_layout::state_file(k))
     }
 
     /// Worst-case mode of iteration `k` (its `mode_file`, 3·V values).
-    pub fn mode(&self, k: usize) -> Result<Vec<f64>, String> {
+    pub fn mode(&self, k: usize) -> Result<Vec<f64>, RunFolderError> {
         let rec = self.record(k)?;
         self.vector_file(&rec.mode_file)
     }
 
     /// The answer or the `n`-th alternative (from 1) of the run.
-    fn chosen(&self, which: Which) -> Result<&Answer, String> {
-        let none = |what: String| format!("{}: {what}", self.dir.display());
+    fn chosen(&self, which: Which) -> Result<&Answer, RunFolderError> {
+        let none = |what: Message| {
+            RunFolderError::Absent(what.prefixed([format!("{}: ", self.dir.display()).into()]))
+        };
         match which {
             Which::Iteration(_) => unreachable!("an iteration is no chosen network"),
             Which::Answer => self.result.answer.as_ref().ok_or_else(|| {
-                none(
+                none(message![
                     "the run has no answer (no stable network met the budget and the constraints)"
-                        .into(),
-                )
+                ])
             }),
             Which::Alternative(n) => n
                 .checked_sub(1)
                 .and_then(|i| self.result.alternatives.get(i))
                 .ok_or_else(|| {
                     none(match self.result.alternatives.len() {
-                        0 => format!(
-                            "no alternative {n}: the run recorded no alternatives (run it with \
-                             --alternatives K)"
-                        ),
-                        m => format!("no alternative {n}: the run recorded alternatives 1 to {m}"),
+                        0 => message![
+                            format!(
+                                "no alternative {n}: the run recorded no alternatives (run it \
+                                 with "
+                            ),
+                            given(Opt::Alternatives, "K"),
+                            ")"
+                        ],
+                        m => message![format!(
+                            "no alternative {n}: the run recorded alternatives 1 to {m}"
+                        )],
                     })
                 }),
         }
     }
 
     /// What `which` is: its curves, length, `λ_eq`, and how exports name it.
-    pub fn network_of(&self, which: Which) -> Result<Chosen, String> {
+    pub fn network_of(&self, which: Which) -> Result<Chosen, RunFolderError> {
         if let Which::Iteration(k) = which {
             let rec = self.record(k)?;
             return Ok(Chosen {
@@ -199,7 +209,7 @@ impl RunFolder {
     }
 
     /// Equilibrium displacements of `which`: its iteration's, else `states/TAG.bin`.
-    pub fn displacement_of(&self, which: Which) -> Result<Vec<f64>, String> {
+    pub fn displacement_of(&self, which: Which) -> Result<Vec<f64>, RunFolderError> {
         let c = self.network_of(which)?;
         match c.iteration {
             Some(k) => self.displacement(k),
@@ -208,7 +218,7 @@ impl RunFolder {
     }
 
     /// Worst-case mode of `which`: its iteration's, else `modes/TAG.bin`.
-    pub fn mode_of(&self, which: Which) -> Result<Vec<f64>, String> {
+    pub fn mode_of(&self, which: Which) -> Result<Vec<f64>, RunFolderError> {
         let c = self.network_of(which)?;
         match c.iteration {
             Some(k) => self.mode(k),
@@ -298,26 +308,27 @@ fn check_result(result: &ResultFile, n: usize) -> Result<(), String> {
 
 /// Checks that a network is consistent: finite positions, indices in range, one positive
 /// rest length per edge, enough vertices per rod. Everything the energy model indexes.
-pub fn check_network(net: &Network) -> Result<(), String> {
+pub fn check_network(net: &Network) -> Result<(), RunFolderError> {
     let nv = net.positions.len();
     if nv == 0 || net.rods.is_empty() {
         return Err("the network has no vertices or no rods".into());
     }
     if let Some(i) = net.positions.iter().position(|p| !p.is_finite()) {
-        return Err(format!("position of vertex {i} is not finite"));
+        return Err(format!("position of vertex {i} is not finite").into());
     }
     for (c, rod) in net.rods.iter().enumerate() {
         let m = rod.vertices.len();
         let min = if rod.closed { 3 } else { 2 };
         if m < min {
-            return Err(format!("rod {c} has {m} vertices (at least {min} needed)"));
+            return Err(format!("rod {c} has {m} vertices (at least {min} needed)").into());
         }
         let edges = if rod.closed { m } else { m - 1 };
         if rod.rest_lengths.len() != edges {
             return Err(format!(
                 "rod {c} has {} rest lengths for {edges} edges",
                 rod.rest_lengths.len()
-            ));
+            )
+            .into());
         }
         if let Some(j) = rod
             .rest_lengths
@@ -327,7 +338,8 @@ pub fn check_network(net: &Network) -> Result<(), String> {
             return Err(format!(
                 "rod {c}: rest length of edge {j} is {} (must be positive and finite)",
                 rod.rest_lengths[j]
-            ));
+            )
+            .into());
         }
         if let Some(&v) = rod
             .vertices
@@ -335,26 +347,26 @@ pub fn check_network(net: &Network) -> Result<(), String> {
             .chain(&rod.anchors)
             .find(|&&v| v as usize >= nv)
         {
-            return Err(format!(
-                "rod {c} names vertex {v}, but the network has {nv} vertices"
-            ));
+            return Err(
+                format!("rod {c} names vertex {v}, but the network has {nv} vertices").into(),
+            );
         }
         if let Some(&v) = rod.anchors.iter().find(|v| !rod.vertices.contains(v)) {
-            return Err(format!("rod {c} anchors vertex {v}, which is not on it"));
+            return Err(format!("rod {c} anchors vertex {v}, which is not on it").into());
         }
         if let Some(j) = (0..edges).find(|&j| {
             let (a, b) = rod.edge(j);
             a == b
         }) {
-            return Err(format!("rod {c}: edge {j} joins a vertex to itself"));
+            return Err(format!("rod {c}: edge {j} joins a vertex to itself").into());
         }
     }
     for (j, joint) in net.joints.iter().enumerate() {
         if joint.vertex as usize >= nv {
-            return Err(format!("joint {j} names vertex {}", joint.vertex));
+            return Err(format!("joint {j} names vertex {}", joint.vertex).into());
         }
         if let Some(&c) = joint.curves.iter().find(|&&c| c as usize >= net.rods.len()) {
-            return Err(format!("joint {j} names curve {c}"));
+            return Err(format!("joint {j} names curve {c}").into());
         }
     }
     Ok(())

@@ -241,15 +241,19 @@ pub struct ResultFile {
 
 impl ResultFile {
     /// Reads `DIR/result.json`.
-    pub fn read(dir: &Path) -> Result<ResultFile, String> {
+    ///
+    /// # Errors
+    ///
+    /// The file cannot be read, is not a run's record, or is of another version.
+    pub fn read(dir: &Path) -> Result<ResultFile, super::RunFolderError> {
         let path = dir.join("result.json");
         let r: ResultFile = super::read_json(&path)?;
         if r.version != VERSION {
-            return Err(format!(
+            return Err(super::RunFolderError::Invalid(format!(
                 "{}: unsupported version {} (expected {VERSION})",
                 path.display(),
                 r.version
-            ));
+            )));
         }
         Ok(r)
     }

@@ -14,7 +14,7 @@ use super::{AppError, Stage};
 use crate::cancel::Cancel;
 use crate::constraints::{ConstraintError, ConstraintParams, Constraints, read_groups};
 use crate::network::Network;
-use crate::run_folder::{OutputWriter, ResultFile, RunSetup};
+use crate::run_folder::{OutputWriter, ResultFile, RunFolderError, RunSetup};
 use crate::simplify::greedy::ResumePoint;
 use crate::simplify::{Budget, GreedyParams, SimplifyError, greedy};
 use crate::stability::Objective;
@@ -192,7 +192,7 @@ pub fn execute(
         observer,
     )?;
     let Some((writer, resume_point)) = opened else {
-        let result = ResultFile::read(&spec.out).map_err(AppError::Failed)?;
+        let result = ResultFile::read(&spec.out)?;
         // A run stopped while its pictures were drawn is complete without them.
         if spec.pictures && !spec.out.join("viewer.html").is_file() {
             write_pictures(&spec.out, observer);
@@ -206,7 +206,7 @@ pub fn execute(
         });
     };
     if let Some(mesh) = mesh {
-        writer.write_mesh(mesh).map_err(AppError::Failed)?;
+        writer.write_mesh(mesh)?;
     }
     let progress = |r: &crate::simplify::greedy::IterationRecord| {
         observer.iteration(r, total, budget_length);
@@ -266,9 +266,7 @@ pub fn execute(
         "alternatives_seconds": (spec.alternatives > 0).then_some(seconds.alternatives),
         "threads": rayon::current_num_threads(),
     });
-    writer
-        .finish(&outcome, &timings)
-        .map_err(AppError::Failed)?;
+    writer.finish(&outcome, &timings)?;
     let result = writer.result().clone();
     drop(writer);
     if spec.pictures {
@@ -377,15 +375,19 @@ fn open_writer<'a>(
     let out = &spec.out;
     if !(spec.resume && out.join("result.json").is_file()) {
         if let Some(fresh) = fresh
-            && let Some(note) = fresh.apply().map_err(|e| AppError::usage(e.to_string()))?
+            && let Some(note) = fresh.apply().map_err(|e| AppError::Usage(e.message()))?
         {
             observer.note(&Message::from(note));
         }
-        let writer = OutputWriter::create(out, network, setup, budget).map_err(AppError::Failed)?;
+        let writer = OutputWriter::create(out, network, setup, budget)?;
         return Ok(Some((writer, None)));
     }
+    // Whatever stops a resume is for the user to fix (another folder, the same options).
     let (writer, point) =
-        OutputWriter::resume(out, network, &setup, mesh).map_err(AppError::usage)?;
+        OutputWriter::resume(out, network, &setup, mesh).map_err(|e| match e {
+            RunFolderError::Resume(m) => AppError::Usage(m),
+            e => AppError::usage(e.to_string()),
+        })?;
     for w in writer.warnings() {
         observer.warning(&Message::from(w.clone()));
     }
