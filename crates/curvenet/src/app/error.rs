@@ -84,6 +84,7 @@ impl AppError {
         use crate::words::{Opt, message};
         match self {
             AppError::Usage(m) => m.render(words),
+            AppError::Build(e) => e.message().render(words),
             AppError::Cancelled {
                 stage,
                 kept,

@@ -64,7 +64,7 @@ impl Setup {
     pub fn build_warnings(&self) -> Vec<Message> {
         self.built
             .as_ref()
-            .map(|(_, info)| info.warnings.iter().cloned().map(Message::from).collect())
+            .map(|(_, info)| info.warnings.clone())
             .unwrap_or_default()
     }
 }

@@ -18,6 +18,7 @@ use crate::network::{BuildInfo, EdgeLengthStats, Network};
 use crate::rod::{ActiveSet, Material};
 use crate::run_folder::RunFolderError;
 use crate::stability::{Analysis, CurveShare, GravityDeflection, NewtonSummary, Objective};
+use crate::words::{Opt, Recorded, Wording, message};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -78,8 +79,9 @@ pub struct UnitsNote {
 }
 
 impl UnitsNote {
-    /// Compares the material's radius with the curves' lengths.
-    pub fn new(network: &Network, material: &Material) -> Self {
+    /// Compares the material's radius with the curves' lengths; the warning names the radius
+    /// option as `words` spell it.
+    pub fn new(network: &Network, material: &Material, words: &dyn Wording) -> Self {
         let mut lengths = network.rest_lengths();
         lengths.sort_by(f64::total_cmp);
         let median = lengths.get(lengths.len() / 2).copied().unwrap_or(0.0);
@@ -90,13 +92,16 @@ impl UnitsNote {
             (slenderness > 1e6).then_some(("tiny", ""))
         };
         let warning = if let Some((size, usual)) = extreme {
-            Some(format!(
-                "rod radius {} is {size} against the median curve length {}: slenderness \
-                 {}{usual}; check the scene's units or set --radius",
-                material.radius,
-                fmt::length(median),
-                fmt::significant(slenderness, 4)
-            ))
+            Some(message![
+                format!(
+                    "rod radius {} is {size} against the median curve length {}: slenderness \
+                     {}{usual}; check the scene's units or set ",
+                    material.radius,
+                    fmt::length(median),
+                    fmt::significant(slenderness, 4)
+                ),
+                Opt::Radius
+            ])
         } else {
             // The median is fine; a single curve may still be a stub against the rod's
             // thickness.
@@ -108,13 +113,17 @@ impl UnitsNote {
                 .min_by(|x, y| x.1.total_cmp(&y.1))
                 .filter(|&(_, l)| l < 4.0 * material.radius)
                 .map(|(c, l)| {
-                    format!(
-                        "curve {c} is only {l:.4e} long, less than twice the rod's diameter \
-                         {}: a stub, not a rod; check it or set --radius",
-                        2.0 * material.radius
-                    )
+                    message![
+                        format!(
+                            "curve {c} is only {l:.4e} long, less than twice the rod's diameter \
+                             {}: a stub, not a rod; check it or set ",
+                            2.0 * material.radius
+                        ),
+                        Opt::Radius
+                    ]
                 })
-        };
+        }
+        .map(|m| m.render(words));
         UnitsNote {
             radius: material.radius,
             median_curve_length: median,
@@ -241,11 +250,12 @@ impl AnalysisReport {
             radius,
             ..Material::default()
         };
-        self.units = UnitsNote::new(network, &material);
+        self.units = UnitsNote::new(network, &material, &Recorded);
         self.units.warning = None;
     }
 
-    /// Assembles the report of `analysis` of structure `active` of `network`.
+    /// Assembles the report of `analysis` of structure `active` of `network`; its own and
+    /// the build's warnings name options as `words` spell them.
     pub fn new(
         network: &Network,
         build: &BuildInfo,
@@ -253,12 +263,13 @@ impl AnalysisReport {
         active: &ActiveSet,
         analysis: &Analysis,
         mut warnings: Vec<String>,
+        words: &dyn Wording,
     ) -> Self {
         let curves = active.curves();
         let removed: Vec<usize> = (0..network.rods.len())
             .filter(|&c| !active.contains(c))
             .collect();
-        let units = UnitsNote::new(network, material);
+        let units = UnitsNote::new(network, material, words);
         if let Some(w) = &units.warning {
             warnings.push(w.clone());
         }
@@ -307,7 +318,7 @@ impl AnalysisReport {
                 top.join(", ")
             ));
         }
-        warnings.extend(build.warnings.iter().cloned());
+        warnings.extend(build.warnings.iter().map(|w| w.render(words)));
         AnalysisReport {
             curve_count: network.rods.len(),
             vertices: network.vertex_count(),

@@ -51,6 +51,18 @@ pub enum SimplifyError {
     Hook(String),
 }
 
+impl SimplifyError {
+    /// The error as a message naming the options a user set, for a front end to spell
+    /// (`Display` shows it neutrally).
+    pub fn message(&self) -> Message {
+        match self {
+            SimplifyError::Params(m) => m.clone(),
+            SimplifyError::Stability(StabilityError::Params(m)) => m.clone(),
+            e => Message::from(e.to_string()),
+        }
+    }
+}
+
 impl From<StabilityError> for SimplifyError {
     fn from(e: StabilityError) -> Self {
         match e {

@@ -155,7 +155,7 @@ pub fn execute(
         keep: keep.clone(),
         ..GreedyParams::new(budget)
     };
-    params.validate(n).map_err(AppError::usage)?;
+    params.validate(n).map_err(AppError::Usage)?;
     let total = network.total_length(&(0..n).collect::<Vec<_>>());
     let budget_length = budget.length(total);
     let info = setup.built().expect("built by the analyzer").1.clone();
@@ -228,7 +228,7 @@ pub fn execute(
             kept: writer.result().iterations.len(),
             folder: spec.out.clone(),
         },
-        SimplifyError::Params(m) => AppError::usage(m),
+        SimplifyError::Params(m) => AppError::Usage(m),
         e => AppError::Failed(e.to_string()),
     })?;
     for w in crate::run_folder::unrelaxed(&outcome.iterations, analyzer.objective())
