@@ -5,8 +5,12 @@
 //! command line's, `max_gap=` Python's, `"max_gap"` the server's JSON). A message names the
 //! option with a [`Piece::Opt`] (the option alone) or a [`Piece::Given`] (the option with the
 //! value the user gave), and each front end renders it with its own [`Wording`]; `Display`
-//! renders the neutral key. A test reads the library's sources and refuses string literals
-//! that spell a command-line flag.
+//! renders the neutral key. A test (`tests/no_flags.rs`) reads the library's sources and
+//! refuses string literals that spell a command-line flag.
+//!
+//! What the library records (a run folder's `result.json`, the JSON of an analysis) is read by
+//! every front end alike, so its messages keep one spelling there, [`Recorded`]; a message
+//! read back ([`Message::from_recorded`]) names its options again.
 //!
 //! Written here rather than taken from a crate: message catalogues (fluent, gettext) translate
 //! whole sentences; what is needed is one sentence with option names spelled three ways.
