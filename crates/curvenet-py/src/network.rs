@@ -12,7 +12,6 @@ use curvenet::app::{
     RunSpec, Setup,
 };
 use curvenet::constraints::{ConstraintParams, Group};
-use curvenet::io::{self, Polyline};
 use curvenet::physics::PhysicalOptions;
 use curvenet::simplify::Budget;
 use curvenet::simplify::greedy::IterationRecord;
@@ -63,30 +62,10 @@ fn given_curves(py: Python<'_>, sources: &Bound<'_, PyList>) -> PyResult<GivenCu
     let mut given = GivenCurves::default();
     for item in sources.iter() {
         if let Ok(path) = item.extract::<PathBuf>() {
-            let f = py
-                .detach(|| io::read_curves(&path))
-                .map_err(|e| errors::input(py, &e))?;
-            given
-                .warnings
-                .extend(f.warnings.iter().map(|w| w.to_string()));
-            given.groups.extend(
-                f.groups
-                    .iter()
-                    .cloned()
-                    .chain(std::iter::repeat(None))
-                    .take(f.curves.len()),
-            );
-            if !f.specs.is_empty() {
-                given.specs.resize(given.curves.len(), Default::default());
-                given.specs.extend(f.specs);
-            }
-            given.units = given.units.or(f.units);
-            given.curves.extend(f.curves);
-            given.files.push(path.display().to_string());
+            let read = py.detach(|| given.read_file(&path));
+            read.map_err(|e| errors::input(py, &e))?;
         } else {
-            let c: Polyline = curve_from_tuple(&item)?;
-            given.groups.push(None);
-            given.curves.push(c);
+            given.push(curve_from_tuple(&item)?);
         }
     }
     if given.curves.is_empty() {

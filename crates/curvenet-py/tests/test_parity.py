@@ -34,6 +34,11 @@ def _comparable(result: dict) -> dict:
     inp = r["setup"]["input"]
     inp.pop("curve_files", None)
     inp.pop("mesh", None)
+    # Groups given as lists are named by their position, a groups file's by the file: their
+    # curves are what must agree.
+    for g in r["setup"].get("constraints", {}).get("groups", []):
+        g.pop("name", None)
+        g.pop("origin", None)
     return r
 
 
@@ -56,7 +61,7 @@ CASES = [
     ("keep", ["--keep", "0,3"], {}, {"keep": [0, 3]}),
     ("pinned", ["--supports", "pinned"], {"supports": "pinned"}, {}),
     ("connected", ["--connected"], {}, {"connected": True}),
-    ("min curves", ["--min-curves", "5"], {}, {"min_curves": 5}),
+    ("min curves", ["--min-curves", "3"], {}, {"min_curves": 3}),
     ("max gap", ["--max-gap", "1600"], {}, {"max_gap": 1600}),
     ("max deviation", ["--max-deviation", "50"], {}, {"max_deviation": 50}),
     ("symmetry", ["--symmetry", "auto"], {}, {"symmetry": "auto"}),

@@ -217,15 +217,7 @@ pub fn read_inputs(spec: &InputSpec) -> Result<Inputs, AppError> {
             .warnings
             .extend(checks::far_from_mesh_warning(&far, &name).map(Message::from));
     }
-    let build = BuildParams {
-        edge_length: h,
-        supports: spec.supports.unwrap_or_default(),
-        merge_joints_below: spec.merge_joints,
-        ..BuildParams::default()
-    };
-    build
-        .validate()
-        .map_err(|e| AppError::usage(e.to_string()))?;
+    let build = build_params(spec, h)?;
     inputs.description.mesh = mesh_name;
     inputs.description.scale = spec.scale;
     Ok(Inputs {
@@ -244,13 +236,21 @@ fn read_files(paths: &[PathBuf]) -> Result<Inputs, AppError> {
         ]));
     }
     let mut given = GivenCurves::default();
-    let mut tags = Vec::new();
     for path in paths {
+        given.read_file(path)?;
+    }
+    Ok(given_inputs(&given))
+}
+
+impl GivenCurves {
+    /// Appends the curves of a curve file (`.txt`, `.obj`, `.json`), with what it declares
+    /// (groups, per-curve specs, units) and what reading it found.
+    pub fn read_file(&mut self, path: &std::path::Path) -> Result<(), io::InputError> {
         let f = io::read_curves(path)?;
-        given
-            .warnings
+        self.warnings
             .extend(f.warnings.iter().map(|w| w.to_string()));
-        tags.extend(
+        self.groups.resize(self.curves.len(), None);
+        self.groups.extend(
             f.groups
                 .iter()
                 .cloned()
@@ -258,15 +258,21 @@ fn read_files(paths: &[PathBuf]) -> Result<Inputs, AppError> {
                 .take(f.curves.len()),
         );
         if !f.specs.is_empty() {
-            given.specs.resize(given.curves.len(), Default::default());
-            given.specs.extend(f.specs);
+            self.specs.resize(self.curves.len(), Default::default());
+            self.specs.extend(f.specs);
         }
-        given.units = given.units.or(f.units);
-        given.curves.extend(f.curves);
-        given.files.push(path.display().to_string());
+        self.units = self.units.clone().or(f.units);
+        self.curves.extend(f.curves);
+        self.files.push(path.display().to_string());
+        Ok(())
     }
-    given.groups = tags;
-    Ok(given_inputs(&given))
+
+    /// Appends a curve the front end read itself (no group, no spec).
+    pub fn push(&mut self, curve: Polyline) {
+        self.groups.resize(self.curves.len(), None);
+        self.groups.push(None);
+        self.curves.push(curve);
+    }
 }
 
 /// The inputs of curves the front end read (unscaled; no mesh yet).
@@ -289,6 +295,20 @@ fn given_inputs(given: &GivenCurves) -> Inputs {
         warnings: given.warnings.iter().cloned().map(Message::from).collect(),
         example: None,
     }
+}
+
+/// The build parameters of `spec` at edge length `h`, checked.
+fn build_params(spec: &InputSpec, h: f64) -> Result<BuildParams, AppError> {
+    let build = BuildParams {
+        edge_length: h,
+        supports: spec.supports.unwrap_or_default(),
+        merge_joints_below: spec.merge_joints,
+        ..BuildParams::default()
+    };
+    build
+        .validate()
+        .map_err(|e| AppError::usage(e.to_string()))?;
+    Ok(build)
 }
 
 /// Reads `source`: the mesh (unscaled), its name for messages and records, the reader's
@@ -399,7 +419,7 @@ fn example_inputs(
             name: ex.setup.name.to_string(),
             budget: ex.setup.budget_fraction,
             keep: ex.setup.keep.clone(),
-            paper: ex.setup.paper.clone(),
+            paper: ex.setup.paper,
         }),
         curves: ex.curves,
         mesh: Some(ex.mesh),
@@ -457,15 +477,7 @@ fn geodesic_inputs(
         None => pipeline::default_edge_length(&traced.curves)
             .ok_or_else(|| AppError::Failed("the traced curves have no length".into()))?,
     };
-    let build = BuildParams {
-        edge_length: h,
-        supports: spec.supports.unwrap_or_default(),
-        merge_joints_below: spec.merge_joints,
-        ..BuildParams::default()
-    };
-    build
-        .validate()
-        .map_err(|e| AppError::usage(e.to_string()))?;
+    let build = build_params(spec, h)?;
     Ok(Inputs {
         warnings: network_size_warning(&traced.curves, h, spec.edge_length.is_some(), 1.0)
             .into_iter()

@@ -137,8 +137,35 @@ impl ConstraintParams {
             )
             .into());
         }
-        Ok(())
+        check_groups(&self.groups)
     }
+}
+
+/// Refuses an empty group and a curve in two groups (a groups file refuses them at their
+/// line; groups given otherwise, or a groups file beside the curve files' own groups, are
+/// checked here), naming the groups and where they were defined.
+fn check_groups(groups: &[Group]) -> Result<(), String> {
+    let mut owner: std::collections::HashMap<usize, &Group> = Default::default();
+    for g in groups {
+        if g.curves.is_empty() {
+            return Err(format!(
+                "group {} ({}) names no curve: a group holds at least one",
+                g.name, g.origin
+            ));
+        }
+        for &c in &g.curves {
+            if let Some(other) = owner.insert(c, g)
+                && !std::ptr::eq(other, g)
+            {
+                return Err(format!(
+                    "curve {c} is in two groups, {} ({}) and {} ({}): a curve belongs to one \
+                     group",
+                    other.name, other.origin, g.name, g.origin
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Why constraints cannot be used.

@@ -336,3 +336,30 @@ fn the_largest_displacement_is_over_the_structure() {
     assert!(!m.all_met() && !m.max_deviation.expect("given").met);
     assert!(!c.deviation_ok(5.0) && c.deviation_ok(4.0));
 }
+
+#[test]
+fn empty_and_overlapping_groups_are_refused_wherever_they_come_from() {
+    let group = |name: &str, curves: &[usize]| Group {
+        name: name.into(),
+        curves: curves.to_vec(),
+        origin: format!("groups[{name}]"),
+    };
+    let with = |groups: Vec<Group>| ConstraintParams {
+        groups,
+        ..ConstraintParams::default()
+    };
+    assert!(
+        with(vec![group("a", &[0, 1]), group("b", &[2])])
+            .validate()
+            .is_ok()
+    );
+    let e = with(vec![group("a", &[0, 1]), group("b", &[1, 2])])
+        .validate()
+        .unwrap_err();
+    assert!(
+        e.contains("curve 1 is in two groups") && e.contains("groups[a]"),
+        "{e}"
+    );
+    let e = with(vec![group("a", &[])]).validate().unwrap_err();
+    assert!(e.contains("names no curve"), "{e}");
+}

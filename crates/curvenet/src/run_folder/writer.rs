@@ -282,11 +282,11 @@ impl<'a> OutputWriter<'a> {
         self.write(&format!("{stem}.obj"), obj)?;
         if let Some(s) = state {
             self.write(
-                &crate::run_layout::tagged_state_file(&stem),
+                &crate::run_layout::tagged_state_file(stem),
                 f64_bytes(&s.displacement),
             )?;
             self.write(
-                &crate::run_layout::tagged_mode_file(&stem),
+                &crate::run_layout::tagged_mode_file(stem),
                 f64_bytes(&s.mode),
             )?;
         }
