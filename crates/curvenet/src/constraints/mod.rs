@@ -144,14 +144,15 @@ impl ConstraintParams {
 /// Refuses an empty group and a curve in two groups (a groups file refuses them at their
 /// line; groups given otherwise, or a groups file beside the curve files' own groups, are
 /// checked here), naming the groups and where they were defined.
-fn check_groups(groups: &[Group]) -> Result<(), String> {
+fn check_groups(groups: &[Group]) -> Result<(), Message> {
     let mut owner: std::collections::HashMap<usize, &Group> = Default::default();
     for g in groups {
         if g.curves.is_empty() {
             return Err(format!(
                 "group {} ({}) names no curve: a group holds at least one",
                 g.name, g.origin
-            ));
+            )
+            .into());
         }
         for &c in &g.curves {
             if let Some(other) = owner.insert(c, g)
@@ -161,7 +162,8 @@ fn check_groups(groups: &[Group]) -> Result<(), String> {
                     "curve {c} is in two groups, {} ({}) and {} ({}): a curve belongs to one \
                      group",
                     other.name, other.origin, g.name, g.origin
-                ));
+                )
+                .into());
             }
         }
     }
