@@ -281,13 +281,6 @@ impl Message {
         Message(pieces)
     }
 
-    /// Whether the message says nothing.
-    pub fn is_empty(&self) -> bool {
-        self.0
-            .iter()
-            .all(|p| matches!(p, Piece::Text(t) if t.is_empty()))
-    }
-
     /// The options the message names.
     pub fn options(&self) -> impl Iterator<Item = Opt> + '_ {
         self.0.iter().filter_map(|p| match p {

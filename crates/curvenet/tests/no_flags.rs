@@ -393,6 +393,14 @@ fn returns_string_error(ty: &str) -> bool {
     false
 }
 
+/// Whether a token qualifies a `fn` (`pub const fn`, `pub async fn`, `pub unsafe fn`).
+fn qualifies_fn(t: Option<&(Tok, usize)>) -> bool {
+    match t {
+        Some((Tok::Word(w), _)) => ["const", "async", "unsafe"].contains(&w.as_str()),
+        _ => false,
+    }
+}
+
 #[test]
 fn no_public_function_returns_a_string_error() {
     let mut found = Vec::new();
@@ -403,8 +411,7 @@ fn no_public_function_returns_a_string_error() {
             }
             // `pub fn`, `pub const fn`, `pub async fn`, `pub unsafe fn`.
             let mut j = i + 1;
-            while matches!(&toks.get(j).map(|t| &t.0), Some(Tok::Word(w)) if w == "const" || w == "async" || w == "unsafe")
-            {
+            while qualifies_fn(toks.get(j)) {
                 j += 1;
             }
             if toks.get(j).map(|t| &t.0) != Some(&Tok::Word("fn".into())) {
