@@ -10,13 +10,14 @@ use crate::front::fail;
 use curvenet::app::check_curve_ids;
 use curvenet::io::TriMesh;
 use curvenet::physics::PhysicalParams;
+use curvenet::run_folder::{RunFiles, RunsRoot};
 use curvenet::stability::Analyzer;
 use curvenet::words::Opt;
 use curvenet_serve::bench::BenchParams;
 use curvenet_serve::workspace::open_run;
 use curvenet_serve::{AppState, Design, DesignError, Runner, ServeConfig, Server, Workspace};
 use std::net::{SocketAddr, ToSocketAddrs};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 pub fn run(a: ServeArgs) -> anyhow::Result<()> {
     // The benchmark listens on nothing.
@@ -130,7 +131,7 @@ fn from_inputs(a: &ServeArgs) -> anyhow::Result<Served> {
 /// The run folder `dir` as `--run` serves it: its network and material, its answer to start
 /// on, its greedy iterations, its surface.
 fn from_run(dir: &Path, physical: Option<&PhysicalParams>) -> anyhow::Result<Served> {
-    let run = open_run(dir, physical).map_err(usage)?;
+    let run = open_run(RunFiles::unconfined(dir), physical).map_err(|e| usage(e.to_string()))?;
     print_warnings(&run.warnings);
     Ok(Served {
         analyzer: run.analyzer,
@@ -142,20 +143,17 @@ fn from_run(dir: &Path, physical: Option<&PhysicalParams>) -> anyhow::Result<Ser
 
 /// The folder the page may load run folders from: `--runs` (which must be a folder), or the
 /// current folder.
-fn runs_root(runs: Option<&Path>) -> anyhow::Result<PathBuf> {
-    match runs {
-        Some(dir) => dir
-            .canonicalize()
-            .ok()
-            .filter(|d| d.is_dir())
-            .ok_or_else(|| {
-                usage(format!(
-                    "--runs {}: no such folder (the folder whose run folders the page may load)",
-                    dir.display()
-                ))
-            }),
-        None => Ok(std::env::current_dir()?),
-    }
+fn runs_root(runs: Option<&Path>) -> anyhow::Result<RunsRoot> {
+    let dir = match runs {
+        Some(dir) => dir.to_path_buf(),
+        None => std::env::current_dir()?,
+    };
+    RunsRoot::new(&dir).map_err(|_| {
+        usage(format!(
+            "--runs {}: no such folder (the folder whose run folders the page may load)",
+            dir.display()
+        ))
+    })
 }
 
 /// The server bound to `--host` and `--port` (a warning naming the address bound when it is

@@ -59,6 +59,12 @@ impl From<String> for ReportError {
     }
 }
 
+impl From<crate::run_folder::InvalidNetwork> for ReportError {
+    fn from(e: crate::run_folder::InvalidNetwork) -> Self {
+        ReportError::Invalid(e.0)
+    }
+}
+
 impl From<&str> for ReportError {
     fn from(message: &str) -> Self {
         ReportError::Invalid(message.to_string())

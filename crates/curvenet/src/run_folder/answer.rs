@@ -49,10 +49,10 @@ pub fn measure_greedy_deviations(
         let Some(k) = o.iteration else { continue };
         let u = read_f64_file(&dir.join(crate::run_layout::state_file(k)))?;
         if u.len() < dofs {
-            return Err(super::RunFolderError::Invalid(format!(
-                "{} does not match the network",
-                crate::run_layout::state_file(k)
-            )));
+            return Err(super::RunFolderError::Invalid {
+                file: crate::run_layout::state_file(k),
+                problem: "does not match the network".into(),
+            });
         }
         o.deviation = Some(max_displacement(network, &o.curves, &u));
     }

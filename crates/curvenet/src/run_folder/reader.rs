@@ -1,14 +1,16 @@
 //! [`RunFolder`]: a run folder read back and checked, for the exports, pictures and viewer.
 //!
-//! [`RunFolder::open`] reads `result.json`, `network.json` and the optional `mesh.obj`, and
+//! [`RunFolder::read`] reads `result.json`, `network.json` and the optional `mesh.obj` through
+//! a [`RunFiles`] (confined to a folder of run folders or not: see [`super::files`]), and
 //! checks every index, length and number, so a missing or corrupt folder gives a clear error
 //! naming the file, never a panic. The iterations' side files (`states/KKKK.bin`, the mode
-//! files) are read on demand.
+//! files) are read on demand, through the same reader.
 
+use super::RunFolderError;
+use super::files::{RunFileError, RunFiles};
 use super::schema::ResultFile;
-use super::{RunFolderError, read_f64_file};
 use crate::constraints::answer::Answer;
-use crate::io::{self, TriMesh};
+use crate::io::{self, InputError, TriMesh};
 use crate::network::Network;
 use crate::simplify::greedy::IterationRecord;
 use crate::words::{Message, Opt, given, message};
@@ -19,6 +21,8 @@ use std::path::{Path, PathBuf};
 pub struct RunFolder {
     /// The folder.
     pub dir: PathBuf,
+    /// How its files are read (every later read goes through it too).
+    pub files: RunFiles,
     /// `result.json`.
     pub result: ResultFile,
     /// `network.json`.
@@ -32,46 +36,49 @@ pub struct RunFolder {
 impl RunFolder {
     /// Reads `dir/result.json`, `dir/network.json` and (if present) `dir/mesh.obj`, and checks
     /// that they agree. Side files of the iterations are read on demand.
+    ///
+    /// # Errors
+    ///
+    /// As [`Self::read`].
     pub fn open(dir: &Path) -> Result<RunFolder, RunFolderError> {
-        if !dir.is_dir() {
-            return Err(format!(
-                "{}: not a folder (expected the output folder of a run, holding result.json)",
-                dir.display()
-            )
+        Self::read(RunFiles::unconfined(dir))
+    }
+
+    /// Reads the run folder of `files` (`result.json`, `network.json` and, if present,
+    /// `mesh.obj`, each through `files`) and checks that they agree; its side files are read
+    /// on demand through `files` too.
+    ///
+    /// # Errors
+    ///
+    /// The folder is not there, a file cannot be read or parsed, or they do not agree (each
+    /// error naming the file as `files` names it).
+    pub fn read(files: RunFiles) -> Result<RunFolder, RunFolderError> {
+        if !files.folder_exists() {
+            return Err(RunFileError::NotAFolder {
+                file: files.shown(),
+            }
             .into());
         }
-        let result = ResultFile::read(dir)?;
-        let net_path = dir.join("network.json");
-        let network: Network = super::read_json(&net_path)?;
-        check_network(&network).map_err(|e| format!("{}: {e}", net_path.display()))?;
-        check_result(&result, network.rods.len())
-            .map_err(|e| format!("{}: {e}", dir.join("result.json").display()))?;
-        let mut warnings = Vec::new();
-        let mesh_path = dir.join("mesh.obj");
-        let mesh = if mesh_path.is_file() {
-            match io::read_mesh(&mesh_path) {
-                Ok(m) if !m.mesh.faces.is_empty() => Some(m.mesh),
-                Ok(_) => {
-                    warnings.push(format!("{}: no faces; ignored", mesh_path.display()));
-                    None
-                }
-                Err(e) => {
-                    warnings.push(format!("{e}; the surface is left out"));
-                    None
-                }
-            }
-        } else {
-            None
+        let invalid = |rel: &str, problem: String| RunFolderError::Invalid {
+            file: files.name(rel),
+            problem,
         };
+        let result = ResultFile::read_from(&files)?;
+        let network: Network = files.read_json("network.json", "a curvenet network")?;
+        check_network(&network).map_err(|e| invalid("network.json", e.0))?;
+        check_result(&result, network.rods.len()).map_err(|e| invalid("result.json", e))?;
+        let mut warnings = Vec::new();
+        let mesh = read_mesh(&files, &mut warnings);
         if !result.complete {
             warnings.push(format!(
                 "{}: the run is not complete; showing the {} iteration(s) recorded",
-                dir.display(),
+                files.shown(),
                 result.iterations.len()
             ));
         }
         Ok(RunFolder {
-            dir: dir.to_path_buf(),
+            dir: files.dir().to_path_buf(),
+            files,
             result,
             network,
             mesh,
@@ -105,26 +112,27 @@ impl RunFolder {
         self.result.iterations.get(k).ok_or_else(|| {
             RunFolderError::Absent(Message::from(format!(
                 "{}: no iteration {k} (the run recorded iterations 0 to {})",
-                self.dir.display(),
+                self.files.shown(),
                 self.last_index()
             )))
         })
     }
 
     fn vector_file(&self, rel: &str) -> Result<Vec<f64>, RunFolderError> {
-        let path = self.dir.join(rel);
-        let v = read_f64_file(&path)?;
+        let v = self.files.read_f64(rel)?;
+        let invalid = |problem: String| RunFolderError::Invalid {
+            file: self.files.name(rel),
+            problem,
+        };
         if v.len() != self.network.dofs() {
-            return Err(format!(
-                "{}: {} values, expected 3·V = {} for network.json",
-                path.display(),
+            return Err(invalid(format!(
+                "{} values, expected 3·V = {} for network.json",
                 v.len(),
                 self.network.dofs()
-            )
-            .into());
+            )));
         }
         if let Some(i) = v.iter().position(|x| !x.is_finite()) {
-            return Err(format!("{}: value {i} is not finite", path.display()).into());
+            return Err(invalid(format!("value {i} is not finite")));
         }
         Ok(v)
     }
@@ -144,7 +152,7 @@ impl RunFolder {
     /// The answer or the `n`-th alternative (from 1) of the run.
     fn chosen(&self, which: Which) -> Result<&Answer, RunFolderError> {
         let none = |what: Message| {
-            RunFolderError::Absent(what.prefixed([format!("{}: ", self.dir.display()).into()]))
+            RunFolderError::Absent(what.prefixed([format!("{}: ", self.files.shown()).into()]))
         };
         match which {
             Which::Iteration(_) => unreachable!("an iteration is no chosen network"),
@@ -265,6 +273,43 @@ pub struct Chosen {
     pub unstable: Option<String>,
 }
 
+/// The folder's `mesh.obj`, when it has a readable one with faces; what else is found there
+/// is a warning (the surface is optional).
+fn read_mesh(files: &RunFiles, warnings: &mut Vec<String>) -> Option<TriMesh> {
+    const MESH: &str = "mesh.obj";
+    let name = files.name(MESH);
+    let text = match files.read_text(MESH) {
+        Ok(text) => text,
+        Err(RunFileError::Missing { .. }) => return None,
+        Err(e) => {
+            warnings.push(format!("{e}; the surface is left out"));
+            return None;
+        }
+    };
+    match io::parse_obj_mesh(&text, &name) {
+        Ok(m) if !m.mesh.faces.is_empty() => Some(m.mesh),
+        Ok(_) => {
+            warnings.push(format!("{name}: no faces; ignored"));
+            None
+        }
+        Err(e) => {
+            let e = mesh_error(files, &e);
+            warnings.push(format!("{e}; the surface is left out"));
+            None
+        }
+    }
+}
+
+/// The error of a `mesh.obj` its parser refused: where, and (unconfined only) the parser's
+/// words, which may quote the line.
+fn mesh_error(files: &RunFiles, e: &InputError) -> RunFileError {
+    let problem = match e.line() {
+        Some(line) => format!("not a surface mesh (line {line})"),
+        None => "not a surface mesh".to_string(),
+    };
+    files.malformed("mesh.obj", problem, Some(e.message()))
+}
+
 /// Checks that a run's record names only curves of its network (`n` of them) and iterations
 /// it recorded, and that every network it records has curves.
 fn check_result(result: &ResultFile, n: usize) -> Result<(), String> {
@@ -306,9 +351,30 @@ fn check_result(result: &ResultFile, n: usize) -> Result<(), String> {
     Ok(())
 }
 
+/// What makes a network inconsistent ([`check_network`]).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct InvalidNetwork(pub String);
+
+impl From<String> for InvalidNetwork {
+    fn from(problem: String) -> Self {
+        InvalidNetwork(problem)
+    }
+}
+
+impl From<&str> for InvalidNetwork {
+    fn from(problem: &str) -> Self {
+        InvalidNetwork(problem.to_string())
+    }
+}
+
 /// Checks that a network is consistent: finite positions, indices in range, one positive
 /// rest length per edge, enough vertices per rod. Everything the energy model indexes.
-pub fn check_network(net: &Network) -> Result<(), RunFolderError> {
+///
+/// # Errors
+///
+/// The first inconsistency found.
+pub fn check_network(net: &Network) -> Result<(), InvalidNetwork> {
     let nv = net.positions.len();
     if nv == 0 || net.rods.is_empty() {
         return Err("the network has no vertices or no rods".into());

@@ -135,11 +135,10 @@ impl<'a> OutputWriter<'a> {
                 let displacement = read_f64_file(&dir.join(crate::run_layout::state_file(k)))?;
                 let modes = read_f64_file(&dir.join(crate::run_layout::state_modes_file(k)))?;
                 if displacement.len() != n || modes.is_empty() || modes.len() % n != 0 {
-                    return Err(format!(
-                        "{} does not match the network",
-                        crate::run_layout::state_file(k)
-                    )
-                    .into());
+                    return Err(RunFolderError::Invalid {
+                        file: crate::run_layout::state_file(k),
+                        problem: "does not match the network".into(),
+                    });
                 }
                 let modes = faer::Mat::from_fn(n, modes.len() / n, |i, j| modes[j * n + i]);
                 let carried = read_carried(dir, network.rods.len(), n, k, &mut warnings);
@@ -168,7 +167,7 @@ impl<'a> OutputWriter<'a> {
         warnings: Vec<String>,
     ) -> Result<Self, RunFolderError> {
         let files = io::BackgroundWriter::new().map_err(|e| {
-            RunFolderError::Invalid(format!("cannot start the output writer thread: {e}"))
+            RunFolderError::Failed(format!("cannot start the output writer thread: {e}"))
         })?;
         Ok(OutputWriter {
             dir: dir.to_path_buf(),
@@ -362,7 +361,7 @@ impl<'a> OutputWriter<'a> {
         self.result.complete = true;
         self.result.stop = Some(outcome.stop);
         let last = (outcome.iterations.last())
-            .ok_or_else(|| RunFolderError::Invalid("no iteration recorded".into()))?;
+            .ok_or_else(|| RunFolderError::Failed("no iteration recorded".into()))?;
         self.result.final_network = Some(FinalRecord {
             curves: last.curves.clone(),
             length: last.length,
