@@ -4,8 +4,9 @@
 //!
 //! The steps, all in the scene's consistent unit system (N, ℓ, s):
 //! 1. the energy with `k_s = E A`, `k_b = E I` per rod, each rod straight or pre-bent at rest,
-//!    and anchors scaled to stay rigid next to the stiffest rod
-//!    ([`crate::rod::physical::rigid_anchor_weight`]);
+//!    anchors scaled to stay rigid next to the stiffest rod
+//!    ([`crate::rod::physical::rigid_anchor_weight`]), and clamps that hold the end vertex
+//!    and its tangent ([`crate::rod::ModelRules::PHYSICAL`]);
 //! 2. Newton's method from the drawn state to the equilibrium the rods are bent into;
 //! 3. the lowest pairs of `H v = μ M v` (`M` the lumped mass matrix), solved as
 //!    `M^{-1/2} H M^{-1/2} ṽ = μ ṽ`: the natural frequencies `√μ / 2π`, zero and negative
@@ -30,7 +31,7 @@ use super::stress::{CurveStress, StressAt, assembly_stresses};
 use crate::material::{Physical, PhysicalMaterial, RestShape};
 use crate::rod::mass::{inverse_sqrt_coordinates, lumped_masses, scale_hessian};
 use crate::rod::physical::{masses_per_length, physical_rods, rigid_anchor_weight};
-use crate::rod::{ActiveSet, EnergyModel, Network};
+use crate::rod::{ActiveSet, EnergyModel, ModelRules, Network};
 use crate::solve::eigen::{EigenOptions, EigenParams, Spectrum, smallest_eigenpairs};
 use crate::solve::{
     Backend, Cholesky, Equilibrium, NewtonInfo, NewtonParams, NewtonSummary, SolverTuning,
@@ -238,7 +239,7 @@ pub fn analyze_physical(
     let n = network.rods.len();
     let rods = physical_rods(phys, n, &params.rest);
     let anchor_weight = rigid_anchor_weight(network, &rods);
-    let model = EnergyModel::with_rods(network, &rods, anchor_weight);
+    let model = EnergyModel::with_rules(network, &rods, anchor_weight, ModelRules::PHYSICAL);
     let symbolic = SymbolicFactor::new(model.pattern(), Backend::default());
     let mut u = vec![0.0; model.dofs()];
     let relaxed = Equilibrium {

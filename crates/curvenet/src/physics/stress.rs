@@ -7,14 +7,16 @@
 //! axial stresses): that over the material's strength is the *utilisation*, above 1 where
 //! the rod yields or breaks when assembled. `κ` is the discrete curvature
 //! `2 |κb − κ̄b'| / (ē₀ + ē₁)` measured from the rod's rest shape (`rod::terms::bend_strain`:
-//! zero for a pre-bent rod where it was drawn); the gridshell builder's check that a rod
-//! survives being bent into shape is `σ_b = E r / R` on an arc of radius `R`.
+//! zero for a pre-bent rod where it was drawn), and at a clamped end the clamp's
+//! (`rod::terms::clamp_strain` over the end edge: the moment a clamp carries); the gridshell
+//! builder's check that a rod survives being bent into shape is `σ_b = E r / R` on an arc of
+//! radius `R`.
 
 use crate::geom::Vec3;
 use crate::material::{Physical, RestShape};
 use crate::rod::ActiveSet;
 use crate::rod::Network;
-use crate::rod::terms::{bend_strain, rest_bend};
+use crate::rod::terms::{bend_strain, clamp_rest, clamp_strain, rest_bend};
 use serde::{Deserialize, Serialize};
 
 /// A stress at one place.
@@ -166,6 +168,32 @@ pub fn assembly_stresses(
             if combined > out.combined_mpa {
                 out.combined_mpa = combined;
                 out.vertex = v1 as usize;
+            }
+        }
+        // Bending at a clamped end: the clamp's ghost stencil (`rod::terms::clamp`), whose
+        // dual length is the end edge's.
+        for at_start in [true, false] {
+            if !rod.is_clamped_at(at_start) {
+                continue;
+            }
+            let idx = |k: usize| rod.vertices[if at_start { k } else { m - 1 - k }];
+            let edge = if at_start { 0 } else { ne - 1 };
+            let rest = rod.rest_lengths[edge];
+            let p = |v: u32| network.positions[v as usize];
+            let drawn = clamp_rest(
+                p(idx(0)),
+                p(idx(1)),
+                (m > 2).then(|| p(idx(2))),
+                rest,
+                pre_bent,
+            );
+            let kappa = clamp_strain(x(idx(0)), x(idx(1)), rest, &drawn).norm() / rest;
+            let bending = units.stress_to_mpa(props.young * props.outer_radius * kappa);
+            let combined = bending + axial[edge];
+            out.bending_mpa = out.bending_mpa.max(bending);
+            if combined > out.combined_mpa {
+                out.combined_mpa = combined;
+                out.vertex = idx(0) as usize;
             }
         }
         if out.combined_mpa < out.axial_mpa {

@@ -8,9 +8,12 @@
 //!   ability to leave out any set of curves (a structure: `docs/model.md`, *Stability*), every
 //!   rod with its own stiffnesses and rest shape ([`RodStiffness`]);
 //! - [`physical`]: those stiffnesses from materials and sections, and rigid supports, in the
-//!   physical mode; [`mass`]: the lumped mass matrix and the scaling to `H v = μ M v`.
+//!   physical mode; [`mass`]: the lumped mass matrix and the scaling to `H v = μ M v`;
+//! - [`ModelRules`]: what the physical mode models beyond the paper (a clamp that holds the
+//!   end itself: `clamp`).
 
 mod active;
+mod clamp;
 mod jet;
 pub mod mass;
 pub mod model;
@@ -134,6 +137,37 @@ impl From<&Material> for RodStiffness {
     }
 }
 
+/// How a clamped end is held (`docs/model.md`, *Energy*).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ClampRule {
+    /// The paper's: the first two (last two) vertices anchored, a clamp half an edge into the
+    /// rod (first-order convergence).
+    #[default]
+    TwoVertices,
+    /// The physical mode's: the end vertex anchored and its drawn tangent held by a bending
+    /// term against a mirrored ghost edge (second-order convergence; `rod::terms::clamp`).
+    EndTangent,
+}
+
+/// What the energy models beyond its constants: the paper's rules (the default) or the
+/// physical mode's ([`ModelRules::PHYSICAL`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct ModelRules {
+    /// How clamped ends are held.
+    pub clamp: ClampRule,
+}
+
+impl ModelRules {
+    /// The paper's model.
+    pub const PAPER: ModelRules = ModelRules {
+        clamp: ClampRule::TwoVertices,
+    };
+    /// The physical mode's model: a clamp holds the end vertex and its tangent.
+    pub const PHYSICAL: ModelRules = ModelRules {
+        clamp: ClampRule::EndTangent,
+    };
+}
+
 /// Which vertices of an open curve are anchored (`docs/model.md`, *Energy*). Closed curves
 /// have none.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -141,7 +175,8 @@ impl From<&Material> for RodStiffness {
 pub enum Supports {
     /// The first and last vertex.
     Pinned,
-    /// The first two and last two vertices (the default).
+    /// The first two and last two vertices (the default); in the physical mode the end
+    /// vertex and its tangent ([`ClampRule::EndTangent`]).
     #[default]
     Clamped,
 }

@@ -31,6 +31,21 @@ impl Rod {
         self.rest_lengths.iter().sum()
     }
 
+    /// Whether the rod is clamped at its first (`at_start`) or last vertex: open, and that
+    /// vertex and its neighbour anchored (the paper's clamp, as the network records it).
+    pub fn is_clamped_at(&self, at_start: bool) -> bool {
+        let m = self.vertices.len();
+        if self.closed || m < 2 {
+            return false;
+        }
+        let (end, next) = if at_start {
+            (self.vertices[0], self.vertices[1])
+        } else {
+            (self.vertices[m - 1], self.vertices[m - 2])
+        };
+        self.anchors.contains(&end) && self.anchors.contains(&next)
+    }
+
     /// The end vertices of edge `j`.
     pub fn edge(&self, j: usize) -> (u32, u32) {
         let n = self.vertices.len();

@@ -38,9 +38,10 @@ pub fn physical_rods(physical: &Physical, n_rods: usize, rest: &[RestShape]) -> 
 /// The anchor weight `µ` that keeps the supports rigid next to `rods` on `network`:
 /// `2µ = ANCHOR_STIFFNESS_RATIO · max(max k_s / h, max k_b / h³)` with `h` the median rest
 /// edge: a thousand times the stiffest edge's axial stiffness, or, on edges shorter than the
-/// rod is thick, its bending stiffness (a clamp's rotation is held by two anchors one edge
-/// apart, so its rotational stiffness must outgrow the bending terms' `k_b / h` as `h`
-/// shrinks).
+/// rod is thick, its bending stiffness (an anchored vertex is pushed across the rod by the
+/// bending terms beside it, `k_b / h³`; the paper's clamp also holds its rotation by two
+/// anchors one edge apart, whose rotational stiffness must outgrow the bending terms' `k_b / h`
+/// as `h` shrinks).
 pub fn rigid_anchor_weight(network: &Network, rods: &[RodStiffness]) -> f64 {
     let ks = rods.iter().map(|r| r.ks).fold(0.0, f64::max);
     let kb = rods.iter().map(|r| r.kb).fold(0.0, f64::max);

@@ -1,6 +1,7 @@
 //! The three local energy terms of a discrete elastic rod without twist (`docs/model.md`,
 //! *Energy*), each with its exact gradient and Hessian, and the bending term of a pre-bent rod
-//! ([`bend_rest`], bending measured from the drawn shape; its doc explains the form chosen).
+//! ([`bend_rest`], bending measured from the drawn shape; its doc explains the form chosen),
+//! and the physical mode's clamp ([`clamp`], a bending term against a mirrored ghost edge).
 //!
 //! Every term acts on a few vertices; the result is a [`Local`] value with the energy, the
 //! gradient over the term's `D = 3·(vertex count)` coordinates (vertex-major: `x0.x, x0.y, x0.z,
@@ -9,6 +10,9 @@
 
 use crate::geom::Vec3;
 
+pub use super::clamp::{
+    ClampRest, clamp, clamp_energy, clamp_energy_grad, clamp_rest, clamp_strain, end_tangent,
+};
 pub use super::prebent::{
     RestBend, bend_rest, bend_rest_energy, bend_rest_energy_grad, bend_strain, rest_bend,
 };

@@ -7,7 +7,7 @@ use crate::physics::inertia::classify;
 use crate::physics::{PhysicalParams, PhysicalSummary, PhysicsError, analyze_physical};
 use crate::rod::mass::{inverse_sqrt_coordinates, lumped_masses, scale_hessian};
 use crate::rod::physical::{masses_per_length, physical_rods, rigid_anchor_weight};
-use crate::rod::{ActiveSet, EnergyModel, RodStiffness};
+use crate::rod::{ActiveSet, EnergyModel, ModelRules, RodStiffness};
 use crate::solve::eigen::Spectrum;
 use crate::solve::{Cholesky, Equilibrium, NewtonInfo, SymbolicFactor};
 use faer::MatRef;
@@ -66,7 +66,9 @@ impl Analyzer {
 
     fn build(network: Network, params: StabilityParams, metric: Option<Metric>) -> Self {
         let model = match metric.as_ref().and_then(|m| m.rods.as_ref()) {
-            Some((rods, anchor)) => EnergyModel::with_rods(&network, rods, *anchor),
+            Some((rods, anchor)) => {
+                EnergyModel::with_rules(&network, rods, *anchor, ModelRules::PHYSICAL)
+            }
             None => EnergyModel::new(&network, &params.material),
         };
         let symbolic = SymbolicFactor::new(model.pattern(), params.tuning.solver.backend);

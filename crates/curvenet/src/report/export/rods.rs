@@ -24,15 +24,17 @@ pub fn end_support(rod: &Rod, at_start: bool) -> &'static str {
     if rod.closed || m < 2 {
         return "none";
     }
-    let (end, next) = if at_start {
-        (rod.vertices[0], rod.vertices[1])
+    let end = if at_start {
+        rod.vertices[0]
     } else {
-        (rod.vertices[m - 1], rod.vertices[m - 2])
+        rod.vertices[m - 1]
     };
-    match (rod.anchors.contains(&end), rod.anchors.contains(&next)) {
-        (true, true) => "clamped",
-        (true, false) => "pinned",
-        _ => "none",
+    if rod.is_clamped_at(at_start) {
+        "clamped"
+    } else if rod.anchors.contains(&end) {
+        "pinned"
+    } else {
+        "none"
     }
 }
 

@@ -18,6 +18,10 @@ impl EnergyModel {
                 let (x0, x1, x2) = t.local(u);
                 e += self.bend_energy(t, x0, x1, x2);
             }
+            for t in &self.clamp[r.clamp.clone()] {
+                let (x0, x1) = t.local(u);
+                e += terms::clamp_energy(x0, x1, t.rest, t.kb, &t.shape);
+            }
             for t in &self.anchor[r.anchor.clone()] {
                 e += terms::anchor_energy(vec3(u, t.v), t.offset, self.mu);
             }
@@ -81,6 +85,15 @@ impl EnergyModel {
                 out.energy += l.energy;
                 scatter_grad(&mut out.grad, &t.v, &l.grad);
                 self.scatter_hess(&mut out.hess, &t.v, &self.bend_pos[k], &l.hess);
+            }
+            for k in r.clamp.clone() {
+                let t = &self.clamp[k];
+                let l = t.eval(u);
+                out.energy += l.energy;
+                scatter_grad(&mut out.grad, &t.v, &l.grad);
+                if hessian {
+                    self.scatter_hess(&mut out.hess, &t.v, &self.clamp_pos[k], &l.hess);
+                }
             }
             for t in &self.anchor[r.anchor.clone()] {
                 let l = terms::anchor(vec3(u, t.v), t.offset, self.mu);
@@ -173,6 +186,11 @@ impl EnergyModel {
                 touched.push(i)
             });
         }
+        for k in r.clamp.clone() {
+            self.hess_entries(&self.clamp[k].v, &self.clamp_pos[k], |i, _, _| {
+                touched.push(i)
+            });
+        }
         for t in &self.anchor[r.anchor.clone()] {
             touched.extend((0..3).map(|a| self.pattern.diag[3 * t.v as usize + a]));
         }
@@ -210,6 +228,17 @@ impl EnergyModel {
                 if t.v.iter().any(|&v| on_c(v)) {
                     let l = &locals.bend[k];
                     self.hess_entries(&t.v, &self.bend_pos[k], |i, row, col| {
+                        if hit(i) {
+                            out[i] += l[row][col];
+                        }
+                    });
+                }
+            }
+            for k in ro.clamp.clone() {
+                let t = &self.clamp[k];
+                if t.v.iter().any(|&v| on_c(v)) {
+                    let l = &locals.clamp[k];
+                    self.hess_entries(&t.v, &self.clamp_pos[k], |i, row, col| {
                         if hit(i) {
                             out[i] += l[row][col];
                         }

@@ -1,11 +1,11 @@
 //! Building an [`EnergyModel`]: the terms of every rod, the Hessian's block pattern over the
 //! vertices they couple, and each term's block positions in it.
 
-use super::{AnchorTerm, BendTerm, EnergyModel, RodTerms, STRAIGHT, StretchTerm};
+use super::{AnchorTerm, BendTerm, ClampTerm, EnergyModel, RodTerms, STRAIGHT, StretchTerm};
 use crate::geom::Vec3;
 use crate::material::RestShape;
 use crate::rod::terms::{self, RestBend};
-use crate::rod::{Material, Network, RodStiffness};
+use crate::rod::{ClampRule, Material, ModelRules, Network, Rod, RodStiffness};
 use crate::sparse::Pattern;
 
 impl EnergyModel {
@@ -17,11 +17,22 @@ impl EnergyModel {
     }
 
     /// Collects the terms of `network`, rod `i` with the stiffnesses and rest shape
-    /// `rods[i]`, anchors of weight `anchor_weight`, and builds the Hessian pattern.
+    /// `rods[i]`, anchors of weight `anchor_weight`, and builds the Hessian pattern (the
+    /// paper's rules).
     pub fn with_rods(network: &Network, rods: &[RodStiffness], anchor_weight: f64) -> Self {
+        Self::with_rules(network, rods, anchor_weight, ModelRules::PAPER)
+    }
+
+    /// [`Self::with_rods`] under `rules` (the paper's or the physical mode's).
+    pub fn with_rules(
+        network: &Network,
+        rods: &[RodStiffness],
+        anchor_weight: f64,
+        rules: ModelRules,
+    ) -> Self {
         assert_eq!(rods.len(), network.rods.len(), "one stiffness per rod");
         let n_vertices = network.positions.len();
-        let terms = collect_terms(network, rods);
+        let terms = collect_terms(network, rods, rules);
         let curve_vertices = network
             .rods
             .iter()
@@ -49,6 +60,11 @@ impl EnergyModel {
             .iter()
             .map(|t| block_positions(&t.v, pos))
             .collect();
+        let clamp_pos = terms
+            .clamp
+            .iter()
+            .map(|t| block_positions(&t.v, pos))
+            .collect();
         let mu = anchor_weight;
         // A loose vertex's diagonal: the stiffest scale in the model, far above the low
         // spectrum that stability is about. (ks / rest is monotone in rest, so with one ks
@@ -69,6 +85,7 @@ impl EnergyModel {
             stretch: terms.stretch,
             bend: terms.bend,
             bend_rest: terms.bend_rest,
+            clamp: terms.clamp,
             anchor: terms.anchor,
             rods: terms.rods,
             vertex_curves: network.vertex_curves(),
@@ -76,6 +93,7 @@ impl EnergyModel {
             pattern: block_pattern(&lower),
             stretch_pos,
             bend_pos,
+            clamp_pos,
             loose_diagonal,
         }
     }
@@ -86,24 +104,27 @@ struct Terms {
     stretch: Vec<StretchTerm>,
     bend: Vec<BendTerm>,
     bend_rest: Vec<RestBend>,
+    clamp: Vec<ClampTerm>,
     anchor: Vec<AnchorTerm>,
     rods: Vec<RodTerms>,
 }
 
 /// The stretching term of every edge, the bending term of every interior vertex (every vertex
-/// of a closed rod) and the anchor of every supported vertex, rod after rod, rod `i` with the
-/// stiffnesses and rest shape `stiffness[i]`.
-fn collect_terms(network: &Network, stiffness: &[RodStiffness]) -> Terms {
+/// of a closed rod), the clamps ([`ClampRule::EndTangent`]) and the anchor of every supported
+/// vertex, rod after rod, rod `i` with the stiffnesses and rest shape `stiffness[i]`.
+fn collect_terms(network: &Network, stiffness: &[RodStiffness], rules: ModelRules) -> Terms {
     let p = &network.positions;
     let mut t = Terms {
         stretch: Vec::new(),
         bend: Vec::new(),
         bend_rest: Vec::new(),
+        clamp: Vec::new(),
         anchor: Vec::new(),
         rods: Vec::with_capacity(network.rods.len()),
     };
     for (rod, k) in network.rods.iter().zip(stiffness) {
         let (s0, b0, a0) = (t.stretch.len(), t.bend.len(), t.anchor.len());
+        let c0 = t.clamp.len();
         let m = rod.vertices.len();
         let ne = rod.edge_count();
         for j in 0..ne {
@@ -145,20 +166,60 @@ fn collect_terms(network: &Network, stiffness: &[RodStiffness]) -> Terms {
                 b,
             });
         }
+        let released = match rules.clamp {
+            ClampRule::TwoVertices => Vec::new(),
+            ClampRule::EndTangent => clamp_ends(rod, k, p, &mut t.clamp),
+        };
         for &v in &rod.anchors {
-            t.anchor.push(AnchorTerm {
-                v,
-                offset: Vec3::ZERO,
-            });
+            if !released.contains(&v) {
+                t.anchor.push(AnchorTerm {
+                    v,
+                    offset: Vec3::ZERO,
+                });
+            }
         }
         t.rods.push(RodTerms {
             kb: k.kb,
             stretch: s0..t.stretch.len(),
             bend: b0..t.bend.len(),
+            clamp: c0..t.clamp.len(),
             anchor: a0..t.anchor.len(),
         });
     }
     t
+}
+
+/// The physical mode's clamps of `rod` (stiffness `k`, drawn positions `p`), pushed onto
+/// `clamps`: an end is clamped when its vertex and the next are anchored (the paper's clamp,
+/// as the network records it); its clamp term holds the end's tangent, and the next vertex's
+/// anchor is released (returned), unless it is the other end's vertex.
+fn clamp_ends(rod: &Rod, k: &RodStiffness, p: &[Vec3], clamps: &mut Vec<ClampTerm>) -> Vec<u32> {
+    let m = rod.vertices.len();
+    let ends = [rod.vertices[0], rod.vertices[m.saturating_sub(1)]];
+    let mut released = Vec::new();
+    for at_start in [true, false] {
+        // The end, its neighbour and the next one along the rod, and the end edge.
+        let idx = |k: usize| if at_start { k } else { m - 1 - k };
+        if !rod.is_clamped_at(at_start) {
+            continue;
+        }
+        let (v0, v1) = (rod.vertices[idx(0)], rod.vertices[idx(1)]);
+        let edge = if at_start { 0 } else { m - 2 };
+        let rest = rod.rest_lengths[edge];
+        let x2 = (m > 2).then(|| p[rod.vertices[idx(2)] as usize]);
+        let (x0, x1) = (p[v0 as usize], p[v1 as usize]);
+        clamps.push(ClampTerm {
+            v: [v0, v1],
+            rest,
+            kb: k.kb,
+            e: x1 - x0,
+            shape: terms::clamp_rest(x0, x1, x2, rest, k.rest == RestShape::PreBent),
+        });
+        if !ends.contains(&v1) {
+            released.push(v1);
+        }
+    }
+    released
 }
 
 /// For each vertex `j`, the vertices `i ≤ j` sharing a term with it (itself included),

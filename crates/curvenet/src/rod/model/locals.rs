@@ -12,6 +12,7 @@ use crate::rod::terms;
 pub struct LocalHessians {
     pub(super) stretch: Vec<[[f64; 6]; 6]>,
     pub(super) bend: Vec<[[f64; 9]; 9]>,
+    pub(super) clamp: Vec<[[f64; 6]; 6]>,
 }
 
 /// Which terms' local Hessians [`EnergyModel::local_hessians`] computes.
@@ -48,10 +49,12 @@ impl EnergyModel {
         // Which terms to compute: those of the structure's curves (every term without one).
         let mut stretch_on = vec![active.is_none(); self.stretch.len()];
         let mut bend_on = vec![active.is_none(); self.bend.len()];
+        let mut clamp_on = vec![active.is_none(); self.clamp.len()];
         if let Some(active) = active {
             for (_, r) in self.active_terms(active) {
                 stretch_on[r.stretch.clone()].fill(true);
                 bend_on[r.bend.clone()].fill(true);
+                clamp_on[r.clamp.clone()].fill(true);
             }
         }
         let stretch = self
@@ -86,7 +89,26 @@ impl EnergyModel {
                 h
             })
             .collect();
-        LocalHessians { stretch, bend }
+        let clamp = self
+            .clamp
+            .iter()
+            .zip(&clamp_on)
+            .map(|(t, &on)| {
+                if !on {
+                    return [[0.0; 6]; 6];
+                }
+                let mut h = t.eval(u).hess;
+                if project {
+                    terms::project_psd_stretch(&mut h);
+                }
+                h
+            })
+            .collect();
+        LocalHessians {
+            stretch,
+            bend,
+            clamp,
+        }
     }
 
     /// The Hessian of the structure `active` from precomputed local Hessians: bit-identical
@@ -112,6 +134,9 @@ impl EnergyModel {
             }
             for k in r.bend.clone() {
                 self.scatter_hess(hess, &self.bend[k].v, &self.bend_pos[k], &locals.bend[k]);
+            }
+            for k in r.clamp.clone() {
+                self.scatter_hess(hess, &self.clamp[k].v, &self.clamp_pos[k], &locals.clamp[k]);
             }
             for t in &self.anchor[r.anchor.clone()] {
                 let v = t.v as usize;
@@ -174,6 +199,20 @@ impl EnergyModel {
                 };
                 self.scatter_hess(hess, &self.bend[k].v, &self.bend_pos[k], src);
             }
+            for k in r.clamp.clone() {
+                let l = &locals.clamp[k];
+                let src = if w == 1.0 {
+                    l
+                } else {
+                    for (d, s) in scaled6.iter_mut().zip(l) {
+                        for (x, y) in d.iter_mut().zip(s) {
+                            *x = w * y;
+                        }
+                    }
+                    &scaled6
+                };
+                self.scatter_hess(hess, &self.clamp[k].v, &self.clamp_pos[k], src);
+            }
             for t in &self.anchor[r.anchor.clone()] {
                 let v = t.v as usize;
                 for a in 0..3 {
@@ -230,6 +269,10 @@ impl EnergyModel {
             let l = &locals.bend[t];
             add(&self.bend[t].v, &|i, j| l[i][j]);
         }
+        for t in r.clamp.clone() {
+            let l = &locals.clamp[t];
+            add(&self.clamp[t].v, &|i, j| l[i][j]);
+        }
         let two_mu = 2.0 * self.mu;
         for t in &self.anchor[r.anchor.clone()] {
             add(&[t.v], &|i, j| if i == j { two_mu } else { 0.0 });
@@ -250,6 +293,10 @@ impl EnergyModel {
             .iter()
             .map(|l| frob(&mut l.iter().flatten()))
             .sum();
-        stretch + bend + r.anchor.len() as f64 * 2.0 * self.mu * 3f64.sqrt()
+        let clamp: f64 = locals.clamp[r.clamp.clone()]
+            .iter()
+            .map(|l| frob(&mut l.iter().flatten()))
+            .sum();
+        stretch + bend + clamp + r.anchor.len() as f64 * 2.0 * self.mu * 3f64.sqrt()
     }
 }

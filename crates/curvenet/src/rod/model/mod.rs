@@ -22,7 +22,7 @@ mod locals;
 pub use locals::{LocalHessians, Terms};
 
 use super::ActiveSet;
-use super::terms::{self, RestBend};
+use super::terms::{self, ClampRest, RestBend};
 use crate::geom::Vec3;
 use crate::sparse::Pattern;
 use std::ops::Range;
@@ -54,6 +54,36 @@ struct BendTerm {
 
 /// [`BendTerm::rest`] of a term of a rod straight at rest.
 const STRAIGHT: u32 = u32::MAX;
+
+/// The physical mode's clamp at an end vertex `v[0]` with neighbour `v[1]` (`rod::terms::clamp`):
+/// `e` is the rest edge `X1 − X0`, `rest` its rest length, `shape` the drawn end tangent and
+/// rest curvature.
+#[derive(Clone, Copy, Debug)]
+struct ClampTerm {
+    v: [u32; 2],
+    rest: f64,
+    kb: f64,
+    e: Vec3,
+    shape: ClampRest,
+}
+
+impl ClampTerm {
+    /// End points relative to `x0`, from displacements `u`.
+    #[inline]
+    fn local(&self, u: &[f64]) -> (Vec3, Vec3) {
+        (
+            Vec3::ZERO,
+            self.e + (vec3(u, self.v[1]) - vec3(u, self.v[0])),
+        )
+    }
+
+    /// The term's energy, gradient and Hessian at displacements `u`.
+    #[inline]
+    fn eval(&self, u: &[f64]) -> terms::Local<6> {
+        let (x0, x1) = self.local(u);
+        terms::clamp(x0, x1, self.rest, self.kb, &self.shape)
+    }
+}
 
 /// An anchor spring on a supported vertex; `offset` is its target minus its rest position
 /// (zero when the anchor holds the vertex where it was drawn).
@@ -93,6 +123,7 @@ struct RodTerms {
     kb: f64,
     stretch: Range<usize>,
     bend: Range<usize>,
+    clamp: Range<usize>,
     anchor: Range<usize>,
 }
 
@@ -116,6 +147,8 @@ pub struct EnergyModel {
     bend: Vec<BendTerm>,
     /// The drawn shapes of the pre-bent rods' bending terms.
     bend_rest: Vec<RestBend>,
+    /// The physical mode's clamps (empty in the paper's).
+    clamp: Vec<ClampTerm>,
     anchor: Vec<AnchorTerm>,
     rods: Vec<RodTerms>,
     /// For every vertex, the curves through it.
@@ -127,6 +160,7 @@ pub struct EnergyModel {
     /// `(p, q)` in the column of the larger global vertex.
     stretch_pos: Vec<[[u32; 2]; 2]>,
     bend_pos: Vec<[[u32; 3]; 3]>,
+    clamp_pos: Vec<[[u32; 2]; 2]>,
     /// Diagonal entry used for coordinates of loose vertices.
     loose_diagonal: f64,
 }
@@ -236,6 +270,16 @@ impl EnergyModel {
             .iter()
             .enumerate()
             .filter(move |(c, _)| active.contains(*c))
+    }
+
+    /// For each vertex, whether an anchor holds it (in the model's rules: a clamp of the
+    /// physical mode anchors the end vertex only).
+    pub fn anchored_vertices(&self) -> Vec<bool> {
+        let mut a = vec![false; self.n_vertices];
+        for t in &self.anchor {
+            a[t.v as usize] = true;
+        }
+        a
     }
 
     /// Curves through each vertex.
