@@ -7,6 +7,7 @@ use crate::values::{
 use clap::{Args, Parser, Subcommand};
 use curvenet::constraints::SymmetryOption;
 use curvenet::rod::Supports;
+use curvenet::words::Opt;
 use std::path::PathBuf;
 
 /// Stability-aware simplification of curve networks.
@@ -502,27 +503,27 @@ pub struct AnalyzeArgs {
 #[derive(Debug, Args, Clone, Default)]
 pub struct PhysicalModeArgs {
     /// The scene's length unit: mm, cm or m (turns on the physical mode).
-    #[arg(long, value_parser = physical("--units"), allow_hyphen_values = true)]
+    #[arg(long, value_parser = physical(Opt::Units), allow_hyphen_values = true)]
     pub units: Option<String>,
     /// Material preset: steel, aluminium, gfrp, timber (turns on the physical mode).
-    #[arg(long, value_parser = physical("--material"), allow_hyphen_values = true)]
+    #[arg(long, value_parser = physical(Opt::Material), allow_hyphen_values = true)]
     pub material: Option<String>,
     /// Density with its unit, overriding the material's (e.g. 7850kg/m3).
-    #[arg(long, value_parser = physical("--density"), allow_hyphen_values = true)]
+    #[arg(long, value_parser = physical(Opt::Density), allow_hyphen_values = true)]
     pub density: Option<String>,
     /// Strength (yield or failure stress) with its unit, overriding the material's (e.g.
     /// 355MPa).
-    #[arg(long, value_parser = physical("--strength"), allow_hyphen_values = true)]
+    #[arg(long, value_parser = physical(Opt::Strength), allow_hyphen_values = true)]
     pub strength: Option<String>,
     /// A round tube section instead of a solid one: outer diameter x wall (e.g. 60x4, scene
     /// units, or 60mmx4mm).
-    #[arg(long, value_parser = physical("--tube"), allow_hyphen_values = true)]
+    #[arg(long, value_parser = physical(Opt::Tube), allow_hyphen_values = true)]
     pub tube: Option<String>,
     /// Intensity of the worst-case distributed load (default 1kN/m).
-    #[arg(long, value_parser = physical("--load"), allow_hyphen_values = true)]
+    #[arg(long, value_parser = physical(Opt::Load), allow_hyphen_values = true)]
     pub load: Option<String>,
     /// Gravity in m/s2: a magnitude along -z (default 9.81) or gx,gy,gz.
-    #[arg(long, value_parser = physical("--gravity"), allow_hyphen_values = true)]
+    #[arg(long, value_parser = physical(Opt::Gravity), allow_hyphen_values = true)]
     pub gravity: Option<String>,
 }
 

@@ -133,9 +133,9 @@ pub fn open_run(
 ) -> Result<ServedRun, OpenRunError> {
     let run = RunFolder::read(files)?;
     let r = &run.result;
-    let in_result = |message: String| OpenRunError::Setup {
+    let in_result = |e: curvenet::stability::StabilityError| OpenRunError::Setup {
         file: run.files.name("result.json"),
-        message,
+        message: e.to_string(),
     };
     let mut analyzer =
         Analyzer::new(run.network.clone(), r.setup.stability.clone()).map_err(in_result)?;

@@ -281,7 +281,7 @@ fn side_files_of_a_confined_run_folder_are_read_inside_only() {
     let state = dir.join(format!("states/{last:04}.bin"));
     std::fs::remove_file(&state).unwrap();
     symlink(outside.join(format!("run/states/{last:04}.bin")), &state).unwrap();
-    let e = run.displacement(last).unwrap_err();
+    let e = run.displacement(last).unwrap_err().to_string();
     assert!(
         e.contains("outside") && e.contains(&format!("run/states/{last:04}.bin")),
         "{e}"
@@ -289,22 +289,22 @@ fn side_files_of_a_confined_run_folder_are_read_inside_only() {
     assert_all_inside(&seen, &runs, "a states file linked outside");
     std::fs::remove_file(dir.join(&mode_file)).unwrap();
     symlink("/etc/passwd", dir.join(&mode_file)).unwrap();
-    let e = run.mode(last).unwrap_err();
+    let e = run.mode(last).unwrap_err().to_string();
     assert!(e.contains("outside"), "{e}");
     assert_all_inside(&seen, &runs, "a mode file linked outside");
     std::fs::remove_dir_all(dir.join("states")).unwrap();
     symlink("../../outside/run/states", dir.join("states")).unwrap();
-    let e = run.displacement(0).unwrap_err();
+    let e = run.displacement(0).unwrap_err().to_string();
     assert!(e.contains("outside"), "{e}");
     assert_all_inside(&seen, &runs, "the states folder linked outside");
     // A record naming a mode file outside the folder runs are loaded from.
     let mut rogue = run.clone();
     rogue.result.iterations[last].mode_file = "../../outside/run/states/0000.bin".into();
-    let e = rogue.mode(last).unwrap_err();
+    let e = rogue.mode(last).unwrap_err().to_string();
     assert!(e.contains("outside"), "{e}");
     rogue.result.iterations[last].mode_file =
         outside.join("run/states/0000.bin").display().to_string();
-    let e = rogue.mode(last).unwrap_err();
+    let e = rogue.mode(last).unwrap_err().to_string();
     assert!(e.contains("outside"), "{e}");
     assert_all_inside(&seen, &runs, "a rogue record");
 }

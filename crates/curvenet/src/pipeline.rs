@@ -7,6 +7,7 @@ use crate::physics::PhysicalParams;
 use crate::report::AnalysisReport;
 use crate::rod::ActiveSet;
 use crate::stability::{Analysis, Analyzer, StabilityParams};
+use crate::words::{Recorded, Wording};
 
 /// Multiplies every point by `s`.
 pub fn scale_curves(curves: &mut [Polyline], s: f64) {
@@ -107,7 +108,8 @@ pub enum PipelineError {
     Stability(#[from] crate::stability::StabilityError),
 }
 
-/// Builds the network of `curves`, removes `removed`, relaxes and analyses what is left.
+/// Builds the network of `curves`, removes `removed`, relaxes and analyses what is left (the
+/// report's warnings name options as a record does, [`Recorded`]).
 ///
 /// The analysis is that of `params.objective`: the paper's `λ_eq`, or under the frequency
 /// objective `μ_min` of the mass-metric problem, the number the searches maximise. With
@@ -122,22 +124,25 @@ pub fn analyze(
     warnings: Vec<String>,
 ) -> Result<AnalyzeOutput, PipelineError> {
     let (network, info) = build_network(curves, build)?;
-    let mut analyzer = Analyzer::new(network, params.clone()).map_err(PipelineError::Params)?;
+    let mut analyzer =
+        Analyzer::new(network, params.clone()).map_err(|e| PipelineError::Params(e.to_string()))?;
     if let Some(p) = physical {
         analyzer = analyzer
             .with_physical(p.clone())
-            .map_err(PipelineError::Params)?;
+            .map_err(|e| PipelineError::Params(e.to_string()))?;
     }
-    analyze_built(analyzer, info, physical, removed, warnings)
+    analyze_built(analyzer, info, physical, removed, warnings, &Recorded)
 }
 
-/// [`analyze`] of a network already built (`info` its build's findings) in `analyzer`.
+/// [`analyze`] of a network already built (`info` its build's findings) in `analyzer`, the
+/// report's warnings naming options as `words` spell them.
 pub fn analyze_built(
     analyzer: Analyzer,
     info: BuildInfo,
     physical: Option<&PhysicalParams>,
     removed: &[usize],
     warnings: Vec<String>,
+    words: &dyn Wording,
 ) -> Result<AnalyzeOutput, PipelineError> {
     let n = analyzer.network().rods.len();
     let mut active = ActiveSet::all(n);
@@ -158,6 +163,7 @@ pub fn analyze_built(
         &active,
         &analysis,
         warnings,
+        words,
     )
     .with_objective(params.objective);
     if let Some(p) = physical {

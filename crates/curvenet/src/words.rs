@@ -5,8 +5,12 @@
 //! command line's, `max_gap=` Python's, `"max_gap"` the server's JSON). A message names the
 //! option with a [`Piece::Opt`] (the option alone) or a [`Piece::Given`] (the option with the
 //! value the user gave), and each front end renders it with its own [`Wording`]; `Display`
-//! renders the neutral key. A test reads the library's sources and refuses string literals
-//! that spell a command-line flag.
+//! renders the neutral key. A test (`tests/no_flags.rs`) reads the library's sources and
+//! refuses string literals that spell a command-line flag.
+//!
+//! What the library records (a run folder's `result.json`, the JSON of an analysis) is read by
+//! every front end alike, so its messages keep one spelling there, [`Recorded`]; a message
+//! read back ([`Message::from_recorded`]) names its options again.
 //!
 //! Written here rather than taken from a crate: message catalogues (fluent, gettext) translate
 //! whole sentences; what is needed is one sentence with option names spelled three ways.
@@ -131,6 +135,20 @@ impl Wording for Neutral {
     }
 }
 
+/// How the library's records spell options: a run folder's `result.json` (the build's
+/// warnings, why a run has no answer) is read back by every front end alike, so its messages
+/// keep one spelling, the long option of the key (`--max-gap`, `-` for `_`), which those files
+/// have always held. A message read back from a record ([`Message::from_recorded`]) names its
+/// options again, for each front end to spell its own way.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Recorded;
+
+impl Wording for Recorded {
+    fn option(&self, opt: Opt) -> String {
+        format!("--{}", opt.key().replace('_', "-"))
+    }
+}
+
 /// One piece of a [`Message`].
 #[derive(Clone, Debug, PartialEq)]
 pub enum Piece {
@@ -171,10 +189,49 @@ pub fn given(opt: Opt, value: impl fmt::Display) -> Piece {
     Piece::Given(opt, value.to_string())
 }
 
+impl Opt {
+    /// The option of a neutral key (`max_gap`), if any.
+    pub fn from_key(key: &str) -> Option<Opt> {
+        Opt::ALL.iter().copied().find(|o| o.key() == key)
+    }
+}
+
+impl Piece {
+    /// What this piece names with `value` after it: an option with the value given
+    /// ([`Piece::Given`]), or text followed by a space and the value (a file's field:
+    /// `"material"."young" "7GPa"`).
+    pub fn with_value(&self, value: impl fmt::Display) -> Piece {
+        match self {
+            Piece::Opt(o) | Piece::Given(o, _) => given(*o, value),
+            Piece::Text(t) => Piece::Text(format!("{t} {value}")),
+        }
+    }
+}
+
 /// A message for a user that may name options: text and option pieces, rendered by a front
-/// end's [`Wording`] ([`Message::render`]) or neutrally (`Display`).
-#[derive(Clone, Debug, Default, PartialEq)]
+/// end's [`Wording`] ([`Message::render`]) or neutrally (`Display`). In a record (serde) it is
+/// its text in the [`Recorded`] spelling; two messages are equal when they read alike there.
+#[derive(Clone, Debug, Default)]
 pub struct Message(Vec<Piece>);
+
+impl PartialEq for Message {
+    fn eq(&self, other: &Self) -> bool {
+        self.render(&Recorded) == other.render(&Recorded)
+    }
+}
+
+impl serde::Serialize for Message {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(&self.render(&Recorded))
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for Message {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let text = <std::borrow::Cow<'de, str>>::deserialize(d)?;
+        Ok(Message::from_recorded(&text))
+    }
+}
 
 impl Message {
     /// The message of `pieces`, in order.
@@ -185,6 +242,43 @@ impl Message {
     /// The pieces, in order.
     pub fn pieces(&self) -> &[Piece] {
         &self.0
+    }
+
+    /// A message as a record holds it ([`Recorded`]: `--max-gap`), its options named again.
+    pub fn from_recorded(text: &str) -> Self {
+        let mut pieces = Vec::new();
+        let mut plain = String::new();
+        let mut rest = text;
+        while let Some(at) = rest.find("--") {
+            let (before, from) = rest.split_at(at);
+            let word_len = from[2..]
+                .find(|c: char| !(c.is_ascii_lowercase() || c == '-'))
+                .unwrap_or(from.len() - 2);
+            let word = from[2..2 + word_len].trim_end_matches('-');
+            let starts_word = !before
+                .chars()
+                .next_back()
+                .is_some_and(|c| c == '-' || c.is_alphanumeric());
+            match Opt::from_key(&word.replace('-', "_")).filter(|_| starts_word) {
+                Some(opt) => {
+                    plain.push_str(before);
+                    if !plain.is_empty() {
+                        pieces.push(Piece::Text(std::mem::take(&mut plain)));
+                    }
+                    pieces.push(Piece::Opt(opt));
+                    rest = &from[2 + word.len()..];
+                }
+                None => {
+                    plain.push_str(&rest[..at + 2]);
+                    rest = &from[2..];
+                }
+            }
+        }
+        plain.push_str(rest);
+        if !plain.is_empty() {
+            pieces.push(Piece::Text(plain));
+        }
+        Message(pieces)
     }
 
     /// The options the message names.
@@ -215,10 +309,32 @@ impl Message {
         Message(all)
     }
 
+    /// `messages` one after the other, `separator` between them.
+    pub fn join(messages: impl IntoIterator<Item = Message>, separator: &str) -> Self {
+        let mut all = Vec::new();
+        for (i, m) in messages.into_iter().enumerate() {
+            if i > 0 {
+                all.push(Piece::Text(separator.to_string()));
+            }
+            all.extend(m.0);
+        }
+        Message(all)
+    }
+
     /// This message with `pieces` after it.
     pub fn then(mut self, pieces: impl IntoIterator<Item = Piece>) -> Self {
         self.0.extend(pieces);
         self
+    }
+}
+
+/// A message's pieces, in order: `a.then(b)` appends message `b` to `a`.
+impl IntoIterator for Message {
+    type Item = Piece;
+    type IntoIter = std::vec::IntoIter<Piece>;
+
+    fn into_iter(self) -> Self::IntoIter {
+        self.0.into_iter()
     }
 }
 
@@ -285,6 +401,39 @@ mod tests {
             m.options().collect::<Vec<_>>(),
             [Opt::EdgeLength, Opt::EdgeLength, Opt::Scale]
         );
+    }
+
+    #[test]
+    fn a_record_reads_back_with_its_options() {
+        let m = message![
+            "the edge is short (consider ",
+            Opt::MergeJoints,
+            "); ",
+            given(Opt::MaxGap, 900),
+            " --- --nothing-known a--b"
+        ];
+        let text = m.render(&Recorded);
+        assert_eq!(
+            text,
+            "the edge is short (consider --merge-joints); --max-gap 900 --- --nothing-known a--b"
+        );
+        let back = Message::from_recorded(&text);
+        assert_eq!(back.render(&Recorded), text);
+        assert_eq!(back, m);
+        assert_eq!(
+            back.options().collect::<Vec<_>>(),
+            [Opt::MergeJoints, Opt::MaxGap]
+        );
+        assert_eq!(
+            back.render(&Flags),
+            "the edge is short (consider --merge-joints); --max-gap 900 --- --nothing-known a--b"
+        );
+        assert_eq!(
+            back.to_string(),
+            "the edge is short (consider merge_joints); max_gap 900 --- --nothing-known a--b"
+        );
+        let json = serde_json::to_string(&m).unwrap();
+        assert_eq!(serde_json::from_str::<Message>(&json).unwrap(), m);
     }
 
     #[test]

@@ -14,7 +14,7 @@ pub fn run(a: AnalyzeArgs) -> anyhow::Result<()> {
     let out = curvenet::app::analyze(&mut setup, &a.remove, &Flags).map_err(fail)?;
     super::print_warnings(out.report.warnings.get(shown..).unwrap_or_default());
     if let Some(p) = &out.physical {
-        super::print_warnings(&p.warnings);
+        crate::front::print_messages(&p.warnings);
     }
     if a.json {
         println!("{}", out.to_json());

@@ -24,7 +24,7 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
         let shown = setup.inputs.warnings.len();
         super::print_warnings(out.report.warnings.get(shown..).unwrap_or_default());
         if let Some(p) = &out.physical {
-            super::print_warnings(&p.warnings);
+            crate::front::print_messages(&p.warnings);
         }
         if a.json {
             println!("{}", out.to_json());

@@ -81,7 +81,7 @@ pub fn run(a: ServeArgs) -> anyhow::Result<()> {
         s.status.word()
     );
     if let Some(p) = &s.physical {
-        print_warnings(&p.warnings);
+        crate::front::print_messages(&p.warnings);
     }
     if a.open {
         super::open_in_browser(&url);

@@ -83,7 +83,7 @@ pub fn analyze(
         .map(|w| w.render(words))
         .collect();
     let physical_params = setup.model.physical.as_ref();
-    let out = pipeline::analyze_built(analyzer, info, physical_params, &removed, warnings)
+    let out = pipeline::analyze_built(analyzer, info, physical_params, &removed, warnings, words)
         .map_err(|e| AppError::Failed(e.to_string()))?;
     let physical = match physical_params {
         Some(p) => {

@@ -5,6 +5,8 @@
 use crate::io::InputError;
 use crate::network::build::BuildError;
 use crate::paper::ExampleError;
+use crate::run_folder::RunFolderError;
+use crate::stability::StabilityError;
 use crate::words::{Message, Wording};
 use std::path::PathBuf;
 
@@ -82,6 +84,7 @@ impl AppError {
         use crate::words::{Opt, message};
         match self {
             AppError::Usage(m) => m.render(words),
+            AppError::Build(e) => e.message().render(words),
             AppError::Cancelled {
                 stage,
                 kept,
@@ -112,5 +115,26 @@ impl AppError {
 impl From<Message> for AppError {
     fn from(m: Message) -> Self {
         AppError::Usage(m)
+    }
+}
+
+/// A run folder that cannot be resumed as asked, or lacks the network asked for, is a usage
+/// error; one that cannot be read or written is a failure.
+impl From<RunFolderError> for AppError {
+    fn from(e: RunFolderError) -> Self {
+        match e {
+            RunFolderError::Resume(m) | RunFolderError::Absent(m) => AppError::Usage(m),
+            e => AppError::Failed(e.to_string()),
+        }
+    }
+}
+
+/// Parameters the user set are a usage error; a computation that failed is not.
+impl From<StabilityError> for AppError {
+    fn from(e: StabilityError) -> Self {
+        match e {
+            StabilityError::Params(m) => AppError::Usage(m),
+            e => AppError::Failed(e.to_string()),
+        }
     }
 }

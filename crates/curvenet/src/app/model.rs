@@ -88,7 +88,7 @@ impl ModelOptions {
         let options = self.physical_options();
         let physical = options
             .resolve(file_units, specs)
-            .map_err(AppError::usage)?;
+            .map_err(AppError::Usage)?;
         let paper = match &physical {
             Some(_) => ModelOptions {
                 young: None,
@@ -176,7 +176,7 @@ impl ModelOptions {
                 format!(": an anchor's stiffness 2µ must lie between {lo:e} and {hi:e}")
             ]));
         }
-        s.validate().map_err(AppError::usage)?;
+        s.validate().map_err(AppError::Usage)?;
         Ok(s)
     }
 }

@@ -52,10 +52,9 @@ impl Setup {
     /// The analyzer of the built network in the model (building it first when needed).
     pub fn analyzer(&mut self) -> Result<Analyzer, AppError> {
         let network = self.build()?.0.clone();
-        let mut analyzer =
-            Analyzer::new(network, self.model.stability.clone()).map_err(AppError::usage)?;
+        let mut analyzer = Analyzer::new(network, self.model.stability.clone())?;
         if let Some(p) = &self.model.physical {
-            analyzer = analyzer.with_physical(p.clone()).map_err(AppError::usage)?;
+            analyzer = analyzer.with_physical(p.clone())?;
         }
         Ok(analyzer)
     }
@@ -65,7 +64,7 @@ impl Setup {
     pub fn build_warnings(&self) -> Vec<Message> {
         self.built
             .as_ref()
-            .map(|(_, info)| info.warnings.iter().cloned().map(Message::from).collect())
+            .map(|(_, info)| info.warnings.clone())
             .unwrap_or_default()
     }
 }

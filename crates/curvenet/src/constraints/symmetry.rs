@@ -551,15 +551,15 @@ impl Detector {
 
     /// The rotation of `order` about the first candidate axis where it is a symmetry, or why
     /// none is (the closest miss).
-    pub fn rotation(&self, order: u32) -> Result<SymmetryFound, String> {
+    pub fn rotation(&self, order: u32) -> Result<SymmetryFound, NoSymmetry> {
         let most = self.max_rotation_order();
         if order > most {
-            return Err(format!(
+            return Err(NoSymmetry(format!(
                 "the network has no rotation of order {order}: its {} curves can carry a \
                  rotation of order {most} at most (each curve off the axis needs its whole \
                  orbit of curves)",
                 self.curves.len()
-            ));
+            )));
         }
         self.first_of(
             &format!("rotation of order {order}"),
@@ -587,7 +587,7 @@ impl Detector {
     }
 
     /// The first candidate mirror plane that is a symmetry, or why none is.
-    pub fn mirror(&self) -> Result<SymmetryFound, String> {
+    pub fn mirror(&self) -> Result<SymmetryFound, NoSymmetry> {
         self.first_of("mirror plane", 2, self.normals(), |normal| {
             (
                 Transform::Reflect {
@@ -611,7 +611,7 @@ impl Detector {
         order: u32,
         candidates: Vec<Vec3>,
         make: impl Fn(Vec3) -> (Transform, Symmetry),
-    ) -> Result<SymmetryFound, String> {
+    ) -> Result<SymmetryFound, NoSymmetry> {
         let mut miss: Option<(Mismatch, Vec3)> = None;
         for c in candidates {
             let (t, symmetry) = make(c);
@@ -661,9 +661,9 @@ impl Detector {
         out
     }
 
-    fn not_found(&self, what: &str, miss: Option<(Mismatch, Vec3)>) -> String {
+    fn not_found(&self, what: &str, miss: Option<(Mismatch, Vec3)>) -> NoSymmetry {
         let rel = |d: f64| d / self.scene_size.max(f64::MIN_POSITIVE);
-        match miss {
+        NoSymmetry(match miss {
             Some((m, _)) if m.cycle => format!(
                 "the network has no {what}: every curve has a curve where the map takes it, but \
                  repeating the map does not bring curve {} back to itself as a symmetry of \
@@ -695,9 +695,15 @@ impl Detector {
                 )
             }
             None => format!("the network has no {what}: it has no curves to compare"),
-        }
+        })
     }
 }
+
+/// Why the network lacks the symmetry asked for: how close it came (the closest miss: which
+/// curve lands how far from any curve), or why it cannot have it.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{0}")]
+pub struct NoSymmetry(pub String);
 
 /// Finds the symmetry `option` asks for: none for [`SymmetryOption::None`], the one asked for
 /// (an error saying how close the network came when it is not there), or for
@@ -706,7 +712,7 @@ pub fn find(
     net: &Network,
     option: SymmetryOption,
     tolerance: f64,
-) -> Result<Vec<SymmetryFound>, String> {
+) -> Result<Vec<SymmetryFound>, NoSymmetry> {
     let d = || Detector::new(net, tolerance);
     match option {
         SymmetryOption::None => Ok(Vec::new()),

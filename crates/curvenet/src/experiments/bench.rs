@@ -10,7 +10,7 @@ use crate::network::build_network;
 use crate::paper::LoadedExample;
 use crate::profile;
 use crate::simplify::greedy::NoHooks;
-use crate::simplify::{Budget, GreedyParams, greedy};
+use crate::simplify::{Budget, GreedyParams, SimplifyError, greedy};
 use crate::stability::{Analyzer, StabilityParams, Technique};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -89,6 +89,20 @@ pub struct BenchParams {
     pub modes: Option<usize>,
 }
 
+/// Why a benchmark run failed.
+#[derive(Debug, thiserror::Error)]
+pub enum BenchError {
+    /// The example's network could not be built.
+    #[error(transparent)]
+    Build(#[from] crate::network::build::BuildError),
+    /// The greedy failed.
+    #[error(transparent)]
+    Greedy(#[from] SimplifyError),
+    /// The greedy ended without recording an iteration.
+    #[error("the greedy recorded no iteration")]
+    NoIteration,
+}
+
 /// Runs the greedy on `ex` once in `pool`, with a fresh profile and peak-memory mark.
 ///
 /// # Errors
@@ -98,7 +112,7 @@ pub fn run_example(
     params: &BenchParams,
     pool: &rayon::ThreadPool,
     ex: &LoadedExample,
-) -> Result<BenchRow, String> {
+) -> Result<BenchRow, BenchError> {
     let mut stability = StabilityParams::default();
     let mut greedy_params = GreedyParams::new(Budget::Fraction(ex.setup.budget_fraction));
     greedy_params.keep = ex.setup.keep.clone();
@@ -112,12 +126,11 @@ pub fn run_example(
     profile::reset();
     let cpu_start = profile::cpu_seconds();
     let start = Instant::now();
-    let (o, dofs) = pool.install(|| -> Result<_, String> {
-        let (network, _) = build_network(&ex.curves, &ex.build).map_err(|e| e.to_string())?;
-        let analyzer = Analyzer::new(network, stability)?;
+    let (o, dofs) = pool.install(|| -> Result<_, BenchError> {
+        let (network, _) = build_network(&ex.curves, &ex.build)?;
+        let analyzer = Analyzer::new(network, stability).map_err(SimplifyError::from)?;
         let dofs = analyzer.model().dofs();
-        let o = greedy(&analyzer, &greedy_params, None, None, &mut NoHooks)
-            .map_err(|e| e.to_string())?;
+        let o = greedy(&analyzer, &greedy_params, None, None, &mut NoHooks)?;
         Ok((o, dofs))
     })?;
     let wall = start.elapsed().as_secs_f64();
@@ -126,10 +139,7 @@ pub fn run_example(
         .map(|(end, start)| ((end - start) * 100.0).round() / 100.0);
     let p = profile::snapshot();
     let t = &o.timings;
-    let last = o
-        .iterations
-        .last()
-        .ok_or("the greedy recorded no iteration")?;
+    let last = o.iterations.last().ok_or(BenchError::NoIteration)?;
     Ok(BenchRow {
         example: ex.setup.name.to_string(),
         curves: ex.curves.len(),

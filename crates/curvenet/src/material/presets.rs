@@ -12,6 +12,7 @@
 //! | `timber` | 11 GPa | 420 kg/m³ | 24 MPa (C24 bending strength, characteristic) | EN 338:2016 Table 1 (C24: E₀,mean, ρ_mean, f_m,k) |
 
 use super::PhysicalMaterial;
+use crate::words::Message;
 
 /// The presets: name, the other names it answers to, then Young's modulus (Pa), density
 /// (kg/m³) and strength (Pa).
@@ -46,7 +47,7 @@ pub fn names() -> Vec<&'static str> {
 /// # Errors
 ///
 /// A message listing the presets when there is none by that name.
-pub fn preset(name: &str) -> Result<PhysicalMaterial, String> {
+pub fn preset(name: &str) -> Result<PhysicalMaterial, Message> {
     let key = name.trim().to_ascii_lowercase();
     PRESETS
         .iter()
@@ -60,11 +61,11 @@ pub fn preset(name: &str) -> Result<PhysicalMaterial, String> {
             },
         )
         .ok_or_else(|| {
-            format!(
+            Message::from(format!(
                 "unknown material '{}' (expected one of: {})",
                 name.trim(),
                 names().join(", ")
-            )
+            ))
         })
 }
 
@@ -82,7 +83,7 @@ mod tests {
         assert_eq!(preset("Aluminum").unwrap().name, "aluminium");
         assert_eq!(preset("glass-fibre").unwrap().name, "gfrp");
         assert_eq!(preset(" wood ").unwrap().name, "timber");
-        let e = preset("unobtainium").unwrap_err();
+        let e = preset("unobtainium").unwrap_err().to_string();
         assert!(e.contains("unobtainium") && e.contains("steel, aluminium, gfrp, timber"));
         for n in names() {
             assert!(preset(n).unwrap().validate().is_ok());

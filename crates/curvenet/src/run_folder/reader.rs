@@ -6,12 +6,14 @@
 //! naming the file, never a panic. The iterations' side files (`states/KKKK.bin`, the mode
 //! files) are read on demand, through the same reader.
 
+use super::RunFolderError;
 use super::files::{RunFileError, RunFiles};
 use super::schema::ResultFile;
 use crate::constraints::answer::Answer;
 use crate::io::{self, InputError, TriMesh};
 use crate::network::Network;
 use crate::simplify::greedy::IterationRecord;
+use crate::words::{Message, Opt, given, message};
 use std::path::{Path, PathBuf};
 
 /// A run's output folder, read and checked.
@@ -31,35 +33,15 @@ pub struct RunFolder {
     pub warnings: Vec<String>,
 }
 
-/// Why a run folder could not be read.
-#[derive(Debug, thiserror::Error)]
-pub enum RunFolderError {
-    /// One of its files could not be read or parsed.
-    #[error(transparent)]
-    File(#[from] RunFileError),
-    /// A file was read but does not hold what a run folder holds (an index out of range, an
-    /// unsupported version, …).
-    #[error("{file}: {problem}")]
-    Invalid {
-        /// The file, as its reader names it.
-        file: String,
-        /// What is wrong.
-        problem: String,
-    },
-}
-
-impl RunFolderError {
-    /// Whether it refused a path leading outside the folder runs are loaded from.
-    pub fn is_outside(&self) -> bool {
-        matches!(self, RunFolderError::File(RunFileError::Outside { .. }))
-    }
-}
-
 impl RunFolder {
     /// Reads `dir/result.json`, `dir/network.json` and (if present) `dir/mesh.obj`, and checks
     /// that they agree. Side files of the iterations are read on demand.
-    pub fn open(dir: &Path) -> Result<RunFolder, String> {
-        Self::read(RunFiles::unconfined(dir)).map_err(|e| e.to_string())
+    ///
+    /// # Errors
+    ///
+    /// As [`Self::read`].
+    pub fn open(dir: &Path) -> Result<RunFolder, RunFolderError> {
+        Self::read(RunFiles::unconfined(dir))
     }
 
     /// Reads the run folder of `files` (`result.json`, `network.json` and, if present,
@@ -83,7 +65,7 @@ impl RunFolder {
         };
         let result = ResultFile::read_from(&files)?;
         let network: Network = files.read_json("network.json", "a curvenet network")?;
-        check_network(&network).map_err(|e| invalid("network.json", e))?;
+        check_network(&network).map_err(|e| invalid("network.json", e.0))?;
         check_result(&result, network.rods.len()).map_err(|e| invalid("result.json", e))?;
         let mut warnings = Vec::new();
         let mesh = read_mesh(&files, &mut warnings);
@@ -126,73 +108,82 @@ impl RunFolder {
     }
 
     /// The record of iteration `k`.
-    pub fn record(&self, k: usize) -> Result<&IterationRecord, String> {
+    pub fn record(&self, k: usize) -> Result<&IterationRecord, RunFolderError> {
         self.result.iterations.get(k).ok_or_else(|| {
-            format!(
+            RunFolderError::Absent(Message::from(format!(
                 "{}: no iteration {k} (the run recorded iterations 0 to {})",
                 self.files.shown(),
                 self.last_index()
-            )
+            )))
         })
     }
 
-    fn vector_file(&self, rel: &str) -> Result<Vec<f64>, String> {
-        let v = self.files.read_f64(rel).map_err(|e| e.to_string())?;
-        let name = || self.files.name(rel);
+    fn vector_file(&self, rel: &str) -> Result<Vec<f64>, RunFolderError> {
+        let v = self.files.read_f64(rel)?;
+        let invalid = |problem: String| RunFolderError::Invalid {
+            file: self.files.name(rel),
+            problem,
+        };
         if v.len() != self.network.dofs() {
-            return Err(format!(
-                "{}: {} values, expected 3·V = {} for network.json",
-                name(),
+            return Err(invalid(format!(
+                "{} values, expected 3·V = {} for network.json",
                 v.len(),
                 self.network.dofs()
-            ));
+            )));
         }
         if let Some(i) = v.iter().position(|x| !x.is_finite()) {
-            return Err(format!("{}: value {i} is not finite", name()));
+            return Err(invalid(format!("value {i} is not finite")));
         }
         Ok(v)
     }
 
     /// Equilibrium displacements of iteration `k` (`states/KKKK.bin`, 3·V values).
-    pub fn displacement(&self, k: usize) -> Result<Vec<f64>, String> {
+    pub fn displacement(&self, k: usize) -> Result<Vec<f64>, RunFolderError> {
         self.record(k)?;
         self.vector_file(&crate::run_layout::state_file(k))
     }
 
     /// Worst-case mode of iteration `k` (its `mode_file`, 3·V values).
-    pub fn mode(&self, k: usize) -> Result<Vec<f64>, String> {
+    pub fn mode(&self, k: usize) -> Result<Vec<f64>, RunFolderError> {
         let rec = self.record(k)?;
         self.vector_file(&rec.mode_file)
     }
 
     /// The answer or the `n`-th alternative (from 1) of the run.
-    fn chosen(&self, which: Which) -> Result<&Answer, String> {
-        let none = |what: String| format!("{}: {what}", self.files.shown());
+    fn chosen(&self, which: Which) -> Result<&Answer, RunFolderError> {
+        let none = |what: Message| {
+            RunFolderError::Absent(what.prefixed([format!("{}: ", self.files.shown()).into()]))
+        };
         match which {
             Which::Iteration(_) => unreachable!("an iteration is no chosen network"),
             Which::Answer => self.result.answer.as_ref().ok_or_else(|| {
-                none(
+                none(message![
                     "the run has no answer (no stable network met the budget and the constraints)"
-                        .into(),
-                )
+                ])
             }),
             Which::Alternative(n) => n
                 .checked_sub(1)
                 .and_then(|i| self.result.alternatives.get(i))
                 .ok_or_else(|| {
                     none(match self.result.alternatives.len() {
-                        0 => format!(
-                            "no alternative {n}: the run recorded no alternatives (run it with \
-                             --alternatives K)"
-                        ),
-                        m => format!("no alternative {n}: the run recorded alternatives 1 to {m}"),
+                        0 => message![
+                            format!(
+                                "no alternative {n}: the run recorded no alternatives (run it \
+                                 with "
+                            ),
+                            given(Opt::Alternatives, "K"),
+                            ")"
+                        ],
+                        m => message![format!(
+                            "no alternative {n}: the run recorded alternatives 1 to {m}"
+                        )],
                     })
                 }),
         }
     }
 
     /// What `which` is: its curves, length, `λ_eq`, and how exports name it.
-    pub fn network_of(&self, which: Which) -> Result<Chosen, String> {
+    pub fn network_of(&self, which: Which) -> Result<Chosen, RunFolderError> {
         if let Which::Iteration(k) = which {
             let rec = self.record(k)?;
             return Ok(Chosen {
@@ -226,7 +217,7 @@ impl RunFolder {
     }
 
     /// Equilibrium displacements of `which`: its iteration's, else `states/TAG.bin`.
-    pub fn displacement_of(&self, which: Which) -> Result<Vec<f64>, String> {
+    pub fn displacement_of(&self, which: Which) -> Result<Vec<f64>, RunFolderError> {
         let c = self.network_of(which)?;
         match c.iteration {
             Some(k) => self.displacement(k),
@@ -235,7 +226,7 @@ impl RunFolder {
     }
 
     /// Worst-case mode of `which`: its iteration's, else `modes/TAG.bin`.
-    pub fn mode_of(&self, which: Which) -> Result<Vec<f64>, String> {
+    pub fn mode_of(&self, which: Which) -> Result<Vec<f64>, RunFolderError> {
         let c = self.network_of(which)?;
         match c.iteration {
             Some(k) => self.mode(k),
@@ -360,28 +351,50 @@ fn check_result(result: &ResultFile, n: usize) -> Result<(), String> {
     Ok(())
 }
 
+/// What makes a network inconsistent ([`check_network`]).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct InvalidNetwork(pub String);
+
+impl From<String> for InvalidNetwork {
+    fn from(problem: String) -> Self {
+        InvalidNetwork(problem)
+    }
+}
+
+impl From<&str> for InvalidNetwork {
+    fn from(problem: &str) -> Self {
+        InvalidNetwork(problem.to_string())
+    }
+}
+
 /// Checks that a network is consistent: finite positions, indices in range, one positive
 /// rest length per edge, enough vertices per rod. Everything the energy model indexes.
-pub fn check_network(net: &Network) -> Result<(), String> {
+///
+/// # Errors
+///
+/// The first inconsistency found.
+pub fn check_network(net: &Network) -> Result<(), InvalidNetwork> {
     let nv = net.positions.len();
     if nv == 0 || net.rods.is_empty() {
         return Err("the network has no vertices or no rods".into());
     }
     if let Some(i) = net.positions.iter().position(|p| !p.is_finite()) {
-        return Err(format!("position of vertex {i} is not finite"));
+        return Err(format!("position of vertex {i} is not finite").into());
     }
     for (c, rod) in net.rods.iter().enumerate() {
         let m = rod.vertices.len();
         let min = if rod.closed { 3 } else { 2 };
         if m < min {
-            return Err(format!("rod {c} has {m} vertices (at least {min} needed)"));
+            return Err(format!("rod {c} has {m} vertices (at least {min} needed)").into());
         }
         let edges = if rod.closed { m } else { m - 1 };
         if rod.rest_lengths.len() != edges {
             return Err(format!(
                 "rod {c} has {} rest lengths for {edges} edges",
                 rod.rest_lengths.len()
-            ));
+            )
+            .into());
         }
         if let Some(j) = rod
             .rest_lengths
@@ -391,7 +404,8 @@ pub fn check_network(net: &Network) -> Result<(), String> {
             return Err(format!(
                 "rod {c}: rest length of edge {j} is {} (must be positive and finite)",
                 rod.rest_lengths[j]
-            ));
+            )
+            .into());
         }
         if let Some(&v) = rod
             .vertices
@@ -399,26 +413,26 @@ pub fn check_network(net: &Network) -> Result<(), String> {
             .chain(&rod.anchors)
             .find(|&&v| v as usize >= nv)
         {
-            return Err(format!(
-                "rod {c} names vertex {v}, but the network has {nv} vertices"
-            ));
+            return Err(
+                format!("rod {c} names vertex {v}, but the network has {nv} vertices").into(),
+            );
         }
         if let Some(&v) = rod.anchors.iter().find(|v| !rod.vertices.contains(v)) {
-            return Err(format!("rod {c} anchors vertex {v}, which is not on it"));
+            return Err(format!("rod {c} anchors vertex {v}, which is not on it").into());
         }
         if let Some(j) = (0..edges).find(|&j| {
             let (a, b) = rod.edge(j);
             a == b
         }) {
-            return Err(format!("rod {c}: edge {j} joins a vertex to itself"));
+            return Err(format!("rod {c}: edge {j} joins a vertex to itself").into());
         }
     }
     for (j, joint) in net.joints.iter().enumerate() {
         if joint.vertex as usize >= nv {
-            return Err(format!("joint {j} names vertex {}", joint.vertex));
+            return Err(format!("joint {j} names vertex {}", joint.vertex).into());
         }
         if let Some(&c) = joint.curves.iter().find(|&&c| c as usize >= net.rods.len()) {
-            return Err(format!("joint {j} names curve {c}"));
+            return Err(format!("joint {j} names curve {c}").into());
         }
     }
     Ok(())

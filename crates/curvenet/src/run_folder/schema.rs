@@ -241,8 +241,12 @@ pub struct ResultFile {
 
 impl ResultFile {
     /// Reads `DIR/result.json`.
-    pub fn read(dir: &Path) -> Result<ResultFile, String> {
-        Self::read_from(&super::RunFiles::unconfined(dir)).map_err(|e| e.to_string())
+    ///
+    /// # Errors
+    ///
+    /// As [`Self::read_from`].
+    pub fn read(dir: &Path) -> Result<ResultFile, super::RunFolderError> {
+        Self::read_from(&super::RunFiles::unconfined(dir))
     }
 
     /// Reads `result.json` through `files` (confined or not: see [`super::files`]).

@@ -290,14 +290,14 @@ fn local_search_of(
     constraints: &Constraints,
     outcome: &GreedyOutcome,
     cancel: &Cancel,
-) -> Result<(LocalSearchRecord, Vec<SubsetScore>), String> {
+) -> Result<(LocalSearchRecord, Vec<SubsetScore>), Message> {
     let last = outcome.iterations.last().ok_or("no iteration")?;
     let local = LocalParams {
         keep: params.keep.clone(),
         ..LocalParams::new(params.budget)
     };
     let o = local_search(analyzer, &local, Some(constraints), &last.curves, cancel)
-        .map_err(|e| e.to_string())?;
+        .map_err(|e| e.message())?;
     let mut record =
         LocalSearchRecord::new(&local, &o, &last.curves).ok_or("λ_eq could not be evaluated")?;
     record.objective = objective_name(analyzer.objective()).into();
@@ -312,14 +312,14 @@ fn optional_step<T>(
     what: &str,
     observer: &dyn Observer,
     cancel: &Cancel,
-    run: impl FnOnce() -> Result<T, String>,
+    run: impl FnOnce() -> Result<T, Message>,
 ) -> (Option<T>, f64) {
     let start = Instant::now();
     let result = if on {
         run()
             .map_err(|e| {
                 if !cancel.is_cancelled() {
-                    observer.warning(&Message::from(format!("no {what}: {e}")));
+                    observer.warning(&e.prefixed([format!("no {what}: ").into()]));
                 }
             })
             .ok()
@@ -342,7 +342,7 @@ fn certificate_of(
     curves: &[usize],
     nodes: Option<usize>,
     cancel: &Cancel,
-) -> Result<Certificate, String> {
+) -> Result<Certificate, Message> {
     let n = analyzer.network().rods.len();
     let full_state = outcome
         .iterations
@@ -358,7 +358,7 @@ fn certificate_of(
         return Err("the final network does not meet the budget".into());
     }
     let mut c = certificate(&problem, curves, &CertifyParams::default(), cancel)
-        .map_err(|e| e.to_string())?;
+        .map_err(|e| e.message())?;
     // Branch and bound nodes: as given, or about 1e6 unknowns' worth of eigen solves.
     let nodes = nodes.unwrap_or_else(|| (1e6 / analyzer.model().dofs().max(1) as f64) as usize);
     tighten_certificate(
@@ -368,6 +368,6 @@ fn certificate_of(
         nodes.min(super::MAX_CERTIFICATE_NODES),
         cancel,
     )
-    .map_err(|e| e.to_string())?;
+    .map_err(|e| e.message())?;
     Ok(c)
 }

@@ -53,23 +53,5 @@ pub(super) fn claim(
 
 /// A folder that cannot take the run, as a usage error naming the options that help.
 fn folder_error(e: FolderError) -> AppError {
-    AppError::Usage(match e {
-        FolderError::Held(dir) => message![
-            given(Opt::Out, dir.display()),
-            ": another curvenet run is writing in this folder; wait for it to end or give \
-             another ",
-            Opt::Out
-        ],
-        FolderError::NotARun { dir, foreign } => message![
-            given(Opt::Out, dir.display()),
-            format!(
-                ": the folder is not empty and is not a curvenet run's (it holds {}); give an \
-                 empty or new folder, or ",
-                foreign.join(", ")
-            ),
-            Opt::Force,
-            " to run there anyway (the run's own files are replaced, the others kept)"
-        ],
-        FolderError::Io(m) => Message::from(m),
-    })
+    AppError::Usage(e.message())
 }

@@ -14,7 +14,7 @@ use super::{AppError, Stage};
 use crate::cancel::Cancel;
 use crate::constraints::{ConstraintError, ConstraintParams, Constraints, read_groups};
 use crate::network::Network;
-use crate::run_folder::{OutputWriter, ResultFile, RunSetup};
+use crate::run_folder::{OutputWriter, ResultFile, RunFolderError, RunSetup};
 use crate::simplify::greedy::ResumePoint;
 use crate::simplify::{Budget, GreedyParams, SimplifyError, greedy};
 use crate::stability::Objective;
@@ -142,7 +142,7 @@ pub fn execute(
     constraint_params
         .groups
         .extend(setup.inputs.groups.iter().cloned());
-    constraint_params.validate().map_err(AppError::usage)?;
+    constraint_params.validate().map_err(AppError::Usage)?;
     // Held to the end of the run: another run into the folder is refused meanwhile.
     let (_lock, fresh) = folder::claim(&spec.out, spec.resume, spec.force, observer)?;
     let analyzer = setup.analyzer()?;
@@ -155,7 +155,7 @@ pub fn execute(
         keep: keep.clone(),
         ..GreedyParams::new(budget)
     };
-    params.validate(n).map_err(AppError::usage)?;
+    params.validate(n).map_err(AppError::Usage)?;
     let total = network.total_length(&(0..n).collect::<Vec<_>>());
     let budget_length = budget.length(total);
     let info = setup.built().expect("built by the analyzer").1.clone();
@@ -192,7 +192,7 @@ pub fn execute(
         observer,
     )?;
     let Some((writer, resume_point)) = opened else {
-        let result = ResultFile::read(&spec.out).map_err(AppError::Failed)?;
+        let result = ResultFile::read(&spec.out)?;
         // A run stopped while its pictures were drawn is complete without them.
         if spec.pictures && !spec.out.join("viewer.html").is_file() {
             write_pictures(&spec.out, observer);
@@ -206,7 +206,7 @@ pub fn execute(
         });
     };
     if let Some(mesh) = mesh {
-        writer.write_mesh(mesh).map_err(AppError::Failed)?;
+        writer.write_mesh(mesh)?;
     }
     let progress = |r: &crate::simplify::greedy::IterationRecord| {
         observer.iteration(r, total, budget_length);
@@ -228,7 +228,7 @@ pub fn execute(
             kept: writer.result().iterations.len(),
             folder: spec.out.clone(),
         },
-        SimplifyError::Params(m) => AppError::usage(m),
+        SimplifyError::Params(m) => AppError::Usage(m),
         e => AppError::Failed(e.to_string()),
     })?;
     for w in crate::run_folder::unrelaxed(&outcome.iterations, analyzer.objective())
@@ -266,9 +266,7 @@ pub fn execute(
         "alternatives_seconds": (spec.alternatives > 0).then_some(seconds.alternatives),
         "threads": rayon::current_num_threads(),
     });
-    writer
-        .finish(&outcome, &timings)
-        .map_err(AppError::Failed)?;
+    writer.finish(&outcome, &timings)?;
     let result = writer.result().clone();
     drop(writer);
     if spec.pictures {
@@ -304,7 +302,7 @@ fn check_spec(setup: &Setup, spec: &RunSpec) -> Result<Budget, AppError> {
     };
     budget
         .validate()
-        .map_err(|e| AppError::usage(message![opt, ": ", e]))?;
+        .map_err(|e| AppError::Usage(e.prefixed([opt, ": ".into()])))?;
     if spec.alternatives > MAX_ALTERNATIVES {
         return Err(AppError::usage(message![
             given(Opt::Alternatives, spec.alternatives),
@@ -335,28 +333,29 @@ fn constraints_of(
     keep: &[usize],
     observer: &dyn Observer,
 ) -> Result<(Constraints, ConstraintParams), AppError> {
-    let constraints = if params.is_default() {
-        Constraints::none(network, budget, keep)
-    } else {
-        match Constraints::new(network, mesh, &params, budget, keep) {
-            Ok(c) => c,
-            Err(e) if defaults => {
-                observer.note(&message![format!(
-                    "the default constraints are left out on this network: {e}"
-                )]);
-                params = ConstraintParams::default();
-                Constraints::none(network, budget, keep)
+    let constraints =
+        if params.is_default() {
+            Constraints::none(network, budget, keep)
+        } else {
+            match Constraints::new(network, mesh, &params, budget, keep) {
+                Ok(c) => c,
+                Err(e) if defaults => {
+                    observer.note(&e.message().prefixed([
+                        "the default constraints are left out on this network: ".into(),
+                    ]));
+                    params = ConstraintParams::default();
+                    Constraints::none(network, budget, keep)
+                }
+                Err(ConstraintError::Usage(m)) => return Err(AppError::Usage(m)),
+                Err(ConstraintError::Infeasible(m)) => {
+                    return Err(AppError::Usage(
+                        m.prefixed(["the constraints cannot be met: ".into()]),
+                    ));
+                }
             }
-            Err(ConstraintError::Usage(m)) => return Err(AppError::usage(m)),
-            Err(ConstraintError::Infeasible(m)) => {
-                return Err(AppError::usage(format!(
-                    "the constraints cannot be met: {m}"
-                )));
-            }
-        }
-    };
+        };
     for note in constraints.notes() {
-        observer.note(&Message::from(note.clone()));
+        observer.note(note);
     }
     Ok((constraints, params))
 }
@@ -376,15 +375,19 @@ fn open_writer<'a>(
     let out = &spec.out;
     if !(spec.resume && out.join("result.json").is_file()) {
         if let Some(fresh) = fresh
-            && let Some(note) = fresh.apply().map_err(|e| AppError::usage(e.to_string()))?
+            && let Some(note) = fresh.apply().map_err(|e| AppError::Usage(e.message()))?
         {
             observer.note(&Message::from(note));
         }
-        let writer = OutputWriter::create(out, network, setup, budget).map_err(AppError::Failed)?;
+        let writer = OutputWriter::create(out, network, setup, budget)?;
         return Ok(Some((writer, None)));
     }
+    // Whatever stops a resume is for the user to fix (another folder, the same options).
     let (writer, point) =
-        OutputWriter::resume(out, network, &setup, mesh).map_err(AppError::usage)?;
+        OutputWriter::resume(out, network, &setup, mesh).map_err(|e| match e {
+            RunFolderError::Resume(m) => AppError::Usage(m),
+            e => AppError::usage(e.to_string()),
+        })?;
     for w in writer.warnings() {
         observer.warning(&Message::from(w.clone()));
     }

@@ -46,7 +46,9 @@ fn a_pavilion_has_its_rotation_and_its_orbits() {
     );
     // Not order 4 nor 12.
     for n in [4, 12] {
-        let e = find(&net, SymmetryOption::Rotate(n), DEFAULT_TOLERANCE).expect_err("absent");
+        let e = find(&net, SymmetryOption::Rotate(n), DEFAULT_TOLERANCE)
+            .expect_err("absent")
+            .0;
         assert!(e.contains(&format!("no rotation of order {n}")), "{e}");
         assert!(e.contains("tolerance"), "{e}");
     }
@@ -117,7 +119,9 @@ fn a_moved_arch_breaks_the_symmetry() {
     );
     curves[3] = spin[0].clone();
     let net = network(&curves);
-    let e = find(&net, SymmetryOption::Rotate(6), DEFAULT_TOLERANCE).expect_err("broken");
+    let e = find(&net, SymmetryOption::Rotate(6), DEFAULT_TOLERANCE)
+        .expect_err("broken")
+        .0;
     assert!(e.contains("no rotation of order 6"), "{e}");
     // A loose tolerance accepts it again.
     assert!(find(&net, SymmetryOption::Rotate(6), 0.05).is_ok());
@@ -168,11 +172,15 @@ fn scattered() -> Vec<crate::io::Polyline> {
 fn a_small_rotation_of_a_huge_order_is_no_symmetry() {
     let net = network(&scattered());
     // Its orders beyond what twelve open curves can carry are refused outright.
-    let e = find(&net, SymmetryOption::Rotate(100_000), DEFAULT_TOLERANCE).expect_err("refused");
+    let e = find(&net, SymmetryOption::Rotate(100_000), DEFAULT_TOLERANCE)
+        .expect_err("refused")
+        .0;
     assert!(e.contains("rotation of order 24 at most"), "{e}");
     // An order they could carry is tested in full: each curve lands far from every curve
     // under a power of the rotation, and the message says how far (beyond the tolerance).
-    let e = find(&net, SymmetryOption::Rotate(24), DEFAULT_TOLERANCE).expect_err("absent");
+    let e = find(&net, SymmetryOption::Rotate(24), DEFAULT_TOLERANCE)
+        .expect_err("absent")
+        .0;
     let away: f64 = e
         .split(" away")
         .next()
@@ -198,7 +206,9 @@ fn a_small_rotation_of_a_huge_order_is_no_symmetry() {
 fn refusals_name_a_distance_beyond_the_tolerance() {
     // A pavilion of 6 arches has no rotation of order 5: the reason is a real miss.
     let net = network(&pavilion(6, true, 0.3));
-    let e = find(&net, SymmetryOption::Rotate(5), DEFAULT_TOLERANCE).expect_err("absent");
+    let e = find(&net, SymmetryOption::Rotate(5), DEFAULT_TOLERANCE)
+        .expect_err("absent")
+        .0;
     let away: f64 = e
         .split(" away")
         .next()
