@@ -10,6 +10,15 @@ import pytest
 import curvenet
 
 
+@pytest.fixture(autouse=True)
+def keyboard_interrupt_on_sigint():
+    """Ctrl-C raises KeyboardInterrupt even when the test process started with SIGINT
+    ignored (a shell's background job does: Python then keeps the signal ignored)."""
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, previous)
+
+
 def test_keyboard_interrupt_stops_the_greedy_promptly(tmp_path):
     net = curvenet.example("tower")
     sent = {}
