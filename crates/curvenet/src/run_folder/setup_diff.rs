@@ -199,6 +199,19 @@ fn presence_difference(old: &Value, new: &Value, key: &str, option: Opt) -> Opti
     })
 }
 
+/// The set-up with its design constraints spelled out: a run without any records none, and
+/// comparing that absence with a run's constraints would name the first field (the groups)
+/// rather than the constraint that changed.
+fn with_constraints(mut v: Value) -> Value {
+    if let Some(o) = v.as_object_mut()
+        && !o.contains_key("constraints")
+        && let Ok(d) = serde_json::to_value(crate::constraints::ConstraintParams::default())
+    {
+        o.insert("constraints".into(), d);
+    }
+    v
+}
+
 /// The set-up without what depends on how the inputs were named rather than on their content:
 /// the paths as typed, and the build's messages (which quote them).
 fn without_paths(mut v: Value) -> Value {
@@ -325,7 +338,10 @@ pub fn resume_difference(
     network: &Network,
 ) -> Result<Option<Message>, RunFolderError> {
     let to_value = |s: &RunSetup| serde_json::to_value(s).map_err(|e| e.to_string());
-    let (old, new) = (to_value(recorded)?, to_value(setup)?);
+    let (old, new) = (
+        with_constraints(to_value(recorded)?),
+        with_constraints(to_value(setup)?),
+    );
     if let Some(d) = presence_difference(&old, &new, "input.mesh", Opt::Mesh)
         .or_else(|| option_difference(&old, &new))
         .or_else(|| mesh_difference(dir, mesh))
@@ -358,6 +374,45 @@ mod tests {
     /// A difference as the command line words it.
     fn flags(m: Option<Message>) -> Option<String> {
         m.map(|m| m.render(&crate::words::Recorded))
+    }
+
+    #[test]
+    fn a_constraint_added_or_dropped_is_named() {
+        let none = json!({"greedy": {"budget": {"fraction": 0.3}, "keep": []}});
+        let default = serde_json::to_value(crate::constraints::ConstraintParams::default())
+            .expect("serialises");
+        for (field, value, said) in [
+            ("connected", json!(true), "--connected was false, now true"),
+            ("min_curves", json!(3), "--min-curves was not given, now 3"),
+            (
+                "symmetry",
+                json!("mirror"),
+                "--symmetry was none, now mirror",
+            ),
+            (
+                "max_gap",
+                json!(900.0),
+                "--max-gap was not given, now 900.0",
+            ),
+            (
+                "max_deviation",
+                json!(2.0),
+                "--max-deviation was not given, now 2.0",
+            ),
+        ] {
+            let mut with = none.clone();
+            with["constraints"] = default.clone();
+            with["constraints"][field] = value;
+            let (a, b) = (with_constraints(none.clone()), with_constraints(with));
+            assert_eq!(flags(option_difference(&a, &b)).as_deref(), Some(said));
+            // And dropping it again.
+            let back = said
+                .split(" was ")
+                .next()
+                .map(|o| format!("{o} was {}", said.rsplit(", now ").next().unwrap()));
+            let got = flags(option_difference(&b, &a)).unwrap();
+            assert!(got.starts_with(back.as_deref().unwrap()), "{got}");
+        }
     }
 
     #[test]
