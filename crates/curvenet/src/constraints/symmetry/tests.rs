@@ -168,6 +168,15 @@ fn scattered() -> Vec<crate::io::Polyline> {
         .collect()
 }
 
+/// The distance a refusal says a curve lands from any curve.
+fn landing_distance(e: &str) -> f64 {
+    e.split(" away")
+        .next()
+        .and_then(|s| s.rsplit(' ').next())
+        .and_then(|d| d.parse().ok())
+        .unwrap_or_else(|| panic!("a distance: {e}"))
+}
+
 #[test]
 fn a_small_rotation_of_a_huge_order_is_no_symmetry() {
     let net = network(&scattered());
@@ -181,12 +190,7 @@ fn a_small_rotation_of_a_huge_order_is_no_symmetry() {
     let e = find(&net, SymmetryOption::Rotate(24), DEFAULT_TOLERANCE)
         .expect_err("absent")
         .0;
-    let away: f64 = e
-        .split(" away")
-        .next()
-        .and_then(|s| s.rsplit(' ').next())
-        .and_then(|d| d.parse().ok())
-        .unwrap_or_else(|| panic!("a distance: {e}"));
+    let away = landing_distance(&e);
     let tol: f64 = e
         .split("scene's size, ")
         .nth(1)
@@ -209,11 +213,6 @@ fn refusals_name_a_distance_beyond_the_tolerance() {
     let e = find(&net, SymmetryOption::Rotate(5), DEFAULT_TOLERANCE)
         .expect_err("absent")
         .0;
-    let away: f64 = e
-        .split(" away")
-        .next()
-        .and_then(|s| s.rsplit(' ').next())
-        .and_then(|d| d.parse().ok())
-        .unwrap_or_else(|| panic!("a distance: {e}"));
+    let away = landing_distance(&e);
     assert!(away > 1.0, "{e}");
 }
