@@ -129,7 +129,8 @@ pub enum RestShape {
     #[serde(rename = "straight")]
     Straight,
     /// Made in its drawn shape (rest curvature = the drawn curvature): in equilibrium where it
-    /// was drawn, stiff against leaving it. See `rod::terms::bend_rest`.
+    /// was drawn, stiff against leaving it, twisting with `G J` in the physical analysis. See
+    /// `rod::frame` (and `rod::terms::bend_rest`, the twist-free term).
     #[serde(rename = "pre-bent")]
     PreBent,
 }
