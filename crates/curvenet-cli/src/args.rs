@@ -7,6 +7,7 @@ use crate::values::{
 use clap::{Args, Parser, Subcommand};
 use curvenet::constraints::SymmetryOption;
 use curvenet::rod::Supports;
+use curvenet::words::Opt;
 use std::path::PathBuf;
 
 /// Stability-aware simplification of curve networks.
@@ -64,21 +65,12 @@ pub struct ServeArgs {
     /// its material, and its greedy iterations to step through; serving starts on its answer.
     #[arg(long, value_name = "DIR", conflicts_with_all = [
         "example", "curves", "mesh", "scale", "edge_length",
-        "supports", "radius", "young", "anchor_weight", "merge_joints", "eigen_count",
+        "supports", "radius", "young", "anchor_weight", "merge_joints", "eigen_count", "objective",
     ])]
     pub run: Option<PathBuf>,
-    /// Surface mesh: an OBJ file or a built-in surface name.
-    #[arg(long)]
-    pub mesh: Option<PathBuf>,
-    /// Curve files (.txt reference format, .obj polylines, .json); repeat for several files.
-    #[arg(long, required_unless_present_any = ["example", "run"])]
-    pub curves: Vec<PathBuf>,
-    /// Scale applied to the mesh and the curves.
-    #[arg(long, default_value_t = 1.0, value_parser = positive, allow_hyphen_values = true)]
-    pub scale: f64,
-    /// Target edge length h (scene units, after scaling). Default: the median input segment.
-    #[arg(long = "edge-length", value_parser = positive, allow_hyphen_values = true)]
-    pub edge_length: Option<f64>,
+    /// Inputs (instead of --example or --run).
+    #[command(flatten)]
+    pub input: InputArgs,
     /// Curves removed at the start (comma-separated ids).
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub remove: Vec<usize>,
@@ -96,10 +88,6 @@ pub struct ServeArgs {
     /// folder outside it is refused.
     #[arg(long, value_name = "DIR", conflicts_with = "bench")]
     pub runs: Option<PathBuf>,
-    /// What the searches maximise and `lambda` reports: lambda (the paper's λ_eq) or
-    /// frequency (μ_min of H v = μ M v with the lumped mass). See docs/units.md.
-    #[arg(long, default_value = "lambda", value_parser = parse_objective, conflicts_with = "run")]
-    pub objective: curvenet::stability::Objective,
     /// Measure instead of serving: a fixed sequence of single-curve removals and restores,
     /// each edit's time at the server printed beside a cold analysis of the same structure
     /// (docs/serve.md, *Benchmark*).
@@ -291,6 +279,11 @@ pub struct BenchArgs {
     /// Print the rows as JSON lines too.
     #[arg(long)]
     pub json: bool,
+    /// The reference implementation's times measured on this machine, a JSON object of
+    /// seconds by example (`{"tower": 103.8}`): the table shows them and the ratio. Without
+    /// it, no ratio is shown.
+    #[arg(long, value_name = "FILE")]
+    pub reference: Option<PathBuf>,
     /// Run the one example given once, in this process, and print its JSON row only (the
     /// bench runs every run so, in a fresh process of its own).
     #[arg(long, hide = true)]
@@ -323,11 +316,6 @@ pub struct DemoArgs {
     /// Budget as a fraction of the total length, in (0, 1].
     #[arg(long, default_value_t = 0.3, value_parser = budget_fraction, allow_hyphen_values = true)]
     pub budget: f64,
-    /// What every search maximises: lambda (the paper's λ_eq, the smallest eigenvalue of the
-    /// Hessian at equilibrium) or frequency (the first natural frequency: μ_min of H v = μ M v
-    /// with the lumped mass; in the paper's mode with unit density). See docs/units.md.
-    #[arg(long, default_value = "lambda", value_parser = parse_objective)]
-    pub objective: curvenet::stability::Objective,
     /// What runs after the greedy.
     #[command(flatten)]
     pub after: AfterGreedyArgs,
@@ -344,7 +332,7 @@ pub struct DemoArgs {
     pub physics: PhysicsArgs,
 }
 
-/// Material and solver options shared by every command that analyses a network.
+/// Material, solver and objective options shared by every command that analyses a network.
 #[derive(Debug, Args, Clone)]
 pub struct PhysicsArgs {
     /// Supports of open curves.
@@ -366,6 +354,12 @@ pub struct PhysicsArgs {
     /// Merge joints closer than this fraction of h, in (0, 1) (off by default; docs/model.md, "Numerical hazards").
     #[arg(long = "merge-joints", value_parser = open_fraction, allow_hyphen_values = true)]
     pub merge_joints: Option<f64>,
+    /// What every search maximises and an analysis reports: lambda (the paper's λ_eq, the
+    /// smallest eigenvalue of the Hessian at equilibrium) or frequency (the first natural
+    /// frequency: μ_min of H v = μ M v with the lumped mass; in the paper's mode with unit
+    /// density). See docs/units.md.
+    #[arg(long, default_value = "lambda", value_parser = parse_objective)]
+    pub objective: curvenet::stability::Objective,
 }
 
 /// Input files and network construction, shared by `analyze` and `simplify`.
@@ -377,12 +371,13 @@ pub struct InputArgs {
     pub mesh: Option<PathBuf>,
     /// Curve files (.txt reference format, .obj polylines, .json); repeat for several files.
     /// Curve ids follow the loading order.
-    #[arg(long, required = true)]
+    #[arg(long)]
     pub curves: Vec<PathBuf>,
     /// Scale applied to the mesh and the curves.
     #[arg(long, default_value_t = 1.0, value_parser = positive, allow_hyphen_values = true)]
     pub scale: f64,
-    /// Target edge length h (scene units, after scaling). Default: the median input segment.
+    /// Target edge length h (scene units, after scaling). Default: the median curve's length
+    /// over 50, and no less than the total length over 100,000 (about 100,000 edges at most).
     #[arg(long = "edge-length", value_parser = positive, allow_hyphen_values = true)]
     pub edge_length: Option<f64>,
 }
@@ -458,9 +453,6 @@ pub struct AfterGreedyArgs {
     /// step, and loose on large networks.
     #[arg(long)]
     pub certify: bool,
-    /// Accepted for older scripts: the certificate is computed only with --certify.
-    #[arg(long = "no-certificate", hide = true)]
-    pub no_certificate: bool,
     /// With --certify: branch and bound nodes spent tightening the certificate's bound
     /// (default: about 1e6 / unknowns, e.g. 220 on the demo, 60 on the tower; 0: the
     /// relaxation's bound only; at most 100000).
@@ -496,11 +488,6 @@ pub struct AnalyzeArgs {
     /// Print one JSON object on stdout.
     #[arg(long)]
     pub json: bool,
-    /// What to report as the structure's value: lambda (the paper's λ_eq) or frequency (μ_min
-    /// of H v = μ M v with the lumped mass and the first natural frequency √μ_min / 2π: the
-    /// number `--objective frequency` searches maximise). See docs/units.md.
-    #[arg(long, default_value = "lambda", value_parser = parse_objective)]
-    pub objective: curvenet::stability::Objective,
     /// Material and solver options.
     #[command(flatten)]
     pub physics: PhysicsArgs,
@@ -516,27 +503,27 @@ pub struct AnalyzeArgs {
 #[derive(Debug, Args, Clone, Default)]
 pub struct PhysicalModeArgs {
     /// The scene's length unit: mm, cm or m (turns on the physical mode).
-    #[arg(long, value_parser = physical("--units"), allow_hyphen_values = true)]
+    #[arg(long, value_parser = physical(Opt::Units), allow_hyphen_values = true)]
     pub units: Option<String>,
     /// Material preset: steel, aluminium, gfrp, timber (turns on the physical mode).
-    #[arg(long, value_parser = physical("--material"), allow_hyphen_values = true)]
+    #[arg(long, value_parser = physical(Opt::Material), allow_hyphen_values = true)]
     pub material: Option<String>,
     /// Density with its unit, overriding the material's (e.g. 7850kg/m3).
-    #[arg(long, value_parser = physical("--density"), allow_hyphen_values = true)]
+    #[arg(long, value_parser = physical(Opt::Density), allow_hyphen_values = true)]
     pub density: Option<String>,
     /// Strength (yield or failure stress) with its unit, overriding the material's (e.g.
     /// 355MPa).
-    #[arg(long, value_parser = physical("--strength"), allow_hyphen_values = true)]
+    #[arg(long, value_parser = physical(Opt::Strength), allow_hyphen_values = true)]
     pub strength: Option<String>,
     /// A round tube section instead of a solid one: outer diameter x wall (e.g. 60x4, scene
     /// units, or 60mmx4mm).
-    #[arg(long, value_parser = physical("--tube"), allow_hyphen_values = true)]
+    #[arg(long, value_parser = physical(Opt::Tube), allow_hyphen_values = true)]
     pub tube: Option<String>,
     /// Intensity of the worst-case distributed load (default 1kN/m).
-    #[arg(long, value_parser = physical("--load"), allow_hyphen_values = true)]
+    #[arg(long, value_parser = physical(Opt::Load), allow_hyphen_values = true)]
     pub load: Option<String>,
     /// Gravity in m/s2: a magnitude along -z (default 9.81) or gx,gy,gz.
-    #[arg(long, value_parser = physical("--gravity"), allow_hyphen_values = true)]
+    #[arg(long, value_parser = physical(Opt::Gravity), allow_hyphen_values = true)]
     pub gravity: Option<String>,
 }
 
@@ -552,11 +539,6 @@ pub struct SimplifyArgs {
     /// Output folder.
     #[arg(long)]
     pub out: PathBuf,
-    /// What every search maximises: lambda (the paper's λ_eq, the smallest eigenvalue of the
-    /// Hessian at equilibrium) or frequency (the first natural frequency: μ_min of H v = μ M v
-    /// with the lumped mass; in the paper's mode with unit density). See docs/units.md.
-    #[arg(long, default_value = "lambda", value_parser = parse_objective)]
-    pub objective: curvenet::stability::Objective,
     /// Material and solver options.
     #[command(flatten)]
     pub physics: PhysicsArgs,
@@ -591,11 +573,6 @@ pub struct ExampleArgs {
     /// Continue an interrupted run in the output folder.
     #[arg(long)]
     pub resume: bool,
-    /// What every search maximises: lambda (the paper's λ_eq, the smallest eigenvalue of the
-    /// Hessian at equilibrium) or frequency (the first natural frequency: μ_min of H v = μ M v
-    /// with the lumped mass; in the paper's mode with unit density). See docs/units.md.
-    #[arg(long, default_value = "lambda", value_parser = parse_objective)]
-    pub objective: curvenet::stability::Objective,
     /// Run into a non-empty folder that is not a curvenet run's (the run's own files are
     /// replaced, the others kept). A curvenet run's folder needs no --force: a fresh run
     /// there removes the earlier run's files first.

@@ -7,6 +7,7 @@
 mod args;
 mod cmd;
 mod exit;
+mod front;
 mod signals;
 mod values;
 

@@ -18,13 +18,10 @@
 
 use curvenet::cancel::Cancel;
 use std::sync::LazyLock;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// The token every polling stage of this process shares.
 static CANCEL: LazyLock<Cancel> = LazyLock::new(Cancel::new);
-
-/// Set together with [`CANCEL`], for the run folder's writer, which polls a plain flag.
-static FLAG: AtomicBool = AtomicBool::new(false);
 
 /// How many polling stages run now (a [`Stage`] guard counts itself here).
 static POLLING: AtomicUsize = AtomicUsize::new(0);
@@ -42,7 +39,6 @@ pub fn install() {
 fn on_signal() {
     if POLLING.load(Ordering::SeqCst) > 0 && !CANCEL.is_cancelled() {
         CANCEL.cancel();
-        FLAG.store(true, Ordering::SeqCst);
         eprintln!("\nstopping (a second Ctrl-C stops at once)…");
     } else {
         eprintln!("\ncancelled");
@@ -53,16 +49,6 @@ fn on_signal() {
 /// The process's cancellation token, for the stages a [`Stage`] guard covers.
 pub fn token() -> Cancel {
     CANCEL.clone()
-}
-
-/// The flag set with the token, for the run folder's writer.
-pub fn flag() -> &'static AtomicBool {
-    &FLAG
-}
-
-/// Whether a signal has cancelled the token.
-pub fn cancelled() -> bool {
-    CANCEL.is_cancelled()
 }
 
 /// While alive, signals cancel the token instead of ending the process: hold one around every

@@ -9,7 +9,10 @@
 //! Integer options get ranges (`count`): a count of geodesics, seeds, instances or branch and
 //! bound nodes beyond them would run for hours or exhaust memory, not answer a question.
 
+use crate::front::say;
 use clap::builder::{RangedU64ValueParser, TypedValueParser};
+use curvenet::physics::options::check_option;
+use curvenet::words::Opt;
 
 /// Parses a floating-point number (`1.5`, `2e-3`); `nan`, `inf` and garbage are refused here or
 /// by the caller's test.
@@ -95,14 +98,20 @@ pub fn young(s: &str) -> Result<String, String> {
     if s.trim().parse::<f64>().is_ok() || curvenet::units::split_number(s).1.is_empty() {
         positive(s).map(|_| s.trim().to_string())
     } else {
-        curvenet::physics::options::check_option("--young", s).map(|()| s.trim().to_string())
+        check_option(Opt::Young, s)
+            .map(|()| s.trim().to_string())
+            .map_err(|m| say(&m))
     }
 }
 
 /// A physical-mode option (`--units`, `--material`, `--density`, `--strength`, `--tube`,
 /// `--load`, `--gravity`), checked as the physical mode reads it and kept as written.
-pub fn physical(name: &'static str) -> impl Fn(&str) -> Result<String, String> + Clone {
-    move |s: &str| curvenet::physics::options::check_option(name, s).map(|()| s.trim().to_string())
+pub fn physical(opt: Opt) -> impl Fn(&str) -> Result<String, String> + Clone {
+    move |s: &str| {
+        check_option(opt, s)
+            .map(|()| s.trim().to_string())
+            .map_err(|m| say(&m))
+    }
 }
 
 /// A TCP port: 0 (any free port) to 65535.
@@ -152,10 +161,10 @@ mod tests {
                 .unwrap_err()
                 .contains("must be a finite number")
         );
-        assert!(physical("--density")("7850kg/m3").is_ok());
-        assert!(physical("--density")("-1kg/m3").is_err());
-        assert!(physical("--units")("inch").is_err());
-        assert!(physical("--gravity")("1e9").is_err());
+        assert!(physical(Opt::Density)("7850kg/m3").is_ok());
+        assert!(physical(Opt::Density)("-1kg/m3").is_err());
+        assert!(physical(Opt::Units)("inch").is_err());
+        assert!(physical(Opt::Gravity)("1e9").is_err());
         assert!(
             positive("-1")
                 .unwrap_err()

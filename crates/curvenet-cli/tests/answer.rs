@@ -26,10 +26,10 @@ impl Drop for Out {
     }
 }
 
-/// Runs `curvenet example NAME --no-certificate --out DIR`: stdout, stderr, result.json.
+/// Runs `curvenet example NAME --out DIR`: stdout, stderr, result.json.
 fn example(name: &str, out: &Path) -> (String, String, serde_json::Value) {
     let o = Command::new(BIN)
-        .args(["example", name, "--no-certificate", "--out"])
+        .args(["example", name, "--out"])
         .arg(out)
         .output()
         .expect("runs");

@@ -1103,11 +1103,9 @@ fn simplify_writes_a_fixed_geometry_certificate_only_with_certify() {
         "simplify", "--curves", "grid.txt", "--out", "out", "--budget", "0.6",
     ];
     args.extend_from_slice(QUIET);
-    // By default no certificate; --no-certificate is still accepted (and changes nothing).
-    for extra in [None, Some("--no-certificate")] {
-        let mut a = args.clone();
-        a.extend(extra);
-        let r = run(&[("grid.txt", GRID.as_bytes())], &a);
+    // By default no certificate.
+    {
+        let r = run(&[("grid.txt", GRID.as_bytes())], &args);
         assert_eq!(r.code, 0, "{}", r.stderr);
         assert!(!r.stdout.contains("certificate"), "{}", r.stdout);
         let result = std::fs::read_to_string(r.dir.join("out/result.json")).unwrap();
@@ -1154,14 +1152,7 @@ fn simplify_writes_a_fixed_geometry_certificate_only_with_certify() {
 #[test]
 fn simplify_records_the_local_search_when_asked() {
     let mut args = vec![
-        "simplify",
-        "--curves",
-        "grid.txt",
-        "--out",
-        "out",
-        "--budget",
-        "0.6",
-        "--no-certificate",
+        "simplify", "--curves", "grid.txt", "--out", "out", "--budget", "0.6",
     ];
     args.extend_from_slice(QUIET);
     args.push("--local-search");
@@ -1279,7 +1270,6 @@ fn a_budget_the_run_cannot_meet_is_a_warning() {
             "0.25",
             "--budget",
             "1e-9",
-            "--no-certificate",
             "--local-search",
             "--out",
             "out",

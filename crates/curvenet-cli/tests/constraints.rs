@@ -10,14 +10,13 @@ use common::{BIN, TempDir};
 use std::path::Path;
 use std::process::Command;
 
-/// `curvenet simplify --curves grid.txt --out out --budget 0.5 --no-certificate ARGS` in `dir`:
+/// `curvenet simplify --curves grid.txt --out out --budget 0.5 ARGS` in `dir`:
 /// exit code, stdout + stderr.
 fn simplify(dir: &Path, curves: &str, args: &[&str]) -> (i32, String) {
     let o = Command::new(BIN)
         .args([
             "simplify", "--curves", curves, "--out", "out", "--budget", "0.5",
         ])
-        .arg("--no-certificate")
         .args(args)
         .current_dir(dir)
         .output()
@@ -173,13 +172,7 @@ fn impossible_constraints_exit_2_before_any_work_naming_why() {
 fn the_tower_keeps_its_symmetry() {
     let dir = TempDir::with_grid("constraints-tower");
     let o = Command::new(BIN)
-        .args([
-            "example",
-            "tower",
-            "--no-certificate",
-            "--symmetry",
-            "rotate:8",
-        ])
+        .args(["example", "tower", "--symmetry", "rotate:8"])
         .arg("--out")
         .arg(dir.0.join("out"))
         .output()

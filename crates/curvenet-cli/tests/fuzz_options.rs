@@ -118,7 +118,6 @@ const SIMPLIFY: &[&str] = &[
     "0.25",
     "--budget",
     "0.6",
-    "--no-certificate",
     "--out",
     "out",
 ];
@@ -137,14 +136,7 @@ const SIMPLIFY_CERT: &[&str] = &[
     "out",
 ];
 const EXAMPLE: &[&str] = &["example", "roof", "--analyze-only", "--json"];
-const DEMO: &[&str] = &[
-    "demo",
-    "--geodesics",
-    "3",
-    "--no-certificate",
-    "--out",
-    "out",
-];
+const DEMO: &[&str] = &["demo", "--geodesics", "3", "--out", "out"];
 const TRACE: &[&str] = &[
     "trace",
     "--mesh",

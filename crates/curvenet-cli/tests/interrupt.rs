@@ -195,8 +195,12 @@ fn sigkill_again_and_again_during_the_greedy_then_resume_matches_an_uninterrupte
         }
         let out = child.wait_with_output().expect("curvenet ends");
         let stderr = String::from_utf8_lossy(&out.stderr);
+        // The build's own finding (two joints nearly coincide on this sketch) is printed by
+        // every run; a resume adds none of its own.
         assert!(
-            !stderr.contains("warning"),
+            !stderr
+                .lines()
+                .any(|l| l.contains("warning") && !l.contains("the shortest rest edge")),
             "a resume after a kill goes on without warnings: {stderr}"
         );
         if ended {
@@ -257,7 +261,7 @@ fn sigterm_during_the_local_search_stops_it_at_once_and_resume_finishes_the_run(
     stage_after_the_greedy_interrupted_by(
         "TERM",
         "the local search",
-        &["--local-search", "--alternatives", "3", "--no-certificate"],
+        &["--local-search", "--alternatives", "3"],
     );
 }
 
@@ -268,11 +272,7 @@ fn sigint_during_the_certificate_stops_it_at_once_and_resume_finishes_the_run() 
 
 #[test]
 fn sigint_during_the_local_search_stops_it_at_once_and_resume_finishes_the_run() {
-    stage_after_the_greedy_interrupted_by(
-        "INT",
-        "the local search",
-        &["--local-search", "--no-certificate"],
-    );
+    stage_after_the_greedy_interrupted_by("INT", "the local search", &["--local-search"]);
 }
 
 #[test]
@@ -325,16 +325,12 @@ fn resume_draws_the_pictures_a_signal_stopped() {
     let tmp = TempDir::new("int-pictures");
     let curves = dome_curves(&tmp.0, "curves.json");
     let out = tmp.0.join("out");
-    run_ok(&simplify_args(&curves, &out, &["--no-certificate"]));
+    run_ok(&simplify_args(&curves, &out, &[]));
     let result = std::fs::read(out.join("result.json")).expect("result.json");
     for f in ["viewer.html", "final.png", "mode.png"] {
         std::fs::remove_file(out.join(f)).expect("written by the run");
     }
-    let resumed = run_ok(&simplify_args(
-        &curves,
-        &out,
-        &["--no-certificate", "--resume"],
-    ));
+    let resumed = run_ok(&simplify_args(&curves, &out, &["--resume"]));
     assert!(String::from_utf8_lossy(&resumed.stderr).contains("already complete"));
     for f in ["viewer.html", "final.png", "mode.png"] {
         assert!(out.join(f).is_file(), "{f} drawn again");
@@ -385,7 +381,7 @@ fn sigterm_while_the_pictures_are_written_leaves_no_temporary_file_and_resume_cl
     let tmp = TempDir::new("int-pictures-TERM");
     let curves = dome_curves(&tmp.0, "curves.json");
     let out = tmp.0.join("out");
-    let args = simplify_args(&curves, &out, &["--no-certificate"]);
+    let args = simplify_args(&curves, &out, &[]);
     // The signal is sent the moment a picture's temporary file appears (its write in flight).
     // Whether the write could have finished before the process ends depends on the moment,
     // so the run is interrupted several times; a run that ends first (the write too quick to
@@ -444,11 +440,7 @@ fn sigterm_while_the_pictures_are_written_leaves_no_temporary_file_and_resume_cl
     for p in &planted {
         std::fs::write(p, b"half").expect("planted");
     }
-    let resumed = run_ok(&simplify_args(
-        &curves,
-        &out,
-        &["--no-certificate", "--resume"],
-    ));
+    let resumed = run_ok(&simplify_args(&curves, &out, &["--resume"]));
     let stderr = String::from_utf8_lossy(&resumed.stderr);
     assert!(stderr.contains("already complete"), "{stderr}");
     assert!(stderr.contains("removed 3 temporary file(s)"), "{stderr}");

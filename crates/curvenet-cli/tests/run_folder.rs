@@ -111,10 +111,7 @@ fn a_free_loop_simplified_is_named_unstable_wherever_its_numbers_appear() {
 fn arcshell_s_final_mechanism_is_named_unstable() {
     // The greedy's final 8-curve network has λ_eq ≈ -2e-15 and one zero mode.
     let tmp = TempDir::new("runf");
-    let o = run_in(
-        &tmp.0,
-        &["example", "arcshell", "--no-certificate", "--out", "out"],
-    );
+    let o = run_in(&tmp.0, &["example", "arcshell", "--out", "out"]);
     let err = stderr(&o);
     assert_eq!(o.status.code(), Some(0), "{err}");
     assert!(

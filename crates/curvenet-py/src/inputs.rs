@@ -7,7 +7,7 @@ use curvenet::paper;
 use numpy::ndarray::Array2;
 use numpy::{PyArray2, PyReadonlyArray2};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList, PyTuple};
+use pyo3::types::PyTuple;
 use std::path::PathBuf;
 
 /// One curve as Python sees it: `(points (n, 3), closed, label, file, line)`.
@@ -60,19 +60,18 @@ pub fn mesh_tuple<'py>(py: Python<'py>, m: &TriMesh) -> MeshTuple<'py> {
     )
 }
 
-/// A mesh from `(vertices, faces)`, checked (indices in range, finite coordinates).
-pub fn mesh_from_tuple(py: Python<'_>, t: &Bound<'_, PyAny>) -> PyResult<TriMesh> {
-    let (v, f): (PyReadonlyArray2<'_, f64>, PyReadonlyArray2<'_, i64>) = t.extract()?;
+/// A mesh from `(vertices, faces, name)`: `faces` an int64 array (the Python layer converts
+/// any integer dtype, refusing others), checked by the library when the set-up is read.
+pub fn mesh_from_tuple(py: Python<'_>, t: &Bound<'_, PyAny>) -> PyResult<(TriMesh, String)> {
+    let (v, f, name): (PyReadonlyArray2<'_, f64>, PyReadonlyArray2<'_, i64>, String) =
+        t.extract()?;
     let vertices = to_points(&v, "mesh vertices")?;
-    if vertices.iter().any(|p| !p.is_finite()) {
-        return Err(errors::usage(py, "mesh: a vertex coordinate is not finite"));
-    }
     let f = f.as_array();
     if f.ncols() != 3 {
         return Err(errors::usage(
             py,
             format!(
-                "mesh faces: expected an (m, 3) array, got shape {:?}",
+                "{name}: faces: expected an (m, 3) array of vertex indices, got shape {:?}",
                 f.shape()
             ),
         ));
@@ -81,20 +80,19 @@ pub fn mesh_from_tuple(py: Python<'_>, t: &Bound<'_, PyAny>) -> PyResult<TriMesh
     for (k, r) in f.rows().into_iter().enumerate() {
         let mut face = [0u32; 3];
         for (slot, &i) in face.iter_mut().zip(r.iter()) {
-            if i < 0 || i as usize >= vertices.len() {
-                return Err(errors::usage(
+            *slot = u32::try_from(i).map_err(|_| {
+                errors::usage(
                     py,
                     format!(
-                        "mesh face {k} names vertex {i}, but the mesh has {} vertices",
+                        "{name}: face {k} names vertex {i}, but the mesh has {} vertices",
                         vertices.len()
                     ),
-                ));
-            }
-            *slot = i as u32;
+                )
+            })?;
         }
         faces.push(face);
     }
-    Ok(TriMesh { vertices, faces })
+    Ok((TriMesh { vertices, faces }, name))
 }
 
 fn warning_texts(w: &[InputWarning]) -> Vec<String> {
@@ -180,54 +178,4 @@ pub fn read_mesh<'py>(py: Python<'py>, path: PathBuf) -> PyResult<Bound<'py, PyT
 #[pyfunction]
 pub fn example_names() -> Vec<&'static str> {
     paper::NAMES.to_vec()
-}
-
-/// The paper's example `name` with its set-up: a dict with `curves`, `mesh`, `edge_length`,
-/// `supports`, `budget` (a fraction), `keep`, `description`, `paper` (Table 1's figures) and
-/// `warnings`. `data` names a folder holding `meshes/` and `curves/` (default: the paper's
-/// files found beside the repository).
-#[pyfunction]
-#[pyo3(signature = (name, supports = "clamped", data = None))]
-pub fn example<'py>(
-    py: Python<'py>,
-    name: &str,
-    supports: &str,
-    data: Option<PathBuf>,
-) -> PyResult<Bound<'py, PyDict>> {
-    let supports: curvenet::rod::Supports =
-        supports.parse().map_err(|e: String| errors::usage(py, e))?;
-    // The paper's inputs are embedded in curvenet; `data` names a folder to read instead.
-    let ex = py
-        .detach(|| match &data {
-            Some(d) => paper::load(name, d, supports),
-            None => paper::load_embedded(name, supports),
-        })
-        .map_err(|e| match &e {
-            paper::ExampleError::Input(i) => errors::input(py, i),
-            _ => errors::usage(py, e.to_string()),
-        })?;
-    let d = PyDict::new(py);
-    let curves = PyList::new(py, ex.curves.iter().map(|c| curve_tuple(py, c)))?;
-    d.set_item("curves", curves)?;
-    d.set_item("mesh", mesh_tuple(py, &ex.mesh))?;
-    d.set_item("edge_length", ex.build.edge_length)?;
-    d.set_item("supports", ex.build.supports.name())?;
-    d.set_item("budget", ex.setup.budget_fraction)?;
-    d.set_item("keep", ex.setup.keep.clone())?;
-    d.set_item("name", ex.setup.name)?;
-    d.set_item("mesh_file", format!("meshes/{}", ex.setup.mesh))?;
-    let files: Vec<String> = ex
-        .setup
-        .curves
-        .iter()
-        .map(|(f, _)| format!("curves/{f}"))
-        .collect();
-    d.set_item("curve_files", files)?;
-    d.set_item("scale", ex.setup.mesh_scale)?;
-    d.set_item(
-        "paper",
-        serde_json::to_string(&ex.setup.paper).map_err(|e| errors::failed(py, e.to_string()))?,
-    )?;
-    d.set_item("warnings", warning_texts(&ex.warnings))?;
-    Ok(d)
 }

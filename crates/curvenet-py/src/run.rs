@@ -3,8 +3,11 @@
 
 use crate::arrays::{points, xyz};
 use crate::errors;
+use crate::network::Keywords;
+use curvenet::report::ReportError;
 use curvenet::report::export::{ExportFormat, export_files, write_exports};
 use curvenet::run_folder::RunFolder;
+use curvenet::run_folder::RunFolderError;
 use curvenet::run_folder::network_polylines;
 use numpy::PyArray2;
 use pyo3::prelude::*;
@@ -19,8 +22,26 @@ pub struct Run {
 impl Run {
     fn k(&self, py: Python<'_>, k: Option<usize>) -> PyResult<usize> {
         let k = k.unwrap_or_else(|| self.run.last_index());
-        self.run.record(k).map_err(|e| errors::usage(py, e))?;
+        self.run
+            .record(k)
+            .map_err(|e| errors::usage(py, said(&e)))?;
         Ok(k)
+    }
+}
+
+/// A run folder's error in the package's words (a missing network names its keyword).
+fn said(e: &RunFolderError) -> String {
+    match e {
+        RunFolderError::Absent(m) | RunFolderError::Resume(m) => m.render(&Keywords),
+        e => e.to_string(),
+    }
+}
+
+/// An export's error in the package's words.
+fn reported(e: &ReportError) -> String {
+    match e {
+        ReportError::RunFolder(e) => said(e),
+        e => e.to_string(),
     }
 }
 
@@ -31,7 +52,7 @@ impl Run {
     fn new(py: Python<'_>, dir: PathBuf) -> PyResult<Self> {
         let run = py
             .detach(|| RunFolder::open(&dir))
-            .map_err(|e| errors::usage(py, e))?;
+            .map_err(|e| errors::usage(py, said(&e)))?;
         Ok(Run { run })
     }
 
@@ -73,7 +94,10 @@ impl Run {
         k: Option<usize>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let k = self.k(py, k)?;
-        let u = self.run.displacement(k).map_err(|e| errors::usage(py, e))?;
+        let u = self
+            .run
+            .displacement(k)
+            .map_err(|e| errors::usage(py, said(&e)))?;
         Ok(xyz(py, u))
     }
 
@@ -81,7 +105,7 @@ impl Run {
     #[pyo3(signature = (k = None))]
     fn mode<'py>(&self, py: Python<'py>, k: Option<usize>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let k = self.k(py, k)?;
-        let v = self.run.mode(k).map_err(|e| errors::usage(py, e))?;
+        let v = self.run.mode(k).map_err(|e| errors::usage(py, said(&e)))?;
         Ok(xyz(py, v))
     }
 
@@ -137,7 +161,7 @@ impl Run {
         let format: ExportFormat = format.parse().map_err(|e: String| errors::usage(py, e))?;
         let k = self.k(py, k)?;
         py.detach(|| write_exports(&self.run, k, format, &out))
-            .map_err(|e| errors::failed(py, e))
+            .map_err(|e| errors::failed(py, reported(&e)))
     }
 
     /// The main file of `format` for iteration `k`, as `(name, text)`.
@@ -150,7 +174,8 @@ impl Run {
     ) -> PyResult<(String, String)> {
         let format: ExportFormat = format.parse().map_err(|e: String| errors::usage(py, e))?;
         let k = self.k(py, k)?;
-        let files = export_files(&self.run, k, format).map_err(|e| errors::failed(py, e))?;
+        let files =
+            export_files(&self.run, k, format).map_err(|e| errors::failed(py, reported(&e)))?;
         files
             .into_iter()
             .next()

@@ -20,7 +20,7 @@ def test_lambda_of_the_roof_is_the_command_lines(cli):
 
 def test_the_towers_greedy_makes_the_command_lines_removals(cli, tmp_path):
     cli_out = tmp_path / "cli"
-    cli("example", "tower", "--no-certificate", "--out", cli_out)
+    cli("example", "tower", "--out", cli_out)
     expected = curvenet.open_run(cli_out)
     seen = []
     got = curvenet.example("tower").simplify(out=tmp_path / "py", pictures=False,

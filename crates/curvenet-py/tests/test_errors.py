@@ -32,7 +32,7 @@ def test_a_missing_file_and_bad_parameters(grid, tmp_path):
         net.analyze(remove=[99])
     with pytest.raises(curvenet.InputError, match="budget"):
         net.simplify(1.5)
-    with pytest.raises(curvenet.InputError, match="keep list names curve 50"):
+    with pytest.raises(curvenet.InputError, match="keep names curve 50"):
         net.simplify(0.5, keep=[50])
     with pytest.raises(curvenet.InputError, match="unknown example"):
         curvenet.example("cathedral")

@@ -22,9 +22,9 @@ use axum::http::{Method, StatusCode, Uri, header};
 use axum::response::{Html, IntoResponse, Response};
 use axum::routing::{get, post};
 use curvenet::physics::PhysicalParams;
+use curvenet::run_folder::RunsRoot;
 use serde::Serialize;
 use serde::de::DeserializeOwned;
-use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 use std::sync::{Arc, RwLock};
 
@@ -54,8 +54,9 @@ const ENDPOINTS: &[(&str, &str)] = &[
 #[derive(Clone, Debug, Default)]
 pub struct ServeConfig {
     /// The folder whose run folders `POST /api/run` may load (`None`: loading is refused).
-    /// Canonical paths are compared, so `..` and symbolic links cannot leave it.
-    pub runs_root: Option<PathBuf>,
+    /// Every file of a run folder is read through it, each path resolved inside it (`..` and
+    /// symbolic links included), so nothing outside it is ever read.
+    pub runs_root: Option<RunsRoot>,
     /// The physical mode's parameters applied to a run folder loaded (`None`: the paper's
     /// mode).
     pub physical: Option<PhysicalParams>,

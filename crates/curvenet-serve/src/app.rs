@@ -41,6 +41,7 @@ pub fn page(ws: &Workspace) -> Result<String, String> {
     });
     let title = format!("curvenet serve: {}", ws.name);
     curvenet::report::viewer::app_html(net, &title, setup, live(ws), ws.mesh.as_deref(), objective)
+        .map_err(|e| e.to_string())
 }
 
 /// The current structure as the viewer's live structure: the summary's numbers (an unstable

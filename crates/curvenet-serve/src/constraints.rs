@@ -9,6 +9,7 @@
 //! when it starts, which may find them infeasible there (refused with the reason). The
 //! margins are those of the budget of the search started last (none before the first).
 
+use crate::words::say;
 use curvenet::constraints::{
     ConstraintError, ConstraintParams, Constraints, Group, SymmetryOption, max_displacement,
     parse_groups,
@@ -96,7 +97,7 @@ impl ConstraintsBody {
             max_deviation: self.max_deviation,
             ..ConstraintParams::default()
         };
-        p.validate().map_err(|m| in_api_words(&m))?;
+        p.validate().map_err(|m| say(&m))?;
         Ok(p)
     }
 }
@@ -119,9 +120,9 @@ impl SessionConstraints {
 
     /// What checking them found (the symmetry detected, groups widened, …), one line each.
     pub fn notes(&self) -> Vec<String> {
-        self.bound.as_ref().map_or_else(Vec::new, |c| {
-            c.notes().iter().map(|n| in_api_words(n)).collect()
-        })
+        self.bound
+            .as_ref()
+            .map_or_else(Vec::new, |c| c.notes().iter().map(say).collect())
     }
 
     /// Puts `params` in force for `net` (with its surface `mesh`); nothing changes on an
@@ -200,7 +201,7 @@ impl SessionConstraints {
     }
 }
 
-/// `params` bound to `net`, the budget and the keep list, its errors in words.
+/// `params` bound to `net`, the budget and the keep list, its errors in the API's words.
 fn bind(
     net: &Network,
     mesh: Option<&TriMesh>,
@@ -209,25 +210,9 @@ fn bind(
     keep: &[usize],
 ) -> Result<Constraints, String> {
     Constraints::new(net, mesh, params, budget, keep).map_err(|e| match e {
-        ConstraintError::Usage(m) => in_api_words(&m),
+        ConstraintError::Usage(m) => say(&m),
         ConstraintError::Infeasible(m) => {
-            format!("the constraints cannot be met: {}", in_api_words(&m))
+            format!("the constraints cannot be met: {}", say(&m))
         }
     })
-}
-
-/// A message of the library's constraints with the command line's option names replaced by
-/// the API's fields.
-fn in_api_words(m: &str) -> String {
-    [
-        ("(--mesh)", "(serve with --mesh)"),
-        ("--max-gap", "max_gap"),
-        ("--max-deviation", "max_deviation"),
-        ("--min-curves", "min_curves"),
-        ("--symmetry", "symmetry"),
-        ("--connected", "connected"),
-        ("--groups", "groups"),
-    ]
-    .iter()
-    .fold(m.to_owned(), |m, (cli, api)| m.replace(cli, api))
 }

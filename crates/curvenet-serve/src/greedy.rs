@@ -170,7 +170,7 @@ impl Request {
         params.max_removals = self.max_removals;
         params
             .validate(design.analyzer().curve_count())
-            .map_err(GreedyError::Params)?;
+            .map_err(|m| GreedyError::Params(crate::words::say(&m)))?;
         Ok(params)
     }
 }

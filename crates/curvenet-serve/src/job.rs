@@ -94,7 +94,11 @@ impl Job {
             Ok(Err(SimplifyError::Cancelled)) => self.status = RunStatus::Cancelled,
             Ok(Err(e)) => {
                 self.status = RunStatus::Error;
-                self.error = Some(format!("the {what} failed: {e}"));
+                let why = match e {
+                    SimplifyError::Params(m) => crate::words::say(&m),
+                    e => e.to_string(),
+                };
+                self.error = Some(format!("the {what} failed: {why}"));
             }
             Err(_) => {
                 self.status = RunStatus::Error;

@@ -7,6 +7,7 @@
 //! mode); a [`Runner`] runs the greedy on it, one run at a time on a thread of its own
 //! ([`greedy`]), a [`LocalRunner`] the local search from the current structure ([`local`]);
 //! [`constraints`] holds the session's design constraints, which both searches honour;
+//! [`words`] spells the library's messages in the API's words (its JSON fields);
 //! a [`Workspace`] ties them to one network, and [`workspace::open_run`] makes one of a run
 //! folder; [`export`] writes the current structure as a file; [`api::router`] answers HTTP
 //! requests about the current workspace (docs/serve.md; loading a run folder replaces it) and
@@ -26,6 +27,7 @@ pub mod export;
 pub mod greedy;
 mod job;
 pub mod local;
+pub mod words;
 pub mod workspace;
 
 pub use api::{AppState, ServeConfig, router};

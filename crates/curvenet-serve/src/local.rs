@@ -162,13 +162,12 @@ impl LocalRunner {
                 )
             }));
             // A search with no start that fits says how to give it one.
+            let how = "; it starts from the current structure (when it fits) and from single \
+                       curves: make a structure that fits current (a greedy iteration, for one) \
+                       and start it again";
             let outcome = outcome.map(|r| {
                 r.map_err(|e| match e {
-                    SimplifyError::Params(m) => SimplifyError::Params(format!(
-                        "{m}; it starts from the current structure (when it fits) and from \
-                         single curves: make a structure that fits current (a greedy \
-                         iteration, for one) and start it again"
-                    )),
+                    SimplifyError::Params(m) => SimplifyError::Params(m.then([how.into()])),
                     e => e,
                 })
             });

@@ -9,9 +9,8 @@ use crate::greedy::Runner;
 use crate::local::LocalRunner;
 use curvenet::io::TriMesh;
 use curvenet::physics::PhysicalParams;
-use curvenet::run_folder::RunFolder;
+use curvenet::run_folder::{RunFiles, RunFolder, RunFolderError};
 use curvenet::stability::Analyzer;
-use std::path::Path;
 use std::sync::{Arc, Mutex, MutexGuard};
 
 /// One served network and the session's work on it.
@@ -102,17 +101,42 @@ impl ServedRun {
     }
 }
 
-/// Reads the run folder `dir` for serving: its network and material as the run recorded them
-/// (with `physical`, the physical mode's parameters, applied to it), its answer to start on,
-/// its greedy iterations.
+/// Why a run folder could not be served.
+#[derive(Debug, thiserror::Error)]
+pub enum OpenRunError {
+    /// It could not be read (naming the file).
+    #[error(transparent)]
+    Folder(#[from] RunFolderError),
+    /// Its recorded set-up cannot be analysed (or the physical mode's parameters applied to
+    /// it).
+    #[error("{file}: {message}")]
+    Setup {
+        /// `result.json`, as the reader names it.
+        file: String,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+/// Reads the run folder of `files` for serving: its network and material as the run recorded
+/// them (with `physical`, the physical mode's parameters, applied to it), its answer to start
+/// on, its greedy iterations. Every file is read through `files`, so a confined reader reads
+/// nothing outside its root.
 ///
 /// # Errors
 ///
-/// A message naming the file when `dir` is not a readable curvenet run folder.
-pub fn open_run(dir: &Path, physical: Option<&PhysicalParams>) -> Result<ServedRun, String> {
-    let run = RunFolder::open(dir)?;
+/// The folder is not a readable curvenet run folder (naming the file), or its set-up cannot be
+/// analysed.
+pub fn open_run(
+    files: RunFiles,
+    physical: Option<&PhysicalParams>,
+) -> Result<ServedRun, OpenRunError> {
+    let run = RunFolder::read(files)?;
     let r = &run.result;
-    let in_result = |e: String| format!("{}: {e}", dir.join("result.json").display());
+    let in_result = |e: curvenet::stability::StabilityError| OpenRunError::Setup {
+        file: run.files.name("result.json"),
+        message: e.to_string(),
+    };
     let mut analyzer =
         Analyzer::new(run.network.clone(), r.setup.stability.clone()).map_err(in_result)?;
     if let Some(p) = physical {

@@ -28,6 +28,7 @@
 //!
 //! See `ARCHITECTURE.md` at the repository root for the map and `docs/model.md` for the model.
 
+pub mod app;
 pub mod builtin;
 pub mod cancel;
 pub mod constraints;
@@ -45,9 +46,11 @@ pub mod report;
 pub mod rng;
 pub mod rod;
 pub mod run_folder;
+pub mod run_layout;
 pub mod simplify;
 pub mod solve;
 pub mod sparse;
 pub mod stability;
 pub mod trace;
 pub mod units;
+pub mod words;

@@ -2,11 +2,12 @@
 //! than wiring the stages by hand.
 
 use crate::io::Polyline;
-use crate::network::{BuildInfo, BuildParams, Network, build_network};
+use crate::network::{BuildInfo, BuildParams, build_network};
 use crate::physics::PhysicalParams;
 use crate::report::AnalysisReport;
 use crate::rod::ActiveSet;
 use crate::stability::{Analysis, Analyzer, StabilityParams};
+use crate::words::{Recorded, Wording};
 
 /// Multiplies every point by `s`.
 pub fn scale_curves(curves: &mut [Polyline], s: f64) {
@@ -107,7 +108,8 @@ pub enum PipelineError {
     Stability(#[from] crate::stability::StabilityError),
 }
 
-/// Builds the network of `curves`, removes `removed`, relaxes and analyses what is left.
+/// Builds the network of `curves`, removes `removed`, relaxes and analyses what is left (the
+/// report's warnings name options as a record does, [`Recorded`]).
 ///
 /// The analysis is that of `params.objective`: the paper's `λ_eq`, or under the frequency
 /// objective `μ_min` of the mass-metric problem, the number the searches maximise. With
@@ -122,15 +124,30 @@ pub fn analyze(
     warnings: Vec<String>,
 ) -> Result<AnalyzeOutput, PipelineError> {
     let (network, info) = build_network(curves, build)?;
-    let mut analyzer = Analyzer::new(network, params.clone()).map_err(PipelineError::Params)?;
+    let mut analyzer =
+        Analyzer::new(network, params.clone()).map_err(|e| PipelineError::Params(e.to_string()))?;
     if let Some(p) = physical {
         analyzer = analyzer
             .with_physical(p.clone())
-            .map_err(PipelineError::Params)?;
+            .map_err(|e| PipelineError::Params(e.to_string()))?;
     }
-    let mut active = ActiveSet::all(curves.len());
+    analyze_built(analyzer, info, physical, removed, warnings, &Recorded)
+}
+
+/// [`analyze`] of a network already built (`info` its build's findings) in `analyzer`, the
+/// report's warnings naming options as `words` spell them.
+pub fn analyze_built(
+    analyzer: Analyzer,
+    info: BuildInfo,
+    physical: Option<&PhysicalParams>,
+    removed: &[usize],
+    warnings: Vec<String>,
+    words: &dyn Wording,
+) -> Result<AnalyzeOutput, PipelineError> {
+    let n = analyzer.network().rods.len();
+    let mut active = ActiveSet::all(n);
     for &c in removed {
-        if c >= curves.len() {
+        if c >= n {
             return Err(PipelineError::Params(format!(
                 "cannot remove curve {c}: no such curve"
             )));
@@ -138,6 +155,7 @@ pub fn analyze(
         active.remove(c);
     }
     let analysis = analyzer.analyze(&active, None)?;
+    let params = analyzer.params();
     let mut report = AnalysisReport::new(
         analyzer.network(),
         &info,
@@ -145,6 +163,7 @@ pub fn analyze(
         &active,
         &analysis,
         warnings,
+        words,
     )
     .with_objective(params.objective);
     if let Some(p) = physical {
@@ -156,11 +175,6 @@ pub fn analyze(
         analysis,
         report,
     })
-}
-
-/// Convenience for tests: the network of `curves`.
-pub fn network(curves: &[Polyline], build: &BuildParams) -> Result<Network, PipelineError> {
-    Ok(build_network(curves, build)?.0)
 }
 
 #[cfg(test)]

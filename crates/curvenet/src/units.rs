@@ -15,6 +15,7 @@
 //! `10mm`, `1kN/m`); [`parse_quantity`] converts them to SI and rejects a suffix that belongs to
 //! another quantity, naming what it is.
 
+use crate::words::{Message, Piece, message};
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::str::FromStr;
@@ -203,9 +204,9 @@ fn normalise(suffix: &str) -> String {
 
 /// A value of `kind` written with a unit suffix, in SI (Pa, kg/m³, m, N/m, m/s²).
 ///
-/// `what` names the option or field in messages (`--young`). A value without a suffix is an
-/// error naming the suffixes `kind` accepts, unless `bare` gives the factor to use for it
-/// (lengths in scene units, accelerations in m/s²).
+/// `what` names the option ([`Opt`](crate::words::Opt)) or the file's field in messages. A
+/// value without a suffix is an error naming the suffixes `kind` accepts, unless `bare` gives
+/// the factor to use for it (lengths in scene units, accelerations in m/s²).
 ///
 /// # Errors
 ///
@@ -214,37 +215,49 @@ fn normalise(suffix: &str) -> String {
 pub fn parse_quantity(
     text: &str,
     kind: Quantity,
-    what: &str,
+    what: impl Into<Piece>,
     bare: Option<f64>,
-) -> Result<f64, String> {
+) -> Result<f64, Message> {
+    let what: Piece = what.into();
+    let given = what.with_value(format!("{text:?}"));
     let [is, suffixes, example] = kind.words();
     let (number, suffix) = split_number(text);
     let value: f64 = number.parse().map_err(|_| {
-        format!("{what} {text:?}: expected a number with a unit ({suffixes}), e.g. {example}")
+        message![
+            given.clone(),
+            format!(": expected a number with a unit ({suffixes}), e.g. {example}")
+        ]
     })?;
     if !value.is_finite() {
-        return Err(format!("{what} {text:?}: not a finite number"));
+        return Err(message![given, ": not a finite number"]);
     }
     if suffix.is_empty() {
         return match bare {
             Some(f) => Ok(value * f),
-            None => Err(format!(
-                "{what} {text:?} needs a unit ({suffixes}), e.g. {example}"
-            )),
+            None => Err(message![
+                given,
+                format!(" needs a unit ({suffixes}), e.g. {example}")
+            ]),
         };
     }
     let norm = normalise(suffix);
     match SUFFIXES.iter().find(|(s, _, _)| *s == norm) {
         Some(&(_, k, f)) if k == kind => Ok(value * f),
-        Some(&(_, k, _)) => Err(format!(
-            "{what} {text:?}: {suffix} is a unit of {}, but {what} takes {is} ({suffixes})",
-            k.words()[0]
-                .trim_start_matches("a ")
-                .trim_start_matches("an "),
-        )),
-        None => Err(format!(
-            "{what} {text:?}: unknown unit {suffix:?} for {is} (expected {suffixes})"
-        )),
+        Some(&(_, k, _)) => Err(message![
+            given,
+            format!(
+                ": {suffix} is a unit of {}, but ",
+                k.words()[0]
+                    .trim_start_matches("a ")
+                    .trim_start_matches("an "),
+            ),
+            what,
+            format!(" takes {is} ({suffixes})")
+        ]),
+        None => Err(message![
+            given,
+            format!(": unknown unit {suffix:?} for {is} (expected {suffixes})")
+        ]),
     }
 }
 
@@ -287,9 +300,11 @@ mod tests {
         assert!("inch".parse::<LengthUnit>().is_err());
     }
 
+    use crate::words::{Opt, Recorded};
+
     #[test]
     fn suffixes_parse_to_si() {
-        let p = |t, k| parse_quantity(t, k, "--x", None);
+        let p = |t, k| parse_quantity(t, k, "x", None);
         assert_eq!(p("210GPa", Quantity::Stress), Ok(210e9));
         assert_eq!(p("210 GPa", Quantity::Stress), Ok(210e9));
         assert_eq!(p("355MPa", Quantity::Stress), Ok(355e6));
@@ -304,7 +319,7 @@ mod tests {
         assert_eq!(p("9.81m/s2", Quantity::Acceleration), Ok(9.81));
         // A bare number with a default factor.
         assert_eq!(
-            parse_quantity("4", Quantity::Length, "--radius", Some(1.0)),
+            parse_quantity("4", Quantity::Length, Opt::Radius, Some(1.0)),
             Ok(4.0)
         );
         assert_eq!(split_number("-3.5e-2m"), ("-3.5e-2", "m"));
@@ -313,17 +328,27 @@ mod tests {
 
     #[test]
     fn wrong_suffixes_say_what_they_are() {
-        let e = parse_quantity("7850kg/m3", Quantity::Stress, "--young", None).unwrap_err();
+        let e = parse_quantity("7850kg/m3", Quantity::Stress, Opt::Young, None)
+            .unwrap_err()
+            .render(&Recorded);
         assert!(e.contains("--young") && e.contains("density"), "{e}");
-        let e = parse_quantity("210GPa", Quantity::Density, "--density", None).unwrap_err();
+        let e = parse_quantity("210GPa", Quantity::Density, Opt::Density, None)
+            .unwrap_err()
+            .render(&Recorded);
         assert!(e.contains("stress") && e.contains("kg/m3"), "{e}");
-        let e = parse_quantity("210", Quantity::Stress, "--young", None).unwrap_err();
+        let e = parse_quantity("210", Quantity::Stress, Opt::Young, None)
+            .unwrap_err()
+            .render(&Recorded);
         assert!(e.contains("needs a unit") && e.contains("210GPa"), "{e}");
-        let e = parse_quantity("210furlongs", Quantity::Stress, "--young", None).unwrap_err();
+        let e = parse_quantity("210furlongs", Quantity::Stress, Opt::Young, None)
+            .unwrap_err()
+            .render(&Recorded);
         assert!(e.contains("unknown unit"), "{e}");
-        let e = parse_quantity("GPa", Quantity::Stress, "--young", None).unwrap_err();
+        let e = parse_quantity("GPa", Quantity::Stress, Opt::Young, None)
+            .unwrap_err()
+            .render(&Recorded);
         assert!(e.contains("expected a number"), "{e}");
-        assert!(parse_quantity("infGPa", Quantity::Stress, "--young", None).is_err());
-        assert!(parse_quantity("1e999GPa", Quantity::Stress, "--young", None).is_err());
+        assert!(parse_quantity("infGPa", Quantity::Stress, Opt::Young, None).is_err());
+        assert!(parse_quantity("1e999GPa", Quantity::Stress, Opt::Young, None).is_err());
     }
 }

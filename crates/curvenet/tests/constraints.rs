@@ -82,7 +82,9 @@ fn the_tower_has_a_rotation_of_order_32_and_mirrors() {
     let f = c.symmetry().expect("a symmetry");
     assert_eq!(f.group_order(), 8, "{:?}", c.notes());
     assert!(
-        c.notes().iter().any(|n| n.contains("rotate:32")),
+        c.notes()
+            .iter()
+            .any(|n| n.to_string().contains("rotate:32")),
         "{:?}",
         c.notes()
     );

@@ -240,7 +240,7 @@ fn absurd_time_limits_are_refused() {
             exact_time_limit: bad,
             ..CompareParams::default()
         };
-        let e = compare.validate().expect_err("refused");
+        let e = compare.validate().expect_err("refused").to_string();
         assert!(e.contains("time limit"), "{bad}: {e}");
     }
 }

@@ -289,7 +289,7 @@ fn check_build(curves: &[Polyline], params: &BuildParams) -> Result<(), String> 
     if info.curves != curves.len() || info.isolated_curves.iter().any(|&c| c >= curves.len()) {
         return Err(format!("info curve ids out of range: {info:?}"));
     }
-    if info.warnings.iter().any(String::is_empty) {
+    if info.warnings.iter().any(|w| w.to_string().is_empty()) {
         return Err("empty warning".into());
     }
     // Determinism: a second build is identical.
@@ -562,7 +562,9 @@ fn hand_made_hard_cases() {
     let (net, info) = build_network(&[a.clone(), a.clone()], &p(0.1)).unwrap();
     check_network(&net, &[a.clone(), a.clone()]).unwrap();
     assert!(
-        info.warnings.iter().any(|w| w.contains("run together")),
+        info.warnings
+            .iter()
+            .any(|w| w.to_string().contains("run together")),
         "{:?}",
         info.warnings
     );
@@ -591,7 +593,9 @@ fn hand_made_hard_cases() {
     let ring = line(&[[0.0, 0.0, 5.0], [1.0, 0.0, 5.0], [0.0, 1.0, 5.0]], true);
     let (_, info) = build_network(&[a, ring], &p(0.1)).unwrap();
     assert!(
-        info.warnings.iter().any(|w| w.contains("float free")),
+        info.warnings
+            .iter()
+            .any(|w| w.to_string().contains("float free")),
         "{:?}",
         info.warnings
     );

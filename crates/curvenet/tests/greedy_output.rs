@@ -256,7 +256,7 @@ impl GreedyHooks for StopAfter<'_> {
     }
 
     fn flush(&mut self) -> Result<(), String> {
-        self.writer.flush()
+        self.writer.flush().map_err(|e| e.to_string())
     }
 }
 

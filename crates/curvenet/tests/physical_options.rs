@@ -1,10 +1,20 @@
 //! The physical mode's options as written (`--units`, `--material`, `--young`, …): what they
-//! resolve to, and the messages bad values get.
+//! resolve to, and the messages bad values get (in the command line's words).
 
 use curvenet::material::Section;
 use curvenet::physics::PhysicalOptions;
 use curvenet::physics::options::check_option;
 use curvenet::units::LengthUnit;
+use curvenet::words::{Opt, Wording};
+
+/// The command line's spelling of options, which the messages below are checked in.
+struct Flags;
+
+impl Wording for Flags {
+    fn option(&self, opt: Opt) -> String {
+        format!("--{}", opt.key().replace('_', "-"))
+    }
+}
 
 fn steel_mm() -> PhysicalOptions {
     PhysicalOptions {
@@ -22,7 +32,7 @@ fn paper_mode_without_units_or_material() {
         density: Some("7850kg/m3".into()),
         ..Default::default()
     };
-    let e = stray.resolve(None, &[]).unwrap_err();
+    let e = stray.resolve(None, &[]).unwrap_err().render(&Flags);
     assert!(e.contains("--density") && e.contains("--units"), "{e}");
 }
 
@@ -140,7 +150,7 @@ fn bad_values_name_their_option() {
         ),
     ];
     for (o, words) in cases {
-        let e = o.resolve(None, &[]).unwrap_err();
+        let e = o.resolve(None, &[]).unwrap_err().render(&Flags);
         for w in words {
             assert!(e.contains(w), "{e:?} should name {w:?}");
         }
@@ -233,7 +243,7 @@ fn absurd_quantities_are_refused_naming_their_option() {
         ),
     ];
     for (o, option) in cases {
-        let e = o.resolve(None, &[]).unwrap_err();
+        let e = o.resolve(None, &[]).unwrap_err().render(&Flags);
         assert!(e.contains(option), "{o:?}: {e:?} should name {option}");
         let text = match option {
             "--density" => o.density.as_deref(),
@@ -246,7 +256,8 @@ fn absurd_quantities_are_refused_naming_their_option() {
         // Refused while the command line is parsed too (a section's stiffness needs the
         // units and the material: only resolve knows them).
         if let Some(t) = text {
-            assert!(check_option(option, t).is_err(), "{option} {t}");
+            let opt = Opt::from_key(&option[2..].replace('-', "_")).expect("an option");
+            assert!(check_option(opt, t).is_err(), "{option} {t}");
         }
     }
     // Gravity off stays allowed.
@@ -279,7 +290,7 @@ fn a_curve_files_physical_fields_turn_on_the_physical_mode_or_are_refused() {
     let p = none.resolve(Some("m"), &specs).unwrap().unwrap();
     assert_eq!(p.physical.units, LengthUnit::Metre);
     // A curve's own material with no unit anywhere: refused naming the curve.
-    let e = none.resolve(None, &specs).unwrap_err();
+    let e = none.resolve(None, &specs).unwrap_err().render(&Flags);
     assert!(e.contains("curve 1") && e.contains("--units"), "{e}");
     // A pre-bent curve in the paper's mode: refused naming the curve.
     let bent = CurveSpec {
@@ -291,7 +302,8 @@ fn a_curve_files_physical_fields_turn_on_the_physical_mode_or_are_refused() {
             None,
             &[CurveSpec::default(), CurveSpec::default(), bent.clone()],
         )
-        .unwrap_err();
+        .unwrap_err()
+        .render(&Flags);
     assert!(e.contains("curve 2") && e.contains("pre-bent"), "{e}");
     // With the file's units it is analysed pre-bent.
     let p = none.resolve(Some("mm"), &[bent]).unwrap().unwrap();

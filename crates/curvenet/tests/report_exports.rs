@@ -395,9 +395,9 @@ fn obj_json_and_csv_exports_of_a_ring_and_two_lines() {
 fn bad_folders_and_files_give_clear_errors() {
     let dir = TempDir::create("bad");
     let missing = dir.path().join("nope");
-    let e = RunFolder::open(&missing).unwrap_err();
+    let e = RunFolder::open(&missing).unwrap_err().to_string();
     assert!(e.contains("nope") && e.contains("not a folder"), "{e}");
-    let e = RunFolder::open(dir.path()).unwrap_err();
+    let e = RunFolder::open(dir.path()).unwrap_err().to_string();
     assert!(e.contains("result.json"), "{e}");
 
     // A copy of the ring run, then damaged piece by piece.
@@ -407,7 +407,7 @@ fn bad_folders_and_files_give_clear_errors() {
     let net_text = std::fs::read_to_string(copy.join("network.json")).unwrap();
 
     std::fs::write(copy.join("result.json"), "{\"version\": 1, ").unwrap();
-    let e = RunFolder::open(&copy).unwrap_err();
+    let e = RunFolder::open(&copy).unwrap_err().to_string();
     assert!(e.contains("result.json"), "{e}");
     std::fs::copy(ring_run().join("result.json"), copy.join("result.json")).unwrap();
 
@@ -418,7 +418,7 @@ fn bad_folders_and_files_give_clear_errors() {
         serde_json::to_string(&bad).unwrap(),
     )
     .unwrap();
-    let e = RunFolder::open(&copy).unwrap_err();
+    let e = RunFolder::open(&copy).unwrap_err().to_string();
     assert!(e.contains("network.json") && e.contains("1000000"), "{e}");
     let mut bad: curvenet::network::Network = serde_json::from_str(&net_text).unwrap();
     bad.rods[2].rest_lengths.pop();
@@ -427,22 +427,24 @@ fn bad_folders_and_files_give_clear_errors() {
         serde_json::to_string(&bad).unwrap(),
     )
     .unwrap();
-    let e = RunFolder::open(&copy).unwrap_err();
+    let e = RunFolder::open(&copy).unwrap_err().to_string();
     assert!(e.contains("rest lengths"), "{e}");
     std::fs::write(copy.join("network.json"), &net_text).unwrap();
 
     // Truncated and missing side files.
     std::fs::write(copy.join("states/0000.bin"), [0u8; 13]).unwrap();
     let run = RunFolder::open(&copy).expect("opens");
-    let e = run.displacement(0).unwrap_err();
+    let e = run.displacement(0).unwrap_err().to_string();
     assert!(e.contains("0000.bin") && e.contains("truncated"), "{e}");
     std::fs::write(copy.join("states/0000.bin"), [0u8; 16]).unwrap();
-    let e = run.displacement(0).unwrap_err();
+    let e = run.displacement(0).unwrap_err().to_string();
     assert!(e.contains("expected 3·V"), "{e}");
     std::fs::remove_file(copy.join("states/0000.bin")).unwrap();
-    let e = export::curves_obj(&run, 0, false).unwrap_err();
+    let e = export::curves_obj(&run, 0, false).unwrap_err().to_string();
     assert!(e.contains("0000.bin"), "{e}");
-    let e = export::export_files(&ok, 99, ExportFormat::All).unwrap_err();
+    let e = export::export_files(&ok, 99, ExportFormat::All)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("no iteration 99"), "{e}");
 
     // A corrupt mesh is a warning, not an error.
@@ -466,12 +468,16 @@ fn bad_folders_and_files_give_clear_errors() {
         ("\"radius\":2.0", "\"radius\":-2.0", "radius"),
     ] {
         assert!(text.contains(from), "{from}");
-        let e = parse_network_file(&text.replacen(from, to, 1)).unwrap_err();
+        let e = parse_network_file(&text.replacen(from, to, 1))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains(phrase), "{phrase}: {e}");
     }
-    let e = parse_network_file("{\"format\": ").unwrap_err();
+    let e = parse_network_file("{\"format\": ").unwrap_err().to_string();
     assert!(e.contains("line"), "{e}");
-    let e = load_network(&dir.path().join("missing.json")).unwrap_err();
+    let e = load_network(&dir.path().join("missing.json"))
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("missing.json"), "{e}");
 }
 

@@ -523,7 +523,7 @@ fn restrict_share_outside_the_unit_interval_is_an_error() {
     for bad in [-0.1, 1.5, f64::NAN, f64::INFINITY] {
         let mut p = StabilityParams::default();
         p.tuning.restrict_share = bad;
-        let e = p.validate().expect_err("rejected");
+        let e = p.validate().expect_err("rejected").to_string();
         assert!(e.contains("restrict_share"), "{e}");
     }
     for good in [0.0, 0.85, 1.0] {
@@ -538,7 +538,7 @@ fn newton_floor_near_below_one_is_an_error() {
     for bad in [0.5, -1.0, f64::NAN, f64::INFINITY] {
         let mut p = StabilityParams::default();
         p.tuning.solver.floor_near = bad;
-        let e = p.validate().expect_err("rejected");
+        let e = p.validate().expect_err("rejected").to_string();
         assert!(e.contains("floor_near"), "{e}");
     }
     let mut p = StabilityParams::default();
@@ -551,7 +551,7 @@ fn newton_chord_below_outside_zero_one_and_an_empty_solve_group_are_errors() {
     for bad in [-1e-6, 1.0, 2.0, f64::NAN, f64::INFINITY] {
         let mut p = StabilityParams::default();
         p.tuning.solver.chord_below = bad;
-        let e = p.validate().expect_err("rejected");
+        let e = p.validate().expect_err("rejected").to_string();
         assert!(e.contains("chord_below"), "{e}");
     }
     for good in [0.0, 1e-6, 0.5] {
@@ -561,7 +561,7 @@ fn newton_chord_below_outside_zero_one_and_an_empty_solve_group_are_errors() {
     }
     let mut p = StabilityParams::default();
     p.eigen.solve_group = 0;
-    let e = p.validate().expect_err("rejected");
+    let e = p.validate().expect_err("rejected").to_string();
     assert!(e.contains("solve group"), "{e}");
 }
 
@@ -570,7 +570,7 @@ fn an_eigen_trailing_tolerance_outside_zero_to_a_hundredth_is_an_error() {
     for bad in [0.0, -1e-4, 1e-2, f64::NAN, f64::INFINITY] {
         let mut p = StabilityParams::default();
         p.eigen.trailing_tol = Some(bad);
-        let e = p.validate().expect_err("rejected");
+        let e = p.validate().expect_err("rejected").to_string();
         assert!(e.contains("trailing tolerance"), "{e}");
     }
     for good in [None, Some(1e-4), Some(1e-12)] {

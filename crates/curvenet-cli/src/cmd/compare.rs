@@ -2,7 +2,6 @@
 //! a run's answer on networks drawn afresh, or (`--constraints N`) what each design constraint
 //! costs.
 
-use super::surface::read_mesh_arg;
 use crate::args::CompareArgs;
 use crate::exit::usage;
 use curvenet::experiments::compare::{
@@ -27,7 +26,7 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
         let mesh = if paper::SIMPLE_SURFACES.contains(&name.as_str()) {
             data.read_mesh(&format!("{name}.obj"))?.mesh
         } else {
-            read_mesh_arg(Path::new(name))?.mesh
+            super::mesh_arg(Path::new(name))?.0
         };
         surfaces.push(Surface {
             name: name.clone(),

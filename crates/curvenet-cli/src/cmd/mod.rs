@@ -6,23 +6,24 @@ mod compare;
 mod demo;
 mod example;
 mod export;
-mod greedy_run;
 #[cfg(feature = "serve")]
 mod serve;
 mod simplify;
-mod surface;
 mod trace;
 mod view;
 
-use crate::args::{Cli, Command, InputArgs, PhysicalModeArgs, PhysicsArgs};
+use crate::args::{
+    AfterGreedyArgs, Cli, Command, ConstraintArgs, InputArgs, PhysicalModeArgs, PhysicsArgs,
+};
 use crate::exit::usage;
-use curvenet::io::{self, Polyline, TriMesh};
-use curvenet::network::{BuildParams, checks};
-use curvenet::physics::{PhysicalOptions, PhysicalParams};
-use curvenet::rod::Material;
-use curvenet::run_folder::InputDescription;
-use curvenet::stability::{Objective, StabilityParams};
-use curvenet::{paper, pipeline};
+pub use crate::front::print_warnings;
+use crate::front::{Console, fail, say};
+use crate::signals;
+use curvenet::app::{self, CurveSource, InputSpec, MeshSource, ModelOptions, RunSpec, Setup};
+use curvenet::constraints::ConstraintParams;
+use curvenet::physics::PhysicalOptions;
+use curvenet::simplify::Budget;
+use std::path::PathBuf;
 
 /// Runs the parsed command line.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
@@ -49,334 +50,124 @@ pub fn open_in_browser(what: &str) {
     }
 }
 
-/// Where the paper's files are read from: the folder `--data` names (which must exist), or the
-/// copies embedded in curvenet.
-pub fn data_source(folder: Option<&std::path::Path>) -> anyhow::Result<paper::DataSource> {
-    if let Some(dir) = folder
-        && !dir.is_dir()
-    {
-        return Err(usage(format!(
-            "--data {}: no such folder (it should hold meshes/ and curves/; without --data \
-                 the paper's files embedded in curvenet are used)",
-            dir.display()
-        )));
+/// The inputs of the options.
+pub fn input_spec(input: &InputArgs, physics: &PhysicsArgs) -> InputSpec {
+    InputSpec {
+        curves: CurveSource::Files(input.curves.clone()),
+        mesh: input.mesh.clone().map(MeshSource::Path),
+        scale: input.scale,
+        edge_length: input.edge_length,
+        merge_joints: physics.merge_joints,
+        supports: physics.supports,
     }
-    Ok(paper::DataSource::folder_or_embedded(folder))
 }
 
-/// The physical mode from the options: its parameters (`None` in the paper's mode) and the
-/// options the paper's model is built from. In the physical mode `--radius` and `--young`
-/// describe the physical rods, so the paper's model (its `λ`, the searches' objective) keeps
-/// its defaults and chooses as without the physical options. `file_units` and `specs` come
-/// from the curve files.
-pub fn physical_mode(
+/// The paper's example `name` (from `data`, else the embedded copies) with the options'
+/// supports and joint merging.
+pub fn example_spec(
+    name: &str,
+    data: Option<&std::path::Path>,
     physics: &PhysicsArgs,
-    p: &PhysicalModeArgs,
-    file_units: Option<&str>,
-    specs: &[curvenet::material::CurveSpec],
-) -> anyhow::Result<(Option<PhysicalParams>, PhysicsArgs)> {
-    let options = physical_options(physics, p);
-    let physical = options.resolve(file_units, specs).map_err(usage)?;
-    let mut paper = physics.clone();
-    let physical = physical.map(|mut pp| {
-        paper.young = None;
-        paper.radius = None;
-        pp.frequencies = physics.eigen_count.clamp(1, 50);
-        pp
-    });
-    Ok((physical, paper))
+) -> InputSpec {
+    InputSpec {
+        supports: physics.supports,
+        merge_joints: physics.merge_joints,
+        ..InputSpec::new(CurveSource::Example {
+            name: name.to_string(),
+            data: data.map(|d| d.to_path_buf()),
+        })
+    }
 }
 
-/// The physical mode's options as given (what a run folder records of them).
-pub fn physical_options(physics: &PhysicsArgs, p: &PhysicalModeArgs) -> PhysicalOptions {
-    PhysicalOptions {
-        units: p.units.clone(),
-        material: p.material.clone(),
+/// The model of the options.
+pub fn model_options(physics: &PhysicsArgs, p: &PhysicalModeArgs) -> ModelOptions {
+    ModelOptions {
+        radius: physics.radius,
         young: physics.young.clone(),
-        density: p.density.clone(),
-        strength: p.strength.clone(),
-        radius: physics.radius.map(|r| r.to_string()),
-        tube: p.tube.clone(),
-        load: p.load.clone(),
-        gravity: p.gravity.clone(),
-    }
-}
-
-/// Stability parameters from the shared options (defaults where unset).
-pub fn stability_params(p: &PhysicsArgs) -> anyhow::Result<StabilityParams> {
-    let mut s = StabilityParams::default();
-    let d = Material::default();
-    s.material = Material {
-        radius: p.radius.unwrap_or(d.radius),
-        young: match &p.young {
-            Some(t) => t.trim().parse().map_err(|_| {
-                usage(format!(
-                    "--young {t:?}: the paper's mode takes a plain number (default 1); a modulus \
-                     with a unit such as 210GPa needs the physical mode (--units mm|cm|m and \
-                     --material NAME)"
-                ))
-            })?,
-            None => d.young,
+        anchor_weight: physics.anchor_weight,
+        eigen_count: physics.eigen_count,
+        objective: physics.objective,
+        physical: PhysicalOptions {
+            units: p.units.clone(),
+            material: p.material.clone(),
+            density: p.density.clone(),
+            strength: p.strength.clone(),
+            tube: p.tube.clone(),
+            load: p.load.clone(),
+            gravity: p.gravity.clone(),
+            ..PhysicalOptions::default()
         },
-        anchor_weight: p.anchor_weight.unwrap_or(d.anchor_weight),
-    };
-    s.eigen = s.eigen.with_count(p.eigen_count);
-    let m = &s.material;
-    let (lo, hi) = curvenet::rod::STIFFNESS_RANGE;
-    for (name, k, formula) in [
-        ("stretching", m.ks(), "E π r²"),
-        ("bending", m.kb(), "E π r⁴ / 4"),
-    ] {
-        if !(lo..=hi).contains(&k) {
-            return Err(usage(format!(
-                "--radius {:e} and --young {:e} give a {name} stiffness {formula} = {k:e}, out \
-                 of the range the solvers handle ({lo:e} to {hi:e}); choose scene units where \
-                 the radius is nearer 1",
-                m.radius, m.young
-            )));
-        }
-    }
-    if !(lo..=hi).contains(&(2.0 * m.anchor_weight)) {
-        return Err(usage(format!(
-            "--anchor-weight {:e}: an anchor's stiffness 2µ must lie between {lo:e} and {hi:e}",
-            m.anchor_weight
-        )));
-    }
-    s.validate().map_err(usage)?;
-    Ok(s)
-}
-
-/// Curves and build parameters from the input options.
-pub struct Inputs {
-    /// Scaled curves in id order.
-    pub curves: Vec<Polyline>,
-    /// Network construction.
-    pub build: BuildParams,
-    /// Reading warnings.
-    pub warnings: Vec<String>,
-    /// What was read.
-    pub description: InputDescription,
-    /// The mesh, scaled, if one was given.
-    pub mesh: Option<curvenet::io::TriMesh>,
-    /// The groups the curve files name (each curve's JSON `"group"`, in id order), as groups.
-    pub groups: Vec<curvenet::constraints::Group>,
-    /// Each curve's material, section and rest shape from the curve files (empty when no
-    /// file says anything).
-    pub specs: Vec<curvenet::material::CurveSpec>,
-    /// The length unit the curve files declare (the first that does).
-    pub file_units: Option<String>,
-}
-
-/// The user's inputs read (their warnings printed), with the physical mode they ask for and
-/// the stability parameters maximising `objective`: where `analyze` and `simplify` start.
-pub fn load_setup(
-    input: &InputArgs,
-    physics: &PhysicsArgs,
-    physical: &PhysicalModeArgs,
-    objective: Objective,
-) -> anyhow::Result<(Inputs, Option<PhysicalParams>, StabilityParams)> {
-    let inputs = load_inputs(input, physics)?;
-    print_warnings(&inputs.warnings);
-    let (physical, paper) = physical_mode(
-        physics,
-        physical,
-        inputs.file_units.as_deref(),
-        &inputs.specs,
-    )?;
-    let mut params = stability_params(&paper)?;
-    params.objective = objective;
-    Ok((inputs, physical, params))
-}
-
-/// Refuses the curve ids `option` names when the input (`n` curves) lacks one.
-pub fn check_curve_ids(option: &str, ids: &[usize], n: usize) -> anyhow::Result<()> {
-    match ids.iter().find(|&&c| c >= n) {
-        Some(&bad) => Err(usage(format!(
-            "{option} names curve {bad}, but the input has {n} curves (ids 0..{})",
-            n.saturating_sub(1)
-        ))),
-        None => Ok(()),
     }
 }
 
-/// Reads and scales the inputs.
-pub fn load_inputs(a: &InputArgs, p: &PhysicsArgs) -> anyhow::Result<Inputs> {
-    let mut warnings = Vec::new();
-    let mut mesh = None;
-    if let Some(m) = &a.mesh {
-        let file = surface::read_mesh_arg(m)?;
-        warnings.extend(file.warnings);
-        let mut tri = file.mesh;
-        for v in &mut tri.vertices {
-            *v = *v * a.scale;
-        }
-        mesh = Some(tri);
+/// The set-up of `input` and `model`, the inputs' warnings printed.
+pub fn setup(input: &InputSpec, model: &ModelOptions) -> anyhow::Result<Setup> {
+    let setup = Setup::new(input, model).map_err(fail)?;
+    for w in &setup.inputs.warnings {
+        print_warnings(&[say(w)]);
     }
-    let mut curves = Vec::new();
-    let (mut tags, mut origins) = (Vec::new(), Vec::new());
-    let (mut specs, mut file_units) = (Vec::new(), None);
-    for path in &a.curves {
-        let f = io::read_curves(path)?;
-        warnings.extend(f.warnings.iter().map(|w| w.to_string()));
-        origins.extend(f.curves.iter().map(|c| c.origin.to_string()));
-        tags.extend(
-            f.groups
-                .iter()
-                .cloned()
-                .chain(std::iter::repeat(None))
-                .take(f.curves.len()),
-        );
-        if !f.specs.is_empty() {
-            specs.resize(curves.len(), Default::default());
-            specs.extend(f.specs);
-        }
-        file_units = file_units.or(f.units);
-        curves.extend(f.curves);
-    }
-    let groups = curvenet::constraints::groups::groups_of_tags(&tags, &origins);
-    pipeline::scale_curves(&mut curves, a.scale);
-    check_scaled(&curves, mesh.as_ref(), a)?;
-    let h = match a.edge_length {
-        Some(h) => h,
-        None => pipeline::default_edge_length(&curves).ok_or_else(|| {
-            usage(
-                "cannot choose the edge length: the curves' lengths are out of range; give \
-                 --edge-length or another --scale",
-            )
-        })?,
-    };
-    warnings.extend(network_size_warning(
-        &curves,
-        h,
-        a.edge_length.is_some(),
-        a.scale,
-    ));
-    if let Some(m) = &mesh {
-        let name = a
-            .mesh
-            .as_ref()
-            .map_or_else(String::new, |p| p.display().to_string());
-        warnings.extend(checks::mesh_warnings(m, &name));
-        let far = checks::curves_far_from_mesh(&curves, m, checks::FAR_FROM_MESH);
-        warnings.extend(checks::far_from_mesh_warning(&far, &name));
-    }
-    let build = BuildParams {
-        edge_length: h,
-        supports: p.supports.unwrap_or_default(),
-        merge_joints_below: p.merge_joints,
-        ..BuildParams::default()
-    };
-    build.validate().map_err(|e| usage(e.to_string()))?;
-    let description = InputDescription {
-        example: None,
-        mesh: a.mesh.as_ref().map(|m| m.display().to_string()),
-        curve_files: a.curves.iter().map(|c| c.display().to_string()).collect(),
-        scale: a.scale,
-    };
-    Ok(Inputs {
-        curves,
-        build,
-        warnings,
-        description,
-        mesh,
-        groups,
-        specs,
-        file_units,
-    })
+    Ok(setup)
 }
 
-/// The design constraints of the options, with `groups` (the curve files' own) after the
-/// groups file's.
-pub fn constraint_params(
-    a: &crate::args::ConstraintArgs,
-    groups: Vec<curvenet::constraints::Group>,
-) -> anyhow::Result<curvenet::constraints::ConstraintParams> {
-    use curvenet::constraints::{ConstraintParams, read_groups};
-    let mut all = match &a.groups {
-        Some(path) => read_groups(path)?,
-        None => Vec::new(),
-    };
-    all.extend(groups);
-    let p = ConstraintParams {
-        groups: all,
-        symmetry: a.symmetry.unwrap_or_default(),
-        connected: a.connected,
-        min_curves: a.min_curves,
-        max_gap: a.max_gap,
-        max_deviation: a.max_deviation,
-        ..ConstraintParams::default()
-    };
-    p.validate().map_err(usage)?;
-    Ok(p)
+/// The run of the options: folder, budget, keep list, constraints, steps after the greedy.
+pub fn run_spec(
+    out: PathBuf,
+    budget: Option<Budget>,
+    keep: Option<Vec<usize>>,
+    c: &ConstraintArgs,
+    after: &AfterGreedyArgs,
+) -> RunSpec {
+    RunSpec {
+        budget,
+        keep,
+        constraints: ConstraintParams {
+            symmetry: c.symmetry.unwrap_or_default(),
+            connected: c.connected,
+            min_curves: c.min_curves,
+            max_gap: c.max_gap,
+            max_deviation: c.max_deviation,
+            ..ConstraintParams::default()
+        },
+        groups_file: c.groups.clone(),
+        local_search: after.local_search,
+        alternatives: after.alternatives,
+        certify: after.certify,
+        certificate_nodes: after.certificate_nodes,
+        ..RunSpec::new(out)
+    }
 }
 
-/// The warning about a very large network at edge length `h` (given as `--edge-length` when
-/// `given`, else the default), before it is built. (One too large to build is refused by the
-/// build itself.)
-pub fn network_size_warning(
-    curves: &[Polyline],
-    h: f64,
-    given: bool,
-    scale: f64,
-) -> Option<String> {
-    let what = if given {
-        format!("--edge-length {h:e}")
-    } else {
-        format!("the default edge length {h:e}")
-    };
-    let scaled = if scale == 1.0 {
-        String::new()
-    } else {
-        format!(" (curves scaled by --scale {scale})")
-    };
-    pipeline::large_network(curves, h).map(|n| {
-        format!(
-            "{what} makes a large network, about {n:.0} vertices{scaled}: its analysis takes \
-             minutes and gigabytes of memory (a larger --edge-length makes it smaller)"
-        )
-    })
-}
-
-/// Rejects a `--scale` that pushes coordinates out of the floating-point range, naming the first
-/// curve (file and line) or the mesh it breaks.
-fn check_scaled(curves: &[Polyline], mesh: Option<&TriMesh>, a: &InputArgs) -> anyhow::Result<()> {
-    if let Some((c, curve)) = curves
-        .iter()
-        .enumerate()
-        .find(|(_, c)| c.points.iter().any(|p| !p.is_finite()))
-    {
-        return Err(usage(format!(
-            "{}: --scale {} makes the coordinates of curve {c} overflow; choose a smaller scale",
-            curve.origin, a.scale
-        )));
+/// Runs `spec` on `setup` with the console's progress and the signals' token, and prints
+/// the summary.
+pub fn execute(setup: &mut Setup, spec: &RunSpec) -> anyhow::Result<()> {
+    let console = Console::new();
+    let outcome = app::execute(setup, spec, &console, &signals::token()).map_err(fail)?;
+    if outcome.already_complete {
+        eprintln!("{}: the run is already complete", outcome.folder.display());
     }
-    // Points that still differ but whose distances underflow: the scale shrank the curve away.
-    if let Some((c, curve)) = curves
-        .iter()
-        .enumerate()
-        .find(|(_, c)| c.length() == 0.0 && c.points.windows(2).any(|w| w[0] != w[1]))
-    {
-        return Err(usage(format!(
-            "{}: --scale {} makes curve {c} so small that its length underflows to 0; choose \
-             a larger scale",
-            curve.origin,
-            fmt_length(a.scale)
-        )));
-    }
-    if mesh.is_some_and(|m| m.vertices.iter().any(|p| !p.is_finite())) {
-        return Err(usage(format!(
-            "{}: --scale {} makes the mesh's coordinates overflow; choose a smaller scale",
-            a.mesh
-                .as_ref()
-                .map_or_else(String::new, |p| p.display().to_string()),
-            a.scale
-        )));
-    }
+    print!("{}", app::run_summary(&outcome));
     Ok(())
 }
 
 /// A length with seven significant digits (`curvenet::fmt::length`).
 pub use curvenet::fmt::length as fmt_length;
+
+/// Where the paper's files are read from: the folder `--data` names (which must exist), or
+/// the copies embedded in curvenet.
+pub fn data_source(
+    folder: Option<&std::path::Path>,
+) -> anyhow::Result<curvenet::paper::DataSource> {
+    app::inputs::data_source(folder.map(|f| f.to_path_buf()).as_ref()).map_err(fail)
+}
+
+/// The mesh `arg` names (an OBJ file or a built-in surface) and its name (the path or
+/// `builtin:NAME`), its reading warnings printed.
+pub fn mesh_arg(arg: &std::path::Path) -> anyhow::Result<(curvenet::io::TriMesh, String)> {
+    let (mesh, name, warnings) =
+        app::inputs::read_mesh(&MeshSource::Path(arg.to_path_buf())).map_err(fail)?;
+    print_warnings(&warnings);
+    Ok((mesh, name))
+}
 
 /// Takes the lock of the run folder `dir` for `command` (`view`, `export`), which write into
 /// it, shared with other such commands: refused while a run is writing there. A folder that cannot be locked (read-only, say)
@@ -418,16 +209,4 @@ pub fn writable_file(option: &str, path: &std::path::Path) -> anyhow::Result<()>
         )));
     }
     Ok(())
-}
-
-/// Prints warnings on stderr, one per line: `warning: …`, or as they are when they already read
-/// `file:line: warning: …` (the findings of the readers).
-pub fn print_warnings(warnings: &[String]) {
-    for w in warnings {
-        if w.contains(": warning: ") {
-            eprintln!("{w}");
-        } else {
-            eprintln!("warning: {w}");
-        }
-    }
 }

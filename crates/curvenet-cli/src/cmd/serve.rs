@@ -3,18 +3,21 @@
 //! giving the `λ` of `curvenet analyze --remove` (and, in the physical mode, its physical
 //! numbers); `--bench` measures edits against cold analyses instead.
 
-use super::{check_curve_ids, load_inputs, physical_mode, print_warnings, stability_params};
-use crate::args::{InputArgs, ServeArgs};
+use super::print_warnings;
+use crate::args::ServeArgs;
 use crate::exit::usage;
+use crate::front::fail;
+use curvenet::app::check_curve_ids;
 use curvenet::io::TriMesh;
-use curvenet::network::{BuildParams, build_network};
 use curvenet::physics::PhysicalParams;
+use curvenet::run_folder::{RunFiles, RunsRoot};
 use curvenet::stability::Analyzer;
+use curvenet::words::Opt;
 use curvenet_serve::bench::BenchParams;
 use curvenet_serve::workspace::open_run;
 use curvenet_serve::{AppState, Design, DesignError, Runner, ServeConfig, Server, Workspace};
 use std::net::{SocketAddr, ToSocketAddrs};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 pub fn run(a: ServeArgs) -> anyhow::Result<()> {
     // The benchmark listens on nothing.
@@ -22,9 +25,10 @@ pub fn run(a: ServeArgs) -> anyhow::Result<()> {
     // A run folder (given or loaded from the page) gets the physical mode's options alone:
     // its curves' own materials and units are not recorded in it.
     // Options that need a curve file's units serve a run folder in the paper's mode.
-    let run_physical = match physical_mode(&a.physics, &a.physical, None, &[]) {
-        Ok((p, _)) => p,
-        Err(e) if a.run.is_some() => return Err(e),
+    let model = super::model_options(&a.physics, &a.physical);
+    let run_physical = match model.resolve(None, &[]) {
+        Ok(m) => m.physical,
+        Err(e) if a.run.is_some() => return Err(fail(e)),
         Err(_) => None,
     };
     let served = match &a.run {
@@ -37,7 +41,7 @@ pub fn run(a: ServeArgs) -> anyhow::Result<()> {
         greedy,
         mesh,
     } = served;
-    check_curve_ids("--remove", &a.remove, analyzer.curve_count())?;
+    check_curve_ids(Opt::Remove, &a.remove, analyzer.curve_count()).map_err(fail)?;
     let n = analyzer.curve_count();
     let kept: Vec<usize> = kept.into_iter().filter(|c| !a.remove.contains(c)).collect();
     let design = Design::new(analyzer, &kept).map_err(|e| match e {
@@ -49,6 +53,7 @@ pub fn run(a: ServeArgs) -> anyhow::Result<()> {
         (Some(name), _) => name.clone(),
         (None, Some(dir)) => dir.display().to_string(),
         (None, None) => a
+            .input
             .curves
             .iter()
             .map(|c| c.display().to_string())
@@ -69,13 +74,14 @@ pub fn run(a: ServeArgs) -> anyhow::Result<()> {
     println!("{url}");
     let s = design.current().summary.clone();
     eprintln!(
-        "serving {} of {n} curves: λ = {:.6e} ({}); Ctrl-C stops",
+        "serving {} of {n} curves: {} = {:.6e} ({}); Ctrl-C stops",
         s.curves.len(),
+        design.analyzer().objective().value_symbol(),
         s.lambda,
         s.status.word()
     );
     if let Some(p) = &s.physical {
-        print_warnings(&p.warnings);
+        crate::front::print_messages(&p.warnings);
     }
     if a.open {
         super::open_in_browser(&url);
@@ -103,67 +109,29 @@ struct Served {
 /// The analyzer of the inputs (or of `--example`), in the physical mode when asked, every
 /// curve kept.
 fn from_inputs(a: &ServeArgs) -> anyhow::Result<Served> {
-    let (curves, build, warnings, mesh, physical, paper) = match &a.example {
-        Some(name) => {
-            let data = super::data_source(a.data.as_deref())?;
-            let supports = a.physics.supports.unwrap_or_default();
-            let ex = curvenet::paper::load_from(name, &data, supports)?;
-            let build = BuildParams {
-                merge_joints_below: a.physics.merge_joints,
-                ..ex.build.clone()
-            };
-            let warnings: Vec<String> = ex.warnings.iter().map(|w| w.to_string()).collect();
-            let (physical, paper) = physical_mode(&a.physics, &a.physical, None, &[])?;
-            (ex.curves, build, warnings, Some(ex.mesh), physical, paper)
-        }
-        None => {
-            let input = InputArgs {
-                mesh: a.mesh.clone(),
-                curves: a.curves.clone(),
-                scale: a.scale,
-                edge_length: a.edge_length,
-            };
-            let inputs = load_inputs(&input, &a.physics)?;
-            let (physical, paper) = physical_mode(
-                &a.physics,
-                &a.physical,
-                inputs.file_units.as_deref(),
-                &inputs.specs,
-            )?;
-            let mesh = inputs.mesh;
-            (
-                inputs.curves,
-                inputs.build,
-                inputs.warnings,
-                mesh,
-                physical,
-                paper,
-            )
-        }
+    let input = match &a.example {
+        Some(name) => super::example_spec(name, a.data.as_deref(), &a.physics),
+        None => super::input_spec(&a.input, &a.physics),
     };
-    print_warnings(&warnings);
-    let mut params = stability_params(&paper)?;
-    params.objective = a.objective;
-    let n = curves.len();
-    check_curve_ids("--remove", &a.remove, n)?;
-    let (network, info) = build_network(&curves, &build)?;
-    print_warnings(&info.warnings);
-    let mut analyzer = Analyzer::new(network, params).map_err(usage)?;
-    if let Some(p) = physical {
-        analyzer = analyzer.with_physical(p).map_err(usage)?;
+    let mut setup = super::setup(&input, &super::model_options(&a.physics, &a.physical))?;
+    let n = setup.curve_count();
+    check_curve_ids(Opt::Remove, &a.remove, n).map_err(fail)?;
+    let analyzer = setup.analyzer().map_err(fail)?;
+    for w in setup.build_warnings() {
+        print_warnings(&[crate::front::say(&w)]);
     }
     Ok(Served {
         analyzer,
         kept: (0..n).collect(),
         greedy: Runner::default(),
-        mesh,
+        mesh: setup.inputs.mesh,
     })
 }
 
 /// The run folder `dir` as `--run` serves it: its network and material, its answer to start
 /// on, its greedy iterations, its surface.
 fn from_run(dir: &Path, physical: Option<&PhysicalParams>) -> anyhow::Result<Served> {
-    let run = open_run(dir, physical).map_err(usage)?;
+    let run = open_run(RunFiles::unconfined(dir), physical).map_err(|e| usage(e.to_string()))?;
     print_warnings(&run.warnings);
     Ok(Served {
         analyzer: run.analyzer,
@@ -175,20 +143,17 @@ fn from_run(dir: &Path, physical: Option<&PhysicalParams>) -> anyhow::Result<Ser
 
 /// The folder the page may load run folders from: `--runs` (which must be a folder), or the
 /// current folder.
-fn runs_root(runs: Option<&Path>) -> anyhow::Result<PathBuf> {
-    match runs {
-        Some(dir) => dir
-            .canonicalize()
-            .ok()
-            .filter(|d| d.is_dir())
-            .ok_or_else(|| {
-                usage(format!(
-                    "--runs {}: no such folder (the folder whose run folders the page may load)",
-                    dir.display()
-                ))
-            }),
-        None => Ok(std::env::current_dir()?),
-    }
+fn runs_root(runs: Option<&Path>) -> anyhow::Result<RunsRoot> {
+    let dir = match runs {
+        Some(dir) => dir.to_path_buf(),
+        None => std::env::current_dir()?,
+    };
+    RunsRoot::new(&dir).map_err(|_| {
+        usage(format!(
+            "--runs {}: no such folder (the folder whose run folders the page may load)",
+            dir.display()
+        ))
+    })
 }
 
 /// The server bound to `--host` and `--port` (a warning naming the address bound when it is

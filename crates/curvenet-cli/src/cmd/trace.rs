@@ -1,6 +1,5 @@
 //! `curvenet trace`: curves generated on a mesh, written to a curve file.
 
-use super::surface::read_mesh_arg;
 use crate::args::TraceArgs;
 use crate::exit::usage;
 use curvenet::io;
@@ -11,12 +10,11 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
     if let Some(m) = &a.mesh_out {
         super::writable_file("--mesh-out", m)?;
     }
-    let input = read_mesh_arg(&a.mesh)?;
-    super::print_warnings(&input.warnings);
+    let (input, description) = super::mesh_arg(&a.mesh)?;
     let (mesh, scale) = if a.extent > 0.0 {
-        scale_to_extent(&input.mesh, a.extent)
+        scale_to_extent(&input, a.extent)
     } else {
-        (input.mesh.clone(), 1.0)
+        (input.clone(), 1.0)
     };
     let generator = match (a.geodesics, a.field) {
         (Some(count), None) => Generator::Random {
@@ -29,8 +27,7 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
         },
         _ => return Err(usage("give --geodesics N or --field 2|3")),
     };
-    let out =
-        generate(&mesh, &generator).map_err(|e| usage(format!("{}: {e}", input.description)))?;
+    let out = generate(&mesh, &generator).map_err(|e| usage(format!("{}: {e}", description)))?;
     if out.curves.is_empty() {
         let why = out
             .failures
@@ -39,7 +36,7 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
         return Err(usage(format!(
             "{}: no curve could be traced ({} attempt(s): {} rejected, {} failed{why}); try more \
              seeds, another seed or another surface",
-            input.description, out.attempts, out.rejected, out.failed
+            description, out.attempts, out.rejected, out.failed
         )));
     }
     super::print_warnings(&out.failures[..out.failures.len().min(5)]);
@@ -69,7 +66,7 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
     let total: f64 = out.curves.iter().map(|c| c.length()).sum();
     println!(
         "{}: {} curves ({} attempts, {} rejected, {} failed), total length {} at scale {}; written to {}",
-        input.description,
+        description,
         out.curves.len(),
         out.attempts,
         out.rejected,

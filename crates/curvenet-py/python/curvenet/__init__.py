@@ -4,13 +4,15 @@
 >>> net = curvenet.example("roof")
 >>> net.analyze().lambda_eq            # λ_eq of the whole network
 >>> result = net.simplify()            # the greedy, to the example's budget
->>> result.final_curves, result.lambdas
+>>> result.answer.curves, result.lambdas
 
 See ``docs/python.md`` in the repository for a walk-through.
 """
 
 from ._core import (
     Analysis,
+    Answer,
+    Record,
     Iteration,
     Network,
     Result,
@@ -24,6 +26,8 @@ from ._native import __version__
 
 __all__ = [
     "Analysis",
+    "Answer",
+    "Record",
     "CurvenetError",
     "InputError",
     "Iteration",

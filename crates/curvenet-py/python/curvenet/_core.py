@@ -15,6 +15,8 @@ from ._errors import InputError
 
 __all__ = [
     "Analysis",
+    "Answer",
+    "Record",
     "Iteration",
     "Network",
     "Result",
@@ -37,7 +39,8 @@ def _read_curve_sources(
     tolerance: Optional[float],
     layer: Optional[str],
 ) -> Tuple[list, Optional[tuple], Optional[str], List[str], List[str]]:
-    """Curve tuples, a mesh found in a .3dm (or None) and its name, the files, the warnings."""
+    """Curve sources for the native layer (paths of curve files, read there, and curve
+    tuples), a mesh found in a .3dm (or None) and its name, the files, the warnings."""
     if _is_path(curves) or isinstance(curves, np.ndarray):
         curves = [curves]
     out: list = []
@@ -74,9 +77,9 @@ def _read_curve_sources(
                 if m is not None and mesh is None:
                     mesh, mesh_name = m, path
             else:
-                got, w = _native.read_curves(path)
-                out.extend(got)
-                warnings.extend(w)
+                # Read by the library itself, with the groups, materials and units the file
+                # declares.
+                out.append(path)
         else:
             a = np.asarray(src, dtype=np.float64)
             if a.ndim != 2 or a.shape[1] != 3:
@@ -89,9 +92,22 @@ def _read_curve_sources(
     return out, mesh, mesh_name, files, warnings
 
 
-def _read_mesh(mesh: Any) -> Tuple[Optional[tuple], Optional[str], List[str]]:
+def _mesh_arrays(vertices: Any, faces: Any, name: str) -> tuple:
+    """``(vertices, faces, name)`` for the native layer: float64 vertices and the faces of
+    any integer dtype as int64 (negative or out-of-range indices are refused there)."""
+    v = np.ascontiguousarray(vertices, dtype=np.float64)
+    f = np.asarray(faces)
+    if f.dtype.kind not in "iu":
+        raise InputError(f"{name}: faces must be integer vertex indices, got dtype {f.dtype}")
+    if f.dtype.kind == "u" and f.size and int(f.max()) > np.iinfo(np.int64).max:
+        raise InputError(f"{name}: a face names vertex {int(f.max())}, beyond any mesh")
+    return v, np.ascontiguousarray(f, dtype=np.int64), name
+
+
+def _read_mesh(mesh: Any) -> Tuple[Any, List[str]]:
+    """The mesh for the native layer (a path, read there, or arrays) and warnings."""
     if mesh is None:
-        return None, None, []
+        return None, []
     if _is_path(mesh):
         path = os.fspath(mesh)
         if path.lower().endswith(".3dm"):
@@ -100,64 +116,135 @@ def _read_mesh(mesh: Any) -> Tuple[Optional[tuple], Optional[str], List[str]]:
             _, m, w = rhino.read_3dm(path, curves=False)
             if m is None:
                 raise InputError(f"{path}: no mesh in the file", path, None)
-            return m, path, w
-        m, description, w = _native.read_mesh(path)
-        return m, description, w
-    vertices, faces = mesh
-    return (
-        (np.ascontiguousarray(vertices, dtype=np.float64), np.ascontiguousarray(faces, dtype=np.int64)),
-        "<arrays>",
-        [],
+            return _mesh_arrays(m[0], m[1], path), w
+        return path, []
+    try:
+        vertices, faces = mesh
+    except (TypeError, ValueError):
+        raise InputError("mesh: expected a file path, a built-in surface name or "
+                         "(vertices, faces) arrays") from None
+    return _mesh_arrays(vertices, faces, "<arrays>"), []
+
+
+def _ids(option: str, ids: Optional[Iterable[Any]]) -> Optional[List[int]]:
+    """Curve ids as the command line takes them: non-negative integers (``1.9`` is refused,
+    not rounded)."""
+    if ids is None:
+        return None
+    if isinstance(ids, (int, np.integer)):
+        ids = [ids]
+    out = []
+    for c in ids:
+        if isinstance(c, (bool, np.bool_)) or not isinstance(c, (int, np.integer)):
+            raise InputError(f"{option}: curve ids are whole numbers, got {c!r}")
+        if c < 0:
+            raise InputError(f"{option}: curve ids are 0 or more, got {c}")
+        out.append(int(c))
+    return out
+
+
+def _text(x: Any) -> Optional[str]:
+    """An option given as a number or as text with its unit (``210e9`` or ``"210GPa"``)."""
+    return None if x is None else str(x)
+
+
+_MODEL_DOC = """
+    Model options, as on the command line (``--radius`` is ``radius=``, and so on):
+    ``supports`` (``"clamped"``, the default, or ``"pinned"``), ``merge_joints`` (merge
+    joints closer than this fraction of ``h``), ``radius`` (the rod radius, scene units;
+    default 2), ``young`` (Young's modulus: a number in the paper's mode, default 1; with a
+    unit such as ``"210GPa"`` in the physical mode), ``anchor_weight`` (default 500),
+    ``eigen_count`` (eigenvalues reported, 1 to 100; default 4) and ``objective``
+    (``"lambda"``, the paper's λ_eq, or ``"frequency"``, the first natural frequency's μ_min).
+
+    The physical mode (``units`` ``"mm"``, ``"cm"`` or ``"m"``, and/or ``material``: steel,
+    aluminium, gfrp, timber) reports frequencies in Hz, deflections in the scene's unit and
+    stresses in MPa beside λ: ``density``, ``strength``, ``tube`` (``"60x4"``: outer diameter
+    x wall), ``load`` (``"1kN/m"``) and ``gravity`` (m/s², a magnitude along -z or
+    ``"gx,gy,gz"``) refine it.
+"""
+
+
+def _with_model_doc(f: Callable) -> Callable:
+    """Puts the model options' documentation where the docstring says ``{model}``."""
+    f.__doc__ = (f.__doc__ or "").replace("{model}", _MODEL_DOC.strip("\n"))
+    return f
+
+
+def _model_kwargs(supports, merge_joints, radius, young, anchor_weight, eigen_count, objective,
+                  units, material, density, strength, tube, load, gravity) -> Dict[str, Any]:
+    return dict(
+        supports=supports,
+        merge_joints=merge_joints,
+        radius=radius,
+        young=_text(young),
+        anchor_weight=anchor_weight,
+        eigen_count=int(eigen_count),
+        objective=objective,
+        units=units,
+        material=material,
+        density=_text(density),
+        strength=_text(strength),
+        tube=_text(tube),
+        load=_text(load),
+        gravity=_text(gravity),
     )
 
 
+@_with_model_doc
 def load(
     curves: Union[CurveSource, Iterable[CurveSource]],
     mesh: Any = None,
     scale: float = 1.0,
     edge_length: Optional[float] = None,
-    supports: str = "clamped",
+    supports: Optional[str] = None,
     *,
     merge_joints: Optional[float] = None,
     radius: Optional[float] = None,
-    young: Optional[float] = None,
+    young: Union[float, str, None] = None,
     anchor_weight: Optional[float] = None,
     eigen_count: int = 4,
+    objective: str = "lambda",
+    units: Optional[str] = None,
+    material: Optional[str] = None,
+    density: Optional[str] = None,
+    strength: Optional[str] = None,
+    tube: Optional[str] = None,
+    load: Optional[str] = None,
+    gravity: Union[float, str, None] = None,
     tolerance: Optional[float] = None,
     layer: Optional[str] = None,
 ) -> "Network":
     """Builds the rod network of ``curves`` (``curvenet analyze``/``simplify``'s inputs).
 
     ``curves``: curve files (``.txt``, ``.obj``, ``.json``, ``.3dm``) and/or ``(n, 3)`` point
-    arrays, in curve-id order. ``mesh``: the surface (an OBJ file, a built-in surface name, a
-    ``.3dm`` holding a mesh, or ``(vertices, faces)`` arrays); a ``.3dm`` among the curves
-    gives its mesh when ``mesh`` is not given. ``scale`` multiplies everything;
-    ``edge_length`` is the resampling length ``h`` after scaling (default: the median input
-    segment). ``tolerance`` is how far NURBS curves of a ``.3dm`` may be from their sampled
-    polylines (default: 1e-3 × each curve's bounding-box diagonal); ``layer`` keeps only the
-    ``.3dm`` objects on that layer (full path, e.g. ``"curvenet::kept"``) and its sub-layers.
-
-    Raises :class:`curvenet.InputError` with the command line's message (file and line).
+    arrays, in curve-id order; a JSON curve file's groups, units and per-curve materials are
+    read as the command line reads them. ``mesh``: the surface (an OBJ file, a built-in
+    surface name such as ``"dome"``, a ``.3dm`` holding a mesh, or ``(vertices, faces)``
+    arrays, faces of any integer dtype); a ``.3dm`` among the curves gives its mesh when
+    ``mesh`` is not given. ``scale`` multiplies everything; ``edge_length`` is the resampling
+    length ``h`` after scaling (default, as on the command line: the median curve's length
+    over 50, and no less than the total length over 100,000). ``tolerance`` is how far NURBS
+    curves of a ``.3dm`` may be from their sampled polylines (default: 1e-3 × each curve's
+    bounding-box diagonal); ``layer`` keeps only the ``.3dm`` objects on that layer (full
+    path, e.g. ``"curvenet::kept"``) and its sub-layers.
+    {model}
+    Raises :class:`curvenet.InputError` with the command line's message (file and line, or
+    the keyword argument).
     """
-    tuples, found_mesh, found_name, files, warnings = _read_curve_sources(curves, tolerance, layer)
-    m, mesh_name, w = _read_mesh(mesh)
+    sources, found_mesh, found_name, files, warnings = _read_curve_sources(curves, tolerance, layer)
+    m, w = _read_mesh(mesh)
     warnings.extend(w)
     if m is None and found_mesh is not None:
-        m, mesh_name = found_mesh, found_name
+        m = _mesh_arrays(found_mesh[0], found_mesh[1], found_name)
     native = _native.Network(
-        tuples,
+        sources,
         mesh=m,
-        mesh_name=mesh_name,
         scale=scale,
         edge_length=edge_length,
-        supports=supports,
-        merge_joints=merge_joints,
-        radius=radius,
-        young=young,
-        anchor_weight=anchor_weight,
-        eigen_count=eigen_count,
         warnings=warnings,
-        curve_files=files,
+        **_model_kwargs(supports, merge_joints, radius, young, anchor_weight, eigen_count,
+                        objective, units, material, density, strength, tube, load, gravity),
     )
     return Network(native)
 
@@ -167,6 +254,7 @@ def example_names() -> List[str]:
     return list(_native.example_names())
 
 
+@_with_model_doc
 def example(
     name: str,
     supports: Optional[str] = None,
@@ -174,36 +262,31 @@ def example(
     data: Optional[PathLike] = None,
     merge_joints: Optional[float] = None,
     radius: Optional[float] = None,
-    young: Optional[float] = None,
+    young: Union[float, str, None] = None,
     anchor_weight: Optional[float] = None,
     eigen_count: int = 4,
+    objective: str = "lambda",
+    units: Optional[str] = None,
+    material: Optional[str] = None,
+    density: Optional[str] = None,
+    strength: Optional[str] = None,
+    tube: Optional[str] = None,
+    load: Optional[str] = None,
+    gravity: Union[float, str, None] = None,
 ) -> "Network":
     """The paper's example ``name`` (``roof``, ``tower``, ...; see :func:`example_names`) with
-    its set-up: the network, and as :meth:`Network.simplify`'s defaults its budget and keep
-    list. ``data`` names a folder with the paper's ``meshes/`` and ``curves/``."""
-    ex = _native.example(name, supports or "clamped", None if data is None else os.fspath(data))
-    vertices, faces = ex["mesh"]
+    its set-up (``curvenet example NAME``): the network, and as :meth:`Network.simplify`'s
+    defaults its budget and keep list. ``data`` names a folder with the paper's ``meshes/``
+    and ``curves/`` (default: the copies embedded in curvenet).
+    {model}"""
     native = _native.Network(
-        ex["curves"],
-        mesh=(vertices, np.asarray(faces, dtype=np.int64)),
-        mesh_name=ex["mesh_file"],
-        scale=1.0,
-        edge_length=ex["edge_length"],
-        supports=ex["supports"],
-        merge_joints=merge_joints,
-        radius=radius,
-        young=young,
-        anchor_weight=anchor_weight,
-        eigen_count=eigen_count,
-        warnings=list(ex["warnings"]),
-        example=ex["name"],
-        curve_files=list(ex["curve_files"]),
+        [],
+        example=name,
+        data=None if data is None else os.fspath(data),
+        **_model_kwargs(supports, merge_joints, radius, young, anchor_weight, eigen_count,
+                        objective, units, material, density, strength, tube, load, gravity),
     )
-    net = Network(native, budget=ex["budget"], keep=list(ex["keep"]))
-    net.paper = json.loads(ex["paper"])
-    # The run records the example's scale (as `curvenet example` does).
-    net._description_scale = ex["scale"]
-    return net
+    return Network(native)
 
 
 def _xyz(a: np.ndarray) -> np.ndarray:
@@ -250,6 +333,15 @@ class Analysis:
         """Warnings of the reading, the build and the analysis."""
         return list(self.report.get("warnings", []))
 
+    @property
+    def physical(self) -> Optional["Record"]:
+        """In the physical mode, the structure in a material's units (``analyze --json``'s
+        ``physical``: ``stable``, ``frequencies_hz``, ``first_frequency_hz``,
+        ``self_weight_max_deflection`` and ``load_max_deflection`` in ``units``, stresses in
+        MPa, ``max_utilisation``, ``mass_kg``, ...); None in the paper's mode."""
+        p = self.report.get("physical")
+        return None if p is None else Record(p)
+
     def __repr__(self) -> str:
         state = "" if self.stable else (
             f", UNSTABLE: {self.zero_modes} zero and {self.negative_modes} negative mode(s)"
@@ -257,17 +349,50 @@ class Analysis:
         return f"<curvenet.Analysis lambda_eq={self.lambda_eq:.6e}{state}>"
 
 
+class Record(dict):
+    """A JSON object of a report (a dict) whose keys also read as attributes."""
+
+    def __getattr__(self, name: str) -> Any:
+        try:
+            v = self[name]
+        except KeyError:
+            raise AttributeError(name) from None
+        return Record(v) if isinstance(v, dict) else v
+
+
+class Answer(Record):
+    """The network to build (``result.json``'s ``answer``, or one of its ``alternatives``):
+    ``curves``, ``length``, ``lambda_eq`` (the record's ``lambda``), ``source`` (``greedy``,
+    ``local_search``, ...), ``iteration`` (for a network of the greedy's path)."""
+
+    @property
+    def lambda_eq(self) -> float:
+        return float(self["lambda"])
+
+    @property
+    def curves(self) -> List[int]:
+        return list(self["curves"])
+
+    @property
+    def source(self) -> str:
+        return str(self["source"])
+
+    def __repr__(self) -> str:
+        return (f"<curvenet.Answer {len(self.curves)} curves from {self.source}, "
+                f"lambda_eq={self.lambda_eq:.6e}>")
+
+
 class Network:
     """A rod network built from curves (see :func:`load`, :func:`example`)."""
 
-    def __init__(self, native: "_native.Network", budget: Optional[float] = None,
-                 keep: Optional[List[int]] = None):
+    def __init__(self, native: "_native.Network"):
         self._native = native
-        self.default_budget = budget
+        ex = native.example
+        self.default_budget: Optional[float] = None if ex is None else ex[0]
         """The example's budget fraction (None for :func:`load`)."""
-        self.default_keep = keep or []
+        self.default_keep: List[int] = [] if ex is None else list(ex[1])
         """The example's keep list."""
-        self.paper: Optional[Dict[str, Any]] = None
+        self.paper: Optional[Dict[str, Any]] = None if ex is None else json.loads(ex[2])
         """For an example, the paper's Table 1 figures."""
 
     @property
@@ -364,8 +489,9 @@ class Network:
 
     def analyze(self, remove: Iterable[int] = ()) -> Analysis:
         """Relaxes the network (without the curves ``remove``) and analyses its equilibrium:
-        ``λ_eq``, the smallest eigenvalues, the worst-case mode (``curvenet analyze``)."""
-        raw = self._native.analyze(sorted(set(int(c) for c in remove)))
+        ``λ_eq``, the smallest eigenvalues, the worst-case mode and, in the physical mode,
+        :attr:`Analysis.physical` (``curvenet analyze``). Ctrl-C stops it."""
+        raw = self._native.analyze(_ids("remove", remove) or [])
         return Analysis(raw, self.positions)
 
     def simplify(
@@ -374,38 +500,60 @@ class Network:
         *,
         budget_length: Optional[float] = None,
         keep: Optional[Iterable[int]] = None,
+        groups: Union[PathLike, Sequence[Sequence[int]], None] = None,
+        symmetry: Optional[str] = None,
+        connected: bool = False,
+        min_curves: Optional[int] = None,
+        max_gap: Optional[float] = None,
+        max_deviation: Optional[float] = None,
         local_search: bool = False,
+        alternatives: int = 0,
+        certify: bool = False,
+        certificate_nodes: Optional[int] = None,
         out: Optional[PathLike] = None,
         resume: bool = False,
         force: bool = False,
         pictures: Optional[bool] = None,
         progress: Optional[Callable[["Iteration"], Any]] = None,
     ) -> "Result":
-        """Runs the greedy (``curvenet simplify``) down to ``budget`` (a fraction of the total
-        rest length) or ``budget_length`` (a length), never removing ``keep``.
+        """Simplifies the network to a budget (``curvenet simplify``): the greedy down to
+        ``budget`` (a fraction of the total rest length) or ``budget_length`` (a length),
+        never removing ``keep`` (an example's own budget and keep list by default), then
+        the steps asked for, and the answer: the most stable network found that is stable,
+        within the budget and meets every design constraint (``Result.answer``, None when
+        there is none).
+
+        Design constraints, as on the command line: ``groups`` (a groups file, or lists of
+        curve ids kept or removed together), ``symmetry`` (``"rotate:N"``, ``"mirror"``,
+        ``"auto"`` or ``"none"``), ``connected``, ``min_curves``, ``max_gap`` (needs the
+        surface) and ``max_deviation``. After the greedy: ``local_search``, ``alternatives``
+        (up to K further distinct networks; runs the local search), ``certify`` (an upper
+        bound on λ_fix within the budget; ``certificate_nodes`` of branch and bound).
 
         The run is written to the folder ``out`` exactly as the command line writes it
         (default: a new temporary folder), so :func:`open_run` reads it again and
         ``resume=True`` continues an interrupted run. As on the command line, another run
         writing in ``out`` meanwhile is refused, a fresh run into an earlier run's folder
         removes that run's files first, and a non-empty folder that is not a curvenet run's is
-        refused unless ``force=True``. ``pictures`` writes the pictures and the
-        viewer page (default: when ``out`` is given). ``progress(iteration)`` is called after
-        each iteration; an exception it raises stops the run, as does Ctrl-C
-        (``KeyboardInterrupt``), within a fraction of a second, keeping what was recorded.
-        ``local_search=True`` also runs the local search from the greedy's final network and
-        from the best single curves.
+        refused unless ``force=True``. ``pictures`` writes the pictures and the viewer page
+        (default: when ``out`` is given). ``progress(iteration)`` is called after each
+        iteration; an exception it raises stops the run, as does Ctrl-C
+        (``KeyboardInterrupt``), within a second, keeping what was recorded. The call
+        releases the GIL: runs in several threads go on side by side.
         """
-        if budget is None and budget_length is None:
-            budget = self.default_budget
-        if keep is None:
-            keep = self.default_keep
         if out is None:
             out = tempfile.mkdtemp(prefix="curvenet-run-")
             if pictures is None:
                 pictures = False
         if pictures is None:
             pictures = True
+        groups_file = None
+        group_lists: List[List[int]] = []
+        if groups is not None:
+            if _is_path(groups):
+                groups_file = os.fspath(groups)
+            else:
+                group_lists = [_ids(f"groups[{k}]", g) or [] for k, g in enumerate(groups)]
         cb = None
         if progress is not None:
             def cb(text: str) -> None:
@@ -414,8 +562,18 @@ class Network:
             os.fspath(out),
             budget=budget,
             budget_length=budget_length,
-            keep=[int(c) for c in keep],
-            local_search=local_search,
+            keep=_ids("keep", keep),
+            groups_file=groups_file,
+            groups=group_lists,
+            symmetry=symmetry,
+            connected=bool(connected),
+            min_curves=min_curves,
+            max_gap=max_gap,
+            max_deviation=max_deviation,
+            local_search=bool(local_search),
+            alternatives=int(alternatives),
+            certify=bool(certify),
+            certificate_nodes=certificate_nodes,
             pictures=pictures,
             resume=resume,
             force=force,
@@ -482,7 +640,8 @@ class Result:
 
     @property
     def final_curves(self) -> List[int]:
-        """The curves of the last recorded network."""
+        """The curves of the greedy's last recorded network (the path's end; the network to
+        build is :attr:`answer`)."""
         return list(self.iterations[-1]["curves"])
 
     @property
@@ -501,14 +660,23 @@ class Result:
         return np.array([it["length"] for it in self.iterations])
 
     @property
-    def answer(self) -> Optional[Dict[str, Any]]:
-        """The network to build when the run chose one (``result.json``'s ``answer``);
-        otherwise the final network's record."""
-        return self.result.get("answer") or self.result.get("final")
+    def answer(self) -> Optional[Answer]:
+        """The network to build (``result.json``'s ``answer``): the most stable network the
+        run found that is stable, within the budget and meets every constraint; None when
+        the run has none (:attr:`no_answer` says why) or is unfinished."""
+        a = self.result.get("answer")
+        return None if a is None else Answer(a)
 
     @property
-    def alternatives(self) -> List[Dict[str, Any]]:
-        return list(self.result.get("alternatives", []))
+    def no_answer(self) -> Optional[Record]:
+        """Why a finished run has no answer, and its smallest stable network; else None."""
+        n = self.result.get("no_answer")
+        return None if n is None else Record(n)
+
+    @property
+    def alternatives(self) -> List[Answer]:
+        """The alternatives recorded (``alternatives=K``), best first."""
+        return [Answer(a) for a in self.result.get("alternatives", [])]
 
     @property
     def local_search(self) -> Optional[Dict[str, Any]]:

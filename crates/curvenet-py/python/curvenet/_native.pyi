@@ -21,26 +21,33 @@ def curves_from_arrays(
 ) -> Tuple[List[CurveTuple], List[str]]: ...
 def read_mesh(path: _Path) -> Tuple[MeshTuple, str, List[str]]: ...
 def example_names() -> List[str]: ...
-def example(name: str, supports: str = "clamped", data: Optional[_Path] = None) -> Dict[str, object]: ...
-
 class Network:
     def __init__(
         self,
-        curves: List[CurveTuple],
-        mesh: Optional[Tuple[npt.ArrayLike, npt.ArrayLike]] = None,
-        mesh_name: Optional[str] = None,
+        sources: List[Union[str, CurveTuple]],
+        mesh: Union[str, Tuple[npt.NDArray[np.float64], npt.NDArray[np.int64], str], None] = None,
         scale: float = 1.0,
         edge_length: Optional[float] = None,
-        supports: str = "clamped",
+        supports: Optional[str] = None,
         merge_joints: Optional[float] = None,
         radius: Optional[float] = None,
-        young: Optional[float] = None,
+        young: Optional[str] = None,
         anchor_weight: Optional[float] = None,
         eigen_count: int = 4,
+        objective: str = "lambda",
+        units: Optional[str] = None,
+        material: Optional[str] = None,
+        density: Optional[str] = None,
+        strength: Optional[str] = None,
+        tube: Optional[str] = None,
+        load: Optional[str] = None,
+        gravity: Optional[str] = None,
         warnings: List[str] = ...,
         example: Optional[str] = None,
-        curve_files: List[str] = ...,
+        data: Optional[_Path] = None,
     ) -> None: ...
+    @property
+    def example(self) -> Optional[Tuple[float, List[int], str]]: ...
     @property
     def positions(self) -> npt.NDArray[np.float64]: ...
     @property
@@ -71,10 +78,21 @@ class Network:
         out: _Path,
         budget: Optional[float] = None,
         budget_length: Optional[float] = None,
-        keep: List[int] = ...,
+        keep: Optional[List[int]] = None,
+        groups_file: Optional[_Path] = None,
+        groups: List[List[int]] = ...,
+        symmetry: Optional[str] = None,
+        connected: bool = False,
+        min_curves: Optional[int] = None,
+        max_gap: Optional[float] = None,
+        max_deviation: Optional[float] = None,
         local_search: bool = False,
+        alternatives: int = 0,
+        certify: bool = False,
+        certificate_nodes: Optional[int] = None,
         pictures: bool = True,
         resume: bool = False,
+        force: bool = False,
         progress: Optional[Callable[[str], object]] = None,
     ) -> List[str]: ...
 

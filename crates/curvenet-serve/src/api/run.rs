@@ -2,19 +2,24 @@
 //! serves it in place of the current network (its network, its greedy iterations to step
 //! through, starting on its answer), as `serve --run DIR` would have.
 //!
-//! Only folders inside the configured root ([`super::ServeConfig::runs_root`]) are read:
-//! `DIR` is taken relative to it (an absolute path as it is), and its canonical path (every
-//! `..` and symbolic link resolved) must lie inside the root's. Only a curvenet run folder is
-//! loaded (its `result.json` and `network.json` read and checked); nothing is written.
+//! Only files inside the configured root ([`super::ServeConfig::runs_root`]) are read: `DIR`
+//! is taken relative to it (an absolute path as it is), and it and every file of it are read
+//! through the root's confined reader ([`curvenet::run_folder::RunsRoot`]), which resolves each
+//! path inside the root (every `..` and symbolic link) and refuses one that leads outside
+//! before looking at anything there. A path outside gets one answer (403) whether or not
+//! anything is there; messages name files by their path inside the root and never quote their
+//! content. Only a curvenet run folder is loaded (its `result.json` and `network.json` read and
+//! checked); nothing is written.
 
 use super::{ApiError, ApiResult, AppState, StateAnswer, off_runtime, parse};
-use crate::workspace::open_run;
+use crate::workspace::{OpenRunError, open_run};
 use axum::body::Bytes;
 use axum::extract::State;
 use axum::extract::rejection::BytesRejection;
 use axum::http::StatusCode;
+use curvenet::run_folder::{RunFileError, RunFiles, RunsRoot};
 use serde::{Deserialize, Serialize};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::atomic::Ordering;
 
 /// The longest path accepted.
@@ -62,7 +67,7 @@ pub(super) async fn load(
             "this server loads no run folder (it was started without a folder to load runs from)",
         )
     })?;
-    let dir = resolve(&root, &path)?;
+    let files = resolve(&root, &path)?;
     let flag = &app.shared.loading;
     if flag.swap(true, Ordering::AcqRel) {
         return Err(ApiError::new(
@@ -73,11 +78,17 @@ pub(super) async fn load(
     let _loading = Loading(flag);
     let physical = app.config().physical.clone();
     let (ws, warnings, iterations) = off_runtime(move || {
-        let run = open_run(&dir, physical.as_ref())
-            .map_err(|m| ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, m))?;
+        let name = files.dir().display().to_string();
+        let run = open_run(files, physical.as_ref()).map_err(|e| {
+            let status = match &e {
+                OpenRunError::Folder(f) if f.is_outside() => StatusCode::FORBIDDEN,
+                _ => StatusCode::UNPROCESSABLE_ENTITY,
+            };
+            ApiError::new(status, e.to_string())
+        })?;
         let warnings = run.warnings.clone();
         let iterations = run.greedy.iterations().1.len();
-        let ws = run.workspace(&[], &dir.display().to_string())?;
+        let ws = run.workspace(&[], &name)?;
         Ok((ws, warnings, iterations))
     })
     .await?;
@@ -92,38 +103,25 @@ pub(super) async fn load(
     Ok(axum::Json(answer))
 }
 
-/// The canonical folder `path` names under `root` (relative to it, or absolute).
-fn resolve(root: &Path, path: &str) -> Result<PathBuf, ApiError> {
+/// The reader of the run folder `path` names under `root` (relative to it, or absolute),
+/// confined to `root`.
+fn resolve(root: &RunsRoot, path: &str) -> Result<RunFiles, ApiError> {
     let unprocessable = |m: String| ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, m);
     if path.trim().is_empty() || path.len() > MAX_PATH || path.contains('\0') {
         return Err(unprocessable(format!(
             "path: give the folder of a run (holding result.json), at most {MAX_PATH} bytes"
         )));
     }
-    let root = root.canonicalize().map_err(|e| {
-        unprocessable(format!(
-            "the folder runs are loaded from, {}, cannot be read: {e}",
-            root.display()
-        ))
-    })?;
-    let dir = root
-        .join(path)
-        .canonicalize()
-        .map_err(|_| unprocessable(format!("{path}: no such folder")))?;
-    if !dir.starts_with(&root) {
-        return Err(ApiError::new(
+    root.folder(Path::new(path)).map_err(|e| match e {
+        RunFileError::Outside { .. } => ApiError::new(
             StatusCode::FORBIDDEN,
             format!(
                 "{path}: outside the folder runs are loaded from ({}); start serve with \
                  --runs DIR to load from another",
-                root.display()
+                root.path().display()
             ),
-        ));
-    }
-    if !dir.is_dir() {
-        return Err(unprocessable(format!(
-            "{path}: not a folder (expected the output folder of a run, holding result.json)"
-        )));
-    }
-    Ok(dir)
+        ),
+        RunFileError::Missing { .. } => unprocessable(format!("{path}: no such folder")),
+        e => unprocessable(e.to_string()),
+    })
 }

@@ -23,6 +23,7 @@
 //! the budget it is.
 
 use super::{Constraints, Margins};
+use crate::words::{Message, Opt, Recorded, message};
 use serde::{Deserialize, Serialize};
 
 /// Relative tolerance under which two `λ_eq` tie.
@@ -101,6 +102,11 @@ pub struct Answer {
     pub negative_modes: usize,
     /// Every constraint's margin.
     pub margins: Margins,
+    /// In the physical mode, its physical figures (frequencies, deflections, stresses in a
+    /// material's units), set by the run once the answer is chosen; absent in the paper's
+    /// mode.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub physical: Option<crate::physics::PhysicalSummary>,
 }
 
 /// A stable network outside the budget, named when there is no answer.
@@ -117,7 +123,7 @@ pub struct StableNetwork {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct NoAnswer {
     /// What the networks found lacked.
-    pub reason: String,
+    pub reason: Message,
     /// The smallest stable network of the run, if any.
     pub smallest_stable: Option<StableNetwork>,
 }
@@ -156,35 +162,36 @@ pub fn qualifies(constraints: &Constraints, offer: &Offer) -> bool {
 }
 
 /// Why `offer` does not qualify, if it does not.
-fn disqualified(constraints: &Constraints, offer: &Offer) -> Option<String> {
+fn disqualified(constraints: &Constraints, offer: &Offer) -> Option<Message> {
     if offer.negative_modes > 0 {
-        return Some(format!(
+        return Some(message![format!(
             "{} negative mode(s): an unstable equilibrium (λ_eq {:.6e})",
             offer.negative_modes, offer.lambda
-        ));
+        )]);
     }
     if offer.zero_modes > 0 || !(offer.lambda > 0.0) {
-        return Some(format!(
+        return Some(message![format!(
             "{} zero mode(s): a mechanism, a part of it moves freely (λ_eq {:.6e})",
             offer.zero_modes.max(1),
             offer.lambda
-        ));
+        )]);
     }
     if let Err(v) = constraints.check(&offer.curves) {
-        return Some(format!("it does not meet the constraints ({v})"));
+        return Some(message![format!("it does not meet the constraints ({v})")]);
     }
     if constraints.params().max_deviation.is_some() && offer.deviation.is_none() {
-        return Some(
-            "its equilibrium's deviation from the designed shape was not measured".to_owned(),
-        );
+        return Some(message![
+            "its equilibrium's deviation from the designed shape was not measured"
+        ]);
     }
     if let Some(d) = offer.deviation
         && !constraints.deviation_ok(d)
     {
-        return Some(format!(
-            "its equilibrium moves a vertex {d:.6} from its designed place, more than \
-             --max-deviation allows"
-        ));
+        return Some(message![
+            format!("its equilibrium moves a vertex {d:.6} from its designed place, more than "),
+            Opt::MaxDeviation,
+            " allows"
+        ]);
     }
     None
 }
@@ -195,6 +202,7 @@ fn answer_of(constraints: &Constraints, offer: &Offer) -> Answer {
         zero_modes: offer.zero_modes,
         negative_modes: offer.negative_modes,
         margins: constraints.margins(&offer.curves, offer.deviation),
+        physical: None,
     }
 }
 
@@ -258,29 +266,26 @@ fn no_answer(constraints: &Constraints, offers: &[Offer]) -> NoAnswer {
         .filter(|o| o.length <= budget && !o.curves.is_empty())
         .collect();
     let reason = if within.is_empty() {
-        "no network found meets the budget".to_owned()
+        message!["no network found meets the budget"]
     } else {
-        let mut lines: Vec<String> = Vec::new();
+        let mut lines: Vec<Message> = Vec::new();
         for o in within.iter().take(4) {
             let what = disqualified(constraints, o).unwrap_or_default();
             let place = o
                 .iteration
                 .map_or_else(String::new, |k| format!(" (iteration {k})"));
-            lines.push(format!(
-                "the {}'s network{place}: {what}",
-                o.source.replace('_', " ")
-            ));
+            lines.push(what.prefixed([
+                format!("the {}'s network{place}: ", o.source.replace('_', " ")).into(),
+            ]));
         }
         if within.len() > 4 {
-            lines.push(format!(
+            lines.push(message![format!(
                 "and {} other network(s) likewise",
                 within.len() - 4
-            ));
+            )]);
         }
-        format!(
-            "no stable network meets the budget and the constraints: {}",
-            lines.join("; ")
-        )
+        message!["no stable network meets the budget and the constraints: "]
+            .then(Message::join(lines, "; "))
     };
     let smallest_stable = offers
         .iter()
@@ -352,19 +357,26 @@ impl NoAnswer {
     /// Lines for summaries: the reason, then the smallest stable network (its value named
     /// `value`, as in [`Answer::describe`]).
     pub fn describe(&self, value: &str) -> String {
-        let mut s = format!("no answer: {}", self.reason);
+        let mut s = format!("no answer: {}", self.reason.render(&Recorded));
         match &self.smallest_stable {
             Some(n) => {
                 let place = n.found.iteration.map_or_else(
                     || format!("the {}'s network", n.found.source),
                     |k| format!("iteration {k}"),
                 );
+                let budget = if n.over_budget_percent > 0.0 {
+                    format!("{:.1}% over the budget", n.over_budget_percent)
+                } else {
+                    format!(
+                        "within the budget, {}% of it",
+                        crate::fmt::percent(100.0 + n.over_budget_percent)
+                    )
+                };
                 s.push_str(&format!(
-                    "\nsmallest stable network of the run: {place}, {} curves, length {} ({:+.1}% \
-                     of the budget), {value} {:.6e}",
+                    "\nsmallest stable network of the run: {place}, {} curves, length {} \
+                     ({budget}), {value} {:.6e}",
                     n.found.curves.len(),
                     crate::fmt::length(n.found.length),
-                    n.over_budget_percent,
                     n.found.lambda
                 ));
             }
@@ -497,8 +509,16 @@ mod tests {
         }
         let ch = choose(&c, &path, 3);
         let none = ch.answer.expect_err("no answer");
-        assert!(none.reason.contains("zero mode"), "{}", none.reason);
-        assert!(none.reason.contains("iteration 2"), "{}", none.reason);
+        assert!(
+            none.reason.render(&Recorded).contains("zero mode"),
+            "{}",
+            none.reason
+        );
+        assert!(
+            none.reason.render(&Recorded).contains("iteration 2"),
+            "{}",
+            none.reason
+        );
         let s = none.smallest_stable.clone().expect("iteration 1 is stable");
         assert_eq!(s.found.iteration, Some(1));
         assert!(s.over_budget_percent > 0.0);
@@ -527,8 +547,16 @@ mod tests {
         let none = choose(&c, &[split.clone(), sags.clone()], 0)
             .answer
             .expect_err("none");
-        assert!(none.reason.contains("group"), "{}", none.reason);
-        assert!(none.reason.contains("--max-deviation"), "{}", none.reason);
+        assert!(
+            none.reason.render(&Recorded).contains("group"),
+            "{}",
+            none.reason
+        );
+        assert!(
+            none.reason.render(&Recorded).contains("--max-deviation"),
+            "{}",
+            none.reason
+        );
         sags.deviation = Some(9.0);
         let a = choose(&c, &[split, sags], 0)
             .answer

@@ -29,6 +29,7 @@ use crate::geom::point_segment_distance;
 use crate::geom::{Aabb, Bvh, Vec3};
 use crate::io::TriMesh;
 use crate::network::Network;
+use crate::words::{Message, Opt, message};
 use rayon::prelude::*;
 
 /// The most samples taken of a surface (the spacing grows to stay below it).
@@ -67,11 +68,12 @@ impl Coverage {
     /// # Errors
     ///
     /// A message when the limit is not a positive number or the mesh has no usable face.
-    pub fn new(net: &Network, mesh: &TriMesh, limit: f64) -> Result<Coverage, String> {
+    pub fn new(net: &Network, mesh: &TriMesh, limit: f64) -> Result<Coverage, Message> {
         if !(limit.is_finite() && limit > 0.0) {
-            return Err(format!(
-                "--max-gap must be a positive distance in scene units, got {limit}"
-            ));
+            return Err(message![
+                Opt::MaxGap,
+                format!(" must be a positive distance in scene units, got {limit}")
+            ]);
         }
         let (samples, spacing) = sample_surface(mesh, limit)?;
         let n = net.rods.len();
@@ -228,10 +230,13 @@ impl Coverage {
 }
 
 /// Samples of the surface (its vertices and a grid on every face) and their spacing.
-fn sample_surface(mesh: &TriMesh, limit: f64) -> Result<(Vec<Vec3>, f64), String> {
+fn sample_surface(mesh: &TriMesh, limit: f64) -> Result<(Vec<Vec3>, f64), Message> {
     let faces = mesh.finite_triangles();
     if faces.is_empty() {
-        return Err("--max-gap needs the surface, but the mesh has no usable face".into());
+        return Err(message![
+            Opt::MaxGap,
+            " needs the surface, but the mesh has no usable face"
+        ]);
     }
     let vertices: Vec<Vec3> = mesh
         .vertices
@@ -361,7 +366,8 @@ mod tests {
         }
         let e = Coverage::new(&net, &TriMesh::default(), 10.0)
             .err()
-            .expect("no faces");
+            .expect("no faces")
+            .to_string();
         assert!(e.contains("no usable face"), "{e}");
     }
 

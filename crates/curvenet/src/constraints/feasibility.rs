@@ -6,16 +6,17 @@
 //!
 //! - the forced units (the groups holding keep-list curves) fit the budget;
 //! - without a keep list, some unit fits the budget;
-//! - `--min-curves K`: at most the network's curves, and at most the number of curves the
+//! - at least `K` curves: at most the network's curves, and at most the number of curves the
 //!   budget can hold (units taken by ascending length per curve, the last one in part: an
 //!   upper bound);
-//! - `--connected`: the forced curves lie in one connected part of the whole network;
-//! - `--max-gap D`: every curve kept leaves no gap above `D`, and every part of the surface
+//! - connected: the forced curves lie in one connected part of the whole network;
+//! - a largest gap `D`: every curve kept leaves no gap above `D`, and every part of the surface
 //!   (each need of [`super::Coverage`]) has a unit within `D` short enough for the budget the
 //!   forced units leave.
 
 use super::{Constraints, CurveSet};
 use crate::fmt::length as num;
+use crate::words::{Message, Opt, given, message};
 
 /// Curve ids as `0, 3, 5` (at most a dozen, then a count).
 fn list(curves: impl IntoIterator<Item = usize>) -> String {
@@ -29,10 +30,12 @@ fn list(curves: impl IntoIterator<Item = usize>) -> String {
 
 impl Constraints {
     /// Runs the tests of the module documentation; records what it found in the notes.
-    pub(crate) fn analyse(&mut self) -> Result<(), String> {
+    pub(crate) fn analyse(&mut self) -> Result<(), Message> {
         if let Some(f) = &self.symmetry {
-            self.notes
-                .push(format!("--symmetry {}: {}", f.option(), f.describe()));
+            self.notes.push(message![
+                given(Opt::Symmetry, f.option()),
+                format!(": {}", f.describe())
+            ]);
         }
         let keep_length = self.length(&self.keep);
         let forced: Vec<usize> = self.forced_set.to_vec();
@@ -44,11 +47,11 @@ impl Constraints {
                 .filter(|c| !self.keep.contains(c))
                 .collect();
             if self.forced[u] && !extra.is_empty() {
-                self.notes.push(format!(
+                self.notes.push(Message::from(format!(
                     "curves {} are kept whole with curve(s) {} of the keep list (one group)",
                     list(extra),
                     list(unit.iter().copied().filter(|c| self.keep.contains(c)))
-                ));
+                )));
             }
         }
         if keep_length <= self.budget && forced_length > self.budget {
@@ -59,14 +62,15 @@ impl Constraints {
                 list(forced.iter().copied()),
                 num(forced_length),
                 num(self.budget)
-            ));
+            )
+            .into());
         }
         if keep_length > self.budget {
-            self.notes.push(format!(
+            self.notes.push(Message::from(format!(
                 "the keep list alone needs {}, more than the budget {}: no network meets the budget",
                 num(keep_length),
                 num(self.budget)
-            ));
+            )));
         }
         let free: Vec<usize> = (0..self.units.len()).filter(|&u| !self.forced[u]).collect();
         let unit_length = |u: usize| self.length(&self.units[u]);
@@ -81,18 +85,19 @@ impl Constraints {
                 num(self.budget),
                 list(self.units[u].iter().copied()),
                 num(unit_length(u))
-            ));
+            )
+            .into());
         }
         self.analyse_min_curves(&free, forced.len(), forced_length)?;
         self.analyse_connected(&forced)?;
         self.analyse_gap(&free, forced_length)?;
         if let Some(d) = self.params.max_deviation {
-            self.notes.push(format!(
-                "--max-deviation {}: measured on the equilibrium of every network the greedy \
-                 records and the local search evaluates (the largest displacement of a vertex \
-                 from its designed place); a network over it is never the answer",
-                num(d)
-            ));
+            self.notes.push(message![
+                given(Opt::MaxDeviation, num(d)),
+                ": measured on the equilibrium of every network the greedy records and the \
+                 local search evaluates (the largest displacement of a vertex from its designed \
+                 place); a network over it is never the answer"
+            ]);
         }
         Ok(())
     }
@@ -102,15 +107,15 @@ impl Constraints {
         free: &[usize],
         forced_count: usize,
         forced_length: f64,
-    ) -> Result<(), String> {
+    ) -> Result<(), Message> {
         let Some(k) = self.params.min_curves else {
             return Ok(());
         };
         if k > self.n {
-            return Err(format!(
-                "--min-curves {k}: the network has only {} curves",
-                self.n
-            ));
+            return Err(message![
+                given(Opt::MinCurves, k),
+                format!(": the network has only {} curves", self.n)
+            ]);
         }
         // Fractional knapsack on the number of curves: an upper bound.
         let mut order: Vec<(f64, usize, usize)> = free
@@ -135,16 +140,19 @@ impl Constraints {
         }
         let most = (most + 1e-9).floor() as usize;
         if most < k {
-            return Err(format!(
-                "--min-curves {k}: at most {most} curves fit in the budget {} (the shortest \
-                 first, groups whole)",
-                num(self.budget)
-            ));
+            return Err(message![
+                given(Opt::MinCurves, k),
+                format!(
+                    ": at most {most} curves fit in the budget {} (the shortest first, groups \
+                     whole)",
+                    num(self.budget)
+                )
+            ]);
         }
         Ok(())
     }
 
-    fn analyse_connected(&self, forced: &[usize]) -> Result<(), String> {
+    fn analyse_connected(&self, forced: &[usize]) -> Result<(), Message> {
         let (Some(adj), Some(&first)) = (&self.adjacency, forced.first()) else {
             return Ok(());
         };
@@ -152,40 +160,47 @@ impl Constraints {
         let all = CurveSet::from_curves(self.n, &(0..self.n).collect::<Vec<_>>());
         let reach = self.component(adj, first, &all);
         if let Some(&c) = forced.iter().find(|&&c| !reach.contains(c)) {
-            return Err(format!(
-                "--connected: curves {} and {c} (kept with the keep list) lie in separate parts \
-                 of the network, which no kept curves can join",
-                first
-            ));
+            return Err(message![
+                Opt::Connected,
+                format!(
+                    ": curves {first} and {c} (kept with the keep list) lie in separate parts of \
+                     the network, which no kept curves can join"
+                )
+            ]);
         }
         Ok(())
     }
 
-    fn analyse_gap(&mut self, free: &[usize], forced_length: f64) -> Result<(), String> {
+    fn analyse_gap(&mut self, free: &[usize], forced_length: f64) -> Result<(), Message> {
         let Some(cov) = &self.coverage else {
             return Ok(());
         };
         let d = cov.limit();
         let full = cov.full_gap();
-        let note = format!(
-            "--max-gap {}: the surface sampled at {} points (spacing {}: the true gap exceeds the \
-             measured one by less), {} distinct needs; every curve kept leaves a gap of {}",
-            num(d),
-            cov.sample_count(),
-            num(cov.spacing()),
-            cov.need_count(),
-            num(full.value)
-        );
-        if full.value > d {
-            return Err(format!(
-                "--max-gap {}: even with every curve kept, the point ({}, {}, {}) of the surface \
-                 lies {} from the nearest curve (the smallest gap possible)",
-                num(d),
-                num(full.at.x),
-                num(full.at.y),
-                num(full.at.z),
+        let limit = || given(Opt::MaxGap, num(d));
+        let note = message![
+            limit(),
+            format!(
+                ": the surface sampled at {} points (spacing {}: the true gap exceeds the \
+                 measured one by less), {} distinct needs; every curve kept leaves a gap of {}",
+                cov.sample_count(),
+                num(cov.spacing()),
+                cov.need_count(),
                 num(full.value)
-            ));
+            )
+        ];
+        if full.value > d {
+            return Err(message![
+                limit(),
+                format!(
+                    ": even with every curve kept, the point ({}, {}, {}) of the surface lies {} \
+                     from the nearest curve (the smallest gap possible)",
+                    num(full.at.x),
+                    num(full.at.y),
+                    num(full.at.z),
+                    num(full.value)
+                )
+            ]);
         }
         let room = self.budget - forced_length;
         for (need, at) in cov.needs() {
@@ -200,20 +215,22 @@ impl Constraints {
             if let Some((len, u)) = shortest
                 && len > room
             {
-                return Err(format!(
-                    "--max-gap {}: the point ({}, {}, {}) of the surface is within {} only of \
-                     curves {}, and the shortest group holding one (curves {}) needs {}, more \
-                     than the budget leaves ({})",
-                    num(d),
-                    num(at.x),
-                    num(at.y),
-                    num(at.z),
-                    num(d),
-                    list(need.iter()),
-                    list(self.units[u].iter().copied()),
-                    num(len),
-                    num(room)
-                ));
+                return Err(message![
+                    limit(),
+                    format!(
+                        ": the point ({}, {}, {}) of the surface is within {} only of curves {}, \
+                         and the shortest group holding one (curves {}) needs {}, more than the \
+                         budget leaves ({})",
+                        num(at.x),
+                        num(at.y),
+                        num(at.z),
+                        num(d),
+                        list(need.iter()),
+                        list(self.units[u].iter().copied()),
+                        num(len),
+                        num(room)
+                    )
+                ]);
             }
         }
         self.notes.push(note);

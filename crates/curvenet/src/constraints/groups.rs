@@ -22,6 +22,7 @@
 //! with no ids, and (once the network is known, [`check_groups`]) an id past the last curve.
 
 use crate::io::InputError;
+use crate::words::Message;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -194,7 +195,7 @@ pub fn groups_of_tags(tags: &[Option<String>], origins: &[String]) -> Vec<Group>
 /// # Errors
 ///
 /// `file:line: …` naming the group and the first id past the last curve.
-pub fn check_groups(groups: &[Group], n: usize) -> Result<(), String> {
+pub fn check_groups(groups: &[Group], n: usize) -> Result<(), Message> {
     for g in groups {
         if let Some(&c) = g.curves.iter().find(|&&c| c >= n) {
             return Err(format!(
@@ -202,7 +203,8 @@ pub fn check_groups(groups: &[Group], n: usize) -> Result<(), String> {
                 g.origin,
                 g.name,
                 n.saturating_sub(1)
-            ));
+            )
+            .into());
         }
     }
     Ok(())
@@ -258,7 +260,9 @@ mod tests {
     #[test]
     fn ids_past_the_last_curve_are_named() {
         let g = parse_groups("\nring: 0 40\n", "g.txt").expect("parses");
-        let e = check_groups(&g, 33).expect_err("40 is out of range");
+        let e = check_groups(&g, 33)
+            .expect_err("40 is out of range")
+            .to_string();
         assert!(e.starts_with("g.txt:2: group `ring` names curve 40"), "{e}");
         assert!(e.contains("33 curves (ids 0..32)"), "{e}");
         assert!(check_groups(&g, 41).is_ok());

@@ -3,12 +3,14 @@
 //!
 //! | option | constraint on a kept set `S` | module |
 //! |---|---|---|
-//! | `--groups FILE`, `"group"` in JSON curves | each group is kept whole or removed whole | [`groups`] |
-//! | `--symmetry rotate:N\|mirror\|auto` | each orbit of the detected symmetry is kept whole or removed whole | [`symmetry`] |
-//! | `--connected` | `S` is one connected structure (curves joined through shared joints) | here |
-//! | `--min-curves K` | `S` holds at least `K` curves | here |
-//! | `--max-gap D` | every point of the surface lies within `D` of a rod of `S` (at rest) | [`coverage`] |
-//! | `--max-deviation D` | no vertex of `S` moves more than `D` from its designed position at `S`'s equilibrium | here |
+//! | `groups` (a groups file), `"group"` in JSON curves | each group is kept whole or removed whole | [`groups`] |
+//! | `symmetry` (`rotate:N\|mirror\|auto`) | each orbit of the detected symmetry is kept whole or removed whole | [`symmetry`] |
+//! | `connected` | `S` is one connected structure (curves joined through shared joints) | here |
+//! | `min_curves` `K` | `S` holds at least `K` curves | here |
+//! | `max_gap` `D` | every point of the surface lies within `D` of a rod of `S` (at rest) | [`coverage`] |
+//! | `max_deviation` `D` | no vertex of `S` moves more than `D` from its designed position at `S`'s equilibrium | here |
+//!
+//! (Each option by its neutral key, [`Opt`]; a front end spells it its own way.)
 //!
 //! Groups and orbits together make the *units* of a search: the sets of curves it keeps or
 //! removes together (groups sharing a curve, or a group and an orbit sharing one, are one
@@ -28,7 +30,7 @@
 //! [`answer`] chooses the network to build among those the searches evaluated: the best
 //! stable one that meets every constraint, and the alternatives beside it.
 //!
-//! `--max-deviation` is the one constraint that needs an equilibrium, so it is never checked
+//! The largest deviation is the one constraint that needs an equilibrium, so it is never checked
 //! up front: the largest displacement of a vertex of the structure ([`max_displacement`]) is
 //! measured on each iteration the greedy records, on every set the local and exhaustive
 //! searches evaluate, and on the answer, and a network over the limit is never the answer.
@@ -53,6 +55,7 @@ pub use symmetry::{Symmetry, SymmetryFound, SymmetryOption};
 use crate::io::TriMesh;
 use crate::network::Network;
 use crate::network::subnet::curve_components;
+use crate::words::{Message, Opt, Piece, given, message};
 use serde::{Deserialize, Serialize};
 
 /// The constraint settings, as given on the command line and recorded in `result.json`.
@@ -106,42 +109,89 @@ impl ConstraintParams {
     }
 
     /// Checks the values (not their feasibility: [`Constraints::new`] does that).
-    pub fn validate(&self) -> Result<(), String> {
+    ///
+    /// # Errors
+    ///
+    /// A message naming the option whose value is out of range.
+    pub fn validate(&self) -> Result<(), Message> {
         if self.min_curves == Some(0) {
-            return Err("--min-curves must be at least 1".into());
+            return Err(message![Opt::MinCurves, " must be at least 1"]);
         }
-        for (name, v) in [
-            ("--max-gap", self.max_gap),
-            ("--max-deviation", self.max_deviation),
+        for (opt, v) in [
+            (Opt::MaxGap, self.max_gap),
+            (Opt::MaxDeviation, self.max_deviation),
         ] {
             if let Some(v) = v
                 && !(v.is_finite() && v > 0.0)
             {
-                return Err(format!(
-                    "{name} must be a positive distance in scene units, got {v}"
-                ));
+                return Err(message![
+                    opt,
+                    format!(" must be a positive distance in scene units, got {v}")
+                ]);
             }
         }
         if !(self.symmetry_tolerance > 0.0 && self.symmetry_tolerance <= 0.1) {
             return Err(format!(
                 "the symmetry tolerance must lie in (0, 0.1] (relative to the scene's size), got {}",
                 self.symmetry_tolerance
-            ));
+            )
+            .into());
         }
-        Ok(())
+        check_groups(&self.groups)
     }
+}
+
+/// Refuses an empty group and a curve in two groups (a groups file refuses them at their
+/// line; groups given otherwise, or a groups file beside the curve files' own groups, are
+/// checked here), naming the groups and where they were defined.
+fn check_groups(groups: &[Group]) -> Result<(), Message> {
+    let mut owner: std::collections::HashMap<usize, &Group> = Default::default();
+    for g in groups {
+        if g.curves.is_empty() {
+            return Err(format!(
+                "group {} ({}) names no curve: a group holds at least one",
+                g.name, g.origin
+            )
+            .into());
+        }
+        for &c in &g.curves {
+            if let Some(other) = owner.insert(c, g)
+                && !std::ptr::eq(other, g)
+            {
+                return Err(format!(
+                    "curve {c} is in two groups, {} ({}) and {} ({}): a curve belongs to one \
+                     group",
+                    other.name, other.origin, g.name, g.origin
+                )
+                .into());
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Why constraints cannot be used.
 #[derive(Debug, thiserror::Error)]
 pub enum ConstraintError {
-    /// A bad value or a missing input (a group naming no curve of the network, `--max-gap`
-    /// without a surface, a symmetry the network does not have).
+    /// A bad value or a missing input (a group naming no curve of the network, the largest
+    /// gap without a surface, a symmetry the network does not have).
     #[error("{0}")]
-    Usage(String),
+    Usage(Message),
     /// No set of curves satisfies the combination with the budget and the keep list.
     #[error("no network can meet the constraints: {0}")]
-    Infeasible(String),
+    Infeasible(Message),
+}
+
+impl ConstraintError {
+    /// The error as a message (what `Display` says, for a front end to spell).
+    pub fn message(&self) -> Message {
+        match self {
+            ConstraintError::Usage(m) => m.clone(),
+            ConstraintError::Infeasible(m) => m
+                .clone()
+                .prefixed(["no network can meet the constraints: ".into()]),
+        }
+    }
 }
 
 /// How a set breaks the constraints (the first broken one, in the order tested).
@@ -287,10 +337,10 @@ pub struct Constraints {
     groups: Vec<CurveSet>,
     symmetry: Option<SymmetryFound>,
     orbits: Vec<CurveSet>,
-    /// For each curve, the curves it shares a vertex with (when `--connected`).
+    /// For each curve, the curves it shares a vertex with (under the connected constraint).
     adjacency: Option<Vec<CurveSet>>,
     coverage: Option<Coverage>,
-    notes: Vec<String>,
+    notes: Vec<Message>,
 }
 
 impl std::fmt::Debug for Constraints {
@@ -310,13 +360,13 @@ impl Constraints {
         Self::bind(net, ConstraintParams::default(), None, None, budget, keep)
     }
 
-    /// Binds `params` to `net` (with its surface `mesh`, needed by `--max-gap`), the budget
+    /// Binds `params` to `net` (with its surface `mesh`, needed by the largest gap), the budget
     /// (a length) and the keep list, and analyses the combination.
     ///
     /// # Errors
     ///
     /// [`ConstraintError::Usage`] for bad values, groups naming curves the network lacks,
-    /// `--max-gap` without a surface, or a symmetry the network does not have;
+    /// the largest gap without a surface, or a symmetry the network does not have;
     /// [`ConstraintError::Infeasible`] when no set can meet the constraints (the message says
     /// why).
     pub fn new(
@@ -330,24 +380,31 @@ impl Constraints {
         let n = net.rods.len();
         groups::check_groups(&params.groups, n).map_err(ConstraintError::Usage)?;
         if let Some(&c) = keep.iter().find(|&&c| c >= n) {
-            return Err(ConstraintError::Usage(format!(
-                "keep list names curve {c}, but the network has {n} curves"
-            )));
+            return Err(ConstraintError::Usage(
+                format!("keep list names curve {c}, but the network has {n} curves").into(),
+            ));
         }
         let coverage = match (params.max_gap, mesh) {
             (None, _) => None,
             (Some(_), None) => {
-                return Err(ConstraintError::Usage(
-                    "--max-gap measures the gap over the surface: give the mesh (--mesh)".into(),
-                ));
+                return Err(ConstraintError::Usage(message![
+                    Opt::MaxGap,
+                    " measures the gap over the surface: give the mesh (",
+                    Opt::Mesh,
+                    ")"
+                ]));
             }
             (Some(d), Some(m)) => Some(Coverage::new(net, m, d).map_err(ConstraintError::Usage)?),
         };
         let found = symmetry::find(net, params.symmetry, params.symmetry_tolerance)
-            .map_err(ConstraintError::Usage)?;
+            .map_err(|e| ConstraintError::Usage(e.0.into()))?;
+        let auto = || given(Opt::Symmetry, "auto");
         let mut notes = Vec::new();
         if params.symmetry == SymmetryOption::Auto && found.is_empty() {
-            notes.push("--symmetry auto: the network has no symmetry; none is used".to_owned());
+            notes.push(message![
+                auto(),
+                ": the network has no symmetry; none is used"
+            ]);
         }
         // Auto: the largest symmetry the rest allows; otherwise the one asked for.
         let mut coverage = coverage;
@@ -365,7 +422,9 @@ impl Constraints {
                 // Auto also refuses a symmetry that leaves nothing to choose beyond the keep
                 // list (its orbits all too long for the budget left).
                 if params.symmetry == SymmetryOption::Auto && !c.leaves_a_choice() {
-                    Err("no orbit beyond the keep list fits the budget".to_owned())
+                    Err(Message::from(
+                        "no orbit beyond the keep list fits the budget",
+                    ))
                 } else {
                     Ok(())
                 }
@@ -373,32 +432,38 @@ impl Constraints {
             match analysed {
                 Ok(()) => {
                     if !refused.is_empty() {
-                        notes.push(format!(
-                            "--symmetry auto: larger symmetries refused: {}",
-                            refused.join("; ")
-                        ));
+                        notes.push(
+                            message![auto(), ": larger symmetries refused: "]
+                                .then(Message::join(refused, "; ")),
+                        );
                     }
                     c.notes.splice(0..0, notes);
                     return Ok(c);
                 }
                 Err(e) if params.symmetry != SymmetryOption::Auto => {
-                    return Err(ConstraintError::Infeasible(format!(
-                        "with {}: {e}",
-                        f.option()
-                    )));
+                    return Err(ConstraintError::Infeasible(
+                        e.prefixed([format!("with {}: ", f.option()).into()]),
+                    ));
                 }
                 Err(e) => {
-                    refused.push(format!("{} ({e})", f.option()));
+                    refused.push(
+                        message![format!("{} (", f.option())]
+                            .then(e)
+                            .then([Piece::from(")")]),
+                    );
                     coverage = c.coverage.take();
                 }
             }
         }
         if !refused.is_empty() {
-            notes.push(format!(
-                "--symmetry auto: no symmetry of the network leaves a feasible network ({}); \
-                 none is used",
-                refused.join("; ")
-            ));
+            notes.push(
+                message![
+                    auto(),
+                    ": no symmetry of the network leaves a feasible network ("
+                ]
+                .then(Message::join(refused, "; "))
+                .then([Piece::from("); none is used")]),
+            );
         }
         let mut c = Self::bind(net, params.clone(), None, coverage, budget, keep);
         c.analyse().map_err(ConstraintError::Infeasible)?;
@@ -515,7 +580,7 @@ impl Constraints {
 
     /// What the analysis found and decided (the symmetry, groups widened by the keep list,
     /// the surface's sampling), one line each, for the user.
-    pub fn notes(&self) -> &[String] {
+    pub fn notes(&self) -> &[Message] {
         &self.notes
     }
 

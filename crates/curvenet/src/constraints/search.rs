@@ -7,6 +7,7 @@
 
 use super::{Constraints, CurveSet};
 use crate::rng::SplitMix64;
+use crate::words::Message;
 use serde::{Deserialize, Serialize};
 use std::collections::HashSet;
 
@@ -202,11 +203,11 @@ impl Constraints {
             .collect()
     }
 
-    /// Every feasible set (budget, keep list, every constraint but `--max-deviation`), each
+    /// Every feasible set (budget, keep list, every constraint but the largest deviation), each
     /// ascending, depth-first over the units (with a unit before without); `Err` when there are
     /// more than `cap`. Branches that cannot reach the budget, the number of curves or the
     /// surface's cover are cut.
-    pub fn feasible_subsets(&self, cap: usize) -> Result<Vec<Vec<usize>>, String> {
+    pub fn feasible_subsets(&self, cap: usize) -> Result<Vec<Vec<usize>>, Message> {
         let m = self.units.len();
         let lengths: Vec<f64> = (0..m).map(|u| self.length(&self.units[u])).collect();
         // What the units from `u` on can still add: curves and the union of their sets.
@@ -237,12 +238,12 @@ impl Constraints {
             out: &mut out,
         };
         state.rec(0, base).map_err(|()| {
-            format!(
+            Message::from(format!(
                 "exhaustive search refused: the network's {} curves ({m} groups) have more than \
                  {cap} feasible subsets at budget {:.6}; use the greedy or random search, or \
                  raise the limit",
                 self.n, self.budget
-            )
+            ))
         })?;
         Ok(out)
     }

@@ -235,6 +235,27 @@ impl Transform {
         }
     }
 
+    /// The transform applied `k` times.
+    fn power(&self, k: u32) -> Self {
+        match *self {
+            Transform::Rotate {
+                center,
+                axis,
+                cos,
+                sin,
+            } => {
+                let angle = f64::from(k) * sin.atan2(cos);
+                Transform::Rotate {
+                    center,
+                    axis,
+                    cos: angle.cos(),
+                    sin: angle.sin(),
+                }
+            }
+            r @ Transform::Reflect { .. } => r,
+        }
+    }
+
     fn inverse(&self) -> Self {
         match *self {
             Transform::Rotate {
@@ -267,8 +288,12 @@ struct CurveGeo {
 /// Why a transform is not a symmetry: a curve with no curve where it maps.
 struct Mismatch {
     curve: usize,
-    /// The distance to the nearest candidate (centroids when no candidate came close).
+    /// How far the curve's image lands from the nearest curve (the largest distance between
+    /// the image and that curve: the test's own measure).
     distance: f64,
+    /// The power of the transform that fails (1: the transform itself; `k`: the rotation by
+    /// `k` times its angle, which a symmetry of the group must also be).
+    power: u32,
     /// Every curve has a curve where it maps, but the map is not a symmetry of the asked
     /// order (its cycle through `curve` does not close after that many steps).
     cycle: bool,
@@ -412,10 +437,8 @@ impl Detector {
         for (i, ci) in self.curves.iter().enumerate() {
             let image = t.apply(ci.centroid);
             let mut best: Option<(f64, usize)> = None;
-            let mut nearest = f64::INFINITY;
             for (j, cj) in self.curves.iter().enumerate() {
                 let dc = image.dist(cj.centroid);
-                nearest = nearest.min(dc);
                 if cj.closed != ci.closed
                     || cj.anchors != ci.anchors
                     || (cj.length - ci.length).abs() > 1e-2 * ci.length + 2.0 * tol
@@ -439,7 +462,8 @@ impl Detector {
                 None => {
                     return Err(Mismatch {
                         curve: i,
-                        distance: nearest,
+                        distance: self.landing(i, t),
+                        power: 1,
                         cycle: false,
                     });
                 }
@@ -449,10 +473,60 @@ impl Detector {
             return Err(Mismatch {
                 curve,
                 distance: f64::INFINITY,
+                power: 1,
                 cycle: true,
             });
         }
+        // Every element of the group must map the network onto itself too: the rotation by
+        // `k` times the angle takes curve `i` to `perm^k(i)`. A small rotation maps every
+        // curve within the tolerance of itself; its powers near a half turn do not, unless
+        // the network has the symmetry. (`k` and `order − k` are inverses: half suffice.)
+        let mut at = perm.clone();
+        for k in 2..=order / 2 {
+            let tk = t.power(k);
+            let tk_inv = tk.inverse();
+            for (i, a) in at.iter_mut().enumerate() {
+                *a = perm[*a];
+                match hausdorff(&self.curves[i], &self.curves[*a], &tk, &tk_inv, tol) {
+                    Some(d) => worst = worst.max(d),
+                    None => {
+                        return Err(Mismatch {
+                            curve: i,
+                            distance: self.landing(i, &tk),
+                            power: k,
+                            cycle: false,
+                        });
+                    }
+                }
+            }
+        }
         Ok((perm, worst))
+    }
+
+    /// How far `t` takes curve `i` from the nearest curve: the least, over every curve, of
+    /// the largest distance between `t(i)` and it.
+    fn landing(&self, i: usize, t: &Transform) -> f64 {
+        let inv = t.inverse();
+        let ci = &self.curves[i];
+        self.curves
+            .iter()
+            .filter_map(|cj| hausdorff(ci, cj, t, &inv, f64::INFINITY))
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The largest rotation order the network's curves can carry: a curve off the axis
+    /// needs its whole orbit, an open curve on it is kept by a half turn at most, and a
+    /// closed curve around the axis by as many turns as it has vertices. So twice the
+    /// curves, and the vertices of the largest closed curve.
+    pub fn max_rotation_order(&self) -> u32 {
+        let ring = self
+            .curves
+            .iter()
+            .filter(|c| c.closed)
+            .map(|c| c.points.len().saturating_sub(1))
+            .max()
+            .unwrap_or(0);
+        u32::try_from(2 * self.curves.len() + ring).unwrap_or(u32::MAX)
     }
 
     /// The orbits of `perm`'s cycles, each ascending, ordered by their smallest curve.
@@ -477,7 +551,16 @@ impl Detector {
 
     /// The rotation of `order` about the first candidate axis where it is a symmetry, or why
     /// none is (the closest miss).
-    pub fn rotation(&self, order: u32) -> Result<SymmetryFound, String> {
+    pub fn rotation(&self, order: u32) -> Result<SymmetryFound, NoSymmetry> {
+        let most = self.max_rotation_order();
+        if order > most {
+            return Err(NoSymmetry(format!(
+                "the network has no rotation of order {order}: its {} curves can carry a \
+                 rotation of order {most} at most (each curve off the axis needs its whole \
+                 orbit of curves)",
+                self.curves.len()
+            )));
+        }
         self.first_of(
             &format!("rotation of order {order}"),
             order,
@@ -504,7 +587,7 @@ impl Detector {
     }
 
     /// The first candidate mirror plane that is a symmetry, or why none is.
-    pub fn mirror(&self) -> Result<SymmetryFound, String> {
+    pub fn mirror(&self) -> Result<SymmetryFound, NoSymmetry> {
         self.first_of("mirror plane", 2, self.normals(), |normal| {
             (
                 Transform::Reflect {
@@ -528,7 +611,7 @@ impl Detector {
         order: u32,
         candidates: Vec<Vec3>,
         make: impl Fn(Vec3) -> (Transform, Symmetry),
-    ) -> Result<SymmetryFound, String> {
+    ) -> Result<SymmetryFound, NoSymmetry> {
         let mut miss: Option<(Mismatch, Vec3)> = None;
         for c in candidates {
             let (t, symmetry) = make(c);
@@ -548,8 +631,9 @@ impl Detector {
     /// dividing the largest order found (on the axis where it is largest), then the mirror.
     pub fn all(&self) -> Vec<SymmetryFound> {
         let mut best: Option<(u32, Vec3)> = None;
+        let most = MAX_ORDER.min(self.max_rotation_order());
         for axis in self.axes() {
-            for order in (2..=MAX_ORDER).rev() {
+            for order in (2..=most).rev() {
                 if best.is_some_and(|b| order <= b.0) {
                     break;
                 }
@@ -577,36 +661,49 @@ impl Detector {
         out
     }
 
-    fn not_found(&self, what: &str, miss: Option<(Mismatch, Vec3)>) -> String {
+    fn not_found(&self, what: &str, miss: Option<(Mismatch, Vec3)>) -> NoSymmetry {
         let rel = |d: f64| d / self.scene_size.max(f64::MIN_POSITIVE);
-        match miss {
+        NoSymmetry(match miss {
             Some((m, _)) if m.cycle => format!(
                 "the network has no {what}: every curve has a curve where the map takes it, but \
                  repeating the map does not bring curve {} back to itself as a symmetry of \
                  this order would (a symmetry of another order, within the tolerance)",
                 m.curve
             ),
-            Some((m, dir)) => format!(
-                "the network has no {what} within the tolerance ({:.1e} of the scene's size, \
-                 {:.3e} scene units): the closest, about the centroid ({:.6}, {:.6}, {:.6}) with \
-                 direction ({:.4}, {:.4}, {:.4}), maps curve {} {:.3e} away from any curve \
-                 ({:.1e} of the scene's size)",
-                rel(self.tolerance),
-                self.tolerance,
-                self.center.x,
-                self.center.y,
-                self.center.z,
-                dir.x,
-                dir.y,
-                dir.z,
-                m.curve,
-                m.distance,
-                rel(m.distance),
-            ),
+            Some((m, dir)) => {
+                let which = if m.power > 1 {
+                    format!("applied {} times, it maps", m.power)
+                } else {
+                    "it maps".to_string()
+                };
+                format!(
+                    "the network has no {what} within the tolerance ({:.1e} of the scene's \
+                     size, {:.3e} scene units): the closest, about the centroid ({:.6}, {:.6}, \
+                     {:.6}) with direction ({:.4}, {:.4}, {:.4}); {which} curve {} {:.3e} away \
+                     from any curve ({:.1e} of the scene's size)",
+                    rel(self.tolerance),
+                    self.tolerance,
+                    self.center.x,
+                    self.center.y,
+                    self.center.z,
+                    dir.x,
+                    dir.y,
+                    dir.z,
+                    m.curve,
+                    m.distance,
+                    rel(m.distance),
+                )
+            }
             None => format!("the network has no {what}: it has no curves to compare"),
-        }
+        })
     }
 }
+
+/// Why the network lacks the symmetry asked for: how close it came (the closest miss: which
+/// curve lands how far from any curve), or why it cannot have it.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{0}")]
+pub struct NoSymmetry(pub String);
 
 /// Finds the symmetry `option` asks for: none for [`SymmetryOption::None`], the one asked for
 /// (an error saying how close the network came when it is not there), or for
@@ -615,7 +712,7 @@ pub fn find(
     net: &Network,
     option: SymmetryOption,
     tolerance: f64,
-) -> Result<Vec<SymmetryFound>, String> {
+) -> Result<Vec<SymmetryFound>, NoSymmetry> {
     let d = || Detector::new(net, tolerance);
     match option {
         SymmetryOption::None => Ok(Vec::new()),

@@ -134,7 +134,7 @@ fn groups_and_symmetry_match_brute_force() {
         &[vec![0], vec![1, 3], vec![2, 4], vec![5, 7], vec![6, 8]]
     );
     assert!(
-        c.notes()[0].contains("rotation of order 2"),
+        c.notes()[0].to_string().contains("rotation of order 2"),
         "{:?}",
         c.notes()
     );
@@ -293,7 +293,7 @@ fn auto_takes_the_largest_symmetry_the_budget_allows() {
     let c = Constraints::new(&net, None, &p, budget, &[0]).expect("feasible");
     assert_eq!(c.symmetry().map(SymmetryFound::group_order), Some(2));
     assert!(
-        c.notes().iter().any(|n| n.contains("refused")),
+        c.notes().iter().any(|n| n.to_string().contains("refused")),
         "{:?}",
         c.notes()
     );
@@ -301,7 +301,9 @@ fn auto_takes_the_largest_symmetry_the_budget_allows() {
     let c = Constraints::new(&net, None, &p, lengths[0] * 1.01, &[0]).expect("feasible");
     assert!(c.symmetry().is_none());
     assert!(
-        c.notes().iter().any(|n| n.contains("none is used")),
+        c.notes()
+            .iter()
+            .any(|n| n.to_string().contains("none is used")),
         "{:?}",
         c.notes()
     );
@@ -333,4 +335,35 @@ fn the_largest_displacement_is_over_the_structure() {
     let m = c.margins(&[2], Some(5.0));
     assert!(!m.all_met() && !m.max_deviation.expect("given").met);
     assert!(!c.deviation_ok(5.0) && c.deviation_ok(4.0));
+}
+
+#[test]
+fn empty_and_overlapping_groups_are_refused_wherever_they_come_from() {
+    let group = |name: &str, curves: &[usize]| Group {
+        name: name.into(),
+        curves: curves.to_vec(),
+        origin: format!("groups[{name}]"),
+    };
+    let with = |groups: Vec<Group>| ConstraintParams {
+        groups,
+        ..ConstraintParams::default()
+    };
+    assert!(
+        with(vec![group("a", &[0, 1]), group("b", &[2])])
+            .validate()
+            .is_ok()
+    );
+    let e = with(vec![group("a", &[0, 1]), group("b", &[1, 2])])
+        .validate()
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("curve 1 is in two groups") && e.contains("groups[a]"),
+        "{e}"
+    );
+    let e = with(vec![group("a", &[])])
+        .validate()
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("names no curve"), "{e}");
 }

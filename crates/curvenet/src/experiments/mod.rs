@@ -2,6 +2,8 @@
 //! algorithm tree (they use [`crate::simplify`] like any caller).
 //!
 //! - [`compare`]: the paper's Fig. 10, greedy against exhaustive and random search on random
-//!   networks (`curvenet compare`).
+//!   networks (`curvenet compare`);
+//! - [`bench`]: the greedy on the paper's examples, timed phase by phase (`curvenet bench`).
 
+pub mod bench;
 pub mod compare;

@@ -32,7 +32,23 @@ enum Job {
 }
 
 /// The first failure of the writer thread, shared with the submitting side.
-type Failure = Arc<Mutex<Option<String>>>;
+type Failure = Arc<Mutex<Option<WriteError>>>;
+
+/// Why the background writer stopped writing.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum WriteError {
+    /// A file could not be written: its path and the system's reason.
+    #[error("{}: {reason}", path.display())]
+    Failed {
+        /// The file.
+        path: PathBuf,
+        /// What the system said.
+        reason: String,
+    },
+    /// The writer thread stopped unexpectedly.
+    #[error("the output writer thread stopped unexpectedly")]
+    Stopped,
+}
 
 /// Writes files atomically and in order on a thread of its own (see the module docs).
 #[derive(Debug)]
@@ -60,37 +76,33 @@ impl BackgroundWriter {
 
     /// Queues `bytes` to be written to `path`, after everything submitted before. Waits while
     /// the queue is full. An error if an earlier write failed (nothing more is written).
-    pub fn submit(&self, path: PathBuf, bytes: Vec<u8>) -> Result<(), String> {
+    pub fn submit(&self, path: PathBuf, bytes: Vec<u8>) -> Result<(), WriteError> {
         self.check()?;
         self.send(Job::Write(path, bytes))
     }
 
     /// Waits until everything submitted so far is on disk; an error if any write failed.
-    pub fn flush(&self) -> Result<(), String> {
+    pub fn flush(&self) -> Result<(), WriteError> {
         let (done, wait) = sync_channel(1);
         self.send(Job::Flush(done))?;
-        wait.recv().map_err(|_| stopped())?;
+        wait.recv().map_err(|_| WriteError::Stopped)?;
         self.check()
     }
 
-    fn send(&self, job: Job) -> Result<(), String> {
+    fn send(&self, job: Job) -> Result<(), WriteError> {
         self.jobs
             .as_ref()
-            .ok_or_else(stopped)?
+            .ok_or(WriteError::Stopped)?
             .send(job)
-            .map_err(|_| stopped())
+            .map_err(|_| WriteError::Stopped)
     }
 
-    fn check(&self) -> Result<(), String> {
+    fn check(&self) -> Result<(), WriteError> {
         match self.failed.lock() {
             Ok(f) => f.clone().map_or(Ok(()), Err),
-            Err(_) => Err(stopped()),
+            Err(_) => Err(WriteError::Stopped),
         }
     }
-}
-
-fn stopped() -> String {
-    "the output writer thread stopped unexpectedly".into()
 }
 
 impl Drop for BackgroundWriter {
@@ -113,7 +125,10 @@ fn run(queue: Receiver<Job>, failed: Failure) {
                 if let Err(e) = write_atomic(&path, &bytes) {
                     ok = false;
                     if let Ok(mut f) = failed.lock() {
-                        *f = Some(format!("{}: {e}", path.display()));
+                        *f = Some(WriteError::Failed {
+                            reason: e.to_string(),
+                            path,
+                        });
                     }
                 }
             }

@@ -295,7 +295,7 @@ fn a_failed_background_write_is_reported_and_stops_later_ones() {
         .unwrap();
     w.submit(dir.join("third.txt"), b"3".to_vec()).unwrap();
     let err = w.flush().unwrap_err();
-    assert!(err.contains("missing/second.txt"), "{err}");
+    assert!(err.to_string().contains("missing/second.txt"), "{err}");
     // Reported again by the next submission; nothing after the failure was written.
     let again = w.submit(dir.join("fourth.txt"), b"4".to_vec()).unwrap_err();
     assert_eq!(again, err);

@@ -21,6 +21,7 @@ pub use section::Section;
 pub use spec::{CurveSpec, MaterialSpec, SectionSpec};
 
 use crate::units::{LengthUnit, STANDARD_GRAVITY};
+use crate::words::Message;
 use serde::{Deserialize, Serialize};
 
 /// A material in SI units.
@@ -73,25 +74,24 @@ pub const GRAVITY_RANGE: (f64, f64) = (1e-6, 1e4);
 /// # Errors
 ///
 /// `what` (with `unit`) and the range when `v` lies outside `range`, or is not a number.
-pub fn check_range(what: &str, v: f64, range: (f64, f64), unit: &str) -> Result<(), String> {
+pub fn check_range(what: &str, v: f64, range: (f64, f64), unit: &str) -> Result<(), Message> {
     if (range.0..=range.1).contains(&v) {
         Ok(())
     } else if !(v > 0.0) {
-        Err(format!(
-            "{what} must be a positive number, got {v:e} {unit}"
-        ))
+        Err(format!("{what} must be a positive number, got {v:e} {unit}").into())
     } else {
         Err(format!(
             "{what} is {v:e} {unit}, beyond any material (between {:e} and {:e} {unit})",
             range.0, range.1
-        ))
+        )
+        .into())
     }
 }
 
 impl PhysicalMaterial {
     /// Checks that every value lies in its range ([`STRESS_RANGE_PA`],
     /// [`DENSITY_RANGE_KG_M3`]).
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Message> {
         for (what, v, range, unit) in [
             ("Young's modulus", self.young_pa, STRESS_RANGE_PA, "Pa"),
             ("density", self.density_kg_m3, DENSITY_RANGE_KG_M3, "kg/m3"),
@@ -109,7 +109,8 @@ impl PhysicalMaterial {
             return Err(format!(
                 "the Poisson's ratio of material '{}' is {}, outside ({lo}, {hi}]",
                 self.name, self.poisson
-            ));
+            )
+            .into());
         }
         Ok(())
     }
@@ -231,17 +232,15 @@ impl Physical {
     }
 
     /// Checks every material and section, the gravity and the load.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Message> {
         self.material.validate()?;
         self.section.validate()?;
         for o in &self.curves {
             if let Some(m) = &o.material {
-                m.validate()
-                    .map_err(|e| format!("curve {}: {e}", o.curve))?;
+                m.validate().map_err(|e| curve_message(o.curve, e))?;
             }
             if let Some(s) = &o.section {
-                s.validate()
-                    .map_err(|e| format!("curve {}: {e}", o.curve))?;
+                s.validate().map_err(|e| curve_message(o.curve, e))?;
             }
         }
         if self.curves.windows(2).any(|w| w[0].curve >= w[1].curve) {
@@ -315,13 +314,13 @@ impl Physical {
     /// # Errors
     ///
     /// A message naming the curve for an unknown preset or an invalid value.
-    pub fn with_curve_specs(mut self, specs: &[CurveSpec]) -> Result<Self, String> {
+    pub fn with_curve_specs(mut self, specs: &[CurveSpec]) -> Result<Self, Message> {
         let mut curves = Vec::new();
         for (c, spec) in specs.iter().enumerate() {
             let material = (spec.material.as_ref())
                 .map(|m| m.resolve(&self.material))
                 .transpose()
-                .map_err(|e| format!("curve {c}: {e}"))?;
+                .map_err(|e| curve_message(c, e))?;
             let section = spec.section.map(|s| s.resolve(self.units));
             if material.is_some() || section.is_some() {
                 curves.push(CurveOverride {
@@ -335,6 +334,11 @@ impl Physical {
         self.validate()?;
         Ok(self)
     }
+}
+
+/// `message` about curve `curve`: `curve 3: …`.
+fn curve_message(curve: usize, message: Message) -> Message {
+    message.prefixed([format!("curve {curve}: ").into()])
 }
 
 #[cfg(test)]
@@ -419,7 +423,7 @@ mod tests {
             }),
             ..CurveSpec::default()
         }];
-        let e = steel_mm().with_curve_specs(&bad).unwrap_err();
+        let e = steel_mm().with_curve_specs(&bad).unwrap_err().to_string();
         assert!(e.contains("curve 0") && e.contains("density"), "{e}");
     }
 

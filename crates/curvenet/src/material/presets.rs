@@ -18,6 +18,7 @@
 //! `"poisson"` in the curve file to match a measured `G` (`ν = E / 2G − 1`).
 
 use super::PhysicalMaterial;
+use crate::words::Message;
 
 /// The presets: name, the other names it answers to, then Young's modulus (Pa), density
 /// (kg/m³), strength (Pa) and Poisson's ratio.
@@ -54,7 +55,7 @@ pub fn names() -> Vec<&'static str> {
 /// # Errors
 ///
 /// A message listing the presets when there is none by that name.
-pub fn preset(name: &str) -> Result<PhysicalMaterial, String> {
+pub fn preset(name: &str) -> Result<PhysicalMaterial, Message> {
     let key = name.trim().to_ascii_lowercase();
     PRESETS
         .iter()
@@ -69,11 +70,11 @@ pub fn preset(name: &str) -> Result<PhysicalMaterial, String> {
             },
         )
         .ok_or_else(|| {
-            format!(
+            Message::from(format!(
                 "unknown material '{}' (expected one of: {})",
                 name.trim(),
                 names().join(", ")
-            )
+            ))
         })
 }
 
@@ -91,7 +92,7 @@ mod tests {
         assert_eq!(preset("Aluminum").unwrap().name, "aluminium");
         assert_eq!(preset("glass-fibre").unwrap().name, "gfrp");
         assert_eq!(preset(" wood ").unwrap().name, "timber");
-        let e = preset("unobtainium").unwrap_err();
+        let e = preset("unobtainium").unwrap_err().to_string();
         assert!(e.contains("unobtainium") && e.contains("steel, aluminium, gfrp, timber"));
         for n in names() {
             assert!(preset(n).unwrap().validate().is_ok());

@@ -1,5 +1,6 @@
 //! Cross-sections of the rods: solid round bars and round tubes, in scene units.
 
+use crate::words::Message;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
@@ -78,13 +79,14 @@ impl Section {
     }
 
     /// Checks the dimensions: positive and finite, a tube's wall at most half its diameter.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Message> {
         match *self {
             Section::Solid { radius } => {
                 if !(radius.is_finite() && radius > 0.0) {
                     return Err(format!(
                         "the section's radius must be a positive number, got {radius}"
-                    ));
+                    )
+                    .into());
                 }
             }
             Section::Tube {
@@ -95,14 +97,16 @@ impl Section {
                     return Err(format!(
                         "the tube's outer diameter must be a positive number, got \
                          {outer_diameter}"
-                    ));
+                    )
+                    .into());
                 }
                 if !(wall.is_finite() && wall > 0.0 && wall <= 0.5 * outer_diameter) {
                     return Err(format!(
                         "the tube's wall must be positive and at most half its outer diameter \
                          ({}), got {wall}",
                         0.5 * outer_diameter
-                    ));
+                    )
+                    .into());
                 }
             }
         }
@@ -112,7 +116,8 @@ impl Section {
                 "the section ({}) has area {a:e} and second moment {i:e}, out of floating-point \
                  range",
                 self.describe()
-            ));
+            )
+            .into());
         }
         Ok(())
     }

@@ -18,6 +18,7 @@
 
 use super::{PhysicalMaterial, RestShape, Section, presets};
 use crate::units::{LengthUnit, Quantity, parse_quantity};
+use crate::words::{Message, Piece, message};
 use serde_json::Value;
 
 /// A length as written: in scene units, or in metres (it had a unit).
@@ -35,8 +36,9 @@ impl Length {
     ///
     /// # Errors
     ///
-    /// A message naming `what` for anything [`parse_quantity`] rejects.
-    pub fn parse(text: &str, what: &str) -> Result<Length, String> {
+    /// A message naming `what` (an option or a file's field) for anything
+    /// [`parse_quantity`] rejects.
+    pub fn parse(text: &str, what: impl Into<Piece>) -> Result<Length, Message> {
         let (_, suffix) = crate::units::split_number(text);
         let v = parse_quantity(text, Quantity::Length, what, Some(1.0))?;
         Ok(if suffix.is_empty() {
@@ -93,17 +95,19 @@ impl SectionSpec {
     ///
     /// # Errors
     ///
-    /// A message naming `what` when the text is not two lengths joined by `x` or `×`.
-    pub fn parse_tube(text: &str, what: &str) -> Result<SectionSpec, String> {
+    /// A message naming `what` (an option or a file's field) when the text is not two
+    /// lengths joined by `x` or `×`.
+    pub fn parse_tube(text: &str, what: impl Into<Piece>) -> Result<SectionSpec, Message> {
+        let what: Piece = what.into();
         let parts: Vec<&str> = text.split(['x', 'X', '×', '*']).collect();
         let [d, t] = parts.as_slice() else {
-            return Err(format!(
-                "{what} {text:?}: expected the outer diameter and the wall joined by x, e.g. \
-                 60x4 or 60mmx4mm"
-            ));
+            return Err(message![
+                what.with_value(format!("{text:?}")),
+                ": expected the outer diameter and the wall joined by x, e.g. 60x4 or 60mmx4mm"
+            ]);
         };
         Ok(SectionSpec::Tube {
-            outer_diameter: Length::parse(d, what)?,
+            outer_diameter: Length::parse(d, what.clone())?,
             wall: Length::parse(t, what)?,
         })
     }
@@ -131,7 +135,7 @@ impl MaterialSpec {
     /// # Errors
     ///
     /// An unknown preset, or a value that is not positive.
-    pub fn resolve(&self, base: &PhysicalMaterial) -> Result<PhysicalMaterial, String> {
+    pub fn resolve(&self, base: &PhysicalMaterial) -> Result<PhysicalMaterial, Message> {
         let mut m = match &self.preset {
             Some(p) => presets::preset(p)?,
             None => base.clone(),
@@ -193,7 +197,7 @@ impl CurveSpec {
         material: Option<&Value>,
         section: Option<&Value>,
         rest: Option<&Value>,
-    ) -> Result<CurveSpec, String> {
+    ) -> Result<CurveSpec, Message> {
         Ok(CurveSpec {
             material: material.map(material_from_json).transpose()?,
             section: section.map(section_from_json).transpose()?,
@@ -213,7 +217,7 @@ impl CurveSpec {
 
 /// A `material` field: a preset name, or an object of `preset`, `young`, `density`,
 /// `strength`, `poisson`.
-fn material_from_json(v: &Value) -> Result<MaterialSpec, String> {
+fn material_from_json(v: &Value) -> Result<MaterialSpec, Message> {
     match v {
         Value::String(name) => {
             presets::preset(name).map_err(|e| format!("\"material\": {e}"))?;
@@ -226,19 +230,20 @@ fn material_from_json(v: &Value) -> Result<MaterialSpec, String> {
             let mut spec = MaterialSpec::default();
             for (key, value) in map {
                 let what = format!("\"material\".\"{key}\"");
-                let quantity = |kind| -> Result<f64, String> {
+                let quantity = |kind| -> Result<f64, Message> {
                     let Value::String(text) = value else {
                         return Err(format!(
                             "{what} must be a string with its unit (e.g. \"210GPa\"), got \
                              {value}"
-                        ));
+                        )
+                        .into());
                     };
-                    parse_quantity(text, kind, &what, None)
+                    parse_quantity(text, kind, what.as_str(), None)
                 };
                 match key.as_str() {
                     "preset" => {
                         let Value::String(name) = value else {
-                            return Err(format!("{what} must be a preset name, got {value}"));
+                            return Err(format!("{what} must be a preset name, got {value}").into());
                         };
                         presets::preset(name).map_err(|e| format!("{what}: {e}"))?;
                         spec.preset = Some(name.clone());
@@ -250,7 +255,8 @@ fn material_from_json(v: &Value) -> Result<MaterialSpec, String> {
                         let Some(nu) = value.as_f64() else {
                             return Err(format!(
                                 "{what} must be a number (Poisson's ratio, e.g. 0.3), got {value}"
-                            ));
+                            )
+                            .into());
                         };
                         spec.poisson = Some(nu);
                     }
@@ -258,35 +264,38 @@ fn material_from_json(v: &Value) -> Result<MaterialSpec, String> {
                         return Err(format!(
                             "\"material\": unknown field \"{other}\" (expected preset, young, \
                              density, strength, poisson)"
-                        ));
+                        )
+                        .into());
                     }
                 }
             }
             Ok(spec)
         }
-        other => Err(format!(
-            "\"material\" must be a preset name or an object, got {other}"
-        )),
+        other => {
+            Err(format!("\"material\" must be a preset name or an object, got {other}").into())
+        }
     }
 }
 
 /// A `section` field: `{"radius": r}` or `{"outer_diameter": d, "wall": t}`.
-fn section_from_json(v: &Value) -> Result<SectionSpec, String> {
+fn section_from_json(v: &Value) -> Result<SectionSpec, Message> {
     let Value::Object(map) = v else {
         return Err(format!(
             "\"section\" must be an object ({{\"radius\": r}} or {{\"outer_diameter\": d, \
              \"wall\": t}}), got {v}"
-        ));
+        )
+        .into());
     };
-    let length = |key: &str| -> Result<Option<Length>, String> {
+    let length = |key: &str| -> Result<Option<Length>, Message> {
         let what = format!("\"section\".\"{key}\"");
         match map.get(key) {
             None => Ok(None),
             Some(Value::Number(n)) => Ok(Some(Length::Scene(n.as_f64().unwrap_or(f64::NAN)))),
-            Some(Value::String(s)) => Length::parse(s, &what).map(Some),
+            Some(Value::String(s)) => Length::parse(s, what.as_str()).map(Some),
             Some(other) => Err(format!(
                 "{what} must be a number (scene units) or a length with its unit, got {other}"
-            )),
+            )
+            .into()),
         }
     };
     if let Some(k) = map
@@ -295,7 +304,8 @@ fn section_from_json(v: &Value) -> Result<SectionSpec, String> {
     {
         return Err(format!(
             "\"section\": unknown field \"{k}\" (expected radius, or outer_diameter and wall)"
-        ));
+        )
+        .into());
     }
     match (
         length("radius")?,
@@ -316,6 +326,7 @@ fn section_from_json(v: &Value) -> Result<SectionSpec, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::words::Opt;
 
     fn json(text: &str) -> Value {
         serde_json::from_str(text).unwrap()
@@ -356,11 +367,16 @@ mod tests {
         for (text, needle) in cases {
             let v = json(text);
             match CurveSpec::from_json(Some(&v), None, None) {
-                Err(e) => assert!(e.contains(needle), "{text}: {e}"),
+                Err(e) => assert!(e.to_string().contains(needle), "{text}: {e}"),
                 // A negative density parses; it is rejected when the material is resolved.
                 Ok(spec) => {
                     let steel = presets::preset("steel").unwrap();
-                    let e = spec.material.unwrap().resolve(&steel).unwrap_err();
+                    let e = spec
+                        .material
+                        .unwrap()
+                        .resolve(&steel)
+                        .unwrap_err()
+                        .to_string();
                     assert!(e.contains("density"), "{text}: {e}");
                 }
             }
@@ -372,25 +388,31 @@ mod tests {
             (r#"{"diameter": 3}"#, "unknown field"),
             (r#"[1, 2]"#, "must be an object"),
         ] {
-            let e = CurveSpec::from_json(None, Some(&json(text)), None).unwrap_err();
+            let e = CurveSpec::from_json(None, Some(&json(text)), None)
+                .unwrap_err()
+                .to_string();
             assert!(e.contains(needle), "{text}: {e}");
         }
-        let e = CurveSpec::from_json(None, None, Some(&json("3"))).unwrap_err();
+        let e = CurveSpec::from_json(None, None, Some(&json("3")))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("rest"), "{e}");
-        let e = CurveSpec::from_json(None, None, Some(&json(r#""wavy""#))).unwrap_err();
+        let e = CurveSpec::from_json(None, None, Some(&json(r#""wavy""#)))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("unknown rest shape"), "{e}");
     }
 
     #[test]
     fn tubes_and_lengths_parse() {
         assert_eq!(
-            SectionSpec::parse_tube("60x4", "--tube"),
+            SectionSpec::parse_tube("60x4", Opt::Tube),
             Ok(SectionSpec::Tube {
                 outer_diameter: Length::Scene(60.0),
                 wall: Length::Scene(4.0)
             })
         );
-        let t = SectionSpec::parse_tube("60mm × 4mm", "--tube").unwrap();
+        let t = SectionSpec::parse_tube("60mm × 4mm", Opt::Tube).unwrap();
         assert_eq!(
             t.resolve(LengthUnit::Millimetre),
             Section::Tube {
@@ -398,9 +420,9 @@ mod tests {
                 wall: 4.0
             }
         );
-        assert!(SectionSpec::parse_tube("60", "--tube").is_err());
-        assert!(SectionSpec::parse_tube("60x4x2", "--tube").is_err());
-        let r = Length::parse("1.5cm", "--radius").unwrap();
+        assert!(SectionSpec::parse_tube("60", Opt::Tube).is_err());
+        assert!(SectionSpec::parse_tube("60x4x2", Opt::Tube).is_err());
+        let r = Length::parse("1.5cm", Opt::Radius).unwrap();
         assert!((r.to_scene(LengthUnit::Millimetre) - 15.0).abs() < 1e-12);
     }
 }

@@ -11,6 +11,7 @@ use super::resample::resample;
 use super::{EdgeLengthStats, Network};
 use crate::io::Polyline;
 use crate::rod::Supports;
+use crate::words::{Message, Opt, message};
 use serde::{Deserialize, Serialize};
 
 /// Parameters of network construction.
@@ -77,11 +78,7 @@ pub enum BuildError {
     #[error("no curves to build a network from")]
     NoCurves,
     /// The edge length would cut the curves into more than [`MAX_VERTICES`] vertices.
-    #[error(
-        "the edge length h = {edge_length:e} would cut the curves (total length \
-         {total_length:e}) into about {vertices:.3e} vertices, more than the {MAX_VERTICES} a \
-         network may have; give a larger --edge-length"
-    )]
+    #[error("{}", self.message())]
     TooManyVertices {
         /// The target edge length.
         edge_length: f64,
@@ -91,7 +88,7 @@ pub enum BuildError {
         vertices: f64,
     },
     /// A curve that cannot become a rod.
-    #[error("{file}:{line}: curve {curve}: {message}")]
+    #[error("{}", self.message())]
     DegenerateCurve {
         /// Source file of the curve.
         file: String,
@@ -100,13 +97,41 @@ pub enum BuildError {
         /// Curve id.
         curve: usize,
         /// What is wrong.
-        message: String,
+        message: Message,
     },
 }
 
 impl BuildError {
+    /// The error as a message naming the options that help, for a front end to spell
+    /// (`Display` shows it neutrally).
+    pub fn message(&self) -> Message {
+        match self {
+            BuildError::TooManyVertices {
+                edge_length,
+                total_length,
+                vertices,
+            } => message![
+                format!(
+                    "the edge length h = {edge_length:e} would cut the curves (total length \
+                     {total_length:e}) into about {vertices:.3e} vertices, more than the \
+                     {MAX_VERTICES} a network may have; give a larger "
+                ),
+                Opt::EdgeLength
+            ],
+            BuildError::DegenerateCurve {
+                file,
+                line,
+                curve,
+                message,
+            } => message
+                .clone()
+                .prefixed([format!("{file}:{line}: curve {curve}: ").into()]),
+            e => Message::from(e.to_string()),
+        }
+    }
+
     /// Curve `curve` of `curves` cannot be a rod: `message` says why.
-    pub(super) fn degenerate(curves: &[Polyline], curve: usize, message: String) -> Self {
+    pub(super) fn degenerate(curves: &[Polyline], curve: usize, message: Message) -> Self {
         BuildError::DegenerateCurve {
             file: curves[curve].origin.file.clone(),
             line: curves[curve].origin.line,
@@ -142,7 +167,7 @@ pub struct BuildInfo {
     /// Findings that do not stop the build ([`super::checks::network_warnings`]): curves that
     /// cross nothing, curves that run together, edges far shorter than `h`.
     #[serde(default)]
-    pub warnings: Vec<String>,
+    pub warnings: Vec<Message>,
 }
 
 /// The most vertices a network may have. The paper's largest has 25,442; far more than this
@@ -222,12 +247,12 @@ pub fn build_network(
 
 /// Why curve `g` cannot become a rod, if it cannot: too few points, non-finite points, zero
 /// length, or a size outside [`LENGTH_RANGE`].
-fn check_curve(g: &CurveGeometry) -> Result<(), String> {
+fn check_curve(g: &CurveGeometry) -> Result<(), Message> {
     if g.points.len() < 2 || (g.closed && g.points.len() < 3) {
-        return Err(format!("{} points are too few for a rod", g.points.len()));
+        return Err(format!("{} points are too few for a rod", g.points.len()).into());
     }
     if let Some(p) = g.points.iter().find(|p| !p.is_finite()) {
-        return Err(format!("non-finite point {p:?}"));
+        return Err(format!("non-finite point {p:?}").into());
     }
     if !(g.length() > 0.0) || !(g.median_segment > 0.0) {
         return Err(format!(
@@ -237,7 +262,8 @@ fn check_curve(g: &CurveGeometry) -> Result<(), String> {
             } else {
                 ""
             }
-        ));
+        )
+        .into());
     }
     let largest = g
         .points
@@ -246,12 +272,16 @@ fn check_curve(g: &CurveGeometry) -> Result<(), String> {
         .fold(0.0f64, |m, v| m.max(v.abs()));
     let (lo, hi) = LENGTH_RANGE;
     if !(g.length() >= lo && g.length() <= hi && largest <= hi) {
-        return Err(format!(
-            "the curve's length {:e} (coordinates up to {largest:e}) is outside \
-             {lo:e}..{hi:e}, the range of scene sizes the rod model computes with; \
-             rescale the scene (--scale)",
-            g.length(),
-        ));
+        return Err(message![
+            format!(
+                "the curve's length {:e} (coordinates up to {largest:e}) is outside \
+                 {lo:e}..{hi:e}, the range of scene sizes the rod model computes with; \
+                 rescale the scene (",
+                g.length(),
+            ),
+            Opt::Scale,
+            ")"
+        ]);
     }
     Ok(())
 }

@@ -51,7 +51,7 @@ pub(super) fn resample(
             })
             .collect();
         let rod = lock(&positions, verts, g, params)
-            .map_err(|message| BuildError::degenerate(curves, ci, message))?;
+            .map_err(|message| BuildError::degenerate(curves, ci, message.into()))?;
         rods.push(rod);
     }
     let mut network = Network {

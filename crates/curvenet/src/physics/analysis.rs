@@ -41,6 +41,7 @@ use crate::solve::{
     Backend, Cholesky, Equilibrium, NewtonInfo, NewtonParams, NewtonSummary, SolverTuning,
     SymbolicFactor,
 };
+use crate::words::Message;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
@@ -70,13 +71,14 @@ impl PhysicalParams {
     }
 
     /// Checks the parameters.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Message> {
         self.physical.validate()?;
         if self.frequencies == 0 || self.frequencies > 50 {
             return Err(format!(
                 "the number of frequencies must lie in 1..=50, got {}",
                 self.frequencies
-            ));
+            )
+            .into());
         }
         self.newton.validate()
     }
@@ -161,7 +163,7 @@ pub struct PhysicalReport {
     /// Every curve's largest stresses.
     pub curves: Vec<CurveStress>,
     /// Curves that would break when bent, units that look wrong, instability.
-    pub warnings: Vec<String>,
+    pub warnings: Vec<Message>,
 }
 
 /// The physical numbers of one structure as a search records them per iteration
@@ -224,7 +226,7 @@ impl PhysicalReport {
 pub enum PhysicsError {
     /// Bad parameters.
     #[error("invalid physical parameters: {0}")]
-    Params(String),
+    Params(Message),
     /// The eigen solver failed.
     #[error(transparent)]
     Eigen(#[from] crate::solve::eigen::EigenError),
@@ -283,7 +285,10 @@ pub fn analyze_physical(
     let signs = at.classify(&modes, &mass_scale);
     let stable = signs.stable();
     let frequencies = frequencies_hz(&modes.values, &signs.positive);
-    let mut warnings = solve_warnings(&relaxed.info, &signs, &modes);
+    let mut warnings: Vec<Message> = solve_warnings(&relaxed.info, &signs, &modes)
+        .into_iter()
+        .map(Message::from)
+        .collect();
     let (load_max_deflection, self_weight_deflection) = if stable {
         (Some(at.worst_load()?), at.self_weight())
     } else {
@@ -291,7 +296,11 @@ pub fn analyze_physical(
     };
 
     let stresses = assembly_stresses(network, phys, &params.rest, active, &u, Some(&model));
-    warnings.extend(overstress_warnings(&stresses, network, phys));
+    warnings.extend(
+        overstress_warnings(&stresses, network, phys)
+            .into_iter()
+            .map(Message::from),
+    );
     warnings.extend(units_warnings(network, phys));
     let max_utilisation = stresses.max_utilisation().map(|c| Utilisation {
         value: c.utilisation(),

@@ -5,6 +5,7 @@ use super::stress::Stresses;
 use crate::geom::Aabb;
 use crate::material::Physical;
 use crate::rod::Network;
+use crate::words::{Message, Opt, given, message};
 
 /// A network more than this many metres across is probably drawn in another unit.
 pub const MAX_EXTENT_M: f64 = 10_000.0;
@@ -70,7 +71,7 @@ pub fn near_joint(network: &Network, curve: usize, vertex: usize) -> String {
 
 /// Warnings when the scene's unit and the sections imply absurd dimensions, saying what they
 /// imply.
-pub fn units_warnings(network: &Network, physical: &Physical) -> Vec<String> {
+pub fn units_warnings(network: &Network, physical: &Physical) -> Vec<Message> {
     let mut out = Vec::new();
     if network.positions.is_empty() {
         return out;
@@ -79,10 +80,14 @@ pub fn units_warnings(network: &Network, physical: &Physical) -> Vec<String> {
     let m = u.metres();
     let extent = Aabb::of_points(&network.positions).largest_extent() * m;
     if !(MIN_EXTENT_M..=MAX_EXTENT_M).contains(&extent) {
-        out.push(format!(
-            "with --units {u} the network is {} across: are the coordinates in {u}?",
-            metres(extent)
-        ));
+        out.push(message![
+            "with ",
+            given(Opt::Units, u),
+            format!(
+                " the network is {} across: are the coordinates in {u}?",
+                metres(extent)
+            )
+        ]);
     }
     let mut lengths = network.rest_lengths();
     lengths.sort_by(f64::total_cmp);
@@ -91,23 +96,33 @@ pub fn units_warnings(network: &Network, physical: &Physical) -> Vec<String> {
         .map(|c| physical.curve_section(c).outer_radius())
         .fold(0.0, f64::max);
     if 2.0 * r > MAX_DIAMETER_SHARE * median {
-        out.push(format!(
-            "with --units {u} the rods are up to {} thick on curves {} long (median): check \
-             --units and the section",
-            metres(2.0 * r * m),
-            metres(median * m)
-        ));
+        out.push(message![
+            "with ",
+            given(Opt::Units, u),
+            format!(
+                " the rods are up to {} thick on curves {} long (median): check ",
+                metres(2.0 * r * m),
+                metres(median * m)
+            ),
+            Opt::Units,
+            " and the section"
+        ]);
     }
     let r_min = (0..network.rods.len())
         .map(|c| physical.curve_section(c).outer_radius())
         .fold(f64::INFINITY, f64::min);
     if median > MAX_SLENDERNESS * r_min {
-        out.push(format!(
-            "with --units {u} rods {} thick span curves {} long (median): as slack as cables, \
-             check --units and the section",
-            metres(2.0 * r_min * m),
-            metres(median * m)
-        ));
+        out.push(message![
+            "with ",
+            given(Opt::Units, u),
+            format!(
+                " rods {} thick span curves {} long (median): as slack as cables, check ",
+                metres(2.0 * r_min * m),
+                metres(median * m)
+            ),
+            Opt::Units,
+            " and the section"
+        ]);
     }
     out
 }

@@ -1,6 +1,7 @@
-//! The physical mode's options as a user writes them (`--units`, `--material`, `--young`,
-//! `--density`, `--strength`, `--radius`, `--tube`, `--load`, `--gravity`), turned into
-//! [`PhysicalParams`]: one place for the command line and any other front end.
+//! The physical mode's options as a user writes them (units, material, Young's modulus,
+//! density, strength, radius, tube, load, gravity: [`Opt::Units`] …), turned into
+//! [`PhysicalParams`]: one place for every front end, its messages naming the options by
+//! [`Opt`].
 
 use super::analysis::PhysicalParams;
 use crate::material::{
@@ -9,8 +10,9 @@ use crate::material::{
 };
 use crate::rod::Material;
 use crate::units::{LengthUnit, Quantity, STANDARD_GRAVITY, parse_quantity};
+use crate::words::{Message, Opt, given, message};
 
-/// The material of `--units` without `--material`.
+/// The material of the physical mode when only the units are given.
 pub const DEFAULT_MATERIAL: &str = "steel";
 
 /// The physical mode's options, as text (`None`: not given). A run folder records them as
@@ -18,47 +20,47 @@ pub const DEFAULT_MATERIAL: &str = "steel";
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct PhysicalOptions {
-    /// `--units mm|cm|m`: the scene's length unit.
+    /// The scene's length unit: `mm`, `cm` or `m`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub units: Option<String>,
-    /// `--material NAME`: a preset.
+    /// A material preset's name.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub material: Option<String>,
-    /// `--young` with a stress unit (`210GPa`).
+    /// Young's modulus with a stress unit (`210GPa`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub young: Option<String>,
-    /// `--density` with a density unit (`7850kg/m3`).
+    /// The density with a density unit (`7850kg/m3`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub density: Option<String>,
-    /// `--strength` with a stress unit (`355MPa`).
+    /// The strength with a stress unit (`355MPa`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub strength: Option<String>,
-    /// `--radius`: a solid round section (scene units, or with a length unit).
+    /// A solid round section's radius (scene units, or with a length unit).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub radius: Option<String>,
-    /// `--tube DxT`: a round tube, outer diameter × wall.
+    /// A round tube, `DxT`: outer diameter × wall.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tube: Option<String>,
-    /// `--load`: the worst-case distributed load's intensity (`1kN/m`).
+    /// The worst-case distributed load's intensity (`1kN/m`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub load: Option<String>,
-    /// `--gravity`: `9.81` (along −z) or `gx,gy,gz`, m/s².
+    /// Gravity: `9.81` (along −z) or `gx,gy,gz`, m/s².
     #[serde(skip_serializing_if = "Option::is_none")]
     pub gravity: Option<String>,
 }
 
 impl PhysicalOptions {
-    /// True when an option that turns on the physical mode is given (`--units` or
-    /// `--material`).
+    /// True when an option that turns on the physical mode is given (the units or the
+    /// material).
     pub fn is_physical(&self) -> bool {
         self.units.is_some() || self.material.is_some()
     }
 
     /// The physical parameters, or `None` in the paper's mode. `file_units` is a length unit
-    /// a curve file declared (used when `--units` is not given; `--units` wins), `specs` the
-    /// curve files' per-curve material, section and rest shape (curve `c` at `specs[c]`).
+    /// a curve file declared (used when the units are not given; given units win), `specs`
+    /// the curve files' per-curve material, section and rest shape (curve `c` at `specs[c]`).
     ///
-    /// The physical mode is on when the options give `--units` or `--material`, when the
+    /// The physical mode is on when the options give the units or the material, when the
     /// curve file declares its `units`, or when a curve carries its own material or section:
     /// nothing a file says is ignored.
     ///
@@ -72,60 +74,78 @@ impl PhysicalOptions {
         &self,
         file_units: Option<&str>,
         specs: &[CurveSpec],
-    ) -> Result<Option<PhysicalParams>, String> {
+    ) -> Result<Option<PhysicalParams>, Message> {
         let file_physical = specs.iter().position(CurveSpec::is_physical);
+        let give_units = || given(Opt::Units, "mm|cm|m");
         if !self.is_physical() && file_units.is_none() && file_physical.is_none() {
-            for (name, given) in [
-                ("--density", &self.density),
-                ("--strength", &self.strength),
-                ("--tube", &self.tube),
-                ("--load", &self.load),
-                ("--gravity", &self.gravity),
+            for (opt, value) in [
+                (Opt::Density, &self.density),
+                (Opt::Strength, &self.strength),
+                (Opt::Tube, &self.tube),
+                (Opt::Load, &self.load),
+                (Opt::Gravity, &self.gravity),
             ] {
-                if given.is_some() {
-                    return Err(format!(
-                        "{name} belongs to the physical mode: give --units mm|cm|m and/or \
-                         --material NAME ({})",
-                        presets::names().join(", ")
-                    ));
+                if value.is_some() {
+                    return Err(message![
+                        opt,
+                        " belongs to the physical mode: give ",
+                        give_units(),
+                        " and/or ",
+                        given(Opt::Material, "NAME"),
+                        format!(" ({})", presets::names().join(", "))
+                    ]);
                 }
             }
             if let Some(c) = specs
                 .iter()
                 .position(|s| s.rest == Some(material::RestShape::PreBent))
             {
-                return Err(format!(
-                    "curve {c} is pre-bent (\"rest\": \"pre-bent\"): rest shapes are analysed in \
-                     the physical mode; give --units mm|cm|m (or the curve file's \"units\")"
-                ));
+                return Err(message![
+                    format!(
+                        "curve {c} is pre-bent (\"rest\": \"pre-bent\"): rest shapes are \
+                         analysed in the physical mode; give "
+                    ),
+                    give_units(),
+                    " (or the curve file's \"units\")"
+                ]);
             }
             return Ok(None);
         }
         let units: LengthUnit = match (&self.units, file_units) {
-            (Some(u), _) => u.parse().map_err(|e| format!("--units: {e}"))?,
+            (Some(u), _) => u
+                .parse()
+                .map_err(|e| message![Opt::Units, format!(": {e}")])?,
             (None, Some(u)) => u
                 .parse()
-                .map_err(|e| format!("the curve file's units: {e}"))?,
+                .map_err(|e| message![format!("the curve file's units: {e}")])?,
             (None, None) => {
                 return Err(match (&self.material, file_physical) {
-                    (None, Some(c)) => format!(
-                        "curve {c} sets its own material or section, which needs the scene's \
-                         length unit: give --units mm|cm|m (or the curve file's \"units\")"
-                    ),
-                    _ => "--material needs the scene's length unit: give --units mm|cm|m".into(),
+                    (None, Some(c)) => message![
+                        format!(
+                            "curve {c} sets its own material or section, which needs the \
+                             scene's length unit: give "
+                        ),
+                        give_units(),
+                        " (or the curve file's \"units\")"
+                    ],
+                    _ => message![
+                        Opt::Material,
+                        " needs the scene's length unit: give ",
+                        give_units()
+                    ],
                 });
             }
         };
         let mut material = presets::preset(self.material.as_deref().unwrap_or(DEFAULT_MATERIAL))
-            .map_err(|e| format!("--material: {e}"))?;
+            .map_err(|e| e.prefixed([Opt::Material.into(), ": ".into()]))?;
         let mut modified = false;
-        for (name, given, slot) in [
-            ("--young", &self.young, &mut material.young_pa),
-            ("--density", &self.density, &mut material.density_kg_m3),
-            ("--strength", &self.strength, &mut material.strength_pa),
+        for (opt, value, slot) in [
+            (Opt::Young, &self.young, &mut material.young_pa),
+            (Opt::Density, &self.density, &mut material.density_kg_m3),
+            (Opt::Strength, &self.strength, &mut material.strength_pa),
         ] {
-            if let Some(t) = given {
-                *slot = quantity(name, t)?;
+            if let Some(t) = value {
+                *slot = quantity(opt, t)?;
                 modified = true;
             }
         }
@@ -133,27 +153,35 @@ impl PhysicalOptions {
             material.name = format!("{} (modified)", material.name);
         }
         let section = match (&self.radius, &self.tube) {
-            (Some(_), Some(_)) => return Err("give --radius or --tube, not both".into()),
+            (Some(_), Some(_)) => {
+                return Err(message![
+                    "give ",
+                    Opt::Radius,
+                    " or ",
+                    Opt::Tube,
+                    ", not both"
+                ]);
+            }
             (Some(r), None) => SectionSpec::Solid {
-                radius: crate::material::spec::Length::parse(r, "--radius")?,
+                radius: crate::material::spec::Length::parse(r, Opt::Radius)?,
             },
-            (None, Some(t)) => SectionSpec::parse_tube(t, "--tube")?,
+            (None, Some(t)) => SectionSpec::parse_tube(t, Opt::Tube)?,
             (None, None) => SectionSpec::Solid {
                 radius: crate::material::spec::Length::Scene(Material::default().radius),
             },
         }
         .resolve(units);
         let section_option = if self.tube.is_some() {
-            "--tube"
+            Opt::Tube
         } else {
-            "--radius"
+            Opt::Radius
         };
         section
             .validate()
-            .map_err(|e| format!("{section_option}: {e}"))?;
+            .map_err(|e| e.prefixed([section_option.into(), ": ".into()]))?;
         let mut physical = Physical::uniform(units, material, section);
         if let Some(t) = &self.load {
-            physical.load_n_per_m = quantity("--load", t)?;
+            physical.load_n_per_m = quantity(Opt::Load, t)?;
         }
         if let Some(t) = &self.gravity {
             physical.gravity = parse_gravity(t)?;
@@ -170,31 +198,42 @@ impl PhysicalOptions {
 /// The quantity, SI unit and accepted range of each option written with a unit
 /// ([`crate::material`]'s bounds: far beyond any material, and keeping every stiffness, mass
 /// and load within floating-point range).
-const QUANTITIES: &[(&str, Quantity, &str, (f64, f64))] = &[
-    ("--young", Quantity::Stress, "Pa", STRESS_RANGE_PA),
-    ("--density", Quantity::Density, "kg/m3", DENSITY_RANGE_KG_M3),
-    ("--strength", Quantity::Stress, "Pa", STRESS_RANGE_PA),
-    ("--load", Quantity::LineLoad, "N/m", LINE_LOAD_RANGE_N_PER_M),
+const QUANTITIES: &[(Opt, Quantity, &str, (f64, f64))] = &[
+    (Opt::Young, Quantity::Stress, "Pa", STRESS_RANGE_PA),
+    (
+        Opt::Density,
+        Quantity::Density,
+        "kg/m3",
+        DENSITY_RANGE_KG_M3,
+    ),
+    (Opt::Strength, Quantity::Stress, "Pa", STRESS_RANGE_PA),
+    (
+        Opt::Load,
+        Quantity::LineLoad,
+        "N/m",
+        LINE_LOAD_RANGE_N_PER_M,
+    ),
 ];
 
 /// The largest gravity component accepted, m/s² (about 1000 g).
 pub const MAX_GRAVITY: f64 = material::GRAVITY_RANGE.1;
 
-/// `option`'s value (one of `--young`, `--density`, `--strength`, `--load`) in SI: a positive
-/// number with its unit, within the option's range.
-fn quantity(option: &str, text: &str) -> Result<f64, String> {
+/// `option`'s value (Young's modulus, the density, the strength or the load) in SI: a
+/// positive number with its unit, within the option's range.
+fn quantity(option: Opt, text: &str) -> Result<f64, Message> {
     let &(_, kind, si, (min, max)) = QUANTITIES
         .iter()
         .find(|q| q.0 == option)
         .expect("an option written with a unit");
     let v = parse_quantity(text, kind, option, None)?;
+    let value = given(option, format!("{text:?}"));
     if !(v > 0.0) {
-        Err(format!("{option} {text:?} must be positive"))
+        Err(message![value, " must be positive"])
     } else if !(min..=max).contains(&v) {
-        Err(format!(
-            "{option} {text:?} is {v:e} {si}, beyond any material (between {min:e} and {max:e} \
-             {si})"
-        ))
+        Err(message![
+            value,
+            format!(" is {v:e} {si}, beyond any material (between {min:e} and {max:e} {si})")
+        ])
     } else {
         Ok(v)
     }
@@ -202,7 +241,7 @@ fn quantity(option: &str, text: &str) -> Result<f64, String> {
 
 /// Refuses a section and material whose rods' stiffnesses (`E A`, `E I` in the scene's units)
 /// leave [`crate::rod::STIFFNESS_RANGE`], naming the options that set them.
-fn check_stiffness(physical: &Physical, specs: &[CurveSpec], section: &str) -> Result<(), String> {
+fn check_stiffness(physical: &Physical, specs: &[CurveSpec], section: Opt) -> Result<(), Message> {
     let (lo, hi) = crate::rod::STIFFNESS_RANGE;
     // The run's own rod (no override applies past the specs) and every curve's.
     for c in std::iter::once(specs.len()).chain(0..specs.len()) {
@@ -210,58 +249,64 @@ fn check_stiffness(physical: &Physical, specs: &[CurveSpec], section: &str) -> R
         for (name, k) in [("stretching", r.ks), ("bending", r.kb)] {
             if !(lo..=hi).contains(&k) {
                 let whose = if c < specs.len() {
-                    format!("curve {c}'s")
+                    message![format!("curve {c}'s")]
                 } else {
-                    format!("{section} and --young give a")
+                    message![section, " and ", Opt::Young, " give a"]
                 };
-                return Err(format!(
-                    "{whose} {name} stiffness {k:e} (in the scene's units), out of the range \
-                     the solvers handle ({lo:e} to {hi:e}): check the section's size against \
-                     --units"
-                ));
+                return Err(whose.then([
+                    format!(
+                        " {name} stiffness {k:e} (in the scene's units), out of the range the \
+                         solvers handle ({lo:e} to {hi:e}): check the section's size against "
+                    )
+                    .into(),
+                    Opt::Units.into(),
+                ]));
             }
         }
     }
     Ok(())
 }
 
-/// Checks one physical-mode option's text alone (`name` as on the command line, e.g.
-/// `--density`), as [`PhysicalOptions::resolve`] reads it: a front end calls it while the
-/// command line is parsed, so a bad value is refused before any work. `--young` here is the
-/// physical mode's (with a unit); options this module does not know pass.
+/// Checks one physical-mode option's text alone (`option`: the units, the material, Young's
+/// modulus, the density, the strength, the tube, the load or gravity), as
+/// [`PhysicalOptions::resolve`] reads it: a front end calls it while its arguments are read,
+/// so a bad value is refused before any work. Young's modulus here is the physical mode's
+/// (with a unit); options this module does not know pass.
 ///
 /// # Errors
 ///
 /// The message [`PhysicalOptions::resolve`] would give for the value.
-pub fn check_option(name: &str, text: &str) -> Result<(), String> {
-    match name {
-        "--units" => text
+pub fn check_option(option: Opt, text: &str) -> Result<(), Message> {
+    match option {
+        Opt::Units => text
             .parse::<LengthUnit>()
             .map(|_| ())
-            .map_err(|e| format!("--units: {e}")),
-        "--material" => presets::preset(text)
+            .map_err(|e| message![Opt::Units, format!(": {e}")]),
+        Opt::Material => presets::preset(text)
             .map(|_| ())
-            .map_err(|e| format!("--material: {e}")),
-        "--tube" => SectionSpec::parse_tube(text, "--tube")?
+            .map_err(|e| e.prefixed([Opt::Material.into(), ": ".into()])),
+        Opt::Tube => SectionSpec::parse_tube(text, Opt::Tube)?
             .resolve(LengthUnit::Metre)
             .validate()
-            .map_err(|e| format!("--tube: {e}")),
-        "--gravity" => parse_gravity(text).map(|_| ()),
-        _ if QUANTITIES.iter().any(|q| q.0 == name) => quantity(name, text).map(|_| ()),
+            .map_err(|e| e.prefixed([Opt::Tube.into(), ": ".into()])),
+        Opt::Gravity => parse_gravity(text).map(|_| ()),
+        _ if QUANTITIES.iter().any(|q| q.0 == option) => quantity(option, text).map(|_| ()),
         _ => Ok(()),
     }
 }
 
-/// `--gravity`: one value (its magnitude along −z; 0 turns self-weight off) or three
+/// Gravity: one value (its magnitude along −z; 0 turns self-weight off) or three
 /// (`gx,gy,gz`), m/s², bare or with `m/s2`.
-fn parse_gravity(text: &str) -> Result<[f64; 3], String> {
+fn parse_gravity(text: &str) -> Result<[f64; 3], Message> {
     let parts: Vec<&str> = text.split(',').collect();
+    let value = || given(Opt::Gravity, format!("{text:?}"));
     let g = |t: &str| {
-        let v = parse_quantity(t, Quantity::Acceleration, "--gravity", Some(1.0))?;
+        let v = parse_quantity(t, Quantity::Acceleration, Opt::Gravity, Some(1.0))?;
         if v.abs() > MAX_GRAVITY {
-            return Err(format!(
-                "--gravity {text:?}: {v:e} m/s2 is beyond {MAX_GRAVITY:e} m/s2 (about 1000 g)"
-            ));
+            return Err(message![
+                value(),
+                format!(": {v:e} m/s2 is beyond {MAX_GRAVITY:e} m/s2 (about 1000 g)")
+            ]);
         }
         Ok(v)
     };
@@ -270,10 +315,13 @@ fn parse_gravity(text: &str) -> Result<[f64; 3], String> {
         let m = g.iter().fold(0.0_f64, |m, x| m.hypot(*x));
         let (min, _) = material::GRAVITY_RANGE;
         if m != 0.0 && m < min {
-            return Err(format!(
-                "--gravity {text:?}: a magnitude of {m:e} m/s2 is below {min:e} m/s2; give 0 to \
-                 turn self-weight off"
-            ));
+            return Err(message![
+                value(),
+                format!(
+                    ": a magnitude of {m:e} m/s2 is below {min:e} m/s2; give 0 to turn \
+                     self-weight off"
+                )
+            ]);
         }
         Ok(g)
     };
@@ -281,17 +329,20 @@ fn parse_gravity(text: &str) -> Result<[f64; 3], String> {
         [one] => {
             let v = g(one)?;
             if v < 0.0 {
-                return Err(format!(
-                    "--gravity {text:?}: one value is the magnitude along -z (give gx,gy,gz for \
-                     another direction)"
-                ));
+                return Err(message![
+                    value(),
+                    ": one value is the magnitude along -z (give gx,gy,gz for another direction)"
+                ]);
             }
             checked([0.0, 0.0, -v])
         }
         [x, y, z] => checked([g(x)?, g(y)?, g(z)?]),
-        _ => Err(format!(
-            "--gravity {text:?}: expected one value (along -z, default {STANDARD_GRAVITY}) or \
-             three (gx,gy,gz) in m/s2"
-        )),
+        _ => Err(message![
+            value(),
+            format!(
+                ": expected one value (along -z, default {STANDARD_GRAVITY}) or three \
+                 (gx,gy,gz) in m/s2"
+            )
+        ]),
     }
 }

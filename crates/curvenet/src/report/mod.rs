@@ -16,9 +16,60 @@ pub mod viewer;
 use crate::fmt;
 use crate::network::{BuildInfo, EdgeLengthStats, Network};
 use crate::rod::{ActiveSet, Material};
+use crate::run_folder::RunFolderError;
 use crate::stability::{Analysis, CurveShare, GravityDeflection, NewtonSummary, Objective};
+use crate::words::{Opt, Recorded, Wording, message};
 use serde::{Deserialize, Serialize};
 use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// Why an export, a picture or the viewer could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum ReportError {
+    /// The run folder could not be read, or lacks the network asked for.
+    #[error(transparent)]
+    RunFolder(#[from] RunFolderError),
+    /// A file could not be read or written: its path and the system's reason.
+    #[error("{}: {error}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What the system said.
+        error: std::io::Error,
+    },
+    /// A network file holds what no export writes (the message names the file and line), or
+    /// a picture could not be encoded.
+    #[error("{0}")]
+    Invalid(String),
+}
+
+impl ReportError {
+    /// `path` could not be read or written.
+    pub fn io(path: &Path, error: std::io::Error) -> Self {
+        ReportError::Io {
+            path: path.to_path_buf(),
+            error,
+        }
+    }
+}
+
+impl From<String> for ReportError {
+    fn from(message: String) -> Self {
+        ReportError::Invalid(message)
+    }
+}
+
+impl From<crate::run_folder::InvalidNetwork> for ReportError {
+    fn from(e: crate::run_folder::InvalidNetwork) -> Self {
+        ReportError::Invalid(e.0)
+    }
+}
+
+impl From<&str> for ReportError {
+    fn from(message: &str) -> Self {
+        ReportError::Invalid(message.to_string())
+    }
+}
 
 /// The rod radius against the scene: what the units imply.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -34,8 +85,9 @@ pub struct UnitsNote {
 }
 
 impl UnitsNote {
-    /// Compares the material's radius with the curves' lengths.
-    pub fn new(network: &Network, material: &Material) -> Self {
+    /// Compares the material's radius with the curves' lengths; the warning names the radius
+    /// option as `words` spell it.
+    pub fn new(network: &Network, material: &Material, words: &dyn Wording) -> Self {
         let mut lengths = network.rest_lengths();
         lengths.sort_by(f64::total_cmp);
         let median = lengths.get(lengths.len() / 2).copied().unwrap_or(0.0);
@@ -46,13 +98,16 @@ impl UnitsNote {
             (slenderness > 1e6).then_some(("tiny", ""))
         };
         let warning = if let Some((size, usual)) = extreme {
-            Some(format!(
-                "rod radius {} is {size} against the median curve length {}: slenderness \
-                 {}{usual}; check the scene's units or set --radius",
-                material.radius,
-                fmt::length(median),
-                fmt::significant(slenderness, 4)
-            ))
+            Some(message![
+                format!(
+                    "rod radius {} is {size} against the median curve length {}: slenderness \
+                     {}{usual}; check the scene's units or set ",
+                    material.radius,
+                    fmt::length(median),
+                    fmt::significant(slenderness, 4)
+                ),
+                Opt::Radius
+            ])
         } else {
             // The median is fine; a single curve may still be a stub against the rod's
             // thickness.
@@ -64,13 +119,17 @@ impl UnitsNote {
                 .min_by(|x, y| x.1.total_cmp(&y.1))
                 .filter(|&(_, l)| l < 4.0 * material.radius)
                 .map(|(c, l)| {
-                    format!(
-                        "curve {c} is only {l:.4e} long, less than twice the rod's diameter \
-                         {}: a stub, not a rod; check it or set --radius",
-                        2.0 * material.radius
-                    )
+                    message![
+                        format!(
+                            "curve {c} is only {l:.4e} long, less than twice the rod's diameter \
+                             {}: a stub, not a rod; check it or set ",
+                            2.0 * material.radius
+                        ),
+                        Opt::Radius
+                    ]
                 })
-        };
+        }
+        .map(|m| m.render(words));
         UnitsNote {
             radius: material.radius,
             median_curve_length: median,
@@ -166,6 +225,10 @@ pub struct AnalysisReport {
     pub build: BuildInfo,
     /// Warnings (also printed on stderr).
     pub warnings: Vec<String>,
+    /// The analysis is the paper's model's beside a physical one (the physical mode): the
+    /// text says its figures are the paper's model's, not physical.
+    #[serde(skip)]
+    pub beside_physical: bool,
 }
 
 impl AnalysisReport {
@@ -185,6 +248,7 @@ impl AnalysisReport {
     /// without the paper model's warning (the physical analysis checks the section against
     /// the scene).
     pub fn use_physical_radius(&mut self, network: &Network, radius: f64) {
+        self.beside_physical = true;
         if let Some(w) = self.units.warning.take() {
             self.warnings.retain(|x| *x != w);
         }
@@ -192,11 +256,12 @@ impl AnalysisReport {
             radius,
             ..Material::default()
         };
-        self.units = UnitsNote::new(network, &material);
+        self.units = UnitsNote::new(network, &material, &Recorded);
         self.units.warning = None;
     }
 
-    /// Assembles the report of `analysis` of structure `active` of `network`.
+    /// Assembles the report of `analysis` of structure `active` of `network`; its own and
+    /// the build's warnings name options as `words` spell them.
     pub fn new(
         network: &Network,
         build: &BuildInfo,
@@ -204,12 +269,13 @@ impl AnalysisReport {
         active: &ActiveSet,
         analysis: &Analysis,
         mut warnings: Vec<String>,
+        words: &dyn Wording,
     ) -> Self {
         let curves = active.curves();
         let removed: Vec<usize> = (0..network.rods.len())
             .filter(|&c| !active.contains(c))
             .collect();
-        let units = UnitsNote::new(network, material);
+        let units = UnitsNote::new(network, material, words);
         if let Some(w) = &units.warning {
             warnings.push(w.clone());
         }
@@ -258,7 +324,7 @@ impl AnalysisReport {
                 top.join(", ")
             ));
         }
-        warnings.extend(build.warnings.iter().cloned());
+        warnings.extend(build.warnings.iter().map(|w| w.render(words)));
         AnalysisReport {
             curve_count: network.rods.len(),
             vertices: network.vertex_count(),
@@ -283,6 +349,7 @@ impl AnalysisReport {
             units,
             build: build.clone(),
             warnings,
+            beside_physical: false,
         }
     }
 
@@ -381,7 +448,12 @@ impl AnalysisReport {
                 )
             },
         );
-        let _ = writeln!(s, "gravity deflection: {gravity}");
+        let model = if self.beside_physical {
+            " (the paper's model, in its own units: not a physical deflection)"
+        } else {
+            ""
+        };
+        let _ = writeln!(s, "gravity deflection{model}: {gravity}");
         let _ = writeln!(
             s,
             "units: radius {} vs median curve length {} (slenderness {})",

@@ -34,6 +34,7 @@ use super::plot::lambda_plot;
 use super::render::{mode_picture, network_picture};
 use crate::io::TriMesh;
 use crate::network::Network;
+use crate::report::ReportError;
 use crate::rod::ActiveSet;
 use crate::run_folder::{RunFolder, Which};
 use crate::stability::Analyzer;
@@ -151,7 +152,7 @@ impl Default for ViewerOptions {
 }
 
 /// The data embedded in the viewer page.
-pub fn viewer_data(run: &RunFolder, options: &ViewerOptions) -> Result<Value, String> {
+pub fn viewer_data(run: &RunFolder, options: &ViewerOptions) -> Result<Value, ReportError> {
     let net = &run.network;
     let r = &run.result;
     let n = run.iteration_count();
@@ -281,7 +282,7 @@ fn rods_json(net: &Network) -> Vec<Value> {
 /// The answer and the alternatives for the viewer's list: label, where each comes from, its
 /// curves, length, `λ_eq` and modes; those that are not greedy iterations with their own
 /// equilibrium, mode and gravity deflection (as an iteration's).
-fn chosen_data(run: &RunFolder, options: &ViewerOptions) -> Result<Vec<Value>, String> {
+fn chosen_data(run: &RunFolder, options: &ViewerOptions) -> Result<Vec<Value>, ReportError> {
     let r = &run.result;
     let mut which: Vec<(Which, String)> = Vec::new();
     if r.answer.is_some() {
@@ -323,9 +324,9 @@ fn chosen_data(run: &RunFolder, options: &ViewerOptions) -> Result<Vec<Value>, S
 }
 
 /// An analyzer of the run's network with its stability settings.
-fn analyzer_of(run: &RunFolder) -> Result<Analyzer, String> {
+fn analyzer_of(run: &RunFolder) -> Result<Analyzer, ReportError> {
     Analyzer::new(run.network.clone(), run.result.setup.stability.clone())
-        .map_err(|e| format!("{}: {e}", run.dir.join("result.json").display()))
+        .map_err(|e| format!("{}: {e}", run.dir.join("result.json").display()).into())
 }
 
 /// The gravity deflection over `verts`, encoded with its largest displacement and the vertex
@@ -372,7 +373,7 @@ fn html_escape(s: &str) -> String {
 }
 
 /// The self-contained viewer page of a run.
-pub fn viewer_html(run: &RunFolder, options: &ViewerOptions) -> Result<String, String> {
+pub fn viewer_html(run: &RunFolder, options: &ViewerOptions) -> Result<String, ReportError> {
     page(&title_of(run), &viewer_data(run, options)?, "")
 }
 
@@ -389,7 +390,7 @@ pub fn app_html(
     live: Value,
     mesh: Option<&TriMesh>,
     objective: Value,
-) -> Result<String, String> {
+) -> Result<String, ReportError> {
     let data = json!({
         "format": "curvenet-viewer",
         "version": 1,
@@ -410,7 +411,7 @@ pub fn app_html(
 
 /// The viewer's template filled: `title` (escaped), the data's JSON (`</` escaped) and the app's
 /// script element (empty for a run's page).
-fn page(title: &str, data: &Value, app: &str) -> Result<String, String> {
+fn page(title: &str, data: &Value, app: &str) -> Result<String, ReportError> {
     let json = serde_json::to_string(data).map_err(|e| e.to_string())?;
     // Inside <script>, "</" could close the element: JSON allows "\/" for "/".
     let json = json.replace("</", "<\\/");
@@ -454,15 +455,19 @@ fn fill_template(template: &str, values: &[(&str, &str)]) -> String {
 }
 
 /// Writes the viewer page of `run` to `path`.
-pub fn write_viewer(run: &RunFolder, path: &Path, options: &ViewerOptions) -> Result<(), String> {
+pub fn write_viewer(
+    run: &RunFolder,
+    path: &Path,
+    options: &ViewerOptions,
+) -> Result<(), ReportError> {
     let html = viewer_html(run, options)?;
-    crate::io::write_atomic(path, html.as_bytes()).map_err(|e| format!("{}: {e}", path.display()))
+    crate::io::write_atomic(path, html.as_bytes()).map_err(|e| ReportError::io(path, e))
 }
 
 /// Writes `final.png`, `mode.png` (the answer, wherever it comes from; without one, or
 /// without its state, the iteration of [`RunFolder::shown_index`]) and `lambda.png` into the
 /// run folder.
-pub fn write_pictures(run: &RunFolder) -> Result<Vec<PathBuf>, String> {
+pub fn write_pictures(run: &RunFolder) -> Result<Vec<PathBuf>, ReportError> {
     let which = if run.result.answer.is_some() && run.displacement_of(Which::Answer).is_ok() {
         Which::Answer
     } else {
@@ -494,7 +499,7 @@ pub struct RunOutputs {
 /// alternative's fabrication table) and, last, `viewer.html` into the run folder `dir`. A run
 /// without an answer gets no fabrication table (a warning says why): its networks within the
 /// budget are not something to build.
-pub fn write_run_outputs(dir: &Path) -> Result<RunOutputs, String> {
+pub fn write_run_outputs(dir: &Path) -> Result<RunOutputs, ReportError> {
     let run = RunFolder::open(dir)?;
     let mut out = RunOutputs {
         warnings: run.warnings.clone(),
@@ -504,19 +509,17 @@ pub fn write_run_outputs(dir: &Path) -> Result<RunOutputs, String> {
     let p = dir.join("fabrication.csv");
     match fabrication_csv(&run, Which::Answer).ok() {
         Some(csv) => {
-            crate::io::write_atomic(&p, csv.as_bytes())
-                .map_err(|e| format!("{}: {e}", p.display()))?;
+            crate::io::write_atomic(&p, csv.as_bytes()).map_err(|e| ReportError::io(&p, e))?;
             out.files.push(p);
         }
         None => {
             if p.exists() {
-                std::fs::remove_file(&p).map_err(|e| format!("{}: {e}", p.display()))?;
+                std::fs::remove_file(&p).map_err(|e| ReportError::io(&p, e))?;
             }
-            let why = run
-                .result
-                .no_answer
-                .as_ref()
-                .map_or_else(|| "the run has no answer".to_string(), |n| n.reason.clone());
+            let why = run.result.no_answer.as_ref().map_or_else(
+                || "the run has no answer".to_string(),
+                |n| n.reason.render(&crate::words::Recorded),
+            );
             out.warnings
                 .push(format!("no fabrication table: nothing to build ({why})"));
         }
@@ -524,7 +527,7 @@ pub fn write_run_outputs(dir: &Path) -> Result<RunOutputs, String> {
     for n in 1..=run.result.alternatives.len() {
         let p = dir.join(format!("alternative-{n}.csv"));
         let csv = fabrication_csv(&run, Which::Alternative(n))?;
-        crate::io::write_atomic(&p, csv.as_bytes()).map_err(|e| format!("{}: {e}", p.display()))?;
+        crate::io::write_atomic(&p, csv.as_bytes()).map_err(|e| ReportError::io(&p, e))?;
         out.files.push(p);
     }
     // Last: a run folder with its viewer page has every file of this stage (a run stopped

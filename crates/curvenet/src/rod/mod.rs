@@ -29,6 +29,7 @@ pub use model::{Assembly, EnergyModel};
 pub use network::{Joint, Network, Rod};
 
 use crate::material::RestShape;
+use crate::words::Message;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
@@ -77,16 +78,16 @@ impl Material {
 
     /// Checks that every constant is finite and positive, and the stiffnesses `k_s`, `k_b`
     /// and `2µ` lie in [`STIFFNESS_RANGE`].
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Message> {
         for (name, v) in [
             ("radius", self.radius),
             ("young", self.young),
             ("anchor weight", self.anchor_weight),
         ] {
             if !(v.is_finite() && v > 0.0) {
-                return Err(format!(
-                    "material {name} must be a positive finite number, got {v}"
-                ));
+                return Err(
+                    format!("material {name} must be a positive finite number, got {v}").into(),
+                );
             }
         }
         let (lo, hi) = STIFFNESS_RANGE;
@@ -100,7 +101,8 @@ impl Material {
                      range the solvers handle ({lo:e} to {hi:e}); choose scene units where \
                      the radius is nearer 1",
                     self.radius, self.young
-                ));
+                )
+                .into());
             }
         }
         let k = 2.0 * self.anchor_weight;
@@ -109,7 +111,8 @@ impl Material {
                 "the anchor weight {:e} gives an anchor stiffness 2µ = {k:e}, out of the range \
                  the solvers handle ({lo:e} to {hi:e})",
                 self.anchor_weight
-            ));
+            )
+            .into());
         }
         Ok(())
     }

@@ -32,7 +32,7 @@ pub fn greedy_offers(iterations: &[IterationRecord]) -> Vec<Offer> {
         .collect()
 }
 
-/// Measures the largest displacement at equilibrium (`--max-deviation`) of each of the
+/// Measures the largest displacement at equilibrium (the largest deviation's) of each of the
 /// greedy's `offers` ([`greedy_offers`]) on its iteration's state in the run folder `dir`.
 ///
 /// # Errors
@@ -43,13 +43,16 @@ pub fn measure_greedy_deviations(
     offers: &mut [Offer],
     dir: &Path,
     network: &Network,
-) -> Result<(), String> {
+) -> Result<(), super::RunFolderError> {
     let dofs = 3 * network.positions.len();
     for o in offers.iter_mut() {
         let Some(k) = o.iteration else { continue };
-        let u = read_f64_file(&dir.join(format!("states/{k:04}.bin")))?;
+        let u = read_f64_file(&dir.join(crate::run_layout::state_file(k)))?;
         if u.len() < dofs {
-            return Err(format!("states/{k:04}.bin does not match the network"));
+            return Err(super::RunFolderError::Invalid {
+                file: crate::run_layout::state_file(k),
+                problem: "does not match the network".into(),
+            });
         }
         o.deviation = Some(max_displacement(network, &o.curves, &u));
     }

@@ -9,6 +9,7 @@
 //! is left beside the new run's. A non-empty folder that is not a run is refused unless the
 //! caller forces it (then the run's own files are replaced and the others kept).
 
+use crate::words::{Message, Opt, given, message};
 use std::fs::{File, OpenOptions, TryLockError};
 use std::path::{Path, PathBuf};
 
@@ -38,22 +39,11 @@ pub const RUN_FOLDERS: &[&str] = &["modes", "states", "iterations", "export"];
 
 /// Why a folder cannot take a run.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{}", self.message())]
 pub enum FolderError {
     /// Another process holds the folder's lock (a run is writing there).
-    #[error(
-        "{}: another curvenet run is writing in this folder; wait for it to end or give \
-         another --out",
-        .0.display()
-    )]
     Held(PathBuf),
     /// The folder is not empty and not a curvenet run: what it holds (the first entries).
-    #[error(
-        "{}: the folder is not empty and is not a curvenet run's (it holds {}); give an empty \
-         or new folder, or --force to run there anyway (the run's own files are replaced, the \
-         others kept)",
-        dir.display(),
-        foreign.join(", ")
-    )]
     NotARun {
         /// The folder.
         dir: PathBuf,
@@ -61,8 +51,33 @@ pub enum FolderError {
         foreign: Vec<String>,
     },
     /// A file system error, with the path.
-    #[error("{0}")]
     Io(String),
+}
+
+impl FolderError {
+    /// What went wrong and the options that help, for a front end to spell (the folder is
+    /// named as the run's folder option).
+    pub fn message(&self) -> Message {
+        match self {
+            FolderError::Held(dir) => message![
+                given(Opt::Out, dir.display()),
+                ": another curvenet run is writing in this folder; wait for it to end or give \
+                 another ",
+                Opt::Out
+            ],
+            FolderError::NotARun { dir, foreign } => message![
+                given(Opt::Out, dir.display()),
+                format!(
+                    ": the folder is not empty and is not a curvenet run's (it holds {}); give an \
+                     empty or new folder, or ",
+                    foreign.join(", ")
+                ),
+                Opt::Force,
+                " to run there anyway (the run's own files are replaced, the others kept)"
+            ],
+            FolderError::Io(m) => Message::from(m.as_str()),
+        }
+    }
 }
 
 /// The folder's lock, held while alive (the operating system releases it when the process

@@ -32,6 +32,9 @@
 //!   temporary files;
 //! - [`reader`]: [`RunFolder`], a finished or interrupted folder read back and checked, for the
 //!   exports, pictures and viewer of [`crate::report`];
+//! - [`files`]: [`RunFiles`], the reader every read of a run folder's files goes through,
+//!   confined to a folder of run folders ([`RunsRoot`]: the design server's, which reads no file
+//!   outside it, each file's path resolved link by link) or not (the command line's);
 //! - [`summary`]: `summary.txt` and the warnings a run's record calls for;
 //! - [`answer`]: the networks a run offers as its answer and its alternatives
 //!   ([`greedy_offers`], [`evaluated_offer`], [`answer::alternative_offers`]).
@@ -43,6 +46,7 @@
 
 pub mod answer;
 pub mod carried;
+pub mod files;
 pub mod folder;
 pub mod reader;
 pub mod schema;
@@ -51,15 +55,77 @@ pub mod summary;
 pub mod writer;
 
 pub use answer::{evaluated_offer, greedy_offers, measure_greedy_deviations};
-pub use reader::{Chosen, RunFolder, Which, check_network};
+pub use files::{Access, RunFileError, RunFiles, RunsRoot};
+pub use reader::{Chosen, InvalidNetwork, RunFolder, Which, check_network};
 pub use schema::{FinalRecord, InputDescription, LocalSearchRecord, ResultFile, RunSetup, VERSION};
 pub use summary::{instability, record_instability, summary, unrelaxed, unstable};
 pub use writer::OutputWriter;
 
 use crate::geom::Vec3;
-use crate::io::{Origin, Polyline};
+use crate::io::{Origin, Polyline, WriteError};
 use crate::network::Network;
-use std::path::Path;
+use crate::words::Message;
+use std::path::{Path, PathBuf};
+
+/// Why a run folder could not be read, written or continued.
+#[derive(Debug, thiserror::Error)]
+pub enum RunFolderError {
+    /// One of its files could not be read or parsed (through its [`RunFiles`]).
+    #[error(transparent)]
+    File(#[from] RunFileError),
+    /// A file was read but does not hold what a run folder holds (an index out of range, an
+    /// unsupported version, a state that does not match the network, …).
+    #[error("{file}: {problem}")]
+    Invalid {
+        /// The file, as its reader names it.
+        file: String,
+        /// What is wrong.
+        problem: String,
+    },
+    /// A file could not be written, created or removed: its path and the system's reason.
+    #[error("{}: {error}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What the system said.
+        error: std::io::Error,
+    },
+    /// A file written as the run went could not be (it names the file).
+    #[error(transparent)]
+    Write(#[from] WriteError),
+    /// The network asked for is not in the run (no answer, no such alternative or
+    /// iteration): the message says what the run holds.
+    #[error("{0}")]
+    Absent(Message),
+    /// The run asked for cannot continue the one recorded (a resume with other settings):
+    /// the message names the option that differs, for the user to fix.
+    #[error("{0}")]
+    Resume(Message),
+    /// The writer could not go on (its thread would not start, the run recorded nothing).
+    #[error("{0}")]
+    Failed(String),
+}
+
+impl RunFolderError {
+    /// `path` could not be written, created or removed.
+    pub fn io(path: &Path, error: std::io::Error) -> Self {
+        RunFolderError::Io {
+            path: path.to_path_buf(),
+            error,
+        }
+    }
+
+    /// Whether it refused a path leading outside the folder runs are loaded from.
+    pub fn is_outside(&self) -> bool {
+        matches!(self, RunFolderError::File(RunFileError::Outside { .. }))
+    }
+}
+
+impl From<String> for RunFolderError {
+    fn from(message: String) -> Self {
+        RunFolderError::Failed(message)
+    }
+}
 
 /// Writes a vector of f64 as little-endian bytes.
 pub fn f64_bytes(v: &[f64]) -> Vec<u8> {
@@ -67,25 +133,32 @@ pub fn f64_bytes(v: &[f64]) -> Vec<u8> {
 }
 
 /// Reads a file of little-endian f64.
-pub fn read_f64_file(path: &Path) -> Result<Vec<f64>, String> {
-    let bytes = std::fs::read(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    if bytes.len() % 8 != 0 {
-        return Err(format!(
-            "{}: truncated file ({} bytes is not a whole number of f64)",
-            path.display(),
+///
+/// # Errors
+///
+/// The file cannot be read, or is not a whole number of f64.
+pub fn read_f64_file(path: &Path) -> Result<Vec<f64>, RunFolderError> {
+    let bytes = std::fs::read(path).map_err(|e| RunFolderError::io(path, e))?;
+    f64_values(&bytes).ok_or_else(|| RunFolderError::Invalid {
+        file: path.display().to_string(),
+        problem: format!(
+            "truncated file ({} bytes is not a whole number of f64)",
             bytes.len()
-        ));
-    }
-    Ok(bytes
-        .chunks_exact(8)
-        .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")))
-        .collect())
+        ),
+    })
 }
 
-/// Reads a JSON file; errors name the file (and the line of a parse error).
-pub(crate) fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    serde_json::from_str(&text).map_err(|e| format!("{}:{}: {e}", path.display(), e.line()))
+/// The little-endian f64 of `bytes` (`None` when they are not a whole number of them).
+fn f64_values(bytes: &[u8]) -> Option<Vec<f64>> {
+    let chunks = bytes.chunks_exact(8);
+    if !chunks.remainder().is_empty() {
+        return None;
+    }
+    Some(
+        chunks
+            .map(|c| f64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]))
+            .collect(),
+    )
 }
 
 /// Positions of all vertices at displacements `u` (`None`: the rest state).

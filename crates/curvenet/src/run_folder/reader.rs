@@ -1,16 +1,19 @@
 //! [`RunFolder`]: a run folder read back and checked, for the exports, pictures and viewer.
 //!
-//! [`RunFolder::open`] reads `result.json`, `network.json` and the optional `mesh.obj`, and
+//! [`RunFolder::read`] reads `result.json`, `network.json` and the optional `mesh.obj` through
+//! a [`RunFiles`] (confined to a folder of run folders or not: see [`super::files`]), and
 //! checks every index, length and number, so a missing or corrupt folder gives a clear error
 //! naming the file, never a panic. The iterations' side files (`states/KKKK.bin`, the mode
-//! files) are read on demand.
+//! files) are read on demand, through the same reader.
 
-use super::read_f64_file;
+use super::RunFolderError;
+use super::files::{RunFileError, RunFiles};
 use super::schema::ResultFile;
 use crate::constraints::answer::Answer;
-use crate::io::{self, TriMesh};
+use crate::io::{self, InputError, TriMesh};
 use crate::network::Network;
 use crate::simplify::greedy::IterationRecord;
+use crate::words::{Message, Opt, given, message};
 use std::path::{Path, PathBuf};
 
 /// A run's output folder, read and checked.
@@ -18,6 +21,8 @@ use std::path::{Path, PathBuf};
 pub struct RunFolder {
     /// The folder.
     pub dir: PathBuf,
+    /// How its files are read (every later read goes through it too).
+    pub files: RunFiles,
     /// `result.json`.
     pub result: ResultFile,
     /// `network.json`.
@@ -31,45 +36,49 @@ pub struct RunFolder {
 impl RunFolder {
     /// Reads `dir/result.json`, `dir/network.json` and (if present) `dir/mesh.obj`, and checks
     /// that they agree. Side files of the iterations are read on demand.
-    pub fn open(dir: &Path) -> Result<RunFolder, String> {
-        if !dir.is_dir() {
-            return Err(format!(
-                "{}: not a folder (expected the output folder of a run, holding result.json)",
-                dir.display()
-            ));
-        }
-        let result = ResultFile::read(dir)?;
-        let net_path = dir.join("network.json");
-        let network: Network = super::read_json(&net_path)?;
-        check_network(&network).map_err(|e| format!("{}: {e}", net_path.display()))?;
-        check_result(&result, network.rods.len())
-            .map_err(|e| format!("{}: {e}", dir.join("result.json").display()))?;
-        let mut warnings = Vec::new();
-        let mesh_path = dir.join("mesh.obj");
-        let mesh = if mesh_path.is_file() {
-            match io::read_mesh(&mesh_path) {
-                Ok(m) if !m.mesh.faces.is_empty() => Some(m.mesh),
-                Ok(_) => {
-                    warnings.push(format!("{}: no faces; ignored", mesh_path.display()));
-                    None
-                }
-                Err(e) => {
-                    warnings.push(format!("{e}; the surface is left out"));
-                    None
-                }
+    ///
+    /// # Errors
+    ///
+    /// As [`Self::read`].
+    pub fn open(dir: &Path) -> Result<RunFolder, RunFolderError> {
+        Self::read(RunFiles::unconfined(dir))
+    }
+
+    /// Reads the run folder of `files` (`result.json`, `network.json` and, if present,
+    /// `mesh.obj`, each through `files`) and checks that they agree; its side files are read
+    /// on demand through `files` too.
+    ///
+    /// # Errors
+    ///
+    /// The folder is not there, a file cannot be read or parsed, or they do not agree (each
+    /// error naming the file as `files` names it).
+    pub fn read(files: RunFiles) -> Result<RunFolder, RunFolderError> {
+        if !files.folder_exists() {
+            return Err(RunFileError::NotAFolder {
+                file: files.shown(),
             }
-        } else {
-            None
+            .into());
+        }
+        let invalid = |rel: &str, problem: String| RunFolderError::Invalid {
+            file: files.name(rel),
+            problem,
         };
+        let result = ResultFile::read_from(&files)?;
+        let network: Network = files.read_json("network.json", "a curvenet network")?;
+        check_network(&network).map_err(|e| invalid("network.json", e.0))?;
+        check_result(&result, network.rods.len()).map_err(|e| invalid("result.json", e))?;
+        let mut warnings = Vec::new();
+        let mesh = read_mesh(&files, &mut warnings);
         if !result.complete {
             warnings.push(format!(
                 "{}: the run is not complete; showing the {} iteration(s) recorded",
-                dir.display(),
+                files.shown(),
                 result.iterations.len()
             ));
         }
         Ok(RunFolder {
-            dir: dir.to_path_buf(),
+            dir: files.dir().to_path_buf(),
+            files,
             result,
             network,
             mesh,
@@ -99,73 +108,82 @@ impl RunFolder {
     }
 
     /// The record of iteration `k`.
-    pub fn record(&self, k: usize) -> Result<&IterationRecord, String> {
+    pub fn record(&self, k: usize) -> Result<&IterationRecord, RunFolderError> {
         self.result.iterations.get(k).ok_or_else(|| {
-            format!(
+            RunFolderError::Absent(Message::from(format!(
                 "{}: no iteration {k} (the run recorded iterations 0 to {})",
-                self.dir.display(),
+                self.files.shown(),
                 self.last_index()
-            )
+            )))
         })
     }
 
-    fn vector_file(&self, rel: &str) -> Result<Vec<f64>, String> {
-        let path = self.dir.join(rel);
-        let v = read_f64_file(&path)?;
+    fn vector_file(&self, rel: &str) -> Result<Vec<f64>, RunFolderError> {
+        let v = self.files.read_f64(rel)?;
+        let invalid = |problem: String| RunFolderError::Invalid {
+            file: self.files.name(rel),
+            problem,
+        };
         if v.len() != self.network.dofs() {
-            return Err(format!(
-                "{}: {} values, expected 3·V = {} for network.json",
-                path.display(),
+            return Err(invalid(format!(
+                "{} values, expected 3·V = {} for network.json",
                 v.len(),
                 self.network.dofs()
-            ));
+            )));
         }
         if let Some(i) = v.iter().position(|x| !x.is_finite()) {
-            return Err(format!("{}: value {i} is not finite", path.display()));
+            return Err(invalid(format!("value {i} is not finite")));
         }
         Ok(v)
     }
 
     /// Equilibrium displacements of iteration `k` (`states/KKKK.bin`, 3·V values).
-    pub fn displacement(&self, k: usize) -> Result<Vec<f64>, String> {
+    pub fn displacement(&self, k: usize) -> Result<Vec<f64>, RunFolderError> {
         self.record(k)?;
-        self.vector_file(&format!("states/{k:04}.bin"))
+        self.vector_file(&crate::run_layout::state_file(k))
     }
 
     /// Worst-case mode of iteration `k` (its `mode_file`, 3·V values).
-    pub fn mode(&self, k: usize) -> Result<Vec<f64>, String> {
+    pub fn mode(&self, k: usize) -> Result<Vec<f64>, RunFolderError> {
         let rec = self.record(k)?;
         self.vector_file(&rec.mode_file)
     }
 
     /// The answer or the `n`-th alternative (from 1) of the run.
-    fn chosen(&self, which: Which) -> Result<&Answer, String> {
-        let none = |what: String| format!("{}: {what}", self.dir.display());
+    fn chosen(&self, which: Which) -> Result<&Answer, RunFolderError> {
+        let none = |what: Message| {
+            RunFolderError::Absent(what.prefixed([format!("{}: ", self.files.shown()).into()]))
+        };
         match which {
             Which::Iteration(_) => unreachable!("an iteration is no chosen network"),
             Which::Answer => self.result.answer.as_ref().ok_or_else(|| {
-                none(
+                none(message![
                     "the run has no answer (no stable network met the budget and the constraints)"
-                        .into(),
-                )
+                ])
             }),
             Which::Alternative(n) => n
                 .checked_sub(1)
                 .and_then(|i| self.result.alternatives.get(i))
                 .ok_or_else(|| {
                     none(match self.result.alternatives.len() {
-                        0 => format!(
-                            "no alternative {n}: the run recorded no alternatives (run it with \
-                             --alternatives K)"
-                        ),
-                        m => format!("no alternative {n}: the run recorded alternatives 1 to {m}"),
+                        0 => message![
+                            format!(
+                                "no alternative {n}: the run recorded no alternatives (run it \
+                                 with "
+                            ),
+                            given(Opt::Alternatives, "K"),
+                            ")"
+                        ],
+                        m => message![format!(
+                            "no alternative {n}: the run recorded alternatives 1 to {m}"
+                        )],
                     })
                 }),
         }
     }
 
     /// What `which` is: its curves, length, `λ_eq`, and how exports name it.
-    pub fn network_of(&self, which: Which) -> Result<Chosen, String> {
+    pub fn network_of(&self, which: Which) -> Result<Chosen, RunFolderError> {
         if let Which::Iteration(k) = which {
             let rec = self.record(k)?;
             return Ok(Chosen {
@@ -199,20 +217,20 @@ impl RunFolder {
     }
 
     /// Equilibrium displacements of `which`: its iteration's, else `states/TAG.bin`.
-    pub fn displacement_of(&self, which: Which) -> Result<Vec<f64>, String> {
+    pub fn displacement_of(&self, which: Which) -> Result<Vec<f64>, RunFolderError> {
         let c = self.network_of(which)?;
         match c.iteration {
             Some(k) => self.displacement(k),
-            None => self.vector_file(&format!("states/{}.bin", c.tag)),
+            None => self.vector_file(&crate::run_layout::tagged_state_file(&c.tag)),
         }
     }
 
     /// Worst-case mode of `which`: its iteration's, else `modes/TAG.bin`.
-    pub fn mode_of(&self, which: Which) -> Result<Vec<f64>, String> {
+    pub fn mode_of(&self, which: Which) -> Result<Vec<f64>, RunFolderError> {
         let c = self.network_of(which)?;
         match c.iteration {
             Some(k) => self.mode(k),
-            None => self.vector_file(&format!("modes/{}.bin", c.tag)),
+            None => self.vector_file(&crate::run_layout::tagged_mode_file(&c.tag)),
         }
     }
 }
@@ -253,6 +271,43 @@ pub struct Chosen {
     /// What makes it unstable, when it is (a zero or negative mode: see
     /// [`super::instability`]); never for the answer or an alternative.
     pub unstable: Option<String>,
+}
+
+/// The folder's `mesh.obj`, when it has a readable one with faces; what else is found there
+/// is a warning (the surface is optional).
+fn read_mesh(files: &RunFiles, warnings: &mut Vec<String>) -> Option<TriMesh> {
+    const MESH: &str = "mesh.obj";
+    let name = files.name(MESH);
+    let text = match files.read_text(MESH) {
+        Ok(text) => text,
+        Err(RunFileError::Missing { .. }) => return None,
+        Err(e) => {
+            warnings.push(format!("{e}; the surface is left out"));
+            return None;
+        }
+    };
+    match io::parse_obj_mesh(&text, &name) {
+        Ok(m) if !m.mesh.faces.is_empty() => Some(m.mesh),
+        Ok(_) => {
+            warnings.push(format!("{name}: no faces; ignored"));
+            None
+        }
+        Err(e) => {
+            let e = mesh_error(files, &e);
+            warnings.push(format!("{e}; the surface is left out"));
+            None
+        }
+    }
+}
+
+/// The error of a `mesh.obj` its parser refused: where, and (unconfined only) the parser's
+/// words, which may quote the line.
+fn mesh_error(files: &RunFiles, e: &InputError) -> RunFileError {
+    let problem = match e.line() {
+        Some(line) => format!("not a surface mesh (line {line})"),
+        None => "not a surface mesh".to_string(),
+    };
+    files.malformed("mesh.obj", problem, Some(e.message()))
 }
 
 /// Checks that a run's record names only curves of its network (`n` of them) and iterations
@@ -296,28 +351,50 @@ fn check_result(result: &ResultFile, n: usize) -> Result<(), String> {
     Ok(())
 }
 
+/// What makes a network inconsistent ([`check_network`]).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct InvalidNetwork(pub String);
+
+impl From<String> for InvalidNetwork {
+    fn from(problem: String) -> Self {
+        InvalidNetwork(problem)
+    }
+}
+
+impl From<&str> for InvalidNetwork {
+    fn from(problem: &str) -> Self {
+        InvalidNetwork(problem.to_string())
+    }
+}
+
 /// Checks that a network is consistent: finite positions, indices in range, one positive
 /// rest length per edge, enough vertices per rod. Everything the energy model indexes.
-pub fn check_network(net: &Network) -> Result<(), String> {
+///
+/// # Errors
+///
+/// The first inconsistency found.
+pub fn check_network(net: &Network) -> Result<(), InvalidNetwork> {
     let nv = net.positions.len();
     if nv == 0 || net.rods.is_empty() {
         return Err("the network has no vertices or no rods".into());
     }
     if let Some(i) = net.positions.iter().position(|p| !p.is_finite()) {
-        return Err(format!("position of vertex {i} is not finite"));
+        return Err(format!("position of vertex {i} is not finite").into());
     }
     for (c, rod) in net.rods.iter().enumerate() {
         let m = rod.vertices.len();
         let min = if rod.closed { 3 } else { 2 };
         if m < min {
-            return Err(format!("rod {c} has {m} vertices (at least {min} needed)"));
+            return Err(format!("rod {c} has {m} vertices (at least {min} needed)").into());
         }
         let edges = if rod.closed { m } else { m - 1 };
         if rod.rest_lengths.len() != edges {
             return Err(format!(
                 "rod {c} has {} rest lengths for {edges} edges",
                 rod.rest_lengths.len()
-            ));
+            )
+            .into());
         }
         if let Some(j) = rod
             .rest_lengths
@@ -327,7 +404,8 @@ pub fn check_network(net: &Network) -> Result<(), String> {
             return Err(format!(
                 "rod {c}: rest length of edge {j} is {} (must be positive and finite)",
                 rod.rest_lengths[j]
-            ));
+            )
+            .into());
         }
         if let Some(&v) = rod
             .vertices
@@ -335,26 +413,26 @@ pub fn check_network(net: &Network) -> Result<(), String> {
             .chain(&rod.anchors)
             .find(|&&v| v as usize >= nv)
         {
-            return Err(format!(
-                "rod {c} names vertex {v}, but the network has {nv} vertices"
-            ));
+            return Err(
+                format!("rod {c} names vertex {v}, but the network has {nv} vertices").into(),
+            );
         }
         if let Some(&v) = rod.anchors.iter().find(|v| !rod.vertices.contains(v)) {
-            return Err(format!("rod {c} anchors vertex {v}, which is not on it"));
+            return Err(format!("rod {c} anchors vertex {v}, which is not on it").into());
         }
         if let Some(j) = (0..edges).find(|&j| {
             let (a, b) = rod.edge(j);
             a == b
         }) {
-            return Err(format!("rod {c}: edge {j} joins a vertex to itself"));
+            return Err(format!("rod {c}: edge {j} joins a vertex to itself").into());
         }
     }
     for (j, joint) in net.joints.iter().enumerate() {
         if joint.vertex as usize >= nv {
-            return Err(format!("joint {j} names vertex {}", joint.vertex));
+            return Err(format!("joint {j} names vertex {}", joint.vertex).into());
         }
         if let Some(&c) = joint.curves.iter().find(|&&c| c as usize >= net.rods.len()) {
-            return Err(format!("joint {j} names curve {c}"));
+            return Err(format!("joint {j} names curve {c}").into());
         }
     }
     Ok(())

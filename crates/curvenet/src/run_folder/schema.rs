@@ -241,15 +241,26 @@ pub struct ResultFile {
 
 impl ResultFile {
     /// Reads `DIR/result.json`.
-    pub fn read(dir: &Path) -> Result<ResultFile, String> {
-        let path = dir.join("result.json");
-        let r: ResultFile = super::read_json(&path)?;
+    ///
+    /// # Errors
+    ///
+    /// As [`Self::read_from`].
+    pub fn read(dir: &Path) -> Result<ResultFile, super::RunFolderError> {
+        Self::read_from(&super::RunFiles::unconfined(dir))
+    }
+
+    /// Reads `result.json` through `files` (confined or not: see [`super::files`]).
+    ///
+    /// # Errors
+    ///
+    /// The file cannot be read, is not a run record, or is of another format version.
+    pub fn read_from(files: &super::RunFiles) -> Result<ResultFile, super::RunFolderError> {
+        let r: ResultFile = files.read_json("result.json", "a curvenet run record")?;
         if r.version != VERSION {
-            return Err(format!(
-                "{}: unsupported version {} (expected {VERSION})",
-                path.display(),
-                r.version
-            ));
+            return Err(super::RunFolderError::Invalid {
+                file: files.name("result.json"),
+                problem: format!("unsupported version {} (expected {VERSION})", r.version),
+            });
         }
         Ok(r)
     }

@@ -4,7 +4,7 @@ use super::answer::{NetworkState, greedy_offers};
 use super::carried::{CARRIED_FILES, carried_bytes, carried_file, read_carried};
 use super::schema::{FinalRecord, LocalSearchRecord, ResultFile, RunSetup, VERSION};
 use super::summary::summary;
-use super::{f64_bytes, network_polylines, read_f64_file};
+use super::{RunFolderError, f64_bytes, network_polylines, read_f64_file};
 use crate::constraints::Constraints;
 use crate::constraints::answer::{Answer, NoAnswer, choose};
 use crate::io;
@@ -13,6 +13,7 @@ use crate::simplify::certificate::Certificate;
 use crate::simplify::greedy::{GreedyHooks, GreedyOutcome, IterationRecord, ResumePoint};
 use crate::stability::Evaluation;
 use crate::stability::candidates::Carried;
+use crate::words::{Opt, message};
 use std::path::{Path, PathBuf};
 
 /// The OBJ of a recorded network at displacements `u`, with a comment line first naming it
@@ -25,8 +26,8 @@ fn record_obj(network: &Network, record: &IterationRecord, u: &[f64]) -> String 
     }
 }
 
-fn io_err(path: &Path, e: std::io::Error) -> String {
-    format!("{}: {e}", path.display())
+fn io_err(path: &Path, e: std::io::Error) -> RunFolderError {
+    RunFolderError::io(path, e)
 }
 
 /// An answer given to [`OutputWriter::set_answer`] and its equilibrium and mode (when it is
@@ -46,7 +47,7 @@ pub struct OutputWriter<'a> {
     files: io::BackgroundWriter,
     /// What a resume found that the run can go on without ([`Self::warnings`]).
     warnings: Vec<String>,
-    cancel: Option<&'a std::sync::atomic::AtomicBool>,
+    cancel: crate::cancel::Cancel,
     /// Called after each iteration (e.g. to move a progress bar).
     progress: Option<&'a (dyn Fn(&IterationRecord) + Sync)>,
     /// The answer given by [`Self::set_answer`], with its equilibrium when it is not one of
@@ -72,7 +73,7 @@ impl<'a> OutputWriter<'a> {
         network: &'a Network,
         setup: RunSetup,
         budget: f64,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, RunFolderError> {
         for sub in ["", "modes", "states", "iterations"] {
             let d = dir.join(sub);
             std::fs::create_dir_all(&d).map_err(|e| io_err(&d, e))?;
@@ -108,7 +109,7 @@ impl<'a> OutputWriter<'a> {
         network: &'a Network,
         setup: &RunSetup,
         mesh: Option<&crate::io::TriMesh>,
-    ) -> Result<(Self, Option<ResumePoint>), String> {
+    ) -> Result<(Self, Option<ResumePoint>), RunFolderError> {
         let result = ResultFile::read(dir)?;
         let mut warnings = Vec::new();
         // Inputs compared by content: the same file by another path resumes the run, which
@@ -116,19 +117,28 @@ impl<'a> OutputWriter<'a> {
         if let Some(d) =
             super::setup_diff::resume_difference(dir, &result.setup, setup, mesh, network)?
         {
-            return Err(format!(
-                "{}: cannot resume: {d}; use another --out or drop --resume",
-                dir.display()
+            return Err(RunFolderError::Resume(
+                message![format!("{}: cannot resume: ", dir.display())]
+                    .then(d)
+                    .then(message![
+                        "; use another ",
+                        Opt::Out,
+                        " or drop ",
+                        Opt::Resume
+                    ]),
             ));
         }
         let point = match result.iterations.last() {
             Some(last) if !result.complete && last.removed.is_some() => {
                 let k = result.iterations.len() - 1;
                 let n = network.dofs();
-                let displacement = read_f64_file(&dir.join(format!("states/{k:04}.bin")))?;
-                let modes = read_f64_file(&dir.join(format!("states/{k:04}.modes.bin")))?;
+                let displacement = read_f64_file(&dir.join(crate::run_layout::state_file(k)))?;
+                let modes = read_f64_file(&dir.join(crate::run_layout::state_modes_file(k)))?;
                 if displacement.len() != n || modes.is_empty() || modes.len() % n != 0 {
-                    return Err(format!("states/{k:04}.bin does not match the network"));
+                    return Err(RunFolderError::Invalid {
+                        file: crate::run_layout::state_file(k),
+                        problem: "does not match the network".into(),
+                    });
                 }
                 let modes = faer::Mat::from_fn(n, modes.len() / n, |i, j| modes[j * n + i]);
                 let carried = read_carried(dir, network.rods.len(), n, k, &mut warnings);
@@ -155,16 +165,17 @@ impl<'a> OutputWriter<'a> {
         network: &'a Network,
         result: ResultFile,
         warnings: Vec<String>,
-    ) -> Result<Self, String> {
-        let files = io::BackgroundWriter::new()
-            .map_err(|e| format!("cannot start the output writer thread: {e}"))?;
+    ) -> Result<Self, RunFolderError> {
+        let files = io::BackgroundWriter::new().map_err(|e| {
+            RunFolderError::Failed(format!("cannot start the output writer thread: {e}"))
+        })?;
         Ok(OutputWriter {
             dir: dir.to_path_buf(),
             network,
             result,
             files,
             warnings,
-            cancel: None,
+            cancel: crate::cancel::Cancel::never(),
             progress: None,
             answer: None,
             alternatives: Vec::new(),
@@ -172,13 +183,13 @@ impl<'a> OutputWriter<'a> {
     }
 
     /// Writes the surface mesh (scene units) as `mesh.obj`, for viewers and pictures.
-    pub fn write_mesh(&self, mesh: &crate::io::TriMesh) -> Result<(), String> {
+    pub fn write_mesh(&self, mesh: &crate::io::TriMesh) -> Result<(), RunFolderError> {
         self.write("mesh.obj", io::mesh_to_obj(mesh))
     }
 
-    /// Polls `flag` for cancellation.
-    pub fn with_cancel(mut self, flag: &'a std::sync::atomic::AtomicBool) -> Self {
-        self.cancel = Some(flag);
+    /// Polls `cancel` (the run's token) between candidates and iterations.
+    pub fn with_cancel(mut self, cancel: crate::cancel::Cancel) -> Self {
+        self.cancel = cancel;
         self
     }
 
@@ -199,21 +210,21 @@ impl<'a> OutputWriter<'a> {
         &self.result
     }
 
-    fn write_result(&self) -> Result<(), String> {
+    fn write_result(&self) -> Result<(), RunFolderError> {
         let mut text = serde_json::to_vec_pretty(&self.result).map_err(|e| e.to_string())?;
         text.push(b'\n');
         self.write("result.json", text)
     }
 
     /// Queues `bytes` for the file `rel` of the folder (written atomically, in order).
-    fn write(&self, rel: &str, bytes: impl Into<Vec<u8>>) -> Result<(), String> {
-        self.files.submit(self.dir.join(rel), bytes.into())
+    fn write(&self, rel: &str, bytes: impl Into<Vec<u8>>) -> Result<(), RunFolderError> {
+        Ok(self.files.submit(self.dir.join(rel), bytes.into())?)
     }
 
     /// Waits until every file submitted so far is written; an error names the first file
     /// that could not be.
-    pub fn flush(&self) -> Result<(), String> {
-        self.files.flush()
+    pub fn flush(&self) -> Result<(), RunFolderError> {
+        Ok(self.files.flush()?)
     }
 
     /// Sets the certificate of the final network (written by [`Self::finish`]).
@@ -249,11 +260,11 @@ impl<'a> OutputWriter<'a> {
         a: &Answer,
         state: Option<&NetworkState>,
         what: &str,
-    ) -> Result<Vec<f64>, String> {
+    ) -> Result<Vec<f64>, RunFolderError> {
         match (a.found.iteration, state) {
             (_, Some(s)) => Ok(s.displacement.clone()),
-            (Some(k), None) => read_f64_file(&self.dir.join(format!("states/{k:04}.bin"))),
-            (None, None) => Err(format!("the {what}'s equilibrium is not known")),
+            (Some(k), None) => read_f64_file(&self.dir.join(crate::run_layout::state_file(k))),
+            (None, None) => Err(format!("the {what}'s equilibrium is not known").into()),
         }
     }
 
@@ -264,13 +275,19 @@ impl<'a> OutputWriter<'a> {
         stem: &str,
         a: &Answer,
         state: Option<&NetworkState>,
-    ) -> Result<(), String> {
+    ) -> Result<(), RunFolderError> {
         let u = self.equilibrium_of(a, state, stem)?;
         let obj = io::curves_to_obj(&network_polylines(self.network, &a.found.curves, Some(&u)));
         self.write(&format!("{stem}.obj"), obj)?;
         if let Some(s) = state {
-            self.write(&format!("states/{stem}.bin"), f64_bytes(&s.displacement))?;
-            self.write(&format!("modes/{stem}.bin"), f64_bytes(&s.mode))?;
+            self.write(
+                &crate::run_layout::tagged_state_file(stem),
+                f64_bytes(&s.displacement),
+            )?;
+            self.write(
+                &crate::run_layout::tagged_mode_file(stem),
+                f64_bytes(&s.mode),
+            )?;
         }
         Ok(())
     }
@@ -278,11 +295,14 @@ impl<'a> OutputWriter<'a> {
     /// Removes the files of an earlier run in this folder that this run does not write again:
     /// the answer's own state when the answer is not `own_answer_state`, alternatives past
     /// `count`.
-    fn remove_stale(&self, own_answer_state: bool, count: usize) -> Result<(), String> {
+    fn remove_stale(&self, own_answer_state: bool, count: usize) -> Result<(), RunFolderError> {
         let mut stale: Vec<PathBuf> = Vec::new();
         if !own_answer_state {
-            stale.push(self.dir.join("states/answer.bin"));
-            stale.push(self.dir.join("modes/answer.bin"));
+            stale.push(
+                self.dir
+                    .join(crate::run_layout::tagged_state_file("answer")),
+            );
+            stale.push(self.dir.join(crate::run_layout::tagged_mode_file("answer")));
         }
         for sub in ["", "states", "modes"] {
             let Ok(entries) = std::fs::read_dir(self.dir.join(sub)) else {
@@ -321,7 +341,7 @@ impl<'a> OutputWriter<'a> {
         &mut self,
         outcome: &GreedyOutcome,
         timings: &serde_json::Value,
-    ) -> Result<(), String> {
+    ) -> Result<(), RunFolderError> {
         self.result.iterations = outcome.iterations.clone();
         let (answer, answer_state) = self.answer.take().unwrap_or_else(|| {
             let keep = &self.result.setup.greedy.keep;
@@ -340,7 +360,8 @@ impl<'a> OutputWriter<'a> {
         self.alternatives = alternatives;
         self.result.complete = true;
         self.result.stop = Some(outcome.stop);
-        let last = outcome.iterations.last().ok_or("no iteration recorded")?;
+        let last = (outcome.iterations.last())
+            .ok_or_else(|| RunFolderError::Failed("no iteration recorded".into()))?;
         self.result.final_network = Some(FinalRecord {
             curves: last.curves.clone(),
             length: last.length,
@@ -349,7 +370,7 @@ impl<'a> OutputWriter<'a> {
         self.write_result()?;
         self.flush()?;
         let k = outcome.iterations.len() - 1;
-        let u = read_f64_file(&self.dir.join(format!("states/{k:04}.bin")))?;
+        let u = read_f64_file(&self.dir.join(crate::run_layout::state_file(k)))?;
         self.write("final.obj", record_obj(self.network, last, &u))?;
         let answer_path = self.dir.join("answer.obj");
         self.remove_stale(answer_state.is_some(), self.alternatives.len())?;
@@ -386,18 +407,44 @@ impl GreedyHooks for OutputWriter<'_> {
         // the last recorded iteration's survives until this one is recorded.
         let k = self.result.iterations.len();
         self.write(carried_file(k), carried_bytes(k, carried))
+            .map_err(|e| e.to_string())
     }
 
     fn iteration(&mut self, record: &IterationRecord, eval: &Evaluation) -> Result<(), String> {
+        self.record(record, eval).map_err(|e| e.to_string())
+    }
+
+    fn flush(&mut self) -> Result<(), String> {
+        OutputWriter::flush(self).map_err(|e| e.to_string())
+    }
+
+    fn cancelled(&self) -> bool {
+        self.cancel.is_cancelled()
+    }
+}
+
+impl OutputWriter<'_> {
+    /// Queues an iteration's files and the record with it.
+    fn record(
+        &mut self,
+        record: &IterationRecord,
+        eval: &Evaluation,
+    ) -> Result<(), RunFolderError> {
         let k = self.result.iterations.len();
         let v = &eval.spectrum.vectors;
         let all: Vec<f64> = (0..v.ncols())
             .flat_map(|j| v.col(j).iter().copied().collect::<Vec<_>>())
             .collect();
         // The worst-case mode is the first column.
-        self.write(&format!("modes/{k:04}.bin"), f64_bytes(&all[..v.nrows()]))?;
-        self.write(&format!("states/{k:04}.bin"), f64_bytes(&eval.displacement))?;
-        self.write(&format!("states/{k:04}.modes.bin"), f64_bytes(&all))?;
+        self.write(
+            &crate::run_layout::mode_file(k),
+            f64_bytes(&all[..v.nrows()]),
+        )?;
+        self.write(
+            &crate::run_layout::state_file(k),
+            f64_bytes(&eval.displacement),
+        )?;
+        self.write(&crate::run_layout::state_modes_file(k), f64_bytes(&all))?;
         let obj = record_obj(self.network, record, &eval.displacement);
         self.write(&format!("iterations/{k:04}.obj"), obj)?;
         self.result.iterations.push(record.clone());
@@ -406,14 +453,5 @@ impl GreedyHooks for OutputWriter<'_> {
             p(record);
         }
         Ok(())
-    }
-
-    fn flush(&mut self) -> Result<(), String> {
-        OutputWriter::flush(self)
-    }
-
-    fn cancelled(&self) -> bool {
-        self.cancel
-            .is_some_and(|f| f.load(std::sync::atomic::Ordering::Relaxed))
     }
 }

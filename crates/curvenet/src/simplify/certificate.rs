@@ -274,10 +274,13 @@ pub fn certify(
 ) -> Result<BoundReport, SimplifyError> {
     let p = problem;
     if p.length_of(p.keep()) > p.budget() {
-        return Err(SimplifyError::Params(format!(
-            "no feasible subset: the keep list alone exceeds the budget {:.6}",
-            p.budget()
-        )));
+        return Err(SimplifyError::Params(
+            format!(
+                "no feasible subset: the keep list alone exceeds the budget {:.6}",
+                p.budget()
+            )
+            .into(),
+        ));
     }
     let solves0 = (p.eigen_solves(), p.relax_solves());
     let mut lower = Best::default();
@@ -331,10 +334,13 @@ fn faces(p: &FixedProblem<'_>) -> Result<Vec<Face>, SimplifyError> {
         vec![(None, p.face(None))]
     };
     if faces.is_empty() {
-        return Err(SimplifyError::Params(format!(
-            "no feasible subset: every curve is longer than the budget {:.6}",
-            p.budget()
-        )));
+        return Err(SimplifyError::Params(
+            format!(
+                "no feasible subset: every curve is longer than the budget {:.6}",
+                p.budget()
+            )
+            .into(),
+        ));
     }
     Ok(faces)
 }

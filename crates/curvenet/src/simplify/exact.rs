@@ -295,21 +295,25 @@ fn run(
 fn check(problem: &FixedProblem<'_>, params: &ExactParams) -> Result<(), SimplifyError> {
     let budget = problem.budget();
     if problem.length_of(problem.keep()) > budget {
-        return Err(SimplifyError::Params(format!(
-            "no feasible subset: the keep list alone exceeds the budget {budget:.6}"
-        )));
+        return Err(SimplifyError::Params(
+            format!("no feasible subset: the keep list alone exceeds the budget {budget:.6}")
+                .into(),
+        ));
     }
     if problem.keep().is_empty() && problem.lengths().iter().all(|&l| l > budget) {
-        return Err(SimplifyError::Params(format!(
-            "no feasible subset: every curve is longer than the budget {budget:.6}"
-        )));
+        return Err(SimplifyError::Params(
+            format!("no feasible subset: every curve is longer than the budget {budget:.6}").into(),
+        ));
     }
     if let Some(t) = params.time_limit
         && !(0.0..=MAX_TIME_LIMIT).contains(&t)
     {
-        return Err(SimplifyError::Params(format!(
-            "exact: the time limit must lie between 0 and {MAX_TIME_LIMIT:e} seconds, got {t}"
-        )));
+        return Err(SimplifyError::Params(
+            format!(
+                "exact: the time limit must lie between 0 and {MAX_TIME_LIMIT:e} seconds, got {t}"
+            )
+            .into(),
+        ));
     }
     if params.wave == 0 {
         return Err(SimplifyError::Params(

@@ -18,6 +18,7 @@ use crate::cancel::Cancel;
 use crate::constraints::Constraints;
 use crate::stability::Analyzer;
 use crate::stability::fixed::FixedProblem;
+use crate::words::{Message, Opt, message};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -70,7 +71,7 @@ pub fn feasible_subsets(
     budget: f64,
     keep: &[usize],
     cap: usize,
-) -> Result<Vec<Vec<usize>>, String> {
+) -> Result<Vec<Vec<usize>>, Message> {
     let n = lengths.len();
     let mut forced = vec![false; n];
     for &k in keep {
@@ -225,9 +226,9 @@ fn score_all(
     let n = analyzer.curve_count();
     params.budget.validate().map_err(SimplifyError::Params)?;
     if let Some(&k) = params.keep.iter().find(|&&k| k >= n) {
-        return Err(SimplifyError::Params(format!(
-            "keep list names curve {k}, but there are {n} curves"
-        )));
+        return Err(SimplifyError::Params(
+            format!("keep list names curve {k}, but there are {n} curves").into(),
+        ));
     }
     let lengths = analyzer.lengths();
     let budget = params.budget.length(lengths.iter().sum());
@@ -240,12 +241,17 @@ fn score_all(
     }
     .map_err(SimplifyError::Params)?;
     if subsets.is_empty() {
-        return Err(SimplifyError::Params(match constraints {
-            Some(_) => format!("no subset meets the constraints within the budget {budget:.6}"),
-            None => {
-                format!("no feasible subset: the keep list alone exceeds the budget {budget:.6}")
+        return Err(SimplifyError::Params(
+            match constraints {
+                Some(_) => format!("no subset meets the constraints within the budget {budget:.6}"),
+                None => {
+                    format!(
+                        "no feasible subset: the keep list alone exceeds the budget {budget:.6}"
+                    )
+                }
             }
-        }));
+            .into(),
+        ));
     }
     let all: Vec<SubsetScore> = subsets
         .into_par_iter()
@@ -264,7 +270,10 @@ fn score_all(
     all.retain(|s| s.lambda != OVER_DEVIATION);
     let Some(best) = best_of(&all) else {
         return Err(SimplifyError::Params(if all.is_empty() {
-            "no subset within the budget keeps its equilibrium within --max-deviation".into()
+            message![
+                "no subset within the budget keeps its equilibrium within ",
+                Opt::MaxDeviation
+            ]
         } else {
             "no subset could be evaluated".into()
         }));

@@ -32,13 +32,14 @@ pub use crate::stability::Budget;
 pub use greedy::{GreedyHooks, GreedyOutcome, GreedyParams, StopReason, greedy};
 
 use crate::stability::StabilityError;
+use crate::words::Message;
 
 /// Why a search could not run.
 #[derive(Debug, thiserror::Error)]
 pub enum SimplifyError {
-    /// Bad parameters.
+    /// Bad parameters (the message names the option when a user set it).
     #[error("{0}")]
-    Params(String),
+    Params(Message),
     /// A stability computation failed.
     #[error(transparent)]
     Stability(StabilityError),
@@ -48,6 +49,18 @@ pub enum SimplifyError {
     /// A hook (e.g. writing progress) failed.
     #[error("{0}")]
     Hook(String),
+}
+
+impl SimplifyError {
+    /// The error as a message naming the options a user set, for a front end to spell
+    /// (`Display` shows it neutrally).
+    pub fn message(&self) -> Message {
+        match self {
+            SimplifyError::Params(m) => m.clone(),
+            SimplifyError::Stability(StabilityError::Params(m)) => m.clone(),
+            e => Message::from(e.to_string()),
+        }
+    }
 }
 
 impl From<StabilityError> for SimplifyError {

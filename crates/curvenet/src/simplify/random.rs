@@ -118,9 +118,9 @@ fn search(
         ),
     };
     if subsets.is_empty() {
-        return Err(SimplifyError::Params(format!(
-            "no feasible subset at budget {budget:.6}"
-        )));
+        return Err(SimplifyError::Params(
+            format!("no feasible subset at budget {budget:.6}").into(),
+        ));
     }
     let start = Instant::now();
     let mut evaluated = Vec::with_capacity(subsets.len());

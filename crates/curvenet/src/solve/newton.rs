@@ -35,6 +35,7 @@ use super::pcg;
 use super::tuning::SolverTuning;
 use crate::rod::model::{Assembly, Terms};
 use crate::rod::{ActiveSet, EnergyModel};
+use crate::words::Message;
 use serde::{Deserialize, Serialize};
 use std::convert::Infallible;
 use std::sync::Arc;
@@ -74,21 +75,19 @@ impl Default for NewtonParams {
 
 impl NewtonParams {
     /// Checks the parameters.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Message> {
         if !(self.rel_tol > 0.0 && self.rel_tol < 1.0) {
-            return Err(format!(
-                "Newton tolerance must lie in (0, 1), got {}",
-                self.rel_tol
-            ));
+            return Err(
+                format!("Newton tolerance must lie in (0, 1), got {}", self.rel_tol).into(),
+            );
         }
         if self.max_iterations == 0 {
             return Err("Newton needs at least one iteration".into());
         }
         if !(self.armijo > 0.0 && self.armijo < 0.5) {
-            return Err(format!(
-                "Armijo constant must lie in (0, 0.5), got {}",
-                self.armijo
-            ));
+            return Err(
+                format!("Armijo constant must lie in (0, 0.5), got {}", self.armijo).into(),
+            );
         }
         Ok(())
     }

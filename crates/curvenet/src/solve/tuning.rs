@@ -6,6 +6,7 @@
 //! switches a technique off by setting its knob to the value named in its documentation.
 
 use super::factor::Backend;
+use crate::words::Message;
 use serde::{Deserialize, Serialize};
 
 /// Speed knobs of the factorizations and of Newton's method.
@@ -58,18 +59,20 @@ impl Default for SolverTuning {
 
 impl SolverTuning {
     /// Checks the knobs.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Message> {
         if !(self.chord_below >= 0.0 && self.chord_below < 1.0) {
             return Err(format!(
                 "Newton's chord_below must lie in [0, 1), got {}",
                 self.chord_below
-            ));
+            )
+            .into());
         }
         if !(self.floor_near >= 1.0 && self.floor_near.is_finite()) {
             return Err(format!(
                 "Newton's floor_near must be a finite factor of at least 1, got {}",
                 self.floor_near
-            ));
+            )
+            .into());
         }
         Ok(())
     }

@@ -48,8 +48,12 @@ impl Analyzer {
     /// With [`Objective::Frequency`] the spectra are those of the mass metric with unit
     /// density (`ρ A = π r²` per unit length: the paper's model has no material), until
     /// [`Self::with_physical`] gives the rods' own.
-    pub fn new(network: Network, params: StabilityParams) -> Result<Self, String> {
-        params.validate()?;
+    ///
+    /// # Errors
+    ///
+    /// [`StabilityError::Params`] for invalid parameters.
+    pub fn new(network: Network, params: StabilityParams) -> Result<Self, StabilityError> {
+        params.validate().map_err(StabilityError::Params)?;
         let metric = (params.objective == Objective::Frequency).then(|| Metric {
             mass_per_length: vec![
                 std::f64::consts::PI * params.material.radius.powi(2);
@@ -87,9 +91,9 @@ impl Analyzer {
     ///
     /// # Errors
     ///
-    /// Invalid physical parameters.
-    pub fn with_physical(mut self, physical: PhysicalParams) -> Result<Self, String> {
-        physical.validate()?;
+    /// [`StabilityError::Params`] for invalid physical parameters.
+    pub fn with_physical(mut self, physical: PhysicalParams) -> Result<Self, StabilityError> {
+        physical.validate().map_err(StabilityError::Params)?;
         if self.metric.is_some() {
             let n = self.network.rods.len();
             let rods = physical_rods(&physical.physical, n, &physical.rest);
@@ -122,7 +126,7 @@ impl Analyzer {
         network: Network,
         curves: &[usize],
         params: StabilityParams,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, crate::words::Message> {
         params.validate()?;
         let metric = self.metric.as_ref().map(|m| Metric {
             mass_per_length: curves.iter().map(|&c| m.mass_per_length[c]).collect(),
@@ -208,7 +212,7 @@ impl Analyzer {
         match analyze_physical(&self.network, p, active) {
             Ok(r) => Ok(Some(r.summary())),
             Err(PhysicsError::Eigen(e)) => Err(StabilityError::Eigen(e)),
-            Err(e) => Err(StabilityError::Params(e.to_string())),
+            Err(e) => Err(StabilityError::Params(e.to_string().into())),
         }
     }
 

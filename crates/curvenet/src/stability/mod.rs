@@ -78,7 +78,7 @@ pub enum StabilityError {
     Empty,
     /// Invalid parameters or inputs.
     #[error("{0}")]
-    Params(String),
+    Params(crate::words::Message),
     /// The computation was cancelled ([`crate::cancel::Cancel`]).
     #[error("cancelled")]
     Cancelled,

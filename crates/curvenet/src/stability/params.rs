@@ -4,6 +4,7 @@
 use crate::rod::Material;
 use crate::solve::eigen::EigenParams;
 use crate::solve::{Backend, NewtonParams, SolverTuning};
+use crate::words::Message;
 use serde::{Deserialize, Serialize};
 
 /// Parameters of every stability computation.
@@ -28,7 +29,7 @@ pub struct StabilityParams {
 
 impl StabilityParams {
     /// Checks every part.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Message> {
         self.tuning.validate()?;
         self.material.validate()?;
         self.newton.validate()?;
@@ -132,7 +133,7 @@ impl Default for GravityParams {
 
 impl GravityParams {
     /// Checks the parameters.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Message> {
         let d = self.direction;
         let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
         let weight_ok = self.weight_per_length.is_finite() && self.weight_per_length >= 0.0;
@@ -165,13 +166,13 @@ impl Budget {
     }
 
     /// Checks the value.
-    pub fn validate(self) -> Result<(), String> {
+    pub fn validate(self) -> Result<(), Message> {
         match self {
             Budget::Fraction(f) if !(f > 0.0 && f <= 1.0) => {
-                Err(format!("budget fraction must lie in (0, 1], got {f}"))
+                Err(format!("budget fraction must lie in (0, 1], got {f}").into())
             }
             Budget::Length(l) if !(l > 0.0 && l.is_finite()) => {
-                Err(format!("budget length must be a positive number, got {l}"))
+                Err(format!("budget length must be a positive number, got {l}").into())
             }
             _ => Ok(()),
         }
@@ -285,14 +286,14 @@ impl Default for Tuning {
 
 impl Tuning {
     /// Checks the knobs.
-    pub fn validate(&self) -> Result<(), String> {
-        let share = |name: &str, v: f64, open_top: bool| {
+    pub fn validate(&self) -> Result<(), Message> {
+        let share = |name: &str, v: f64, open_top: bool| -> Result<(), Message> {
             let ok = v >= 0.0 && if open_top { v < 1.0 } else { v <= 1.0 };
             let range = if open_top { "[0, 1)" } else { "[0, 1]" };
             if ok {
                 Ok(())
             } else {
-                Err(format!("{name} must lie in {range}, got {v}"))
+                Err(format!("{name} must lie in {range}, got {v}").into())
             }
         };
         self.solver.validate()?;
@@ -310,9 +311,7 @@ impl Tuning {
             ("negative_floor", self.negative_floor),
         ];
         if let Some((name, v)) = positive.iter().find(|(_, v)| !(v.is_finite() && *v >= 0.0)) {
-            return Err(format!(
-                "{name} must be a finite non-negative number, got {v}"
-            ));
+            return Err(format!("{name} must be a finite non-negative number, got {v}").into());
         }
         Ok(())
     }
@@ -431,7 +430,7 @@ mod tests {
         assert!(t.validate().is_ok());
         for bad in [1.0, 1.5, -0.1, f64::NAN, f64::INFINITY] {
             t.first_shift = bad;
-            let e = t.validate().expect_err("rejected");
+            let e = t.validate().expect_err("rejected").to_string();
             assert!(e.contains("first shift must lie in [0, 1)"), "{e}");
         }
         t.first_shift = 0.0;

@@ -46,7 +46,9 @@ fn a_pavilion_has_its_rotation_and_its_orbits() {
     );
     // Not order 4 nor 12.
     for n in [4, 12] {
-        let e = find(&net, SymmetryOption::Rotate(n), DEFAULT_TOLERANCE).expect_err("absent");
+        let e = find(&net, SymmetryOption::Rotate(n), DEFAULT_TOLERANCE)
+            .expect_err("absent")
+            .0;
         assert!(e.contains(&format!("no rotation of order {n}")), "{e}");
         assert!(e.contains("tolerance"), "{e}");
     }
@@ -117,7 +119,9 @@ fn a_moved_arch_breaks_the_symmetry() {
     );
     curves[3] = spin[0].clone();
     let net = network(&curves);
-    let e = find(&net, SymmetryOption::Rotate(6), DEFAULT_TOLERANCE).expect_err("broken");
+    let e = find(&net, SymmetryOption::Rotate(6), DEFAULT_TOLERANCE)
+        .expect_err("broken")
+        .0;
     assert!(e.contains("no rotation of order 6"), "{e}");
     // A loose tolerance accepts it again.
     assert!(find(&net, SymmetryOption::Rotate(6), 0.05).is_ok());
@@ -137,4 +141,79 @@ fn none_finds_nothing_and_costs_nothing() {
             .expect("ok")
             .is_empty()
     );
+}
+
+/// Twelve curves with no symmetry at all: chords of a disc at scattered angles and offsets.
+fn scattered() -> Vec<crate::io::Polyline> {
+    use crate::io::{Origin, Polyline};
+    let mut rng = crate::rng::SplitMix64::new(7);
+    (0..12)
+        .map(|k| {
+            let a = std::f64::consts::TAU * rng.next_f64();
+            let off = 800.0 * (rng.next_f64() - 0.5);
+            let (c, s) = (a.cos(), a.sin());
+            let points = (0..=40)
+                .map(|i| {
+                    let t = -1000.0 + 50.0 * i as f64;
+                    Vec3::new(t * c - off * s, t * s + off * c, 0.1 * t * (k as f64 + 1.0))
+                })
+                .collect();
+            Polyline {
+                points,
+                closed: false,
+                origin: Origin::new("<scattered>", k + 1),
+                label: None,
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn a_small_rotation_of_a_huge_order_is_no_symmetry() {
+    let net = network(&scattered());
+    // Its orders beyond what twelve open curves can carry are refused outright.
+    let e = find(&net, SymmetryOption::Rotate(100_000), DEFAULT_TOLERANCE)
+        .expect_err("refused")
+        .0;
+    assert!(e.contains("rotation of order 24 at most"), "{e}");
+    // An order they could carry is tested in full: each curve lands far from every curve
+    // under a power of the rotation, and the message says how far (beyond the tolerance).
+    let e = find(&net, SymmetryOption::Rotate(24), DEFAULT_TOLERANCE)
+        .expect_err("absent")
+        .0;
+    let away: f64 = e
+        .split(" away")
+        .next()
+        .and_then(|s| s.rsplit(' ').next())
+        .and_then(|d| d.parse().ok())
+        .unwrap_or_else(|| panic!("a distance: {e}"));
+    let tol: f64 = e
+        .split("scene's size, ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|d| d.parse().ok())
+        .unwrap_or_else(|| panic!("a tolerance: {e}"));
+    assert!(away > tol, "{e}");
+    // Auto finds nothing either.
+    assert!(
+        find(&net, SymmetryOption::Auto, DEFAULT_TOLERANCE)
+            .unwrap()
+            .is_empty()
+    );
+}
+
+#[test]
+fn refusals_name_a_distance_beyond_the_tolerance() {
+    // A pavilion of 6 arches has no rotation of order 5: the reason is a real miss.
+    let net = network(&pavilion(6, true, 0.3));
+    let e = find(&net, SymmetryOption::Rotate(5), DEFAULT_TOLERANCE)
+        .expect_err("absent")
+        .0;
+    let away: f64 = e
+        .split(" away")
+        .next()
+        .and_then(|s| s.rsplit(' ').next())
+        .and_then(|d| d.parse().ok())
+        .unwrap_or_else(|| panic!("a distance: {e}"));
+    assert!(away > 1.0, "{e}");
 }

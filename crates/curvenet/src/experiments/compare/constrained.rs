@@ -40,6 +40,7 @@ use crate::simplify::greedy::{GreedyParams, NoHooks, greedy};
 use crate::simplify::local::{LocalParams, local_search};
 use crate::simplify::{Budget, SimplifyError};
 use crate::stability::{Analyzer, Prepare, Preset, StabilityParams, Warm};
+use crate::words::Message;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -81,14 +82,14 @@ impl Default for ConstrainedParams {
 
 impl ConstrainedParams {
     /// Checks the parameters.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Message> {
         self.draw.validate(20)?;
         for (name, f) in [
             ("gap", self.gap_fraction),
             ("deviation", self.deviation_fraction),
         ] {
             if !(f.is_finite() && f > 0.0) {
-                return Err(format!("the {name} fraction must be positive, got {f}"));
+                return Err(format!("the {name} fraction must be positive, got {f}").into());
             }
         }
         if self.min_kept == 0 {
@@ -254,7 +255,7 @@ fn settings_of(
                 .map(|k| Group {
                     name: format!("pair {k}"),
                     curves: vec![2 * k, 2 * k + 1],
-                    origin: "compare --constraints".into(),
+                    origin: "the pairs of the comparison".into(),
                 })
                 .collect();
             format!("{} pairs", n / 2)
@@ -367,7 +368,7 @@ fn measure(
 
 /// A fresh analyzer of `case`'s network.
 fn analyzer_of(case: &Case) -> Result<Analyzer, SimplifyError> {
-    Analyzer::new(case.network.clone(), StabilityParams::default()).map_err(SimplifyError::Params)
+    Analyzer::new(case.network.clone(), StabilityParams::default()).map_err(SimplifyError::from)
 }
 
 /// One setting's run: the constraints bound, the greedy, the local search, the answer chosen;
@@ -442,7 +443,7 @@ fn run_setting(
             row.curves = a.found.curves;
             row.source = a.found.source;
         }
-        Err(e) => row.no_answer = Some(e.reason),
+        Err(e) => row.no_answer = Some(e.reason.render(&crate::words::Recorded)),
     }
     Ok((row, Some(constraints)))
 }

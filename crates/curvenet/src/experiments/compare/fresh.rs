@@ -40,6 +40,7 @@ use crate::simplify::greedy::{GreedyParams, NoHooks, greedy};
 use crate::simplify::local::{LocalParams, local_search};
 use crate::simplify::{Budget, SimplifyError, StopReason};
 use crate::stability::{Analyzer, Objective, StabilityParams};
+use crate::words::Message;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -87,9 +88,11 @@ impl Default for FreshParams {
 
 impl FreshParams {
     /// Checks the parameters.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Message> {
         if self.draw.networks == 0 {
-            return Err("--fresh needs at least one network".into());
+            return Err(
+                "the measurement on networks drawn afresh needs at least one network".into(),
+            );
         }
         self.draw.validate(40)?;
         check_build(self.draw.edge_length, self.max_subsets)
@@ -292,7 +295,9 @@ pub fn fresh(
 ) -> Result<FreshReport, SimplifyError> {
     params.validate().map_err(SimplifyError::Params)?;
     if surfaces.is_empty() {
-        return Err(SimplifyError::Params("--fresh needs surfaces".into()));
+        return Err(SimplifyError::Params(
+            "the measurement on networks drawn afresh needs surfaces".into(),
+        ));
     }
     let scaled = scaled(surfaces.iter().map(|(n, m)| (n, m)));
     let networks = params.draw.networks;
@@ -342,7 +347,7 @@ fn row(
         objective: params.objective,
         ..StabilityParams::default()
     };
-    let analyzer = Analyzer::new(network, stability).map_err(SimplifyError::Params)?;
+    let analyzer = Analyzer::new(network, stability)?;
     let budget = Budget::Fraction(row.budget);
     let never = Cancel::never();
     let t = Instant::now();

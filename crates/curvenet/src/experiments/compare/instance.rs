@@ -125,9 +125,9 @@ pub fn instance_network(
             return Ok((name.clone(), seed, net));
         }
     }
-    Err(SimplifyError::Params(format!(
-        "could not build a network of {n} curves after 20 tries"
-    )))
+    Err(SimplifyError::Params(
+        format!("could not build a network of {n} curves after 20 tries").into(),
+    ))
 }
 
 /// `n` random geodesics traced on `mesh` with `seed` and built at `edge_length` with clamped
@@ -166,8 +166,7 @@ pub(super) fn run(
         vertices: network.vertex_count(),
         ..InstanceResult::default()
     };
-    let analyzer =
-        Analyzer::new(network, StabilityParams::default()).map_err(SimplifyError::Params)?;
+    let analyzer = Analyzer::new(network, StabilityParams::default())?;
     let budget = Budget::Fraction(params.budget);
     greedy_figures(&mut row, &analyzer, budget)?;
     local_figures(&mut row, &analyzer, budget)?;
@@ -213,8 +212,7 @@ fn local_figures(
     budget: Budget,
 ) -> Result<(), SimplifyError> {
     let timed = |p: &LocalParams, default: bool| -> Result<(LocalOutcome, f64), SimplifyError> {
-        let own = Analyzer::new(analyzer.network().clone(), StabilityParams::default())
-            .map_err(SimplifyError::Params)?;
+        let own = Analyzer::new(analyzer.network().clone(), StabilityParams::default())?;
         let t = Instant::now();
         let start = &row.greedy_curves;
         let o = if default {

@@ -54,6 +54,7 @@ use crate::network::Network;
 use crate::rng::SplitMix64;
 use crate::simplify::{Budget, SimplifyError};
 use crate::trace::scale_to_extent;
+use crate::words::Message;
 use instance::traced_network;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -109,13 +110,14 @@ impl CompareParams {
     /// Checks the parameters: sizes within 2..=30 (exhaustive search is exponential), at least
     /// one instance, a budget fraction in `(0, 1]`, a positive edge length and subset limit, a
     /// time limit between 0 and [`crate::simplify::exact::MAX_TIME_LIMIT`] seconds.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Message> {
         if self.sizes.is_empty() || self.sizes.iter().any(|n| !(2..=30).contains(n)) {
             return Err(format!(
                 "sizes must be given and lie between 2 and 30 (exhaustive search is \
                  exponential), got {:?}",
                 self.sizes
-            ));
+            )
+            .into());
         }
         if self.instances == 0 {
             return Err("instances must be at least 1".into());
@@ -127,18 +129,17 @@ impl CompareParams {
             return Err(format!(
                 "the exact solver's time limit must lie between 0 and {max:e} seconds, got {}",
                 self.exact_time_limit
-            ));
+            )
+            .into());
         }
         Ok(())
     }
 }
 
 /// Checks what both measurements share: a positive edge length and subset limit.
-fn check_build(edge_length: f64, max_subsets: usize) -> Result<(), String> {
+fn check_build(edge_length: f64, max_subsets: usize) -> Result<(), Message> {
     if !(edge_length.is_finite() && edge_length > 0.0) {
-        return Err(format!(
-            "edge length must be a positive number, got {edge_length}"
-        ));
+        return Err(format!("edge length must be a positive number, got {edge_length}").into());
     }
     if max_subsets == 0 {
         return Err("the subset limit must be at least 1".into());
@@ -224,9 +225,9 @@ impl RandomDraw {
                 return Ok(make(name, n, budget, seed, network));
             }
         }
-        Err(SimplifyError::Params(format!(
-            "network {k}: could not build a network on {name} after 20 tries"
-        )))
+        Err(SimplifyError::Params(
+            format!("network {k}: could not build a network on {name} after 20 tries").into(),
+        ))
     }
 }
 
@@ -249,7 +250,7 @@ fn connected_only(
         ..ConstraintParams::default()
     };
     Constraints::new(network, None, &only, cap, keep)
-        .map_err(|e| SimplifyError::Params(e.to_string()))
+        .map_err(|e| SimplifyError::Params(e.to_string().into()))
 }
 
 /// Mean of the values (NaN when there is none).

@@ -28,6 +28,7 @@ pub use surface::{
 use super::crossings::CurveGeometry;
 use super::{BuildInfo, Network};
 use crate::io::Polyline;
+use crate::words::{Message, Opt, message};
 
 /// A rest edge shorter than this fraction of the target edge length `h` earns a warning: the
 /// bending stiffness grows like `1/ē³`, so such an edge ill-conditions the Hessian.
@@ -63,14 +64,17 @@ pub fn network_warnings(
     geo: &[CurveGeometry],
     h: f64,
     factor: f64,
-) -> Vec<String> {
+) -> Vec<Message> {
     let at = |c: usize| {
         curves
             .get(c)
             .map_or_else(String::new, |p| format!(" ({})", p.origin))
     };
-    let mut warnings = isolated_warnings(network, info, &at);
-    warnings.extend(overlap_warning(&overlaps::overlaps_of(geo, factor)));
+    let mut warnings: Vec<Message> = isolated_warnings(network, info, &at)
+        .into_iter()
+        .map(Message::from)
+        .collect();
+    warnings.extend(overlap_warning(&overlaps::overlaps_of(geo, factor)).map(Message::from));
     warnings.extend(short_edge_warning(network, h, &at));
     warnings
 }
@@ -138,7 +142,7 @@ fn overlap_warning(overlaps: &[Overlap]) -> Option<String> {
 }
 
 /// The shortest rest edge, when it is shorter than [`SHORT_EDGE`]` × h`.
-fn short_edge_warning(network: &Network, h: f64, at: &dyn Fn(usize) -> String) -> Option<String> {
+fn short_edge_warning(network: &Network, h: f64, at: &dyn Fn(usize) -> String) -> Option<Message> {
     let mut shortest: Option<(f64, usize)> = None;
     for (c, rod) in network.rods.iter().enumerate() {
         for &l in &rod.rest_lengths {
@@ -148,13 +152,17 @@ fn short_edge_warning(network: &Network, h: f64, at: &dyn Fn(usize) -> String) -
         }
     }
     let (l, c) = shortest.filter(|&(l, _)| l < SHORT_EDGE * h)?;
-    Some(format!(
-        "the shortest rest edge, on curve {c}{}, is {l:.4e}: {:.2e} × the edge length \
-         h = {h:.4e}; two joints nearly coincide along it (or a joint and the curve's \
-         end), and the Hessian's condition grows like (h/ē)³ (consider --merge-joints)",
-        at(c),
-        l / h
-    ))
+    Some(message![
+        format!(
+            "the shortest rest edge, on curve {c}{}, is {l:.4e}: {:.2e} × the edge length \
+             h = {h:.4e}; two joints nearly coincide along it (or a joint and the curve's \
+             end), and the Hessian's condition grows like (h/ē)³ (consider ",
+            at(c),
+            l / h
+        ),
+        Opt::MergeJoints,
+        ")"
+    ])
 }
 
 #[cfg(test)]

@@ -4,6 +4,7 @@ use super::num;
 use super::rods::rod_supports;
 use crate::io;
 use crate::network::Network;
+use crate::report::ReportError;
 use crate::run_folder::{RunFolder, Which, curve_polylines, positions_at};
 
 fn label(net: &Network, c: usize) -> String {
@@ -19,7 +20,11 @@ fn label(net: &Network, c: usize) -> String {
 /// OBJ polylines of the curves of iteration `k` (or of the answer or an alternative: any
 /// [`Which`]): at equilibrium (`rest = false`) or in the designed rest state. One
 /// `o curve N` object and one `l` record per curve.
-pub fn curves_obj(run: &RunFolder, which: impl Into<Which>, rest: bool) -> Result<String, String> {
+pub fn curves_obj(
+    run: &RunFolder,
+    which: impl Into<Which>,
+    rest: bool,
+) -> Result<String, ReportError> {
     let which = which.into();
     let rec = run.network_of(which)?;
     let u = displacement(run, which, rest)?;
@@ -51,13 +56,21 @@ pub fn structure_obj(net: &Network, curves: &[usize], u: Option<&[f64]>, what: &
 }
 
 /// The displacements of `which` (`None` for the designed rest state).
-fn displacement(run: &RunFolder, which: Which, rest: bool) -> Result<Option<Vec<f64>>, String> {
-    (!rest).then(|| run.displacement_of(which)).transpose()
+fn displacement(
+    run: &RunFolder,
+    which: Which,
+    rest: bool,
+) -> Result<Option<Vec<f64>>, ReportError> {
+    Ok((!rest).then(|| run.displacement_of(which)).transpose()?)
 }
 
 /// curvenet-curves JSON of the curves of iteration `k` (any [`Which`]), at rest or at
 /// equilibrium; labels carry `id`, `rest_length`, `closed` and `supports`.
-pub fn curves_json(run: &RunFolder, which: impl Into<Which>, rest: bool) -> Result<String, String> {
+pub fn curves_json(
+    run: &RunFolder,
+    which: impl Into<Which>,
+    rest: bool,
+) -> Result<String, ReportError> {
     let which = which.into();
     let rec = run.network_of(which)?;
     let u = displacement(run, which, rest)?;

@@ -41,6 +41,7 @@ pub use rods::{RodJoint, arc_lengths, end_support, rod_joints, rod_supports};
 pub use tables::{fabrication_csv, fabrication_table, points_csv};
 
 use crate::io;
+use crate::report::ReportError;
 use crate::run_folder::{RunFolder, Which};
 use std::path::{Path, PathBuf};
 
@@ -86,9 +87,9 @@ pub fn export_files(
     run: &RunFolder,
     which: impl Into<Which>,
     format: ExportFormat,
-) -> Result<Vec<(String, String)>, String> {
+) -> Result<Vec<(String, String)>, ReportError> {
     use ExportFormat::*;
-    type Make = fn(&RunFolder, Which) -> Result<String, String>;
+    type Make = fn(&RunFolder, Which) -> Result<String, ReportError>;
     // Each file: its format, its name around the tag, what writes it.
     let files: [(ExportFormat, &str, &str, Make); 7] = [
         (Obj, "curves_", ".obj", |r, w| curves_obj(r, w, false)),
@@ -116,13 +117,13 @@ pub fn write_exports(
     which: impl Into<Which>,
     format: ExportFormat,
     out: &Path,
-) -> Result<Vec<PathBuf>, String> {
+) -> Result<Vec<PathBuf>, ReportError> {
     let files = export_files(run, which, format)?;
-    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    std::fs::create_dir_all(out).map_err(|e| ReportError::io(out, e))?;
     let mut paths = Vec::new();
     for (name, text) in files {
         let p = out.join(name);
-        io::write_atomic(&p, text.as_bytes()).map_err(|e| format!("{}: {e}", p.display()))?;
+        io::write_atomic(&p, text.as_bytes()).map_err(|e| ReportError::io(&p, e))?;
         paths.push(p);
     }
     Ok(paths)

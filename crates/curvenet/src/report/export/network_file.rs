@@ -9,6 +9,7 @@
 
 use crate::geom::Vec3;
 use crate::network::{Joint, Network, Rod};
+use crate::report::ReportError;
 use crate::rod::{Material, Supports};
 use crate::run_folder::{RunFolder, Which, check_network};
 use serde::{Deserialize, Serialize};
@@ -173,20 +174,22 @@ impl NetworkFile {
 
     /// Checks the file and builds the network it describes (joints recomputed from the shared
     /// vertices).
-    pub fn to_network(&self) -> Result<Network, String> {
+    pub fn to_network(&self) -> Result<Network, ReportError> {
         if self.format != NETWORK_FORMAT {
             return Err(format!(
                 "\"format\" is \"{}\", expected \"{NETWORK_FORMAT}\"",
                 self.format
-            ));
+            )
+            .into());
         }
         if self.version != NETWORK_VERSION {
             return Err(format!(
                 "unsupported version {} (this reader supports {NETWORK_VERSION})",
                 self.version
-            ));
+            )
+            .into());
         }
-        self.material.validate()?;
+        self.material.validate().map_err(|e| e.to_string())?;
         let rods: Vec<Rod> = self
             .rods
             .iter()
@@ -210,7 +213,8 @@ impl NetworkFile {
                     "\"equilibrium\" has {} displacements for {} vertices",
                     eq.len(),
                     net.positions.len()
-                ));
+                )
+                .into());
             }
             if eq.iter().flatten().any(|x| !x.is_finite()) {
                 return Err("\"equilibrium\" holds a non-finite value".into());
@@ -241,7 +245,7 @@ pub fn joints_of(net: &Network) -> Vec<Joint> {
 }
 
 /// The kept structure of iteration `k` as a network file (with its equilibrium).
-pub fn network_file(run: &RunFolder, which: impl Into<Which>) -> Result<NetworkFile, String> {
+pub fn network_file(run: &RunFolder, which: impl Into<Which>) -> Result<NetworkFile, ReportError> {
     let which = which.into();
     let rec = run.network_of(which)?;
     let u = run.displacement_of(which)?;
@@ -264,35 +268,35 @@ pub fn network_file(run: &RunFolder, which: impl Into<Which>) -> Result<NetworkF
 }
 
 /// [`network_file`] as JSON text.
-pub fn network_json(run: &RunFolder, which: impl Into<Which>) -> Result<String, String> {
+pub fn network_json(run: &RunFolder, which: impl Into<Which>) -> Result<String, ReportError> {
     Ok(network_file(run, which)?.to_json())
 }
 
 /// Reads a network file and checks it. See [`load_network`] for the network alone.
-pub fn read_network_file(path: &Path) -> Result<NetworkFile, String> {
+pub fn read_network_file(path: &Path) -> Result<NetworkFile, ReportError> {
     read_checked(path).map(|(f, _)| f)
 }
 
 /// Parses and checks the text of a network file.
-pub fn parse_network_file(text: &str) -> Result<NetworkFile, String> {
+pub fn parse_network_file(text: &str) -> Result<NetworkFile, ReportError> {
     parse_checked(text).map(|(f, _)| f)
 }
 
 /// Loads the network of a network file written by [`network_json`] (no resampling: the
 /// vertices, rest lengths and anchors are used as they are). Rod `i` of the result is the
 /// file's rod `i`; the file's material is in [`read_network_file`]'s result.
-pub fn load_network(path: &Path) -> Result<Network, String> {
+pub fn load_network(path: &Path) -> Result<Network, ReportError> {
     read_checked(path).map(|(_, n)| n)
 }
 
 /// A network file and its network (building the network is the file's check), errors
 /// prefixed with the path.
-fn read_checked(path: &Path) -> Result<(NetworkFile, Network), String> {
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    parse_checked(&text).map_err(|e| format!("{}: {e}", path.display()))
+fn read_checked(path: &Path) -> Result<(NetworkFile, Network), ReportError> {
+    let text = std::fs::read_to_string(path).map_err(|e| ReportError::io(path, e))?;
+    parse_checked(&text).map_err(|e| format!("{}: {e}", path.display()).into())
 }
 
-fn parse_checked(text: &str) -> Result<(NetworkFile, Network), String> {
+fn parse_checked(text: &str) -> Result<(NetworkFile, Network), ReportError> {
     let f: NetworkFile =
         serde_json::from_str(text).map_err(|e| format!("line {}: {e}", e.line()))?;
     let network = f.to_network()?;

@@ -3,12 +3,13 @@
 use super::num;
 use super::rods::{arc_lengths, end_support, rod_joints};
 use crate::network::Network;
+use crate::report::ReportError;
 use crate::run_folder::{RunFolder, Which, positions_at};
 use std::fmt::Write as _;
 
 /// CSV of every network vertex of the curves of iteration `k` (any [`Which`]): arc length
 /// along the curve, rest and equilibrium positions.
-pub fn points_csv(run: &RunFolder, which: impl Into<Which>) -> Result<String, String> {
+pub fn points_csv(run: &RunFolder, which: impl Into<Which>) -> Result<String, ReportError> {
     let which = which.into();
     let rec = run.network_of(which)?;
     let net = &run.network;
@@ -52,7 +53,7 @@ pub fn points_csv(run: &RunFolder, which: impl Into<Which>) -> Result<String, St
 }
 
 /// The fabrication table of iteration `k` (any [`Which`]): one row per kept rod.
-pub fn fabrication_csv(run: &RunFolder, which: impl Into<Which>) -> Result<String, String> {
+pub fn fabrication_csv(run: &RunFolder, which: impl Into<Which>) -> Result<String, ReportError> {
     let rec = run.network_of(which.into())?;
     let what = format!("{} of {}", rec.what, run.dir.display());
     let table = fabrication_table(&run.network, &what, &rec.curves, rec.length);

@@ -7,6 +7,7 @@ use super::{INK, KEPT, REMOVED, Rgb, rgb8};
 use crate::fmt::significant;
 use crate::geom::Vec3;
 use crate::network::Network;
+use crate::report::ReportError;
 use crate::run_folder::{Chosen, RunFolder, Which, positions_at};
 
 /// Width and height of the pictures.
@@ -48,7 +49,7 @@ fn legend(img: &mut Image, y: i64, items: &[(Rgb, &str)]) {
 
 /// The picture of a network of the run (an iteration, the answer or an alternative): the
 /// surface, the removed curves at rest (thin, faint) and the kept curves at equilibrium.
-pub fn network_picture(run: &RunFolder, which: impl Into<Which>) -> Result<Image, String> {
+pub fn network_picture(run: &RunFolder, which: impl Into<Which>) -> Result<Image, ReportError> {
     let which = which.into();
     let rec = run.network_of(which)?;
     let net = &run.network;
@@ -167,7 +168,7 @@ fn colour_bar(img: &mut Image, w: usize) {
 /// The worst-case mode of iteration `k`: the equilibrium (thin, grey) and the equilibrium
 /// displaced along the mode, scaled so the largest displacement is 8% of the network's size,
 /// coloured by the displacement's magnitude.
-pub fn mode_picture(run: &RunFolder, which: impl Into<Which>) -> Result<Image, String> {
+pub fn mode_picture(run: &RunFolder, which: impl Into<Which>) -> Result<Image, ReportError> {
     let which = which.into();
     let rec = run.network_of(which)?;
     let net = &run.network;

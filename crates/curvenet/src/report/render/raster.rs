@@ -2,6 +2,7 @@
 //! thick lines (coverage from the distance to the segment), PNG encoding (`png` crate).
 
 use super::{BACKGROUND, Rgb};
+use crate::report::ReportError;
 use std::ops::RangeInclusive;
 use std::path::Path;
 
@@ -171,7 +172,7 @@ impl Image {
     }
 
     /// The image as a PNG file.
-    pub fn to_png(&self) -> Result<Vec<u8>, String> {
+    pub fn to_png(&self) -> Result<Vec<u8>, ReportError> {
         let mut out = Vec::new();
         {
             let mut enc = png::Encoder::new(&mut out, self.width as u32, self.height as u32);
@@ -187,9 +188,9 @@ impl Image {
     }
 
     /// Writes the image as a PNG file (atomically).
-    pub fn write_png(&self, path: &Path) -> Result<(), String> {
+    pub fn write_png(&self, path: &Path) -> Result<(), ReportError> {
         let bytes = self.to_png()?;
-        crate::io::write_atomic(path, &bytes).map_err(|e| format!("{}: {e}", path.display()))
+        crate::io::write_atomic(path, &bytes).map_err(|e| ReportError::io(path, e))
     }
 }
 

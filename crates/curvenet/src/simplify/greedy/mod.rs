@@ -36,6 +36,7 @@ use crate::physics::PhysicalSummary;
 use crate::stability::NewtonSummary;
 use crate::stability::candidates::{Candidates, Carried, Outcome};
 use crate::stability::{ActiveSet, Analyzer, Evaluation, Objective, Prepare, Preset, Warm, Work};
+use crate::words::Message;
 use faer::Mat;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -69,19 +70,21 @@ impl GreedyParams {
     }
 
     /// Checks the parameters against a network of `curves` curves.
-    pub fn validate(&self, curves: usize) -> Result<(), String> {
+    pub fn validate(&self, curves: usize) -> Result<(), Message> {
         self.budget.validate()?;
         if let Some(&c) = self.keep.iter().find(|&&c| c >= curves) {
             return Err(format!(
                 "keep list names curve {c}, but the network has {curves} curves (ids 0..{})",
                 curves.saturating_sub(1)
-            ));
+            )
+            .into());
         }
         if !(self.tie_tolerance >= 0.0 && self.tie_tolerance < 1e-2) {
             return Err(format!(
                 "tie tolerance must lie in [0, 1e-2), got {}",
                 self.tie_tolerance
-            ));
+            )
+            .into());
         }
         Ok(())
     }
@@ -459,7 +462,7 @@ impl<'a> State<'a> {
             removed_group: Vec::new(),
             score: None,
             candidates: Vec::new(),
-            mode_file: format!("modes/{k:04}.bin"),
+            mode_file: crate::run_layout::mode_file(k),
             physical: analyzer.physical_summary(&self.active)?,
             first_frequency: first_frequency(analyzer, &eval),
         };

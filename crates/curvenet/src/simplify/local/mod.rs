@@ -330,9 +330,9 @@ pub fn local_search(
     }
     let n = lengths.len();
     if let Some(&c) = start.iter().chain(&params.keep).find(|&&c| c >= n) {
-        return Err(SimplifyError::Params(format!(
-            "curve {c} does not exist ({n} curves)"
-        )));
+        return Err(SimplifyError::Params(
+            format!("curve {c} does not exist ({n} curves)").into(),
+        ));
     }
     let mut runs = MultiStart::new(analyzer, params, active(constraints), cancel);
     let given = runs.feasible(start);
@@ -379,10 +379,13 @@ fn active(constraints: Option<&Constraints>) -> Option<&Constraints> {
 fn check(analyzer: &Analyzer, params: &LocalParams) -> Result<(Vec<f64>, f64), SimplifyError> {
     params.budget.validate().map_err(SimplifyError::Params)?;
     if !(params.tolerance >= 0.0 && params.tolerance.is_finite()) {
-        return Err(SimplifyError::Params(format!(
-            "local search tolerance must be a finite non-negative number, got {}",
-            params.tolerance
-        )));
+        return Err(SimplifyError::Params(
+            format!(
+                "local search tolerance must be a finite non-negative number, got {}",
+                params.tolerance
+            )
+            .into(),
+        ));
     }
     let lengths = analyzer.lengths();
     let budget = params.budget.length(lengths.iter().sum());

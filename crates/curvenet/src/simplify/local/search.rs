@@ -30,9 +30,9 @@ pub(super) fn search_from(
     cur.dedup();
     let n = lengths.len();
     if let Some(&c) = cur.iter().chain(&params.keep).find(|&&c| c >= n) {
-        return Err(SimplifyError::Params(format!(
-            "curve {c} does not exist ({n} curves)"
-        )));
+        return Err(SimplifyError::Params(
+            format!("curve {c} does not exist ({n} curves)").into(),
+        ));
     }
     let length = |s: &[usize]| -> f64 { s.iter().map(|&c| lengths[c]).sum() };
     if cur.is_empty() || length(&cur) > budget || !params.keep.iter().all(|k| cur.contains(k)) {
@@ -41,9 +41,9 @@ pub(super) fn search_from(
         ));
     }
     if let Some(Err(v)) = constraints.map(|c| c.check(&cur)) {
-        return Err(SimplifyError::Params(format!(
-            "local search needs a starting subset that meets the constraints: {v}"
-        )));
+        return Err(SimplifyError::Params(
+            format!("local search needs a starting subset that meets the constraints: {v}").into(),
+        ));
     }
     let mut search = Search {
         ev: Evaluator {

@@ -21,6 +21,7 @@ mod shift_invert;
 
 use super::factor::{Cholesky, Reuse, SymbolicFactor};
 use crate::sparse::Pattern;
+use crate::words::Message;
 use faer::{Mat, MatRef};
 use serde::{Deserialize, Serialize};
 use shift_invert::{factor_at, factor_below_zero, finish};
@@ -86,7 +87,7 @@ impl EigenParams {
     }
 
     /// Checks the parameters.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Message> {
         if self.count == 0 || self.block_size == 0 || self.solve_group == 0 {
             return Err("eigen count, block size and solve group must be at least 1".into());
         }
@@ -94,18 +95,14 @@ impl EigenParams {
             return Err(format!(
                 "eigen basis {} too small for {} pairs with block size {}",
                 self.max_basis, self.count, self.block_size
-            ));
+            )
+            .into());
         }
         if !(self.tol > 0.0 && self.tol < 1e-2) {
-            return Err(format!(
-                "eigen tolerance must lie in (0, 1e-2), got {}",
-                self.tol
-            ));
+            return Err(format!("eigen tolerance must lie in (0, 1e-2), got {}", self.tol).into());
         }
         if let Some(t) = self.trailing_tol.filter(|t| !(*t > 0.0 && *t < 1e-2)) {
-            return Err(format!(
-                "eigen trailing tolerance must lie in (0, 1e-2), got {t}"
-            ));
+            return Err(format!("eigen trailing tolerance must lie in (0, 1e-2), got {t}").into());
         }
         if !(self.zero_factor > 0.0 && self.shift_factor > 0.0) {
             return Err("zero and shift factors must be positive".into());
@@ -158,7 +155,7 @@ impl Spectrum {
 pub enum EigenError {
     /// Bad parameters.
     #[error("invalid eigen parameters: {0}")]
-    InvalidParams(String),
+    InvalidParams(Message),
     /// No shift made `H − σI` positive definite (non-finite matrix entries?).
     #[error("could not factor H − σI for any shift down to {0:e}")]
     NoShift(f64),
@@ -264,9 +261,9 @@ pub fn smallest_eigenpairs(
     if let Shift::Above(sigma) = options.shift
         && !sigma.is_finite()
     {
-        return Err(EigenError::InvalidParams(format!(
-            "the shift must be finite, got {sigma:e}"
-        )));
+        return Err(EigenError::InvalidParams(
+            format!("the shift must be finite, got {sigma:e}").into(),
+        ));
     }
     let Some(keep) = options.keep.filter(|keep| {
         let kept = keep.iter().filter(|&&k| k).count();

@@ -185,13 +185,16 @@ impl<'a> FixedProblem<'a> {
     ) -> Result<Self, StabilityError> {
         budget.validate().map_err(StabilityError::Params)?;
         if analyzer.objective() != super::Objective::Lambda {
-            return Err(StabilityError::Params(format!(
-                "the certificate and the exact search bound λ_fix, the paper's objective at \
+            return Err(StabilityError::Params(
+                format!(
+                    "the certificate and the exact search bound λ_fix, the paper's objective at \
                  the full network's equilibrium: their relaxation does not model the {} \
                  objective's mass metric, which changes with the set of curves (use the \
                  objective lambda for them)",
-                analyzer.objective().name()
-            )));
+                    analyzer.objective().name()
+                )
+                .into(),
+            ));
         }
         let model = analyzer.model();
         let n = analyzer.curve_count();
@@ -204,9 +207,9 @@ impl<'a> FixedProblem<'a> {
             ));
         }
         if let Some(&k) = keep.iter().find(|&&k| k >= n) {
-            return Err(StabilityError::Params(format!(
-                "keep list names curve {k}, but there are {n} curves"
-            )));
+            return Err(StabilityError::Params(
+                format!("keep list names curve {k}, but there are {n} curves").into(),
+            ));
         }
         let mut keep = keep.to_vec();
         keep.sort_unstable();
