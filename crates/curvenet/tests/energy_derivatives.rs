@@ -14,7 +14,9 @@
 //!   drawn state's (it matches finite differences there too, and is not zero).
 //!
 //! Rods of different stiffnesses, some pre-bent (bending measured from the drawn shape), are
-//! checked the same way, and a network of pre-bent rods is in equilibrium where it was drawn.
+//! checked the same way, and a network of pre-bent rods is in equilibrium where it was drawn;
+//! so are the physical mode's rules (clamps that hold the end, pre-bent rods with twist
+//! unknowns and a material frame), clamped and pinned, with the twists displaced too.
 //!
 //! Two materials are used: the default one (stretching dominates the Hessian) and a thick one
 //! (`r` comparable to the edge length) where bending and stretching entries have similar size,
@@ -25,7 +27,7 @@ mod common;
 use common::{Rng, build, dense_hessian, norm, positions_of, random_curves, rel_diff, spec_energy};
 use curvenet::material::RestShape;
 use curvenet::network::Network;
-use curvenet::rod::{ActiveSet, EnergyModel, Material, RodStiffness, Supports};
+use curvenet::rod::{ActiveSet, EnergyModel, Material, ModelRules, RodStiffness, Supports};
 
 // Finite-difference steps and tolerances (scene units; edges are ~60 long, the shortest a few
 // units). Both stencils are 4-point (error O(step⁴)); the steps sit where truncation and
@@ -125,8 +127,8 @@ fn check_hessian(
 ) -> (f64, usize) {
     let n = model.dofs();
     let h = dense_hessian(model, u, active);
-    let mask = model.vertex_mask(active);
-    let loose = |i: usize| !mask[i / 3];
+    let mask = model.coordinate_mask(active);
+    let loose = |i: usize| !mask[i];
     let mut x = u.to_vec();
     let mut worst = 0.0f64;
     let mut loose_count = 0;
@@ -404,6 +406,8 @@ fn mixed_rods(net: &Network, mat: &Material) -> Vec<RodStiffness> {
         .map(|c| RodStiffness {
             ks: mat.ks() * (1.0 + 0.5 * c as f64),
             kb: mat.kb() * (2.0 - 0.3 * c as f64),
+            gj: mat.kb() * (0.6 + 0.2 * c as f64),
+            arm: mat.radius * (1.0 + 0.1 * c as f64),
             rest: if c % 2 == 0 {
                 RestShape::PreBent
             } else {
@@ -466,5 +470,84 @@ fn a_network_of_pre_bent_rods_rests_where_drawn() {
             "{:e}",
             norm(&a.grad)
         );
+    }
+}
+
+/// [`random_displacement`] followed by a twist for each twist unknown of `model`: an angle of
+/// up to ~0.3 rad times the unknown's arm (`s = r θ`), smooth along each rod.
+fn random_unknowns(net: &Network, model: &EnergyModel, rng: &mut Rng, amp: f64) -> Vec<f64> {
+    let mut u = random_displacement(net, rng, amp);
+    let phase = rng.range(0.0, std::f64::consts::TAU);
+    for t in model.twist_dofs() {
+        let arg = 0.2 * t.edge as f64 + phase + t.curve as f64;
+        u.push(0.3 * 40.0 * arg.sin() + 0.5 * rng.normal());
+    }
+    assert_eq!(u.len(), model.dofs());
+    u
+}
+
+#[test]
+fn derivatives_under_the_physical_rules_with_twist() {
+    let mut worst = (0.0f64, 0.0f64);
+    let mut twists = 0;
+    for seed in 0..3u64 {
+        let curves = random_curves(seed, 2 + seed as usize);
+        for supports in [Supports::Clamped, Supports::Pinned] {
+            let net = build(&curves, 60.0, supports);
+            let mut rng = Rng::new(191 + seed);
+            for mat in materials() {
+                let rods = mixed_rods(&net, &mat);
+                let model =
+                    EnergyModel::with_rules(&net, &rods, mat.anchor_weight, ModelRules::PHYSICAL);
+                twists += model.twist_count();
+                assert!(model.twist_count() > 0);
+                let all = ActiveSet::all(net.rods.len());
+                // Without a pre-bent curve: its twists are loose.
+                let without = all.without(2 * (seed as usize % 2));
+                let u = random_unknowns(&net, &model, &mut rng, 10.0);
+                for active in [&all, &without] {
+                    let g = check_gradient(&model, &u, active, GRAD_STEP);
+                    assert!(g < GRAD_TOL, "seed {seed}: gradient off by {g:e}");
+                    let (h, _) = check_hessian(&model, &u, active, HESS_STEP, HESS_TOL);
+                    worst = (worst.0.max(g), worst.1.max(h));
+                    let e = model.energy(&u, active);
+                    assert!(rel_diff(e, model.assemble(&u, active, true).energy) < 1e-14);
+                }
+            }
+        }
+    }
+    println!(
+        "physical rules with {twists} twists: gradient {:e}, Hessian {:e}",
+        worst.0, worst.1
+    );
+}
+
+#[test]
+fn pre_bent_rods_with_twist_rest_where_drawn() {
+    for seed in 0..4u64 {
+        let curves = random_curves(seed, 2 + seed as usize % 3);
+        for supports in [Supports::Clamped, Supports::Pinned] {
+            let net = build(&curves, 60.0, supports);
+            let mat = Material::default();
+            let rods: Vec<RodStiffness> = (0..net.rods.len())
+                .map(|_| RodStiffness {
+                    rest: RestShape::PreBent,
+                    ..RodStiffness::from(&mat)
+                })
+                .collect();
+            let model =
+                EnergyModel::with_rules(&net, &rods, mat.anchor_weight, ModelRules::PHYSICAL);
+            let all = ActiveSet::all(net.rods.len());
+            let zero = vec![0.0; model.dofs()];
+            let a = model.assemble(&zero, &all, false);
+            let straight =
+                EnergyModel::new(&net, &mat).assemble(&vec![0.0; net.dofs()], &all, false);
+            assert!(a.energy <= 1e-24 * straight.energy, "{:e}", a.energy);
+            assert!(
+                norm(&a.grad) <= 1e-12 * norm(&straight.grad),
+                "{:e}",
+                norm(&a.grad)
+            );
+        }
     }
 }

@@ -353,7 +353,7 @@ fn bending_stress_of_a_rod_bent_into_an_arc() {
             let mut u = vec![0.0; m.dofs()];
             let info = relax(&m, &all, &mut u);
             assert!(info.converged);
-            let s = assembly_stresses(&net, &phys, &[rest], &all, &u);
+            let s = assembly_stresses(&net, &phys, &[rest], &all, &u, Some(&m));
             let c = s.curves[0];
             report.push(format!(
                 "n = {n} {}: σ_b = {:.3} MPa (E r / R = {want} MPa), axial {:.3e} MPa",

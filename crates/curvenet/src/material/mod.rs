@@ -37,7 +37,19 @@ pub struct PhysicalMaterial {
     pub density_kg_m3: f64,
     /// The stress at which the material yields or breaks, Pa: what stresses are compared with.
     pub strength_pa: f64,
+    /// Poisson's ratio `ν`: the shear modulus is `E / (2 (1 + ν))` (the torsion of pre-bent
+    /// rods). Records made before it was recorded read 0.3, every preset's value.
+    #[serde(default = "default_poisson")]
+    pub poisson: f64,
 }
+
+/// The Poisson's ratio of a material recorded without one (every preset's).
+fn default_poisson() -> f64 {
+    0.3
+}
+
+/// The Poisson's ratios accepted: those of isotropic materials, `(−1, 0.5]`.
+pub const POISSON_RANGE: (f64, f64) = (-1.0, 0.5);
 
 /// The Young's moduli and strengths accepted, Pa: from 1 Pa (softer than any gel) to 1e13 Pa
 /// (ten times diamond's modulus).
@@ -92,7 +104,20 @@ impl PhysicalMaterial {
                 unit,
             )?;
         }
+        let (lo, hi) = POISSON_RANGE;
+        if !(self.poisson > lo && self.poisson <= hi) {
+            return Err(format!(
+                "the Poisson's ratio of material '{}' is {}, outside ({lo}, {hi}]",
+                self.name, self.poisson
+            )
+            .into());
+        }
         Ok(())
+    }
+
+    /// The shear modulus `G = E / (2 (1 + ν))`, Pa.
+    pub fn shear_pa(&self) -> f64 {
+        self.young_pa / (2.0 * (1.0 + self.poisson))
     }
 }
 
@@ -105,7 +130,8 @@ pub enum RestShape {
     #[serde(rename = "straight")]
     Straight,
     /// Made in its drawn shape (rest curvature = the drawn curvature): in equilibrium where it
-    /// was drawn, stiff against leaving it. See `rod::terms::bend_rest`.
+    /// was drawn, stiff against leaving it, twisting with `G J` in the physical analysis. See
+    /// `rod::frame` (and `rod::terms::bend_rest`, the twist-free term).
     #[serde(rename = "pre-bent")]
     PreBent,
 }
@@ -175,6 +201,11 @@ pub struct SceneRod {
     pub kb: f64,
     /// Mass per length `ρ A`, (N·s²/ℓ)/ℓ.
     pub mass_per_length: f64,
+    /// Torsional stiffness `G J`, N·ℓ² (`G = E / (2 (1 + ν))`, `J` the section's torsion
+    /// constant).
+    pub gj: f64,
+    /// Rotational inertia per length about the axis, `ρ J`, (N·s²/ℓ)·ℓ.
+    pub polar_mass_per_length: f64,
     /// Young's modulus, N/ℓ².
     pub young: f64,
     /// Distance from the axis to the outer fibre, ℓ.
@@ -258,6 +289,8 @@ impl Physical {
             ks: young * s.area(),
             kb: young * s.second_moment(),
             mass_per_length: u.density_to_scene(m.density_kg_m3) * s.area(),
+            gj: u.stress_to_scene(m.shear_pa()) * s.polar_moment(),
+            polar_mass_per_length: u.density_to_scene(m.density_kg_m3) * s.polar_moment(),
             young,
             outer_radius: s.outer_radius(),
             strength: u.stress_to_scene(m.strength_pa),

@@ -52,6 +52,12 @@ impl Section {
         }
     }
 
+    /// Torsion constant `J`, the polar moment of a round section (solid: `π r⁴ / 2`; tube:
+    /// `π (D⁴ − d⁴) / 32`): twice [`Self::second_moment`].
+    pub fn polar_moment(&self) -> f64 {
+        2.0 * self.second_moment()
+    }
+
     /// The distance from the axis to the outermost fibre, where bending stress is largest.
     pub fn outer_radius(&self) -> f64 {
         match *self {

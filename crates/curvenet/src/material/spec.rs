@@ -7,14 +7,14 @@
 //! {"points": [...],
 //!  "material": "aluminium",                      // a preset, or
 //!  "material": {"preset": "steel", "strength": "460MPa", "young": "200GPa",
-//!               "density": "7900kg/m3"},         // a preset (default: the run's) and overrides
+//!               "density": "7900kg/m3", "poisson": 0.3},  // a preset (default: the run's) and overrides
 //!  "section": {"radius": 10},                    // solid bar; numbers in scene units, or
 //!  "section": {"outer_diameter": "60mm", "wall": "4mm"},   // a tube, with units
 //!  "rest": "pre-bent"}                           // or "straight" (the default)
 //! ```
 //!
-//! Moduli, densities and strengths need their unit (`"210GPa"`); lengths are scene units
-//! unless they carry one.
+//! Moduli, densities and strengths need their unit (`"210GPa"`); Poisson's ratio is a plain
+//! number; lengths are scene units unless they carry one.
 
 use super::{PhysicalMaterial, RestShape, Section, presets};
 use crate::units::{LengthUnit, Quantity, parse_quantity};
@@ -124,6 +124,8 @@ pub struct MaterialSpec {
     pub density_kg_m3: Option<f64>,
     /// Strength, Pa.
     pub strength_pa: Option<f64>,
+    /// Poisson's ratio.
+    pub poisson: Option<f64>,
 }
 
 impl MaterialSpec {
@@ -143,6 +145,7 @@ impl MaterialSpec {
             (&mut m.young_pa, self.young_pa),
             (&mut m.density_kg_m3, self.density_kg_m3),
             (&mut m.strength_pa, self.strength_pa),
+            (&mut m.poisson, self.poisson),
         ] {
             if let Some(v) = v {
                 changed |= *slot != v;
@@ -213,7 +216,7 @@ impl CurveSpec {
 }
 
 /// A `material` field: a preset name, or an object of `preset`, `young`, `density`,
-/// `strength`.
+/// `strength`, `poisson`.
 fn material_from_json(v: &Value) -> Result<MaterialSpec, Message> {
     match v {
         Value::String(name) => {
@@ -248,10 +251,19 @@ fn material_from_json(v: &Value) -> Result<MaterialSpec, Message> {
                     "young" => spec.young_pa = Some(quantity(Quantity::Stress)?),
                     "density" => spec.density_kg_m3 = Some(quantity(Quantity::Density)?),
                     "strength" => spec.strength_pa = Some(quantity(Quantity::Stress)?),
+                    "poisson" => {
+                        let Some(nu) = value.as_f64() else {
+                            return Err(format!(
+                                "{what} must be a number (Poisson's ratio, e.g. 0.3), got {value}"
+                            )
+                            .into());
+                        };
+                        spec.poisson = Some(nu);
+                    }
                     other => {
                         return Err(format!(
                             "\"material\": unknown field \"{other}\" (expected preset, young, \
-                             density, strength)"
+                             density, strength, poisson)"
                         )
                         .into());
                     }

@@ -5,10 +5,12 @@
 //! The steps, all in the scene's consistent unit system (N, ℓ, s):
 //! 1. the energy with `k_s = E A`, `k_b = E I` per rod, each rod straight or pre-bent at rest,
 //!    anchors scaled to stay rigid next to the stiffest rod
-//!    ([`crate::rod::physical::rigid_anchor_weight`]), and clamps that hold the end vertex
-//!    and its tangent ([`crate::rod::ModelRules::PHYSICAL`]);
+//!    ([`crate::rod::physical::rigid_anchor_weight`]), clamps that hold the end vertex
+//!    and its tangent, and pre-bent rods that carry their twist (`G J`) through a material
+//!    frame, one twist unknown per edge ([`crate::rod::ModelRules::PHYSICAL`]);
 //! 2. Newton's method from the drawn state to the equilibrium the rods are bent into;
-//! 3. the lowest pairs of `H v = μ M v` (`M` the lumped mass matrix), solved as
+//! 3. the lowest pairs of `H v = μ M v` (`M` the lumped mass matrix, with the twists'
+//!    rotational inertia), solved as
 //!    `M^{-1/2} H M^{-1/2} ṽ = μ ṽ`: the natural frequencies `√μ / 2π`, zero and negative
 //!    modes judged in the identity metric ([`super::inertia`]);
 //! 4. the lowest pair of `H v = μ_L Λ v` (`Λ` the lumped lengths): the worst-case
@@ -29,8 +31,10 @@ use super::loads::{
 };
 use super::stress::{CurveStress, StressAt, assembly_stresses};
 use crate::material::{Physical, PhysicalMaterial, RestShape};
-use crate::rod::mass::{inverse_sqrt_coordinates, lumped_masses, scale_hessian};
-use crate::rod::physical::{masses_per_length, physical_rods, rigid_anchor_weight};
+use crate::rod::mass::{inverse_sqrt_with_twists, lumped_masses, scale_hessian, twist_masses};
+use crate::rod::physical::{
+    masses_per_length, physical_rods, rigid_anchor_weight, twist_masses_per_length,
+};
 use crate::rod::{ActiveSet, EnergyModel, ModelRules, Network};
 use crate::solve::eigen::{EigenOptions, EigenParams, Spectrum, smallest_eigenpairs};
 use crate::solve::{
@@ -240,6 +244,10 @@ pub fn analyze_physical(
     let rods = physical_rods(phys, n, &params.rest);
     let anchor_weight = rigid_anchor_weight(network, &rods);
     let model = EnergyModel::with_rules(network, &rods, anchor_weight, ModelRules::PHYSICAL);
+    debug_assert_eq!(
+        model.dofs(),
+        3 * network.vertex_count() + model.twist_count()
+    );
     let symbolic = SymbolicFactor::new(model.pattern(), Backend::default());
     let mut u = vec![0.0; model.dofs()];
     let relaxed = Equilibrium {
@@ -255,20 +263,26 @@ pub fn analyze_physical(
         model: &model,
         symbolic: &symbolic,
         hess: &relaxed.hess,
-        keep: held.iter().flat_map(|&h| [h; 3]).collect(),
+        keep: model.coordinate_mask(active),
         network,
         active,
         held: &held,
         phys,
     };
 
-    // Natural frequencies: H v = μ M v.
+    // Natural frequencies: H v = μ M v, the twists with their rotational inertia.
     let masses = lumped_masses(network, &masses_per_length(phys, n), active);
+    let twist_inertia = twist_masses(
+        network,
+        model.twist_dofs(),
+        &twist_masses_per_length(phys, n),
+    );
+    let mass_scale = inverse_sqrt_with_twists(&masses, &twist_inertia);
     let count = params
         .frequencies
         .min(at.keep.iter().filter(|&&k| k).count().max(1));
-    let modes = at.lowest(&masses, count)?;
-    let signs = at.classify(&modes, &masses);
+    let modes = at.lowest(&mass_scale, count)?;
+    let signs = at.classify(&modes, &mass_scale);
     let stable = signs.stable();
     let frequencies = frequencies_hz(&modes.values, &signs.positive);
     let mut warnings: Vec<Message> = solve_warnings(&relaxed.info, &signs, &modes)
@@ -281,7 +295,7 @@ pub fn analyze_physical(
         (None, None)
     };
 
-    let stresses = assembly_stresses(network, phys, &params.rest, active, &u);
+    let stresses = assembly_stresses(network, phys, &params.rest, active, &u, Some(&model));
     warnings.extend(
         overstress_warnings(&stresses, network, phys)
             .into_iter()
@@ -376,15 +390,11 @@ struct AtEquilibrium<'a> {
 
 impl AtEquilibrium<'_> {
     /// The `count` lowest pairs of `H v = μ D v` for the lumped diagonal metric `D`
-    /// (`metric`, one value per coordinate), solved as `D^{-1/2} H D^{-1/2} ṽ = μ ṽ`: the
-    /// vectors are the `ṽ`.
-    fn lowest(&self, metric: &[f64], count: usize) -> Result<Spectrum, PhysicsError> {
+    /// (`inv_sqrt`: `D^{-1/2}`, one value per coordinate), solved as
+    /// `D^{-1/2} H D^{-1/2} ṽ = μ ṽ`: the vectors are the `ṽ`.
+    fn lowest(&self, inv_sqrt: &[f64], count: usize) -> Result<Spectrum, PhysicsError> {
         let mut scaled = self.hess.to_vec();
-        scale_hessian(
-            self.model.pattern(),
-            &mut scaled,
-            &inverse_sqrt_coordinates(metric),
-        );
+        scale_hessian(self.model.pattern(), &mut scaled, inv_sqrt);
         let eigen = EigenParams::default().with_count(count);
         let options = EigenOptions {
             keep: Some(&self.keep),
@@ -402,25 +412,36 @@ impl AtEquilibrium<'_> {
             .spectrum)
     }
 
-    /// The signs of `modes` (pairs in the metric `masses`), judged in the identity metric.
-    fn classify(&self, modes: &Spectrum, masses: &[f64]) -> ModeSigns {
+    /// The signs of `modes` (pairs in the metric `D^{-1/2}` = `inv_sqrt`), judged in the
+    /// identity metric.
+    fn classify(&self, modes: &Spectrum, inv_sqrt: &[f64]) -> ModeSigns {
         classify(
             modes,
             self.model.pattern(),
             self.hess,
-            &inverse_sqrt_coordinates(masses),
+            inv_sqrt,
             &self.keep,
             EigenParams::default().zero_factor,
         )
     }
 
     /// The largest deflection under the worst-case distributed load of the run's intensity:
-    /// the lowest pair of `H v = μ_L Λ v` (`Λ` the lumped lengths), `v = Λ^{-1/2} ṽ`.
+    /// the lowest pair of `H v = μ_L Λ v` (`Λ` the lumped lengths; a twist unknown's, its
+    /// edge's length times `J / (A r²)`, the mass metric's ratio: a twisting section's
+    /// weight in the metric, which a force-per-length load does not load), `v = Λ^{-1/2} ṽ`.
     fn worst_load(&self) -> Result<Deflection, PhysicsError> {
         let lengths = lumped_lengths(self.network, self.active);
-        let s = inverse_sqrt_coordinates(&lengths);
-        let pair = self.lowest(&lengths, 1)?;
-        let v: Vec<f64> = (0..s.len()).map(|i| s[i] * pair.vectors[(i, 0)]).collect();
+        let n = self.network.rods.len();
+        let ratio: Vec<f64> = twist_masses_per_length(self.phys, n)
+            .iter()
+            .zip(masses_per_length(self.phys, n))
+            .map(|(t, m)| t / m)
+            .collect();
+        let twists = twist_masses(self.network, self.model.twist_dofs(), &ratio);
+        let s = inverse_sqrt_with_twists(&lengths, &twists);
+        let pair = self.lowest(&s, 1)?;
+        let vertices = 3 * self.network.vertex_count();
+        let v: Vec<f64> = (0..vertices).map(|i| s[i] * pair.vectors[(i, 0)]).collect();
         let (vertex, max) = worst_load_deflection(
             pair.lambda(),
             &v,
@@ -437,8 +458,10 @@ impl AtEquilibrium<'_> {
         let factor =
             Cholesky::factorize(self.symbolic, self.model.pattern(), self.hess, 0.0, None).ok()?;
         let mut w = self_weight(self.network, self.phys, self.active);
+        let vertices = w.len();
+        w.resize(self.model.dofs(), 0.0);
         factor.solve_vec(&mut w);
-        Some(max_displacement(&w, self.held))
+        Some(max_displacement(&w[..vertices], self.held))
     }
 }
 

@@ -14,9 +14,9 @@
 
 use crate::geom::Vec3;
 use crate::material::{Physical, RestShape};
-use crate::rod::ActiveSet;
 use crate::rod::Network;
 use crate::rod::terms::{bend_strain, clamp_rest, clamp_strain, rest_bend};
+use crate::rod::{ActiveSet, EnergyModel};
 use serde::{Deserialize, Serialize};
 
 /// A stress at one place.
@@ -103,14 +103,19 @@ impl Stresses {
     }
 }
 
-/// The stresses of the curves of `active` at displacements `u` from the drawn state, with
-/// rest shapes `rest` (straight where shorter).
+/// The stresses of the curves of `active` at the unknowns `u` (displacements from the drawn
+/// state, then any twists), with rest shapes `rest` (straight where shorter). With `model`
+/// (the physical model `u` belongs to), a pre-bent rod with twist unknowns takes its bending
+/// strains from its material frame ([`EnergyModel::frame_strains`]) and adds the shear of its
+/// torsion, `τ = G r (m − m̄) / l̄` (and at its clamps the clamps' twist), as
+/// `√(σ² + 3 τ²)` (von Mises) to the combined stress.
 pub fn assembly_stresses(
     network: &Network,
     physical: &Physical,
     rest: &[RestShape],
     active: &ActiveSet,
     u: &[f64],
+    model: Option<&EnergyModel>,
 ) -> Stresses {
     let x = |v: u32| -> Vec3 {
         let i = 3 * v as usize;
@@ -141,9 +146,33 @@ pub fn assembly_stresses(
             vertex: rod.vertices[0] as usize,
             strength_mpa: units.stress_to_mpa(props.strength),
         };
+        let framed = model.map(|m| m.frame_strains(u, c)).unwrap_or_default();
+        let clamp_twists = model
+            .map(|m| m.clamp_twist_strains(u, c))
+            .unwrap_or_default();
+        // A pre-bent rod's material frame: its bending and twist at every interior vertex
+        // (the energy's frame terms).
+        let shear = props.young / (2.0 * (1.0 + physical.curve_material(c).poisson));
+        for (i, &(v, kappa, twist)) in framed.iter().enumerate() {
+            // The frame terms' centres in order: vertex `i` of a closed rod, `i + 1` of an
+            // open one; the edges on either side.
+            let centre = if rod.closed { i } else { i + 1 };
+            let (prev, next) = ((centre + ne - 1) % ne, centre % ne);
+            let bending = units.stress_to_mpa(props.young * props.outer_radius * kappa);
+            let tau = units.stress_to_mpa(shear * props.outer_radius * twist.abs());
+            let sigma = bending + axial[prev].max(axial[next]);
+            let combined = (sigma * sigma + 3.0 * tau * tau).sqrt();
+            out.bending_mpa = out.bending_mpa.max(bending);
+            if combined > out.combined_mpa {
+                out.combined_mpa = combined;
+                out.vertex = v as usize;
+            }
+        }
         // Bending at every vertex with a bending term (the interior ones, or all of a closed
         // rod), the same stencils as the energy's.
-        let centers = if rod.closed {
+        let centers = if !framed.is_empty() {
+            0..0
+        } else if rod.closed {
             0..m
         } else {
             1..m.saturating_sub(1)
@@ -189,7 +218,13 @@ pub fn assembly_stresses(
             );
             let kappa = clamp_strain(x(idx(0)), x(idx(1)), rest, &drawn).norm() / rest;
             let bending = units.stress_to_mpa(props.young * props.outer_radius * kappa);
-            let combined = bending + axial[edge];
+            let twist = clamp_twists
+                .iter()
+                .find(|t| t.0 == idx(0))
+                .map_or(0.0, |t| t.1);
+            let tau = units.stress_to_mpa(shear * props.outer_radius * twist.abs());
+            let sigma = bending + axial[edge];
+            let combined = (sigma * sigma + 3.0 * tau * tau).sqrt();
             out.bending_mpa = out.bending_mpa.max(bending);
             if combined > out.combined_mpa {
                 out.combined_mpa = combined;

@@ -1,7 +1,8 @@
 //! Second-order forward-mode derivatives: a value with its exact gradient and Hessian over
-//! `N` variables, carried through `+ − × ÷ √`.
+//! `N` variables, carried through `+ − × ÷ √ sin cos atan2`.
 //!
-//! Used for the pre-bent bending term ([`super::terms::bend_rest`]), whose closed-form
+//! Used for the pre-bent bending term ([`super::terms::bend_rest`]), the physical mode's clamp
+//! and the material-frame bending and twist of a pre-bent rod (`rod::frame`), whose closed-form
 //! Hessian (a minimal rotation composed with the curvature binormal) would be long and easy
 //! to get wrong; the jet gives the same exact derivatives, and the term is finite-difference
 //! checked like every other. A crate such as `num-dual` does the same but brings `nalgebra`
@@ -67,6 +68,39 @@ impl<const N: usize> Jet<N> {
     pub fn sqrt(&self) -> Self {
         let s = self.v.sqrt();
         self.chain(s, 0.5 / s, -0.25 / (s * s * s))
+    }
+
+    /// `(sin self, cos self)`.
+    #[inline]
+    pub fn sin_cos(&self) -> (Self, Self) {
+        let (s, c) = self.v.sin_cos();
+        (self.chain(s, c, -s), self.chain(c, -s, -c))
+    }
+
+    /// `atan2(self, x)`: the angle of the point `(x, self)`, in `(−π, π]`.
+    #[inline]
+    pub fn atan2(&self, x: &Self) -> Self {
+        let y = self;
+        let r2 = x.v * x.v + y.v * y.v;
+        let (fy, fx) = (x.v / r2, -y.v / r2);
+        let r4 = r2 * r2;
+        let (fyy, fxx, fxy) = (
+            -2.0 * x.v * y.v / r4,
+            2.0 * x.v * y.v / r4,
+            (y.v * y.v - x.v * x.v) / r4,
+        );
+        let mut out = Jet::constant(y.v.atan2(x.v));
+        for i in 0..N {
+            out.g[i] = fy * y.g[i] + fx * x.g[i];
+            for j in 0..N {
+                out.h[i][j] = fy * y.h[i][j]
+                    + fx * x.h[i][j]
+                    + fyy * (y.g[i] * y.g[j])
+                    + fxx * (x.g[i] * x.g[j])
+                    + fxy * (y.g[i] * x.g[j] + x.g[i] * y.g[j]);
+            }
+        }
+        out
     }
 }
 
@@ -207,5 +241,32 @@ mod tests {
             }
         }
         assert_eq!(f.h[0][1], f.h[1][0]);
+    }
+
+    #[test]
+    fn derivatives_of_angles() {
+        // f(x, y) = atan2(y sin x, x + cos y): against central differences.
+        let f = |x: Jet<2>, y: Jet<2>| {
+            let (sx, _) = x.sin_cos();
+            let (_, cy) = y.sin_cos();
+            (y * sx).atan2(&(x + cy))
+        };
+        let at = |a: f64, b: f64| f(Jet::variable(a, 0), Jet::variable(b, 1));
+        let (x0, y0) = (0.7, -1.3);
+        let j = at(x0, y0);
+        let v = |a: f64, b: f64| at(a, b).v;
+        let h = 1e-5;
+        let shift = |k: usize, s: f64| if k == 0 { (x0 + s, y0) } else { (x0, y0 + s) };
+        for k in 0..2 {
+            let (p, m) = (shift(k, h), shift(k, -h));
+            let fd = (v(p.0, p.1) - v(m.0, m.1)) / (2.0 * h);
+            assert!((fd - j.g[k]).abs() < 1e-9, "g[{k}]");
+            let (gp, gm) = (at(p.0, p.1).g, at(m.0, m.1).g);
+            for i in 0..2 {
+                let fd = (gp[i] - gm[i]) / (2.0 * h);
+                assert!((fd - j.h[i][k]).abs() < 1e-8, "h[{i}][{k}]");
+            }
+        }
+        assert_eq!(j.h[0][1], j.h[1][0]);
     }
 }

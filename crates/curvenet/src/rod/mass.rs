@@ -9,12 +9,16 @@
 //! frequency in hertz. Unlike the identity metric's `λ`, which scales with the edge length
 //! (`λ₁ ≈ k_b (π/L)⁴ h` for a beam), `μ` converges as the edges shrink.
 //!
+//! In the physical mode a pre-bent rod's twist unknowns carry the rotational inertia of
+//! their edges ([`twist_masses`]), one diagonal entry each after the vertices'.
+//!
 //! A vertex no curve of the structure holds is loose: it carries the mass of all the curves of
 //! the network through it, so the loose diagonal of `H` keeps it far above the structure's
 //! spectrum after the scaling too.
 
 use super::ActiveSet;
 use super::Network;
+use super::model::TwistDof;
 use crate::sparse::Pattern;
 
 /// The lumped mass of every vertex of the structure `active` (the whole network's at loose
@@ -49,6 +53,32 @@ pub fn lumped_masses(network: &Network, mass_per_length: &[f64], active: &Active
 /// `1/√m` for every coordinate (three per vertex) of the vertex masses `masses`.
 pub fn inverse_sqrt_coordinates(masses: &[f64]) -> Vec<f64> {
     masses.iter().flat_map(|&m| [1.0 / m.sqrt(); 3]).collect()
+}
+
+/// The mass of each twist unknown `twists` (a model's [`super::EnergyModel::twist_dofs`]):
+/// its edge's rest length times its rod's `twist_mass_per_length` (`ρ J / r²`: the unknown is
+/// the outer fibre's displacement `r θ`, `rod::physical::twist_masses_per_length`), whether
+/// or not its rod is in the structure (a loose twist keeps its mass, as a loose vertex does).
+pub fn twist_masses(
+    network: &Network,
+    twists: &[TwistDof],
+    twist_mass_per_length: &[f64],
+) -> Vec<f64> {
+    twists
+        .iter()
+        .map(|t| {
+            let c = t.curve as usize;
+            twist_mass_per_length[c] * network.rods[c].rest_lengths[t.edge as usize]
+        })
+        .collect()
+}
+
+/// `1/√m` for every coordinate of a model with twist unknowns: three per vertex of the vertex
+/// masses `masses`, then one per twist of `twists` ([`twist_masses`]).
+pub fn inverse_sqrt_with_twists(masses: &[f64], twists: &[f64]) -> Vec<f64> {
+    let mut s = inverse_sqrt_coordinates(masses);
+    s.extend(twists.iter().map(|&m| 1.0 / m.sqrt()));
+    s
 }
 
 /// `M^{-1/2} H M^{-1/2}` in place: the upper-triangle values `hess` of `pattern` scaled by

@@ -10,10 +10,12 @@
 //! - [`physical`]: those stiffnesses from materials and sections, and rigid supports, in the
 //!   physical mode; [`mass`]: the lumped mass matrix and the scaling to `H v = μ M v`;
 //! - [`ModelRules`]: what the physical mode models beyond the paper (a clamp that holds the
-//!   end itself: `clamp`).
+//!   end itself: `clamp`; pre-bent rods with twist unknowns and a material frame: [`frame`]).
 
 mod active;
 mod clamp;
+mod clamp_twist;
+pub mod frame;
 mod jet;
 pub mod mass;
 pub mod model;
@@ -123,15 +125,25 @@ pub struct RodStiffness {
     pub ks: f64,
     /// Bending stiffness `k_b` (`E I`).
     pub kb: f64,
+    /// Torsional stiffness `G J`: used by a pre-bent rod's twist under
+    /// [`ModelRules::PHYSICAL`] (a straight round rod's twist decouples).
+    pub gj: f64,
+    /// The section's outer radius `r`: a twist unknown is the outer fibre's displacement
+    /// `r θ` (`rod::frame`).
+    pub arm: f64,
     /// Straight at rest (the paper) or pre-bent to its drawn shape.
     pub rest: RestShape,
 }
 
 impl From<&Material> for RodStiffness {
+    /// The paper's material: `G J = E I / (1 + ν)` with `ν = 0.3` (a round section), unused
+    /// by the paper's rules.
     fn from(m: &Material) -> Self {
         RodStiffness {
             ks: m.ks(),
             kb: m.kb(),
+            gj: m.kb() / 1.3,
+            arm: m.radius,
             rest: RestShape::Straight,
         }
     }
@@ -155,16 +167,30 @@ pub enum ClampRule {
 pub struct ModelRules {
     /// How clamped ends are held.
     pub clamp: ClampRule,
+    /// Whether pre-bent rods carry a twist unknown per edge and bend and twist through a
+    /// material frame (`rod::frame`); without, a pre-bent rod's bending holds its drawn
+    /// orientation in the world (`rod::terms::bend_rest`).
+    pub twist: bool,
 }
 
 impl ModelRules {
     /// The paper's model.
     pub const PAPER: ModelRules = ModelRules {
         clamp: ClampRule::TwoVertices,
+        twist: false,
     };
-    /// The physical mode's model: a clamp holds the end vertex and its tangent.
+    /// The physical mode's model: a clamp holds the end vertex and its tangent, and pre-bent
+    /// rods carry their twist.
     pub const PHYSICAL: ModelRules = ModelRules {
         clamp: ClampRule::EndTangent,
+        twist: true,
+    };
+    /// The physical mode's model as the searches' frequency objective uses it: its clamps,
+    /// without twist unknowns (the searches' machinery works on the `3·V` vertex coordinates
+    /// alone; each recorded structure's physical numbers come from [`Self::PHYSICAL`]).
+    pub const PHYSICAL_WITHOUT_TWIST: ModelRules = ModelRules {
+        clamp: ClampRule::EndTangent,
+        twist: false,
     };
 }
 

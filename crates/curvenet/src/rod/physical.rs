@@ -29,6 +29,8 @@ pub fn physical_rods(physical: &Physical, n_rods: usize, rest: &[RestShape]) -> 
             RodStiffness {
                 ks: r.ks,
                 kb: r.kb,
+                gj: r.gj,
+                arm: r.outer_radius,
                 rest: rest.get(c).copied().unwrap_or_default(),
             }
         })
@@ -48,6 +50,18 @@ pub fn rigid_anchor_weight(network: &Network, rods: &[RodStiffness]) -> f64 {
     let h = network.edge_length_stats().median;
     let h = if h > 0.0 { h } else { 1.0 };
     0.5 * ANCHOR_STIFFNESS_RATIO * (ks / h).max(kb / (h * h * h))
+}
+
+/// The twist unknowns' mass per unit rest length of every rod, `ρ J / r²` (a twist unknown
+/// is the outer fibre's displacement `r θ`, so its kinetic energy `½ ρ J ē θ̇²` is that of a
+/// mass `ρ J ē / r²`: `ρ A ē / 2` for a solid bar).
+pub fn twist_masses_per_length(physical: &Physical, n_rods: usize) -> Vec<f64> {
+    (0..n_rods)
+        .map(|c| {
+            let r = physical.scene_rod(c);
+            r.polar_mass_per_length / (r.outer_radius * r.outer_radius)
+        })
+        .collect()
 }
 
 /// Mass per unit length `ρ A` of every rod.

@@ -1,6 +1,12 @@
-//! The bending term of a pre-bent rod: bending measured from the drawn shape, with its exact
-//! gradient and Hessian ([`bend_rest`], whose doc explains the form chosen). Re-exported by
-//! [`super::terms`] beside the paper's straight-rest term.
+//! The bending term of a pre-bent rod without twist unknowns: bending measured from the drawn
+//! shape, with its exact gradient and Hessian ([`bend_rest`], whose doc explains the form
+//! chosen). Re-exported by [`super::terms`] beside the paper's straight-rest term.
+//!
+//! It holds each cross-section's spin about the rod's axis in the world, so a rigid rotation
+//! of the rod costs energy: the physical analysis uses the material frame and twist
+//! unknowns of `rod::frame` instead ([`crate::rod::ModelRules::PHYSICAL`]); this term
+//! serves models without twist unknowns (the searches' frequency objective,
+//! [`crate::rod::ModelRules::PHYSICAL_WITHOUT_TWIST`]).
 
 use super::jet::{self, Jet, JetVec};
 use super::terms::Local;

@@ -67,7 +67,7 @@ impl Analyzer {
     fn build(network: Network, params: StabilityParams, metric: Option<Metric>) -> Self {
         let model = match metric.as_ref().and_then(|m| m.rods.as_ref()) {
             Some((rods, anchor)) => {
-                EnergyModel::with_rules(&network, rods, *anchor, ModelRules::PHYSICAL)
+                EnergyModel::with_rules(&network, rods, *anchor, ModelRules::PHYSICAL_WITHOUT_TWIST)
             }
             None => EnergyModel::new(&network, &params.material),
         };

@@ -22,6 +22,7 @@ impl EnergyModel {
                 let (x0, x1) = t.local(u);
                 e += terms::clamp_energy(x0, x1, t.rest, t.kb, &t.shape);
             }
+            e += self.twist_terms_energy(r, u);
             for t in &self.anchor[r.anchor.clone()] {
                 e += terms::anchor_energy(vec3(u, t.v), t.offset, self.mu);
             }
@@ -95,6 +96,13 @@ impl EnergyModel {
                     self.scatter_hess(&mut out.hess, &t.v, &self.clamp_pos[k], &l.hess);
                 }
             }
+            self.assemble_twist_terms(
+                r,
+                u,
+                &mut out.energy,
+                &mut out.grad,
+                hessian.then_some(&mut out.hess[..]),
+            );
             for t in &self.anchor[r.anchor.clone()] {
                 let l = terms::anchor(vec3(u, t.v), t.offset, self.mu);
                 out.energy += l.energy;
@@ -108,12 +116,25 @@ impl EnergyModel {
             }
         }
         if hessian {
-            for (v, on) in self.vertex_mask(active).into_iter().enumerate() {
-                if !on {
-                    for a in 0..3 {
-                        out.hess[self.pattern.diag[3 * v + a]] = self.loose_diagonal;
-                    }
+            self.set_loose_diagonal(&mut out.hess, |c| active.contains(c));
+        }
+    }
+
+    /// Puts the loose diagonal on the coordinates no curve `held` marks holds (vertices of
+    /// no such curve, twists of rods it does not mark), in the order the assemblies always
+    /// used.
+    pub(super) fn set_loose_diagonal(&self, hess: &mut [f64], held: impl Fn(usize) -> bool) {
+        for (v, cs) in self.vertex_curves.iter().enumerate() {
+            if !cs.iter().any(|&c| held(c as usize)) {
+                for a in 0..3 {
+                    hess[self.pattern.diag[3 * v + a]] = self.loose_diagonal;
                 }
+            }
+        }
+        let base = 3 * self.n_vertices;
+        for (k, t) in self.twists.iter().enumerate() {
+            if !held(t.curve as usize) {
+                hess[self.pattern.diag[base + k]] = self.loose_diagonal;
             }
         }
     }
@@ -191,6 +212,7 @@ impl EnergyModel {
                 touched.push(i)
             });
         }
+        self.twist_entries(r, locals, |i, _| touched.push(i));
         for t in &self.anchor[r.anchor.clone()] {
             touched.extend((0..3).map(|a| self.pattern.diag[3 * t.v as usize + a]));
         }
@@ -245,6 +267,13 @@ impl EnergyModel {
                     });
                 }
             }
+            if self.twist_terms_touch(ro, on_c) {
+                self.twist_entries(ro, locals, |i, h| {
+                    if hit(i) {
+                        out[i] += h;
+                    }
+                });
+            }
             for t in &self.anchor[ro.anchor.clone()] {
                 if on_c(t.v) {
                     for a in 0..3 {
@@ -265,6 +294,13 @@ impl EnergyModel {
                 for a in 0..3 {
                     out[self.pattern.diag[3 * v as usize + a]] = self.loose_diagonal;
                 }
+            }
+        }
+        // `c`'s own twists are loose now.
+        let base = 3 * self.n_vertices;
+        for (k, t) in self.twists.iter().enumerate() {
+            if t.curve as usize == c {
+                out[self.pattern.diag[base + k]] = self.loose_diagonal;
             }
         }
     }

@@ -1,6 +1,7 @@
 //! Building an [`EnergyModel`]: the terms of every rod, the Hessian's block pattern over the
 //! vertices they couple, and each term's block positions in it.
 
+use super::twist::{self, ClampTwistTerm, FrameTerm, TwistDof};
 use super::{AnchorTerm, BendTerm, ClampTerm, EnergyModel, RodTerms, STRAIGHT, StretchTerm};
 use crate::geom::Vec3;
 use crate::material::RestShape;
@@ -43,7 +44,7 @@ impl EnergyModel {
                 v
             })
             .collect();
-        let lower = vertex_adjacency(n_vertices, &terms.stretch, &terms.bend);
+        let lower = vertex_adjacency(n_vertices, &terms.stretch, &terms.bend, &terms.frame);
         let pos = |a: u32, b: u32| -> u32 {
             let (i, j) = if a <= b { (a, b) } else { (b, a) };
             lower[j as usize]
@@ -64,6 +65,26 @@ impl EnergyModel {
             .clamp
             .iter()
             .map(|t| block_positions(&t.v, pos))
+            .collect();
+        let frame_coords: Vec<[usize; 11]> = terms.frame.iter().map(|t| t.coordinates()).collect();
+        let clamp_coords: Vec<[usize; 7]> =
+            terms.twist_clamp.iter().map(|t| t.coordinates()).collect();
+        let pattern = twist::with_twist_columns(
+            block_pattern(&lower),
+            n_vertices,
+            terms.twists.len(),
+            frame_coords
+                .iter()
+                .map(|c| &c[..])
+                .chain(clamp_coords.iter().map(|c| &c[..])),
+        );
+        let frame_slots = frame_coords
+            .iter()
+            .map(|c| twist::term_slots(&pattern, c))
+            .collect();
+        let twist_clamp_slots = clamp_coords
+            .iter()
+            .map(|c| twist::term_slots(&pattern, c))
             .collect();
         let mu = anchor_weight;
         // A loose vertex's diagonal: the stiffest scale in the model, far above the low
@@ -86,11 +107,16 @@ impl EnergyModel {
             bend: terms.bend,
             bend_rest: terms.bend_rest,
             clamp: terms.clamp,
+            frame: terms.frame,
+            frame_slots,
+            twist_clamp: terms.twist_clamp,
+            twist_clamp_slots,
+            twists: terms.twists,
             anchor: terms.anchor,
             rods: terms.rods,
             vertex_curves: network.vertex_curves(),
             curve_vertices,
-            pattern: block_pattern(&lower),
+            pattern,
             stretch_pos,
             bend_pos,
             clamp_pos,
@@ -105,6 +131,9 @@ struct Terms {
     bend: Vec<BendTerm>,
     bend_rest: Vec<RestBend>,
     clamp: Vec<ClampTerm>,
+    frame: Vec<FrameTerm>,
+    twist_clamp: Vec<ClampTwistTerm>,
+    twists: Vec<TwistDof>,
     anchor: Vec<AnchorTerm>,
     rods: Vec<RodTerms>,
 }
@@ -119,12 +148,26 @@ fn collect_terms(network: &Network, stiffness: &[RodStiffness], rules: ModelRule
         bend: Vec::new(),
         bend_rest: Vec::new(),
         clamp: Vec::new(),
+        frame: Vec::new(),
+        twist_clamp: Vec::new(),
+        twists: Vec::new(),
         anchor: Vec::new(),
         rods: Vec::with_capacity(network.rods.len()),
     };
-    for (rod, k) in network.rods.iter().zip(stiffness) {
+    for (c, (rod, k)) in network.rods.iter().zip(stiffness).enumerate() {
         let (s0, b0, a0) = (t.stretch.len(), t.bend.len(), t.anchor.len());
-        let c0 = t.clamp.len();
+        let (c0, f0, tc0) = (t.clamp.len(), t.frame.len(), t.twist_clamp.len());
+        let framed = rules.twist && k.rest == RestShape::PreBent;
+        if framed {
+            twist::collect_rod(
+                c,
+                network,
+                k,
+                &mut t.frame,
+                &mut t.twist_clamp,
+                &mut t.twists,
+            );
+        }
         let m = rod.vertices.len();
         let ne = rod.edge_count();
         for j in 0..ne {
@@ -136,7 +179,9 @@ fn collect_terms(network: &Network, stiffness: &[RodStiffness], rules: ModelRule
                 e: p[b as usize] - p[a as usize],
             });
         }
-        let centers = if rod.closed {
+        let centers = if framed {
+            0..0
+        } else if rod.closed {
             0..m
         } else {
             1..m.saturating_sub(1)
@@ -183,6 +228,8 @@ fn collect_terms(network: &Network, stiffness: &[RodStiffness], rules: ModelRule
             stretch: s0..t.stretch.len(),
             bend: b0..t.bend.len(),
             clamp: c0..t.clamp.len(),
+            frame: f0..t.frame.len(),
+            twist_clamp: tc0..t.twist_clamp.len(),
             anchor: a0..t.anchor.len(),
         });
     }
@@ -228,6 +275,7 @@ fn vertex_adjacency(
     n_vertices: usize,
     stretch: &[StretchTerm],
     bend: &[BendTerm],
+    frame: &[FrameTerm],
 ) -> Vec<Vec<u32>> {
     let mut lower: Vec<Vec<u32>> = (0..n_vertices as u32).map(|j| vec![j]).collect();
     let mut link = |a: u32, b: u32| {
@@ -237,10 +285,10 @@ fn vertex_adjacency(
     for t in stretch {
         link(t.v[0], t.v[1]);
     }
-    for t in bend {
-        link(t.v[0], t.v[1]);
-        link(t.v[0], t.v[2]);
-        link(t.v[1], t.v[2]);
+    for v in bend.iter().map(|t| t.v).chain(frame.iter().map(|t| t.v)) {
+        link(v[0], v[1]);
+        link(v[0], v[2]);
+        link(v[1], v[2]);
     }
     for l in &mut lower {
         l.sort_unstable();

@@ -13,6 +13,8 @@ pub struct LocalHessians {
     pub(super) stretch: Vec<[[f64; 6]; 6]>,
     pub(super) bend: Vec<[[f64; 9]; 9]>,
     pub(super) clamp: Vec<[[f64; 6]; 6]>,
+    pub(super) frame: Vec<[[f64; 11]; 11]>,
+    pub(super) twist_clamp: Vec<[[f64; 7]; 7]>,
 }
 
 /// Which terms' local Hessians [`EnergyModel::local_hessians`] computes.
@@ -50,11 +52,15 @@ impl EnergyModel {
         let mut stretch_on = vec![active.is_none(); self.stretch.len()];
         let mut bend_on = vec![active.is_none(); self.bend.len()];
         let mut clamp_on = vec![active.is_none(); self.clamp.len()];
+        let mut frame_on = vec![active.is_none(); self.frame.len()];
+        let mut twist_clamp_on = vec![active.is_none(); self.twist_clamp.len()];
         if let Some(active) = active {
             for (_, r) in self.active_terms(active) {
                 stretch_on[r.stretch.clone()].fill(true);
                 bend_on[r.bend.clone()].fill(true);
                 clamp_on[r.clamp.clone()].fill(true);
+                frame_on[r.frame.clone()].fill(true);
+                twist_clamp_on[r.twist_clamp.clone()].fill(true);
             }
         }
         let stretch = self
@@ -104,10 +110,13 @@ impl EnergyModel {
                 h
             })
             .collect();
+        let (frame, twist_clamp) = self.twist_locals(u, &frame_on, &twist_clamp_on, project);
         LocalHessians {
             stretch,
             bend,
             clamp,
+            frame,
+            twist_clamp,
         }
     }
 
@@ -138,6 +147,7 @@ impl EnergyModel {
             for k in r.clamp.clone() {
                 self.scatter_hess(hess, &self.clamp[k].v, &self.clamp_pos[k], &locals.clamp[k]);
             }
+            self.scatter_twist_locals(hess, r, locals, 1.0);
             for t in &self.anchor[r.anchor.clone()] {
                 let v = t.v as usize;
                 for a in 0..3 {
@@ -145,13 +155,7 @@ impl EnergyModel {
                 }
             }
         }
-        for (v, on) in self.vertex_mask(active).into_iter().enumerate() {
-            if !on {
-                for a in 0..3 {
-                    hess[self.pattern.diag[3 * v + a]] = self.loose_diagonal;
-                }
-            }
-        }
+        self.set_loose_diagonal(hess, |c| active.contains(c));
     }
 
     /// `Σ_c weights[c]·H_c` from precomputed local Hessians, where `H_c` holds every term of
@@ -213,6 +217,7 @@ impl EnergyModel {
                 };
                 self.scatter_hess(hess, &self.clamp[k].v, &self.clamp_pos[k], src);
             }
+            self.scatter_twist_locals(hess, r, locals, w);
             for t in &self.anchor[r.anchor.clone()] {
                 let v = t.v as usize;
                 for a in 0..3 {
@@ -220,13 +225,7 @@ impl EnergyModel {
                 }
             }
         }
-        for (v, cs) in self.vertex_curves.iter().enumerate() {
-            if cs.iter().all(|&c| weights[c as usize] == 0.0) {
-                for a in 0..3 {
-                    hess[self.pattern.diag[3 * v + a]] = self.loose_diagonal;
-                }
-            }
-        }
+        self.set_loose_diagonal(hess, |c| weights[c] != 0.0);
     }
 
     /// `H_c X` restricted to curve `c`'s vertices: the Hessian of `c`'s own terms (from
@@ -238,6 +237,10 @@ impl EnergyModel {
         c: usize,
         x: faer::MatRef<'_, f64>,
     ) -> faer::Mat<f64> {
+        assert!(
+            self.rods[c].frame.is_empty() && self.rods[c].twist_clamp.is_empty(),
+            "curve {c} carries twist unknowns, which the searches' products do not"
+        );
         let verts = &self.curve_vertices[c];
         let k = x.ncols();
         let mut out = faer::Mat::<f64>::zeros(3 * verts.len(), k);
@@ -297,6 +300,15 @@ impl EnergyModel {
             .iter()
             .map(|l| frob(&mut l.iter().flatten()))
             .sum();
-        stretch + bend + clamp + r.anchor.len() as f64 * 2.0 * self.mu * 3f64.sqrt()
+        let frame: f64 = locals.frame[r.frame.clone()]
+            .iter()
+            .map(|l| frob(&mut l.iter().flatten()))
+            .chain(
+                locals.twist_clamp[r.twist_clamp.clone()]
+                    .iter()
+                    .map(|l| frob(&mut l.iter().flatten())),
+            )
+            .sum();
+        stretch + bend + clamp + frame + r.anchor.len() as f64 * 2.0 * self.mu * 3f64.sqrt()
     }
 }

@@ -2,7 +2,10 @@
 //!
 //! [`EnergyModel`] holds every stretching, bending and anchor term of every rod, grouped by
 //! rod, together with one fixed sparsity pattern for the Hessian (the upper triangle over all
-//! `3·V` coordinates, in compressed columns). Any set of curves can be left out with an
+//! `3·V` coordinates, in compressed columns). In the physical mode it also holds the clamps
+//! and, for pre-bent rods, a twist unknown per edge after the `3·V` vertex coordinates with
+//! the frame terms that bend and twist them (`twist`); loose twists (of rods not in the
+//! structure) get the loose diagonal like loose vertices. Any set of curves can be left out with an
 //! [`ActiveSet`]: their terms are skipped and the vertices that belong to no remaining curve
 //! ("loose" vertices) get a large diagonal entry instead, so the pattern, and hence one
 //! symbolic factorization, serves every structure (`docs/model.md`, *Stability*). That device is equivalent to
@@ -18,8 +21,11 @@
 mod assemble;
 mod build;
 mod locals;
+mod twist;
 
 pub use locals::{LocalHessians, Terms};
+pub use twist::TwistDof;
+use twist::{ClampTwistTerm, FrameTerm};
 
 use super::ActiveSet;
 use super::terms::{self, ClampRest, RestBend};
@@ -124,6 +130,8 @@ struct RodTerms {
     stretch: Range<usize>,
     bend: Range<usize>,
     clamp: Range<usize>,
+    frame: Range<usize>,
+    twist_clamp: Range<usize>,
     anchor: Range<usize>,
 }
 
@@ -149,6 +157,15 @@ pub struct EnergyModel {
     bend_rest: Vec<RestBend>,
     /// The physical mode's clamps (empty in the paper's).
     clamp: Vec<ClampTerm>,
+    /// The physical mode's frame terms of pre-bent rods (empty in the paper's).
+    frame: Vec<FrameTerm>,
+    /// Their slots in the pattern's values.
+    frame_slots: Vec<[[u32; 11]; 11]>,
+    /// The clamps' hold on pre-bent rods' twists, and their slots.
+    twist_clamp: Vec<ClampTwistTerm>,
+    twist_clamp_slots: Vec<[[u32; 7]; 7]>,
+    /// The twist unknowns, coordinates `3·V …` in order.
+    twists: Vec<TwistDof>,
     anchor: Vec<AnchorTerm>,
     rods: Vec<RodTerms>,
     /// For every vertex, the curves through it.
@@ -210,9 +227,9 @@ impl EnergyModel {
         self.n_vertices
     }
 
-    /// Number of coordinates (`3·V`).
+    /// Number of coordinates: `3·V`, then the twist unknowns ([`Self::twist_count`]).
     pub fn dofs(&self) -> usize {
-        3 * self.n_vertices
+        3 * self.n_vertices + self.twists.len()
     }
 
     /// Number of curves.
