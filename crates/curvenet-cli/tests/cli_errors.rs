@@ -1103,6 +1103,14 @@ fn simplify_writes_a_fixed_geometry_certificate_only_with_certify() {
         "simplify", "--curves", "grid.txt", "--out", "out", "--budget", "0.6",
     ];
     args.extend_from_slice(QUIET);
+    // --no-certificate, once parsed and never read, is gone: the default is no certificate.
+    {
+        let mut a = args.clone();
+        a.push("--no-certificate");
+        let r = run(&[("grid.txt", GRID.as_bytes())], &a);
+        assert_eq!(r.code, 2, "{}", r.stderr);
+        assert!(r.stderr.contains("'--no-certificate'"), "{}", r.stderr);
+    }
     // By default no certificate.
     {
         let r = run(&[("grid.txt", GRID.as_bytes())], &args);

@@ -130,3 +130,25 @@ fn the_paper_data_licence_is_visible() {
     let none = Command::new(BIN).arg("example").output().expect("runs");
     assert_eq!(none.status.code(), Some(2));
 }
+
+/// The help gives the default edge length the application layer chooses (the curves'
+/// lengths), not the median input segment it once was.
+#[test]
+fn the_help_gives_the_default_edge_length_the_library_chooses() {
+    for sub in ["analyze", "simplify", "serve"] {
+        let out = Command::new(BIN)
+            .args([sub, "--help"])
+            .output()
+            .expect("runs");
+        let help = String::from_utf8_lossy(&out.stdout)
+            .split_whitespace()
+            .collect::<Vec<_>>()
+            .join(" ");
+        let expected = format!(
+            "the median curve's length over {}, and no less than the total length over 100,000",
+            curvenet::pipeline::DEFAULT_EDGES_PER_CURVE
+        );
+        assert!(help.contains(&expected), "{sub}: {help}");
+        assert!(!help.contains("segment"), "{sub}: {help}");
+    }
+}

@@ -64,23 +64,6 @@ pub fn large_network(curves: &[Polyline], h: f64) -> Option<f64> {
     (n > LARGE_NETWORK_VERTICES).then_some(n)
 }
 
-/// Median input segment length over all curves.
-pub fn median_segment_length(curves: &[Polyline]) -> f64 {
-    let mut lens: Vec<f64> = curves
-        .iter()
-        .flat_map(|c| {
-            let n = c.points.len();
-            let segs = if c.closed { n } else { n.saturating_sub(1) };
-            (0..segs).map(move |k| c.points[k].dist(c.points[(k + 1) % n]))
-        })
-        .collect();
-    if lens.is_empty() {
-        return 1.0;
-    }
-    lens.sort_by(f64::total_cmp);
-    lens[lens.len() / 2]
-}
-
 /// Everything `analyze` produces.
 #[derive(Debug)]
 pub struct AnalyzeOutput {

@@ -255,11 +255,28 @@ fn curves_of(scene: &Scene) -> Vec<Polyline> {
         .collect()
 }
 
+/// Median input segment length over all curves (1 when there is none).
+fn median_segment_length(curves: &[Polyline]) -> f64 {
+    let mut lens: Vec<f64> = curves
+        .iter()
+        .flat_map(|c| {
+            let n = c.points.len();
+            let segs = if c.closed { n } else { n.saturating_sub(1) };
+            (0..segs).map(move |k| c.points[k].dist(c.points[(k + 1) % n]))
+        })
+        .collect();
+    if lens.is_empty() {
+        return 1.0;
+    }
+    lens.sort_by(f64::total_cmp);
+    lens[lens.len() / 2]
+}
+
 /// The build parameters of a scene.
 fn params_of(scene: &Scene, curves: &[Polyline]) -> BuildParams {
     let h = match scene.h {
         EdgeLength::Absolute(h) => h,
-        EdgeLength::Relative(r) => r * curvenet::pipeline::median_segment_length(curves),
+        EdgeLength::Relative(r) => r * median_segment_length(curves),
     };
     BuildParams {
         edge_length: h,

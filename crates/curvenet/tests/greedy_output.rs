@@ -15,7 +15,8 @@
 //! - contents: `network.json` (the network), `result.json` (parses as `ResultFile`, version 1,
 //!   objective "lambda_eq", complete, every `mode_file` present with 3·V f64, `removed` and
 //!   `score` null on the last iteration only, `final` = the last iteration, no timing fields),
-//!   `timings.json`, `final.obj`, `summary.txt` and one `iterations/KKKK.obj` per iteration.
+//!   `timings.json`, `final.obj`, `summary.txt` and one `iterations/KKKK.obj` per iteration;
+//! - the run's record of its threads (`timings.json`) is the pool it ran on, whoever calls it.
 
 mod common;
 
@@ -532,5 +533,43 @@ fn a_damaged_carried_vectors_file_is_a_warning_on_resume_and_the_removals_stay()
             greedy(&s.analyzer, &s.params, None, Some(point), &mut writer).expect("resumed greedy");
         writer.finish(&g, &timings_json(&g)).expect("finish");
         assert_eq!(removals(&g), removals(&g_full), "damaged = {damage}");
+    }
+}
+
+/// A run made through the application layer records the threads of the rayon pool it runs on
+/// (Python's runs, on the global pool, record that pool's; a front end with a pool of its own,
+/// that one's), not the machine's parallelism.
+#[test]
+fn a_run_records_the_threads_of_the_pool_it_ran_on() {
+    use curvenet::app::{self, CurveSource, InputSpec, ModelOptions, RunSpec, Setup, Silent};
+    use curvenet::cancel::Cancel;
+    for threads in [1, 3] {
+        let dir = TempDir::new("threads");
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let input = InputSpec {
+                edge_length: Some(250.0),
+                ..InputSpec::new(CurveSource::Geodesics {
+                    surface: "dome".into(),
+                    count: 5,
+                    seed: 1,
+                })
+            };
+            let mut setup = Setup::new(&input, &ModelOptions::default()).unwrap();
+            let spec = RunSpec {
+                budget: Some(Budget::Fraction(0.6)),
+                pictures: false,
+                ..RunSpec::new(dir.path())
+            };
+            app::execute(&mut setup, &spec, &Silent, &Cancel::never()).unwrap();
+        });
+        let timings: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(dir.path().join("timings.json")).unwrap(),
+        )
+        .unwrap();
+        assert_eq!(timings["threads"], threads, "{timings}");
     }
 }

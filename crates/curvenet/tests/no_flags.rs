@@ -1,8 +1,9 @@
 //! The library speaks to every front end alike: no message spells a command-line flag (options
 //! are named by `words::Opt` and spelled by each front end's `Wording`), and no public function
-//! returns a bare `Result<_, String>` (errors are typed).
+//! returns a bare `Result<_, String>` (errors are typed). The run folder's layout is spelled
+//! once: no file name under `states/`, `modes/` or `iterations/` outside `run_layout`.
 //!
-//! Both read the library's sources: a small Rust lexer finds string literals and `pub fn`
+//! All three read the library's sources: a small Rust lexer finds string literals and `pub fn`
 //! signatures outside comments (doc comments included) and outside `#[cfg(test)]` items.
 
 use std::collections::HashSet;
@@ -434,6 +435,49 @@ fn no_public_function_returns_a_string_error() {
         found.len(),
         found.join("\n")
     );
+}
+
+/// Whether a string literal's text spells a path of the run folder's own folders (`states/…`,
+/// `modes/…`, `iterations/…`, or `states` or `modes` alone; a bare `iterations` is also the
+/// record's field).
+fn spells_run_layout(text: &str) -> bool {
+    ["states", "modes", "iterations"].iter().any(|dir| {
+        (text == *dir && *dir != "iterations")
+            || text.match_indices(&format!("{dir}/")).any(|(i, _)| {
+                !text[..i]
+                    .chars()
+                    .next_back()
+                    .is_some_and(|c| c.is_alphanumeric() || c == '_')
+            })
+    })
+}
+
+#[test]
+fn the_run_folders_layout_is_spelled_in_run_layout_alone() {
+    let mut found = Vec::new();
+    for (file, toks) in library_tokens() {
+        if file.ends_with("run_layout.rs") {
+            continue;
+        }
+        for (t, line) in &toks {
+            if let Tok::Str(text) = t
+                && spells_run_layout(text)
+            {
+                found.push(format!("{file}:{line}: \"{text}\""));
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "{} string literal(s) spell the run folder's layout outside run_layout; name the file \
+         with run_layout's functions instead:\n{}",
+        found.len(),
+        found.join("\n")
+    );
+    // The check itself.
+    assert!(spells_run_layout("states/{k:04}.bin") && spells_run_layout("modes"));
+    assert!(spells_run_layout("x/iterations/0001.obj") && !spells_run_layout("iterations"));
+    assert!(!spells_run_layout("eigenmodes/x") && !spells_run_layout("modes: 2 zero"));
 }
 
 #[test]

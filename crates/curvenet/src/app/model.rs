@@ -10,8 +10,9 @@ use crate::rod::Material;
 use crate::stability::{Objective, StabilityParams};
 use crate::words::{Opt, given, message};
 
-/// The most eigenvalues an analysis reports.
-pub const MAX_EIGEN_COUNT: usize = 100;
+/// The most eigenvalues an analysis reports (and, in the physical mode, frequencies): the
+/// solver's one limit.
+pub use crate::solve::MAX_EIGEN_COUNT;
 
 /// The model's options, as a user gives them (`None`: the default).
 #[derive(Clone, Debug, PartialEq)]
@@ -178,5 +179,34 @@ impl ModelOptions {
         }
         s.validate().map_err(AppError::Usage)?;
         Ok(s)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The physical mode reports as many frequencies as eigenvalues, up to the one limit.
+    #[test]
+    fn the_physical_mode_takes_every_eigen_count_the_model_allows() {
+        let options = |eigen_count| ModelOptions {
+            eigen_count,
+            physical: PhysicalOptions {
+                units: Some("mm".into()),
+                ..PhysicalOptions::default()
+            },
+            ..ModelOptions::default()
+        };
+        let model = options(MAX_EIGEN_COUNT)
+            .resolve(None, &[])
+            .expect("resolved");
+        let physical = model.physical.expect("the physical mode");
+        assert_eq!(physical.frequencies, MAX_EIGEN_COUNT);
+        physical
+            .validate()
+            .expect("as many frequencies as eigenvalues");
+        assert_eq!(model.stability.eigen.count, MAX_EIGEN_COUNT);
+        let refused = options(MAX_EIGEN_COUNT + 1).resolve(None, &[]).unwrap_err();
+        assert!(refused.to_string().contains("eigen_count"), "{refused}");
     }
 }

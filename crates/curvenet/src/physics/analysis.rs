@@ -36,7 +36,9 @@ use crate::rod::physical::{
     masses_per_length, physical_rods, rigid_anchor_weight, twist_masses_per_length,
 };
 use crate::rod::{ActiveSet, EnergyModel, ModelRules, Network};
-use crate::solve::eigen::{EigenOptions, EigenParams, Spectrum, smallest_eigenpairs};
+use crate::solve::eigen::{
+    EigenOptions, EigenParams, MAX_EIGEN_COUNT, Spectrum, smallest_eigenpairs,
+};
 use crate::solve::{
     Backend, Cholesky, Equilibrium, NewtonInfo, NewtonParams, NewtonSummary, SolverTuning,
     SymbolicFactor,
@@ -73,9 +75,9 @@ impl PhysicalParams {
     /// Checks the parameters.
     pub fn validate(&self) -> Result<(), Message> {
         self.physical.validate()?;
-        if self.frequencies == 0 || self.frequencies > 50 {
+        if !(1..=MAX_EIGEN_COUNT).contains(&self.frequencies) {
             return Err(format!(
-                "the number of frequencies must lie in 1..=50, got {}",
+                "the number of frequencies must lie in 1..={MAX_EIGEN_COUNT}, got {}",
                 self.frequencies
             )
             .into());

@@ -11,13 +11,7 @@
 use crate::stability::candidates::{Carried, CarriedVector};
 use std::path::Path;
 
-/// The carried test vectors' files, one slot per parity of the iteration (see [`carried_bytes`]).
-pub const CARRIED_FILES: [&str; 2] = ["states/carried.0.bin", "states/carried.1.bin"];
-
-/// The file holding the vectors iteration `k` hands on.
-pub fn carried_file(k: usize) -> &'static str {
-    CARRIED_FILES[k % 2]
-}
+pub use crate::run_layout::{CARRIED_FILES, carried_file};
 
 /// The carried test vectors to resume after iteration `k` with: those of [`carried_file`]`(k)`
 /// if they belong to iteration `k`. Anything else (absent, unreadable, damaged, of another

@@ -35,7 +35,12 @@ pub const RUN_FILES: &[&str] = &[
 ];
 
 /// The folders a run writes (with `export/`, what `curvenet export` writes by default).
-pub const RUN_FOLDERS: &[&str] = &["modes", "states", "iterations", "export"];
+pub const RUN_FOLDERS: &[&str] = &[
+    crate::run_layout::MODES,
+    crate::run_layout::STATES,
+    crate::run_layout::ITERATIONS,
+    "export",
+];
 
 /// Why a folder cannot take a run.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]

@@ -9,6 +9,7 @@ use crate::constraints::Constraints;
 use crate::constraints::answer::{Answer, NoAnswer, choose};
 use crate::io;
 use crate::network::Network;
+use crate::run_layout;
 use crate::simplify::certificate::Certificate;
 use crate::simplify::greedy::{GreedyHooks, GreedyOutcome, IterationRecord, ResumePoint};
 use crate::stability::Evaluation;
@@ -74,7 +75,12 @@ impl<'a> OutputWriter<'a> {
         setup: RunSetup,
         budget: f64,
     ) -> Result<Self, RunFolderError> {
-        for sub in ["", "modes", "states", "iterations"] {
+        for sub in [
+            "",
+            run_layout::MODES,
+            run_layout::STATES,
+            run_layout::ITERATIONS,
+        ] {
             let d = dir.join(sub);
             std::fs::create_dir_all(&d).map_err(|e| io_err(&d, e))?;
         }
@@ -304,7 +310,7 @@ impl<'a> OutputWriter<'a> {
             );
             stale.push(self.dir.join(crate::run_layout::tagged_mode_file("answer")));
         }
-        for sub in ["", "states", "modes"] {
+        for sub in ["", run_layout::STATES, run_layout::MODES] {
             let Ok(entries) = std::fs::read_dir(self.dir.join(sub)) else {
                 continue;
             };
@@ -446,7 +452,7 @@ impl OutputWriter<'_> {
         )?;
         self.write(&crate::run_layout::state_modes_file(k), f64_bytes(&all))?;
         let obj = record_obj(self.network, record, &eval.displacement);
-        self.write(&format!("iterations/{k:04}.obj"), obj)?;
+        self.write(&run_layout::iteration_obj_file(k), obj)?;
         self.result.iterations.push(record.clone());
         self.write_result()?;
         if let Some(p) = self.progress {

@@ -23,7 +23,8 @@ mod supernodal;
 pub mod tuning;
 
 pub use eigen::{
-    Eigen, EigenError, EigenOptions, EigenParams, Shift, Spectrum, Start, smallest_eigenpairs,
+    Eigen, EigenError, EigenOptions, EigenParams, MAX_EIGEN_COUNT, Shift, Spectrum, Start,
+    smallest_eigenpairs,
 };
 pub use factor::{Backend, Cholesky, NotPositiveDefinite, Reuse, Schedule, SymbolicFactor};
 pub use newton::{Equilibrium, NewtonInfo, NewtonParams, NewtonStop, NewtonSummary, Relaxed};

@@ -27,6 +27,11 @@ use serde::{Deserialize, Serialize};
 use shift_invert::{factor_at, factor_below_zero, finish};
 use std::sync::Arc;
 
+/// The most eigenpairs an analysis reports: the smallest eigenvalues of a structure and, in the
+/// physical mode, its natural frequencies. One limit for every front end (the application
+/// layer's `MAX_EIGEN_COUNT`) and for the physical analysis.
+pub const MAX_EIGEN_COUNT: usize = 100;
+
 /// Eigen-solver parameters.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
