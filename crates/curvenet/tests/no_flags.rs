@@ -1,9 +1,11 @@
 //! The library speaks to every front end alike: no message spells a command-line flag (options
 //! are named by `words::Opt` and spelled by each front end's `Wording`), and no public function
 //! returns a bare `Result<_, String>` (errors are typed). The run folder's layout is spelled
-//! once: no file name under `states/`, `modes/` or `iterations/` outside `run_layout`.
+//! once: no file name under `states/`, `modes/` or `iterations/` outside `run_layout`. One
+//! cancellation type: no public function or trait method takes or gives a bare `AtomicBool`
+//! (a search stops on a `cancel::Cancel`).
 //!
-//! All three read the library's sources: a small Rust lexer finds string literals and `pub fn`
+//! All of them read the library's sources: a small Rust lexer finds string literals and `pub fn`
 //! signatures outside comments (doc comments included) and outside `#[cfg(test)]` items.
 
 use std::collections::HashSet;
@@ -434,6 +436,65 @@ fn no_public_function_returns_a_string_error() {
          error:\n{}",
         found.len(),
         found.join("\n")
+    );
+}
+
+/// The words of the signature of the `fn` whose name is at `i` (up to its body or `;`).
+fn signature_words(toks: &[(Tok, usize)], i: usize) -> Vec<&str> {
+    let mut depth = 0i32;
+    let mut words = Vec::new();
+    for (t, _) in &toks[i..] {
+        match t {
+            Tok::Punct('(' | '[' | '<') => depth += 1,
+            Tok::Punct(')' | ']') => depth -= 1,
+            Tok::Punct('>') if depth > 0 => depth -= 1,
+            Tok::Punct('{' | ';') if depth <= 0 => break,
+            Tok::Word(w) => words.push(w.as_str()),
+            _ => {}
+        }
+    }
+    words
+}
+
+#[test]
+fn cancellation_goes_by_one_token_type() {
+    let mut found = Vec::new();
+    for (file, toks) in library_tokens() {
+        // The token ranges of trait bodies: their methods are a caller's interface too.
+        let mut in_trait = vec![false; toks.len()];
+        for (i, (t, _)) in toks.iter().enumerate() {
+            if *t == Tok::Word("trait".into())
+                && let Some(open) = toks[i..]
+                    .iter()
+                    .position(|(t, _)| *t == Tok::Punct('{'))
+                    .map(|p| i + p)
+            {
+                let close = matching(&toks, open);
+                in_trait[open..close.min(toks.len())].fill(true);
+            }
+        }
+        for (i, (t, line)) in toks.iter().enumerate() {
+            if *t != Tok::Word("fn".into()) {
+                continue;
+            }
+            let public = (1..=3).any(|k| {
+                i.checked_sub(k)
+                    .is_some_and(|j| toks[j].0 == Tok::Word("pub".into()))
+            });
+            if (public || in_trait[i]) && signature_words(&toks, i).contains(&"AtomicBool") {
+                found.push(format!("{file}:{line}"));
+            }
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "public functions or trait methods taking a bare AtomicBool (take a cancel::Cancel):\n{}",
+        found.join("\n")
+    );
+    let toks = lex("pub trait H { fn stop(&self, flag: &AtomicBool) -> bool; }");
+    assert_eq!(
+        signature_words(&toks, 4),
+        ["fn", "stop", "self", "flag", "AtomicBool", "bool"]
     );
 }
 
