@@ -9,13 +9,15 @@
 //! when it starts, which may find them infeasible there (refused with the reason). The
 //! margins are those of the budget of the search started last (none before the first).
 
-use crate::words::say;
+use crate::words::{Fields, say};
+use curvenet::app::{Search, Silent};
 use curvenet::constraints::{
     ConstraintError, ConstraintParams, Constraints, Group, SymmetryOption, max_displacement,
     parse_groups,
 };
 use curvenet::io::TriMesh;
 use curvenet::network::Network;
+use curvenet::simplify::Budget;
 use serde::Deserialize;
 use serde_json::{Value, json};
 
@@ -148,26 +150,26 @@ impl SessionConstraints {
         Ok(())
     }
 
-    /// The constraints bound to a search's `budget` (a length) and `keep` list (`None` when
-    /// none is in force: the search runs as without); the budget is remembered for the
-    /// margins.
+    /// The search of `budget` and `keep` on `net` (with its surface `mesh`) under the
+    /// constraints in force, bound by the application layer as a run binds its own
+    /// ([`Search::new`]); the budget is remembered for the margins.
     ///
     /// # Errors
     ///
-    /// Why no network within that budget and keep list can meet them.
+    /// A budget out of range, an unknown curve to keep, a keep list holding every curve, or
+    /// constraints no network within that budget and keep list can meet (why, in the API's
+    /// words).
     pub fn for_search(
         &mut self,
         net: &Network,
         mesh: Option<&TriMesh>,
-        budget: f64,
-        keep: &[usize],
-    ) -> Result<Option<Constraints>, String> {
-        let c = match self.params.is_default() {
-            true => None,
-            false => Some(bind(net, mesh, &self.params, budget, keep)?),
-        };
-        self.budget = Some(budget);
-        Ok(c)
+        budget: Budget,
+        keep: Vec<usize>,
+    ) -> Result<Search, String> {
+        let search = Search::new(net, mesh, budget, keep, self.params.clone(), false, &Silent)
+            .map_err(|e| e.render(&Fields))?;
+        self.budget = Some(search.budget_length);
+        Ok(search)
     }
 
     /// The margins of the structure `curves` at equilibrium `displacement` (`None` when no

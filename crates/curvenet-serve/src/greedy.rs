@@ -8,13 +8,15 @@
 //! current: its iterations are those of `simplify` with the same budget, keep list and design
 //! constraints (the session's, bound to the run's budget and keep list by the caller).
 
+use crate::constraints::SessionConstraints;
 use crate::design::Design;
 use crate::job::Job;
+use curvenet::app::Search;
 use curvenet::cancel::Cancel;
-use curvenet::constraints::Constraints;
+use curvenet::io::TriMesh;
 use curvenet::physics::PhysicalSummary;
 use curvenet::simplify::greedy::{GreedyHooks, IterationRecord};
-use curvenet::simplify::{Budget, GreedyParams, greedy};
+use curvenet::simplify::{Budget, greedy};
 use curvenet::stability::Evaluation;
 use serde::Serialize;
 use std::sync::{Arc, Mutex, MutexGuard};
@@ -158,20 +160,25 @@ pub struct Request {
 }
 
 impl Request {
-    /// The greedy's parameters of the request, checked against `design`'s network.
+    /// The search of the request on `design`'s network under the session's `constraints`
+    /// (with the surface `mesh`), bound as a run binds its own.
     ///
     /// # Errors
     ///
-    /// [`GreedyError::Params`] for a budget out of `(0, 1]`, an unknown curve to keep or a
-    /// keep list holding every curve.
-    pub fn checked(&self, design: &Design) -> Result<GreedyParams, GreedyError> {
-        let mut params = GreedyParams::new(Budget::Fraction(self.budget));
-        params.keep = self.keep.clone();
-        params.max_removals = self.max_removals;
-        params
-            .validate(design.analyzer().curve_count())
-            .map_err(|m| GreedyError::Params(crate::words::say(&m)))?;
-        Ok(params)
+    /// [`GreedyError::Params`] for a budget out of `(0, 1]`, an unknown curve to keep, a keep
+    /// list holding every curve, or constraints no network within the budget can meet.
+    pub fn search(
+        &self,
+        design: &Design,
+        constraints: &mut SessionConstraints,
+        mesh: Option<&TriMesh>,
+    ) -> Result<Search, GreedyError> {
+        let net = design.analyzer().network();
+        let mut search = constraints
+            .for_search(net, mesh, Budget::Fraction(self.budget), self.keep.clone())
+            .map_err(GreedyError::Params)?;
+        search.greedy.max_removals = self.max_removals;
+        Ok(search)
     }
 }
 
@@ -208,27 +215,24 @@ impl Runner {
         r
     }
 
-    /// Starts a run on `design`'s network with `request`, honouring `constraints` (bound to
-    /// the request's budget and keep list: [`Request::checked`]); answers its first progress.
+    /// Starts a run on `design`'s network with `request`'s `search` ([`Request::search`]);
+    /// answers its first progress.
     ///
     /// # Errors
     ///
-    /// [`GreedyError::Busy`] while a run computes; [`GreedyError::Params`] for a budget out of
-    /// `(0, 1]`, an unknown curve to keep or a keep list holding every curve.
+    /// [`GreedyError::Busy`] while a run computes.
     pub fn start(
         self: &Arc<Self>,
         design: Arc<Design>,
-        request: Request,
-        constraints: Option<Constraints>,
+        request: &Request,
+        search: Search,
     ) -> Result<Progress, GreedyError> {
-        let params = request.checked(&design)?;
-        let total = design.total_length();
         let mut s = self.lock();
         if s.job.is_running() {
             return Err(GreedyError::Busy);
         }
         *s = Shared {
-            job: Job::running((request.budget, request.budget * total)),
+            job: Job::running((request.budget, search.budget_length)),
             iterations: Vec::new(),
             stop: None,
         };
@@ -236,24 +240,24 @@ impl Runner {
         let progress = progress_of(&s);
         drop(s);
         let runner = Arc::clone(self);
-        std::thread::spawn(move || runner.run(&design, &params, constraints.as_ref(), cancel));
+        std::thread::spawn(move || runner.run(&design, &search, cancel));
         Ok(progress)
     }
 
     /// The run's body, on its own thread: the library's greedy, its outcome recorded.
-    fn run(
-        &self,
-        design: &Design,
-        params: &GreedyParams,
-        constraints: Option<&Constraints>,
-        cancel: Cancel,
-    ) {
+    fn run(&self, design: &Design, search: &Search, cancel: Cancel) {
         let mut hooks = Hooks {
             runner: self,
             cancel,
         };
         let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            greedy(design.analyzer(), params, constraints, None, &mut hooks)
+            greedy(
+                design.analyzer(),
+                &search.greedy,
+                Some(&search.constraints),
+                None,
+                &mut hooks,
+            )
         }));
         let mut s = self.lock();
         if let Some(out) = s.job.end(outcome, "greedy") {

@@ -13,7 +13,9 @@
 //! requests about the current workspace (docs/serve.md; loading a run folder replaces it) and
 //! serves the page of [`app`] at `/` (the viewer grown into a design tool), running every
 //! analysis off the async runtime; [`Server`] binds a socket and serves the router on a tokio
-//! runtime of its own; [`bench`] measures edit latencies against cold analyses. The core
+//! runtime of its own; [`start`] is how a front end starts one (the socket, then what is
+//! served, read by the application layer); [`bench`] measures edit latencies against cold
+//! analyses. The core
 //! library stays free of tokio: only this crate (and the command line's `serve` feature)
 //! depends on it.
 
@@ -27,6 +29,7 @@ pub mod export;
 pub mod greedy;
 mod job;
 pub mod local;
+pub mod start;
 pub mod words;
 pub mod workspace;
 

@@ -15,10 +15,11 @@
 use crate::design::Design;
 use crate::greedy::{GreedyError, Request, RunStatus};
 use crate::job::Job;
+use curvenet::app::Search;
 use curvenet::constraints::Constraints;
 use curvenet::simplify::SimplifyError;
 use curvenet::simplify::exhaustive::SubsetScore;
-use curvenet::simplify::local::{LocalOutcome, LocalParams, local_search};
+use curvenet::simplify::local::{LocalOutcome, local_search};
 use serde::Serialize;
 use std::sync::{Arc, Mutex, MutexGuard};
 
@@ -118,32 +119,27 @@ pub struct LocalRunner {
 }
 
 impl LocalRunner {
-    /// Starts a search on `design`'s network from its current structure with the budget and
-    /// keep list of `request` (its `max_removals` ignored), honouring `constraints` (bound to
-    /// that budget and keep list); answers its first progress.
+    /// Starts a search on `design`'s network from its current structure with `request`'s
+    /// `search` ([`Request::search`]: its budget, keep list and constraints; `max_removals`
+    /// is the greedy's); answers its first progress.
     ///
     /// # Errors
     ///
-    /// [`GreedyError::LocalBusy`] while a search computes; [`GreedyError::Params`] for a budget
-    /// out of `(0, 1]`, an unknown curve to keep or a keep list holding every curve.
+    /// [`GreedyError::LocalBusy`] while a search computes.
     pub fn start(
         self: &Arc<Self>,
         design: Arc<Design>,
         request: &Request,
-        constraints: Option<Constraints>,
+        search: Search,
     ) -> Result<LocalProgress, GreedyError> {
-        let greedy = request.checked(&design)?;
-        let params = LocalParams {
-            keep: greedy.keep,
-            ..LocalParams::new(greedy.budget)
-        };
+        let params = search.local();
         let from = design.current().summary.curves.clone();
         let mut s = self.lock();
         if s.job.is_running() {
             return Err(GreedyError::LocalBusy);
         }
         *s = Shared {
-            job: Job::running((request.budget, request.budget * design.total_length())),
+            job: Job::running((request.budget, search.budget_length)),
             from: Some(from.clone()),
             result: None,
         };
@@ -156,7 +152,7 @@ impl LocalRunner {
                 local_search(
                     design.analyzer(),
                     &params,
-                    constraints.as_ref(),
+                    Some(&search.constraints),
                     &from,
                     &cancel,
                 )
@@ -176,7 +172,7 @@ impl LocalRunner {
                 if o.cancelled {
                     s.job.status = RunStatus::Cancelled;
                 }
-                s.result = Some(LocalResult::of(&o, constraints.as_ref()));
+                s.result = Some(LocalResult::of(&o, Some(&search.constraints)));
             }
         });
         Ok(progress)

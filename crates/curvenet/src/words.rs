@@ -113,6 +113,12 @@ options! {
     Force = "force",
     /// The folder of the paper's data.
     Data = "data",
+    /// The folder whose run folders a server may load.
+    Runs = "runs",
+    /// The address a server listens on.
+    Host = "host",
+    /// The port a server listens on.
+    Port = "port",
 }
 
 /// How a front end spells an option (with or without the value the user gave).

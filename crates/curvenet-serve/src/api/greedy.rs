@@ -8,6 +8,7 @@ use axum::body::Bytes;
 use axum::extract::State;
 use axum::extract::rejection::BytesRejection;
 use axum::http::StatusCode;
+use curvenet::app::Search;
 use serde::{Deserialize, Serialize};
 use std::sync::Arc;
 
@@ -50,21 +51,11 @@ impl From<StartBody> for Request {
     }
 }
 
-/// The session's constraints bound to the budget and keep list of `request`, checked first
-/// (a bad request is refused before the constraints are bound).
-pub(super) fn constraints_for(
-    ws: &Workspace,
-    request: &Request,
-) -> Result<Option<curvenet::constraints::Constraints>, ApiError> {
-    let params = request.checked(&ws.design)?;
-    let net = ws.design.analyzer().network();
-    let budget = params.budget.length(ws.design.total_length());
-    ws.constraints()
-        .for_search(net, ws.mesh.as_deref(), budget, &params.keep)
-        .map_err(|m| ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, m))
+/// The search of `request` on the workspace's network under the session's constraints.
+pub(super) fn search_for(ws: &Workspace, request: &Request) -> Result<Search, ApiError> {
+    Ok(request.search(&ws.design, &mut ws.constraints(), ws.mesh.as_deref())?)
 }
 
-/// The body of `POST /api/greedy/step`.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct StepBody {
@@ -93,10 +84,8 @@ pub(super) async fn start(
     let b: StartBody = parse(body)?;
     let request = Request::from(b);
     let p = off_runtime(move || {
-        let constraints = constraints_for(&ws, &request)?;
-        Ok(ws
-            .greedy
-            .start(Arc::clone(&ws.design), request, constraints)?)
+        let search = search_for(&ws, &request)?;
+        Ok(ws.greedy.start(Arc::clone(&ws.design), &request, search)?)
     })
     .await?;
     Ok(axum::Json(p))

@@ -2,7 +2,7 @@
 //! `GET /api/local` (progress and result), `POST /api/local/cancel`, `POST /api/local/adopt`
 //! (its best network made current).
 
-use super::greedy::{StartBody, constraints_for};
+use super::greedy::{StartBody, search_for};
 use super::{ApiError, ApiResult, EditAnswer, blocking, off_runtime, parse};
 use crate::greedy::Request;
 use crate::local::LocalProgress;
@@ -27,10 +27,8 @@ pub(super) async fn start(
         ));
     }
     let p = off_runtime(move || {
-        let constraints = constraints_for(&ws, &request)?;
-        Ok(ws
-            .local
-            .start(Arc::clone(&ws.design), &request, constraints)?)
+        let search = search_for(&ws, &request)?;
+        Ok(ws.local.start(Arc::clone(&ws.design), &request, search)?)
     })
     .await?;
     Ok(axum::Json(p))

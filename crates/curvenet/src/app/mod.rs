@@ -21,6 +21,7 @@ pub mod inputs;
 mod model;
 mod observer;
 mod run;
+mod search;
 mod setup;
 mod summary;
 
@@ -30,5 +31,6 @@ pub use inputs::{CurveSource, ExampleDefaults, GivenCurves, InputSpec, Inputs, M
 pub use model::{MAX_EIGEN_COUNT, Model, ModelOptions};
 pub use observer::{Observer, Silent};
 pub use run::{AfterSeconds, MAX_ALTERNATIVES, RunOutcome, RunSpec, execute};
+pub use search::Search;
 pub use setup::{Setup, check_curve_ids};
 pub use summary::run_summary;

@@ -2,6 +2,7 @@
 //! alternatives, and the certificate, each recorded in the run folder's writer.
 
 use crate::app::observer::{Observer, StageGuard};
+use crate::app::search::Search;
 use crate::app::{AppError, Stage};
 use crate::cancel::Cancel;
 use crate::constraints::Constraints;
@@ -15,7 +16,7 @@ use crate::run_folder::{
 };
 use crate::simplify::certificate::{Certificate, CertifyParams, certificate, tighten_certificate};
 use crate::simplify::exhaustive::SubsetScore;
-use crate::simplify::local::{LocalParams, local_search};
+use crate::simplify::local::local_search;
 use crate::simplify::{GreedyOutcome, GreedyParams};
 use crate::stability::fixed::FixedProblem;
 use crate::stability::{Analyzer, Evaluation, Prepare, Preset, Warm};
@@ -53,14 +54,14 @@ impl After {
     pub(super) fn run(
         &self,
         analyzer: &Analyzer,
-        params: &GreedyParams,
-        constraints: &Constraints,
+        search: &Search,
         outcome: &GreedyOutcome,
         writer: &mut OutputWriter<'_>,
         out: &Path,
         observer: &dyn Observer,
         cancel: &Cancel,
     ) -> Result<AfterSeconds, AppError> {
+        let (params, constraints) = (&search.greedy, &search.constraints);
         let stopped = |stage| AppError::Cancelled {
             stage,
             kept: outcome.iterations.len(),
@@ -69,7 +70,7 @@ impl After {
         let (local, local_seconds) =
             optional_step(self.local_search, "local search", observer, cancel, || {
                 let _stage = StageGuard::start(observer, Stage::LocalSearch);
-                local_search_of(analyzer, params, constraints, outcome, cancel)
+                local_search_of(analyzer, search, outcome, cancel)
             });
         if cancel.is_cancelled() {
             return Err(stopped(Stage::LocalSearch));
@@ -286,18 +287,20 @@ fn evaluate_curves(
 /// with the run's budget, keep list and constraints.
 fn local_search_of(
     analyzer: &Analyzer,
-    params: &GreedyParams,
-    constraints: &Constraints,
+    search: &Search,
     outcome: &GreedyOutcome,
     cancel: &Cancel,
 ) -> Result<(LocalSearchRecord, Vec<SubsetScore>), Message> {
     let last = outcome.iterations.last().ok_or("no iteration")?;
-    let local = LocalParams {
-        keep: params.keep.clone(),
-        ..LocalParams::new(params.budget)
-    };
-    let o = local_search(analyzer, &local, Some(constraints), &last.curves, cancel)
-        .map_err(|e| e.message())?;
+    let local = search.local();
+    let o = local_search(
+        analyzer,
+        &local,
+        Some(&search.constraints),
+        &last.curves,
+        cancel,
+    )
+    .map_err(|e| e.message())?;
     let mut record =
         LocalSearchRecord::new(&local, &o, &last.curves).ok_or("λ_eq could not be evaluated")?;
     record.objective = objective_name(analyzer.objective()).into();

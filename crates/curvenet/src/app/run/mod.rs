@@ -9,14 +9,15 @@ mod folder;
 mod notes;
 
 use super::observer::{Observer, StageGuard};
+use super::search::Search;
 use super::setup::{Setup, check_curve_ids};
 use super::{AppError, Stage};
 use crate::cancel::Cancel;
-use crate::constraints::{ConstraintError, ConstraintParams, Constraints, read_groups};
+use crate::constraints::{ConstraintParams, read_groups};
 use crate::network::Network;
 use crate::run_folder::{OutputWriter, ResultFile, RunFolderError, RunSetup};
 use crate::simplify::greedy::ResumePoint;
-use crate::simplify::{Budget, GreedyParams, SimplifyError, greedy};
+use crate::simplify::{Budget, SimplifyError, greedy};
 use crate::stability::Objective;
 use crate::words::{Message, Opt, given, message};
 use std::path::{Path, PathBuf};
@@ -151,11 +152,6 @@ pub fn execute(
     }
     let network = analyzer.network();
     let n = network.rods.len();
-    let params = GreedyParams {
-        keep: keep.clone(),
-        ..GreedyParams::new(budget)
-    };
-    params.validate(n).map_err(AppError::Usage)?;
     let total = network.total_length(&(0..n).collect::<Vec<_>>());
     let budget_length = budget.length(total);
     let info = setup.built().expect("built by the analyzer").1.clone();
@@ -163,15 +159,16 @@ pub fn execute(
         observer.warning(&w);
     }
     let mesh = setup.inputs.mesh.as_ref();
-    let (constraints, constraint_params) = constraints_of(
+    let search = Search::new(
         network,
         mesh,
+        budget,
+        keep,
         constraint_params,
         spec.default_constraints,
-        budget_length,
-        &keep,
         observer,
     )?;
+    let params = &search.greedy;
     let run_setup = RunSetup {
         input: setup.inputs.description.clone(),
         build: setup.inputs.build.clone(),
@@ -179,7 +176,7 @@ pub fn execute(
         greedy: params.clone(),
         network: info,
         total_length: total,
-        constraints: constraint_params,
+        constraints: search.settings.clone(),
         physical: setup.model.physical_options.clone(),
     };
     let opened = open_writer(
@@ -216,8 +213,8 @@ pub fn execute(
         let _stage = StageGuard::start(observer, Stage::Greedy);
         greedy(
             &analyzer,
-            &params,
-            Some(&constraints),
+            params,
+            Some(&search.constraints),
             resume_point,
             &mut writer,
         )
@@ -250,8 +247,7 @@ pub fn execute(
     };
     let seconds = after.run(
         &analyzer,
-        &params,
-        &constraints,
+        &search,
         &outcome,
         &mut writer,
         &spec.out,
@@ -318,46 +314,6 @@ fn check_spec(setup: &Setup, spec: &RunSpec) -> Result<Budget, AppError> {
         ]));
     }
     Ok(budget)
-}
-
-/// The run's design constraints, their notes reported, and the settings in force.
-/// Infeasible combinations stop the run here, before any work, saying why (a front end's own
-/// default constraints are dropped instead, with a note). Without design constraints a budget
-/// nothing meets is only a warning ([`notes::start_warnings`]): the greedy runs as ever.
-fn constraints_of(
-    network: &Network,
-    mesh: Option<&crate::io::TriMesh>,
-    mut params: ConstraintParams,
-    defaults: bool,
-    budget: f64,
-    keep: &[usize],
-    observer: &dyn Observer,
-) -> Result<(Constraints, ConstraintParams), AppError> {
-    let constraints =
-        if params.is_default() {
-            Constraints::none(network, budget, keep)
-        } else {
-            match Constraints::new(network, mesh, &params, budget, keep) {
-                Ok(c) => c,
-                Err(e) if defaults => {
-                    observer.note(&e.message().prefixed([
-                        "the default constraints are left out on this network: ".into(),
-                    ]));
-                    params = ConstraintParams::default();
-                    Constraints::none(network, budget, keep)
-                }
-                Err(ConstraintError::Usage(m)) => return Err(AppError::Usage(m)),
-                Err(ConstraintError::Infeasible(m)) => {
-                    return Err(AppError::Usage(
-                        m.prefixed(["the constraints cannot be met: ".into()]),
-                    ));
-                }
-            }
-        };
-    for note in constraints.notes() {
-        observer.note(note);
-    }
-    Ok((constraints, params))
 }
 
 /// The run folder's writer and the point to resume from: a new folder, or with `resume` the
