@@ -280,16 +280,11 @@ pub(crate) struct Gravity {
 impl Gravity {
     /// The gravity deflection of `structure` (computed on first use).
     pub(crate) fn of(ws: &Workspace, structure: &Evaluated) -> Option<Self> {
-        let g = structure.gravity(ws.design.analyzer())?;
-        let (vertex, max_displacement) = g
-            .chunks(3)
-            .map(|c| (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt())
-            .enumerate()
-            .fold((0, 0.0f64), |b, x| if x.1 > b.1 { x } else { b });
+        let (u, summary) = structure.gravity(ws.design.analyzer())?;
         Some(Gravity {
-            displacement: g.to_vec(),
-            max_displacement,
-            vertex,
+            displacement: u.to_vec(),
+            max_displacement: summary.max_displacement,
+            vertex: summary.vertex,
         })
     }
 }

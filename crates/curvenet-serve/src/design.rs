@@ -15,7 +15,8 @@ use crate::cache::Cache;
 use curvenet::physics::{PhysicalReport, analyze_physical};
 use curvenet::rod::ActiveSet;
 use curvenet::stability::{
-    Analysis, Analyzer, CurveShare, EDIT_PAIRS, EditFrom, EditStart, Spectrum, StabilityError,
+    Analysis, Analyzer, CurveShare, EDIT_PAIRS, EditFrom, EditStart, GravityDeflection, Spectrum,
+    StabilityError,
 };
 use serde::Serialize;
 use std::sync::{Arc, Mutex, MutexGuard, OnceLock};
@@ -105,22 +106,21 @@ pub struct Evaluated {
     /// The spectrum: the next edit's eigen solve starts from its vectors.
     spectrum: Spectrum,
     /// The gravity deflection, once asked for.
-    gravity: OnceLock<Option<Vec<f64>>>,
+    gravity: OnceLock<Option<(Vec<f64>, GravityDeflection)>>,
 }
 
 impl Evaluated {
     /// The deflection under the analyzer's gravity load, `H u = f` at the equilibrium (3 per
-    /// vertex; `None` when the Hessian is not positive definite), computed on first use.
-    pub fn gravity(&self, analyzer: &Analyzer) -> Option<&[f64]> {
+    /// vertex), with the library's summary of it (largest displacement, where, compliance);
+    /// `None` when the Hessian is not positive definite. Computed on first use.
+    pub fn gravity(&self, analyzer: &Analyzer) -> Option<(&[f64], &GravityDeflection)> {
         self.gravity
             .get_or_init(|| {
-                curvenet::report::viewer::gravity_deflection(
-                    analyzer,
-                    &self.summary.curves,
-                    &self.displacement,
-                )
+                let active = analyzer.set(&self.summary.curves);
+                analyzer.gravity_at(&active, &self.displacement)
             })
-            .as_deref()
+            .as_ref()
+            .map(|(u, summary)| (u.as_slice(), summary))
     }
 
     /// Bytes of memory it holds (what the cache counts; the gravity deflection counted
