@@ -5,10 +5,18 @@ use crate::values::{
     budget_fraction, count, extent, open_fraction, physical, port, positive, seconds, young,
 };
 use clap::{Args, Parser, Subcommand};
+use curvenet::app::MAX_EIGEN_COUNT;
 use curvenet::constraints::SymmetryOption;
 use curvenet::rod::Supports;
+use curvenet::stability::{Objective, Technique};
 use curvenet::words::Opt;
 use std::path::PathBuf;
+use std::str::FromStr;
+
+/// `--force`'s help (`simplify`, `example`, `demo`).
+const FORCE: &str = "Run into a non-empty folder that is not a curvenet run's (the run's own files \
+    are replaced, the others kept). A curvenet run's folder needs no --force: a fresh run there \
+    removes the earlier run's files first";
 
 /// Stability-aware simplification of curve networks.
 #[derive(Debug, Parser)]
@@ -211,8 +219,8 @@ pub struct CompareArgs {
     /// What the searches maximise: lambda (the paper's λ_eq) or frequency (the first natural
     /// frequency, μ_min of the mass metric); frequency needs --fresh (the sizes' table also
     /// runs the rounded relaxation and the exact λ_fix solver, which bound λ_fix only).
-    #[arg(long, default_value = "lambda", value_parser = parse_objective)]
-    pub objective: curvenet::stability::Objective,
+    #[arg(long, default_value = "lambda", value_parser = Objective::from_str)]
+    pub objective: Objective,
 }
 
 /// `curvenet trace`.
@@ -263,8 +271,8 @@ pub struct BenchArgs {
     /// Techniques to switch off, to measure what each contributes (comma-separated; the
     /// answer must stay the same): prune, warm, restrict, first-shift, reuse, ahead, carry,
     /// inertia, subtrees, floor-near, quadratic-chord, escape.
-    #[arg(long, value_delimiter = ',', value_parser = parse_technique)]
-    pub off: Vec<curvenet::stability::Technique>,
+    #[arg(long, value_delimiter = ',', value_parser = Technique::from_str)]
+    pub off: Vec<Technique>,
     /// Low modes per iteration (the candidates' bound subspace; default: the greedy's).
     #[arg(long, value_parser = count(1, 64), allow_hyphen_values = true)]
     pub modes: Option<usize>,
@@ -308,10 +316,7 @@ pub struct DemoArgs {
     /// Output folder.
     #[arg(long, default_value = "out/demo")]
     pub out: PathBuf,
-    /// Run into a non-empty folder that is not a curvenet run's (the run's own files are
-    /// replaced, the others kept). A curvenet run's folder needs no --force: a fresh run
-    /// there removes the earlier run's files first.
-    #[arg(long)]
+    #[arg(long, help = FORCE)]
     pub force: bool,
     /// Budget as a fraction of the total length, in (0, 1].
     #[arg(long, default_value_t = 0.3, value_parser = budget_fraction, allow_hyphen_values = true)]
@@ -336,7 +341,7 @@ pub struct DemoArgs {
 #[derive(Debug, Args, Clone)]
 pub struct PhysicsArgs {
     /// Supports of open curves.
-    #[arg(long, value_parser = parse_supports)]
+    #[arg(long, value_parser = Supports::from_str)]
     pub supports: Option<Supports>,
     /// Rod radius (scene units; default 2).
     #[arg(long, value_parser = positive, allow_hyphen_values = true)]
@@ -349,7 +354,7 @@ pub struct PhysicsArgs {
     #[arg(long = "anchor-weight", value_parser = positive, allow_hyphen_values = true)]
     pub anchor_weight: Option<f64>,
     /// Number of smallest eigenvalues to report (1 to 100).
-    #[arg(long = "eigen-count", default_value_t = 4, value_parser = count(1, 100), allow_hyphen_values = true)]
+    #[arg(long = "eigen-count", default_value_t = 4, value_parser = count(1, MAX_EIGEN_COUNT as u64), allow_hyphen_values = true)]
     pub eigen_count: usize,
     /// Merge joints closer than this fraction of h, in (0, 1) (off by default; docs/model.md, "Numerical hazards").
     #[arg(long = "merge-joints", value_parser = open_fraction, allow_hyphen_values = true)]
@@ -358,8 +363,8 @@ pub struct PhysicsArgs {
     /// smallest eigenvalue of the Hessian at equilibrium) or frequency (the first natural
     /// frequency: μ_min of H v = μ M v with the lumped mass; in the paper's mode with unit
     /// density). See docs/units.md.
-    #[arg(long, default_value = "lambda", value_parser = parse_objective)]
-    pub objective: curvenet::stability::Objective,
+    #[arg(long, default_value = "lambda", value_parser = Objective::from_str)]
+    pub objective: Objective,
 }
 
 /// Input files and network construction, shared by `analyze` and `simplify`.
@@ -397,10 +402,7 @@ pub struct GreedyArgs {
     /// Continue an interrupted run in the output folder.
     #[arg(long)]
     pub resume: bool,
-    /// Run into a non-empty folder that is not a curvenet run's (the run's own files are
-    /// replaced, the others kept). A curvenet run's folder needs no --force: a fresh run
-    /// there removes the earlier run's files first.
-    #[arg(long)]
+    #[arg(long, help = FORCE)]
     pub force: bool,
     /// What runs after the greedy.
     #[command(flatten)]
@@ -421,7 +423,7 @@ pub struct ConstraintArgs {
     /// Keep the network symmetric: `rotate:N` (orbits under the rotation of order N about the
     /// detected axis kept or removed whole), `mirror`, `auto` (the largest symmetry found that
     /// leaves a choice within the budget) or `none`.
-    #[arg(long, value_parser = symmetry)]
+    #[arg(long, value_parser = SymmetryOption::from_str)]
     pub symmetry: Option<SymmetryOption>,
     /// The kept curves form one connected structure.
     #[arg(long)]
@@ -436,11 +438,6 @@ pub struct ConstraintArgs {
     /// (the answer is chosen among networks that meet it).
     #[arg(long = "max-deviation", value_name = "D", value_parser = positive, allow_hyphen_values = true)]
     pub max_deviation: Option<f64>,
-}
-
-/// `--symmetry`'s value.
-fn symmetry(s: &str) -> Result<SymmetryOption, String> {
-    s.parse()
 }
 
 /// What `demo`, `example` and `simplify` do after the greedy: the local search, the
@@ -573,10 +570,7 @@ pub struct ExampleArgs {
     /// Continue an interrupted run in the output folder.
     #[arg(long)]
     pub resume: bool,
-    /// Run into a non-empty folder that is not a curvenet run's (the run's own files are
-    /// replaced, the others kept). A curvenet run's folder needs no --force: a fresh run
-    /// there removes the earlier run's files first.
-    #[arg(long)]
+    #[arg(long, help = FORCE)]
     pub force: bool,
     /// What runs after the greedy.
     #[command(flatten)]
@@ -593,18 +587,4 @@ pub struct ExampleArgs {
     /// The physical mode (every iteration also records its physical numbers).
     #[command(flatten)]
     pub physical: PhysicalModeArgs,
-}
-
-fn parse_supports(s: &str) -> Result<Supports, String> {
-    s.parse()
-}
-
-/// `--objective`'s value.
-fn parse_objective(s: &str) -> Result<curvenet::stability::Objective, String> {
-    s.parse()
-}
-
-/// A technique's name as `bench --off` takes it.
-fn parse_technique(s: &str) -> Result<curvenet::stability::Technique, String> {
-    s.parse()
 }

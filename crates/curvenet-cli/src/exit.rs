@@ -1,9 +1,7 @@
 //! Mapping errors to exit codes and messages.
 
 use curvenet::io::InputError;
-use curvenet::network::build::BuildError;
 use curvenet::paper::ExampleError;
-use curvenet::pipeline::PipelineError;
 
 /// An error that carries its exit code.
 #[derive(Debug)]
@@ -31,20 +29,15 @@ pub fn usage(message: impl Into<String>) -> anyhow::Error {
     .into()
 }
 
-/// The exit code of `err`: its own for an [`ExitError`], 2 for input errors (unreadable or
-/// malformed files, networks that cannot be built, unknown examples, invalid parameters), 1 for
+/// The exit code of `err`: its own for an [`ExitError`] (the application layer's errors are
+/// made one by `front::fail`), 2 for unreadable or malformed files and unknown examples, 1 for
 /// everything else (internal errors).
 pub fn code_of(err: &anyhow::Error) -> i32 {
     if let Some(e) = err.downcast_ref::<ExitError>() {
         return e.code;
     }
-    let input = err.downcast_ref::<InputError>().is_some()
-        || err.downcast_ref::<BuildError>().is_some()
-        || err.downcast_ref::<ExampleError>().is_some()
-        || matches!(
-            err.downcast_ref::<PipelineError>(),
-            Some(PipelineError::Build(_) | PipelineError::Params(_))
-        );
+    let input =
+        err.downcast_ref::<InputError>().is_some() || err.downcast_ref::<ExampleError>().is_some();
     if input { 2 } else { 1 }
 }
 

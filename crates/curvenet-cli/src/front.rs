@@ -5,8 +5,6 @@
 use crate::exit::ExitError;
 use crate::signals::{self, Stage as SignalStage};
 use curvenet::app::{AppError, Observer, Stage};
-use curvenet::report::ReportError;
-use curvenet::run_folder::RunFolderError;
 use curvenet::simplify::greedy::IterationRecord;
 use curvenet::words::{Message, Opt, Wording};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -24,22 +22,6 @@ impl Wording for Flags {
 /// A message in the command line's words.
 pub fn say(m: &Message) -> String {
     m.render(&Flags)
-}
-
-/// A run folder's error in the command line's words.
-pub fn folder_error(e: &RunFolderError) -> String {
-    match e {
-        RunFolderError::Absent(m) | RunFolderError::Resume(m) => say(m),
-        e => e.to_string(),
-    }
-}
-
-/// An export's or a picture's error in the command line's words.
-pub fn report_error(e: &ReportError) -> String {
-    match e {
-        ReportError::RunFolder(e) => folder_error(e),
-        e => e.to_string(),
-    }
 }
 
 /// The error of the application layer as the command line reports it: exit 2 for what the

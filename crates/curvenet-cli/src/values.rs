@@ -12,6 +12,8 @@
 use crate::front::say;
 use clap::builder::{RangedU64ValueParser, TypedValueParser};
 use curvenet::physics::options::check_option;
+use curvenet::simplify::exact::MAX_TIME_LIMIT;
+use curvenet::trace::check_extent;
 use curvenet::words::Opt;
 
 /// Parses a floating-point number (`1.5`, `2e-3`); `nan`, `inf` and garbage are refused here or
@@ -37,24 +39,11 @@ pub fn positive(s: &str) -> Result<f64, String> {
     }
 }
 
-/// The largest extent `trace --extent` scales a mesh to (as the largest coordinate of the
-/// inputs of `analyze` and `simplify`).
-pub const MAX_EXTENT: f64 = 1e15;
-
-/// The smallest extent `trace --extent` scales a mesh to.
-pub const MIN_EXTENT: f64 = 1e-12;
-
-/// An extent to scale a mesh to: 0 (keep the mesh's size) or within
-/// [[`MIN_EXTENT`], [`MAX_EXTENT`]].
+/// An extent to scale a mesh to: 0 (keep the mesh's size) or within the range
+/// `curvenet::trace::check_extent` accepts.
 pub fn extent(s: &str) -> Result<f64, String> {
     let v = number(s)?;
-    if v == 0.0 || (MIN_EXTENT..=MAX_EXTENT).contains(&v) {
-        Ok(v.abs())
-    } else {
-        Err(format!(
-            "an extent is 0 (keep the mesh's size) or lies in [{MIN_EXTENT:e}, {MAX_EXTENT:e}]"
-        ))
-    }
+    check_extent(v).map(|()| v.abs()).map_err(|m| say(&m))
 }
 
 /// A budget as a fraction of the total rest length: in (0, 1].
@@ -77,17 +66,15 @@ pub fn open_fraction(s: &str) -> Result<f64, String> {
     }
 }
 
-/// The longest time limit accepted, seconds (about 31 years: "no limit" in practice).
-pub const MAX_SECONDS: f64 = 1e9;
-
-/// A time limit in seconds: positive, at most [`MAX_SECONDS`].
+/// A time limit in seconds: positive, at most the exact solver's
+/// [`MAX_TIME_LIMIT`] (about 31 years: "no limit" in practice).
 pub fn seconds(s: &str) -> Result<f64, String> {
     let v = number(s)?;
-    if v > 0.0 && v <= MAX_SECONDS {
+    if v > 0.0 && v <= MAX_TIME_LIMIT {
         Ok(v)
     } else {
         Err(format!(
-            "a time limit in seconds must lie in (0, {MAX_SECONDS:e}]"
+            "a time limit in seconds must lie in (0, {MAX_TIME_LIMIT:e}]"
         ))
     }
 }

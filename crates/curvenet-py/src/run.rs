@@ -4,10 +4,8 @@
 use crate::arrays::{points, xyz};
 use crate::errors;
 use crate::network::Keywords;
-use curvenet::report::ReportError;
 use curvenet::report::export::{ExportFormat, export_files, write_exports};
 use curvenet::run_folder::RunFolder;
-use curvenet::run_folder::RunFolderError;
 use curvenet::run_folder::network_polylines;
 use numpy::PyArray2;
 use pyo3::prelude::*;
@@ -24,24 +22,8 @@ impl Run {
         let k = k.unwrap_or_else(|| self.run.last_index());
         self.run
             .record(k)
-            .map_err(|e| errors::usage(py, said(&e)))?;
+            .map_err(|e| errors::usage(py, e.render(&Keywords)))?;
         Ok(k)
-    }
-}
-
-/// A run folder's error in the package's words (a missing network names its keyword).
-fn said(e: &RunFolderError) -> String {
-    match e {
-        RunFolderError::Absent(m) | RunFolderError::Resume(m) => m.render(&Keywords),
-        e => e.to_string(),
-    }
-}
-
-/// An export's error in the package's words.
-fn reported(e: &ReportError) -> String {
-    match e {
-        ReportError::RunFolder(e) => said(e),
-        e => e.to_string(),
     }
 }
 
@@ -52,7 +34,7 @@ impl Run {
     fn new(py: Python<'_>, dir: PathBuf) -> PyResult<Self> {
         let run = py
             .detach(|| RunFolder::open(&dir))
-            .map_err(|e| errors::usage(py, said(&e)))?;
+            .map_err(|e| errors::usage(py, e.render(&Keywords)))?;
         Ok(Run { run })
     }
 
@@ -97,7 +79,7 @@ impl Run {
         let u = self
             .run
             .displacement(k)
-            .map_err(|e| errors::usage(py, said(&e)))?;
+            .map_err(|e| errors::usage(py, e.render(&Keywords)))?;
         Ok(xyz(py, u))
     }
 
@@ -105,7 +87,7 @@ impl Run {
     #[pyo3(signature = (k = None))]
     fn mode<'py>(&self, py: Python<'py>, k: Option<usize>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let k = self.k(py, k)?;
-        let v = self.run.mode(k).map_err(|e| errors::usage(py, said(&e)))?;
+        let v = self.run.mode(k).map_err(|e| errors::usage(py, e.render(&Keywords)))?;
         Ok(xyz(py, v))
     }
 
@@ -161,7 +143,7 @@ impl Run {
         let format: ExportFormat = format.parse().map_err(|e: String| errors::usage(py, e))?;
         let k = self.k(py, k)?;
         py.detach(|| write_exports(&self.run, k, format, &out))
-            .map_err(|e| errors::failed(py, reported(&e)))
+            .map_err(|e| errors::failed(py, e.render(&Keywords)))
     }
 
     /// The main file of `format` for iteration `k`, as `(name, text)`.
@@ -175,7 +157,7 @@ impl Run {
         let format: ExportFormat = format.parse().map_err(|e: String| errors::usage(py, e))?;
         let k = self.k(py, k)?;
         let files =
-            export_files(&self.run, k, format).map_err(|e| errors::failed(py, reported(&e)))?;
+            export_files(&self.run, k, format).map_err(|e| errors::failed(py, e.render(&Keywords)))?;
         files
             .into_iter()
             .next()

@@ -370,15 +370,13 @@ fn objectives_on_fresh_random_networks() {
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(40);
-    let surfaces: Vec<(String, curvenet::io::TriMesh)> = curvenet::paper::SIMPLE_SURFACES
+    let names: Vec<String> = curvenet::paper::SIMPLE_SURFACES
         .iter()
-        .map(|s| {
-            let m = curvenet::paper::DataSource::Embedded
-                .read_mesh(&format!("{s}.obj"))
-                .expect("surface");
-            (s.to_string(), m.mesh)
-        })
+        .map(|s| s.to_string())
         .collect();
+    let (surfaces, _) =
+        curvenet::experiments::compare::surfaces(&names, &curvenet::paper::DataSource::Embedded)
+            .expect("surfaces");
     let run = |objective| {
         let defaults = FreshParams::default();
         let params = FreshParams {

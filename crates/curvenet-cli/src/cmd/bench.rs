@@ -23,7 +23,7 @@
 use crate::args::BenchArgs;
 use crate::exit::usage;
 use curvenet::experiments::bench::{
-    BenchParams, BenchRow, References, format_row, header, median_row, run_example,
+    BenchParams, BenchRow, References, Rounds, format_row, header, run_example,
 };
 use curvenet::paper;
 use indicatif::{ProgressBar, ProgressStyle};
@@ -68,7 +68,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
     println!("{}", header());
     let repeat = a.repeat as usize;
     let forwarded = worker_args(std::env::args().collect())?;
-    let mut runs: Vec<Vec<BenchRow>> = vec![Vec::with_capacity(repeat); a.examples.len()];
+    let mut rounds = Rounds::new(a.examples.len(), repeat, references);
     // On a terminal only (indicatif draws nothing when stderr is not one).
     let bar = ProgressBar::new((repeat * a.examples.len()) as u64);
     bar.set_style(
@@ -88,20 +88,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
                     eprintln!("round {}/{repeat}: {name} {:.2} s", round + 1, row.wall_s)
                 });
             }
-            if let Some(first) = runs[i].first()
-                && first.answer() != row.answer()
-            {
-                anyhow::bail!(
-                    "{name}: run {} made different removals or λ_eq than run 1 \
-                     (the greedy must be deterministic)",
-                    round + 1
-                );
-            }
-            runs[i].push(row);
-            if round + 1 == repeat
-                && let Some(mut row) = median_row(std::mem::take(&mut runs[i]))
-            {
-                row.reference_s = references.0.get(name).copied();
+            if let Some(row) = rounds.record(i, name, round, row)? {
                 bar.suspend(|| {
                     println!("{}", format_row(&row));
                     if a.json {

@@ -5,14 +5,13 @@
 use crate::args::CompareArgs;
 use crate::exit::usage;
 use curvenet::experiments::compare::{
-    Case, CompareParams, ConstrainedParams, FreshParams, RandomDraw, Surface, compare, constrained,
-    fresh,
+    Case, CompareParams, ConstrainedParams, FreshParams, RandomDraw, compare, constrained, fresh,
+    surfaces,
 };
 use curvenet::io;
-use curvenet::paper;
 use curvenet::simplify::SimplifyError;
+use curvenet::trace::SurfaceError;
 use indicatif::{ProgressBar, ProgressStyle};
-use std::path::Path;
 
 pub fn run(a: CompareArgs) -> anyhow::Result<()> {
     let data = super::data_source(a.data.as_deref())?;
@@ -21,23 +20,50 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
             super::writable_file(option, p)?;
         }
     }
-    let mut surfaces = Vec::new();
-    for name in &a.surfaces {
-        let mesh = if paper::SIMPLE_SURFACES.contains(&name.as_str()) {
-            data.read_mesh(&format!("{name}.obj"))?.mesh
-        } else {
-            super::mesh_arg(Path::new(name))?.0
-        };
-        surfaces.push(Surface {
-            name: name.clone(),
-            mesh,
-        });
-    }
+    let (surfaces, warnings) = surfaces(&a.surfaces, &data).map_err(|e| match e {
+        SurfaceError::Unknown(_) => usage(format!("--surfaces {e}")),
+        e => usage(e.to_string()),
+    })?;
+    super::print_warnings(&warnings);
+    let progress = |bar: &ProgressBar| {
+        let bar = bar.clone();
+        move |done: usize, _: usize| bar.set_position(done as u64)
+    };
     if let Some(networks) = a.fresh {
-        return run_fresh(&a, networks, surfaces);
+        let d = FreshParams::default();
+        let params = FreshParams {
+            draw: RandomDraw {
+                networks,
+                seed: a.seed,
+                ..d.draw
+            },
+            objective: a.objective,
+            ..d
+        };
+        let bar = networks_bar(networks);
+        let report = fresh(&params, &surfaces, &progress(&bar))?;
+        bar.finish_and_clear();
+        return print_and_write(&a, &report.markdown(), &report);
     }
     if let Some(networks) = a.constraints {
-        return run_constrained(&a, networks, surfaces, &data);
+        let cases = (a.examples.iter().filter(|n| n.as_str() != "none"))
+            .map(|name| {
+                Case::example(name, &data).map_err(|e| usage(format!("--examples {name}: {e}")))
+            })
+            .collect::<anyhow::Result<Vec<_>>>()?;
+        let d = ConstrainedParams::default();
+        let params = ConstrainedParams {
+            draw: RandomDraw {
+                networks,
+                seed: a.seed,
+                ..d.draw
+            },
+            ..d
+        };
+        let bar = networks_bar(cases.len() + networks);
+        let report = constrained(&params, cases, &surfaces, &progress(&bar))?;
+        bar.finish_and_clear();
+        return print_and_write(&a, &report.markdown(), &report);
     }
     if a.objective != curvenet::stability::Objective::Lambda {
         return Err(usage(format!(
@@ -56,17 +82,15 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
         ..CompareParams::default()
     };
     let bar = networks_bar(params.sizes.len() * params.instances);
-    let report = compare(&params, &surfaces, &|done, _| bar.set_position(done as u64)).map_err(
-        |e| match e {
-            // The parameters do not fit the networks traced (a budget no subset meets).
-            SimplifyError::Params(m) => usage(format!(
-                "compare with --budget {} and --sizes {:?}: {m}; a larger --budget or more \
-                 curves leave the searches a subset to find",
-                params.budget, params.sizes
-            )),
-            e => e.into(),
-        },
-    )?;
+    let report = compare(&params, &surfaces, &progress(&bar)).map_err(|e| match e {
+        // The parameters do not fit the networks traced (a budget no subset meets).
+        SimplifyError::Params(m) => usage(format!(
+            "compare with --budget {} and --sizes {:?}: {m}; a larger --budget or more curves \
+             leave the searches a subset to find",
+            params.budget, params.sizes
+        )),
+        e => e.into(),
+    })?;
     bar.finish_and_clear();
     println!(
         "greedy, greedy + local search (and single moves), rounded relaxation, exact λ_fix, exhaustive and random \
@@ -76,67 +100,6 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
         report.surfaces.join(", ")
     );
     print_and_write(&a, &report.markdown(), &report)
-}
-
-/// `compare --fresh N`: the report of [`fresh`] printed, and written as asked.
-fn run_fresh(a: &CompareArgs, networks: usize, surfaces: Vec<Surface>) -> anyhow::Result<()> {
-    let defaults = FreshParams::default();
-    let params = FreshParams {
-        draw: RandomDraw {
-            networks,
-            seed: a.seed,
-            ..defaults.draw
-        },
-        objective: a.objective,
-        ..defaults
-    };
-    let surfaces: Vec<(String, curvenet::io::TriMesh)> =
-        surfaces.into_iter().map(|s| (s.name, s.mesh)).collect();
-    let bar = networks_bar(networks);
-    let report = fresh(&params, &surfaces, &|done, _| bar.set_position(done as u64))?;
-    bar.finish_and_clear();
-    print_and_write(a, &report.markdown(), &report)
-}
-
-/// `compare --constraints N`: the report of [`constrained`] on the examples asked for and `N`
-/// random networks, printed, and written as asked.
-fn run_constrained(
-    a: &CompareArgs,
-    networks: usize,
-    surfaces: Vec<Surface>,
-    data: &paper::DataSource,
-) -> anyhow::Result<()> {
-    let mut cases = Vec::new();
-    for name in a.examples.iter().filter(|n| n.as_str() != "none") {
-        let ex = paper::load_from(name, data, Default::default())
-            .map_err(|e| usage(format!("--examples {name}: {e}")))?;
-        let (network, _) = curvenet::network::build_network(&ex.curves, &ex.build)?;
-        cases.push(Case {
-            name: name.clone(),
-            network,
-            mesh: ex.mesh,
-            budget: curvenet::simplify::Budget::Fraction(ex.setup.budget_fraction),
-            keep: ex.setup.keep.clone(),
-            exhaustive: false,
-        });
-    }
-    let defaults = ConstrainedParams::default();
-    let params = ConstrainedParams {
-        draw: RandomDraw {
-            networks,
-            seed: a.seed,
-            ..defaults.draw
-        },
-        ..defaults
-    };
-    let surfaces: Vec<(String, curvenet::io::TriMesh)> =
-        surfaces.into_iter().map(|s| (s.name, s.mesh)).collect();
-    let bar = networks_bar(cases.len() + networks);
-    let report = constrained(&params, cases, &surfaces, &|done, _| {
-        bar.set_position(done as u64)
-    })?;
-    bar.finish_and_clear();
-    print_and_write(a, &report.markdown(), &report)
 }
 
 /// The progress bar over `networks` networks.

@@ -3,14 +3,14 @@
 
 use crate::args::ExportArgs;
 use crate::exit::{ExitError, usage};
-use crate::front::{folder_error, report_error};
+use crate::front::Flags;
 use curvenet::report::export::{ExportFormat, export_files, write_exports};
 use curvenet::run_folder::{RunFolder, Which};
 use std::path::Path;
 
 pub fn run(a: ExportArgs) -> anyhow::Result<()> {
     let format: ExportFormat = a.format.parse().map_err(usage)?;
-    let run = RunFolder::open(&a.dir).map_err(|e| usage(folder_error(&e)))?;
+    let run = RunFolder::open(&a.dir).map_err(|e| usage(e.render(&Flags)))?;
     // Held to the end: no run starts writing here while the files are exported.
     let _lock = super::hold_run_folder(&a.dir, "export")?;
     super::print_warnings(&run.warnings);
@@ -28,14 +28,14 @@ pub fn run(a: ExportArgs) -> anyhow::Result<()> {
     };
     let shown = run
         .network_of(k)
-        .map_err(|e| usage(format!("{option}{}", folder_error(&e))))?;
+        .map_err(|e| usage(format!("{option}{}", e.render(&Flags))))?;
     let internal = |message: String| ExitError { code: 1, message };
     let out = a.out.unwrap_or_else(|| a.dir.join("export"));
     // One file to a named path: one format and a path with an extension that is not an existing
     // folder get that format's main file (the first of `export_files`).
     let single = format != ExportFormat::All && out.extension().is_some() && !out.is_dir();
     if single {
-        let files = export_files(&run, k, format).map_err(|e| internal(report_error(&e)))?;
+        let files = export_files(&run, k, format).map_err(|e| internal(e.render(&Flags)))?;
         let (_, text) = files
             .into_iter()
             .next()
@@ -57,7 +57,7 @@ pub fn run(a: ExportArgs) -> anyhow::Result<()> {
         )));
     }
     let paths =
-        write_exports(&run, k, format, Path::new(&out)).map_err(|e| internal(report_error(&e)))?;
+        write_exports(&run, k, format, Path::new(&out)).map_err(|e| internal(e.render(&Flags)))?;
     eprintln!(
         "{}: {} curves, length {}, {} {:.6e}",
         shown.what,

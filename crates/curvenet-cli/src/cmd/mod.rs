@@ -109,6 +109,33 @@ pub fn setup(input: &InputSpec, model: &ModelOptions) -> anyhow::Result<Setup> {
     Ok(setup)
 }
 
+/// Analyses `setup` without `remove` and prints the outcome: the warnings the inputs' did not
+/// already show, then one JSON line (`json`) or the text, after `header`, with the time since
+/// `start`.
+pub fn print_analysis(
+    setup: &mut Setup,
+    remove: &[usize],
+    json: bool,
+    header: Option<String>,
+    start: std::time::Instant,
+) -> anyhow::Result<()> {
+    // The input's warnings were printed before the (possibly long) analysis; it adds its own.
+    let shown = setup.inputs.warnings.len();
+    let out = app::analyze(setup, remove, &crate::front::Flags).map_err(fail)?;
+    print_warnings(out.report.warnings.get(shown..).unwrap_or_default());
+    if let Some(p) = &out.physical {
+        crate::front::print_messages(&p.warnings);
+    }
+    if json {
+        println!("{}", out.to_json());
+    } else {
+        header.iter().for_each(|h| println!("{h}"));
+        print!("{}", out.to_text());
+        println!("time: {:.3} s", start.elapsed().as_secs_f64());
+    }
+    Ok(())
+}
+
 /// The run of the options: folder, budget, keep list, constraints, steps after the greedy.
 pub fn run_spec(
     out: PathBuf,
@@ -169,44 +196,22 @@ pub fn mesh_arg(arg: &std::path::Path) -> anyhow::Result<(curvenet::io::TriMesh,
     Ok((mesh, name))
 }
 
-/// Takes the lock of the run folder `dir` for `command` (`view`, `export`), which write into
-/// it, shared with other such commands: refused while a run is writing there. A folder that cannot be locked (read-only, say)
-/// is no run's either: the command goes on without the lock.
+/// Takes the shared lock of the run folder `dir` for `command` (`view`, `export`), which write
+/// into it beside other such commands: refused while a run is writing there.
 pub fn hold_run_folder(
     dir: &std::path::Path,
     command: &str,
 ) -> anyhow::Result<Option<curvenet::run_folder::folder::FolderLock>> {
-    use curvenet::run_folder::folder::{FolderError, FolderLock};
-    match FolderLock::acquire_shared(dir) {
-        Ok(lock) => Ok(Some(lock)),
-        Err(FolderError::Held(_)) => Err(usage(format!(
+    curvenet::run_folder::folder::FolderLock::hold_shared(dir).map_err(|_| {
+        usage(format!(
             "{}: a curvenet run is writing in this folder; wait for it to end before `curvenet \
              {command}`",
             dir.display()
-        ))),
-        Err(_) => Ok(None),
-    }
+        ))
+    })
 }
 
-/// Checks, before any work, that `path` (the value of `option`) can be written: not a folder,
-/// in a folder that exists.
+/// Checks, before any work, that `path` (the value of `option`) can be written.
 pub fn writable_file(option: &str, path: &std::path::Path) -> anyhow::Result<()> {
-    if path.is_dir() {
-        return Err(usage(format!(
-            "{option} {}: is a folder; give a file name",
-            path.display()
-        )));
-    }
-    let parent = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(std::path::Path::new("."));
-    if !parent.is_dir() {
-        return Err(usage(format!(
-            "{option} {}: the folder {} does not exist",
-            path.display(),
-            parent.display()
-        )));
-    }
-    Ok(())
+    curvenet::io::check_writable(path).map_err(|e| usage(format!("{option} {e}")))
 }

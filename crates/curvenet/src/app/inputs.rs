@@ -12,7 +12,10 @@ use crate::network::{BuildParams, checks};
 use crate::paper;
 use crate::rod::Supports;
 use crate::run_folder::InputDescription;
-use crate::trace::{Generator, SURFACE_NAMES, builtin_surface, generate, scale_to_extent};
+use crate::trace::{
+    Generator, SURFACE_NAMES, SurfaceError, builtin_surface, generate, read_surface,
+    scale_to_extent,
+};
 use crate::words::{Message, Opt, Piece, given, message};
 use crate::{fmt, pipeline};
 use std::path::PathBuf;
@@ -321,24 +324,16 @@ pub fn read_mesh(source: &MeshSource) -> Result<(TriMesh, String, Vec<String>), 
         }
         MeshSource::Path(p) => p,
     };
-    let text = path.to_string_lossy();
-    let name = text.strip_prefix("builtin:");
-    if name.is_none() && path.exists() {
-        let file = io::read_mesh(path)?;
-        let warnings = file.warnings.iter().map(|w| w.to_string()).collect();
-        return Ok((file.mesh, path.display().to_string(), warnings));
-    }
-    let name = name.unwrap_or(&text);
-    match builtin_surface(name) {
-        Some(mesh) => Ok((mesh, format!("builtin:{name}"), Vec::new())),
-        None => Err(AppError::usage(message![
+    read_surface(path).map_err(|e| match e {
+        SurfaceError::Input(e) => AppError::Input(e),
+        SurfaceError::Unknown(text) => AppError::usage(message![
             given(Opt::Mesh, &text),
             format!(
                 ": no such file, and not a built-in surface (built-in: {})",
                 SURFACE_NAMES.join(", ")
             )
-        ])),
-    }
+        ]),
+    })
 }
 
 /// Refuses a mesh given as arrays with a face naming a missing vertex or a coordinate that

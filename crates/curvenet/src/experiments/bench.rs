@@ -186,6 +186,74 @@ pub fn median_row(mut runs: Vec<BenchRow>) -> Option<BenchRow> {
     Some(row)
 }
 
+/// The runs of a bench with repeats, in rounds (every example once per round, so the
+/// machine's drift touches them alike): each run checked against the example's first (the
+/// greedy must be deterministic), and after an example's last round its median run
+/// ([`median_row`]) with the reference time the user gave.
+#[derive(Clone, Debug)]
+pub struct Rounds {
+    runs: Vec<Vec<BenchRow>>,
+    repeat: usize,
+    references: References,
+}
+
+/// Two runs of an example disagreed.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "{name}: run {run} made different removals or λ_eq than run 1 (the greedy must be \
+     deterministic)"
+)]
+pub struct Disagreement {
+    /// The example.
+    pub name: String,
+    /// The run that disagreed with the first (from 1).
+    pub run: usize,
+}
+
+impl Rounds {
+    /// `repeat` rounds of `examples` examples, `references` beside the median rows.
+    pub fn new(examples: usize, repeat: usize, references: References) -> Self {
+        Rounds {
+            runs: vec![Vec::with_capacity(repeat); examples],
+            repeat,
+            references,
+        }
+    }
+
+    /// Records `row`, the run of round `round` (from 0) of example `i`, named `name`: after
+    /// the example's last round, its median row.
+    ///
+    /// # Errors
+    ///
+    /// The run made other removals or another `λ_eq` than the example's first.
+    pub fn record(
+        &mut self,
+        i: usize,
+        name: &str,
+        round: usize,
+        row: BenchRow,
+    ) -> Result<Option<BenchRow>, Disagreement> {
+        if let Some(first) = self.runs[i].first()
+            && first.answer() != row.answer()
+        {
+            return Err(Disagreement {
+                name: name.to_string(),
+                run: round + 1,
+            });
+        }
+        self.runs[i].push(row);
+        if round + 1 < self.repeat {
+            return Ok(None);
+        }
+        Ok(
+            median_row(std::mem::take(&mut self.runs[i])).map(|mut row| {
+                row.reference_s = self.references.0.get(name).copied();
+                row
+            }),
+        )
+    }
+}
+
 /// The reference implementation's times measured by the user, seconds by example name.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(transparent)]

@@ -169,3 +169,38 @@ mod tests {
         let _ = fs::remove_dir_all(&dir);
     }
 }
+
+/// Why a file cannot be written where asked ([`check_writable`]).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum Unwritable {
+    /// The path is a folder.
+    #[error("{}: is a folder; give a file name", .0.display())]
+    Folder(PathBuf),
+    /// The folder it would be written in does not exist.
+    #[error("{}: the folder {} does not exist", path.display(), folder.display())]
+    NoFolder {
+        /// The file asked for.
+        path: PathBuf,
+        /// Its folder.
+        folder: PathBuf,
+    },
+}
+
+/// Checks, before any work, that a file can be written at `path`: not a folder, in a folder
+/// that exists.
+pub fn check_writable(path: &Path) -> Result<(), Unwritable> {
+    if path.is_dir() {
+        return Err(Unwritable::Folder(path.to_path_buf()));
+    }
+    let folder = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    if !folder.is_dir() {
+        return Err(Unwritable::NoFolder {
+            path: path.to_path_buf(),
+            folder: folder.to_path_buf(),
+        });
+    }
+    Ok(())
+}

@@ -36,7 +36,7 @@ mod obj_mesh;
 mod points;
 mod reference;
 
-pub use atomic::{exit_removing_temp_files, write_atomic};
+pub use atomic::{Unwritable, check_writable, exit_removing_temp_files, write_atomic};
 pub use background::{BackgroundWriter, WriteError};
 pub use json::{curves_to_json, parse_json_curves};
 pub use obj_curves::{curves_to_obj, parse_obj_polylines};

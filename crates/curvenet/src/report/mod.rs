@@ -44,6 +44,14 @@ pub enum ReportError {
 }
 
 impl ReportError {
+    /// The message spelled by `words` (a front end's option names).
+    pub fn render(&self, words: &dyn crate::words::Wording) -> String {
+        match self {
+            ReportError::RunFolder(e) => e.render(words),
+            e => e.to_string(),
+        }
+    }
+
     /// `path` could not be read or written.
     pub fn io(path: &Path, error: std::io::Error) -> Self {
         ReportError::Io {

@@ -116,6 +116,21 @@ impl FolderLock {
         Self::take(dir, true)
     }
 
+    /// [`Self::acquire_shared`] for a command that reads a finished run and writes beside it,
+    /// held while it writes: `None` for a folder that cannot be locked (read-only, say: no
+    /// run writes there either).
+    ///
+    /// # Errors
+    ///
+    /// A run is writing in the folder ([`FolderError::Held`]).
+    pub fn hold_shared(dir: &Path) -> Result<Option<FolderLock>, FolderError> {
+        match Self::acquire_shared(dir) {
+            Ok(lock) => Ok(Some(lock)),
+            Err(e @ FolderError::Held(_)) => Err(e),
+            Err(_) => Ok(None),
+        }
+    }
+
     fn take(dir: &Path, shared: bool) -> Result<FolderLock, FolderError> {
         let path = dir.join(LOCK_FILE);
         let file = OpenOptions::new()

@@ -107,6 +107,15 @@ pub enum RunFolderError {
 }
 
 impl RunFolderError {
+    /// The message spelled by `words` (a front end's option names: a missing network names
+    /// the option that asks for it, a refused resume the option that differs).
+    pub fn render(&self, words: &dyn crate::words::Wording) -> String {
+        match self {
+            RunFolderError::Absent(m) | RunFolderError::Resume(m) => m.render(words),
+            e => e.to_string(),
+        }
+    }
+
     /// `path` could not be written, created or removed.
     pub fn io(path: &Path, error: std::io::Error) -> Self {
         RunFolderError::Io {

@@ -34,7 +34,10 @@ pub use field::{DirectionField, FieldOptions, smooth_field};
 pub use generate::{CurveRecord, GeneratedCurves, Generator, generate};
 pub use geodesic::{GeodesicEnd, GeodesicPath, TraceOptions, trace_geodesic};
 pub use streamline::{StreamlineOptions, StreamlineRecord, Streamlines, trace_streamlines};
-pub use surfaces::{SURFACE_NAMES, builtin_surface, scale_to_extent};
+pub use surfaces::{
+    MAX_EXTENT, MIN_EXTENT, SURFACE_NAMES, SurfaceError, builtin_surface, check_extent,
+    read_surface, scale_to_extent,
+};
 pub use topology::{BoundaryLoop, BoundaryPoint, MeshTopology};
 
 /// Why a curve could not be traced (or a mesh cannot be used for tracing).

@@ -14,8 +14,10 @@
 //! | `wave` | a sine wave over a 4000 × 3000 rectangle | 1 |
 
 use crate::geom::{Aabb, Vec3};
-use crate::io::TriMesh;
+use crate::io::{self, InputError, TriMesh};
+use crate::words::Message;
 use std::f64::consts::PI;
+use std::path::Path;
 
 /// Names of the built-in surfaces, for [`builtin_surface`].
 pub const SURFACE_NAMES: [&str; 7] = ["hill", "tent", "stadium", "shell", "dome", "saddle", "wave"];
@@ -65,6 +67,54 @@ pub fn builtin_surface(name: &str) -> Option<TriMesh> {
         _ => return None,
     };
     Some(orient_up(mesh))
+}
+
+/// Why a surface named by a user could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum SurfaceError {
+    /// The OBJ file is unreadable or malformed (naming the file and line).
+    #[error(transparent)]
+    Input(#[from] InputError),
+    /// No such file, and no built-in surface of that name.
+    #[error("{0}: no such file, and not a built-in surface (built-in: {names})", names = SURFACE_NAMES.join(", "))]
+    Unknown(String),
+}
+
+/// The surface `arg` names as a user names one: an OBJ file or, when no such file exists, a
+/// built-in surface (`builtin:NAME` or a bare `NAME`). Returns the mesh, its name for messages
+/// and records (the path, or `builtin:NAME`) and the reader's warnings.
+pub fn read_surface(arg: &Path) -> Result<(TriMesh, String, Vec<String>), SurfaceError> {
+    let text = arg.to_string_lossy();
+    let name = text.strip_prefix("builtin:");
+    if name.is_none() && arg.exists() {
+        let file = io::read_mesh(arg)?;
+        let warnings = file.warnings.iter().map(|w| w.to_string()).collect();
+        return Ok((file.mesh, arg.display().to_string(), warnings));
+    }
+    let name = name.unwrap_or(&text);
+    match builtin_surface(name) {
+        Some(mesh) => Ok((mesh, format!("builtin:{name}"), Vec::new())),
+        None => Err(SurfaceError::Unknown(text.into_owned())),
+    }
+}
+
+/// The largest extent a mesh is scaled to ([`scale_to_extent`]).
+pub const MAX_EXTENT: f64 = 1e15;
+
+/// The smallest extent a mesh is scaled to.
+pub const MIN_EXTENT: f64 = 1e-12;
+
+/// Checks an extent to scale a mesh to: 0 (the mesh kept at its size) or within
+/// [[`MIN_EXTENT`], [`MAX_EXTENT`]].
+pub fn check_extent(extent: f64) -> Result<(), Message> {
+    if extent == 0.0 || (MIN_EXTENT..=MAX_EXTENT).contains(&extent) {
+        Ok(())
+    } else {
+        Err(format!(
+            "an extent is 0 (keep the mesh's size) or lies in [{MIN_EXTENT:e}, {MAX_EXTENT:e}]"
+        )
+        .into())
+    }
 }
 
 /// Scales `mesh` about the origin so that its largest bounding-box side becomes `extent`;

@@ -26,13 +26,15 @@
 //! [`super::fresh`] does).
 
 use super::fresh::{COUNT_CAP, reaches};
-use super::{RandomDraw, check_build, connected_only, mean, scaled};
+use super::{RandomDraw, Surface, check_build, connected_only, mean, scaled};
 use crate::cancel::Cancel;
 use crate::constraints::answer::choose;
 use crate::constraints::{ConstraintParams, Constraints, Group, SymmetryOption};
 use crate::geom::Aabb;
 use crate::io::TriMesh;
 use crate::network::Network;
+use crate::network::build::BuildError;
+use crate::paper::{DataSource, ExampleError};
 use crate::rod::ActiveSet;
 use crate::run_folder::{evaluated_offer, greedy_offers};
 use crate::simplify::exhaustive::{ExhaustiveParams, exhaustive};
@@ -115,6 +117,34 @@ pub struct Case {
     pub exhaustive: bool,
 }
 
+impl Case {
+    /// The paper's example `name` (read from `data`) with its own budget and keep list, its
+    /// optima not searched for.
+    pub fn example(name: &str, data: &DataSource) -> Result<Case, CaseError> {
+        let ex = crate::paper::load_from(name, data, Default::default())?;
+        let (network, _) = crate::network::build_network(&ex.curves, &ex.build)?;
+        Ok(Case {
+            name: name.to_string(),
+            network,
+            mesh: ex.mesh,
+            budget: Budget::Fraction(ex.setup.budget_fraction),
+            keep: ex.setup.keep.clone(),
+            exhaustive: false,
+        })
+    }
+}
+
+/// Why a paper's example could not be made a [`Case`].
+#[derive(Debug, thiserror::Error)]
+pub enum CaseError {
+    /// The example could not be loaded.
+    #[error(transparent)]
+    Example(#[from] ExampleError),
+    /// Its network could not be built.
+    #[error(transparent)]
+    Build(#[from] BuildError),
+}
+
 /// The settings measured, in the report's order.
 pub const SETTINGS: [&str; 7] = [
     "none",
@@ -179,7 +209,7 @@ pub struct ConstrainedReport {
 pub fn constrained(
     params: &ConstrainedParams,
     cases: Vec<Case>,
-    surfaces: &[(String, TriMesh)],
+    surfaces: &[Surface],
     progress: &dyn Fn(usize, usize),
 ) -> Result<ConstrainedReport, SimplifyError> {
     params.validate().map_err(SimplifyError::Params)?;
@@ -189,7 +219,7 @@ pub fn constrained(
             "random networks need surfaces".into(),
         ));
     }
-    let scaled = scaled(surfaces.iter().map(|(n, m)| (n, m)));
+    let scaled = scaled(surfaces.iter().map(|s| (&s.name, &s.mesh)));
     let total = cases.len() + networks;
     let mut rows = Vec::new();
     let mut done = 0;
@@ -595,9 +625,11 @@ mod tests {
             },
             ..ConstrainedParams::default()
         };
-        let dome = crate::trace::builtin_surface("dome").expect("dome");
-        let r =
-            constrained(&params, Vec::new(), &[("dome".into(), dome)], &|_, _| {}).expect("runs");
+        let dome = Surface {
+            name: "dome".into(),
+            mesh: crate::trace::builtin_surface("dome").expect("dome"),
+        };
+        let r = constrained(&params, Vec::new(), &[dome], &|_, _| {}).expect("runs");
         assert_eq!(r.rows.len(), 2 * SETTINGS.len());
         for row in &r.rows {
             if row.setting == "symmetry auto" {

@@ -29,7 +29,7 @@
 //! optimum (within the relative tolerance 1e-6: the searches and exhaustive search share one
 //! evaluation, so an optimum found is the same number).
 
-use super::{RandomDraw, check_build, connected_only, mean, scaled};
+use super::{RandomDraw, Surface, check_build, connected_only, mean, scaled};
 use crate::cancel::Cancel;
 use crate::constraints::Constraints;
 use crate::io::TriMesh;
@@ -290,7 +290,7 @@ fn percent(part: usize, whole: usize) -> f64 {
 /// after each network.
 pub fn fresh(
     params: &FreshParams,
-    surfaces: &[(String, TriMesh)],
+    surfaces: &[Surface],
     progress: &dyn Fn(usize, usize),
 ) -> Result<FreshReport, SimplifyError> {
     params.validate().map_err(SimplifyError::Params)?;
@@ -299,7 +299,7 @@ pub fn fresh(
             "the measurement on networks drawn afresh needs surfaces".into(),
         ));
     }
-    let scaled = scaled(surfaces.iter().map(|(n, m)| (n, m)));
+    let scaled = scaled(surfaces.iter().map(|s| (&s.name, &s.mesh)));
     let networks = params.draw.networks;
     let mut rows = Vec::with_capacity(networks);
     for k in 0..networks {
@@ -490,7 +490,11 @@ mod tests {
             },
             ..FreshParams::default()
         };
-        let r = fresh(&params, &[("square".into(), mesh)], &|_, _| {}).expect("runs");
+        let square = Surface {
+            name: "square".into(),
+            mesh,
+        };
+        let r = fresh(&params, &[square], &|_, _| {}).expect("runs");
         for row in &r.rows {
             assert_eq!(row.skipped.as_deref(), Some("no curve fits the budget"));
             assert_eq!((row.feasible, row.optimum), (0, None));

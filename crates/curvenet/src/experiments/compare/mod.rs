@@ -43,7 +43,9 @@ pub mod fresh;
 pub mod instance;
 pub mod summary;
 
-pub use constrained::{Case, ConstrainedParams, ConstrainedReport, ConstrainedRow, constrained};
+pub use constrained::{
+    Case, CaseError, ConstrainedParams, ConstrainedReport, ConstrainedRow, constrained,
+};
 pub use fresh::{FreshParams, FreshReport, FreshRow, fresh};
 pub use instance::{InstanceResult, instance_network};
 pub use summary::{CompareReport, SizeSummary};
@@ -51,12 +53,14 @@ pub use summary::{CompareReport, SizeSummary};
 use crate::constraints::{ConstraintParams, Constraints};
 use crate::io::TriMesh;
 use crate::network::Network;
+use crate::paper::DataSource;
 use crate::rng::SplitMix64;
 use crate::simplify::{Budget, SimplifyError};
-use crate::trace::scale_to_extent;
+use crate::trace::{SurfaceError, read_surface, scale_to_extent};
 use crate::words::Message;
 use instance::traced_network;
 use serde::{Deserialize, Serialize};
+use std::path::Path;
 use std::time::Instant;
 
 /// Parameters of the experiment.
@@ -104,6 +108,33 @@ pub struct Surface {
     pub name: String,
     /// The mesh (any scale; it is scaled to extent 4000).
     pub mesh: TriMesh,
+}
+
+/// The surfaces `names` name, to trace on: the paper's simple surfaces
+/// ([`crate::paper::SIMPLE_SURFACES`], read from `data`), OBJ files or built-in surfaces
+/// ([`crate::trace::read_surface`]); and what reading them found.
+pub fn surfaces(
+    names: &[String],
+    data: &DataSource,
+) -> Result<(Vec<Surface>, Vec<String>), SurfaceError> {
+    let mut warnings = Vec::new();
+    let mut surfaces = Vec::new();
+    for name in names {
+        let mesh = if crate::paper::SIMPLE_SURFACES.contains(&name.as_str()) {
+            let file = data.read_mesh(&format!("{name}.obj"))?;
+            warnings.extend(file.warnings.iter().map(|w| w.to_string()));
+            file.mesh
+        } else {
+            let (mesh, _, read) = read_surface(Path::new(name))?;
+            warnings.extend(read);
+            mesh
+        };
+        surfaces.push(Surface {
+            name: name.clone(),
+            mesh,
+        });
+    }
+    Ok((surfaces, warnings))
 }
 
 impl CompareParams {
