@@ -87,7 +87,10 @@ impl Run {
     #[pyo3(signature = (k = None))]
     fn mode<'py>(&self, py: Python<'py>, k: Option<usize>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let k = self.k(py, k)?;
-        let v = self.run.mode(k).map_err(|e| errors::usage(py, e.render(&Keywords)))?;
+        let v = self
+            .run
+            .mode(k)
+            .map_err(|e| errors::usage(py, e.render(&Keywords)))?;
         Ok(xyz(py, v))
     }
 
@@ -156,8 +159,8 @@ impl Run {
     ) -> PyResult<(String, String)> {
         let format: ExportFormat = format.parse().map_err(|e: String| errors::usage(py, e))?;
         let k = self.k(py, k)?;
-        let files =
-            export_files(&self.run, k, format).map_err(|e| errors::failed(py, e.render(&Keywords)))?;
+        let files = export_files(&self.run, k, format)
+            .map_err(|e| errors::failed(py, e.render(&Keywords)))?;
         files
             .into_iter()
             .next()

@@ -374,4 +374,67 @@ mod tests {
         }
         std::fs::remove_dir_all(&dir).ok();
     }
+
+    #[test]
+    fn rounds_check_every_run_against_the_first_and_give_the_median() {
+        let row = |wall_s: f64, lambda: f64| BenchRow {
+            example: "tower".into(),
+            curves: 3,
+            kept: 1,
+            dofs: 9,
+            iterations: 3,
+            evaluated: 0,
+            pruned: 0,
+            factorizations: 0,
+            solves: 0,
+            relax_s: 0.0,
+            assemble_s: 0.0,
+            factor_s: 0.0,
+            solve_s: 0.0,
+            eigen_s: 0.0,
+            bound_s: 0.0,
+            wall_s,
+            wall_runs: Vec::new(),
+            cpu_s: None,
+            peak_mib: None,
+            reference_s: None,
+            removed_first: vec![2, 0],
+            final_lambda: lambda,
+            removed: vec![Some(2), Some(0), None],
+            lambdas: vec![1.0, 0.5, lambda],
+        };
+        let refs = References([("tower".to_string(), 10.0)].into_iter().collect());
+        let mut rounds = Rounds::new(1, 3, refs);
+        assert!(
+            rounds
+                .record(0, "tower", 0, row(3.0, 0.25))
+                .unwrap()
+                .is_none()
+        );
+        assert!(
+            rounds
+                .record(0, "tower", 1, row(1.0, 0.25))
+                .unwrap()
+                .is_none()
+        );
+        let median = rounds
+            .record(0, "tower", 2, row(2.0, 0.25))
+            .unwrap()
+            .unwrap();
+        assert_eq!((median.wall_s, median.reference_s), (2.0, Some(10.0)));
+        assert_eq!(median.wall_runs, [3.0, 1.0, 2.0]);
+        // A run whose λ_eq differs in one bit is refused, naming it.
+        let mut rounds = Rounds::new(1, 2, References::default());
+        rounds.record(0, "tower", 0, row(1.0, 0.25)).unwrap();
+        let e = rounds
+            .record(
+                0,
+                "tower",
+                1,
+                row(1.0, f64::from_bits(0.25f64.to_bits() + 1)),
+            )
+            .unwrap_err();
+        assert_eq!(e.to_string().split(':').next(), Some("tower"));
+        assert_eq!(e.run, 2);
+    }
 }
