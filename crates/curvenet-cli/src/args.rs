@@ -137,12 +137,14 @@ pub struct ExportArgs {
     /// Export the N-th alternative (from 1) of a run made with --alternatives.
     #[arg(long, value_name = "N", value_parser = count(1, 100), allow_hyphen_values = true)]
     pub alternative: Option<usize>,
-    /// obj, json, csv (points and fabrication table), network (reloadable network file) or all.
+    /// obj, json, csv (points and fabrication table), network (reloadable network file),
+    /// structural (a physical run's neutral structural JSON), opensees (its OpenSeesPy script,
+    /// which prints its frequencies and self-weight deflection) or all.
     #[arg(long, default_value = "all")]
     pub format: String,
     /// Folder for the files (default DIR/export). With one format, a path with an extension
     /// writes only that format's main file: the OBJ at equilibrium, the JSON at rest, the
-    /// fabrication table, or the network file.
+    /// fabrication table, the network file, the structural JSON or the OpenSeesPy script.
     #[arg(long)]
     pub out: Option<PathBuf>,
 }

@@ -724,7 +724,8 @@ class Result:
     def export(self, out: Optional[PathLike] = None, format: str = "all",
                iteration: Optional[int] = None) -> List[Path]:
         """Writes an iteration's network (default: the last) as ``curvenet export`` does:
-        ``format`` is ``obj``, ``json``, ``csv``, ``network`` or ``all``; ``out`` a folder
+        ``format`` is ``obj``, ``json``, ``csv``, ``network``, ``structural`` (a physical
+        run's neutral structural JSON), ``opensees`` (its OpenSeesPy script) or ``all``; ``out`` a folder
         (default: ``export/`` in the run folder). Returns the paths written."""
         folder = self.folder / "export" if out is None else Path(out)
         return [Path(p) for p in self._native.export(os.fspath(folder), format, self._k(iteration))]

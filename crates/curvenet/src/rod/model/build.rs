@@ -160,7 +160,7 @@ fn collect_terms(network: &Network, stiffness: &[RodStiffness], rules: ModelRule
         // A pre-bent rod drawn straight bends as a straight one: its twist decouples.
         let framed = rules.twist
             && k.rest == RestShape::PreBent
-            && !twist::is_drawn_straight(rod, &network.positions);
+            && !rod.is_drawn_straight(&network.positions);
         if framed {
             twist::collect_rod(
                 c,

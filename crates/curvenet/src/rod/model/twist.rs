@@ -142,33 +142,6 @@ impl FrameTerm {
 /// The frame terms, clamp twist terms and twist unknowns of pre-bent rod `c` (stiffness `k`),
 /// appended to `frames`, `clamps` and `twists` (a twist unknown's coordinate is
 /// `3 · n_vertices` plus its index in `twists`).
-/// How far from its chord (relative to the chord's length) every vertex of a pre-bent rod may
-/// lie for the rod to be straight: rounding of straight input, not a shape.
-pub const STRAIGHT_SAGITTA: f64 = 1e-9;
-
-/// Whether the open rod `rod` is straight as drawn in `p`: every vertex within
-/// [`STRAIGHT_SAGITTA`] of its chord's length from the chord (a closed rod never is). A
-/// pre-bent rod that is straight carries no twist unknowns: its twist decouples from its
-/// bending exactly, as a straight rod's does, and its spin about its own axis moves no point,
-/// so it is no mechanism.
-pub(super) fn is_drawn_straight(rod: &crate::rod::Rod, p: &[Vec3]) -> bool {
-    let m = rod.vertices.len();
-    if rod.closed || m < 2 {
-        return !rod.closed;
-    }
-    let a = p[rod.vertices[0] as usize];
-    let chord = p[rod.vertices[m - 1] as usize] - a;
-    let len = chord.norm();
-    if len == 0.0 {
-        return false;
-    }
-    let dir = chord / len;
-    rod.vertices.iter().all(|&v| {
-        let d = p[v as usize] - a;
-        (d - dir * d.dot(dir)).norm() <= STRAIGHT_SAGITTA * len
-    })
-}
-
 pub(super) fn collect_rod(
     c: usize,
     network: &Network,
