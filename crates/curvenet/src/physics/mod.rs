@@ -8,8 +8,10 @@
 //! it is reported: stresses in MPa, deflections in scene units, frequencies in hertz.
 
 pub mod analysis;
+pub mod cases;
 pub mod checks;
 pub mod inertia;
+pub mod loaded;
 pub mod loads;
 pub mod options;
 pub mod stress;

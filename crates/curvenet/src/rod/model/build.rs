@@ -121,6 +121,7 @@ impl EnergyModel {
             bend_pos,
             clamp_pos,
             loose_diagonal,
+            load: Vec::new(),
         }
     }
 }
