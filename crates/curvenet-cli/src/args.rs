@@ -527,6 +527,17 @@ pub struct PhysicalModeArgs {
     /// Gravity in m/s2: a magnitude along -z (default 9.81) or gx,gy,gz.
     #[arg(long, value_parser = physical(Opt::Gravity), allow_hyphen_values = true)]
     pub gravity: Option<String>,
+    /// Load cases and combinations (JSON: self-weight, line loads, point loads, factored
+    /// combinations; docs/units.md): each is followed as a nonlinear equilibrium, with its
+    /// deflection, utilisation and critical load factor.
+    #[arg(long, value_name = "FILE")]
+    pub loads: Option<std::path::PathBuf>,
+    /// The load cases' deflection limit: span/N (e.g. span/250) or a length (e.g. 20mm).
+    #[arg(long, value_name = "LIMIT", allow_hyphen_values = true)]
+    pub deflection_limit: Option<String>,
+    /// The smallest acceptable critical load factor of a load case (default 1).
+    #[arg(long, value_name = "FACTOR", allow_hyphen_values = true)]
+    pub buckling_factor: Option<String>,
 }
 
 /// `curvenet simplify`.

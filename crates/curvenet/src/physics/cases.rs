@@ -339,15 +339,16 @@ fn case_forces(
             });
         if vertex == usize::MAX || distance > 2.0 * longest {
             return Err(Message::from(format!(
-                "load case {}: the point load at ({}, {}, {}) is {} from the structure's \
-                 nearest vertex; a point load must lie on the network (within twice the \
-                 longest edge, {})",
+                "load case {}: the point load at ({}, {}, {}) is {} {unit} from the \
+                 structure's nearest vertex; a point load must lie on the network (within \
+                 twice the longest edge, {} {unit})",
                 c.name,
                 p.at[0],
                 p.at[1],
                 p.at[2],
-                crate::fmt::length(distance),
-                crate::fmt::length(2.0 * longest)
+                crate::fmt::significant(distance, 4),
+                crate::fmt::significant(2.0 * longest, 4),
+                unit = physical.units.symbol()
             )));
         }
         for i in 0..3 {

@@ -370,10 +370,11 @@ impl LoadedStructure<'_> {
         if let (Some(d), Some(limit)) = (deflection, self.deflection_limit)
             && d > limit
         {
+            let unit = self.physical.units.symbol();
             failures.push(format!(
-                "it deflects {} (limit {})",
-                crate::fmt::length(d),
-                crate::fmt::length(limit)
+                "it deflects {} {unit} (limit {} {unit})",
+                crate::fmt::significant(d, 4),
+                crate::fmt::significant(limit, 4)
             ));
         }
         if let Some(u) = utilisation.filter(|&u| u > 1.0) {
