@@ -354,7 +354,8 @@ class Analysis:
         """In the physical mode, the structure in a material's units (``analyze --json``'s
         ``physical``: ``stable``, ``frequencies_hz``, ``first_frequency_hz``,
         ``self_weight_max_deflection`` and ``load_max_deflection`` in ``units``, stresses in
-        MPa, ``max_utilisation``, ``mass_kg``, ...); None in the paper's mode."""
+        MPa, ``max_utilisation``, ``mass_kg``, ``load_cases`` with ``loads=``, ...); None in
+        the paper's mode."""
         p = self.report.get("physical")
         return None if p is None else Record(p)
 
