@@ -223,9 +223,7 @@ impl StateAnswer {
         let s = &structure.summary;
         StateAnswer {
             summary: s.clone(),
-            constraints: ws
-                .constraints()
-                .margins(net, &s.curves, &structure.displacement),
+            constraints: ws.constraints().margins(net, structure),
         }
     }
 }
