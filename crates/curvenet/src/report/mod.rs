@@ -44,6 +44,16 @@ pub enum ReportError {
 }
 
 impl ReportError {
+    /// Whether the error is the input's: the run folder read is missing a file, damaged (a
+    /// state truncated, a record malformed) or lacks the network asked for ([`RunFolderError::
+    /// is_input`]); writing the outputs failing is not.
+    pub fn is_input(&self) -> bool {
+        match self {
+            ReportError::RunFolder(e) => e.is_input(),
+            ReportError::Io { .. } | ReportError::Invalid(_) => false,
+        }
+    }
+
     /// `path` could not be read or written.
     pub fn io(path: &Path, error: std::io::Error) -> Self {
         ReportError::Io {
