@@ -42,6 +42,16 @@ pub fn report_error(e: &ReportError) -> String {
     }
 }
 
+/// An export's or a picture's error as the command line reports it: exit 2 when the run
+/// folder read is at fault (missing or damaged files, a network it lacks: bad input), 1
+/// otherwise.
+pub fn report_exit(e: &ReportError) -> ExitError {
+    ExitError {
+        code: if e.is_input() { 2 } else { 1 },
+        message: report_error(e),
+    }
+}
+
 /// The error of the application layer as the command line reports it: exit 2 for what the
 /// user can fix, 130 when cancelled, 1 otherwise.
 pub fn fail(e: AppError) -> anyhow::Error {

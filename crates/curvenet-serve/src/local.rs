@@ -18,7 +18,7 @@ use crate::job::Job;
 use curvenet::constraints::Constraints;
 use curvenet::simplify::SimplifyError;
 use curvenet::simplify::exhaustive::SubsetScore;
-use curvenet::simplify::local::{LocalOutcome, LocalParams, local_search};
+use curvenet::simplify::local::{LocalOutcome, LocalParams, keep_fits, local_search};
 use serde::Serialize;
 use std::sync::{Arc, Mutex, MutexGuard};
 
@@ -137,6 +137,13 @@ impl LocalRunner {
             keep: greedy.keep,
             ..LocalParams::new(greedy.budget)
         };
+        // Kept curves over the budget leave nothing to search: said at once, with what helps.
+        keep_fits(&design.analyzer().lengths(), params.budget, &params.keep).map_err(|e| {
+            GreedyError::Params(match e {
+                SimplifyError::Params(m) => crate::words::say(&m),
+                e => e.to_string(),
+            })
+        })?;
         let from = design.current().summary.curves.clone();
         let mut s = self.lock();
         if s.job.is_running() {

@@ -3,7 +3,7 @@
 
 use crate::args::ExportArgs;
 use crate::exit::{ExitError, usage};
-use crate::front::{folder_error, report_error};
+use crate::front::{folder_error, report_exit};
 use curvenet::report::export::{ExportFormat, export_files, write_exports};
 use curvenet::run_folder::{RunFolder, Which};
 use std::path::Path;
@@ -29,25 +29,17 @@ pub fn run(a: ExportArgs) -> anyhow::Result<()> {
     let shown = run
         .network_of(k)
         .map_err(|e| usage(format!("{option}{}", folder_error(&e))))?;
-    // A structural export of a run in the paper's mode is the user's to fix (exit 2).
-    let internal = |e: curvenet::report::ReportError| ExitError {
-        code: if matches!(e, curvenet::report::ReportError::NotPhysical) {
-            2
-        } else {
-            1
-        },
-        message: report_error(&e),
-    };
+    let internal = |message: String| ExitError { code: 1, message };
     let out = a.out.unwrap_or_else(|| a.dir.join("export"));
     // One file to a named path: one format and a path with an extension that is not an existing
     // folder get that format's main file (the first of `export_files`).
     let single = format != ExportFormat::All && out.extension().is_some() && !out.is_dir();
     if single {
-        let files = export_files(&run, k, format).map_err(internal)?;
-        let (_, text) = files.into_iter().next().ok_or_else(|| ExitError {
-            code: 1,
-            message: "nothing to export".into(),
-        })?;
+        let files = export_files(&run, k, format).map_err(|e| report_exit(&e))?;
+        let (_, text) = files
+            .into_iter()
+            .next()
+            .ok_or_else(|| internal("nothing to export".into()))?;
         if let Some(parent) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
             std::fs::create_dir_all(parent)
                 .map_err(|e| usage(format!("{}: {e}", parent.display())))?;
@@ -64,7 +56,7 @@ pub fn run(a: ExportArgs) -> anyhow::Result<()> {
             out.display()
         )));
     }
-    let paths = write_exports(&run, k, format, Path::new(&out)).map_err(internal)?;
+    let paths = write_exports(&run, k, format, Path::new(&out)).map_err(|e| report_exit(&e))?;
     eprintln!(
         "{}: {} curves, length {}, {} {:.6e}",
         shown.what,

@@ -11,7 +11,7 @@ use curvenet::app::check_curve_ids;
 use curvenet::io::TriMesh;
 use curvenet::physics::PhysicalParams;
 use curvenet::run_folder::{RunFiles, RunsRoot};
-use curvenet::stability::Analyzer;
+use curvenet::stability::{Analyzer, Objective};
 use curvenet::words::Opt;
 use curvenet_serve::bench::BenchParams;
 use curvenet_serve::workspace::open_run;
@@ -73,10 +73,27 @@ pub fn run(a: ServeArgs) -> anyhow::Result<()> {
     // The first line on stdout: scripts and tests read the URL from it.
     println!("{url}");
     let s = design.current().summary.clone();
+    let objective = design.analyzer().objective();
+    // Beside a physical analysis the paper's λ_eq is the paper's model's; the physical
+    // figures follow with their units.
+    let model = match (&s.physical, objective) {
+        (Some(_), Objective::Lambda) => " (the paper's model)",
+        _ => "",
+    };
+    let physical = s.physical.as_ref().map_or_else(String::new, |p| {
+        let or_none = |v: Option<f64>, unit: &str| {
+            v.map_or_else(|| "none (unstable)".into(), |v| format!("{v:.4} {unit}"))
+        };
+        format!(
+            "; physical: first frequency {}, self-weight deflection {}",
+            or_none(p.first_frequency_hz, "Hz"),
+            or_none(p.self_weight_max_deflection, &p.units)
+        )
+    });
     eprintln!(
-        "serving {} of {n} curves: {} = {:.6e} ({}); Ctrl-C stops",
+        "serving {} of {n} curves: {}{model} = {:.6e} ({}){physical}; Ctrl-C stops",
         s.curves.len(),
-        design.analyzer().objective().value_symbol(),
+        objective.value_symbol(),
         s.lambda,
         s.status.word()
     );

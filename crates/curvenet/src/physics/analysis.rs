@@ -24,7 +24,8 @@
 //! deflection: those numbers are absent and a warning says why.
 
 use super::cases::Loads;
-use super::checks::{near_joint, overstress_warnings, units_warnings};
+use super::checks::{deflection_warnings, near_joint, overstress_warnings, units_warnings};
+use super::deviation::largest_deviation;
 use super::inertia::{ModeSigns, classify};
 use super::loaded::{LoadCaseReport, LoadedStructure};
 use super::loads::{
@@ -212,6 +213,12 @@ pub struct PhysicalReport {
     pub self_weight_max_deflection: Option<f64>,
     /// Where it occurs.
     pub self_weight_vertex: Option<usize>,
+    /// The largest deviation of a vertex from its designed place once the rods are bent
+    /// into shape and carry their own weight (the equilibrium's displacement plus the
+    /// self-weight deflection), scene units: what `--max-deviation` bounds in the physical
+    /// mode ([`super::deviation`]; absent when unstable).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_deviation: Option<Deflection>,
     /// The largest bending stress `E r κ` of the assembly (the equilibrium the rods were
     /// bent into), MPa.
     pub assembly_max_bending_stress_mpa: f64,
@@ -253,6 +260,10 @@ pub struct PhysicalSummary {
     pub load_max_deflection: Option<f64>,
     /// The largest deflection under self-weight, scene units (absent when unstable).
     pub self_weight_max_deflection: Option<f64>,
+    /// The largest deviation of a vertex from its designed place under self-weight, scene
+    /// units ([`PhysicalReport::max_deviation`]; absent when unstable).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_deviation: Option<f64>,
     /// The largest bending stress of the assembly, MPa.
     pub assembly_max_bending_stress_mpa: f64,
     /// The largest axial stress of the assembly, MPa.
@@ -274,6 +285,7 @@ impl PhysicalReport {
             first_frequency_hz: self.first_frequency_hz,
             load_max_deflection: self.load_max_deflection.map(|d| d.max),
             self_weight_max_deflection: self.self_weight_max_deflection,
+            max_deviation: self.max_deviation.map(|d| d.max),
             assembly_max_bending_stress_mpa: self.assembly_max_bending_stress_mpa,
             assembly_max_axial_stress_mpa: self.assembly_max_axial_stress_mpa,
             max_utilisation: self.max_utilisation.as_ref().map(|u| u.value),
@@ -355,11 +367,17 @@ pub fn analyze_physical(
         .into_iter()
         .map(Message::from)
         .collect();
-    let (load_max_deflection, self_weight_deflection) = if stable {
+    let (load_max_deflection, sag) = if stable {
         (Some(at.worst_load()?), at.self_weight())
     } else {
         (None, None)
     };
+    let vertices = 3 * network.vertex_count();
+    let self_weight_deflection = sag.as_ref().map(|w| max_displacement(w, &held));
+    let max_deviation = sag.as_ref().map(|w| {
+        let (vertex, max) = largest_deviation(&u[..vertices], w, &held);
+        Deflection { max, vertex }
+    });
 
     let stresses = assembly_stresses(network, phys, &params.rest, active, &u, Some(&model));
     warnings.extend(
@@ -368,6 +386,13 @@ pub fn analyze_physical(
             .map(Message::from),
     );
     warnings.extend(units_warnings(network, phys));
+    warnings.extend(deflection_warnings(
+        network,
+        phys,
+        active,
+        self_weight_deflection.map(|d| d.1),
+        load_max_deflection.map(|d| d.max),
+    ));
     let max_utilisation = stresses.max_utilisation().map(|c| Utilisation {
         value: c.utilisation(),
         curve: c.curve,
@@ -423,7 +448,7 @@ pub fn analyze_physical(
     Ok(PhysicalReport {
         units: phys.units.symbol().to_string(),
         material: phys.material.clone(),
-        section: phys.section.describe(),
+        section: phys.section.describe_in(phys.units.symbol()),
         mass_kg,
         anchor_weight,
         equilibrium: relaxed.info.summary(),
@@ -438,6 +463,7 @@ pub fn analyze_physical(
         gravity_m_s2: phys.gravity,
         self_weight_max_deflection: self_weight_deflection.map(|d| d.1),
         self_weight_vertex: self_weight_deflection.map(|d| d.0),
+        max_deviation,
         assembly_max_bending_stress_mpa: bending.map_or(0.0, |s| s.mpa),
         assembly_max_bending_stress_at: bending,
         assembly_max_axial_stress_mpa: axial.map_or(0.0, |s| s.mpa),
@@ -553,16 +579,17 @@ impl AtEquilibrium<'_> {
         Ok(Deflection { max, vertex })
     }
 
-    /// The self-weight deflection, linearised at the equilibrium (`H u = M g`): the vertex
-    /// and the largest displacement (`None` when `H` does not factorize).
-    fn self_weight(&self) -> Option<(usize, f64)> {
+    /// The self-weight deflection, linearised at the equilibrium (`H u = M g`): three
+    /// displacements per vertex (`None` when `H` does not factorize).
+    fn self_weight(&self) -> Option<Vec<f64>> {
         let factor =
             Cholesky::factorize(self.symbolic, self.model.pattern(), self.hess, 0.0, None).ok()?;
         let mut w = self_weight(self.network, self.phys, self.active);
         let vertices = w.len();
         w.resize(self.model.dofs(), 0.0);
         factor.solve_vec(&mut w);
-        Some(max_displacement(&w[..vertices], self.held))
+        w.truncate(vertices);
+        Some(w)
     }
 }
 
@@ -613,6 +640,13 @@ impl PhysicalReport {
                 "  self-weight max deflection {d:.4e} {u} at vertex {v}"
             )),
             _ => line("  self-weight: no linear deflection (unstable)".into()),
+        }
+        if let Some(d) = self.max_deviation {
+            line(format!(
+                "  deviation from the design under self-weight (equilibrium and sag): max \
+                 {:.4e} {u} at vertex {}",
+                d.max, d.vertex
+            ));
         }
         line(format!(
             "  assembly stress: bending max {} MPa, axial max {} MPa",

@@ -2,7 +2,8 @@
 //! ([`analysis`]: frequencies, deflections, stresses, utilisation, warnings), the options as a
 //! user writes them ([`options`]), the loads and metrics ([`loads`]), stresses in the
 //! equilibrium the rods were bent into ([`stress`]), which modes are zero or negative
-//! ([`inertia`]) and the warnings ([`checks`]).
+//! ([`inertia`]), the largest deviation from the design that `--max-deviation` bounds there
+//! ([`deviation`]) and the warnings ([`checks`]).
 //!
 //! Every number is in the scene's consistent unit system (N, ℓ, s; see [`crate::units`]) until
 //! it is reported: stresses in MPa, deflections in scene units, frequencies in hertz.
@@ -10,6 +11,7 @@
 pub mod analysis;
 pub mod cases;
 pub mod checks;
+pub mod deviation;
 pub mod inertia;
 pub mod loaded;
 pub mod loads;
@@ -19,5 +21,6 @@ pub mod stress;
 pub use analysis::{
     PhysicalParams, PhysicalReport, PhysicalSummary, PhysicsError, analyze_physical,
 };
+pub use deviation::DeviationModel;
 pub use options::PhysicalOptions;
 pub use stress::{CurveStress, StressAt, Stresses, assembly_stresses};

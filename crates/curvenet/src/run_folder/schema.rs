@@ -198,8 +198,9 @@ impl LocalSearchRecord {
         })
     }
 
-    /// One line for summaries; the value shown is the objective's (`λ_eq`, or `μ_min`).
-    pub fn describe(&self) -> String {
+    /// One line for summaries; the value shown is the objective's (`λ_eq`, or `μ_min`), the
+    /// length in `unit` (the physical mode's scene unit) when given.
+    pub fn describe(&self, unit: Option<&str>) -> String {
         let value = if self.objective == objective_name(crate::stability::Objective::Frequency) {
             crate::stability::Objective::Frequency.value_symbol()
         } else {
@@ -224,7 +225,7 @@ impl LocalSearchRecord {
             self.starts.len(),
             self.moves.len(),
             self.curves,
-            crate::fmt::length(self.length),
+            crate::fmt::length_in(self.length, unit),
             self.lambda,
             self.evaluations,
             self.structures
@@ -279,6 +280,16 @@ pub struct ResultFile {
 }
 
 impl ResultFile {
+    /// The scene's length unit in the physical mode (`mm`, `cm`, `m`; `None` in the paper's
+    /// mode, whose lengths are bare scene units): the recorded networks' physical figures',
+    /// else the options'.
+    pub fn length_unit(&self) -> Option<&str> {
+        self.iterations
+            .iter()
+            .find_map(|i| i.physical.as_ref().and_then(|p| p.units.as_deref()))
+            .or_else(|| self.setup.physical.as_ref()?.units.as_deref())
+    }
+
     /// Reads `DIR/result.json`.
     ///
     /// # Errors

@@ -164,13 +164,18 @@ pub fn execute(
         observer.warning(&w);
     }
     let mesh = setup.inputs.mesh.as_ref();
+    let unit = setup
+        .model
+        .physical
+        .as_ref()
+        .map(|p| p.physical.units.symbol());
     let (constraints, constraint_params) = constraints_of(
         network,
         mesh,
         constraint_params,
         spec.default_constraints,
-        budget_length,
-        &keep,
+        (budget_length, &keep),
+        unit,
         observer,
     )?;
     let run_setup = RunSetup {
@@ -326,16 +331,18 @@ fn check_spec(setup: &Setup, spec: &RunSpec) -> Result<Budget, AppError> {
 /// Infeasible combinations stop the run here, before any work, saying why (a front end's own
 /// default constraints are dropped instead, with a note). Without design constraints a budget
 /// nothing meets is only a warning ([`notes::start_warnings`]): the greedy runs as ever.
+/// `unit`: the scene's length unit in the physical mode, where the largest deviation is the
+/// physical model's.
 fn constraints_of(
     network: &Network,
     mesh: Option<&crate::io::TriMesh>,
     mut params: ConstraintParams,
     defaults: bool,
-    budget: f64,
-    keep: &[usize],
+    (budget, keep): (f64, &[usize]),
+    unit: Option<&str>,
     observer: &dyn Observer,
 ) -> Result<(Constraints, ConstraintParams), AppError> {
-    let constraints =
+    let mut constraints =
         if params.is_default() {
             Constraints::none(network, budget, keep)
         } else {
@@ -356,6 +363,9 @@ fn constraints_of(
                 }
             }
         };
+    if let Some(u) = unit {
+        constraints.deviation_measured_physically(u);
+    }
     for note in constraints.notes() {
         observer.note(note);
     }
