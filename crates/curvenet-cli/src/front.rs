@@ -5,6 +5,7 @@
 use crate::exit::ExitError;
 use crate::signals::{self, Stage as SignalStage};
 use curvenet::app::{AppError, Observer, Stage};
+use curvenet::report::ReportError;
 use curvenet::simplify::greedy::IterationRecord;
 use curvenet::words::{Message, Opt, Wording};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -22,6 +23,16 @@ impl Wording for Flags {
 /// A message in the command line's words.
 pub fn say(m: &Message) -> String {
     m.render(&Flags)
+}
+
+/// An export's or a picture's error as the command line reports it: exit 2 when the run
+/// folder read is at fault (missing or damaged files, a network it lacks: bad input), 1
+/// otherwise.
+pub fn report_exit(e: &ReportError) -> ExitError {
+    ExitError {
+        code: if e.is_input() { 2 } else { 1 },
+        message: e.render(&Flags),
+    }
 }
 
 /// The error of the application layer as the command line reports it: exit 2 for what the

@@ -295,6 +295,36 @@ fn obj_and_json_curve_errors_name_file_and_line() {
     );
 }
 
+/// A JSON key given twice in one object (serde_json would keep the last silently) is refused,
+/// naming the file, the line, the key and where it stands.
+#[test]
+fn json_keys_given_twice_are_refused_naming_file_line_and_key() {
+    analyze_error(
+        "twice.json",
+        "{\"format\": \"curvenet-curves\", \"version\": 1,\n \"curves\": [\n  {\"points\": [[0,0,0],[1,0,0]]},\n  {\"points\": [[0,0,0],[0,1,0]],\n   \"points\": [[0,0,0],[0,2,0]]}]}",
+        &[],
+        &[
+            "twice.json:5:",
+            "duplicate key \"points\" in curves[1] (first at line 4)",
+        ],
+    );
+    analyze_error(
+        "units.json",
+        "{\"format\": \"curvenet-curves\", \"version\": 1, \"units\": \"m\",\n \"units\": \"mm\",\n \"curves\": [{\"points\": [[0,0,0],[1,0,0]]}]}",
+        &[],
+        &["units.json:2:", "duplicate key \"units\" (first at line 1)"],
+    );
+    analyze_error(
+        "material.json",
+        "{\"format\": \"curvenet-curves\", \"version\": 1, \"units\": \"mm\",\n \"curves\": [{\"points\": [[0,0,0],[1000,0,0]],\n  \"material\": {\"preset\": \"steel\", \"young\": \"1GPa\",\n   \"young\": \"200GPa\"}}]}",
+        &[],
+        &[
+            "material.json:4:",
+            "duplicate key \"young\" in curves[0].material",
+        ],
+    );
+}
+
 // ---------------------------------------------------------------------------------------------
 // Curves that cannot become rods
 

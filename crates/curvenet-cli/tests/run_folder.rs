@@ -440,3 +440,36 @@ fn view_and_export_refuse_a_folder_a_run_is_writing_in() {
         assert_eq!(o.status.code(), Some(0), "{args:?}: {}", stderr(&o));
     }
 }
+
+/// A damaged run folder is bad input: `view` and `export` exit 2 naming the state file that is
+/// missing or truncated.
+#[test]
+fn view_and_export_of_a_damaged_run_folder_exit_2_naming_the_file() {
+    let tmp = TempDir::with_grid("damaged");
+    let o = simplify_grid(&tmp.0, "out", "0.6", &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let states = tmp.0.join("out/states");
+    let last = names(&states)
+        .into_iter()
+        .filter(|n| n.ends_with(".bin") && !n.contains("modes") && !n.contains("carried"))
+        .max()
+        .expect("a state file");
+    let file = format!("states/{last}");
+    let bytes = std::fs::read(states.join(&last)).unwrap();
+    for damage in ["truncated", "missing"] {
+        if damage == "truncated" {
+            std::fs::write(states.join(&last), &bytes[..bytes.len() - 3]).unwrap();
+        } else {
+            std::fs::remove_file(states.join(&last)).unwrap();
+        }
+        for args in [
+            &["view", "out", "--output", "v.html"][..],
+            &["export", "out", "--out", "e"][..],
+        ] {
+            let o = run_in(&tmp.0, args);
+            let err = stderr(&o);
+            assert_eq!(o.status.code(), Some(2), "{damage} {args:?}: {err}");
+            assert!(err.contains(&file), "{damage} {args:?}: {err}");
+        }
+    }
+}

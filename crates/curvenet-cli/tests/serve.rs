@@ -475,6 +475,36 @@ fn serve_in_the_physical_mode_gives_the_physical_numbers_of_analyze() {
     // The state and the page carry them too; without the physical mode nothing is added.
     let (_, now) = request(&s.url, "GET", "/api/state", "");
     assert_eq!(now["physical"], state["physical"]);
+    // The start line labels the paper's λ_eq and gives physical figures with their units.
+    let started = std::fs::read_to_string(dir.join("stderr.txt")).unwrap();
+    let line = started
+        .lines()
+        .find(|l| l.starts_with("serving"))
+        .unwrap_or_else(|| panic!("{started}"));
+    assert!(line.contains("λ_eq (the paper's model) = "), "{line}");
+    assert!(
+        line.contains("self-weight deflection ") && line.contains(" m;"),
+        "{line}"
+    );
+    // The largest deviation is the physical model's: the physical analysis' own.
+    let (status, c) = request(
+        &s.url,
+        "POST",
+        "/api/constraints",
+        r#"{"max_deviation":10}"#,
+    );
+    assert_eq!(status, 200, "{c}");
+    let margin = c["current"]["margins"]["max_deviation"]["value"]
+        .as_f64()
+        .unwrap();
+    let physical = now["physical"]["max_deviation"]["max"].as_f64().unwrap();
+    assert_eq!(margin, physical, "{c}");
+    assert!(
+        c["notes"]
+            .to_string()
+            .contains("measured in the physical model"),
+        "{c}"
+    );
     drop(s);
     let mut plain = vec!["--curves", "grid.txt"];
     plain.extend_from_slice(QUIET);

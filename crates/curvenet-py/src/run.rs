@@ -4,6 +4,7 @@
 use crate::arrays::{points, xyz};
 use crate::errors;
 use crate::network::Keywords;
+use curvenet::report::ReportError;
 use curvenet::report::export::{ExportFormat, export_files, write_exports};
 use curvenet::run_folder::RunFolder;
 use curvenet::run_folder::network_polylines;
@@ -24,6 +25,15 @@ impl Run {
             .record(k)
             .map_err(|e| errors::usage(py, e.render(&Keywords)))?;
         Ok(k)
+    }
+}
+
+/// An export's error as the package raises it: `InputError` for a structural export of a run
+/// in the paper's mode, `CurvenetError` otherwise.
+fn export_error(py: Python<'_>, e: &ReportError) -> PyErr {
+    match e {
+        ReportError::NotPhysical => errors::usage(py, e.render(&Keywords)),
+        e => errors::failed(py, e.render(&Keywords)),
     }
 }
 
@@ -133,8 +143,8 @@ impl Run {
             .collect())
     }
 
-    /// Writes iteration `k`'s files in `format` (obj, json, csv, network, all) into the folder
-    /// `out`; returns their paths.
+    /// Writes iteration `k`'s files in `format` (obj, json, csv, network, structural, opensees,
+    /// all) into the folder `out`; returns their paths.
     #[pyo3(signature = (out, format = "all", k = None))]
     fn export(
         &self,
@@ -146,7 +156,7 @@ impl Run {
         let format: ExportFormat = format.parse().map_err(|e: String| errors::usage(py, e))?;
         let k = self.k(py, k)?;
         py.detach(|| write_exports(&self.run, k, format, &out))
-            .map_err(|e| errors::failed(py, e.render(&Keywords)))
+            .map_err(|e| export_error(py, &e))
     }
 
     /// The main file of `format` for iteration `k`, as `(name, text)`.
@@ -159,8 +169,7 @@ impl Run {
     ) -> PyResult<(String, String)> {
         let format: ExportFormat = format.parse().map_err(|e: String| errors::usage(py, e))?;
         let k = self.k(py, k)?;
-        let files = export_files(&self.run, k, format)
-            .map_err(|e| errors::failed(py, e.render(&Keywords)))?;
+        let files = export_files(&self.run, k, format).map_err(|e| export_error(py, &e))?;
         files
             .into_iter()
             .next()

@@ -223,9 +223,7 @@ impl StateAnswer {
         let s = &structure.summary;
         StateAnswer {
             summary: s.clone(),
-            constraints: ws
-                .constraints()
-                .margins(net, &s.curves, &structure.displacement),
+            constraints: ws.constraints().margins(net, structure),
         }
     }
 }
@@ -312,6 +310,21 @@ pub(crate) fn parse<T: DeserializeOwned>(
     };
     // An object, not the array serde would also read a struct from.
     let value: serde_json::Value = serde_json::from_slice(&body).map_err(malformed)?;
+    // serde_json keeps the last of a key given twice: refused, naming it.
+    if let Some(d) = std::str::from_utf8(&body)
+        .ok()
+        .and_then(curvenet::io::duplicate_key)
+    {
+        return Err(ApiError::new(
+            StatusCode::BAD_REQUEST,
+            format!(
+                "malformed JSON body: {} (line {}, column {})",
+                d.describe(),
+                d.line,
+                d.column
+            ),
+        ));
+    }
     if !value.is_object() {
         return Err(ApiError::new(
             StatusCode::BAD_REQUEST,

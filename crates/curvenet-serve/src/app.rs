@@ -32,6 +32,8 @@ pub fn page(ws: &Workspace) -> Result<String, String> {
         "complete": true,
         "stop": null,
         "physical": physical,
+        // The physical mode's scene unit: the lengths shown carry it.
+        "units": analyzer.physical().map(|p| p.physical.units.symbol()),
     });
     let objective = params.objective;
     let objective = json!({

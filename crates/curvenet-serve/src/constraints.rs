@@ -9,6 +9,7 @@
 //! when it starts, which may find them infeasible there (refused with the reason). The
 //! margins are those of the budget of the search started last (none before the first).
 
+use crate::design::Evaluated;
 use crate::words::{Fields, say};
 use curvenet::app::{Search, Silent};
 use curvenet::constraints::{
@@ -57,7 +58,8 @@ pub struct ConstraintsBody {
     /// Largest distance from a point of the surface to a kept curve (scene units).
     #[serde(default)]
     pub max_gap: Option<f64>,
-    /// Largest displacement of a vertex at equilibrium (scene units).
+    /// Largest displacement of a vertex from its designed place at equilibrium (scene units;
+    /// in the physical mode the physical model's, under self-weight).
     #[serde(default)]
     pub max_deviation: Option<f64>,
 }
@@ -112,6 +114,9 @@ pub struct SessionConstraints {
     bound: Option<Constraints>,
     /// The budget of the search started last (a length).
     budget: Option<f64>,
+    /// The scene's length unit in the physical mode, where the largest deviation is the
+    /// physical model's (its notes say so).
+    pub physical_unit: Option<String>,
 }
 
 impl SessionConstraints {
@@ -143,7 +148,11 @@ impl SessionConstraints {
             None
         } else {
             let all: Vec<usize> = (0..net.rods.len()).collect();
-            Some(bind(net, mesh, &params, net.total_length(&all), &[])?)
+            let mut c = bind(net, mesh, &params, net.total_length(&all), &[])?;
+            if let Some(u) = &self.physical_unit {
+                c.deviation_measured_physically(u);
+            }
+            Some(c)
         };
         self.params = params;
         self.bound = bound;
@@ -166,21 +175,29 @@ impl SessionConstraints {
         budget: Budget,
         keep: Vec<usize>,
     ) -> Result<Search, String> {
-        let search = Search::new(net, mesh, budget, keep, self.params.clone(), false, &Silent)
+        let unit = self.physical_unit.as_deref();
+        let params = self.params.clone();
+        let search = Search::new(net, mesh, budget, keep, params, false, unit, &Silent)
             .map_err(|e| e.render(&Fields))?;
         self.budget = Some(search.budget_length);
         Ok(search)
     }
 
-    /// The margins of the structure `curves` at equilibrium `displacement` (`None` when no
-    /// constraint is in force): `{"met": bool, "margins": {...}}`, each margin
-    /// `{value, limit, margin, met}`, the budget's against the search started last.
-    pub fn margins(&self, net: &Network, curves: &[usize], displacement: &[f64]) -> Option<Value> {
+    /// The margins of the structure `s` (`None` when no constraint is in force):
+    /// `{"met": bool, "margins": {...}}`, each margin `{value, limit, margin, met}`, the
+    /// budget's against the search started last. The largest deviation is its equilibrium's
+    /// largest displacement, or in the physical mode the physical analysis' (its equilibrium
+    /// and self-weight deflection; infinite when unstable), as the searches measure it.
+    pub fn margins(&self, net: &Network, s: &Evaluated) -> Option<Value> {
         let c = self.bound.as_ref()?;
+        let curves = &s.summary.curves;
         let deviation = self
             .params
             .max_deviation
-            .map(|_| max_displacement(net, curves, displacement));
+            .map(|_| match &s.summary.physical {
+                Some(p) => p.max_deviation.map_or(f64::INFINITY, |d| d.max),
+                None => max_displacement(net, curves, &s.displacement),
+            });
         let m = c.margins(curves, deviation);
         let mut v = serde_json::to_value(&m).ok()?;
         match self.budget {

@@ -19,7 +19,7 @@ use curvenet::app::Search;
 use curvenet::constraints::Constraints;
 use curvenet::simplify::SimplifyError;
 use curvenet::simplify::exhaustive::SubsetScore;
-use curvenet::simplify::local::{LocalOutcome, local_search};
+use curvenet::simplify::local::{LocalOutcome, keep_fits, local_search};
 use serde::Serialize;
 use std::sync::{Arc, Mutex, MutexGuard};
 
@@ -133,6 +133,13 @@ impl LocalRunner {
         search: Search,
     ) -> Result<LocalProgress, GreedyError> {
         let params = search.local();
+        // Kept curves over the budget leave nothing to search: said at once, with what helps.
+        keep_fits(&design.analyzer().lengths(), params.budget, &params.keep).map_err(|e| {
+            GreedyError::Params(match e {
+                SimplifyError::Params(m) => crate::words::say(&m),
+                e => e.to_string(),
+            })
+        })?;
         let from = design.current().summary.curves.clone();
         let mut s = self.lock();
         if s.job.is_running() {

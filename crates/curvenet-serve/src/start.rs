@@ -16,7 +16,7 @@ use curvenet::app::{
 use curvenet::io::TriMesh;
 use curvenet::physics::PhysicalParams;
 use curvenet::run_folder::{RunFiles, RunsRoot};
-use curvenet::stability::Analyzer;
+use curvenet::stability::{Analyzer, Objective};
 use curvenet::words::{Message, Opt, given, message};
 use std::net::{SocketAddr, ToSocketAddrs};
 use std::path::{Path, PathBuf};
@@ -55,15 +55,32 @@ pub struct Opened {
 }
 
 impl Opened {
-    /// What is served, in one line: `serving 5 of 6 curves: λ_eq = 1.234560e-3 (stable)`.
+    /// What is served, in one line: `serving 5 of 6 curves: λ_eq = 1.234560e-3 (stable)`,
+    /// and in the physical mode its first frequency and self-weight deflection (beside which
+    /// the paper's `λ_eq` is named the paper's model's).
     pub fn summary(&self) -> String {
         let design = &self.workspace.design;
         let s = design.current().summary.clone();
+        let objective = design.analyzer().objective();
+        let model = match (&s.physical, objective) {
+            (Some(_), Objective::Lambda) => " (the paper's model)",
+            _ => "",
+        };
+        let physical = s.physical.as_ref().map_or_else(String::new, |p| {
+            let or_none = |v: Option<f64>, unit: &str| {
+                v.map_or_else(|| "none (unstable)".into(), |v| format!("{v:.4} {unit}"))
+            };
+            format!(
+                "; physical: first frequency {}, self-weight deflection {}",
+                or_none(p.first_frequency_hz, "Hz"),
+                or_none(p.self_weight_max_deflection, &p.units)
+            )
+        });
         format!(
-            "serving {} of {} curves: {} = {:.6e} ({})",
+            "serving {} of {} curves: {}{model} = {:.6e} ({}){physical}",
             s.curves.len(),
             design.analyzer().curve_count(),
-            design.analyzer().objective().value_symbol(),
+            objective.value_symbol(),
             s.lambda,
             s.status.word()
         )

@@ -40,6 +40,19 @@ impl Workspace {
             mesh: None,
             constraints: Mutex::new(SessionConstraints::default()),
         }
+        .in_its_units()
+    }
+
+    /// Its constraints measure the largest deviation as the design's analyzer does: in the
+    /// physical mode on the structure's own model, in the scene's unit.
+    fn in_its_units(self) -> Self {
+        let unit = self
+            .design
+            .analyzer()
+            .physical()
+            .map(|p| p.physical.units.symbol().to_string());
+        self.constraints().physical_unit = unit;
+        self
     }
 
     /// With the greedy `runner` (a run folder's iterations).

@@ -140,6 +140,28 @@ fn bad_requests_get_a_4xx_with_a_message_and_leave_the_state_alone() {
             "malformed JSON",
         ),
         ("POST", "/api/toggle", "[1]", 400, "malformed JSON"),
+        // A key given twice: serde_json would keep the last silently.
+        (
+            "POST",
+            "/api/toggle",
+            "{\"curve\":1,\"curve\":2}",
+            400,
+            "duplicate key \"curve\" (first at line 1)",
+        ),
+        (
+            "POST",
+            "/api/set",
+            "{\"curves\":[0,1],\n \"curves\":[2]}",
+            400,
+            "duplicate key \"curves\" (first at line 1): give each key once (line 2, column 2)",
+        ),
+        (
+            "POST",
+            "/api/constraints",
+            "{\"max_gap\":100,\"connected\":true,\"max_gap\":900}",
+            400,
+            "duplicate key \"max_gap\"",
+        ),
         ("POST", "/api/set", &huge, 413, "length limit"),
         ("GET", "/api/nothing", "", 404, "no such endpoint"),
         ("GET", "/../../etc/passwd", "", 404, "no such endpoint"),

@@ -150,6 +150,44 @@ fn constraints_set_for_the_session_are_honoured_and_their_margins_given() {
     assert!(ok(addr, "GET", "/api/state", "")["constraints"].is_null());
 }
 
+/// Curves to keep longer than the budget leave nothing to search: the answer says so at once,
+/// by how much, and what helps (a larger budget or fewer curves), not to start elsewhere.
+#[test]
+fn a_keep_list_over_the_budget_is_refused_with_advice_that_helps() {
+    let (curves, build) = dome();
+    let addr = serve(&curves, &build);
+    let body = "{\"budget\":0.1,\"keep\":[0,1,2,3,4,5]}";
+    let (status, text) = request(addr, "POST", "/api/local", body.as_bytes());
+    assert_eq!(status, 422, "{text}");
+    let error = serde_json::from_str::<Value>(&text).unwrap()["error"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    assert!(
+        error.contains("the curves to keep (0, 1, 2, 3, 4, 5) are ")
+            && error.contains("over the budget")
+            && error.contains("(budget 0.1)"),
+        "{error}"
+    );
+    assert!(
+        error.contains("raise budget to at least 0.")
+            && error.contains("or keep fewer curves (keep)"),
+        "{error}"
+    );
+    assert!(!error.contains("start it again"), "{error}");
+    // The advice holds: at the budget it names, the search runs.
+    let least: f64 = error
+        .split("to at least ")
+        .nth(1)
+        .and_then(|t| t.split_whitespace().next())
+        .and_then(|t| t.parse().ok())
+        .unwrap();
+    let body = format!("{{\"budget\":{least},\"keep\":[0,1,2,3,4,5]}}");
+    ok(addr, "POST", "/api/local", &body);
+    let done = wait(addr, "/api/local");
+    assert_eq!(done["status"], "done", "{done}");
+}
+
 #[test]
 fn bad_local_search_and_constraint_requests_get_a_4xx_and_leave_the_state_alone() {
     let (curves, build) = dome();

@@ -26,6 +26,15 @@ pub fn length(x: f64) -> String {
     significant(x, 7)
 }
 
+/// [`length`] followed by its unit when there is one (the physical mode's scene unit:
+/// `13622.22 mm`), bare otherwise (the paper's scene units).
+pub fn length_in(x: f64, unit: Option<&str>) -> String {
+    match unit {
+        Some(u) => format!("{} {u}", length(x)),
+        None => length(x),
+    }
+}
+
 /// A percentage (already multiplied by 100) with three significant digits, without the `%`:
 /// `3.00`, `0.0500`, `150`.
 pub fn percent(p: f64) -> String {
@@ -45,6 +54,8 @@ mod tests {
         assert_eq!(length(2.0e-6), "2.000000e-6");
         assert_eq!(length(2.5e20), "2.500000e20");
         assert_eq!(length(0.0), "0");
+        assert_eq!(length_in(8.0, Some("mm")), "8.000000 mm");
+        assert_eq!(length_in(8.0, None), "8.000000");
         assert_eq!(significant(1234.5678, 6), "1234.57");
         assert_eq!(significant(2.301247e-9, 4), "2.301e-9");
         assert_eq!(significant(12345678.0, 4), "1.235e7");

@@ -150,7 +150,11 @@ pub fn analyze_built(
     )
     .with_objective(params.objective);
     if let Some(p) = physical {
-        report.use_physical_radius(analyzer.network(), p.physical.section.outer_radius());
+        report.use_physical_radius(
+            analyzer.network(),
+            p.physical.section.outer_radius(),
+            p.physical.units.symbol(),
+        );
     }
     Ok(AnalyzeOutput {
         analyzer,

@@ -30,7 +30,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::process::{Command, Stdio};
 
 pub fn run(a: BenchArgs) -> anyhow::Result<()> {
-    let data = super::data_source(a.data.as_deref())?;
+    let data = curvenet::app::inputs::data_source(a.data.as_deref()).map_err(crate::front::fail)?;
     let threads = a.threads.unwrap_or_else(rayon::current_num_threads);
     if a.worker {
         let [name] = a.examples.as_slice() else {

@@ -14,7 +14,7 @@ use curvenet::trace::SurfaceError;
 use indicatif::{ProgressBar, ProgressStyle};
 
 pub fn run(a: CompareArgs) -> anyhow::Result<()> {
-    let data = super::data_source(a.data.as_deref())?;
+    let data = curvenet::app::inputs::data_source(a.data.as_deref()).map_err(crate::front::fail)?;
     for (option, path) in [("--json", &a.json), ("--markdown", &a.markdown)] {
         if let Some(p) = path {
             super::writable_file(option, p)?;

@@ -5,7 +5,7 @@
 //! `--unconstrained`), with every output a real run writes.
 
 use crate::args::DemoArgs;
-use curvenet::app::{CurveSource, InputSpec, RunSpec};
+use curvenet::app::{CurveSource, InputSpec};
 use curvenet::simplify::Budget;
 
 /// The demo's default largest gap (scene units; the surfaces' largest extent is 4000): on the
@@ -43,18 +43,10 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
         a.surface,
         a.budget
     );
-    let mut spec = RunSpec {
-        force: a.force,
-        default_constraints: defaults,
-        ..super::run_spec(
-            a.out.clone(),
-            Some(Budget::Fraction(a.budget)),
-            None,
-            c,
-            &a.after,
-        )
-    };
+    let budget = Some(Budget::Fraction(a.budget));
+    let mut spec = super::run_spec(a.out.clone(), budget, None, c, &a.after, (false, a.force));
     if defaults {
+        spec.default_constraints = true;
         spec.constraints.connected = true;
         spec.constraints.max_gap = Some(DEFAULT_GAP);
         println!(

@@ -26,18 +26,15 @@ pub fn run(a: ExampleArgs) -> anyhow::Result<()> {
         );
         return super::print_analysis(&mut setup, &[], a.json, Some(header), start);
     }
-    let spec = curvenet::app::RunSpec {
-        resume: a.resume,
-        force: a.force,
-        ..super::run_spec(
-            a.out
-                .clone()
-                .unwrap_or_else(|| PathBuf::from("out").join(&name)),
-            a.budget.map(Budget::Fraction),
-            None,
-            &a.constraints,
-            &a.after,
-        )
-    };
+    let spec = super::run_spec(
+        a.out
+            .clone()
+            .unwrap_or_else(|| PathBuf::from("out").join(&name)),
+        a.budget.map(Budget::Fraction),
+        None,
+        &a.constraints,
+        &a.after,
+        (a.resume, a.force),
+    );
     super::execute(&mut setup, &spec)
 }

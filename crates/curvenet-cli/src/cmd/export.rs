@@ -3,7 +3,7 @@
 
 use crate::args::ExportArgs;
 use crate::exit::{ExitError, usage};
-use crate::front::Flags;
+use crate::front::{Flags, report_exit};
 use curvenet::report::export::{ExportFormat, export_files, write_exports};
 use curvenet::run_folder::{RunFolder, Which};
 use std::path::Path;
@@ -35,7 +35,7 @@ pub fn run(a: ExportArgs) -> anyhow::Result<()> {
     // folder get that format's main file (the first of `export_files`).
     let single = format != ExportFormat::All && out.extension().is_some() && !out.is_dir();
     if single {
-        let files = export_files(&run, k, format).map_err(|e| internal(e.render(&Flags)))?;
+        let files = export_files(&run, k, format).map_err(|e| report_exit(&e))?;
         let (_, text) = files
             .into_iter()
             .next()
@@ -56,8 +56,7 @@ pub fn run(a: ExportArgs) -> anyhow::Result<()> {
             out.display()
         )));
     }
-    let paths =
-        write_exports(&run, k, format, Path::new(&out)).map_err(|e| internal(e.render(&Flags)))?;
+    let paths = write_exports(&run, k, format, Path::new(&out)).map_err(|e| report_exit(&e))?;
     eprintln!(
         "{}: {} curves, length {}, {} {:.6e}",
         shown.what,

@@ -95,6 +95,9 @@ pub fn model_options(physics: &PhysicsArgs, p: &PhysicalModeArgs) -> ModelOption
             tube: p.tube.clone(),
             load: p.load.clone(),
             gravity: p.gravity.clone(),
+            loads: p.loads.as_ref().map(|f| f.display().to_string()),
+            deflection_limit: p.deflection_limit.clone(),
+            buckling_factor: p.buckling_factor.clone(),
             ..PhysicalOptions::default()
         },
     }
@@ -136,15 +139,19 @@ pub fn print_analysis(
     Ok(())
 }
 
-/// The run of the options: folder, budget, keep list, constraints, steps after the greedy.
+/// The run of the options: folder, budget, keep list, constraints, steps after the greedy,
+/// and whether it resumes and may run into a foreign folder.
 pub fn run_spec(
     out: PathBuf,
     budget: Option<Budget>,
     keep: Option<Vec<usize>>,
     c: &ConstraintArgs,
     after: &AfterGreedyArgs,
+    (resume, force): (bool, bool),
 ) -> RunSpec {
     RunSpec {
+        resume,
+        force,
         budget,
         keep,
         constraints: ConstraintParams {
@@ -178,14 +185,6 @@ pub fn execute(setup: &mut Setup, spec: &RunSpec) -> anyhow::Result<()> {
 
 /// A length with seven significant digits (`curvenet::fmt::length`).
 pub use curvenet::fmt::length as fmt_length;
-
-/// Where the paper's files are read from: the folder `--data` names (which must exist), or
-/// the copies embedded in curvenet.
-pub fn data_source(
-    folder: Option<&std::path::Path>,
-) -> anyhow::Result<curvenet::paper::DataSource> {
-    app::inputs::data_source(folder.map(|f| f.to_path_buf()).as_ref()).map_err(fail)
-}
 
 /// The mesh `arg` names (an OBJ file or a built-in surface) and its name (the path or
 /// `builtin:NAME`), its reading warnings printed.

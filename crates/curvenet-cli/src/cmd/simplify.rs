@@ -11,16 +11,13 @@ pub fn run(a: SimplifyArgs) -> anyhow::Result<()> {
         .budget
         .map(Budget::Fraction)
         .or(g.budget_length.map(Budget::Length));
-    let spec = curvenet::app::RunSpec {
-        resume: g.resume,
-        force: g.force,
-        ..super::run_spec(
-            a.out.clone(),
-            budget,
-            Some(g.keep.clone()),
-            &g.constraints,
-            &g.after,
-        )
-    };
+    let spec = super::run_spec(
+        a.out.clone(),
+        budget,
+        Some(g.keep.clone()),
+        &g.constraints,
+        &g.after,
+        (g.resume, g.force),
+    );
     super::execute(&mut setup, &spec)
 }

@@ -1,8 +1,8 @@
 //! `curvenet view`: the self-contained viewer page and the pictures of a run folder.
 
 use crate::args::ViewArgs;
-use crate::exit::{ExitError, usage};
-use crate::front::Flags;
+use crate::exit::usage;
+use crate::front::{Flags, report_exit};
 use curvenet::report::viewer::{ViewerOptions, write_pictures, write_viewer};
 use curvenet::run_folder::RunFolder;
 
@@ -11,9 +11,8 @@ pub fn run(a: ViewArgs) -> anyhow::Result<()> {
     // Held to the end: no run starts writing here while the pictures and the page are drawn.
     let _lock = super::hold_run_folder(&a.dir, "view")?;
     super::print_warnings(&run.warnings);
-    let internal = |message: String| ExitError { code: 1, message };
     if !a.no_pictures {
-        for p in write_pictures(&run).map_err(|e| internal(e.render(&Flags)))? {
+        for p in write_pictures(&run).map_err(|e| report_exit(&e))? {
             eprintln!("wrote {}", p.display());
         }
     }
@@ -21,7 +20,7 @@ pub fn run(a: ViewArgs) -> anyhow::Result<()> {
     let options = ViewerOptions {
         gravity: !a.no_gravity,
     };
-    write_viewer(&run, &path, &options).map_err(|e| internal(e.render(&Flags)))?;
+    write_viewer(&run, &path, &options).map_err(|e| report_exit(&e))?;
     println!("{}", path.display());
     if a.open {
         super::open_in_browser(&path.display().to_string());

@@ -32,7 +32,7 @@ fn answer(ws: &Workspace) -> ConstraintsAnswer {
     ConstraintsAnswer {
         constraints: s.params().clone(),
         notes: s.notes(),
-        current: s.margins(net, &c.summary.curves, &c.displacement),
+        current: s.margins(net, &c),
     }
 }
 

@@ -18,7 +18,7 @@ use crate::trace::{
 };
 use crate::words::{Message, Opt, Piece, given, message};
 use crate::{fmt, pipeline};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Where the curves come from.
 #[derive(Clone, Debug)]
@@ -165,7 +165,9 @@ pub fn read_inputs(spec: &InputSpec) -> Result<Inputs, AppError> {
         ]));
     }
     let mut inputs = match &spec.curves {
-        CurveSource::Example { name, data } => return example_inputs(spec, name, data.as_ref()),
+        CurveSource::Example { name, data } => {
+            return example_inputs(spec, name, data.as_deref());
+        }
         CurveSource::Geodesics {
             surface,
             count,
@@ -367,11 +369,7 @@ fn scaled_mesh(mut mesh: TriMesh, scale: f64) -> TriMesh {
 }
 
 /// The paper's example `name`, with its own surface, scale and edge length.
-fn example_inputs(
-    spec: &InputSpec,
-    name: &str,
-    data: Option<&PathBuf>,
-) -> Result<Inputs, AppError> {
+fn example_inputs(spec: &InputSpec, name: &str, data: Option<&Path>) -> Result<Inputs, AppError> {
     for (opt, set) in [
         (Opt::Mesh, spec.mesh.is_some()),
         (Opt::Scale, spec.scale != 1.0),
@@ -427,7 +425,7 @@ fn example_inputs(
 
 /// Where the paper's files are read from: the folder `data` names (which must exist), or
 /// the copies embedded in curvenet.
-pub fn data_source(data: Option<&PathBuf>) -> Result<paper::DataSource, AppError> {
+pub fn data_source(data: Option<&Path>) -> Result<paper::DataSource, AppError> {
     if let Some(dir) = data
         && !dir.is_dir()
     {
@@ -437,9 +435,7 @@ pub fn data_source(data: Option<&PathBuf>) -> Result<paper::DataSource, AppError
              files embedded in curvenet are used)"
         ]));
     }
-    Ok(paper::DataSource::folder_or_embedded(
-        data.map(PathBuf::as_path),
-    ))
+    Ok(paper::DataSource::folder_or_embedded(data))
 }
 
 /// The demo's largest extent of a built-in surface (the reference's command-line scenes).

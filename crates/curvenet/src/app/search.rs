@@ -27,8 +27,9 @@ pub struct Search {
 
 impl Search {
     /// The search of `budget` and `keep` on `network` under `constraints` (the surface `mesh`
-    /// measures the largest gap): the greedy's parameters checked, the constraints bound, and
-    /// what binding them found told to `observer` as notes. Constraints nothing within the
+    /// measures the largest gap; in the physical mode, `unit` the scene's length unit, the
+    /// largest deviation is the physical model's): the greedy's parameters checked, the
+    /// constraints bound, and what binding them found told to `observer` as notes. Constraints nothing within the
     /// budget can meet are a usage error saying why; when they are a front end's own
     /// `defaults`, they are left out instead, with a note. Without constraints a budget
     /// nothing meets is no error: the greedy runs as ever.
@@ -39,6 +40,7 @@ impl Search {
         keep: Vec<usize>,
         mut constraints: ConstraintParams,
         defaults: bool,
+        unit: Option<&str>,
         observer: &dyn Observer,
     ) -> Result<Search, AppError> {
         let n = network.rods.len();
@@ -50,7 +52,7 @@ impl Search {
         let total = network.total_length(&(0..n).collect::<Vec<_>>());
         let budget_length = budget.length(total);
         let keep = &greedy.keep;
-        let bound = if constraints.is_default() {
+        let mut bound = if constraints.is_default() {
             Constraints::none(network, budget_length, keep)
         } else {
             match Constraints::new(network, mesh, &constraints, budget_length, keep) {
@@ -70,6 +72,9 @@ impl Search {
                 }
             }
         };
+        if let Some(u) = unit {
+            bound.deviation_measured_physically(u);
+        }
         for note in bound.notes() {
             observer.note(note);
         }

@@ -187,11 +187,29 @@ fn disqualified(constraints: &Constraints, offer: &Offer) -> Option<Message> {
     if let Some(d) = offer.deviation
         && !constraints.deviation_ok(d)
     {
-        return Some(message![
-            format!("its equilibrium moves a vertex {d:.6} from its designed place, more than "),
-            Opt::MaxDeviation,
-            " allows"
-        ]);
+        return Some(match constraints.deviation_unit() {
+            None => message![
+                format!(
+                    "its equilibrium moves a vertex {d:.6} from its designed place, more than "
+                ),
+                Opt::MaxDeviation,
+                " allows"
+            ],
+            Some(_) if !d.is_finite() => message![
+                "it has no linear self-weight deflection in the physical model (not stable \
+                 there), so it meets no ",
+                Opt::MaxDeviation
+            ],
+            Some(u) => message![
+                format!(
+                    "bent into shape and under its own weight (the physical model) it moves a \
+                     vertex {} from its designed place, more than ",
+                    crate::fmt::length_in(d, Some(u))
+                ),
+                Opt::MaxDeviation,
+                " allows"
+            ],
+        });
     }
     None
 }
@@ -305,8 +323,10 @@ impl Answer {
     /// One line for summaries: where it comes from, its size, length and value (`value`
     /// names it: `λ_eq`, or `μ_min` under the frequency objective), and each constraint asked
     /// for beyond the budget with its standing (groups and orbits whole, one structure, the
-    /// number of curves, the largest gap and deviation against their limits).
-    pub fn describe(&self, value: &str) -> String {
+    /// number of curves, the largest gap and deviation against their limits). Lengths carry
+    /// `unit` when given: the physical mode's scene unit, where the largest deviation is the
+    /// physical model's under self-weight.
+    pub fn describe(&self, value: &str, unit: Option<&str>) -> String {
         let source = self.found.source.replace('_', " ");
         let place = match self.found.iteration {
             Some(k) => format!("the {source}'s iteration {k}"),
@@ -316,7 +336,7 @@ impl Answer {
         let mut s = format!(
             "{place}, {} curves, length {} ({}% of the budget), {value} {:.6e}",
             self.found.curves.len(),
-            crate::fmt::length(self.found.length),
+            crate::fmt::length_in(self.found.length, unit),
             crate::fmt::percent(100.0 * m.budget.value / m.budget.limit),
             self.found.lambda
         );
@@ -336,16 +356,20 @@ impl Answer {
         if let Some(k) = &m.min_curves {
             s.push_str(&format!("; {} curves (at least {})", k.value, k.limit));
         }
+        let deviation = match unit {
+            Some(_) => "largest deviation under self-weight (the physical model)",
+            None => "largest deviation",
+        };
         let named = [
             ("largest gap", m.max_gap.as_ref()),
-            ("largest deviation", m.max_deviation.as_ref()),
+            (deviation, m.max_deviation.as_ref()),
         ];
         for (what, margin) in named {
             if let Some(g) = margin {
                 s.push_str(&format!(
                     "; {what} {} (limit {})",
-                    crate::fmt::length(g.value),
-                    crate::fmt::length(g.limit)
+                    crate::fmt::length_in(g.value, unit),
+                    crate::fmt::length_in(g.limit, unit)
                 ));
             }
         }
@@ -355,8 +379,8 @@ impl Answer {
 
 impl NoAnswer {
     /// Lines for summaries: the reason, then the smallest stable network (its value named
-    /// `value`, as in [`Answer::describe`]).
-    pub fn describe(&self, value: &str) -> String {
+    /// `value`, its length in `unit`, as in [`Answer::describe`]).
+    pub fn describe(&self, value: &str, unit: Option<&str>) -> String {
         let mut s = format!("no answer: {}", self.reason.render(&Recorded));
         match &self.smallest_stable {
             Some(n) => {
@@ -376,7 +400,7 @@ impl NoAnswer {
                     "\nsmallest stable network of the run: {place}, {} curves, length {} \
                      ({budget}), {value} {:.6e}",
                     n.found.curves.len(),
-                    crate::fmt::length(n.found.length),
+                    crate::fmt::length_in(n.found.length, unit),
                     n.found.lambda
                 ));
             }
@@ -523,7 +547,7 @@ mod tests {
         assert_eq!(s.found.iteration, Some(1));
         assert!(s.over_budget_percent > 0.0);
         assert!(
-            none.describe("λ_eq")
+            none.describe("λ_eq", None)
                 .contains("smallest stable network of the run: iteration 1")
         );
         assert!(ch.alternatives.is_empty());

@@ -91,15 +91,50 @@ impl Constraints {
         self.analyse_min_curves(&free, forced.len(), forced_length)?;
         self.analyse_connected(&forced)?;
         self.analyse_gap(&free, forced_length)?;
-        if let Some(d) = self.params.max_deviation {
-            self.notes.push(message![
+        if self.params.max_deviation.is_some() {
+            self.deviation_note = Some(self.notes.len());
+            self.notes.push(self.deviation_note_text(None));
+        }
+        Ok(())
+    }
+
+    /// The note saying how the largest deviation is measured: on the equilibrium of the
+    /// searches' model (the paper's), or in the physical mode (`unit`: the scene's length
+    /// unit) on the structure's own model under its own weight.
+    fn deviation_note_text(&self, unit: Option<&str>) -> Message {
+        let d = self.params.max_deviation.unwrap_or(0.0);
+        match unit {
+            None => message![
                 given(Opt::MaxDeviation, num(d)),
                 ": measured on the equilibrium of every network the greedy records and the \
                  local search evaluates (the largest displacement of a vertex from its designed \
                  place); a network over it is never the answer"
-            ]);
+            ],
+            Some(u) => message![
+                given(Opt::MaxDeviation, format!("{} {u}", num(d))),
+                ": measured in the physical model on every network the greedy records and the \
+                 local search evaluates: the largest distance of a vertex from its designed \
+                 place once the rods are bent into shape and carry their own weight (the \
+                 structure's equilibrium plus its self-weight deflection); a network over it is \
+                 never the answer"
+            ],
         }
-        Ok(())
+    }
+
+    /// The largest deviation is the physical mode's (the searches' analyzer measures it on
+    /// the structure's own model, [`crate::stability::Analyzer::part_deviation`]), in `unit`
+    /// (the scene's length unit): the note says so.
+    pub fn deviation_measured_physically(&mut self, unit: &str) {
+        self.deviation_unit = Some(unit.to_string());
+        if let Some(i) = self.deviation_note {
+            self.notes[i] = self.deviation_note_text(Some(unit));
+        }
+    }
+
+    /// The scene's length unit when the largest deviation is the physical mode's
+    /// ([`Self::deviation_measured_physically`]), else `None`.
+    pub fn deviation_unit(&self) -> Option<&str> {
+        self.deviation_unit.as_deref()
     }
 
     fn analyse_min_curves(

@@ -341,6 +341,10 @@ pub struct Constraints {
     adjacency: Option<Vec<CurveSet>>,
     coverage: Option<Coverage>,
     notes: Vec<Message>,
+    /// Which of the notes says how the largest deviation is measured.
+    deviation_note: Option<usize>,
+    /// The scene's length unit when the largest deviation is the physical mode's.
+    deviation_unit: Option<String>,
 }
 
 impl std::fmt::Debug for Constraints {
@@ -545,6 +549,8 @@ impl Constraints {
             adjacency,
             coverage,
             notes: Vec::new(),
+            deviation_note: None,
+            deviation_unit: None,
         }
     }
 

@@ -280,6 +280,9 @@ impl References {
                  {\"tower\": 103.8}",
             )
         })?;
+        if let Some(d) = crate::io::duplicate_key(&text) {
+            return Err(crate::io::InputError::parse(&file, d.line, d.describe()));
+        }
         if let Some((name, s)) = refs.0.iter().find(|(_, s)| !(s.is_finite() && **s > 0.0)) {
             return Err(crate::io::InputError::parse(
                 &file,

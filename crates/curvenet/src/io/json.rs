@@ -120,7 +120,8 @@ impl<'de> Deserialize<'de> for GroupTag {
 ///
 /// [`InputError::Parse`] for invalid JSON or a wrongly typed or unknown field (`serde_json`'s line
 /// and column in the message), a document that is not an object, a wrong `format`, an unsupported
-/// `version`, an empty `curves` list, and the curve checks shared by all formats (no points,
+/// `version`, a key given twice in one object ([`super::duplicate_key`]), an empty `curves`
+/// list, and the curve checks shared by all formats (no points,
 /// fewer than 2 distinct points, 3 when closed), which name `curve <index>` and the line of that
 /// curve's opening brace.
 pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError> {
@@ -154,6 +155,10 @@ pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError
         );
     }
     let header: Header = serde_json::from_str(text).map_err(json_error)?;
+    // serde_json keeps the last of a key given twice: refused, naming it.
+    if let Some(d) = super::duplicate_key(text) {
+        return fail(d.line, d.describe());
+    }
     let located = locate(text).unwrap_or_default();
     match header.format {
         Some(serde_json::Value::String(f)) if f == FORMAT => {}

@@ -15,7 +15,9 @@
 //! [`mesh_to_obj`].
 //!
 //! Every parser checks its input completely: a malformed or non-finite number, a truncated point,
-//! a curve with too few distinct points, an index that points nowhere… each is an [`InputError`]
+//! a curve with too few distinct points, an index that points nowhere, a JSON key given twice
+//! in one object ([`duplicate_key`], which every JSON text the tool reads is checked with)… each
+//! is an [`InputError`]
 //! naming the file and the line, displayed as `file:line: message`. No input makes a parser panic.
 //! Suspicious but usable input (consecutive points closer than `1e-9 ×` the curve's bounding-box
 //! diagonal, degenerate mesh faces, …) is reported as [`InputWarning`]s next to the result.
@@ -30,6 +32,7 @@ mod atomic;
 mod background;
 mod checks;
 mod json;
+mod json_keys;
 mod obj_curves;
 mod obj_lexer;
 mod obj_mesh;
@@ -39,6 +42,7 @@ mod reference;
 pub use atomic::{Unwritable, check_writable, exit_removing_temp_files, write_atomic};
 pub use background::{BackgroundWriter, WriteError};
 pub use json::{curves_to_json, parse_json_curves};
+pub use json_keys::{DuplicateKey, duplicate_key};
 pub use obj_curves::{curves_to_obj, parse_obj_polylines};
 pub use obj_mesh::{mesh_to_obj, parse_obj_mesh};
 pub use points::{PointCurve, curves_from_points};

@@ -68,13 +68,24 @@ impl Section {
 
     /// A short description in scene units (`solid r 10`, `tube 60 × 4`).
     pub fn describe(&self) -> String {
+        self.describe_in("")
+    }
+
+    /// [`Self::describe`] with each length followed by `unit` (the scene's length unit, as
+    /// `"mm"`): `solid, radius 10.0 mm`.
+    pub fn describe_in(&self, unit: &str) -> String {
+        let u = if unit.is_empty() {
+            String::new()
+        } else {
+            format!(" {unit}")
+        };
         match *self {
             // As given (shortest round trip: `0.01`, `1e-30`), not expanded to every zero.
-            Section::Solid { radius } => format!("solid, radius {radius:?}"),
+            Section::Solid { radius } => format!("solid, radius {radius:?}{u}"),
             Section::Tube {
                 outer_diameter,
                 wall,
-            } => format!("tube {outer_diameter:?} × {wall:?}"),
+            } => format!("tube {outer_diameter:?}{u} × {wall:?}{u}"),
         }
     }
 

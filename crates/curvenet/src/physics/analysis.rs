@@ -23,8 +23,11 @@
 //! An unstable equilibrium (a zero or negative `μ`) has no frequency and no linear
 //! deflection: those numbers are absent and a warning says why.
 
-use super::checks::{near_joint, overstress_warnings, units_warnings};
+use super::cases::Loads;
+use super::checks::{deflection_warnings, near_joint, overstress_warnings, units_warnings};
+use super::deviation::largest_deviation;
 use super::inertia::{ModeSigns, classify};
+use super::loaded::{LoadCaseReport, LoadedStructure};
 use super::loads::{
     frequencies_hz, held_vertices, lumped_lengths, max_displacement, self_weight,
     worst_load_deflection,
@@ -58,6 +61,57 @@ pub struct PhysicalParams {
     pub frequencies: usize,
     /// What an equilibrium is.
     pub newton: NewtonParams,
+    /// Load cases and combinations to analyse (none: none).
+    pub loads: Option<Loads>,
+    /// The load cases' deflection limit.
+    pub deflection_limit: Option<DeflectionLimit>,
+    /// The smallest acceptable critical load factor of a load case (default 1).
+    pub buckling_factor: f64,
+}
+
+/// A load case's deflection limit: a fraction of the span or a length.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DeflectionLimit {
+    /// The span over this number (`span/250`): the span is the largest distance between two
+    /// supported vertices of the structure (its largest extent when it has fewer than two).
+    SpanOver(f64),
+    /// A length, scene units.
+    Length(f64),
+}
+
+impl DeflectionLimit {
+    /// The limit on the structure `active` of `network`, scene units.
+    pub fn on(self, network: &Network, active: &ActiveSet) -> f64 {
+        match self {
+            DeflectionLimit::Length(l) => l,
+            DeflectionLimit::SpanOver(d) => span(network, active) / d,
+        }
+    }
+}
+
+/// The largest distance between two supported vertices of the structure (its largest
+/// extent when it has fewer than two).
+pub fn span(network: &Network, active: &ActiveSet) -> f64 {
+    let mut supported: Vec<u32> = (network.rods.iter().enumerate())
+        .filter(|(c, _)| active.contains(*c))
+        .flat_map(|(_, r)| r.anchors.iter().copied())
+        .collect();
+    if supported.len() < 2 {
+        supported = (network.rods.iter().enumerate())
+            .filter(|(c, _)| active.contains(*c))
+            .flat_map(|(_, r)| r.vertices.iter().copied())
+            .collect();
+    }
+    supported.sort_unstable();
+    supported.dedup();
+    let p = |v: u32| network.positions[v as usize];
+    let mut best = 0.0_f64;
+    for (i, &a) in supported.iter().enumerate() {
+        for &b in &supported[i + 1..] {
+            best = best.max((p(a) - p(b)).norm());
+        }
+    }
+    best
 }
 
 impl PhysicalParams {
@@ -69,6 +123,9 @@ impl PhysicalParams {
             rest: Vec::new(),
             frequencies: 4,
             newton: NewtonParams::default(),
+            loads: None,
+            deflection_limit: None,
+            buckling_factor: 1.0,
         }
     }
 
@@ -79,6 +136,13 @@ impl PhysicalParams {
             return Err(format!(
                 "the number of frequencies must lie in 1..={MAX_EIGEN_COUNT}, got {}",
                 self.frequencies
+            )
+            .into());
+        }
+        if !(self.buckling_factor.is_finite() && self.buckling_factor > 0.0) {
+            return Err(format!(
+                "the required critical load factor must be a positive number, got {}",
+                self.buckling_factor
             )
             .into());
         }
@@ -151,6 +215,12 @@ pub struct PhysicalReport {
     pub self_weight_max_deflection: Option<f64>,
     /// Where it occurs.
     pub self_weight_vertex: Option<usize>,
+    /// The largest deviation of a vertex from its designed place once the rods are bent
+    /// into shape and carry their own weight (the equilibrium's displacement plus the
+    /// self-weight deflection), scene units: what `--max-deviation` bounds in the physical
+    /// mode ([`super::deviation`]; absent when unstable).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_deviation: Option<Deflection>,
     /// The largest bending stress `E r κ` of the assembly (the equilibrium the rods were
     /// bent into), MPa.
     pub assembly_max_bending_stress_mpa: f64,
@@ -164,6 +234,9 @@ pub struct PhysicalReport {
     pub max_utilisation: Option<Utilisation>,
     /// Every curve's largest stresses.
     pub curves: Vec<CurveStress>,
+    /// What the structure does under each load case and combination of the loads file.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub load_cases: Vec<LoadCaseReport>,
     /// Curves that would break when bent, units that look wrong, instability.
     pub warnings: Vec<Message>,
 }
@@ -189,6 +262,10 @@ pub struct PhysicalSummary {
     pub load_max_deflection: Option<f64>,
     /// The largest deflection under self-weight, scene units (absent when unstable).
     pub self_weight_max_deflection: Option<f64>,
+    /// The largest deviation of a vertex from its designed place under self-weight, scene
+    /// units ([`PhysicalReport::max_deviation`]; absent when unstable).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_deviation: Option<f64>,
     /// The largest bending stress of the assembly, MPa.
     pub assembly_max_bending_stress_mpa: f64,
     /// The largest axial stress of the assembly, MPa.
@@ -210,6 +287,7 @@ impl PhysicalReport {
             first_frequency_hz: self.first_frequency_hz,
             load_max_deflection: self.load_max_deflection.map(|d| d.max),
             self_weight_max_deflection: self.self_weight_max_deflection,
+            max_deviation: self.max_deviation.map(|d| d.max),
             assembly_max_bending_stress_mpa: self.assembly_max_bending_stress_mpa,
             assembly_max_axial_stress_mpa: self.assembly_max_axial_stress_mpa,
             max_utilisation: self.max_utilisation.as_ref().map(|u| u.value),
@@ -291,11 +369,17 @@ pub fn analyze_physical(
         .into_iter()
         .map(Message::from)
         .collect();
-    let (load_max_deflection, self_weight_deflection) = if stable {
+    let (load_max_deflection, sag) = if stable {
         (Some(at.worst_load()?), at.self_weight())
     } else {
         (None, None)
     };
+    let vertices = 3 * network.vertex_count();
+    let self_weight_deflection = sag.as_ref().map(|w| max_displacement(w, &held));
+    let max_deviation = sag.as_ref().map(|w| {
+        let (vertex, max) = largest_deviation(&u[..vertices], w, &held);
+        Deflection { max, vertex }
+    });
 
     let stresses = assembly_stresses(network, phys, &params.rest, active, &u, Some(&model));
     warnings.extend(
@@ -304,6 +388,13 @@ pub fn analyze_physical(
             .map(Message::from),
     );
     warnings.extend(units_warnings(network, phys));
+    warnings.extend(deflection_warnings(
+        network,
+        phys,
+        active,
+        self_weight_deflection.map(|d| d.1),
+        load_max_deflection.map(|d| d.max),
+    ));
     let max_utilisation = stresses.max_utilisation().map(|c| Utilisation {
         value: c.utilisation(),
         curve: c.curve,
@@ -312,6 +403,40 @@ pub fn analyze_physical(
         stress_mpa: c.combined_mpa,
         strength_mpa: c.strength_mpa,
     });
+    let load_cases = match &params.loads {
+        Some(loads) => {
+            let cases = loads
+                .forces(network, phys, active)
+                .map_err(PhysicsError::Params)?;
+            let mut loaded_model = model.clone();
+            let structure = LoadedStructure {
+                network,
+                active,
+                physical: phys,
+                rest: &params.rest,
+                held: &held,
+                u0: &u,
+                h0: &relaxed.hess,
+                symbolic: &symbolic,
+                newton: &params.newton,
+                deflection_limit: params.deflection_limit.map(|d| d.on(network, active)),
+                required_factor: params.buckling_factor,
+            };
+            let reports: Vec<LoadCaseReport> = cases
+                .iter()
+                .map(|c| structure.analyze(&mut loaded_model, c))
+                .collect();
+            for r in reports.iter().filter(|r| !r.passes) {
+                warnings.push(Message::from(format!(
+                    "load case {} does not pass: {}",
+                    r.name,
+                    r.failures.join("; ")
+                )));
+            }
+            reports
+        }
+        None => Vec::new(),
+    };
     let bending = stresses.max_bending();
     let axial = stresses.max_axial();
     let mass_kg = phys.units.mass_to_kg(
@@ -325,7 +450,7 @@ pub fn analyze_physical(
     Ok(PhysicalReport {
         units: phys.units.symbol().to_string(),
         material: phys.material.clone(),
-        section: phys.section.describe(),
+        section: phys.section.describe_in(phys.units.symbol()),
         mass_kg,
         anchor_weight,
         equilibrium: relaxed.info.summary(),
@@ -340,12 +465,14 @@ pub fn analyze_physical(
         gravity_m_s2: phys.gravity,
         self_weight_max_deflection: self_weight_deflection.map(|d| d.1),
         self_weight_vertex: self_weight_deflection.map(|d| d.0),
+        max_deviation,
         assembly_max_bending_stress_mpa: bending.map_or(0.0, |s| s.mpa),
         assembly_max_bending_stress_at: bending,
         assembly_max_axial_stress_mpa: axial.map_or(0.0, |s| s.mpa),
         assembly_max_axial_stress_at: axial,
         max_utilisation,
         curves: stresses.curves,
+        load_cases,
         warnings,
     })
 }
@@ -454,16 +581,17 @@ impl AtEquilibrium<'_> {
         Ok(Deflection { max, vertex })
     }
 
-    /// The self-weight deflection, linearised at the equilibrium (`H u = M g`): the vertex
-    /// and the largest displacement (`None` when `H` does not factorize).
-    fn self_weight(&self) -> Option<(usize, f64)> {
+    /// The self-weight deflection, linearised at the equilibrium (`H u = M g`): three
+    /// displacements per vertex (`None` when `H` does not factorize).
+    fn self_weight(&self) -> Option<Vec<f64>> {
         let factor =
             Cholesky::factorize(self.symbolic, self.model.pattern(), self.hess, 0.0, None).ok()?;
         let mut w = self_weight(self.network, self.phys, self.active);
         let vertices = w.len();
         w.resize(self.model.dofs(), 0.0);
         factor.solve_vec(&mut w);
-        Some(max_displacement(&w[..vertices], self.held))
+        w.truncate(vertices);
+        Some(w)
     }
 }
 
@@ -515,6 +643,13 @@ impl PhysicalReport {
             )),
             _ => line("  self-weight: no linear deflection (unstable)".into()),
         }
+        if let Some(d) = self.max_deviation {
+            line(format!(
+                "  deviation from the design under self-weight (equilibrium and sag): max \
+                 {:.4e} {u} at vertex {}",
+                d.max, d.vertex
+            ));
+        }
         line(format!(
             "  assembly stress: bending max {} MPa, axial max {} MPa",
             sig(self.assembly_max_bending_stress_mpa, 4),
@@ -530,6 +665,9 @@ impl PhysicalReport {
                 m.near,
                 m.vertex
             ));
+        }
+        for c in &self.load_cases {
+            line(format!("  {}", c.to_text(u)));
         }
         s
     }

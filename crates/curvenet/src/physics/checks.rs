@@ -1,5 +1,5 @@
-//! Warnings of the physical mode: curves that would break when bent into shape, and units
-//! that imply absurd dimensions.
+//! Warnings of the physical mode: curves that would break when bent into shape, units that
+//! imply absurd dimensions, and deflections larger than the structure.
 
 use super::stress::Stresses;
 use crate::geom::Aabb;
@@ -7,8 +7,9 @@ use crate::material::Physical;
 use crate::rod::Network;
 use crate::words::{Message, Opt, given, message};
 
-/// A network more than this many metres across is probably drawn in another unit.
-pub const MAX_EXTENT_M: f64 = 10_000.0;
+/// A network this many metres across or more (kilometres) is probably drawn in another unit:
+/// no rod structure of any material spans a kilometre.
+pub const MAX_EXTENT_M: f64 = 1_000.0;
 /// A network less than this many metres across is probably drawn in another unit.
 pub const MIN_EXTENT_M: f64 = 0.01;
 /// Rods thicker than this share of the median curve length are columns, not rods.
@@ -79,7 +80,7 @@ pub fn units_warnings(network: &Network, physical: &Physical) -> Vec<Message> {
     let u = physical.units;
     let m = u.metres();
     let extent = Aabb::of_points(&network.positions).largest_extent() * m;
-    if !(MIN_EXTENT_M..=MAX_EXTENT_M).contains(&extent) {
+    if !(MIN_EXTENT_M..MAX_EXTENT_M).contains(&extent) {
         out.push(message![
             "with ",
             given(Opt::Units, u),
@@ -125,6 +126,57 @@ pub fn units_warnings(network: &Network, physical: &Physical) -> Vec<Message> {
         ]);
     }
     out
+}
+
+/// Warnings when a deflection of the structure `active` is larger than the structure itself
+/// (a linear deflection that size means nothing: the units, the material or the section are
+/// wrong): `self_weight` and `load` are its largest self-weight and worst-case-load
+/// deflections, scene units.
+pub fn deflection_warnings(
+    network: &Network,
+    physical: &Physical,
+    active: &crate::rod::ActiveSet,
+    self_weight: Option<f64>,
+    load: Option<f64>,
+) -> Vec<Message> {
+    let held = super::loads::held_vertices(network, active);
+    let points: Vec<_> = network
+        .positions
+        .iter()
+        .zip(&held)
+        .filter(|(_, h)| **h)
+        .map(|(p, _)| *p)
+        .collect();
+    if points.is_empty() {
+        return Vec::new();
+    }
+    let u = physical.units;
+    let m = u.metres();
+    let size = Aabb::of_points(&points).largest_extent();
+    let load_words = format!(
+        "the worst-case load of {} kN/m",
+        crate::fmt::significant(physical.load_n_per_m / 1e3, 4)
+    );
+    [
+        ("its own weight".to_string(), self_weight),
+        (load_words, load),
+    ]
+    .into_iter()
+    .filter_map(|(what, d)| Some((what, d?)))
+    .filter(|(_, d)| *d > size)
+    .map(|(what, d)| {
+        message![
+            format!(
+                "under {what} the structure deflects by {}, more than its size ({} \
+                     across): a linear deflection this large means nothing; check ",
+                metres(d * m),
+                metres(size * m)
+            ),
+            Opt::Units,
+            ", the material and the section"
+        ]
+    })
+    .collect()
 }
 
 /// A length in metres, written in a readable unit.

@@ -41,6 +41,12 @@ pub enum ReportError {
     /// a picture could not be encoded.
     #[error("{0}")]
     Invalid(String),
+    /// A structural export of a run in the paper's mode, which has no material.
+    #[error(
+        "the run is in the paper's model, which has no material or units: a structural model \
+         needs a run in the physical mode (the scene's length unit, a material and a section)"
+    )]
+    NotPhysical,
 }
 
 impl ReportError {
@@ -49,6 +55,17 @@ impl ReportError {
         match self {
             ReportError::RunFolder(e) => e.render(words),
             e => e.to_string(),
+        }
+    }
+
+    /// Whether the error is the input's: the run folder read is missing a file, damaged (a
+    /// state truncated, a record malformed) or lacks the network asked for ([`RunFolderError::
+    /// is_input`]); writing the outputs failing is not.
+    pub fn is_input(&self) -> bool {
+        match self {
+            ReportError::RunFolder(e) => e.is_input(),
+            ReportError::Io { .. } | ReportError::Invalid(_) => false,
+            ReportError::NotPhysical => true,
         }
     }
 
@@ -237,6 +254,10 @@ pub struct AnalysisReport {
     /// text says its figures are the paper's model's, not physical.
     #[serde(skip)]
     pub beside_physical: bool,
+    /// The scene's length unit beside a physical analysis (`mm`, `cm`, `m`): the text's
+    /// lengths carry it.
+    #[serde(skip)]
+    pub length_unit: Option<String>,
 }
 
 impl AnalysisReport {
@@ -254,9 +275,11 @@ impl AnalysisReport {
     /// In the physical mode the paper's model keeps its default radius as a stand-in: the
     /// units note is that of the real section's outer radius `radius` (scene units) instead,
     /// without the paper model's warning (the physical analysis checks the section against
-    /// the scene).
-    pub fn use_physical_radius(&mut self, network: &Network, radius: f64) {
+    /// the scene); the text's lengths carry the scene's `unit` and the paper's figures say
+    /// they are the paper's model's.
+    pub fn use_physical_radius(&mut self, network: &Network, radius: f64, unit: &str) {
         self.beside_physical = true;
+        self.length_unit = Some(unit.to_string());
         if let Some(w) = self.units.warning.take() {
             self.warnings.retain(|x| *x != w);
         }
@@ -358,6 +381,7 @@ impl AnalysisReport {
             build: build.clone(),
             warnings,
             beside_physical: false,
+            length_unit: None,
         }
     }
 
@@ -365,6 +389,11 @@ impl AnalysisReport {
     pub fn to_text(&self) -> String {
         let mut s = String::new();
         let b = &self.build;
+        let unit = self.length_unit.as_deref();
+        let sig = |x: f64| match unit {
+            Some(u) => format!("{} {u}", fmt::significant(x, 4)),
+            None => fmt::significant(x, 4),
+        };
         let _ = writeln!(
             s,
             "network: {} curves, {} vertices, {} joints ({} crossings, {} self-crossings, up to {} curves at a joint), {} dofs",
@@ -379,18 +408,19 @@ impl AnalysisReport {
         let e = &self.edge_length;
         let _ = writeln!(
             s,
-            "edge lengths: min {} / median {} / max {}   (crossing tolerance {:.3e}..{:.3e})",
-            fmt::significant(e.min, 4),
-            fmt::significant(e.median, 4),
-            fmt::significant(e.max, 4),
+            "edge lengths: min {} / median {} / max {}   (crossing tolerance {:.3e}..{:.3e}{})",
+            sig(e.min),
+            sig(e.median),
+            sig(e.max),
             b.min_tolerance,
-            b.max_tolerance
+            b.max_tolerance,
+            unit.map_or_else(String::new, |u| format!(" {u}"))
         );
         let _ = writeln!(
             s,
             "structure: {} curves, rest length {}{}; supports {}",
             self.curves,
-            fmt::length(self.length),
+            fmt::length_in(self.length, unit),
             if self.removed.is_empty() {
                 String::new()
             } else {
@@ -399,14 +429,26 @@ impl AnalysisReport {
             self.supports
         );
         let n = &self.newton;
+        // Beside a physical analysis the paper's λ_eq and its spectrum are the paper's
+        // model's (E = 1, r = 2, µ = 500), not physical figures: labelled so.
+        let paper = if self.beside_physical && self.objective == Objective::Lambda {
+            " (the paper's model)"
+        } else {
+            ""
+        };
         let _ = writeln!(
             s,
-            "equilibrium: {} Newton iterations, {}, relative gradient {:.3e}",
+            "equilibrium{paper}: {} Newton iterations, {}, relative gradient {:.3e}",
             n.iterations, n.stop, n.grad_rel
         );
         match self.objective {
             Objective::Lambda => {
-                let _ = writeln!(s, "lambda (λ_eq): {:.6e}", self.lambda);
+                let model = if paper.is_empty() {
+                    ""
+                } else {
+                    ", the paper's model"
+                };
+                let _ = writeln!(s, "lambda (λ_eq{model}): {:.6e}", self.lambda);
             }
             Objective::Frequency => {
                 let f = self
@@ -422,7 +464,7 @@ impl AnalysisReport {
         }
         let _ = writeln!(
             s,
-            "eigenvalues: {}",
+            "eigenvalues{paper}: {}",
             self.eigenvalues
                 .iter()
                 .map(|v| format!("{v:.6e}"))
@@ -431,7 +473,7 @@ impl AnalysisReport {
         );
         let _ = writeln!(
             s,
-            "modes: {} zero, {} negative (threshold {:.3e}); relative residuals ≤ {:.2e}",
+            "modes{paper}: {} zero, {} negative (threshold {:.3e}); relative residuals ≤ {:.2e}",
             self.zero_modes,
             self.negative_modes,
             self.zero_threshold,
@@ -439,7 +481,7 @@ impl AnalysisReport {
         );
         let _ = writeln!(
             s,
-            "worst-case mode lives on curves: {}",
+            "worst-case mode{paper} lives on curves: {}",
             self.mode_curves
                 .iter()
                 .take(5)
@@ -465,8 +507,11 @@ impl AnalysisReport {
         let _ = writeln!(
             s,
             "units: radius {} vs median curve length {} (slenderness {})",
-            self.units.radius,
-            fmt::length(self.units.median_curve_length),
+            match unit {
+                Some(u) => format!("{} {u}", fmt::significant(self.units.radius, 4)),
+                None => self.units.radius.to_string(),
+            },
+            fmt::length_in(self.units.median_curve_length, unit),
             fmt::significant(self.units.slenderness, 4)
         );
         s

@@ -229,6 +229,8 @@ pub fn viewer_data(run: &RunFolder, options: &ViewerOptions) -> Result<Value, Re
             "total_length": s.total_length,
             "complete": r.complete,
             "stop": r.stop,
+            // The physical mode's scene unit: the lengths shown carry it.
+            "units": r.length_unit(),
         },
         "positions": encode_f32(net.positions.iter().flat_map(|p| p.to_array())),
         "rods": rods,

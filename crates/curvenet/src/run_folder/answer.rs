@@ -5,7 +5,6 @@ use super::read_f64_file;
 use crate::cancel::Cancel;
 use crate::constraints::answer::{Offer, choose, distinct, qualifies};
 use crate::constraints::{Constraints, max_displacement};
-use crate::network::Network;
 use crate::rod::ActiveSet;
 use crate::simplify::exhaustive::SubsetScore;
 use crate::simplify::greedy::IterationRecord;
@@ -32,21 +31,32 @@ pub fn greedy_offers(iterations: &[IterationRecord]) -> Vec<Offer> {
         .collect()
 }
 
-/// Measures the largest displacement at equilibrium (the largest deviation's) of each of the
-/// greedy's `offers` ([`greedy_offers`]) on its iteration's state in the run folder `dir`.
+/// Measures the largest deviation from the design of each of the greedy's `offers`
+/// ([`greedy_offers`]): in the paper's mode the largest displacement of its iteration's state
+/// in the run folder `dir`, in the physical mode the physical model's
+/// ([`Analyzer::part_deviation`]).
 ///
 /// # Errors
 ///
-/// A state file that cannot be read or does not match `network` (the offers measured so far
-/// keep their deviation; the others stay unmeasured, which disqualifies them).
+/// A state file that cannot be read or does not match the network, or a structure the
+/// physical mode cannot evaluate (the offers measured so far keep their deviation; the others
+/// stay unmeasured, which disqualifies them).
 pub fn measure_greedy_deviations(
     offers: &mut [Offer],
     dir: &Path,
-    network: &Network,
+    analyzer: &Analyzer,
 ) -> Result<(), super::RunFolderError> {
+    let network = analyzer.network();
     let dofs = 3 * network.positions.len();
     for o in offers.iter_mut() {
         let Some(k) = o.iteration else { continue };
+        if analyzer.physical().is_some() {
+            let d = analyzer
+                .deviation(&analyzer.set(&o.curves))
+                .map_err(|e| super::RunFolderError::Failed(e.to_string()))?;
+            o.deviation = Some(d);
+            continue;
+        }
         let u = read_f64_file(&dir.join(crate::run_layout::state_file(k)))?;
         if u.len() < dofs {
             return Err(super::RunFolderError::Invalid {
@@ -59,9 +69,21 @@ pub fn measure_greedy_deviations(
     Ok(())
 }
 
-/// A network another search found, evaluated in full (`λ_eq`, its modes, its equilibrium's
-/// largest displacement), offered as the run's answer.
-pub fn evaluated_offer(source: &str, eval: &Evaluation, network: &Network) -> Offer {
+/// A network another search found, evaluated in full (`λ_eq`, its modes), offered as the
+/// run's answer; with a largest deviation in `constraints`, its deviation from the design
+/// ([`Analyzer::structure_deviation`]: the equilibrium's largest displacement, or the physical
+/// mode's).
+pub fn evaluated_offer(
+    source: &str,
+    eval: &Evaluation,
+    analyzer: &Analyzer,
+    constraints: &Constraints,
+) -> Offer {
+    let deviation = constraints.params().max_deviation.and_then(|_| {
+        analyzer
+            .structure_deviation(&eval.curves, &eval.displacement)
+            .ok()
+    });
     Offer {
         source: source.into(),
         iteration: None,
@@ -70,7 +92,7 @@ pub fn evaluated_offer(source: &str, eval: &Evaluation, network: &Network) -> Of
         lambda: eval.lambda(),
         zero_modes: eval.spectrum.zero_modes,
         negative_modes: eval.spectrum.negative_modes,
-        deviation: Some(max_displacement(network, &eval.curves, &eval.displacement)),
+        deviation,
     }
 }
 
@@ -160,7 +182,7 @@ pub fn alternative_offers(
                     .evaluate(&active, Warm::default(), Preset::Analysis, Prepare::Nothing)
                     .ok()?;
                 Some((
-                    evaluated_offer(source, &eval, analyzer.network()),
+                    evaluated_offer(source, &eval, analyzer, constraints),
                     NetworkState::of(&eval),
                 ))
             })

@@ -400,7 +400,7 @@ impl RunFiles {
     /// the file is not JSON or not `what`.
     pub fn read_json<T: DeserializeOwned>(&self, rel: &str, what: &str) -> Result<T, RunFileError> {
         let bytes = self.read(rel)?;
-        serde_json::from_slice(&bytes).map_err(|e| {
+        let value = serde_json::from_slice(&bytes).map_err(|e| {
             use serde_json::error::Category;
             let (line, column) = (e.line(), e.column());
             let problem = match e.classify() {
@@ -411,7 +411,20 @@ impl RunFiles {
                 Category::Data => format!("not {what} (line {line}, column {column})"),
             };
             self.malformed(rel, problem, Some(e.to_string()))
-        })
+        })?;
+        // A key given twice (serde_json keeps the last): refused; the key itself is named only
+        // by an unconfined reader (it is the file's content).
+        if let Some(d) = std::str::from_utf8(&bytes)
+            .ok()
+            .and_then(crate::io::duplicate_key)
+        {
+            let problem = format!(
+                "a key is given twice in one object (line {}, column {})",
+                d.line, d.column
+            );
+            return Err(self.malformed(rel, problem, Some(d.describe())));
+        }
+        Ok(value)
     }
 
     /// The file `rel` of little-endian f64.
@@ -464,4 +477,36 @@ fn same_file(resolved: &Metadata, opened: &Metadata) -> bool {
 #[cfg(not(unix))]
 fn same_file(resolved: &Metadata, opened: &Metadata) -> bool {
     opened.is_file() && resolved.len() == opened.len()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{RunFileError, RunFiles, RunsRoot};
+
+    /// A run folder's JSON with a key given twice is refused; only an unconfined reader names
+    /// the key (it is the file's content).
+    #[test]
+    fn a_key_given_twice_is_refused_and_named_only_unconfined() {
+        let root = std::env::temp_dir().join(format!("curvenet-keys-{}", std::process::id()));
+        let dir = root.join("run");
+        std::fs::create_dir_all(&dir).unwrap();
+        std::fs::write(dir.join("x.json"), "{\"a\": 1,\n \"a\": 2}").unwrap();
+        let read = |files: &RunFiles| match files.read_json::<serde_json::Value>("x.json", "x") {
+            Err(RunFileError::Malformed {
+                problem, detail, ..
+            }) => (problem, detail),
+            other => panic!("{other:?}"),
+        };
+        let (problem, detail) = read(&RunFiles::unconfined(&dir));
+        assert!(problem.contains("a key is given twice in one object (line 2, column 2)"));
+        assert!(detail.unwrap().contains("duplicate key \"a\""));
+        let confined = RunsRoot::new(&root)
+            .unwrap()
+            .folder(std::path::Path::new("run"))
+            .unwrap();
+        let (problem, detail) = read(&confined);
+        assert!(problem.contains("line 2"), "{problem}");
+        assert_eq!(detail, None);
+        let _ = std::fs::remove_dir_all(&root);
+    }
 }

@@ -116,6 +116,19 @@ impl RunFolderError {
         }
     }
 
+    /// Whether the error is the input's (a run folder missing, damaged or not a run's: files
+    /// missing, truncated or malformed, a network the run lacks, a resume with other
+    /// settings), which the user can fix, rather than the writing's or the tool's.
+    pub fn is_input(&self) -> bool {
+        matches!(
+            self,
+            RunFolderError::File(_)
+                | RunFolderError::Invalid { .. }
+                | RunFolderError::Absent(_)
+                | RunFolderError::Resume(_)
+        )
+    }
+
     /// `path` could not be written, created or removed.
     pub fn io(path: &Path, error: std::io::Error) -> Self {
         RunFolderError::Io {

@@ -61,6 +61,45 @@ pub struct RunSetup {
     /// before they were): a run resumed with others is refused.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub physical: Option<crate::physics::PhysicalOptions>,
+    /// The physical model those options resolved to (units, every curve's material and
+    /// section, rest shapes, gravity): what an export to a structural code carries (absent
+    /// in the paper's mode).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub physical_model: Option<PhysicalModel>,
+}
+
+/// The physical model of a run as resolved ([`RunSetup::physical_model`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PhysicalModel {
+    /// Units, materials, sections, gravity and the worst-case load.
+    pub physical: crate::material::Physical,
+    /// The curves pre-bent at rest, ascending (the others are straight at rest).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub pre_bent: Vec<usize>,
+}
+
+impl PhysicalModel {
+    /// The record of `params`.
+    pub fn of(params: &crate::physics::PhysicalParams) -> Self {
+        let pre_bent = params.rest.iter().enumerate();
+        PhysicalModel {
+            physical: params.physical.clone(),
+            pre_bent: pre_bent
+                .filter(|(_, r)| **r == crate::material::RestShape::PreBent)
+                .map(|(c, _)| c)
+                .collect(),
+        }
+    }
+
+    /// Every one of `n` curves' rest shape.
+    pub fn rest(&self, n: usize) -> Vec<crate::material::RestShape> {
+        let mut rest = vec![crate::material::RestShape::Straight; n];
+        for &c in self.pre_bent.iter().filter(|&&c| c < n) {
+            rest[c] = crate::material::RestShape::PreBent;
+        }
+        rest
+    }
 }
 
 /// The final network of a run.
@@ -159,8 +198,9 @@ impl LocalSearchRecord {
         })
     }
 
-    /// One line for summaries; the value shown is the objective's (`λ_eq`, or `μ_min`).
-    pub fn describe(&self) -> String {
+    /// One line for summaries; the value shown is the objective's (`λ_eq`, or `μ_min`), the
+    /// length in `unit` (the physical mode's scene unit) when given.
+    pub fn describe(&self, unit: Option<&str>) -> String {
         let value = if self.objective == objective_name(crate::stability::Objective::Frequency) {
             crate::stability::Objective::Frequency.value_symbol()
         } else {
@@ -185,7 +225,7 @@ impl LocalSearchRecord {
             self.starts.len(),
             self.moves.len(),
             self.curves,
-            crate::fmt::length(self.length),
+            crate::fmt::length_in(self.length, unit),
             self.lambda,
             self.evaluations,
             self.structures
@@ -240,6 +280,16 @@ pub struct ResultFile {
 }
 
 impl ResultFile {
+    /// The scene's length unit in the physical mode (`mm`, `cm`, `m`; `None` in the paper's
+    /// mode, whose lengths are bare scene units): the recorded networks' physical figures',
+    /// else the options'.
+    pub fn length_unit(&self) -> Option<&str> {
+        self.iterations
+            .iter()
+            .find_map(|i| i.physical.as_ref().and_then(|p| p.units.as_deref()))
+            .or_else(|| self.setup.physical.as_ref()?.units.as_deref())
+    }
+
     /// Reads `DIR/result.json`.
     ///
     /// # Errors

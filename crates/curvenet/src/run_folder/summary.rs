@@ -2,6 +2,7 @@
 
 use super::ResultFile;
 use crate::fmt;
+use crate::physics::PhysicalSummary;
 use crate::simplify::greedy::IterationRecord;
 use crate::stability::Objective;
 
@@ -108,7 +109,9 @@ fn unstable_suffix(r: &IterationRecord) -> String {
     record_instability(r).map_or_else(String::new, |w| format!(" ({w})"))
 }
 
-/// A short text summary of a result.
+/// A short text summary of a result: in the physical mode every length carries the scene's
+/// unit, and the answer's physical figures (or, without an answer, the greedy's last
+/// network's, said as such) end it.
 pub fn summary(r: &ResultFile) -> String {
     use std::fmt::Write as _;
     let mut s = String::new();
@@ -117,6 +120,8 @@ pub fn summary(r: &ResultFile) -> String {
     let goal = r.setup.stability.objective;
     let frequency = goal == Objective::Frequency;
     let value = goal.value_symbol();
+    let unit = r.length_unit();
+    let len = |x: f64| fmt::length_in(x, unit);
     let objective = if frequency {
         "the first natural frequency, μ_min"
     } else {
@@ -144,8 +149,8 @@ pub fn summary(r: &ResultFile) -> String {
     let _ = writeln!(
         s,
         "budget: {} of {} total rest length",
-        fmt::length(r.budget),
-        fmt::length(r.setup.total_length)
+        len(r.budget),
+        len(r.setup.total_length)
     );
     if let (Some(f), Some(l)) = (first, last) {
         for (what, it) in [("start", f), ("final", l)] {
@@ -153,7 +158,7 @@ pub fn summary(r: &ResultFile) -> String {
                 s,
                 "{what}: {} curves, length {}, {value} {:.6e}{}{}",
                 it.curves.len(),
-                fmt::length(it.length),
+                len(it.length),
                 it.lambda,
                 freq(it),
                 unstable_suffix(it)
@@ -176,15 +181,19 @@ pub fn summary(r: &ResultFile) -> String {
         let _ = writeln!(s, "warning: {line}");
     }
     if let Some(l) = &r.local_search {
-        let _ = writeln!(s, "{}", l.describe());
+        let _ = writeln!(s, "{}", l.describe(unit));
     }
     if let Some(c) = &r.certificate {
         let _ = writeln!(s, "{}", c.describe());
     }
     if let Some(a) = &r.answer {
-        let _ = writeln!(s, "answer (the network to build): {}", a.describe(value));
+        let _ = writeln!(
+            s,
+            "answer (the network to build): {}",
+            a.describe(value, unit)
+        );
     } else if let Some(n) = &r.no_answer {
-        let _ = writeln!(s, "{}", n.describe(value));
+        let _ = writeln!(s, "{}", n.describe(value, unit));
     }
     for (i, a) in r.alternatives.iter().enumerate() {
         let _ = writeln!(
@@ -192,11 +201,63 @@ pub fn summary(r: &ResultFile) -> String {
             "alternative {} (alternative-{}.obj): {}; curves {:?}",
             i + 1,
             i + 1,
-            a.describe(value),
+            a.describe(value, unit),
             a.found.curves
         );
     }
+    // The answer's physical figures; without an answer, the greedy's last network's.
+    let shown = match &r.answer {
+        Some(a) => a.physical.as_ref().map(|p| (p, "the answer")),
+        None => r
+            .iterations
+            .last()
+            .and_then(|i| i.physical.as_ref())
+            .map(|p| (p, "the greedy's last network, not an answer")),
+    };
+    if let Some((p, what)) = shown {
+        let _ = writeln!(s, "{}", physical_line(p, what, unit));
+    }
     s
+}
+
+/// A network's physical figures in one line, each with its unit (`unit`: the scene's length
+/// unit, the deflections' and deviations', when the record does not name it).
+fn physical_line(p: &PhysicalSummary, what: &str, unit: Option<&str>) -> String {
+    use std::fmt::Write as _;
+    let unit = p.units.as_deref().or(unit).unwrap_or("(scene units)");
+    let opt = |v: Option<f64>, unit: &str| {
+        v.map_or("none (unstable)".into(), |v| format!("{v:.4} {unit}"))
+    };
+    let mut line = format!(
+        "physical ({what}): first frequency {}, self-weight deflection {}, worst-load \
+         deflection {}",
+        opt(p.first_frequency_hz, "Hz"),
+        opt(p.self_weight_max_deflection, unit),
+        opt(p.load_max_deflection, unit),
+    );
+    if let Some(d) = p.max_deviation {
+        let _ = write!(
+            line,
+            ", deviation from the design under self-weight {d:.4} {unit}"
+        );
+    }
+    let _ = write!(
+        line,
+        ", assembly bending stress {:.1} MPa, mass {:.2} kg",
+        p.assembly_max_bending_stress_mpa, p.mass_kg
+    );
+    if let Some(u) = p.max_utilisation {
+        let _ = write!(line, ", utilisation {u:.3}");
+    }
+    if !p.overstressed_curves.is_empty() {
+        let ids: Vec<String> = p.overstressed_curves.iter().map(usize::to_string).collect();
+        let _ = write!(
+            line,
+            ", curves that would break when bent: {}",
+            ids.join(", ")
+        );
+    }
+    line
 }
 
 #[cfg(test)]

@@ -156,8 +156,7 @@ pub fn exhaustive(
     let limited = constraints.filter(|c| c.params().max_deviation.is_some());
     let score = |curves: &[usize]| match analyzer.parts_of(&analyzer.set(curves)) {
         Ok(parts) => {
-            let deviation = parts.iter().map(|p| p.deviation).fold(0.0, f64::max);
-            if limited.is_some_and(|c| !c.deviation_ok(deviation)) {
+            if limited.is_some_and(|c| !c.deviation_ok(analyzer.parts_deviation(&parts))) {
                 OVER_DEVIATION
             } else {
                 parts.iter().map(|p| p.lambda).fold(f64::INFINITY, f64::min)

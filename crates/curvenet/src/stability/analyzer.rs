@@ -4,7 +4,9 @@ use super::presets::Preset;
 use super::{Objective, StabilityError, StabilityParams, Tuning};
 use crate::network::Network;
 use crate::physics::inertia::classify;
-use crate::physics::{PhysicalParams, PhysicalSummary, PhysicsError, analyze_physical};
+use crate::physics::{
+    DeviationModel, PhysicalParams, PhysicalSummary, PhysicsError, analyze_physical,
+};
 use crate::rod::mass::{inverse_sqrt_coordinates, lumped_masses, scale_hessian};
 use crate::rod::physical::{masses_per_length, physical_rods, rigid_anchor_weight};
 use crate::rod::{ActiveSet, EnergyModel, ModelRules, RodStiffness};
@@ -12,7 +14,7 @@ use crate::solve::eigen::Spectrum;
 use crate::solve::{Cholesky, Equilibrium, NewtonInfo, SymbolicFactor};
 use faer::MatRef;
 use std::collections::HashMap;
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
 
 /// Stability computations on one network; cheap to share across threads (see the module
 /// documentation for what it offers).
@@ -27,6 +29,11 @@ pub struct Analyzer {
     pub(super) parts: Mutex<HashMap<Vec<usize>, (f64, f64)>>,
     /// The physical mode's parameters ([`Self::with_physical`]); `None` in the paper's mode.
     physical: Option<PhysicalParams>,
+    /// The physical mode's largest-deviation model, built when first asked for
+    /// ([`Self::part_deviation`]).
+    pub(super) deviation_model: OnceLock<DeviationModel>,
+    /// The physical mode's largest deviation of connected sets already measured.
+    pub(super) physical_deviations: Mutex<HashMap<Vec<usize>, f64>>,
     /// The frequency objective's model: the mass metric, and in the physical mode the rods'
     /// own stiffnesses (`None`: the paper's `λ_eq`).
     metric: Option<Metric>,
@@ -79,6 +86,8 @@ impl Analyzer {
             params,
             parts: Mutex::default(),
             physical: None,
+            deviation_model: OnceLock::new(),
+            physical_deviations: Mutex::default(),
             metric,
         }
     }
@@ -92,8 +101,11 @@ impl Analyzer {
     /// # Errors
     ///
     /// [`StabilityError::Params`] for invalid physical parameters.
-    pub fn with_physical(mut self, physical: PhysicalParams) -> Result<Self, StabilityError> {
+    pub fn with_physical(mut self, mut physical: PhysicalParams) -> Result<Self, StabilityError> {
         physical.validate().map_err(StabilityError::Params)?;
+        // The searches record each structure's own figures, not its load cases' (each case
+        // follows its load in steps: `analyze` gives them).
+        physical.loads = None;
         if self.metric.is_some() {
             let n = self.network.rods.len();
             let rods = physical_rods(&physical.physical, n, &physical.rest);

@@ -1,7 +1,9 @@
 //! `λ_eq` of any set of curves, the way every search ranks a subset: relaxed from the drawn
 //! state (path-independent, so the searches' answers compare), by connected parts, each part
 //! computed once per analyzer, with its equilibrium's largest displacement (the
-//! `--max-deviation` of the part: a set's is the largest of its parts').
+//! `--max-deviation` of the part in the paper's mode: a set's is the largest of its parts'; in
+//! the physical mode the largest deviation is the physical model's under self-weight,
+//! [`crate::physics::deviation`], measured per part when first asked for).
 
 use super::presets::Preset;
 use super::{Analyzer, StabilityError, StabilityParams};
@@ -64,14 +66,72 @@ impl Analyzer {
         Ok(parts)
     }
 
-    /// The largest displacement of a vertex of `active` at its equilibrium relaxed from the
-    /// drawn state (by parts, as [`Self::lambda_eq`]; remembered).
+    /// The largest deviation of a vertex of `active` from its designed place (by parts, as
+    /// [`Self::lambda_eq`]; remembered): [`Self::part_deviation`]'s largest.
     pub fn deviation(&self, active: &ActiveSet) -> Result<f64, StabilityError> {
-        Ok(self
-            .parts_of(active)?
+        Ok(self.parts_deviation(&self.parts_of(active)?))
+    }
+
+    /// The largest deviation of a vertex of the connected `part` from its designed place,
+    /// scene units, what the largest-deviation constraint bounds: in the paper's mode its
+    /// equilibrium's largest displacement ([`Part::deviation`]); in the physical mode the
+    /// physical model's, its equilibrium plus its self-weight deflection
+    /// ([`crate::physics::deviation`]), measured on first use and remembered.
+    pub fn part_deviation(&self, part: &Part) -> f64 {
+        let Some(params) = self.physical() else {
+            return part.deviation;
+        };
+        let known = self
+            .physical_deviations
+            .lock()
+            .expect("cache lock")
+            .get(&part.curves)
+            .copied();
+        if let Some(d) = known {
+            return d;
+        }
+        let model = self
+            .deviation_model
+            .get_or_init(|| crate::physics::DeviationModel::new(self.network(), params));
+        let d = model.measure(self.network(), &self.set(&part.curves));
+        self.physical_deviations
+            .lock()
+            .expect("cache lock")
+            .insert(part.curves.clone(), d);
+        d
+    }
+
+    /// The largest of the parts' deviations ([`Self::part_deviation`]; 0 for none).
+    pub fn parts_deviation(&self, parts: &[Part]) -> f64 {
+        parts
             .iter()
-            .map(|p| p.deviation)
-            .fold(0.0, f64::max))
+            .map(|p| self.part_deviation(p))
+            .fold(0.0, f64::max)
+    }
+
+    /// The largest deviation from its designed place of a vertex of the structure `curves`
+    /// whose equilibrium in the searches' model is `u` (three displacements per vertex of the
+    /// network): in the paper's mode the largest of `u` over the structure's vertices, in the
+    /// physical mode the physical model's ([`Self::part_deviation`], by parts).
+    ///
+    /// # Errors
+    ///
+    /// The physical mode's parts could not be evaluated.
+    pub fn structure_deviation(&self, curves: &[usize], u: &[f64]) -> Result<f64, StabilityError> {
+        if self.physical().is_some() {
+            return self.deviation(&self.set(curves));
+        }
+        let network = self.network();
+        let mut worst = 0.0f64;
+        for &c in curves {
+            for &v in &network.rods[c].vertices {
+                let i = 3 * v as usize;
+                if let Some(d) = u.get(i..i + 3) {
+                    worst = worst.max((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt());
+                }
+            }
+        }
+        Ok(worst)
     }
 
     /// Connected structures whose `λ_eq` this analyzer has computed and remembers (each one
@@ -109,7 +169,9 @@ pub struct Part {
     pub curves: Vec<usize>,
     /// Its `λ_eq`.
     pub lambda: f64,
-    /// The largest displacement of one of its vertices at its equilibrium (scene units).
+    /// The largest displacement of one of its vertices at its equilibrium in the searches'
+    /// model (scene units): the largest deviation in the paper's mode
+    /// ([`Analyzer::part_deviation`] gives the physical mode's).
     pub deviation: f64,
 }
 

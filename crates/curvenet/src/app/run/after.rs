@@ -187,7 +187,7 @@ fn answer_of(
 ) -> Chosen {
     let mut offers = greedy_offers(&outcome.iterations);
     if constraints.params().max_deviation.is_some()
-        && let Err(e) = measure_greedy_deviations(&mut offers, out, analyzer.network())
+        && let Err(e) = measure_greedy_deviations(&mut offers, out, analyzer)
     {
         observer.warning(&Message::from(format!(
             "the greedy's deviations could not all be measured ({e}); iterations left \
@@ -196,7 +196,7 @@ fn answer_of(
     }
     let mut states: Vec<(Vec<usize>, NetworkState)> = Vec::new();
     if let Some(e) = &found.local {
-        offers.push(evaluated_offer("local_search", e, analyzer.network()));
+        offers.push(evaluated_offer("local_search", e, analyzer, constraints));
         states.push((e.curves.clone(), NetworkState::of(e)));
     }
     let more = alternative_offers(

@@ -15,6 +15,7 @@ use super::{AppError, Stage};
 use crate::cancel::Cancel;
 use crate::constraints::{ConstraintParams, read_groups};
 use crate::network::Network;
+use crate::run_folder::schema::PhysicalModel;
 use crate::run_folder::{OutputWriter, ResultFile, RunFolderError, RunSetup};
 use crate::simplify::greedy::ResumePoint;
 use crate::simplify::{Budget, SimplifyError, greedy};
@@ -159,6 +160,11 @@ pub fn execute(
         observer.warning(&w);
     }
     let mesh = setup.inputs.mesh.as_ref();
+    let unit = setup
+        .model
+        .physical
+        .as_ref()
+        .map(|p| p.physical.units.symbol());
     let search = Search::new(
         network,
         mesh,
@@ -166,6 +172,7 @@ pub fn execute(
         keep,
         constraint_params,
         spec.default_constraints,
+        unit,
         observer,
     )?;
     let params = &search.greedy;
@@ -178,6 +185,7 @@ pub fn execute(
         total_length: total,
         constraints: search.settings.clone(),
         physical: setup.model.physical_options.clone(),
+        physical_model: setup.model.physical.as_ref().map(PhysicalModel::of),
     };
     let opened = open_writer(
         spec,

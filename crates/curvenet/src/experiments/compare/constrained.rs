@@ -462,7 +462,7 @@ fn run_setting(
         if let Ok(e) =
             analyzer.evaluate(&active, Warm::default(), Preset::Analysis, Prepare::Nothing)
         {
-            offers.push(evaluated_offer("local_search", &e, analyzer.network()));
+            offers.push(evaluated_offer("local_search", &e, &analyzer, &constraints));
         }
     }
     let choice = choose(&constraints, &offers, 0);

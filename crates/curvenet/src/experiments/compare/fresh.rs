@@ -186,6 +186,8 @@ impl FreshReport {
     /// The summary and the per-network table, as Markdown.
     pub fn markdown(&self) -> String {
         let p = &self.params;
+        // The figures are the objective's: λ_eq, or μ_min under the frequency objective.
+        let value = p.objective.value_symbol();
         let decided = self.decided();
         let (greedy_mean, greedy_reached) = self.against_optimum(|r| r.greedy);
         let (local_mean, local_reached) = self.against_optimum(|r| r.local);
@@ -193,7 +195,7 @@ impl FreshReport {
             "{} networks drawn afresh ({}); \
              exhaustive search over the connected feasible subsets on {} of them (at most {} \
              curves and {} connected feasible subsets; {} skipped{}).\n\n\
-             | search | mean % of the optimum λ_eq | optimum reached |\n|---|---|---|\n\
+             | search | mean % of the optimum {value} | optimum reached |\n|---|---|---|\n\
              | greedy | {:.1}% | {}/{} ({:.1}%) |\n\
              | greedy + local search | {:.1}% | {}/{} ({:.1}%) |\n",
             self.rows.len(),
@@ -212,10 +214,10 @@ impl FreshReport {
             decided.len(),
             percent(local_reached, decided.len()),
         );
-        s.push_str(
-            "\n| # | surface | curves | budget | feasible subsets | connected | greedy | greedy + local search | optimum λ_eq |\n\
+        s.push_str(&format!(
+            "\n| # | surface | curves | budget | feasible subsets | connected | greedy | greedy + local search | optimum {value} |\n\
              |---|---|---|---|---|---|---|---|---|\n",
-        );
+        ));
         for r in &self.rows {
             let (g, l, o) = match r.optimum {
                 Some(o) => (
@@ -421,6 +423,25 @@ fn row(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The tables name the objective's value: `μ_min` under the frequency objective.
+    #[test]
+    fn the_tables_name_the_objective_s_value() {
+        let report = |objective| FreshReport {
+            params: FreshParams {
+                objective,
+                ..FreshParams::default()
+            },
+            surfaces: vec!["dome".into()],
+            rows: Vec::new(),
+        };
+        let f = report(Objective::Frequency).markdown();
+        assert!(f.contains("mean % of the optimum μ_min"), "{f}");
+        assert!(f.contains("| optimum μ_min |"), "{f}");
+        assert!(!f.contains("λ_eq"), "{f}");
+        let l = report(Objective::Lambda).markdown();
+        assert!(l.contains("| optimum λ_eq |"), "{l}");
+    }
 
     /// The optimum over the connected feasible subsets is the optimum over every feasible
     /// subset (a set is as stable as its weakest part, and each part is feasible alone).

@@ -299,6 +299,9 @@ fn read_checked(path: &Path) -> Result<(NetworkFile, Network), ReportError> {
 fn parse_checked(text: &str) -> Result<(NetworkFile, Network), ReportError> {
     let f: NetworkFile =
         serde_json::from_str(text).map_err(|e| format!("line {}: {e}", e.line()))?;
+    if let Some(d) = crate::io::duplicate_key(text) {
+        return Err(format!("line {}: {}", d.line, d.describe()).into());
+    }
     let network = f.to_network()?;
     Ok((f, network))
 }

@@ -15,6 +15,9 @@
     constraints: null, margins: null, error: null,
   };
   cv.app = app;
+  // The objective's symbol and the physical mode's scene unit, for the messages.
+  const goalValue = (cv.objective && cv.objective.value) || 'λ';
+  const lenUnit = cv.units ? ` ${cv.units}` : '';
 
   const box = document.createElement('fieldset');
   box.id = 'app';
@@ -103,14 +106,18 @@
   const marginNames = {
     budget: 'length (budget of the last search)', keep: 'keep-list curves missing', groups: 'groups split',
     symmetry: 'symmetry orbits split', connected: 'separate structures', min_curves: 'curves',
-    max_gap: 'largest gap', max_deviation: 'largest deviation',
+    max_gap: 'largest gap',
+    max_deviation: cv.units ? 'largest deviation under self-weight (the physical model)' : 'largest deviation',
   };
   function showMargins(c) {
     app.margins = c || null;
     const box = $('constraint-margins');
     if (!c) { box.textContent = ''; return; }
+    // Lengths carry the physical mode's scene unit.
+    const lengths = { budget: 1, max_gap: 1, max_deviation: 1 };
+    const u = (k) => (cv.units && lengths[k] ? ` ${cv.units}` : '');
     const rows = Object.entries(c.margins).map(([k, m]) =>
-      `${m.met ? '✓' : '✗'} ${marginNames[k] || k}: ${sci(m.value, 4)} (limit ${sci(m.limit, 4)})`);
+      `${m.met ? '✓' : '✗'} ${marginNames[k] || k}: ${sci(m.value, 4)}${u(k)} (limit ${sci(m.limit, 4)}${u(k)})`);
     box.textContent = `constraints ${c.met ? 'met' : 'NOT met'}: ` + rows.join('; ');
     box.className = c.met ? 'note' : 'note bad';
   }
@@ -132,7 +139,7 @@
       const s = await request();
       await show(s);
       (done || (() => { past.push(before); future.length = 0; }))(before);
-      msg(`${s.curves.length} curves, λ ${sci(s.lambda, 5)} (${s.status}), computed in ${sci(s.elapsed_ms, 3)} ms`);
+      msg(`${s.curves.length} curves, ${goalValue} ${sci(s.lambda, 5)} (${s.status}), computed in ${sci(s.elapsed_ms, 3)} ms`);
       app.edits++;
     } catch (e) {
       msg(e.message, true);
@@ -167,7 +174,7 @@
   budget.addEventListener('input', budgetText);
   budgetText();
   function progressText(p) {
-    const last = p.last ? `iteration ${p.last.iteration}: ${p.last.curves} curves, λ ${sci(p.last.lambda, 4)}, length ${sci(p.last.length, 5)}` : '';
+    const last = p.last ? `iteration ${p.last.iteration}: ${p.last.curves} curves, ${goalValue} ${sci(p.last.lambda, 4)}, length ${sci(p.last.length, 5)}${lenUnit}` : '';
     const pct = p.budget ? ` to ${Math.round(100 * p.budget)}%` : '';
     switch (p.status) {
       case 'idle': return '';
@@ -227,7 +234,7 @@
   function localText(p) {
     const pct = p.budget ? ` to ${Math.round(100 * p.budget)}%` : '';
     const r = p.result;
-    const best = r ? `best: ${r.best.curves.length} curves, ${goalValue} ${sci(r.best.lambda, 4)}, length ${sci(r.best.length, 5)}`
+    const best = r ? `best: ${r.best.curves.length} curves, ${goalValue} ${sci(r.best.lambda, 4)}, length ${sci(r.best.length, 5)}${lenUnit}`
       + ` (${r.moves} moves from ${r.given && r.start.curves.join() === r.given.curves.join() ? 'the current structure' : 'a single-curve start'}, ${r.evaluations} networks evaluated)` : '';
     switch (p.status) {
       case 'idle': return '';
@@ -237,7 +244,7 @@
       default: return `local search failed: ${p.error}`;
     }
   }
-  const goalValue = (cv.objective && cv.objective.value) || 'λ';
+
   let localPolling = false;
   async function pollLocal() {
     if (localPolling) return;

@@ -45,6 +45,13 @@
     $('label-lambda').textContent = goal.value;
     $('chart').title = `${goal.value} along the greedy; click to jump`;
   }
+  // The physical mode's scene unit (`mm`, `cm`, `m`): every length shown carries it, and the
+  // paper's figures (its λ_eq, equilibrium and gravity deflection) say they are the paper's.
+  const units = (D.setup && D.setup.units) || null;
+  const lenUnit = units ? ` ${units}` : '';
+  const paperModel = units && (!D.objective || D.objective.name === 'lambda');
+  state.units = units;
+  if (paperModel) $('label-lambda').textContent = `${goal.value} (the paper's model)`;
   const rest = f32(D.positions);
   const V = rest.length / 3;
   const rods = D.rods;
@@ -500,8 +507,8 @@
     for (const b of document.querySelectorAll('#chosen button')) {
       b.classList.toggle('on', ui.c !== null && +b.dataset.i === ui.c);
     }
-    $('stat-length').textContent = `${sci(it.length, 6)} (${(100 * it.length / s.total_length).toFixed(1)}%`
-      + (s.budget ? `; budget ${sci(s.budget, 6)})` : ' of the whole network)');
+    $('stat-length').textContent = `${sci(it.length, 6)}${lenUnit} (${(100 * it.length / s.total_length).toFixed(1)}%`
+      + (s.budget ? `; budget ${sci(s.budget, 6)}${lenUnit})` : ' of the whole network)');
     // An unstable network (zero or negative modes) is named as such beside its numbers.
     $('stat-lambda').textContent = sci(it.lambda, 5) + (it.unstable ? ` — ${it.unstable}` : '');
     $('stat-lambda').classList.toggle('unstable', !!it.unstable);
@@ -518,8 +525,11 @@
     if (ui.deform === 'mode') {
       info = `worst-case mode (unit vector) shown ×${sci(ui.amp * dispScale, 3)}`;
     } else if (ui.deform === 'gravity') {
+      // Beside physical units this is the paper's gravity load (a weight per unit length
+      // of its own units), not a physical deflection: the physical row gives that.
+      const paper = units ? " of the paper's model (not a physical deflection)" : '';
       info = it.gravity
-        ? `gravity (${sci(s.gravity.weight_per_length, 3)} per unit length): largest deflection ${sci(it.gravity.max_displacement, 4)} at vertex ${it.gravity.vertex}, shown ×${sci(ui.amp * dispScale, 3)}`
+        ? `gravity${paper} (${sci(s.gravity.weight_per_length, 3)} per unit length): largest deflection ${sci(it.gravity.max_displacement, 4)} at vertex ${it.gravity.vertex}, shown ×${sci(ui.amp * dispScale, 3)}`
         : 'no gravity deflection: the structure is not positive definite (or it was not computed)';
     } else {
       info = 'no deformation shown';
@@ -527,7 +537,9 @@
     if (ui.shape === 'equilibrium' && f.u) {
       let m = 0;
       for (let v = 0; v < V; v++) m = Math.max(m, Math.hypot(f.u[3 * v], f.u[3 * v + 1], f.u[3 * v + 2]));
-      info += `; equilibrium moves up to ${sci(m, 3)} from the designed shape`;
+      info += paperModel
+        ? `; the paper's model's equilibrium moves up to ${sci(m, 3)}${lenUnit} from the designed shape`
+        : `; equilibrium moves up to ${sci(m, 3)}${lenUnit} from the designed shape`;
     }
     $('deform-info').textContent = info;
     drawChart();
@@ -537,7 +549,7 @@
   // The physical mode's numbers of a structure, one per line: an iteration's record (numbers)
   // or the server's full analysis (deflection and utilisation with where they occur).
   function physicalText(p) {
-    const unit = p.units ? ` ${p.units}` : ' (scene units)';
+    const unit = p.units ? ` ${p.units}` : (lenUnit || ' (scene units)');
     const len = (x) => (x === null || x === undefined) ? 'none (unstable)' : sci(x, 4) + unit;
     const load = p.load_max_deflection;
     const lines = [
@@ -546,8 +558,14 @@
       `self-weight deflection ${len(p.self_weight_max_deflection)}`,
       `worst-load deflection ${len(load && typeof load === 'object' ? load.max : load)}`
         + (load && typeof load === 'object' ? ` at vertex ${load.vertex}` : ''),
-      `assembly stress: bending ${sci(p.assembly_max_bending_stress_mpa, 4)} MPa, axial ${sci(p.assembly_max_axial_stress_mpa, 4)} MPa`,
     ];
+    const dev = p.max_deviation;
+    if (dev !== null && dev !== undefined) {
+      lines.push(`deviation from the design under self-weight ${len(typeof dev === 'object' ? dev.max : dev)}`);
+    }
+    lines.push(
+      `assembly stress: bending ${sci(p.assembly_max_bending_stress_mpa, 4)} MPa, axial ${sci(p.assembly_max_axial_stress_mpa, 4)} MPa`,
+    );
     const u = p.max_utilisation;
     if (u !== null && u !== undefined) {
       lines.push(typeof u === 'object'
@@ -604,9 +622,9 @@
     }
     box.innerHTML = `<h2>curve ${c}</h2>
       <div>${status}</div>
-      <div>rest length ${sci(r.length, 6)} · ${r.closed ? 'closed' : 'open'} · supports ${esc(r.supports)} · ${r.v.length} vertices</div>
+      <div>rest length ${sci(r.length, 6)}${lenUnit} · ${r.closed ? 'closed' : 'open'} · supports ${esc(r.supports)} · ${r.v.length} vertices</div>
       <div>${r.joints.length} joint(s); meeting curves in blue are kept at this iteration</div>
-      <table><tr><th>s</th><th>vertex</th><th>position (rest)</th><th>meets</th></tr>${rows}</table>`;
+      <table><tr><th>s${units ? ` (${esc(units)})` : ''}</th><th>vertex</th><th>position (rest${units ? `, ${esc(units)}` : ''})</th><th>meets</th></tr>${rows}</table>`;
     box.hidden = false;
   }
 

@@ -60,8 +60,11 @@ impl Evaluator<'_> {
                 Some(match analyzer.parts_of(&analyzer.set(s)) {
                     Ok(parts) => {
                         let lambda = parts.iter().map(|p| p.lambda).fold(f64::INFINITY, f64::min);
-                        let deviation = parts.iter().map(|p| p.deviation).fold(0.0, f64::max);
-                        let within = constraints.is_none_or(|c| c.deviation_ok(deviation));
+                        // The largest deviation is measured only when it is bounded (in the
+                        // physical mode it costs a relaxation of its own).
+                        let limited = constraints.filter(|c| c.params().max_deviation.is_some());
+                        let within = limited
+                            .is_none_or(|c| c.deviation_ok(analyzer.parts_deviation(&parts)));
                         let value = if within { lambda } else { f64::NEG_INFINITY };
                         let values: Vec<(Vec<usize>, f64)> =
                             parts.iter().map(|p| (p.curves.clone(), p.lambda)).collect();
@@ -69,12 +72,14 @@ impl Evaluator<'_> {
                             .filter(|p| improves(p.2, value, tol))
                             .filter(|p| constraints.is_none_or(|c| c.check(&p.1).is_ok()))
                             .filter(|p| {
-                                let dev = parts
-                                    .iter()
-                                    .filter(|q| q.curves.iter().all(|x| p.1.contains(x)))
-                                    .map(|q| q.deviation)
-                                    .fold(0.0, f64::max);
-                                constraints.is_none_or(|c| c.deviation_ok(dev))
+                                limited.is_none_or(|c| {
+                                    let within: Vec<_> = parts
+                                        .iter()
+                                        .filter(|q| q.curves.iter().all(|x| p.1.contains(x)))
+                                        .cloned()
+                                        .collect();
+                                    c.deviation_ok(analyzer.parts_deviation(&within))
+                                })
                             });
                         Entry {
                             lambda,

@@ -80,7 +80,10 @@
 //! stops over the budget; so the search also starts from sets *grown* to meet them
 //! ([`Constraints::grow`]: from each unit as a seed, shortest first, the unit that removes
 //! the most shortfall per unit of length joins until none is left), the [`SINGLE_STARTS`]
-//! best of the first [`GROWN_EVALUATED`] distinct ones.
+//! best of the first [`GROWN_EVALUATED`] distinct ones. When no start fits but the keep list
+//! alone does (a budget that holds the kept curves and no more), the search starts from it.
+//! Kept curves longer than the budget are refused up front ([`keep_fits`]), saying by how
+//! much and what budget holds them.
 //! [`local_search_multi`] searches from the starts it is given, only.
 //! Measured against the exhaustive optimum in `docs/compare.md` (*Generalisation*) and
 //! `docs/benchmarks.md` (*Local search*).
@@ -341,6 +344,7 @@ pub fn local_search(
     }
     runs.search_each(MultiStart::single_starts)?;
     runs.search_each(MultiStart::grown_starts)?;
+    runs.search_each(MultiStart::keep_start)?;
     runs.finish(given)
 }
 
@@ -389,5 +393,60 @@ fn check(analyzer: &Analyzer, params: &LocalParams) -> Result<(Vec<f64>, f64), S
     }
     let lengths = analyzer.lengths();
     let budget = params.budget.length(lengths.iter().sum());
+    keep_fits(&lengths, params.budget, &params.keep)?;
     Ok((lengths, budget))
+}
+
+/// Checks that the curves to keep fit the `budget` on a network of curves of `lengths`: kept
+/// curves longer than the budget leave no network to search from, whatever the start, and the
+/// message says by how much and what helps (a budget at least their length, or fewer curves
+/// to keep). Curve ids past the network are left to the caller's check.
+///
+/// # Errors
+///
+/// [`SimplifyError::Params`] when the kept curves alone exceed the budget.
+pub fn keep_fits(lengths: &[f64], budget: Budget, keep: &[usize]) -> Result<(), SimplifyError> {
+    use crate::fmt::{length, percent};
+    use crate::words::{Opt, given, message};
+    let total: f64 = lengths.iter().sum();
+    let limit = budget.length(total);
+    let mut kept: Vec<usize> = keep
+        .iter()
+        .copied()
+        .filter(|&c| c < lengths.len())
+        .collect();
+    kept.sort_unstable();
+    kept.dedup();
+    let need: f64 = kept.iter().map(|&c| lengths[c]).sum();
+    if need <= limit {
+        return Ok(());
+    }
+    let ids: Vec<String> = kept.iter().map(usize::to_string).collect();
+    let (opt, shown, least) = match budget {
+        Budget::Fraction(f) => (
+            Opt::Budget,
+            f.to_string(),
+            // Rounded up, so the budget advised holds them.
+            ((need / total * 1000.0).ceil() / 1000.0)
+                .min(1.0)
+                .to_string(),
+        ),
+        Budget::Length(l) => (Opt::BudgetLength, length(l), length(need)),
+    };
+    Err(SimplifyError::Params(message![
+        format!(
+            "the curves to keep ({}) are {} long alone, {} ({}%) over the budget {} (",
+            ids.join(", "),
+            length(need),
+            length(need - limit),
+            percent(100.0 * (need - limit) / limit),
+            length(limit),
+        ),
+        given(opt, shown),
+        "): no network within the budget holds them; raise ",
+        opt,
+        format!(" to at least {least} or keep fewer curves ("),
+        Opt::Keep,
+        ")"
+    ]))
 }

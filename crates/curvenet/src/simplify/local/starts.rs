@@ -201,6 +201,19 @@ impl<'s> MultiStart<'s> {
         self.best_of(sets)
     }
 
+    /// The keep list alone, when no other start was feasible and it is (a budget that holds
+    /// the kept curves and nothing more): the search may still add to it.
+    pub(super) fn keep_start(&mut self) -> Result<Vec<Vec<usize>>, Stopped> {
+        let mut keep = self.params.keep.clone();
+        keep.sort_unstable();
+        keep.dedup();
+        Ok(if self.starts.is_empty() && self.feasible(&keep) {
+            vec![keep]
+        } else {
+            Vec::new()
+        })
+    }
+
     /// The [`SINGLE_STARTS`] sets of `sets` of the best finite values, best first, ties to
     /// the earlier set.
     fn best_of(&mut self, sets: Vec<Vec<usize>>) -> Result<Vec<Vec<usize>>, Stopped> {
