@@ -137,12 +137,14 @@ pub struct ExportArgs {
     /// Export the N-th alternative (from 1) of a run made with --alternatives.
     #[arg(long, value_name = "N", value_parser = count(1, 100), allow_hyphen_values = true)]
     pub alternative: Option<usize>,
-    /// obj, json, csv (points and fabrication table), network (reloadable network file) or all.
+    /// obj, json, csv (points and fabrication table), network (reloadable network file),
+    /// structural (a physical run's neutral structural JSON), opensees (its OpenSeesPy script,
+    /// which prints its frequencies and self-weight deflection) or all.
     #[arg(long, default_value = "all")]
     pub format: String,
     /// Folder for the files (default DIR/export). With one format, a path with an extension
     /// writes only that format's main file: the OBJ at equilibrium, the JSON at rest, the
-    /// fabrication table, or the network file.
+    /// fabrication table, the network file, the structural JSON or the OpenSeesPy script.
     #[arg(long)]
     pub out: Option<PathBuf>,
 }
@@ -526,6 +528,17 @@ pub struct PhysicalModeArgs {
     /// Gravity in m/s2: a magnitude along -z (default 9.81) or gx,gy,gz.
     #[arg(long, value_parser = physical(Opt::Gravity), allow_hyphen_values = true)]
     pub gravity: Option<String>,
+    /// Load cases and combinations (JSON: self-weight, line loads, point loads, factored
+    /// combinations; docs/units.md): each is followed as a nonlinear equilibrium, with its
+    /// deflection, utilisation and critical load factor.
+    #[arg(long, value_name = "FILE")]
+    pub loads: Option<std::path::PathBuf>,
+    /// The load cases' deflection limit: span/N (e.g. span/250) or a length (e.g. 20mm).
+    #[arg(long, value_name = "LIMIT", allow_hyphen_values = true)]
+    pub deflection_limit: Option<String>,
+    /// The smallest acceptable critical load factor of a load case (default 1).
+    #[arg(long, value_name = "FACTOR", allow_hyphen_values = true)]
+    pub buckling_factor: Option<String>,
 }
 
 /// `curvenet simplify`.

@@ -81,8 +81,8 @@ impl Network {
     #[pyo3(signature = (sources, mesh = None, scale = 1.0, edge_length = None, supports = None,
         merge_joints = None, radius = None, young = None, anchor_weight = None, eigen_count = 4,
         objective = "lambda", units = None, material = None, density = None, strength = None,
-        tube = None, load = None, gravity = None, warnings = Vec::new(), example = None,
-        data = None))]
+        tube = None, load = None, gravity = None, loads = None, deflection_limit = None,
+        buckling_factor = None, warnings = Vec::new(), example = None, data = None))]
     fn new(
         py: Python<'_>,
         sources: &Bound<'_, PyList>,
@@ -103,6 +103,9 @@ impl Network {
         tube: Option<String>,
         load: Option<String>,
         gravity: Option<String>,
+        loads: Option<PathBuf>,
+        deflection_limit: Option<String>,
+        buckling_factor: Option<String>,
         warnings: Vec<String>,
         example: Option<String>,
         data: Option<PathBuf>,
@@ -156,6 +159,9 @@ impl Network {
                 tube,
                 load,
                 gravity,
+                loads: loads.map(|p| p.display().to_string()),
+                deflection_limit,
+                buckling_factor,
                 ..PhysicalOptions::default()
             },
         };

@@ -45,6 +45,15 @@ fn reported(e: &ReportError) -> String {
     }
 }
 
+/// An export's error as the package raises it: `InputError` for a structural export of a run
+/// in the paper's mode, `CurvenetError` otherwise.
+fn export_error(py: Python<'_>, e: &ReportError) -> PyErr {
+    match e {
+        ReportError::NotPhysical => errors::usage(py, reported(e)),
+        e => errors::failed(py, reported(e)),
+    }
+}
+
 #[pymethods]
 impl Run {
     /// Opens the run folder `dir`.
@@ -148,8 +157,8 @@ impl Run {
             .collect())
     }
 
-    /// Writes iteration `k`'s files in `format` (obj, json, csv, network, all) into the folder
-    /// `out`; returns their paths.
+    /// Writes iteration `k`'s files in `format` (obj, json, csv, network, structural, opensees,
+    /// all) into the folder `out`; returns their paths.
     #[pyo3(signature = (out, format = "all", k = None))]
     fn export(
         &self,
@@ -161,7 +170,7 @@ impl Run {
         let format: ExportFormat = format.parse().map_err(|e: String| errors::usage(py, e))?;
         let k = self.k(py, k)?;
         py.detach(|| write_exports(&self.run, k, format, &out))
-            .map_err(|e| errors::failed(py, reported(&e)))
+            .map_err(|e| export_error(py, &e))
     }
 
     /// The main file of `format` for iteration `k`, as `(name, text)`.
@@ -174,8 +183,7 @@ impl Run {
     ) -> PyResult<(String, String)> {
         let format: ExportFormat = format.parse().map_err(|e: String| errors::usage(py, e))?;
         let k = self.k(py, k)?;
-        let files =
-            export_files(&self.run, k, format).map_err(|e| errors::failed(py, reported(&e)))?;
+        let files = export_files(&self.run, k, format).map_err(|e| export_error(py, &e))?;
         files
             .into_iter()
             .next()

@@ -137,8 +137,20 @@ def test_a_second_random_network_and_a_paper_example(cli, wave, tmp_path):
     (["--objective", "frequency"], {"objective": "frequency"}),
     (["--units", "mm", "--material", "steel", "--radius", "20"],
      {"units": "mm", "material": "steel", "radius": 20}),
-], ids=["plain", "remove", "frequency", "physical"])
-def test_analyze_agrees_number_for_number(cli, dome, options, kw):
+    (["--units", "mm", "--material", "steel", "--radius", "20", "--loads", "LOADS",
+      "--deflection-limit", "span/300"],
+     {"units": "mm", "material": "steel", "radius": 20, "loads": "LOADS",
+      "deflection_limit": "span/300"}),
+], ids=["plain", "remove", "frequency", "physical", "load cases"])
+def test_analyze_agrees_number_for_number(cli, dome, tmp_path, options, kw):
+    loads = tmp_path / "loads.json"
+    loads.write_text(json.dumps({
+        "cases": [{"name": "G", "self_weight": True},
+                  {"name": "S", "line": {"intensity": "2kN/m", "direction": [0, 0, -1],
+                                         "per": "projected"}}],
+        "combinations": [{"name": "ULS", "factors": {"G": 1.35, "S": 1.5}}]}))
+    options = [str(loads) if o == "LOADS" else o for o in options]
+    kw = {k: (loads if v == "LOADS" else v) for k, v in kw.items()}
     out = cli("analyze", "--curves", dome / "curves.json", "--mesh", dome / "dome.obj",
               *options, "--json")
     expected = json.loads(out.stdout)
@@ -152,5 +164,7 @@ def test_analyze_agrees_number_for_number(cli, dome, options, kw):
     if "units" in kw:
         assert got.physical is not None
         assert got.physical.first_frequency_hz == expected["physical"]["first_frequency_hz"]
+        if "loads" in kw:
+            assert [c["name"] for c in expected["physical"]["load_cases"]] == ["G", "S", "ULS"]
     else:
         assert got.physical is None

@@ -77,6 +77,12 @@ options! {
     Load = "load",
     /// Gravity.
     Gravity = "gravity",
+    /// The load cases' file.
+    Loads = "loads",
+    /// The load cases' deflection limit.
+    DeflectionLimit = "deflection_limit",
+    /// The smallest acceptable critical load factor.
+    BucklingFactor = "buckling_factor",
     /// The budget as a fraction.
     Budget = "budget",
     /// The budget as a length.

@@ -70,6 +70,7 @@ fn scene_with(
         total_length: total,
         constraints: Default::default(),
         physical: None,
+        physical_model: None,
     };
     Scene {
         analyzer: Analyzer::new(net, stability).expect("analyzer"),

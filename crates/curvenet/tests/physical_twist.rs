@@ -82,3 +82,55 @@ fn a_clamped_pre_bent_semicircle_has_the_continuums_first_frequency() {
     );
     assert!(rel_diff(f, 29.9496) < 5e-3, "{f}");
 }
+
+/// A grid of `n` by `n` straight rods of length 1000 mm on the plane z = 0, crossing at
+/// every 250 mm, drawn with 41 points each and resampled at 25 mm.
+fn straight_grid() -> Network {
+    let line = |i: usize, along_x: bool| {
+        let y = 250.0 * (i + 1) as f64;
+        let pts = (0..=40)
+            .map(|t| {
+                let x = 25.0 * t as f64;
+                if along_x {
+                    Vec3::new(x, y, 0.0)
+                } else {
+                    Vec3::new(y, x, 0.0)
+                }
+            })
+            .collect();
+        polyline(pts, false)
+    };
+    let curves: Vec<_> = (0..3)
+        .flat_map(|i| [line(i, true), line(i, false)])
+        .collect();
+    build(&curves, 25.0, Supports::Pinned)
+}
+
+#[test]
+fn pre_bent_rods_drawn_straight_are_straight_rods_not_spinning_mechanisms() {
+    // A straight rod spins about its own axis without moving a point: were its twist an
+    // unknown, every rod of a pinned grid would add a zero mode and the grid would be
+    // called a mechanism. Drawn straight, a pre-bent rod is a straight one, number for number.
+    let net = straight_grid();
+    let report = |rest: RestShape| {
+        let mut params = PhysicalParams::new(Physical::uniform(
+            LengthUnit::Millimetre,
+            presets::preset("steel").unwrap(),
+            Section::Solid { radius: 10.0 },
+        ));
+        params.rest = vec![rest; 6];
+        analyze_physical(&net, &params, &ActiveSet::all(6)).expect("analysis")
+    };
+    let (bent, straight) = (report(RestShape::PreBent), report(RestShape::Straight));
+    println!(
+        "pinned grid of straight rods: pre-bent {:?}, straight {:?} Hz",
+        bent.frequencies_hz, straight.frequencies_hz
+    );
+    assert!(bent.stable, "{bent:?}");
+    assert_eq!(bent.zero_modes, 0);
+    assert_eq!(bent.frequencies_hz, straight.frequencies_hz);
+    assert_eq!(
+        bent.self_weight_max_deflection,
+        straight.self_weight_max_deflection
+    );
+}

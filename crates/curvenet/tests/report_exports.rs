@@ -73,6 +73,7 @@ fn make_run(
         total_length: total,
         constraints: Default::default(),
         physical: None,
+        physical_model: None,
     };
     let analyzer = Analyzer::new(net, stability).expect("analyzer");
     let mut w = OutputWriter::create(

@@ -64,6 +64,7 @@ fn run_dir() -> &'static Path {
             total_length: total,
             constraints: Default::default(),
             physical: None,
+            physical_model: None,
         };
         let analyzer = Analyzer::new(net, stability).expect("analyzer");
         let mut w = OutputWriter::create(dir.path(), analyzer.network(), setup, 0.4 * total)

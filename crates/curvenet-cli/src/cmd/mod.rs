@@ -95,6 +95,9 @@ pub fn model_options(physics: &PhysicsArgs, p: &PhysicalModeArgs) -> ModelOption
             tube: p.tube.clone(),
             load: p.load.clone(),
             gravity: p.gravity.clone(),
+            loads: p.loads.as_ref().map(|f| f.display().to_string()),
+            deflection_limit: p.deflection_limit.clone(),
+            buckling_factor: p.buckling_factor.clone(),
             ..PhysicalOptions::default()
         },
     }

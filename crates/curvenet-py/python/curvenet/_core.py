@@ -161,7 +161,11 @@ _MODEL_DOC = """
     aluminium, gfrp, timber) reports frequencies in Hz, deflections in the scene's unit and
     stresses in MPa beside λ: ``density``, ``strength``, ``tube`` (``"60x4"``: outer diameter
     x wall), ``load`` (``"1kN/m"``) and ``gravity`` (m/s², a magnitude along -z or
-    ``"gx,gy,gz"``) refine it.
+    ``"gx,gy,gz"``) refine it. ``loads`` (a loads file: load cases and combinations, see
+    docs/units.md) adds each case's nonlinear equilibrium, deflection, utilisation and critical
+    load factor to the analysis (``physical["load_cases"]``), checked against
+    ``deflection_limit`` (``"span/250"`` or a length such as ``"20mm"``) and
+    ``buckling_factor`` (the smallest acceptable critical factor, default 1).
 """
 
 
@@ -172,7 +176,8 @@ def _with_model_doc(f: Callable) -> Callable:
 
 
 def _model_kwargs(supports, merge_joints, radius, young, anchor_weight, eigen_count, objective,
-                  units, material, density, strength, tube, load, gravity) -> Dict[str, Any]:
+                  units, material, density, strength, tube, load, gravity, loads=None,
+                  deflection_limit=None, buckling_factor=None) -> Dict[str, Any]:
     return dict(
         supports=supports,
         merge_joints=merge_joints,
@@ -188,6 +193,9 @@ def _model_kwargs(supports, merge_joints, radius, young, anchor_weight, eigen_co
         tube=_text(tube),
         load=_text(load),
         gravity=_text(gravity),
+        loads=None if loads is None else os.fspath(loads),
+        deflection_limit=_text(deflection_limit),
+        buckling_factor=_text(buckling_factor),
     )
 
 
@@ -212,6 +220,9 @@ def load(
     tube: Optional[str] = None,
     load: Optional[str] = None,
     gravity: Union[float, str, None] = None,
+    loads: Optional[PathLike] = None,
+    deflection_limit: Union[float, str, None] = None,
+    buckling_factor: Optional[float] = None,
     tolerance: Optional[float] = None,
     layer: Optional[str] = None,
 ) -> "Network":
@@ -244,7 +255,8 @@ def load(
         edge_length=edge_length,
         warnings=warnings,
         **_model_kwargs(supports, merge_joints, radius, young, anchor_weight, eigen_count,
-                        objective, units, material, density, strength, tube, load, gravity),
+                        objective, units, material, density, strength, tube, load, gravity,
+                        loads, deflection_limit, buckling_factor),
     )
     return Network(native)
 
@@ -273,6 +285,9 @@ def example(
     tube: Optional[str] = None,
     load: Optional[str] = None,
     gravity: Union[float, str, None] = None,
+    loads: Optional[PathLike] = None,
+    deflection_limit: Union[float, str, None] = None,
+    buckling_factor: Optional[float] = None,
 ) -> "Network":
     """The paper's example ``name`` (``roof``, ``tower``, ...; see :func:`example_names`) with
     its set-up (``curvenet example NAME``): the network, and as :meth:`Network.simplify`'s
@@ -284,7 +299,8 @@ def example(
         example=name,
         data=None if data is None else os.fspath(data),
         **_model_kwargs(supports, merge_joints, radius, young, anchor_weight, eigen_count,
-                        objective, units, material, density, strength, tube, load, gravity),
+                        objective, units, material, density, strength, tube, load, gravity,
+                        loads, deflection_limit, buckling_factor),
     )
     return Network(native)
 
@@ -338,7 +354,8 @@ class Analysis:
         """In the physical mode, the structure in a material's units (``analyze --json``'s
         ``physical``: ``stable``, ``frequencies_hz``, ``first_frequency_hz``,
         ``self_weight_max_deflection`` and ``load_max_deflection`` in ``units``, stresses in
-        MPa, ``max_utilisation``, ``mass_kg``, ...); None in the paper's mode."""
+        MPa, ``max_utilisation``, ``mass_kg``, ``load_cases`` with ``loads=``, ...); None in
+        the paper's mode."""
         p = self.report.get("physical")
         return None if p is None else Record(p)
 
@@ -724,7 +741,8 @@ class Result:
     def export(self, out: Optional[PathLike] = None, format: str = "all",
                iteration: Optional[int] = None) -> List[Path]:
         """Writes an iteration's network (default: the last) as ``curvenet export`` does:
-        ``format`` is ``obj``, ``json``, ``csv``, ``network`` or ``all``; ``out`` a folder
+        ``format`` is ``obj``, ``json``, ``csv``, ``network``, ``structural`` (a physical
+        run's neutral structural JSON), ``opensees`` (its OpenSeesPy script) or ``all``; ``out`` a folder
         (default: ``export/`` in the run folder). Returns the paths written."""
         folder = self.folder / "export" if out is None else Path(out)
         return [Path(p) for p in self._native.export(os.fspath(folder), format, self._k(iteration))]

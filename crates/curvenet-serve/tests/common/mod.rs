@@ -247,6 +247,7 @@ pub fn ring_run(dir: &Path) {
         total_length: total,
         constraints: Default::default(),
         physical: None,
+        physical_model: None,
     };
     let analyzer = Analyzer::new(net, stability).unwrap();
     let budget = Budget::Fraction(0.8).length(total);

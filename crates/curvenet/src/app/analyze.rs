@@ -5,7 +5,7 @@
 
 use super::setup::{Setup, check_curve_ids};
 use crate::app::AppError;
-use crate::physics::{PhysicalReport, analyze_physical};
+use crate::physics::{PhysicalReport, PhysicsError, analyze_physical};
 use crate::pipeline;
 use crate::report::AnalysisReport;
 use crate::rod::ActiveSet;
@@ -92,8 +92,11 @@ pub fn analyze(
                 active.remove(c);
             }
             Some(
-                analyze_physical(out.analyzer.network(), p, &active)
-                    .map_err(|e| AppError::Failed(e.to_string()))?,
+                analyze_physical(out.analyzer.network(), p, &active).map_err(|e| match e {
+                    // Parameters the network refuses (a point load off it) are the user's.
+                    PhysicsError::Params(m) => AppError::Usage(m),
+                    e => AppError::Failed(e.to_string()),
+                })?,
             )
         }
         None => None,

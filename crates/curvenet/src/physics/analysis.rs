@@ -23,9 +23,11 @@
 //! An unstable equilibrium (a zero or negative `μ`) has no frequency and no linear
 //! deflection: those numbers are absent and a warning says why.
 
+use super::cases::Loads;
 use super::checks::{deflection_warnings, near_joint, overstress_warnings, units_warnings};
 use super::deviation::largest_deviation;
 use super::inertia::{ModeSigns, classify};
+use super::loaded::{LoadCaseReport, LoadedStructure};
 use super::loads::{
     frequencies_hz, held_vertices, lumped_lengths, max_displacement, self_weight,
     worst_load_deflection,
@@ -57,6 +59,57 @@ pub struct PhysicalParams {
     pub frequencies: usize,
     /// What an equilibrium is.
     pub newton: NewtonParams,
+    /// Load cases and combinations to analyse (none: none).
+    pub loads: Option<Loads>,
+    /// The load cases' deflection limit.
+    pub deflection_limit: Option<DeflectionLimit>,
+    /// The smallest acceptable critical load factor of a load case (default 1).
+    pub buckling_factor: f64,
+}
+
+/// A load case's deflection limit: a fraction of the span or a length.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum DeflectionLimit {
+    /// The span over this number (`span/250`): the span is the largest distance between two
+    /// supported vertices of the structure (its largest extent when it has fewer than two).
+    SpanOver(f64),
+    /// A length, scene units.
+    Length(f64),
+}
+
+impl DeflectionLimit {
+    /// The limit on the structure `active` of `network`, scene units.
+    pub fn on(self, network: &Network, active: &ActiveSet) -> f64 {
+        match self {
+            DeflectionLimit::Length(l) => l,
+            DeflectionLimit::SpanOver(d) => span(network, active) / d,
+        }
+    }
+}
+
+/// The largest distance between two supported vertices of the structure (its largest
+/// extent when it has fewer than two).
+pub fn span(network: &Network, active: &ActiveSet) -> f64 {
+    let mut supported: Vec<u32> = (network.rods.iter().enumerate())
+        .filter(|(c, _)| active.contains(*c))
+        .flat_map(|(_, r)| r.anchors.iter().copied())
+        .collect();
+    if supported.len() < 2 {
+        supported = (network.rods.iter().enumerate())
+            .filter(|(c, _)| active.contains(*c))
+            .flat_map(|(_, r)| r.vertices.iter().copied())
+            .collect();
+    }
+    supported.sort_unstable();
+    supported.dedup();
+    let p = |v: u32| network.positions[v as usize];
+    let mut best = 0.0_f64;
+    for (i, &a) in supported.iter().enumerate() {
+        for &b in &supported[i + 1..] {
+            best = best.max((p(a) - p(b)).norm());
+        }
+    }
+    best
 }
 
 impl PhysicalParams {
@@ -68,6 +121,9 @@ impl PhysicalParams {
             rest: Vec::new(),
             frequencies: 4,
             newton: NewtonParams::default(),
+            loads: None,
+            deflection_limit: None,
+            buckling_factor: 1.0,
         }
     }
 
@@ -78,6 +134,13 @@ impl PhysicalParams {
             return Err(format!(
                 "the number of frequencies must lie in 1..=50, got {}",
                 self.frequencies
+            )
+            .into());
+        }
+        if !(self.buckling_factor.is_finite() && self.buckling_factor > 0.0) {
+            return Err(format!(
+                "the required critical load factor must be a positive number, got {}",
+                self.buckling_factor
             )
             .into());
         }
@@ -169,6 +232,9 @@ pub struct PhysicalReport {
     pub max_utilisation: Option<Utilisation>,
     /// Every curve's largest stresses.
     pub curves: Vec<CurveStress>,
+    /// What the structure does under each load case and combination of the loads file.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub load_cases: Vec<LoadCaseReport>,
     /// Curves that would break when bent, units that look wrong, instability.
     pub warnings: Vec<Message>,
 }
@@ -335,6 +401,40 @@ pub fn analyze_physical(
         stress_mpa: c.combined_mpa,
         strength_mpa: c.strength_mpa,
     });
+    let load_cases = match &params.loads {
+        Some(loads) => {
+            let cases = loads
+                .forces(network, phys, active)
+                .map_err(PhysicsError::Params)?;
+            let mut loaded_model = model.clone();
+            let structure = LoadedStructure {
+                network,
+                active,
+                physical: phys,
+                rest: &params.rest,
+                held: &held,
+                u0: &u,
+                h0: &relaxed.hess,
+                symbolic: &symbolic,
+                newton: &params.newton,
+                deflection_limit: params.deflection_limit.map(|d| d.on(network, active)),
+                required_factor: params.buckling_factor,
+            };
+            let reports: Vec<LoadCaseReport> = cases
+                .iter()
+                .map(|c| structure.analyze(&mut loaded_model, c))
+                .collect();
+            for r in reports.iter().filter(|r| !r.passes) {
+                warnings.push(Message::from(format!(
+                    "load case {} does not pass: {}",
+                    r.name,
+                    r.failures.join("; ")
+                )));
+            }
+            reports
+        }
+        None => Vec::new(),
+    };
     let bending = stresses.max_bending();
     let axial = stresses.max_axial();
     let mass_kg = phys.units.mass_to_kg(
@@ -370,6 +470,7 @@ pub fn analyze_physical(
         assembly_max_axial_stress_at: axial,
         max_utilisation,
         curves: stresses.curves,
+        load_cases,
         warnings,
     })
 }
@@ -562,6 +663,9 @@ impl PhysicalReport {
                 m.near,
                 m.vertex
             ));
+        }
+        for c in &self.load_cases {
+            line(format!("  {}", c.to_text(u)));
         }
         s
     }

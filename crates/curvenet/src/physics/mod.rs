@@ -9,9 +9,11 @@
 //! it is reported: stresses in MPa, deflections in scene units, frequencies in hertz.
 
 pub mod analysis;
+pub mod cases;
 pub mod checks;
 pub mod deviation;
 pub mod inertia;
+pub mod loaded;
 pub mod loads;
 pub mod options;
 pub mod stress;

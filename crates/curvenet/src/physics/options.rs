@@ -3,7 +3,8 @@
 //! [`PhysicalParams`]: one place for every front end, its messages naming the options by
 //! [`Opt`].
 
-use super::analysis::PhysicalParams;
+use super::analysis::{DeflectionLimit, PhysicalParams};
+use super::cases::Loads;
 use crate::material::{
     self, CurveSpec, DENSITY_RANGE_KG_M3, LINE_LOAD_RANGE_N_PER_M, Physical, STRESS_RANGE_PA,
     SectionSpec, presets,
@@ -47,6 +48,16 @@ pub struct PhysicalOptions {
     /// Gravity: `9.81` (along −z) or `gx,gy,gz`, m/s².
     #[serde(skip_serializing_if = "Option::is_none")]
     pub gravity: Option<String>,
+    /// The loads file: load cases and combinations (`physics::cases`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub loads: Option<String>,
+    /// The load cases' deflection limit: `span/250`, or a length (`20mm`; a bare number in
+    /// scene units).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub deflection_limit: Option<String>,
+    /// The smallest acceptable critical load factor of a load case (default 1).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub buckling_factor: Option<String>,
 }
 
 impl PhysicalOptions {
@@ -84,6 +95,9 @@ impl PhysicalOptions {
                 (Opt::Tube, &self.tube),
                 (Opt::Load, &self.load),
                 (Opt::Gravity, &self.gravity),
+                (Opt::Loads, &self.loads),
+                (Opt::DeflectionLimit, &self.deflection_limit),
+                (Opt::BucklingFactor, &self.buckling_factor),
             ] {
                 if value.is_some() {
                     return Err(message![
@@ -191,7 +205,56 @@ impl PhysicalOptions {
         check_stiffness(&physical, specs, section_option)?;
         let mut params = PhysicalParams::new(physical);
         params.rest = specs.iter().map(|s| s.rest.unwrap_or_default()).collect();
+        if let Some(path) = &self.loads {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| message![Opt::Loads, format!(": {path}: {e}")])?;
+            params.loads = Some(Loads::parse(&text, path)?);
+        }
+        if let Some(t) = &self.deflection_limit {
+            params.deflection_limit = Some(parse_deflection_limit(t, units)?);
+        }
+        if let Some(t) = &self.buckling_factor {
+            params.buckling_factor = parse_buckling_factor(t)?;
+        }
         Ok(Some(params))
+    }
+}
+
+/// The deflection limit as written: `span/N` (N a positive number) or a length with its unit
+/// (`20mm`), a bare number in scene units.
+fn parse_deflection_limit(text: &str, units: LengthUnit) -> Result<DeflectionLimit, Message> {
+    let value = given(Opt::DeflectionLimit, format!("{text:?}"));
+    let bad = || message![value.clone(), " must be span/N or a positive length (20mm)"];
+    if let Some(n) = text.trim().strip_prefix("span/") {
+        let n: f64 = n.trim().parse().map_err(|_| bad())?;
+        return if n.is_finite() && n > 0.0 {
+            Ok(DeflectionLimit::SpanOver(n))
+        } else {
+            Err(bad())
+        };
+    }
+    let metres = parse_quantity(
+        text,
+        Quantity::Length,
+        Opt::DeflectionLimit,
+        Some(units.metres()),
+    )?;
+    let scene = metres / units.metres();
+    if scene.is_finite() && scene > 0.0 {
+        Ok(DeflectionLimit::Length(scene))
+    } else {
+        Err(bad())
+    }
+}
+
+/// The smallest acceptable critical load factor as written: a positive number.
+fn parse_buckling_factor(text: &str) -> Result<f64, Message> {
+    match text.trim().parse::<f64>() {
+        Ok(f) if f.is_finite() && f > 0.0 => Ok(f),
+        _ => Err(message![
+            given(Opt::BucklingFactor, format!("{text:?}")),
+            " must be a positive number"
+        ]),
     }
 }
 

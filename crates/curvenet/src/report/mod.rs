@@ -41,6 +41,12 @@ pub enum ReportError {
     /// a picture could not be encoded.
     #[error("{0}")]
     Invalid(String),
+    /// A structural export of a run in the paper's mode, which has no material.
+    #[error(
+        "the run is in the paper's model, which has no material or units: a structural model \
+         needs a run in the physical mode (the scene's length unit, a material and a section)"
+    )]
+    NotPhysical,
 }
 
 impl ReportError {
@@ -51,6 +57,7 @@ impl ReportError {
         match self {
             ReportError::RunFolder(e) => e.is_input(),
             ReportError::Io { .. } | ReportError::Invalid(_) => false,
+            ReportError::NotPhysical => true,
         }
     }
 

@@ -6,6 +6,11 @@ use super::Supports;
 use crate::geom::Vec3;
 use serde::{Deserialize, Serialize};
 
+/// How far from its chord (relative to the chord's length) every vertex of a rod may lie for
+/// the rod to be straight ([`Rod::is_drawn_straight`]): rounding of straight input, not a
+/// shape.
+pub const STRAIGHT_SAGITTA: f64 = 1e-9;
+
 /// One rod: the resampled curve of the same id.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Rod {
@@ -44,6 +49,29 @@ impl Rod {
             (self.vertices[m - 1], self.vertices[m - 2])
         };
         self.anchors.contains(&end) && self.anchors.contains(&next)
+    }
+
+    /// Whether the rod is straight as drawn in `positions`: open, and every vertex within
+    /// [`STRAIGHT_SAGITTA`] of the chord's length from the chord. A pre-bent rod that is
+    /// straight carries no twist unknowns: its twist decouples from its bending exactly, as a
+    /// straight rod's does, and its spin about its own axis moves no point, so it is no
+    /// mechanism.
+    pub fn is_drawn_straight(&self, positions: &[Vec3]) -> bool {
+        let m = self.vertices.len();
+        if self.closed || m < 2 {
+            return !self.closed;
+        }
+        let a = positions[self.vertices[0] as usize];
+        let chord = positions[self.vertices[m - 1] as usize] - a;
+        let len = chord.norm();
+        if len == 0.0 {
+            return false;
+        }
+        let dir = chord / len;
+        self.vertices.iter().all(|&v| {
+            let d = positions[v as usize] - a;
+            (d - dir * d.dot(dir)).norm() <= STRAIGHT_SAGITTA * len
+        })
     }
 
     /// The end vertices of edge `j`.

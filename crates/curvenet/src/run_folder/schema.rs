@@ -61,6 +61,45 @@ pub struct RunSetup {
     /// before they were): a run resumed with others is refused.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub physical: Option<crate::physics::PhysicalOptions>,
+    /// The physical model those options resolved to (units, every curve's material and
+    /// section, rest shapes, gravity): what an export to a structural code carries (absent
+    /// in the paper's mode).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub physical_model: Option<PhysicalModel>,
+}
+
+/// The physical model of a run as resolved ([`RunSetup::physical_model`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PhysicalModel {
+    /// Units, materials, sections, gravity and the worst-case load.
+    pub physical: crate::material::Physical,
+    /// The curves pre-bent at rest, ascending (the others are straight at rest).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub pre_bent: Vec<usize>,
+}
+
+impl PhysicalModel {
+    /// The record of `params`.
+    pub fn of(params: &crate::physics::PhysicalParams) -> Self {
+        let pre_bent = params.rest.iter().enumerate();
+        PhysicalModel {
+            physical: params.physical.clone(),
+            pre_bent: pre_bent
+                .filter(|(_, r)| **r == crate::material::RestShape::PreBent)
+                .map(|(c, _)| c)
+                .collect(),
+        }
+    }
+
+    /// Every one of `n` curves' rest shape.
+    pub fn rest(&self, n: usize) -> Vec<crate::material::RestShape> {
+        let mut rest = vec![crate::material::RestShape::Straight; n];
+        for &c in self.pre_bent.iter().filter(|&&c| c < n) {
+            rest[c] = crate::material::RestShape::PreBent;
+        }
+        rest
+    }
 }
 
 /// The final network of a run.

@@ -101,8 +101,11 @@ impl Analyzer {
     /// # Errors
     ///
     /// [`StabilityError::Params`] for invalid physical parameters.
-    pub fn with_physical(mut self, physical: PhysicalParams) -> Result<Self, StabilityError> {
+    pub fn with_physical(mut self, mut physical: PhysicalParams) -> Result<Self, StabilityError> {
         physical.validate().map_err(StabilityError::Params)?;
+        // The searches record each structure's own figures, not its load cases' (each case
+        // follows its load in steps: `analyze` gives them).
+        physical.loads = None;
         if self.metric.is_some() {
             let n = self.network.rods.len();
             let rods = physical_rods(&physical.physical, n, &physical.rest);

@@ -14,6 +14,7 @@ use super::{AppError, Stage};
 use crate::cancel::Cancel;
 use crate::constraints::{ConstraintError, ConstraintParams, Constraints, read_groups};
 use crate::network::Network;
+use crate::run_folder::schema::PhysicalModel;
 use crate::run_folder::{OutputWriter, ResultFile, RunFolderError, RunSetup};
 use crate::simplify::greedy::ResumePoint;
 use crate::simplify::{Budget, GreedyParams, SimplifyError, greedy};
@@ -186,6 +187,7 @@ pub fn execute(
         total_length: total,
         constraints: constraint_params,
         physical: setup.model.physical_options.clone(),
+        physical_model: setup.model.physical.as_ref().map(PhysicalModel::of),
     };
     let opened = open_writer(
         spec,

@@ -29,7 +29,9 @@
 
 pub mod curves;
 pub mod network_file;
+pub mod opensees;
 pub mod rods;
+pub mod structural;
 pub mod tables;
 
 pub use curves::{curves_json, curves_obj, parse_curve_label, structure_json, structure_obj};
@@ -37,7 +39,9 @@ pub use network_file::{
     NETWORK_FORMAT, NETWORK_VERSION, NetworkFile, NetworkFileRod, joints_of, load_network,
     network_file, network_json, parse_network_file, read_network_file,
 };
+pub use opensees::opensees_script;
 pub use rods::{RodJoint, arc_lengths, end_support, rod_joints, rod_supports};
+pub use structural::{STRUCTURE_FORMAT, StructuralModel};
 pub use tables::{fabrication_csv, fabrication_table, points_csv};
 
 use crate::io;
@@ -56,7 +60,11 @@ pub enum ExportFormat {
     Csv,
     /// The network file.
     Network,
-    /// All of the above.
+    /// The neutral structural JSON (a physical run's).
+    Structural,
+    /// The OpenSeesPy script (a physical run's).
+    Opensees,
+    /// All of the above (the last two for a physical run).
     All,
 }
 
@@ -69,11 +77,16 @@ impl std::str::FromStr for ExportFormat {
             ("json", Json),
             ("csv", Csv),
             ("network", Network),
+            ("structural", Structural),
+            ("opensees", Opensees),
             ("all", All),
         ];
         let found = names.into_iter().find(|n| n.0 == s);
         found.map(|n| n.1).ok_or_else(|| {
-            format!("unknown export format '{s}' (expected obj, json, csv, network or all)")
+            format!(
+                "unknown export format '{s}' (expected obj, json, csv, network, structural, \
+                 opensees or all)"
+            )
         })
     }
 }
@@ -91,7 +104,7 @@ pub fn export_files(
     use ExportFormat::*;
     type Make = fn(&RunFolder, Which) -> Result<String, ReportError>;
     // Each file: its format, its name around the tag, what writes it.
-    let files: [(ExportFormat, &str, &str, Make); 7] = [
+    let files: [(ExportFormat, &str, &str, Make); 9] = [
         (Obj, "curves_", ".obj", |r, w| curves_obj(r, w, false)),
         (Obj, "curves_", "_rest.obj", |r, w| curves_obj(r, w, true)),
         (Json, "curves_", ".json", |r, w| curves_json(r, w, true)),
@@ -101,13 +114,48 @@ pub fn export_files(
         (Csv, "fabrication_", ".csv", |r, w| fabrication_csv(r, w)),
         (Csv, "points_", ".csv", |r, w| points_csv(r, w)),
         (Network, "network_", ".json", |r, w| network_json(r, w)),
+        (Structural, "structure_", ".json", |r, w| {
+            Ok(structural_model(r, w)?.to_json())
+        }),
+        (Opensees, "opensees_", ".py", |r, w| {
+            Ok(opensees_script(&structural_model(r, w)?))
+        }),
     ];
     let which = which.into();
     let k = run.network_of(which)?.tag;
-    let wanted = files.iter().filter(|f| format == All || format == f.0);
+    let physical = run.result.setup.physical_model.is_some();
+    if matches!(format, Structural | Opensees) && !physical {
+        return Err(ReportError::NotPhysical);
+    }
+    let wanted = files.iter().filter(|f| {
+        (format == All && (physical || !matches!(f.0, Structural | Opensees))) || format == f.0
+    });
     wanted
         .map(|(_, stem, end, make)| Ok((format!("{stem}{k}{end}"), make(run, which)?)))
         .collect()
+}
+
+/// The structural model of iteration `k` (any [`Which`]) of a physical run, at its drawn
+/// positions ([`structural`] says what it carries).
+///
+/// # Errors
+///
+/// [`ReportError::NotPhysical`] for a run in the paper's mode; the run folder's errors.
+pub fn structural_model(
+    run: &RunFolder,
+    which: impl Into<Which>,
+) -> Result<StructuralModel, ReportError> {
+    let which = which.into();
+    let model = (run.result.setup.physical_model.as_ref()).ok_or(ReportError::NotPhysical)?;
+    let rec = run.network_of(which)?;
+    let source = format!("{} {}", run.dir.display(), rec.what);
+    Ok(StructuralModel::new(
+        &run.network,
+        &rec.curves,
+        model,
+        source,
+        rec.unstable,
+    ))
 }
 
 /// Writes the files of `format` for iteration `k` (any [`Which`]) into the folder `out`

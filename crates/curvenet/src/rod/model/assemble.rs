@@ -27,7 +27,7 @@ impl EnergyModel {
                 e += terms::anchor_energy(vec3(u, t.v), t.offset, self.mu);
             }
         }
-        e
+        e - self.load.iter().zip(u).map(|(f, x)| f * x).sum::<f64>()
     }
 
     /// Energy and gradient; with `hessian`, also the Hessian values (loose vertices get the
@@ -115,6 +115,10 @@ impl EnergyModel {
                 }
             }
         }
+        for (g, f) in out.grad.iter_mut().zip(&self.load) {
+            *g -= f;
+        }
+        out.energy -= self.load.iter().zip(u).map(|(f, x)| f * x).sum::<f64>();
         if hessian {
             self.set_loose_diagonal(&mut out.hess, |c| active.contains(c));
         }

@@ -121,6 +121,7 @@ impl EnergyModel {
             bend_pos,
             clamp_pos,
             loose_diagonal,
+            load: Vec::new(),
         }
     }
 }
@@ -157,7 +158,10 @@ fn collect_terms(network: &Network, stiffness: &[RodStiffness], rules: ModelRule
     for (c, (rod, k)) in network.rods.iter().zip(stiffness).enumerate() {
         let (s0, b0, a0) = (t.stretch.len(), t.bend.len(), t.anchor.len());
         let (c0, f0, tc0) = (t.clamp.len(), t.frame.len(), t.twist_clamp.len());
-        let framed = rules.twist && k.rest == RestShape::PreBent;
+        // A pre-bent rod drawn straight bends as a straight one: its twist decouples.
+        let framed = rules.twist
+            && k.rest == RestShape::PreBent
+            && !rod.is_drawn_straight(&network.positions);
         if framed {
             twist::collect_rod(
                 c,

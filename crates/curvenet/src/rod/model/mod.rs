@@ -180,6 +180,9 @@ pub struct EnergyModel {
     clamp_pos: Vec<[[u32; 2]; 2]>,
     /// Diagonal entry used for coordinates of loose vertices.
     loose_diagonal: f64,
+    /// External forces on the coordinates (empty: none): the energy is the rods' minus
+    /// `load · u` ([`Self::set_load`]).
+    load: Vec<f64>,
 }
 
 impl EnergyModel {
@@ -215,6 +218,25 @@ impl EnergyModel {
             None => terms::bend_energy(x0, x1, x2, t.r0, t.r1, t.kb),
             Some(rest) => terms::bend_rest_energy(x0, x1, x2, t.r0, t.r1, t.kb, rest),
         }
+    }
+
+    /// Puts the external forces `load` on the coordinates (a dead load: `−load · u` joins
+    /// the energy, `−load` the gradient; the Hessian is the rods'); an empty vector removes
+    /// them. A shorter vector loads the first coordinates (the vertices', three each).
+    pub fn set_load(&mut self, mut load: Vec<f64>) {
+        assert!(
+            load.len() <= self.dofs(),
+            "a load longer than the coordinates"
+        );
+        if load.iter().all(|&f| f == 0.0) {
+            load.clear();
+        }
+        self.load = load;
+    }
+
+    /// The external forces on the coordinates ([`Self::set_load`]; empty: none).
+    pub fn load(&self) -> &[f64] {
+        &self.load
     }
 
     /// The anchor weight `µ` (an anchor is a spring of stiffness `2µ`).

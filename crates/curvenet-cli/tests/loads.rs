@@ -1,0 +1,114 @@
+//! Load cases on the command line (`analyze --loads FILE`): the cases' figures in the text and
+//! in `--json`, and bad loads files refused with exit 2 naming the file, the line and what is
+//! wrong.
+
+mod common;
+
+use common::{BIN, TempDir};
+use std::process::{Command, Output};
+
+/// The reference format's grid of `common::GRID`, in metres: steel bars of radius 10 mm.
+const OPTIONS: &[&str] = &[
+    "--units",
+    "m",
+    "--material",
+    "steel",
+    "--radius",
+    "0.01",
+    "--edge-length",
+    "0.1",
+];
+
+fn analyze(dir: &TempDir, extra: &[&str]) -> Output {
+    let mut args = vec!["analyze", "--curves", "grid.txt"];
+    args.extend_from_slice(OPTIONS);
+    args.extend_from_slice(extra);
+    Command::new(BIN)
+        .args(&args)
+        .current_dir(&dir.0)
+        .output()
+        .expect("runs")
+}
+
+#[test]
+fn load_cases_are_reported_with_their_verdicts() {
+    let dir = TempDir::with_grid("loads");
+    dir.write(
+        "loads.json",
+        r#"{"cases": [{"name": "G", "self_weight": true},
+                      {"name": "P", "points": [{"at": [0.5, 0.5, 0], "force": [0, 0, -100]}]}],
+            "combinations": [{"name": "ULS", "factors": {"G": 1.35, "P": 1.5}}]}"#,
+    );
+    let out = analyze(
+        &dir,
+        &["--loads", "loads.json", "--deflection-limit", "span/250"],
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{text}");
+    for part in [
+        "load case G: max deflection",
+        "load case P: max deflection",
+        "combination ULS (1.35·G + 1.50·P)",
+    ] {
+        assert!(text.contains(part), "{part}: {text}");
+    }
+    let out = analyze(&dir, &["--loads", "loads.json", "--json"]);
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let cases = report["physical"]["load_cases"].as_array().expect("cases");
+    assert_eq!(cases.len(), 3);
+    for key in [
+        "name",
+        "max_deflection",
+        "max_utilisation",
+        "buckling_factor",
+        "passes",
+    ] {
+        assert!(cases[2].get(key).is_some(), "{key}: {}", cases[2]);
+    }
+}
+
+#[test]
+fn bad_loads_are_refused_naming_file_line_and_what() {
+    let dir = TempDir::with_grid("loads-bad");
+    for (text, parts) in [
+        (
+            "{\"cases\": [{\"name\": \"G\", \"self_weight\": true}],\n \"combinations\": [{\"name\": \"C\", \"factors\": {\"S\": 1.5}}]}",
+            &["bad.json:2", "names load case S", "its cases: G"][..],
+        ),
+        (
+            "{\"cases\": [\n {\"name\": \"P\", \"points\": [{\"at\": [0, 0, 5], \"force\": [0, 0, -1]}]}]}",
+            &[
+                "load case P",
+                "m from the structure",
+                "must lie on the network",
+            ][..],
+        ),
+        (
+            "{\"cases\": [\n {\"name\": \"S\", \"line\": {\"intensity\": \"2\", \"direction\": [0, 0, -1]}}]}",
+            &["bad.json:2", "needs a unit"][..],
+        ),
+        (
+            "{\"cases\": [\n {\"nme\": \"S\"}]}",
+            &["bad.json:2", "unknown field"][..],
+        ),
+    ] {
+        dir.write("bad.json", text);
+        let out = analyze(&dir, &["--loads", "bad.json"]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{text}: {err}");
+        for part in parts {
+            assert!(err.contains(part), "{part}: {err}");
+        }
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    let out = analyze(&dir, &["--loads", "missing.json"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("--loads") && err.contains("missing.json"),
+        "{err}"
+    );
+    let out = analyze(&dir, &["--deflection-limit", "span/-3"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--deflection-limit"));
+}
