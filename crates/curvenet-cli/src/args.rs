@@ -437,7 +437,8 @@ pub struct ConstraintArgs {
     #[arg(long = "max-gap", value_name = "D", value_parser = positive, allow_hyphen_values = true)]
     pub max_gap: Option<f64>,
     /// No vertex of the kept network farther than D from its designed place at equilibrium
-    /// (the answer is chosen among networks that meet it).
+    /// (the answer is chosen among networks that meet it); with --units, the physical model's
+    /// under self-weight, in those units.
     #[arg(long = "max-deviation", value_name = "D", value_parser = positive, allow_hyphen_values = true)]
     pub max_deviation: Option<f64>,
 }
