@@ -48,6 +48,7 @@ pub mod rod;
 pub mod run_folder;
 pub mod run_layout;
 pub mod simplify;
+pub mod slide;
 pub mod solve;
 pub mod sparse;
 pub mod stability;

@@ -111,6 +111,16 @@ options! {
     Certify = "certify",
     /// The certificate's branch and bound nodes.
     CertificateNodes = "certificate_nodes",
+    /// Sliding the chosen curves on the surface.
+    Slide = "slide",
+    /// How far sliding may move a curve.
+    MaxMove = "max_move",
+    /// Curve ends stay where they are while sliding.
+    FixedEnds = "fixed_ends",
+    /// Curves sliding leaves where they are.
+    Pin = "pin",
+    /// Rounds of sliding and local search.
+    SlideRounds = "slide_rounds",
     /// The run folder.
     Out = "out",
     /// Continuing an interrupted run.

@@ -21,6 +21,8 @@ pub enum Stage {
     Alternatives,
     /// The certificate.
     Certificate,
+    /// Sliding the curves on the surface.
+    Slide,
 }
 
 impl Stage {
@@ -31,6 +33,7 @@ impl Stage {
             Stage::LocalSearch => "the local search",
             Stage::Alternatives => "the search for alternatives",
             Stage::Certificate => "the certificate",
+            Stage::Slide => "sliding",
         }
     }
 }
@@ -90,6 +93,12 @@ impl AppError {
                 kept,
                 folder,
             } => {
+                if *stage == Stage::Slide {
+                    return format!(
+                        "cancelled while sliding: the best network so far is recorded in {}",
+                        folder.display()
+                    );
+                }
                 let what = match stage {
                     Stage::Greedy => format!("{kept} iteration(s) kept in {}", folder.display()),
                     _ => format!(

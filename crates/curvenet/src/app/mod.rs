@@ -23,6 +23,7 @@ mod observer;
 mod run;
 mod search;
 mod setup;
+mod slide;
 mod summary;
 
 pub use analyze::{AnalyzeOutcome, analyze};
@@ -33,4 +34,5 @@ pub use observer::{Observer, Silent};
 pub use run::{AfterSeconds, MAX_ALTERNATIVES, RunOutcome, RunSpec, execute};
 pub use search::Search;
 pub use setup::{Setup, check_curve_ids};
+pub use slide::{SlideOutcome, SlideSpec, slide};
 pub use summary::run_summary;

@@ -21,6 +21,10 @@ pub trait Observer: Sync {
     fn iteration(&self, record: &IterationRecord, total: f64, budget: f64) {
         let _ = (record, total, budget);
     }
+    /// One step sliding took: the networks evaluated so far and the objective reached.
+    fn slide_step(&self, step: &crate::slide::Step) {
+        let _ = step;
+    }
     /// A stage that polls the cancellation token starts (`true`) or ends (`false`). The
     /// command line cancels the token on Ctrl-C only inside such a stage, and exits at once
     /// outside.

@@ -31,6 +31,15 @@ impl Setup {
         })
     }
 
+    /// A set-up of inputs read and a model resolved already (a slid network's).
+    pub(crate) fn from_parts(inputs: Inputs, model: Model) -> Setup {
+        Setup {
+            inputs,
+            model,
+            built: None,
+        }
+    }
+
     /// Builds the network (once; later calls keep it).
     pub fn build(&mut self) -> Result<&(Network, BuildInfo), AppError> {
         if self.built.is_none() {

@@ -32,6 +32,7 @@ pub const RUN_FILES: &[&str] = &[
     "mode.png",
     "lambda.png",
     "fabrication.csv",
+    "before.obj",
 ];
 
 /// The folders a run writes (with `export/`, what `curvenet export` writes by default).
@@ -40,6 +41,7 @@ pub const RUN_FOLDERS: &[&str] = &[
     crate::run_layout::STATES,
     crate::run_layout::ITERATIONS,
     "export",
+    "slide",
 ];
 
 /// Why a folder cannot take a run.

@@ -277,6 +277,67 @@ pub struct ResultFile {
     /// like [`Self::answer`]; absent when none were asked for or found).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub alternatives: Vec<Answer>,
+    /// A slid run's record: the network it started from and how its curves moved (absent
+    /// unless the answer is a slid network, whose `source` is then `slide`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub slide: Option<SlideRecord>,
+}
+
+/// How a slid run's curves moved (`slide` in `result.json`, [`crate::slide`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SlideRecord {
+    /// The run folder the network came from.
+    pub from: String,
+    /// The objective (`lambda_eq` or `frequency`, as [`ResultFile::objective`]).
+    pub objective: String,
+    /// The objective of the network it started from, rebuilt from its curves and analysed
+    /// cold.
+    pub lambda_before: f64,
+    /// The objective of the slid network (analysed cold, as an analysis of its exported
+    /// curves gives it).
+    pub lambda_after: f64,
+    /// The answer's objective as the run it came from recorded it.
+    pub lambda_recorded: f64,
+    /// The largest move allowed (scene units).
+    pub max_move: f64,
+    /// The largest distance of a point of a slid curve from the curve as drawn.
+    pub largest_move: f64,
+    /// Joints (by the curves they join) the slid network has and the start lacked.
+    pub joints_added: usize,
+    /// Joints the start had and the slid network lacks.
+    pub joints_removed: usize,
+    /// Total rest length before.
+    pub length_before: f64,
+    /// Total rest length after.
+    pub length_after: f64,
+    /// The budget (a length).
+    pub budget: f64,
+    /// Every end stayed where it was.
+    pub fixed_ends: bool,
+    /// Every curve, in this run's order: its id in the run it came from, whether it could
+    /// move, its largest move and its move's coefficients.
+    pub curves: Vec<SlideCurve>,
+    /// Networks evaluated.
+    pub evaluations: usize,
+    /// Sweeps of the search.
+    pub sweeps: usize,
+    /// The steps the search took, in order.
+    pub steps: Vec<crate::slide::Step>,
+    /// The search was stopped before it finished (the best network so far is the answer).
+    pub stopped: bool,
+}
+
+/// One curve of a slid run ([`SlideRecord::curves`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SlideCurve {
+    /// Its id in the run the network came from.
+    pub from: usize,
+    /// Whether it could move (not kept, pinned, or in a group or symmetry orbit).
+    pub free: bool,
+    /// Its largest distance from the curve as drawn.
+    pub largest_move: f64,
+    /// Its move's coefficients (one per offset function; empty when it could not move).
+    pub coefficients: Vec<f64>,
 }
 
 impl ResultFile {

@@ -101,6 +101,7 @@ impl<'a> OutputWriter<'a> {
             answer: None,
             no_answer: None,
             alternatives: Vec::new(),
+            slide: None,
         };
         let w = Self::new(dir, network, result, Vec::new())?;
         w.write_result()?;

@@ -376,7 +376,7 @@ fn open_writer<'a>(
 
 /// Writes the pictures, viewer page (last) and fabrication table of the finished run in `out`.
 /// A failure leaves the run's results intact, so it is a warning.
-fn write_pictures(out: &Path, observer: &dyn Observer) {
+pub(crate) fn write_pictures(out: &Path, observer: &dyn Observer) {
     match crate::report::viewer::write_run_outputs(out) {
         Ok(o) => {
             for w in o.warnings {

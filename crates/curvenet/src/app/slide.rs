@@ -1,0 +1,257 @@
+//! Sliding a run's answer on its surface ([`crate::slide`]): [`SlideSpec`] (the run folder it
+//! starts from, the largest move, the ends, the pinned curves, the folder of the slid run) and
+//! [`slide`], which reads the run, searches the moves, and records the slid network as a run
+//! of its own: its curves are the moved curves, its answer (source `slide`) the whole slid
+//! network, and its `result.json`'s `slide` object says how it got there; the network it
+//! started from is kept beside it (`before.obj`) and in the run it came from.
+
+use super::inputs::Inputs;
+use super::model::Model;
+use super::observer::{Observer, StageGuard};
+use super::run::{RunOutcome, RunSpec, execute, write_pictures};
+use super::setup::{Setup, check_curve_ids};
+use super::{AppError, Stage};
+use crate::cancel::Cancel;
+use crate::constraints::{ConstraintParams, Constraints, SymmetryOption};
+use crate::io::write_atomic;
+use crate::run_folder::schema::objective_name;
+use crate::run_folder::{
+    InputDescription, ResultFile, RunFolder, SlideCurve, SlideRecord, network_polylines,
+};
+use crate::simplify::Budget;
+use crate::slide::{MaxMove, SlideError, SlideParams, SlideProblem, Slider};
+use crate::words::{Message, Opt, message};
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// What sliding does.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SlideSpec {
+    /// The run folder whose answer slides.
+    pub from: PathBuf,
+    /// The folder of the slid run.
+    pub out: PathBuf,
+    /// How far a point may move.
+    pub max_move: MaxMove,
+    /// Every curve end stays where it is.
+    pub fixed_ends: bool,
+    /// Curves that do not move (ids of the run's network).
+    pub pin: Vec<usize>,
+    /// Draw the pictures and the viewer.
+    pub pictures: bool,
+    /// Run into a non-empty folder that is not a curvenet run's.
+    pub force: bool,
+}
+
+impl SlideSpec {
+    /// Slides the answer of `from` into `out`, every option at its default.
+    pub fn new(from: impl Into<PathBuf>, out: impl Into<PathBuf>) -> Self {
+        SlideSpec {
+            from: from.into(),
+            out: out.into(),
+            max_move: MaxMove::default(),
+            fixed_ends: false,
+            pin: Vec::new(),
+            pictures: true,
+            force: false,
+        }
+    }
+}
+
+/// What sliding did.
+#[derive(Clone, Debug)]
+pub struct SlideOutcome {
+    /// The slid run (its `result.json` holds the `slide` record).
+    pub run: RunOutcome,
+    /// The record.
+    pub record: SlideRecord,
+    /// The wall time, seconds.
+    pub wall_seconds: f64,
+}
+
+/// Slides the answer of the run in `spec.from` on its surface and records the slid network
+/// as the run in `spec.out`. `observer` hears each step; `cancel` stops the search within a
+/// second, the best network so far recorded ([`AppError::Cancelled`] after it is).
+pub fn slide(
+    spec: &SlideSpec,
+    observer: &dyn Observer,
+    cancel: &Cancel,
+) -> Result<SlideOutcome, AppError> {
+    let start = Instant::now();
+    let run = RunFolder::open(&spec.from).map_err(|e| match e.is_input() {
+        true => AppError::Usage(Message::from(e.to_string())),
+        false => AppError::Failed(e.to_string()),
+    })?;
+    if run.result.setup.physical.is_some() {
+        return Err(AppError::usage(message![
+            "sliding works in the paper's model (either objective); the run in ",
+            spec.from.display().to_string(),
+            " is in the physical mode"
+        ]));
+    }
+    let answer = run.result.answer.clone().ok_or_else(|| {
+        AppError::usage(format!(
+            "{}: the run has no answer to slide (no stable network within the budget)",
+            spec.from.display()
+        ))
+    })?;
+    let n = run.network.rods.len();
+    check_curve_ids(Opt::Pin, &spec.pin, n)?;
+    let curves = &answer.found.curves;
+    let setup = &run.result.setup;
+    let budget = run.result.budget;
+    // Curves that stay: the keep list, and the curves of groups and symmetry orbits.
+    let mut stay: Vec<usize> = setup.greedy.keep.clone();
+    let c = &setup.constraints;
+    if c.groups.iter().any(|g| g.curves.len() > 1) || c.symmetry != SymmetryOption::None {
+        let bound = Constraints::new(&run.network, run.mesh.as_ref(), c, budget, &stay)
+            .map_err(|e| AppError::Usage(e.message()))?;
+        for unit in bound.units().iter().filter(|u| u.len() > 1) {
+            stay.extend(unit);
+        }
+    }
+    let position = |ids: &[usize]| -> Vec<usize> {
+        (curves.iter().enumerate())
+            .filter(|(_, c)| ids.contains(c))
+            .map(|(i, _)| i)
+            .collect()
+    };
+    let problem = SlideProblem {
+        curves: network_polylines(&run.network, curves, None),
+        ids: curves.clone(),
+        build: setup.build.clone(),
+        stability: setup.stability.clone(),
+        budget,
+        fixed: position(&stay),
+        constraints: ConstraintParams {
+            groups: Vec::new(),
+            symmetry: SymmetryOption::None,
+            ..c.clone()
+        },
+    };
+    let params = SlideParams {
+        max_move: spec.max_move,
+        fixed_ends: spec.fixed_ends,
+        pinned: position(&spec.pin),
+        ..SlideParams::default()
+    };
+    let slider = Slider::new(problem, run.mesh.as_ref(), params).map_err(slide_error)?;
+    let outcome = {
+        let _stage = StageGuard::start(observer, Stage::Slide);
+        slider
+            .run(cancel, &|s| observer.slide_step(s))
+            .map_err(slide_error)?
+    };
+    let (before, after) = (&outcome.before, &outcome.after);
+    let record = SlideRecord {
+        from: spec.from.display().to_string(),
+        objective: objective_name(setup.stability.objective).to_string(),
+        lambda_before: before.lambda,
+        lambda_after: after.lambda,
+        lambda_recorded: answer.found.lambda,
+        max_move: outcome.max_move,
+        largest_move: after.moves.iter().copied().fold(0.0, f64::max),
+        joints_added: outcome.joints_added,
+        joints_removed: outcome.joints_removed,
+        length_before: before.length,
+        length_after: after.length,
+        budget,
+        fixed_ends: spec.fixed_ends,
+        curves: (curves.iter().enumerate())
+            .map(|(i, &id)| SlideCurve {
+                from: id,
+                free: slider.moves()[i].is_some(),
+                largest_move: after.moves[i],
+                coefficients: outcome.coefficients[i].clone(),
+            })
+            .collect(),
+        evaluations: outcome.search.evaluations,
+        sweeps: outcome.search.sweeps,
+        steps: outcome.search.steps.clone(),
+        stopped: outcome.search.cancelled,
+    };
+    // The slid network as a run of its own: every curve kept, the same budget.
+    let mesh = run.mesh.clone();
+    let inputs = Inputs {
+        curves: after.curves.clone(),
+        mesh,
+        build: setup.build.clone(),
+        description: InputDescription {
+            example: setup.input.example.clone(),
+            mesh: Some(spec.from.join("mesh.obj").display().to_string()),
+            curve_files: vec![spec.from.join("network.json").display().to_string()],
+            scale: 1.0,
+        },
+        groups: Vec::new(),
+        specs: Vec::new(),
+        file_units: None,
+        warnings: Vec::new(),
+        example: None,
+    };
+    let model = Model {
+        stability: setup.stability.clone(),
+        physical: None,
+        physical_options: None,
+    };
+    let mut slid = Setup::from_parts(inputs, model);
+    let k = after.curves.len();
+    let run_spec = RunSpec {
+        budget: Some(Budget::Length(budget.max(after.length))),
+        keep: Some((0..k).collect()),
+        pictures: false,
+        force: spec.force,
+        ..RunSpec::new(&spec.out)
+    };
+    let mut recorded = execute(&mut slid, &run_spec, &super::Silent, &Cancel::never())?;
+    let result = &mut recorded.result;
+    if let Some(a) = result.answer.as_mut() {
+        a.found.source = "slide".into();
+    }
+    result.slide = Some(record.clone());
+    write_result(&spec.out, result)?;
+    let before_obj = crate::io::curves_to_obj(&before.curves);
+    let path = spec.out.join("before.obj");
+    write_atomic(&path, before_obj.as_bytes())
+        .map_err(|e| AppError::Failed(format!("{}: {e}", path.display())))?;
+    if spec.pictures {
+        write_pictures(&spec.out, observer);
+    }
+    if record.stopped {
+        return Err(AppError::Cancelled {
+            stage: Stage::Slide,
+            kept: 1,
+            folder: spec.out.clone(),
+        });
+    }
+    Ok(SlideOutcome {
+        run: recorded,
+        record,
+        wall_seconds: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// Rewrites `dir/result.json` (and its summary) with `result`.
+fn write_result(dir: &std::path::Path, result: &ResultFile) -> Result<(), AppError> {
+    let mut text = serde_json::to_vec_pretty(result).map_err(|e| AppError::Failed(e.to_string()))?;
+    text.push(b'\n');
+    for (name, bytes) in [
+        ("result.json", text),
+        (
+            "summary.txt",
+            crate::run_folder::summary(result).into_bytes(),
+        ),
+    ] {
+        let path = dir.join(name);
+        write_atomic(&path, &bytes)
+            .map_err(|e| AppError::Failed(format!("{}: {e}", path.display())))?;
+    }
+    Ok(())
+}
+
+/// A slider's error as the application layer's.
+fn slide_error(e: SlideError) -> AppError {
+    match e {
+        SlideError::Failed(m) => AppError::Failed(m),
+        e => AppError::Usage(e.message()),
+    }
+}

@@ -1,0 +1,182 @@
+//! The search over the moves' coefficients: a deterministic pattern search without
+//! derivatives. Each sweep evaluates every coordinate moved by `±step` (in parallel, the
+//! results taken in index order, so the outcome is the same on any number of threads); the
+//! best improving candidate is taken, and the pattern point that combines every improving
+//! coordinate's better direction is tried beside it. A sweep that improves nothing halves the
+//! step; the search ends when the step falls below its smallest, after its evaluation budget,
+//! or when cancelled (keeping the best point so far).
+
+use crate::cancel::Cancel;
+use rayon::prelude::*;
+use std::collections::HashMap;
+
+/// The search's settings.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PatternParams {
+    /// Each coordinate stays within `[-bound, bound]`.
+    pub bound: f64,
+    /// The first step.
+    pub step: f64,
+    /// The search ends once the step is below this.
+    pub min_step: f64,
+    /// The most evaluations.
+    pub max_evaluations: usize,
+    /// An improvement must exceed this fraction of the current value's magnitude.
+    pub relative_gain: f64,
+}
+
+/// One accepted step of the search.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Step {
+    /// Evaluations made when it was accepted.
+    pub evaluation: usize,
+    /// The step size.
+    pub step: f64,
+    /// The objective after it.
+    pub value: f64,
+}
+
+/// What the search found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PatternOutcome {
+    /// The best point.
+    pub x: Vec<f64>,
+    /// Its value.
+    pub value: f64,
+    /// Points evaluated (distinct).
+    pub evaluations: usize,
+    /// Sweeps made.
+    pub sweeps: usize,
+    /// The steps accepted, in order.
+    pub steps: Vec<Step>,
+    /// The search was cancelled.
+    pub cancelled: bool,
+}
+
+/// Maximises `f` (a value, `-∞` for a point not allowed) from the origin of `dimension`
+/// coordinates. `progress` hears each accepted step.
+pub fn pattern_search(
+    dimension: usize,
+    f: &(dyn Fn(&[f64]) -> f64 + Sync),
+    params: &PatternParams,
+    cancel: &Cancel,
+    progress: &dyn Fn(&Step),
+) -> PatternOutcome {
+    let mut memo: HashMap<Vec<u64>, f64> = HashMap::new();
+    let key = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<u64>>();
+    let mut x = vec![0.0; dimension];
+    let mut value = f(&x);
+    memo.insert(key(&x), value);
+    let mut step = params.step;
+    let mut out = PatternOutcome {
+        x: x.clone(),
+        value,
+        evaluations: 1,
+        sweeps: 0,
+        steps: Vec::new(),
+        cancelled: false,
+    };
+    let better = |a: f64, b: f64| a > b + params.relative_gain * b.abs().max(f64::MIN_POSITIVE);
+    while dimension > 0 && step >= params.min_step && memo.len() < params.max_evaluations {
+        if cancel.is_cancelled() {
+            out.cancelled = true;
+            break;
+        }
+        out.sweeps += 1;
+        let mut candidates: Vec<(usize, Vec<f64>)> = Vec::new();
+        for i in 0..dimension {
+            for sign in [1.0, -1.0] {
+                let mut y = x.clone();
+                y[i] = (y[i] + sign * step).clamp(-params.bound, params.bound);
+                if y[i] != x[i] {
+                    candidates.push((i, y));
+                }
+            }
+        }
+        let values = evaluate_all(&candidates, f, &mut memo, cancel, &key);
+        if cancel.is_cancelled() {
+            out.cancelled = true;
+        }
+        // The best candidate (the first of equals), and each coordinate's better direction.
+        let mut best: Option<(usize, f64)> = None;
+        let mut pattern = x.clone();
+        let mut improving = 0;
+        for (k, &v) in values.iter().enumerate() {
+            if better(v, value) {
+                let (i, y) = &candidates[k];
+                if best.is_none_or(|(_, b)| v > b) {
+                    best = Some((k, v));
+                }
+                let other = values
+                    .iter()
+                    .zip(&candidates)
+                    .filter(|(w, (j, _))| *j == *i && **w > v)
+                    .count();
+                if other == 0 {
+                    pattern[*i] = y[*i];
+                    improving += 1;
+                }
+            }
+        }
+        let Some((k, v)) = best else {
+            if out.cancelled {
+                break;
+            }
+            step /= 2.0;
+            continue;
+        };
+        let (mut nx, mut nv) = (candidates[k].1.clone(), v);
+        if improving > 1 && !out.cancelled {
+            let pv = evaluate_all(&[(0, pattern.clone())], f, &mut memo, cancel, &key)[0];
+            if pv > nv {
+                (nx, nv) = (pattern, pv);
+            }
+        }
+        x = nx;
+        value = nv;
+        let s = Step {
+            evaluation: memo.len(),
+            step,
+            value,
+        };
+        progress(&s);
+        out.steps.push(s);
+        if out.cancelled {
+            break;
+        }
+    }
+    out.x = x;
+    out.value = value;
+    out.evaluations = memo.len();
+    out
+}
+
+/// The values of `points` (memoised), evaluated in parallel; `-∞` for a point skipped once
+/// `cancel` is set.
+fn evaluate_all(
+    points: &[(usize, Vec<f64>)],
+    f: &(dyn Fn(&[f64]) -> f64 + Sync),
+    memo: &mut HashMap<Vec<u64>, f64>,
+    cancel: &Cancel,
+    key: &dyn Fn(&[f64]) -> Vec<u64>,
+) -> Vec<f64> {
+    let known: Vec<Option<f64>> = points.iter().map(|(_, y)| memo.get(&key(y)).copied()).collect();
+    let fresh: Vec<Option<f64>> = points
+        .par_iter()
+        .zip(&known)
+        .map(|((_, y), k)| match k {
+            Some(_) => None,
+            None if cancel.is_cancelled() => Some(f64::NEG_INFINITY),
+            None => Some(f(y)),
+        })
+        .collect();
+    let mut values = Vec::with_capacity(points.len());
+    for (((_, y), k), v) in points.iter().zip(known).zip(fresh) {
+        let v = k.or(v).unwrap_or(f64::NEG_INFINITY);
+        if !cancel.is_cancelled() {
+            memo.insert(key(y), v);
+        }
+        values.push(v);
+    }
+    values
+}
