@@ -31,7 +31,10 @@ fn bump(cells: usize) -> TriMesh {
     let mut vertices = Vec::new();
     for j in 0..=cells {
         for i in 0..=cells {
-            let (x, y) = (SIZE * i as f64 / cells as f64, SIZE * j as f64 / cells as f64);
+            let (x, y) = (
+                SIZE * i as f64 / cells as f64,
+                SIZE * j as f64 / cells as f64,
+            );
             vertices.push(Vec3::new(x, y, height(x, y)));
         }
     }
@@ -63,13 +66,14 @@ fn lifted(a: (f64, f64), b: (f64, f64), line: usize) -> Polyline {
     }
 }
 
-/// Two lines along x, two along y; the last (at x = 5.5) is the one that moves.
+/// Two lines along x, two along y; the last (at x = 3, leaving a long span to its right)
+/// is the one that moves.
 fn four_curves() -> Vec<Polyline> {
     vec![
         lifted((0.0, 3.0), (SIZE, 3.0), 1),
         lifted((0.0, 7.0), (SIZE, 7.0), 2),
-        lifted((2.0, 0.0), (2.0, SIZE), 3),
-        lifted((5.5, 0.0), (5.5, SIZE), 4),
+        lifted((1.0, 0.0), (1.0, SIZE), 3),
+        lifted((3.0, 0.0), (3.0, SIZE), 4),
     ]
 }
 
@@ -100,6 +104,7 @@ fn one_parameter(max_move: f64, min_step: f64) -> Slider {
         pinned: vec![0, 1, 2],
         functions: 1,
         min_step,
+        probe: 8,
         ..SlideParams::default()
     };
     let cells = std::env::var("SLIDE_CELLS").map_or(40, |v| v.parse().unwrap_or(40));
@@ -108,11 +113,11 @@ fn one_parameter(max_move: f64, min_step: f64) -> Slider {
 
 #[test]
 fn search_finds_the_best_of_a_fine_scan() {
-    let slider = one_parameter(3.0, 1.0 / 128.0);
+    let slider = one_parameter(4.0, 1.0 / 128.0);
     assert_eq!(slider.dimension(), 1);
-    let scan: Vec<(f64, f64)> = (-60..=60)
+    let scan: Vec<(f64, f64)> = (-80..=80)
         .filter_map(|k| {
-            let a = 3.0 * k as f64 / 60.0;
+            let a = 4.0 * k as f64 / 80.0;
             slider.evaluate(&[a]).map(|e| (a, e.lambda))
         })
         .collect();
@@ -122,10 +127,11 @@ fn search_finds_the_best_of_a_fine_scan() {
             println!("{a:.3} {l:.6e}");
         }
     }
-    let (best_a, best) = scan
-        .iter()
-        .copied()
-        .fold((0.0, f64::NEG_INFINITY), |b, s| if s.1 > b.1 { s } else { b });
+    let (best_a, best) =
+        scan.iter().copied().fold(
+            (0.0, f64::NEG_INFINITY),
+            |b, s| if s.1 > b.1 { s } else { b },
+        );
     let out = slider.run(&Cancel::never(), &|_| {}).expect("slides");
     let found = out.after.lambda;
     assert!(
@@ -133,10 +139,18 @@ fn search_finds_the_best_of_a_fine_scan() {
         "search {found:e} at {:?}, scan best {best:e} at {best_a}",
         out.coefficients[3]
     );
-    assert!(found > out.before.lambda, "the drawn position is not the best");
+    assert!(
+        found > out.before.lambda,
+        "the drawn position is not the best"
+    );
     // The moved curve stays within the largest move and on the surface.
-    assert!(out.after.moves[3] <= 3.0 + 1e-12);
-    assert_eq!(&out.after.moves[..3], &[0.0, 0.0, 0.0]);
+    assert!(out.after.moves[3] <= 4.0 + 1e-12);
+    // Pinned curves stay (their joints' vertices lie where the crossings are, a hair off).
+    assert!(
+        out.after.moves[..3].iter().all(|&m| m < 1e-3),
+        "{:?}",
+        out.after.moves
+    );
 }
 
 #[test]
@@ -151,8 +165,8 @@ fn the_budget_holds_and_the_result_is_the_same_on_any_thread_count() {
             max_evaluations: 40,
             ..SlideParams::default()
         };
-        let slider = Slider::new(problem(curves.clone(), budget), Some(&bump(40)), params)
-            .expect("slider");
+        let slider =
+            Slider::new(problem(curves.clone(), budget), Some(&bump(40)), params).expect("slider");
         slider.run(&Cancel::never(), &|_| {}).expect("slides")
     };
     let pool = |n| {
@@ -168,7 +182,12 @@ fn the_budget_holds_and_the_result_is_the_same_on_any_thread_count() {
     assert!(one.after.length <= budget * (1.0 + 1e-12));
     assert!(one.after.lambda >= one.before.lambda);
     let diagonal = (2.0 * SIZE * SIZE + 16.0f64).sqrt();
-    assert!(one.after.moves.iter().all(|&m| m <= 0.05 * diagonal * (1.0 + 1e-9)));
+    assert!(
+        one.after
+            .moves
+            .iter()
+            .all(|&m| m <= 0.05 * diagonal * (1.0 + 1e-9))
+    );
 }
 
 #[test]
@@ -194,8 +213,15 @@ fn bad_inputs_are_refused_clearly() {
         }
         e => panic!("{e}"),
     }
-    assert!(e.to_string().contains("curve 2 is not on the surface"), "{e}");
-    for max_move in [MaxMove::Length(-1.0), MaxMove::Fraction(0.9), MaxMove::Length(0.0)] {
+    assert!(
+        e.to_string().contains("curve 2 is not on the surface"),
+        "{e}"
+    );
+    for max_move in [
+        MaxMove::Length(-1.0),
+        MaxMove::Fraction(0.9),
+        MaxMove::Length(0.0),
+    ] {
         let params = SlideParams {
             max_move,
             ..SlideParams::default()
@@ -263,8 +289,14 @@ fn a_slid_run_is_recorded_and_its_exported_curves_give_its_objective_cold() {
     let an = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
     let lambda = an.analyze(&an.all(), None).expect("analyses").lambda();
     let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
-    assert!(rel(lambda, record.lambda_after) < 1e-6, "{lambda} vs {record:?}");
-    assert!(rel(lambda, answer.found.lambda) < 1e-6, "{lambda} vs {answer:?}");
+    assert!(
+        rel(lambda, record.lambda_after) < 1e-6,
+        "{lambda} vs {record:?}"
+    );
+    assert!(
+        rel(lambda, answer.found.lambda) < 1e-6,
+        "{lambda} vs {answer:?}"
+    );
     // Every exported point on the surface and within the largest move of its drawn curve.
     let source = RunFolder::open(&from).expect("the run slid");
     let distance = MeshDistance::new(&mesh);
@@ -277,7 +309,10 @@ fn a_slid_run_is_recorded_and_its_exported_curves_give_its_objective_cold() {
             assert!(d <= 1e-3 * diagonal, "curve {c}: {d} from the surface");
         }
         let moved = curvenet::slide::moves::largest_distance(&curve.points, drawn);
-        assert!(moved <= record.max_move * (1.0 + 1e-9), "curve {c}: {moved}");
+        assert!(
+            moved <= record.max_move * (1.0 + 1e-9),
+            "curve {c}: {moved}"
+        );
     }
     // The same slide again gives the same record, byte for byte.
     let again = dir.path().join("again");
@@ -288,14 +323,17 @@ fn a_slid_run_is_recorded_and_its_exported_curves_give_its_objective_cold() {
     curvenet::app::slide(&slide2, &Silent, &Cancel::never()).expect("slides again");
     let a = std::fs::read_to_string(out.join("result.json")).expect("result");
     let b = std::fs::read_to_string(again.join("result.json")).expect("result");
-    let strip = |s: &str| s.replace(out.to_str().unwrap(), "").replace(again.to_str().unwrap(), "");
+    let strip = |s: &str| {
+        s.replace(out.to_str().unwrap(), "")
+            .replace(again.to_str().unwrap(), "")
+    };
     assert_eq!(strip(&a), strip(&b));
 }
 
 #[test]
 #[ignore = "exploration: prints the family's networks"]
 fn explore_family() {
-    let slider = one_parameter(3.0, 1.0 / 128.0);
+    let slider = one_parameter(4.0, 1.0 / 128.0);
     for a in [0.0, 0.05, 0.1, 0.15, 0.25, 0.3] {
         let e = slider.evaluate(&[a]).expect("evaluates");
         let an = Analyzer::new(e.network.clone(), StabilityParams::default()).expect("an");

@@ -232,7 +232,8 @@ pub fn slide(
 
 /// Rewrites `dir/result.json` (and its summary) with `result`.
 fn write_result(dir: &std::path::Path, result: &ResultFile) -> Result<(), AppError> {
-    let mut text = serde_json::to_vec_pretty(result).map_err(|e| AppError::Failed(e.to_string()))?;
+    let mut text =
+        serde_json::to_vec_pretty(result).map_err(|e| AppError::Failed(e.to_string()))?;
     text.push(b'\n');
     for (name, bytes) in [
         ("result.json", text),

@@ -58,8 +58,8 @@ pub use answer::{evaluated_offer, greedy_offers, measure_greedy_deviations};
 pub use files::{Access, RunFileError, RunFiles, RunsRoot};
 pub use reader::{Chosen, InvalidNetwork, RunFolder, Which, check_network};
 pub use schema::{
-    FinalRecord, InputDescription, LocalSearchRecord, ResultFile, RunSetup, SlideCurve, SlideRecord,
-    VERSION,
+    FinalRecord, InputDescription, LocalSearchRecord, ResultFile, RunSetup, SlideCurve,
+    SlideRecord, VERSION,
 };
 pub use summary::{instability, record_instability, summary, unrelaxed, unstable};
 pub use writer::OutputWriter;

@@ -19,6 +19,7 @@
 
 pub mod moves;
 pub mod search;
+pub mod snap;
 pub mod surface;
 
 pub use moves::{Basis, CurveMove};
@@ -101,6 +102,9 @@ pub struct SlideParams {
     pub min_step: f64,
     /// The most networks evaluated.
     pub max_evaluations: usize,
+    /// Levels each side at which the first sweep probes each coefficient alone
+    /// ([`PatternParams::probe`]).
+    pub probe: usize,
 }
 
 impl Default for SlideParams {
@@ -112,6 +116,7 @@ impl Default for SlideParams {
             functions: 3,
             min_step: 1.0 / 16.0,
             max_evaluations: 400,
+            probe: 2,
         }
     }
 }
@@ -354,16 +359,19 @@ impl Slider {
     /// built or analysed.
     pub fn evaluate(&self, x: &[f64]) -> Option<Evaluated> {
         let mut moved = Vec::with_capacity(self.moves.len());
+        let mut changed = vec![false; self.moves.len()];
         for (c, m) in self.moves.iter().enumerate() {
             let curve = match m {
                 Some(m) => {
                     let a = &x[self.offsets[c]..self.offsets[c + 1]];
+                    changed[c] = a.iter().any(|&v| v != 0.0);
                     m.apply(a, &self.surface, self.max_move)?
                 }
                 None => self.problem.curves[c].clone(),
             };
             moved.push(curve);
         }
+        snap::snap_crossings(&mut moved, &changed, self.problem.build.edge_length);
         // Built once from the moved curves, then again from that network's own polylines:
         // the network recorded, exported and read back is the second.
         let (first, _) = build_network(&moved, &self.problem.build).ok()?;
@@ -445,6 +453,7 @@ impl Slider {
             min_step: self.max_move * self.params.min_step,
             max_evaluations: self.params.max_evaluations,
             relative_gain: 1e-6,
+            probe: self.params.probe,
         };
         let search = pattern_search(self.dimension, &value, &params, cancel, progress);
         let after = if search.value > before.lambda {

@@ -65,12 +65,9 @@ impl Basis {
     pub fn of(closed: bool, slides: [bool; 2], functions: usize) -> Vec<Basis> {
         let all = match (closed, slides) {
             (true, _) => vec![Basis::Constant, Basis::CosLoop(1), Basis::SinLoop(1)],
-            (false, [true, true]) => vec![
-                Basis::Constant,
-                Basis::Tilt,
-                Basis::Sine(1),
-                Basis::Sine(2),
-            ],
+            (false, [true, true]) => {
+                vec![Basis::Constant, Basis::Tilt, Basis::Sine(1), Basis::Sine(2)]
+            }
             (false, [true, false]) => vec![Basis::Start, Basis::Sine(1), Basis::Sine(2)],
             (false, [false, true]) => vec![Basis::End, Basis::Sine(1), Basis::Sine(2)],
             (false, [false, false]) => vec![Basis::Sine(1), Basis::Sine(2), Basis::Sine(3)],
@@ -113,7 +110,9 @@ impl CurveMove {
         for i in 0..m {
             let (prev, next) = neighbours(&samples, i, closed);
             let t = (next - prev).normalized();
-            let n = surface.closest(samples[i]).map_or(Vec3::new(0.0, 0.0, 1.0), |s| s.normal);
+            let n = surface
+                .closest(samples[i])
+                .map_or(Vec3::new(0.0, 0.0, 1.0), |s| s.normal);
             let mut d = n.cross(t).normalized();
             if let Some(&last) = across.last()
                 && d.dot(last) < 0.0
@@ -174,7 +173,12 @@ impl CurveMove {
         let closed = self.drawn.closed;
         let mut points = Vec::with_capacity(m);
         for i in 0..m {
-            let o: f64 = self.basis.iter().zip(a).map(|(b, &x)| x * b.at(self.u[i])).sum();
+            let o: f64 = self
+                .basis
+                .iter()
+                .zip(a)
+                .map(|(b, &x)| x * b.at(self.u[i]))
+                .sum();
             let p = self.samples[i];
             let end = !closed && (i == 0 || i + 1 == m);
             let q = if end {

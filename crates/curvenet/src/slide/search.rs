@@ -1,5 +1,7 @@
 //! The search over the moves' coefficients: a deterministic pattern search without
-//! derivatives. Each sweep evaluates every coordinate moved by `±step` (in parallel, the
+//! derivatives. A first sweep probes each coordinate alone at `probe` levels each side
+//! (`±bound·k/probe`) and takes the best, with the point combining each coordinate's best
+//! improving level; then each sweep evaluates every coordinate moved by `±step` (in parallel, the
 //! results taken in index order, so the outcome is the same on any number of threads); the
 //! best improving candidate is taken, and the pattern point that combines every improving
 //! coordinate's better direction is tried beside it. A sweep that improves nothing halves the
@@ -23,6 +25,9 @@ pub struct PatternParams {
     pub max_evaluations: usize,
     /// An improvement must exceed this fraction of the current value's magnitude.
     pub relative_gain: f64,
+    /// Levels each side of the first sweep's probe of each coordinate (0: none; the first
+    /// sweep is then an ordinary one at `step`).
+    pub probe: usize,
 }
 
 /// One accepted step of the search.
@@ -67,7 +72,6 @@ pub fn pattern_search(
     let mut x = vec![0.0; dimension];
     let mut value = f(&x);
     memo.insert(key(&x), value);
-    let mut step = params.step;
     let mut out = PatternOutcome {
         x: x.clone(),
         value,
@@ -76,6 +80,58 @@ pub fn pattern_search(
         steps: Vec::new(),
         cancelled: false,
     };
+    let mut step = params.step;
+    if params.probe > 0 && dimension > 0 {
+        let levels = params.probe;
+        let mut candidates: Vec<(usize, Vec<f64>)> = Vec::new();
+        for i in 0..dimension {
+            for k in 1..=levels {
+                for sign in [1.0, -1.0] {
+                    let mut y = x.clone();
+                    y[i] = sign * params.bound * k as f64 / levels as f64;
+                    candidates.push((i, y));
+                }
+            }
+        }
+        let values = evaluate_all(&candidates, f, &mut memo, cancel, &key);
+        let mut pattern = x.clone();
+        let mut best: Option<(usize, f64)> = None;
+        let mut per: Vec<Option<(usize, f64)>> = vec![None; dimension];
+        for (k, &v) in values.iter().enumerate() {
+            if v > value && best.is_none_or(|(_, b)| v > b) {
+                best = Some((k, v));
+            }
+            let i = candidates[k].0;
+            if v > value && per[i].is_none_or(|(_, b)| v > b) {
+                per[i] = Some((k, v));
+            }
+        }
+        let improving = per.iter().flatten().count();
+        for (k, _) in per.iter().flatten() {
+            let (i, y) = &candidates[*k];
+            pattern[*i] = y[*i];
+        }
+        if let Some((k, v)) = best {
+            let (mut nx, mut nv) = (candidates[k].1.clone(), v);
+            if improving > 1 && !cancel.is_cancelled() {
+                let pv = evaluate_all(&[(0, pattern.clone())], f, &mut memo, cancel, &key)[0];
+                if pv > nv {
+                    (nx, nv) = (pattern, pv);
+                }
+            }
+            x = nx;
+            value = nv;
+            let s = Step {
+                evaluation: memo.len(),
+                step: params.bound / levels as f64,
+                value,
+            };
+            progress(&s);
+            out.steps.push(s);
+        }
+        out.sweeps += 1;
+        step = step.min(params.bound / (2 * levels) as f64);
+    }
     let better = |a: f64, b: f64| a > b + params.relative_gain * b.abs().max(f64::MIN_POSITIVE);
     while dimension > 0 && step >= params.min_step && memo.len() < params.max_evaluations {
         if cancel.is_cancelled() {
@@ -160,7 +216,10 @@ fn evaluate_all(
     cancel: &Cancel,
     key: &dyn Fn(&[f64]) -> Vec<u64>,
 ) -> Vec<f64> {
-    let known: Vec<Option<f64>> = points.iter().map(|(_, y)| memo.get(&key(y)).copied()).collect();
+    let known: Vec<Option<f64>> = points
+        .iter()
+        .map(|(_, y)| memo.get(&key(y)).copied())
+        .collect();
     let fresh: Vec<Option<f64>> = points
         .par_iter()
         .zip(&known)
