@@ -8,6 +8,7 @@ use clap::{Args, Parser, Subcommand};
 use curvenet::app::MAX_EIGEN_COUNT;
 use curvenet::constraints::SymmetryOption;
 use curvenet::rod::Supports;
+use curvenet::slide::MaxMove;
 use curvenet::stability::{Objective, Technique};
 use curvenet::words::Opt;
 use std::path::PathBuf;
@@ -52,6 +53,8 @@ pub enum Command {
     View(ViewArgs),
     /// Export a recorded network of a run (OBJ, JSON, CSV, fabrication table, network file).
     Export(ExportArgs),
+    /// Slide a run's answer on its surface to raise the objective, into a run of its own.
+    Slide(SlideCmdArgs),
     /// Serve a network over a local JSON API: remove and restore curves, see λ follow.
     #[cfg(feature = "serve")]
     Serve(ServeArgs),
@@ -155,6 +158,35 @@ pub struct ExportArgs {
     /// fabrication table, the network file, the structural JSON or the OpenSeesPy script.
     #[arg(long)]
     pub out: Option<PathBuf>,
+}
+
+/// `curvenet slide`.
+#[derive(Debug, Args)]
+pub struct SlideCmdArgs {
+    /// The run folder whose answer slides.
+    pub dir: PathBuf,
+    /// The slid run's folder.
+    #[arg(long)]
+    pub out: PathBuf,
+    #[arg(long, help = FORCE)]
+    pub force: bool,
+    #[command(flatten)]
+    pub sliding: SlideArgs,
+}
+
+/// How far the curves may slide (`docs/model.md`, "Sliding").
+#[derive(Debug, Args, Clone)]
+pub struct SlideArgs {
+    /// How far a point of a curve may move: a length, or a percentage of the surface's
+    /// bounding-box diagonal.
+    #[arg(long = "max-move", value_name = "D", default_value = "5%", value_parser = |s: &str| s.parse::<MaxMove>().map_err(|m| m.to_string()), allow_hyphen_values = true)]
+    pub max_move: MaxMove,
+    /// Keep every curve end where it is (else ends on the surface's boundary slide along it).
+    #[arg(long = "fixed-ends")]
+    pub fixed_ends: bool,
+    /// Curves that do not move (comma-separated ids).
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    pub pin: Vec<usize>,
 }
 
 /// `curvenet compare`.
@@ -474,6 +506,12 @@ pub struct AfterGreedyArgs {
     /// alternative-N.csv and can be picked in the viewer. 0 (the default): none. At most 100.
     #[arg(long, value_name = "K", default_value_t = 0, value_parser = count(0, 100), allow_hyphen_values = true)]
     pub alternatives: usize,
+    /// Then slide the answer's curves on the surface into the run folder's slide/ (a run
+    /// whose answer is the slid network; see `curvenet slide`).
+    #[arg(long)]
+    pub slide: bool,
+    #[command(flatten)]
+    pub sliding: SlideArgs,
 }
 
 /// `curvenet analyze`.

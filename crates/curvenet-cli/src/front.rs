@@ -113,6 +113,13 @@ impl Observer for Console {
         bar.set_message(format!("{} curves, λ {:.4e}{f1}", r.curves.len(), r.lambda));
     }
 
+    fn slide_step(&self, s: &curvenet::slide::Step) {
+        eprintln!(
+            "sliding: {} networks evaluated, best {:.6e}",
+            s.evaluation, s.value
+        );
+    }
+
     fn stage(&self, stage: Stage, started: bool) {
         let mut stages = self.stages.lock().unwrap_or_else(|e| e.into_inner());
         if started {

@@ -105,26 +105,9 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
 /// The arguments of a worker run: this bench's own switches (everything after `bench` but
 /// the examples, the repeats, the references and `--json`), for one example given after them.
 fn worker_args(argv: Vec<String>) -> anyhow::Result<Vec<String>> {
-    let at = argv
-        .iter()
-        .position(|s| s == "bench")
-        .ok_or_else(|| anyhow::anyhow!("`bench` not found in the command line"))?;
-    let mut out = vec!["bench".to_string()];
-    let mut rest = argv[at + 1..].iter();
-    while let Some(arg) = rest.next() {
-        match arg.as_str() {
-            "--examples" | "--repeat" | "--reference" => {
-                rest.next();
-            }
-            "--json" => {}
-            s if s.starts_with("--examples=")
-                || s.starts_with("--repeat=")
-                || s.starts_with("--reference=") => {}
-            _ => out.push(arg.clone()),
-        }
-    }
-    out.push("--worker".into());
-    Ok(out)
+    let valued = ["--examples", "--repeat", "--reference"];
+    curvenet::experiments::bench::worker_args(&argv, "bench", &valued, &["--json"], "--worker")
+        .ok_or_else(|| anyhow::anyhow!("`bench` not found in the command line"))
 }
 
 /// Runs example `name` once in a fresh process of this executable and reads its row.
@@ -146,44 +129,4 @@ fn run_worker(forwarded: &[String], name: &str) -> anyhow::Result<BenchRow> {
         .find(|l| l.starts_with('{'))
         .ok_or_else(|| anyhow::anyhow!("{name}: the bench's run printed no row: {stdout}"))?;
     Ok(serde_json::from_str(line)?)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::worker_args;
-
-    #[test]
-    fn worker_runs_get_the_switches_but_not_the_examples_repeats_or_json() {
-        let argv = [
-            "curvenet",
-            "bench",
-            "--examples",
-            "tower,roof",
-            "--off",
-            "prune,warm",
-            "--repeat",
-            "3",
-            "--json",
-            "--reference",
-            "refs.json",
-            "--threads=2",
-            "--repeat=4",
-            "--examples=shell",
-            "--data",
-            "/d",
-        ];
-        let got = worker_args(argv.iter().map(|s| s.to_string()).collect()).expect("args");
-        assert_eq!(
-            got,
-            [
-                "bench",
-                "--off",
-                "prune,warm",
-                "--threads=2",
-                "--data",
-                "/d",
-                "--worker"
-            ]
-        );
-    }
 }

@@ -9,6 +9,7 @@ mod export;
 #[cfg(feature = "serve")]
 mod serve;
 mod simplify;
+mod slide;
 mod trace;
 mod view;
 
@@ -36,6 +37,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Compare(a) => compare::run(a),
         Command::View(a) => view::run(a),
         Command::Export(a) => export::run(a),
+        Command::Slide(a) => slide::run(a),
         Command::Bench(a) => bench::run(a),
         #[cfg(feature = "serve")]
         Command::Serve(a) => serve::run(a),
@@ -167,6 +169,7 @@ pub fn run_spec(
         alternatives: after.alternatives,
         certify: after.certify,
         certificate_nodes: after.certificate_nodes,
+        slide: after.slide.then(|| slide::spec(&out, &out, &after.sliding)),
         ..RunSpec::new(out)
     }
 }

@@ -35,4 +35,4 @@ pub use run::{AfterSeconds, MAX_ALTERNATIVES, RunOutcome, RunSpec, execute};
 pub use search::Search;
 pub use setup::{Setup, check_curve_ids};
 pub use slide::{SlideOutcome, SlideSpec, slide};
-pub use summary::run_summary;
+pub use summary::{run_summary, slide_summary};

@@ -20,6 +20,9 @@ pub fn run_summary(outcome: &RunOutcome) -> String {
         if result.certificate.is_some() {
             let _ = writeln!(s, "certificate time: {:.2} s", outcome.seconds.certificate);
         }
+        if let Some(r) = &outcome.slide {
+            s.push_str(&slide_summary(r, &outcome.folder.join("slide")));
+        }
         let _ = writeln!(
             s,
             "wall time: {:.2} s; output in {}",
@@ -28,4 +31,37 @@ pub fn run_summary(outcome: &RunOutcome) -> String {
         );
     }
     s
+}
+
+/// A slid run's summary: the objective before and after, the moves, the joints changed and
+/// where the slid run is (several lines, each ending in a newline).
+pub fn slide_summary(r: &crate::run_folder::SlideRecord, folder: &std::path::Path) -> String {
+    let gain = if r.lambda_before > 0.0 {
+        format!(" ({:.3}×)", r.lambda_after / r.lambda_before)
+    } else {
+        String::new()
+    };
+    let moved = r.curves.iter().filter(|c| c.largest_move > 0.0).count();
+    format!(
+        "slid: {} {:.6e} → {:.6e}{gain}; {moved} of {} curves moved, the largest move {} (at \
+         most {}); joints added {}, removed {}; length {} (budget {}); {} networks \
+         evaluated{}\nslid run in {}\n",
+        if r.objective == "frequency" {
+            "μ_min"
+        } else {
+            "λ_eq"
+        },
+        r.lambda_before,
+        r.lambda_after,
+        r.curves.len(),
+        crate::fmt::length(r.largest_move),
+        crate::fmt::length(r.max_move),
+        r.joints_added,
+        r.joints_removed,
+        crate::fmt::length(r.length_after),
+        crate::fmt::length(r.budget),
+        r.evaluations,
+        if r.stopped { " (stopped early)" } else { "" },
+        folder.display()
+    )
 }

@@ -357,6 +357,32 @@ pub fn format_row(row: &BenchRow) -> String {
     )
 }
 
+/// The arguments a bench forwards to a worker run of one example: everything after
+/// `command` in `argv`, without the options of `valued` (each with its value, given apart or
+/// after `=`) and the switches of `dropped`, then `worker` (the switch that makes the run a
+/// worker's). The front end names its own options.
+pub fn worker_args(
+    argv: &[String],
+    command: &str,
+    valued: &[&str],
+    dropped: &[&str],
+    worker: &str,
+) -> Option<Vec<String>> {
+    let at = argv.iter().position(|s| s == command)?;
+    let mut out = vec![command.to_string()];
+    let mut rest = argv[at + 1..].iter();
+    while let Some(arg) = rest.next() {
+        let with_value = |v: &&str| arg.strip_prefix(*v).is_some_and(|r| r.starts_with('='));
+        if valued.contains(&arg.as_str()) {
+            rest.next();
+        } else if !dropped.contains(&arg.as_str()) && !valued.iter().any(with_value) {
+            out.push(arg.clone());
+        }
+    }
+    out.push(worker.to_string());
+    Some(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -439,5 +465,42 @@ mod tests {
             .unwrap_err();
         assert_eq!(e.to_string().split(':').next(), Some("tower"));
         assert_eq!(e.run, 2);
+    }
+
+    #[test]
+    fn worker_runs_get_the_switches_but_not_the_examples_repeats_or_json() {
+        let argv: Vec<String> = [
+            "curvenet",
+            "bench",
+            "--examples",
+            "tower,roof",
+            "--off",
+            "prune,warm",
+            "--repeat",
+            "3",
+            "--json",
+            "--reference",
+            "refs.json",
+            "--threads=2",
+            "--repeat=4",
+            "--examples=shell",
+            "--data",
+            "/d",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        let valued = ["--examples", "--repeat", "--reference"];
+        let got = super::worker_args(&argv, "bench", &valued, &["--json"], "--worker");
+        let want = [
+            "bench",
+            "--off",
+            "prune,warm",
+            "--threads=2",
+            "--data",
+            "/d",
+            "--worker",
+        ];
+        assert_eq!(got.expect("bench is there"), want);
     }
 }

@@ -58,6 +58,9 @@ pub struct RunSpec {
     pub resume: bool,
     /// Run into a non-empty folder that is not a curvenet run's.
     pub force: bool,
+    /// Slide the answer on the surface afterwards, into the folder's `slide/` run
+    /// ([`super::slide()`]; its `from` and `out` are set by the run).
+    pub slide: Option<super::SlideSpec>,
 }
 
 impl RunSpec {
@@ -77,6 +80,7 @@ impl RunSpec {
             pictures: true,
             resume: false,
             force: false,
+            slide: None,
         }
     }
 }
@@ -100,6 +104,8 @@ pub struct RunOutcome {
     pub seconds: AfterSeconds,
     /// The wall time, seconds.
     pub wall_seconds: f64,
+    /// The slid run's record, when the run slid its answer (its folder: `slide/` in the run's).
+    pub slide: Option<crate::run_folder::SlideRecord>,
 }
 
 /// Runs `spec` on `setup`: the whole simplification, recorded in `spec.out`. `observer`
@@ -202,12 +208,14 @@ pub fn execute(
         if spec.pictures && !spec.out.join("viewer.html").is_file() {
             write_pictures(&spec.out, observer);
         }
+        let slide = slide_after(spec, observer, cancel)?;
         return Ok(RunOutcome {
             folder: spec.out.clone(),
             result,
             already_complete: true,
             seconds: AfterSeconds::default(),
             wall_seconds: start.elapsed().as_secs_f64(),
+            slide,
         });
     };
     if let Some(mesh) = mesh {
@@ -276,13 +284,34 @@ pub fn execute(
     if spec.pictures {
         write_pictures(&spec.out, observer);
     }
+    let slide = slide_after(spec, observer, cancel)?;
     Ok(RunOutcome {
         folder: spec.out.clone(),
         result,
         already_complete: false,
         seconds,
         wall_seconds: start.elapsed().as_secs_f64(),
+        slide,
     })
+}
+
+/// Slides the finished run's answer into its `slide/` folder when `spec` asks for it.
+fn slide_after(
+    spec: &RunSpec,
+    observer: &dyn Observer,
+    cancel: &Cancel,
+) -> Result<Option<crate::run_folder::SlideRecord>, AppError> {
+    let Some(slide) = &spec.slide else {
+        return Ok(None);
+    };
+    let slide = super::SlideSpec {
+        from: spec.out.clone(),
+        out: spec.out.join("slide"),
+        pictures: spec.pictures,
+        force: true,
+        ..slide.clone()
+    };
+    Ok(Some(super::slide(&slide, observer, cancel)?.record))
 }
 
 /// The budget of `spec` (or the example's), checked with the steps asked for.
