@@ -97,6 +97,17 @@ pub fn slide(
     })?;
     let n = run.network.rods.len();
     check_curve_ids(Opt::Pin, &spec.pin, n)?;
+    // The slid run's folder is checked before the search, which takes a while.
+    if spec.out == spec.from {
+        return Err(AppError::usage(message![
+            Opt::Out,
+            " names the run folder that slides: give another folder for the slid run"
+        ]));
+    }
+    if spec.out.is_dir() {
+        crate::run_folder::folder::fresh_start(&spec.out, spec.force)
+            .map_err(|e| AppError::Usage(e.message()))?;
+    }
     let curves = &answer.found.curves;
     let setup = &run.result.setup;
     let budget = run.result.budget;

@@ -41,6 +41,13 @@ pub const DEFAULT_MAX_MOVE: f64 = 0.05;
 /// The largest move allowed: this fraction of the surface's bounding-box diagonal.
 pub const MAX_MAX_MOVE: f64 = 0.5;
 
+/// Rebuilt polylines whose vertices moved less than this fraction of the surface's diagonal
+/// are settled ([`Slider::evaluate`]).
+pub const SETTLED: f64 = 1e-11;
+
+/// The most builds of one network while it settles.
+pub const MAX_REBUILDS: usize = 8;
+
 /// A curve end within this fraction of the surface's diagonal of the boundary lies on it.
 pub const ON_BOUNDARY: f64 = 0.005;
 
@@ -372,11 +379,7 @@ impl Slider {
             moved.push(curve);
         }
         snap::snap_crossings(&mut moved, &changed, self.problem.build.edge_length);
-        // Built once from the moved curves, then again from that network's own polylines:
-        // the network recorded, exported and read back is the second.
-        let (first, _) = build_network(&moved, &self.problem.build).ok()?;
-        let curves = rest_polylines(&first);
-        let (network, _) = build_network(&curves, &self.problem.build).ok()?;
+        let (curves, network) = self.settle(moved)?;
         let all: Vec<usize> = (0..network.rods.len()).collect();
         let moves: Vec<f64> = (0..self.moves.len())
             .map(|c| {
@@ -411,6 +414,32 @@ impl Slider {
             moves,
             feasible,
         })
+    }
+
+    /// The network of `curves`, built again from its own rest polylines until they no longer
+    /// change (within [`SETTLED`] of the surface's diagonal; at most [`MAX_REBUILDS`] builds):
+    /// the network recorded is then the one its exported curves build, so an analysis of
+    /// those gives the objective recorded. Returns the polylines and their network.
+    fn settle(&self, curves: Vec<Polyline>) -> Option<(Vec<Polyline>, Network)> {
+        let (mut network, _) = build_network(&curves, &self.problem.build).ok()?;
+        let mut curves = rest_polylines(&network);
+        let limit = SETTLED * self.surface.diagonal();
+        for _ in 1..MAX_REBUILDS {
+            let (next, _) = build_network(&curves, &self.problem.build).ok()?;
+            let again = rest_polylines(&next);
+            let settled = again.iter().zip(&curves).all(|(a, b)| {
+                a.points.len() == b.points.len()
+                    && a.points
+                        .iter()
+                        .zip(&b.points)
+                        .all(|(p, q)| p.dist(*q) <= limit)
+            });
+            (network, curves) = (next, again);
+            if settled {
+                break;
+            }
+        }
+        Some((curves, network))
     }
 
     /// The constraints in force bound to `network` (`None` when none is; `Err` when the
