@@ -23,6 +23,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(inputs::read_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(inputs::curves_from_arrays, m)?)?;
     m.add_function(wrap_pyfunction!(inputs::example_names, m)?)?;
+    m.add_function(wrap_pyfunction!(network::slide, m)?)?;
     m.add_class::<network::Network>()?;
     m.add_class::<run::Run>()?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;

@@ -29,7 +29,13 @@ pub struct Keywords;
 impl Wording for Keywords {
     fn option(&self, opt: Opt) -> String {
         match opt {
-            Opt::Connected | Opt::LocalSearch | Opt::Certify | Opt::Resume | Opt::Force => {
+            Opt::Connected
+            | Opt::LocalSearch
+            | Opt::Certify
+            | Opt::Resume
+            | Opt::Force
+            | Opt::Slide
+            | Opt::FixedEnds => {
                 format!("{}=True", opt.key())
             }
             _ => opt.key().to_string(),
@@ -312,7 +318,8 @@ impl Network {
         groups_file = None, groups = Vec::new(), symmetry = None, connected = false,
         min_curves = None, max_gap = None, max_deviation = None, local_search = false,
         alternatives = 0, certify = false, certificate_nodes = None, pictures = true,
-        resume = false, force = false, progress = None))]
+        resume = false, force = false, progress = None, slide = false, max_move = None,
+        fixed_ends = false, pin = Vec::new()))]
     fn simplify(
         &self,
         py: Python<'_>,
@@ -335,7 +342,15 @@ impl Network {
         resume: bool,
         force: bool,
         progress: Option<&Bound<'_, PyAny>>,
+        slide: bool,
+        max_move: Option<String>,
+        fixed_ends: bool,
+        pin: Vec<usize>,
     ) -> PyResult<Vec<String>> {
+        let slide = match slide {
+            true => Some(slide_spec(py, &out, &out, max_move, fixed_ends, pin)?),
+            false => None,
+        };
         let budget = match (budget, budget_length) {
             (Some(_), Some(_)) => {
                 return Err(errors::usage(py, "give budget or budget_length, not both"));
@@ -378,6 +393,7 @@ impl Network {
             pictures,
             resume,
             force,
+            slide,
             ..RunSpec::new(out)
         };
         let mut setup = self.setup.clone();
@@ -400,6 +416,65 @@ impl Network {
         }
         Ok(messages)
     }
+}
+
+/// The slide of Python's keywords, from the run in `from` into `out`.
+fn slide_spec(
+    py: Python<'_>,
+    from: &std::path::Path,
+    out: &std::path::Path,
+    max_move: Option<String>,
+    fixed_ends: bool,
+    pin: Vec<usize>,
+) -> PyResult<app::SlideSpec> {
+    let d = app::SlideSpec::new(from, out);
+    let max_move = match max_move {
+        Some(m) => m.parse().map_err(|e: Message| {
+            errors::usage(py, format!("max_move={m}: {}", e.render(&Keywords)))
+        })?,
+        None => d.max_move,
+    };
+    Ok(app::SlideSpec {
+        max_move,
+        fixed_ends,
+        pin,
+        ..d
+    })
+}
+
+/// Slides the answer of the run in `from` on its surface into the run folder `out` (as
+/// `curvenet slide` does). Returns the warnings and notes.
+#[pyfunction]
+#[pyo3(signature = (from, out, max_move = None, fixed_ends = false, pin = Vec::new(),
+    pictures = true, force = false))]
+#[allow(clippy::too_many_arguments)]
+pub fn slide(
+    py: Python<'_>,
+    from: PathBuf,
+    out: PathBuf,
+    max_move: Option<String>,
+    fixed_ends: bool,
+    pin: Vec<usize>,
+    pictures: bool,
+    force: bool,
+) -> PyResult<Vec<String>> {
+    let spec = app::SlideSpec {
+        pictures,
+        force,
+        ..slide_spec(py, &from, &out, max_move, fixed_ends, pin)?
+    };
+    let ran = interrupt::run(py, None, |cancel, tx| {
+        let observer = Forward {
+            tx,
+            curves: 0,
+            messages: Mutex::new(Vec::new()),
+        };
+        let outcome = app::slide(&spec, &observer, cancel);
+        (outcome, observer.messages.into_inner().unwrap_or_default())
+    })?;
+    let (outcome, messages) = ran;
+    outcome.map_err(|e| raise(py, e))?;
+    Ok(messages)
 }
 
 impl Network {

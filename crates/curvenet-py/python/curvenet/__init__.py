@@ -16,10 +16,12 @@ from ._core import (
     Iteration,
     Network,
     Result,
+    Slide,
     example,
     example_names,
     load,
     open_run,
+    slide,
 )
 from ._errors import CurvenetError, InputError
 from ._native import __version__
@@ -33,9 +35,11 @@ __all__ = [
     "Iteration",
     "Network",
     "Result",
+    "Slide",
     "__version__",
     "example",
     "example_names",
     "load",
     "open_run",
+    "slide",
 ]

@@ -532,6 +532,10 @@ class Network:
         force: bool = False,
         pictures: Optional[bool] = None,
         progress: Optional[Callable[["Iteration"], Any]] = None,
+        slide: bool = False,
+        max_move: Union[float, str, None] = None,
+        fixed_ends: bool = False,
+        pin: Optional[Iterable[int]] = None,
     ) -> "Result":
         """Simplifies the network to a budget (``curvenet simplify``): the greedy down to
         ``budget`` (a fraction of the total rest length) or ``budget_length`` (a length),
@@ -546,6 +550,9 @@ class Network:
         surface) and ``max_deviation``. After the greedy: ``local_search``, ``alternatives``
         (up to K further distinct networks; runs the local search), ``certify`` (an upper
         bound on λ_fix within the budget; ``certificate_nodes`` of branch and bound).
+        ``slide=True`` then slides the answer's curves on the surface into the run folder's
+        ``slide/`` (:func:`slide`: ``max_move``, ``fixed_ends``, ``pin``), read back as
+        :attr:`Result.slide`.
 
         The run is written to the folder ``out`` exactly as the command line writes it
         (default: a new temporary folder), so :func:`open_run` reads it again and
@@ -595,6 +602,10 @@ class Network:
             resume=resume,
             force=force,
             progress=cb,
+            slide=bool(slide),
+            max_move=None if max_move is None else str(max_move),
+            fixed_ends=bool(fixed_ends),
+            pin=_ids("pin", pin) or [],
         )
         result = open_run(out)
         result.warnings = list(warnings) + result.warnings
@@ -700,6 +711,20 @@ class Result:
         return self.result.get("local_search")
 
     @property
+    def slide(self) -> Optional["Slide"]:
+        """How the answer slid on the surface: this run's own ``slide`` record when it is a
+        slid run, else that of the slid run in its ``slide/`` folder (``slide=True``); None
+        when neither. Its :attr:`Slide.run` is the slid run, whose answer (source
+        ``slide``) holds the moved curves."""
+        if "slide" in self.result:
+            return Slide(self.result["slide"], self)
+        inner = self.folder / "slide" / "result.json"
+        if inner.is_file():
+            run = open_run(self.folder / "slide")
+            return Slide(run.result["slide"], run)
+        return None
+
+    @property
     def certificate(self) -> Optional[Dict[str, Any]]:
         return self.result.get("certificate")
 
@@ -762,6 +787,65 @@ class Result:
         return (f"<curvenet.Result {len(self.removed_curves)} removed, "
                 f"{len(last['curves'])} curves left, lambda_eq={last['lambda']:.6e}{state}, "
                 f"stop={self.stop}, folder={str(self.folder)!r}>")
+
+
+class Slide(Record):
+    """A slid run's record (``result.json``'s ``slide``): ``lambda_before``,
+    ``lambda_after``, ``max_move``, ``largest_move``, ``joints_added``, ``joints_removed``,
+    ``length_before``, ``length_after``, ``budget``, ``curves`` (each curve's id in the run
+    it came from, ``largest_move`` and move ``coefficients``), ``evaluations``, ``steps``."""
+
+    def __init__(self, record: Dict[str, Any], run: "Result"):
+        super().__init__(record)
+        self.run = run
+        """The slid run."""
+
+    @property
+    def gain(self) -> Optional[float]:
+        """``lambda_after / lambda_before`` (None unless the start was stable)."""
+        b = self["lambda_before"]
+        return self["lambda_after"] / b if b > 0 else None
+
+    @property
+    def answer(self) -> Optional[Answer]:
+        """The slid network (None when it is not stable within the budget)."""
+        return self.run.answer
+
+
+def slide(
+    run: Union["Result", PathLike],
+    out: Optional[PathLike] = None,
+    *,
+    max_move: Union[float, str, None] = None,
+    fixed_ends: bool = False,
+    pin: Optional[Iterable[int]] = None,
+    pictures: Optional[bool] = None,
+    force: bool = False,
+) -> Result:
+    """Slides the answer of a run (a :class:`Result` or its folder) on its surface to raise
+    the objective (``curvenet slide``), into the run folder ``out`` (default: a new temporary
+    folder), and returns the slid run (its :attr:`Result.slide` says how the curves moved).
+    ``max_move``: how far a point may move, a length or ``"5%"`` of the surface's
+    bounding-box diagonal (the default); ``fixed_ends`` keeps every end where it is (else
+    ends on the surface's boundary slide along it); ``pin``: curves that do not move. Ctrl-C
+    stops the search within a second, the best network so far recorded."""
+    folder = run.folder if isinstance(run, Result) else Path(os.fspath(run))
+    if out is None:
+        out = tempfile.mkdtemp(prefix="curvenet-slide-")
+        if pictures is None:
+            pictures = False
+    warnings = _native.slide(
+        os.fspath(folder),
+        os.fspath(out),
+        max_move=None if max_move is None else str(max_move),
+        fixed_ends=bool(fixed_ends),
+        pin=_ids("pin", pin) or [],
+        pictures=True if pictures is None else bool(pictures),
+        force=bool(force),
+    )
+    result = open_run(out)
+    result.warnings = list(warnings) + result.warnings
+    return result
 
 
 def open_run(folder: PathLike) -> Result:

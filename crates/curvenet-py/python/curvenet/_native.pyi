@@ -97,7 +97,21 @@ class Network:
         resume: bool = False,
         force: bool = False,
         progress: Optional[Callable[[str], object]] = None,
+        slide: bool = False,
+        max_move: Optional[str] = None,
+        fixed_ends: bool = False,
+        pin: List[int] = ...,
     ) -> List[str]: ...
+
+def slide(
+    from_: _Path,
+    out: _Path,
+    max_move: Optional[str] = None,
+    fixed_ends: bool = False,
+    pin: List[int] = ...,
+    pictures: bool = True,
+    force: bool = False,
+) -> List[str]: ...
 
 class Run:
     def __init__(self, dir: _Path) -> None: ...

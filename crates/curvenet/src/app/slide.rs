@@ -89,12 +89,24 @@ pub fn slide(
             " is in the physical mode"
         ]));
     }
-    let answer = run.result.answer.clone().ok_or_else(|| {
-        AppError::usage(format!(
-            "{}: the run has no answer to slide (no stable network within the budget)",
-            spec.from.display()
-        ))
-    })?;
+    // A run without an answer (no stable network within the budget) slides its final
+    // network: sliding may make it stable.
+    let (curves, lambda_recorded) = match (&run.result.answer, &run.result.final_network) {
+        (Some(a), _) => (a.found.curves.clone(), a.found.lambda),
+        (None, Some(f)) => {
+            observer.note(&Message::from(format!(
+                "{}: the run has no answer; its final network slides",
+                spec.from.display()
+            )));
+            (f.curves.clone(), f.lambda)
+        }
+        (None, None) => {
+            return Err(AppError::usage(format!(
+                "{}: the run recorded no network to slide (it is not complete)",
+                spec.from.display()
+            )));
+        }
+    };
     let n = run.network.rods.len();
     check_curve_ids(Opt::Pin, &spec.pin, n)?;
     // The slid run's folder is checked before the search, which takes a while.
@@ -108,7 +120,7 @@ pub fn slide(
         crate::run_folder::folder::fresh_start(&spec.out, spec.force)
             .map_err(|e| AppError::Usage(e.message()))?;
     }
-    let curves = &answer.found.curves;
+    let curves = &curves;
     let setup = &run.result.setup;
     let budget = run.result.budget;
     // Curves that stay: the keep list, and the curves of groups and symmetry orbits.
@@ -159,7 +171,7 @@ pub fn slide(
         objective: objective_name(setup.stability.objective).to_string(),
         lambda_before: before.lambda,
         lambda_after: after.lambda,
-        lambda_recorded: answer.found.lambda,
+        lambda_recorded,
         max_move: outcome.max_move,
         largest_move: after.moves.iter().copied().fold(0.0, f64::max),
         joints_added: outcome.joints_added,

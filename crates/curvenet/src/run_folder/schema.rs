@@ -296,7 +296,8 @@ pub struct SlideRecord {
     /// The objective of the slid network (analysed cold, as an analysis of its exported
     /// curves gives it).
     pub lambda_after: f64,
-    /// The answer's objective as the run it came from recorded it.
+    /// The answer's objective as the run it came from recorded it (its final network's when
+    /// it had no answer).
     pub lambda_recorded: f64,
     /// The largest move allowed (scene units).
     pub max_move: f64,
