@@ -41,7 +41,9 @@ pub fn slide_summary(r: &crate::run_folder::SlideRecord, folder: &std::path::Pat
     } else {
         String::new()
     };
-    let moved = r.curves.iter().filter(|c| c.largest_move > 0.0).count();
+    let moved = (r.curves.iter())
+        .filter(|c| c.coefficients.iter().any(|&a| a != 0.0))
+        .count();
     format!(
         "slid: {} {:.6e} → {:.6e}{gain}; {moved} of {} curves moved, the largest move {} (at \
          most {}); joints added {}, removed {}; length {} (budget {}); {} networks \
