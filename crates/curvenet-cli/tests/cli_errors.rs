@@ -1463,3 +1463,59 @@ fn reader_warnings_are_printed_once_with_one_prefix() {
         );
     }
 }
+
+/// `curvenet slide` refuses, with exit 2 and the option named, a run without a surface, a
+/// largest move out of range and a pinned curve the network lacks.
+#[test]
+fn a_slide_without_a_surface_or_with_bad_options_is_refused() {
+    let dir = TempDir::new("cli-errors-slide");
+    dir.write("grid.txt", GRID);
+    dir.write("square.obj", SQUARE);
+    let curvenet = |args: &[&str]| {
+        let out = Command::new(BIN)
+            .args(args)
+            .current_dir(&dir.0)
+            .output()
+            .expect("the curvenet binary runs");
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        (out.status.code().unwrap_or(-1), stderr)
+    };
+    let simplify = |out: &str, mesh: bool| {
+        let mut args = vec![
+            "simplify", "--curves", "grid.txt", "--budget", "0.8", "--out", out,
+        ];
+        if mesh {
+            args.extend(["--mesh", "square.obj"]);
+        }
+        args.extend(QUIET);
+        let (code, stderr) = curvenet(&args);
+        assert_eq!(code, 0, "{stderr}");
+    };
+    simplify("bare", false);
+    simplify("run", true);
+    for (args, part) in [
+        (&["slide", "bare", "--out", "s"][..], "--mesh"),
+        (
+            &["slide", "run", "--out", "s", "--max-move", "-1"],
+            "--max-move",
+        ),
+        (
+            &["slide", "run", "--out", "s", "--max-move", "90%"],
+            "--max-move",
+        ),
+        (&["slide", "run", "--out", "s", "--max-move", "far"], "far"),
+        (
+            &["slide", "run", "--out", "s", "--pin", "99"],
+            "--pin names curve 99",
+        ),
+        (&["slide", "run", "--out", "run"], "--out"),
+    ] {
+        let (code, stderr) = curvenet(args);
+        assert_eq!(code, 2, "{args:?}: {stderr}");
+        assert!(stderr.contains(part), "{args:?}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+    }
+    let (code, stderr) = curvenet(&["slide", "run", "--out", "s"]);
+    assert_eq!(code, 0, "{stderr}");
+    assert!(dir.0.join("s/result.json").is_file());
+}
