@@ -314,6 +314,12 @@ fn a_slid_run_is_recorded_and_its_exported_curves_give_its_objective_cold() {
             "curve {c}: {moved}"
         );
     }
+    // The viewer holds the curves before they slid, to show beside the slid ones.
+    let page = curvenet::report::viewer::viewer_html(&slid, &Default::default()).expect("page");
+    assert!(
+        page.contains("\"before\":[{"),
+        "the viewer's data has the curves before"
+    );
     // The same slide again gives the same record, byte for byte.
     let again = dir.path().join("again");
     let slide2 = SlideSpec {

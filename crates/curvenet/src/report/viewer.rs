@@ -238,7 +238,31 @@ pub fn viewer_data(run: &RunFolder, options: &ViewerOptions) -> Result<Value, Re
         "iterations": iterations,
         "chosen": chosen,
         "mesh": mesh,
+        "before": before_json(run),
     }))
+}
+
+/// A slid run's curves before they slid (`before.obj`), each as base64 `f32` points and
+/// whether it is closed; `null` for any other run (or when the file cannot be read).
+fn before_json(run: &RunFolder) -> Value {
+    if run.result.slide.is_none() {
+        return Value::Null;
+    }
+    let Ok(text) = run.files.read_text("before.obj") else {
+        return Value::Null;
+    };
+    let Ok(file) = crate::io::parse_obj_polylines(&text, "before.obj") else {
+        return Value::Null;
+    };
+    let curves: Vec<Value> = (file.curves.iter())
+        .map(|c| {
+            json!({
+                "points": encode_f32(c.points.iter().flat_map(|p| p.to_array())),
+                "closed": c.closed,
+            })
+        })
+        .collect();
+    Value::from(curves)
 }
 
 /// The surface as the viewer draws it: vertices as base64 `f32`, faces as base64 `u32`.

@@ -330,6 +330,15 @@
         addCurve(c, false, false, sel ? 4 : 1.5, () => sel ? C.selected : C.removed, true);
       }
     }
+    // A slid run's network before it slid, drawn thin in the other shape's colour.
+    if (ui.before && D.before) {
+      for (const b of D.before) {
+        const p = f32(b.points);
+        const n = p.length / 3, m = b.closed ? n : n - 1;
+        const at = (i) => [p[3 * i] - center[0], p[3 * i + 1] - center[1], p[3 * i + 2] - center[2]];
+        for (let j = 0; j < m; j++) segs.push([at(j), zero, at((j + 1) % n), zero, 1.5, C.overlay]);
+      }
+    }
     const data = new Float32Array(segs.length * 6 * 19);
     const corners = [[-1, 0], [1, 0], [1, 1], [-1, 0], [1, 1], [-1, 1]];
     let o = 0;
@@ -739,6 +748,8 @@
   $('animate').addEventListener('change', (ev) => { ui.animate = ev.target.checked; requestDraw(); });
   $('overlay').addEventListener('change', (ev) => { ui.overlay = ev.target.checked; build(); });
   $('show-mesh').addEventListener('change', (ev) => { ui.mesh = ev.target.checked; requestDraw(); });
+  if (D.before) $('row-before').hidden = false;
+  $('show-before').addEventListener('change', (ev) => { ui.before = ev.target.checked; build(); });
   $('show-removed').addEventListener('change', (ev) => { ui.removed = ev.target.checked; build(); });
   $('show-supports').addEventListener('change', (ev) => { ui.supports = ev.target.checked; build(); });
   $('reset').addEventListener('click', () => {
