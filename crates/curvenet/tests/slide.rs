@@ -362,3 +362,48 @@ fn explore_family() {
         );
     }
 }
+
+#[test]
+fn a_cancelled_slide_keeps_the_best_so_far_and_constraints_hold() {
+    let mesh = bump(40);
+    let cancel = Cancel::new();
+    cancel.cancel();
+    let slider = Slider::new(
+        problem(four_curves(), 1e9),
+        Some(&mesh),
+        SlideParams::default(),
+    )
+    .expect("s");
+    let out = slider.run(&cancel, &|_| {}).expect("slides");
+    assert!(out.search.cancelled);
+    assert_eq!(out.after.lambda.to_bits(), out.before.lambda.to_bits());
+    // Under the connected constraint every network taken is one structure.
+    let p = SlideProblem {
+        constraints: curvenet::constraints::ConstraintParams {
+            connected: true,
+            min_curves: Some(4),
+            ..Default::default()
+        },
+        ..problem(four_curves(), 1e9)
+    };
+    let params = SlideParams {
+        max_move: MaxMove::Fraction(0.2),
+        max_evaluations: 40,
+        ..SlideParams::default()
+    };
+    let out = Slider::new(p, Some(&mesh), params)
+        .expect("slider")
+        .run(&Cancel::never(), &|_| {})
+        .expect("slides");
+    assert!(out.after.feasible);
+    let net = &out.after.network;
+    let all: Vec<usize> = (0..4).collect();
+    let parts = curvenet::network::subnet::curve_components(
+        4,
+        &all,
+        net.joints
+            .iter()
+            .map(|j| j.curves.iter().map(|&c| c as usize).collect::<Vec<_>>()),
+    );
+    assert_eq!(parts.len(), 1, "{parts:?}");
+}
