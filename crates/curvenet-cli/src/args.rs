@@ -345,6 +345,10 @@ pub struct PhysicsArgs {
     /// Supports of open curves.
     #[arg(long, value_parser = Supports::from_str)]
     pub supports: Option<Supports>,
+    /// A JSON file of supports per curve end (by point or by curve and end), overriding
+    /// --supports there (docs/formats.md).
+    #[arg(long = "supports-file")]
+    pub supports_file: Option<PathBuf>,
     /// Rod radius (scene units; default 2).
     #[arg(long, value_parser = positive, allow_hyphen_values = true)]
     pub radius: Option<f64>,

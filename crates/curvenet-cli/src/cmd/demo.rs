@@ -27,6 +27,7 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
     let input = InputSpec {
         edge_length: Some(a.edge_length),
         supports: a.physics.supports,
+        supports_file: a.physics.supports_file.clone(),
         merge_joints: a.physics.merge_joints,
         ..InputSpec::new(CurveSource::Geodesics {
             surface: a.surface.clone(),

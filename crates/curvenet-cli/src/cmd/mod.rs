@@ -59,6 +59,7 @@ pub fn input_spec(input: &InputArgs, physics: &PhysicsArgs) -> InputSpec {
         edge_length: input.edge_length,
         merge_joints: physics.merge_joints,
         supports: physics.supports,
+        supports_file: physics.supports_file.clone(),
     }
 }
 
@@ -71,6 +72,7 @@ pub fn example_spec(
 ) -> InputSpec {
     InputSpec {
         supports: physics.supports,
+        supports_file: physics.supports_file.clone(),
         merge_joints: physics.merge_joints,
         ..InputSpec::new(CurveSource::Example {
             name: name.to_string(),

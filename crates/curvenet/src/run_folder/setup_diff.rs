@@ -57,6 +57,7 @@ const OPTIONS: &[(&str, Named, &str)] = &[
     ("input.scale", Named::Opt(Opt::Scale), NOT_GIVEN),
     ("build.edge_length", Named::Opt(Opt::EdgeLength), NOT_GIVEN),
     ("build.supports", Named::Opt(Opt::Supports), NOT_GIVEN),
+    ("build.ends", Named::Opt(Opt::SupportsFile), NOT_GIVEN),
     (
         "build.merge_joints_below",
         Named::Opt(Opt::MergeJoints),

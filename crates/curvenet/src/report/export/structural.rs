@@ -11,8 +11,9 @@
 //! - **elements**: one elastic beam per rod edge, with its rod's material (`E`, `G`) and
 //!   section (`A`, `I`, `J`) and a vector in its local x–z plane (`vecxz`, any: the sections
 //!   are round);
-//! - **supports**: an anchored vertex's nodes have their translations fixed; a clamped end's
-//!   node also its rotations (the physical mode's clamp holds the end vertex and its
+//! - **supports**: an anchored vertex's nodes have the translations its supports fix fixed
+//!   (some only, given per end: on the vertex's first node, the others tied to it); a
+//!   clamped end's node also its rotations (the physical mode's clamp holds the end vertex and its
 //!   tangent, and a pre-bent rod's twist);
 //! - **spin holds**: a rod drawn straight spins about its own axis without moving a point;
 //!   curvenet carries no twist for it, and a beam model would have a zero-stiffness spin:
@@ -264,7 +265,7 @@ impl StructuralModel {
         let (mut elements, mut masses) = (Vec::new(), Vec::new());
         let mut spin_holds = Vec::new();
         let mut clamped = Vec::new();
-        let mut anchored = vec![false; network.vertex_count()];
+        let mut anchored = vec![[false; 3]; network.vertex_count()];
         let mut gravity_forces = Vec::new();
         let g = physical.gravity_scene();
         for &c in &curves {
@@ -329,7 +330,9 @@ impl StructuralModel {
                 .filter(|v| !ends.contains(v))
                 .collect();
             for &v in rod.anchors.iter().filter(|v| !released.contains(v)) {
-                anchored[v as usize] = true;
+                for (held, axis) in anchored[v as usize].iter_mut().zip(rod.anchor_axes(v)) {
+                    *held |= axis;
+                }
             }
             let mut held = false;
             for (at_start, i) in [(true, 0), (false, m.saturating_sub(1))] {
@@ -351,15 +354,20 @@ impl StructuralModel {
         let mut supports = Vec::new();
         let mut ties = Vec::new();
         for (v, ids) in at_vertex.iter().enumerate() {
-            if anchored[v] {
-                for &n in ids {
-                    let all = clamped.contains(&n);
+            // All three translations fixed: every node at the vertex is fixed, no tie needed.
+            // Some only: the first node carries them and the others follow it by a tie.
+            let whole = anchored[v].iter().all(|&a| a);
+            for (k, &n) in ids.iter().enumerate() {
+                let all = clamped.contains(&n);
+                let [x, y, z] = anchored[v].map(|a| a && (whole || k == 0));
+                if x || y || z || all {
                     supports.push(Support {
                         node: n,
-                        fixed: [true, true, true, all, all, all],
+                        fixed: [x, y, z, all, all, all],
                     });
                 }
-            } else if ids.len() > 1 {
+            }
+            if !whole && ids.len() > 1 {
                 ties.push(Tie {
                     vertex: v,
                     nodes: ids.clone(),
