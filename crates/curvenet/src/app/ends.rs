@@ -97,8 +97,8 @@ fn resolve(
                         p[0],
                         p[1],
                         p[2],
-                        crate::fmt::length(d / scale),
-                        crate::fmt::length(tol / scale)
+                        crate::fmt::significant(d / scale, 4),
+                        crate::fmt::significant(tol / scale, 4)
                     )
                 } else {
                     "no curve has ends (every curve is closed)".into()
