@@ -73,7 +73,8 @@ pub struct ServeArgs {
     /// its material, and its greedy iterations to step through; serving starts on its answer.
     #[arg(long, value_name = "DIR", conflicts_with_all = [
         "example", "curves", "mesh", "scale", "edge_length",
-        "supports", "radius", "young", "anchor_weight", "merge_joints", "eigen_count", "objective",
+        "supports", "supports_file", "radius", "young", "anchor_weight", "merge_joints",
+        "eigen_count", "objective",
     ])]
     pub run: Option<PathBuf>,
     /// Inputs (instead of --example or --run).

@@ -52,7 +52,8 @@ impl EndSupport {
             .collect()
     }
 
-    /// Its short name: `clamped`, `pinned`, `free`, or e.g. `yz fixed, rotation held`.
+    /// Its short name: `clamped`, `pinned`, `free`, or e.g. `yz fixed; rotation held` (no
+    /// comma: it stands in tables' cells).
     pub fn name(&self) -> String {
         match *self {
             EndSupport::CLAMPED => "clamped".into(),
@@ -66,7 +67,7 @@ impl EndSupport {
                     format!("{axes} fixed")
                 };
                 let rotation = if self.rotation_held { "held" } else { "free" };
-                format!("{fixed}, rotation {rotation}")
+                format!("{fixed}; rotation {rotation}")
             }
         }
     }
