@@ -33,7 +33,8 @@
 //! their torsion couples with bending where curvenet's straight rods carry none.
 
 use crate::material::{Physical, PhysicalMaterial, RestShape, Section};
-use crate::rod::Network;
+use crate::rod::{ActiveSet, Network};
+use crate::words::Message;
 use crate::run_folder::schema::PhysicalModel;
 use serde::{Deserialize, Serialize};
 
@@ -232,6 +233,9 @@ fn id_of<T: PartialEq>(list: &mut Vec<T>, item: T) -> usize {
     }
 }
 
+/// The name of the load case every model carries: the structure's own weight.
+pub const SELF_WEIGHT: &str = "self-weight";
+
 /// A unit vector among the axes least along `d`, for an element's local x–z plane.
 fn across(d: [f64; 3]) -> [f64; 3] {
     let i = (0..3)
@@ -251,7 +255,7 @@ impl StructuralModel {
         model: &PhysicalModel,
         source: String,
         unstable: Option<String>,
-    ) -> StructuralModel {
+    ) -> Result<StructuralModel, Message> {
         let physical = &model.physical;
         let rest = model.rest(network.rods.len());
         let p = &network.positions;
@@ -376,7 +380,29 @@ impl StructuralModel {
         }
         supports.sort_by_key(|s| s.node);
         let symbol = u.symbol();
-        StructuralModel {
+        let mut load_cases = vec![LoadCase {
+            name: SELF_WEIGHT.into(),
+            nodal: gravity_forces,
+        }];
+        // The run's load cases, each force on the first node at its vertex (the others share
+        // its translations).
+        if let Some(loads) = &model.loads {
+            let active = ActiveSet::from_curves(network.rods.len(), &curves);
+            for case in loads.forces(network, physical, &active)? {
+                let nodal = (0..network.vertex_count())
+                    .filter_map(|v| {
+                        let f = [0, 1, 2].map(|a| case.forces[3 * v + a]);
+                        let node = *at_vertex[v].first()?;
+                        (f != [0.0; 3]).then_some(NodalLoad { node, force: f })
+                    })
+                    .collect();
+                load_cases.push(LoadCase {
+                    name: case.name,
+                    nodal,
+                });
+            }
+        }
+        Ok(StructuralModel {
             format: STRUCTURE_FORMAT.into(),
             version: STRUCTURE_VERSION,
             source,
@@ -405,11 +431,8 @@ impl StructuralModel {
             supports,
             spin_holds,
             masses,
-            load_cases: vec![LoadCase {
-                name: "self-weight".into(),
-                nodal: gravity_forces,
-            }],
-        }
+            load_cases,
+        })
     }
 
     /// The model as JSON text (numbers in their shortest round-trip form).
