@@ -296,6 +296,10 @@ pub struct PhysicalSummary {
     pub max_utilisation: Option<f64>,
     /// The curves whose assembly stress exceeds their strength, ascending.
     pub overstressed_curves: Vec<usize>,
+    /// Its load cases (a run given a loads file records them for the networks it offers to
+    /// build: the answer and the alternatives).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub load_cases: Vec<super::loaded::LoadCaseReport>,
 }
 
 impl PhysicalReport {
@@ -319,6 +323,7 @@ impl PhysicalReport {
                 .filter(|c| c.utilisation() > 1.0)
                 .map(|c| c.curve)
                 .collect(),
+            load_cases: self.load_cases.clone(),
         }
     }
 }

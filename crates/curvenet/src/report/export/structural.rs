@@ -34,8 +34,8 @@
 
 use crate::material::{Physical, PhysicalMaterial, RestShape, Section};
 use crate::rod::{ActiveSet, Network};
-use crate::words::Message;
 use crate::run_folder::schema::PhysicalModel;
+use crate::words::Message;
 use serde::{Deserialize, Serialize};
 
 /// The `format` of a structural JSON file.
