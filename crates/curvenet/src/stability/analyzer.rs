@@ -233,6 +233,12 @@ impl Analyzer {
         }
     }
 
+    /// The physical mode's parameters with the load cases given (the server's full analysis
+    /// of its current structure); `None` in the paper's mode.
+    pub fn physical_with_loads(&self) -> Option<&PhysicalParams> {
+        self.loaded.as_ref().or(self.physical.as_ref())
+    }
+
     /// The structure `active`'s load cases, when the physical mode was given some (empty
     /// otherwise): each followed as a nonlinear equilibrium, with its verdict and critical
     /// load factor ([`crate::physics::loaded`]).

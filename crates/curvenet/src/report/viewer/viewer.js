@@ -585,6 +585,21 @@
     if (p.overstressed_curves && p.overstressed_curves.length) {
       lines.push(`would break when bent: curves ${p.overstressed_curves.join(' ')}`);
     }
+    // Each load case as the summary words it: deflection, utilisation, buckling, verdict.
+    for (const c of (p.load_cases || [])) {
+      const parts = [];
+      if (c.max_deflection !== null && c.max_deflection !== undefined) {
+        parts.push(`max deflection ${sci(c.max_deflection, 4)}${unit} at vertex ${c.max_deflection_vertex}`);
+      }
+      if (c.max_utilisation !== null && c.max_utilisation !== undefined) {
+        parts.push(`utilisation ${sci(c.max_utilisation, 3)}`);
+      }
+      parts.push(c.buckling_factor !== null && c.buckling_factor !== undefined
+        ? `buckles at ${sci(c.buckling_factor, 3)} × the load (${c.buckling})`
+        : 'stands 100 × the load without buckling');
+      const verdict = c.passes ? 'passes' : `FAILS: ${(c.failures || []).join('; ')}`;
+      lines.push(`load case ${c.name}: ${parts.join(', ')}; ${verdict}`);
+    }
     for (const w of (p.warnings || [])) lines.push(`warning: ${w}`);
     return lines.join('\n');
   }
