@@ -119,3 +119,71 @@ fn a_free_end_is_a_mechanism_where_nothing_else_holds() {
     );
     assert!(!r.stable, "a bar pinned at one end only is a mechanism");
 }
+
+/// A shallow von Mises truss: two straight steel bars (r = 10 mm) from pinned supports at
+/// x = ±500 mm up to an apex 5 mm high where they meet, the apex held out of the truss's
+/// plane only, 1 N pressing down on it.
+fn von_mises_truss() -> Network {
+    let bar = |from: f64| {
+        (0..=50)
+            .map(|i| {
+                let t = f64::from(i) / 50.0;
+                Vec3::new(from * (1.0 - t), 0.0, 5.0 * t)
+            })
+            .collect()
+    };
+    let apex = EndSupport {
+        fixed: [false, true, false],
+        rotation_held: false,
+    };
+    let params = BuildParams {
+        edge_length: 10.0,
+        supports: Supports::Pinned,
+        ends: vec![[None, Some(apex)], [None, Some(apex)]],
+        ..BuildParams::default()
+    };
+    let curves = [polyline(bar(-500.0), false), polyline(bar(500.0), false)];
+    build_network(&curves, &params).expect("the truss builds").0
+}
+
+/// The snap-through load of the two-bar truss with axial stiffness `ea`, half-span `a` and
+/// rise `h`: the largest `P(w) = 2 E A (h − w) (1/L(w) − 1/L₀)`, `L(w) = √(a² + (h − w)²)`,
+/// over the apex's descent `w` (the bars' exact kinematics; their bending carries nothing
+/// while they stay straight), by golden-section search.
+fn snap_load(ea: f64, a: f64, h: f64) -> f64 {
+    let l0 = (a * a + h * h).sqrt();
+    let p = |w: f64| 2.0 * ea * (h - w) * (1.0 / (a * a + (h - w).powi(2)).sqrt() - 1.0 / l0);
+    let (mut lo, mut hi) = (0.0, h);
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..200 {
+        let (x1, x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+        if p(x1) < p(x2) {
+            lo = x1;
+        } else {
+            hi = x2;
+        }
+    }
+    p(0.5 * (lo + hi))
+}
+
+#[test]
+fn a_shallow_truss_snaps_through_at_its_limit_point() {
+    let net = von_mises_truss();
+    assert_eq!(net.joints.len(), 1, "the bars meet at the apex");
+    let r = analyze(
+        &net,
+        r#"{"cases": [{"name": "P", "points": [{"at": [0, 0, 5], "force": [0, 0, -1]}]}]}"#,
+    );
+    let case = &r.load_cases[0];
+    let want = snap_load(210e3 * PI * 100.0, 500.0, 5.0);
+    let got = case.buckling_factor.expect("the truss snaps");
+    println!(
+        "von Mises truss: α_cr {got:.4} N (closed form {want:.4} N, {:+.3}%), {:?}, \
+         linearised {:?}",
+        100.0 * (got / want - 1.0),
+        case.buckling,
+        case.linear_buckling_factor
+    );
+    assert_eq!(case.buckling.as_deref(), Some("limit point"));
+    assert!(rel_diff(got, want) < 0.01, "{got} vs {want}");
+}
