@@ -2,17 +2,18 @@
 //! perpendicular to an axis, that turns with the curve as it deflects.
 //!
 //! It is conservative through a potential: a uniform pressure `q` on a curve does the work
-//! `q·ΔA`, `A = ½ Σ_edges n·((x_a − O) × (x_b − O))` the signed area the curve sweeps about
-//! a point `O` (`n` the unit axis), so the model's energy gains `−σ q ΔA` (σ = ±1 the side
-//! it pushes toward). Its gradient at a vertex `i` is `½ σ q n × (x_{i+1} − x_{i−1})` — the
-//! pressure on the vertex's two half edges, turned with them — and its Hessian is constant:
-//! the block `(a, b)` of an edge is `−½ σ q S`, `S` the skew matrix of `x ↦ x × n`, and
-//! `(b, a)` its transpose. The area is measured in the plane perpendicular to `n` (a curve
-//! that leaves the plane is loaded by the pressure on its projection). At an end of a loaded
-//! curve that meets no other loaded curve the potential adds the pressure on the segment
-//! from the end to `O`, which the supports take when they hold the end in the plane (the
-//! pressure is then exact); an end free to move in the plane feels that segment's pressure
-//! too (a follower pressure on a free end is not conservative at all).
+//! `q·ΔA`, `A` the signed area (about the unit axis `n`) of the polygon the curve closes
+//! with the segments from its ends' rest positions `X_f`, `X_l` to the ends where they are:
+//! `A = ½ [n·(X_f × x_f) + Σ_edges n·(x_a × x_b) + n·(x_l × X_l) + n·(X_l × X_f)]`. The
+//! model's energy gains `−σ q ΔA` (σ = ±1 the side it pushes toward). Its gradient at an
+//! interior vertex `i` is `½ σ q n × (x_{i+1} − x_{i−1})`, the pressure on the vertex's two
+//! half edges turned with them; at an end it is the pressure on the end's half edge plus
+//! that on the segment from the end's rest position to where it is (nothing when the end is
+//! held in the plane, small while it moves little: a follower pressure on an end free to
+//! move is not conservative, and this is its nearest conservative load). Its Hessian is
+//! constant: the block `(a, b)` of an edge is `−½ σ q S`, `S` the skew matrix of
+//! `x ↦ x × n`, and `(b, a)` its transpose. The area is measured in the plane perpendicular
+//! to `n`: a curve that leaves the plane is loaded by the pressure on its projection.
 
 use super::{EnergyModel, scatter_grad, vec3};
 use crate::geom::Vec3;
@@ -34,7 +35,8 @@ pub struct PressurePart {
 pub struct Pressure {
     /// The pressures, summed.
     pub parts: Vec<PressurePart>,
-    /// Every vertex's rest position relative to the point the areas are measured about.
+    /// Every vertex's rest position (relative to any point: a point near the curves keeps
+    /// the rounding small).
     pub rest: Vec<Vec3>,
 }
 
@@ -124,8 +126,22 @@ impl EnergyModel {
             let s = skew(n);
             for (c, r) in self.active_terms(active) {
                 let q = part.curves[c];
-                if q == 0.0 {
+                if q == 0.0 || r.stretch.is_empty() {
                     continue;
+                }
+                // The segments from the ends' rest positions (none on a closed curve).
+                let (first, last) = (
+                    self.stretch[r.stretch.start].v[0],
+                    self.stretch[r.stretch.end - 1].v[1],
+                );
+                if first != last {
+                    let (yf, yl) = (p.rest[first as usize], p.rest[last as usize]);
+                    let (uf, ul) = (vec3(u, first), vec3(u, last));
+                    *energy -= q * 0.5 * n.dot(yf.cross(uf) + ul.cross(yl));
+                    let gf = n.cross(yf) * (-0.5 * q);
+                    let gl = yl.cross(n) * (-0.5 * q);
+                    scatter_grad(grad, &[first], &[gf.x, gf.y, gf.z]);
+                    scatter_grad(grad, &[last], &[gl.x, gl.y, gl.z]);
                 }
                 for k in r.stretch.clone() {
                     let t = &self.stretch[k];
