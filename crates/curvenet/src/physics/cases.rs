@@ -25,8 +25,9 @@
 //! dead loads: they keep their direction as the structure deflects. A pressure is a follower
 //! load: it stays normal to the curves as they deflect, a conservative load through the
 //! area the curves sweep ([`crate::rod::Pressure`]), exact where each loaded curve's ends are
-//! held in the plane or meet other loaded curves pushed the same way. A curve that leaves the
-//! plane is loaded by the pressure on its projection onto the plane.
+//! held in the plane; an end that moves in the plane also feels the pressure on the short
+//! segment from its drawn position to where it is. A curve that leaves the plane is loaded by
+//! the pressure on its projection onto the plane.
 
 use super::loads::{held_vertices, self_weight};
 use crate::material::Physical;

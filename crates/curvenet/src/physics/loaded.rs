@@ -161,8 +161,8 @@ struct Load {
     pressure: Option<Pressure>,
 }
 
-/// Every vertex's rest position about the network's centroid (the point a pressure's areas
-/// are measured about).
+/// Every vertex's rest position about the network's centroid (a pressure's potential is the
+/// same about any point; one near the curves keeps its rounding small).
 fn rest_about_centroid(network: &Network) -> Vec<Vec3> {
     let n = network.positions.len().max(1) as f64;
     let c = network.positions.iter().fold(Vec3::ZERO, |s, &p| s + p) * (1.0 / n);
