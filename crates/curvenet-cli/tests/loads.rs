@@ -68,6 +68,33 @@ fn load_cases_are_reported_with_their_verdicts() {
 }
 
 #[test]
+fn a_pressure_case_reaches_the_report() {
+    let dir = TempDir::with_grid("loads-pressure");
+    dir.write(
+        "loads.json",
+        r#"{"cases": [{"name": "G", "self_weight": true},
+                      {"name": "W", "pressure": {"intensity": "0.1kN/m", "axis": [0, 0, 1],
+                                                 "toward": "outside"}}],
+            "combinations": [{"name": "C", "factors": {"G": 1, "W": 1.5}}]}"#,
+    );
+    let out = analyze(&dir, &["--loads", "loads.json", "--json"]);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let cases = report["physical"]["load_cases"].as_array().expect("cases");
+    let names: Vec<&str> = cases.iter().filter_map(|c| c["name"].as_str()).collect();
+    assert_eq!(names, ["G", "W", "C"]);
+    for c in &cases[1..] {
+        assert_eq!(c["holds"], true, "{c}");
+        assert!(c["max_deflection"].as_f64().is_some_and(|d| d > 0.0), "{c}");
+    }
+}
+
+#[test]
 fn bad_loads_are_refused_naming_file_line_and_what() {
     let dir = TempDir::with_grid("loads-bad");
     for (text, parts) in [

@@ -51,7 +51,8 @@ CASES = {
 }
 
 # Load cases small enough for the linear range (OpenSees' analysis is linear): a point load,
-# a line load per projected length, self-weight, and a combination of them.
+# a line load per projected length, self-weight, a pressure on the arcs (exported as it acts
+# on the drawn shape), and combinations.
 LOADS = {
     "grid": {"cases": [{"name": "P", "points": [{"at": [0.5, 0.5, 0], "force": [0, 0, -5]}]},
                        {"name": "S", "line": {"intensity": "20N/m", "direction": [0, 0, -1],
@@ -59,7 +60,9 @@ LOADS = {
                        {"name": "G", "self_weight": True}],
              "combinations": [{"name": "ULS", "factors": {"G": 1.35, "S": 1.5, "P": 1.5}}]},
     "vault": {"cases": [{"name": "P", "points": [{"at": [0, 0.5, 1], "force": [0, 0, -50]}]},
-                        {"name": "W", "line": {"intensity": "50N/m", "direction": [1, 0, 0]}}],
+                        {"name": "W", "line": {"intensity": "50N/m", "direction": [1, 0, 0]}},
+                        {"name": "Q", "pressure": {"intensity": "50N/m", "axis": [0, 1, 0],
+                                                   "toward": "inside"}}],
               "combinations": [{"name": "C", "factors": {"P": 1.0, "W": 2.0}}]},
 }
 

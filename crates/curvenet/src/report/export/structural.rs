@@ -389,9 +389,10 @@ impl StructuralModel {
         if let Some(loads) = &model.loads {
             let active = ActiveSet::from_curves(network.rods.len(), &curves);
             for case in loads.forces(network, physical, &active)? {
+                let forces = crate::physics::loaded::forces_at_rest(network, &case, &active);
                 let nodal = (0..network.vertex_count())
                     .filter_map(|v| {
-                        let f = [0, 1, 2].map(|a| case.forces[3 * v + a]);
+                        let f = [0, 1, 2].map(|a| forces[3 * v + a]);
                         let node = *at_vertex[v].first()?;
                         (f != [0.0; 3]).then_some(NodalLoad { node, force: f })
                     })

@@ -27,6 +27,10 @@ impl EnergyModel {
                 e += terms::anchor_energy(vec3(u, t.v), t.offset, self.mu, t.axes);
             }
         }
+        if self.pressure.is_some() {
+            let mut grad = vec![0.0; self.dofs()];
+            self.assemble_pressure(u, active, &mut e, &mut grad, None);
+        }
         e - self.load.iter().zip(u).map(|(f, x)| f * x).sum::<f64>()
     }
 
@@ -115,6 +119,13 @@ impl EnergyModel {
                 }
             }
         }
+        self.assemble_pressure(
+            u,
+            active,
+            &mut out.energy,
+            &mut out.grad,
+            hessian.then_some(&mut out.hess[..]),
+        );
         for (g, f) in out.grad.iter_mut().zip(&self.load) {
             *g -= f;
         }

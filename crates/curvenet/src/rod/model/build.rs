@@ -122,6 +122,7 @@ impl EnergyModel {
             clamp_pos,
             loose_diagonal,
             load: Vec::new(),
+            pressure: None,
         }
     }
 }

@@ -21,9 +21,11 @@
 mod assemble;
 mod build;
 mod locals;
+mod pressure;
 mod twist;
 
 pub use locals::{LocalHessians, Terms};
+pub use pressure::{Pressure, PressurePart};
 pub use twist::TwistDof;
 use twist::{ClampTwistTerm, FrameTerm};
 
@@ -185,6 +187,8 @@ pub struct EnergyModel {
     /// External forces on the coordinates (empty: none): the energy is the rods' minus
     /// `load · u` ([`Self::set_load`]).
     load: Vec<f64>,
+    /// Follower pressures on the curves ([`Self::set_pressure`]).
+    pressure: Option<Pressure>,
 }
 
 impl EnergyModel {
