@@ -76,7 +76,8 @@ pub struct ServeArgs {
     /// its material, and its greedy iterations to step through; serving starts on its answer.
     #[arg(long, value_name = "DIR", conflicts_with_all = [
         "example", "curves", "mesh", "scale", "edge_length",
-        "supports", "radius", "young", "anchor_weight", "merge_joints", "eigen_count", "objective",
+        "supports", "supports_file", "radius", "young", "anchor_weight", "merge_joints",
+        "eigen_count", "objective",
     ])]
     pub run: Option<PathBuf>,
     /// Inputs (instead of --example or --run).
@@ -377,6 +378,9 @@ pub struct PhysicsArgs {
     /// Supports of open curves.
     #[arg(long, value_parser = Supports::from_str)]
     pub supports: Option<Supports>,
+    /// Supports per curve end, by point or curve and end, overriding --supports (formats.md).
+    #[arg(long = "supports-file")]
+    pub supports_file: Option<PathBuf>,
     /// Rod radius (scene units; default 2).
     #[arg(long, value_parser = positive, allow_hyphen_values = true)]
     pub radius: Option<f64>,

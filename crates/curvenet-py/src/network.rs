@@ -88,7 +88,8 @@ impl Network {
         merge_joints = None, radius = None, young = None, anchor_weight = None, eigen_count = 4,
         objective = "lambda", units = None, material = None, density = None, strength = None,
         tube = None, load = None, gravity = None, loads = None, deflection_limit = None,
-        buckling_factor = None, warnings = Vec::new(), example = None, data = None))]
+        buckling_factor = None, supports_file = None, warnings = Vec::new(), example = None,
+        data = None))]
     fn new(
         py: Python<'_>,
         sources: &Bound<'_, PyList>,
@@ -112,6 +113,7 @@ impl Network {
         loads: Option<PathBuf>,
         deflection_limit: Option<String>,
         buckling_factor: Option<String>,
+        supports_file: Option<PathBuf>,
         warnings: Vec<String>,
         example: Option<String>,
         data: Option<PathBuf>,
@@ -150,6 +152,7 @@ impl Network {
             edge_length,
             merge_joints,
             supports,
+            supports_file,
         };
         let model = ModelOptions {
             radius,

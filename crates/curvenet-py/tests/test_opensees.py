@@ -1,7 +1,8 @@
 """curvenet's physical mode against an independent finite-element code: the OpenSeesPy script
 `curvenet export DIR --format opensees` writes (elastic beams per rod edge, joints sharing
 translations, curvenet's supports and lumped masses) is run in OpenSees, and its natural
-frequencies and self-weight deflection are compared with `curvenet analyze --json`'s, on two
+frequencies, self-weight deflection and deflections under the run's load cases are compared
+with `curvenet analyze --json`'s, on two
 networks of pre-bent rods with joints: a flat grid of straight rods (pinned, steel bars) and
 curved rods on a cylindrical vault (clamped, aluminium tubes). CI installs openseespy (pinned
 in requirements-ci.txt) and sets CURVENET_REQUIRE_OPENSEES=1, so the test cannot be skipped
@@ -49,6 +50,22 @@ CASES = {
                       "--supports", "clamped"]),
 }
 
+# Load cases small enough for the linear range (OpenSees' analysis is linear): a point load,
+# a line load per projected length, self-weight, a pressure on the arcs (exported as it acts
+# on the drawn shape), and combinations.
+LOADS = {
+    "grid": {"cases": [{"name": "P", "points": [{"at": [0.5, 0.5, 0], "force": [0, 0, -5]}]},
+                       {"name": "S", "line": {"intensity": "20N/m", "direction": [0, 0, -1],
+                                              "per": "projected"}},
+                       {"name": "G", "self_weight": True}],
+             "combinations": [{"name": "ULS", "factors": {"G": 1.35, "S": 1.5, "P": 1.5}}]},
+    "vault": {"cases": [{"name": "P", "points": [{"at": [0, 0.5, 1], "force": [0, 0, -50]}]},
+                        {"name": "W", "line": {"intensity": "50N/m", "direction": [1, 0, 0]}},
+                        {"name": "Q", "pressure": {"intensity": "50N/m", "axis": [0, 1, 0],
+                                                   "toward": "inside"}}],
+              "combinations": [{"name": "C", "factors": {"P": 1.0, "W": 2.0}}]},
+}
+
 
 @pytest.mark.parametrize("name", sorted(CASES))
 def test_opensees_agrees_with_the_physical_mode(cli, tmp_path, name):
@@ -58,7 +75,9 @@ def test_opensees_agrees_with_the_physical_mode(cli, tmp_path, name):
         "format": "curvenet-curves", "version": 1, "units": "m",
         "curves": [{"rest": "pre-bent", "points": c} for c in make()],
     }))
-    common = ["--curves", curves, "--edge-length", "0.025", *options]
+    loads = tmp_path / "loads.json"
+    loads.write_text(json.dumps(LOADS[name]))
+    common = ["--curves", curves, "--edge-length", "0.025", *options, "--loads", loads]
     analysis = json.loads(cli("analyze", *common, "--eigen-count", "6", "--json").stdout)
     ours = analysis["physical"]
     assert ours["stable"], ours
@@ -81,6 +100,12 @@ def test_opensees_agrees_with_the_physical_mode(cli, tmp_path, name):
     d_ours = ours["self_weight_max_deflection"]
     d_theirs = theirs["self_weight_max_deflection"]
     assert abs(d_theirs - d_ours) <= TOLERANCE * d_ours, (d_ours, d_theirs)
+    # Each load case recorded by the run, against analyze's nonlinear equilibrium under it.
+    cases = {c["name"]: c["max_deflection"] for c in ours["load_cases"]}
+    assert [c["name"] for c in theirs["load_cases"]] == list(cases)
+    for c in theirs["load_cases"]:
+        print(name, c["name"], "curvenet", cases[c["name"]], "OpenSees", c["max_deflection"])
+        assert abs(c["max_deflection"] - cases[c["name"]]) <= TOLERANCE * cases[c["name"]], c
 
 
 def test_a_run_in_the_papers_model_has_no_structural_export(cli, tmp_path):

@@ -141,7 +141,9 @@ def test_a_second_random_network_and_a_paper_example(cli, wave, tmp_path):
       "--deflection-limit", "span/300"],
      {"units": "mm", "material": "steel", "radius": 20, "loads": "LOADS",
       "deflection_limit": "span/300"}),
-], ids=["plain", "remove", "frequency", "physical", "load cases"])
+    (["--units", "mm", "--material", "steel", "--radius", "20", "--supports-file", "SUPPORTS"],
+     {"units": "mm", "material": "steel", "radius": 20, "supports_file": "SUPPORTS"}),
+], ids=["plain", "remove", "frequency", "physical", "load cases", "supports per end"])
 def test_analyze_agrees_number_for_number(cli, dome, tmp_path, options, kw):
     loads = tmp_path / "loads.json"
     loads.write_text(json.dumps({
@@ -149,8 +151,14 @@ def test_analyze_agrees_number_for_number(cli, dome, tmp_path, options, kw):
                   {"name": "S", "line": {"intensity": "2kN/m", "direction": [0, 0, -1],
                                          "per": "projected"}}],
         "combinations": [{"name": "ULS", "factors": {"G": 1.35, "S": 1.5}}]}))
-    options = [str(loads) if o == "LOADS" else o for o in options]
-    kw = {k: (loads if v == "LOADS" else v) for k, v in kw.items()}
+    supports = tmp_path / "supports.json"
+    supports.write_text(json.dumps({
+        "format": "curvenet-supports", "version": 1,
+        "supports": [{"curve": 0, "end": "start", "support": "free"},
+                     {"curve": 1, "end": "end", "support": {"fixed": "z"}}]}))
+    files = {"LOADS": loads, "SUPPORTS": supports}
+    options = [str(files[o]) if o in files else o for o in options]
+    kw = {k: (files[v] if isinstance(v, str) and v in files else v) for k, v in kw.items()}
     out = cli("analyze", "--curves", dome / "curves.json", "--mesh", dome / "dome.obj",
               *options, "--json")
     expected = json.loads(out.stdout)

@@ -371,7 +371,8 @@ fn evaluated(
     active: &ActiveSet,
     analysis: Analysis,
 ) -> Result<Evaluated, DesignError> {
-    let physical = match analyzer.physical() {
+    // The full analysis, with the load cases given to the server.
+    let physical = match analyzer.physical_with_loads() {
         Some(p) => Some(
             analyze_physical(analyzer.network(), p, active)
                 .map_err(|e| DesignError::Physical(e.to_string()))?,

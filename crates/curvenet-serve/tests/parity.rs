@@ -363,10 +363,21 @@ fn a_random_network_from_files_served_under_constraints_agrees() {
     let _ = std::fs::remove_dir_all(Path::new(&dir));
 }
 
-/// The physical mode (a steel dome in millimetres): every state's and iteration's physical
-/// figures.
+/// The physical mode (a steel dome in millimetres) with load cases: every state's physical
+/// figures with its load cases, and every iteration's.
 #[test]
 fn a_random_network_served_in_the_physical_mode_agrees() {
+    let loads = std::env::temp_dir().join(format!(
+        "curvenet-serve-parity-loads-{}.json",
+        std::process::id()
+    ));
+    std::fs::write(
+        &loads,
+        r#"{"cases": [{"name": "G", "self_weight": true},
+                      {"name": "S", "line": {"intensity": "1kN/m", "direction": [0, 0, -1]}}],
+            "combinations": [{"name": "ULS", "factors": {"G": 1.35, "S": 1.5}}]}"#,
+    )
+    .expect("loads file");
     check(&Case {
         name: "physical",
         input: geodesics(9, 11, Some(250.0)),
@@ -374,6 +385,7 @@ fn a_random_network_served_in_the_physical_mode_agrees() {
             physical: PhysicalOptions {
                 units: Some("mm".into()),
                 material: Some("steel".into()),
+                loads: Some(loads.display().to_string()),
                 ..PhysicalOptions::default()
             },
             ..ModelOptions::default()

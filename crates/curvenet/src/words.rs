@@ -51,6 +51,8 @@ options! {
     EdgeLength = "edge_length",
     /// The supports of open curves.
     Supports = "supports",
+    /// The supports file (supports per curve end).
+    SupportsFile = "supports_file",
     /// The rod radius.
     Radius = "radius",
     /// Young's modulus.

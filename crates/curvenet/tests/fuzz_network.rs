@@ -281,6 +281,7 @@ fn params_of(scene: &Scene, curves: &[Polyline]) -> BuildParams {
     BuildParams {
         edge_length: h,
         supports: scene.supports,
+        ends: Vec::new(),
         tolerance: scene.tolerance,
         merge_joints_below: scene.merge,
     }

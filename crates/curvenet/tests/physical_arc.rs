@@ -230,6 +230,7 @@ fn arc_network(r: f64, alpha: f64, n: usize) -> Network {
                 .into_iter()
                 .map(|i| i as u32)
                 .collect(),
+            ends: None,
         }],
         positions,
         joints: Vec::new(),

@@ -77,6 +77,7 @@ fn rod_network(points: &[Vec3], held: Held) -> Network {
             closed: false,
             rest_lengths,
             anchors,
+            ends: None,
         }],
         joints: Vec::new(),
         supports,

@@ -439,6 +439,7 @@ fn compressed_rod(len: f64, n: usize, shift: f64) -> Network {
             closed: false,
             rest_lengths: vec![h; n],
             anchors: vec![0, n as u32],
+            ends: None,
         }],
         joints: Vec::new(),
         supports: Supports::Pinned,

@@ -24,15 +24,10 @@ pub fn run(a: DemoArgs) -> anyhow::Result<()> {
     // On the dome, the default surface: elsewhere the gap and connectivity they ask can leave
     // the greedy no network to end on (tent, stadium), so the demo there runs unconstrained.
     let defaults = !given && !a.unconstrained && a.surface == "dome";
+    let geodesics = CurveSource::geodesics(&a.surface, a.geodesics, a.seed);
     let input = InputSpec {
         edge_length: Some(a.edge_length),
-        supports: a.physics.supports,
-        merge_joints: a.physics.merge_joints,
-        ..InputSpec::new(CurveSource::Geodesics {
-            surface: a.surface.clone(),
-            count: a.geodesics,
-            seed: a.seed,
-        })
+        ..super::curves_spec(geodesics, &a.physics)
     };
     let model = super::model_options(&a.physics, &Default::default());
     let mut setup = super::setup(&input, &model)?;

@@ -55,30 +55,28 @@ pub fn open_in_browser(what: &str) {
 /// The inputs of the options.
 pub fn input_spec(input: &InputArgs, physics: &PhysicsArgs) -> InputSpec {
     InputSpec {
-        curves: CurveSource::Files(input.curves.clone()),
         mesh: input.mesh.clone().map(MeshSource::Path),
         scale: input.scale,
         edge_length: input.edge_length,
-        merge_joints: physics.merge_joints,
+        ..curves_spec(CurveSource::Files(input.curves.clone()), physics)
+    }
+}
+
+/// The inputs of `curves` with the options' supports and joint merging.
+pub fn curves_spec(curves: CurveSource, physics: &PhysicsArgs) -> InputSpec {
+    InputSpec {
         supports: physics.supports,
+        supports_file: physics.supports_file.clone(),
+        merge_joints: physics.merge_joints,
+        ..InputSpec::new(curves)
     }
 }
 
 /// The paper's example `name` (from `data`, else the embedded copies) with the options'
 /// supports and joint merging.
-pub fn example_spec(
-    name: &str,
-    data: Option<&std::path::Path>,
-    physics: &PhysicsArgs,
-) -> InputSpec {
-    InputSpec {
-        supports: physics.supports,
-        merge_joints: physics.merge_joints,
-        ..InputSpec::new(CurveSource::Example {
-            name: name.to_string(),
-            data: data.map(|d| d.to_path_buf()),
-        })
-    }
+pub fn example_spec(name: &str, data: Option<&std::path::Path>, p: &PhysicsArgs) -> InputSpec {
+    let (name, data) = (name.into(), data.map(|d| d.to_path_buf()));
+    curves_spec(CurveSource::Example { name, data }, p)
 }
 
 /// The model of the options.

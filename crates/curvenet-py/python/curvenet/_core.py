@@ -150,7 +150,9 @@ def _text(x: Any) -> Optional[str]:
 
 _MODEL_DOC = """
     Model options, as on the command line (``--radius`` is ``radius=``, and so on):
-    ``supports`` (``"clamped"``, the default, or ``"pinned"``), ``merge_joints`` (merge
+    ``supports`` (``"clamped"``, the default, or ``"pinned"``), ``supports_file`` (a JSON
+    file of supports per curve end, by point or by curve and end, overriding ``supports``
+    there; a curve file's own ``"supports"`` per curve do the same), ``merge_joints`` (merge
     joints closer than this fraction of ``h``), ``radius`` (the rod radius, scene units;
     default 2), ``young`` (Young's modulus: a number in the paper's mode, default 1; with a
     unit such as ``"210GPa"`` in the physical mode), ``anchor_weight`` (default 500),
@@ -177,7 +179,8 @@ def _with_model_doc(f: Callable) -> Callable:
 
 def _model_kwargs(supports, merge_joints, radius, young, anchor_weight, eigen_count, objective,
                   units, material, density, strength, tube, load, gravity, loads=None,
-                  deflection_limit=None, buckling_factor=None) -> Dict[str, Any]:
+                  deflection_limit=None, buckling_factor=None,
+                  supports_file=None) -> Dict[str, Any]:
     return dict(
         supports=supports,
         merge_joints=merge_joints,
@@ -196,6 +199,7 @@ def _model_kwargs(supports, merge_joints, radius, young, anchor_weight, eigen_co
         loads=None if loads is None else os.fspath(loads),
         deflection_limit=_text(deflection_limit),
         buckling_factor=_text(buckling_factor),
+        supports_file=None if supports_file is None else os.fspath(supports_file),
     )
 
 
@@ -207,6 +211,7 @@ def load(
     edge_length: Optional[float] = None,
     supports: Optional[str] = None,
     *,
+    supports_file: Optional[PathLike] = None,
     merge_joints: Optional[float] = None,
     radius: Optional[float] = None,
     young: Union[float, str, None] = None,
@@ -256,7 +261,7 @@ def load(
         warnings=warnings,
         **_model_kwargs(supports, merge_joints, radius, young, anchor_weight, eigen_count,
                         objective, units, material, density, strength, tube, load, gravity,
-                        loads, deflection_limit, buckling_factor),
+                        loads, deflection_limit, buckling_factor, supports_file),
     )
     return Network(native)
 
@@ -271,6 +276,7 @@ def example(
     name: str,
     supports: Optional[str] = None,
     *,
+    supports_file: Optional[PathLike] = None,
     data: Optional[PathLike] = None,
     merge_joints: Optional[float] = None,
     radius: Optional[float] = None,
@@ -300,7 +306,7 @@ def example(
         data=None if data is None else os.fspath(data),
         **_model_kwargs(supports, merge_joints, radius, young, anchor_weight, eigen_count,
                         objective, units, material, density, strength, tube, load, gravity,
-                        loads, deflection_limit, buckling_factor),
+                        loads, deflection_limit, buckling_factor, supports_file),
     )
     return Network(native)
 

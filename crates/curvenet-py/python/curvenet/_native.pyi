@@ -45,6 +45,7 @@ class Network:
         loads: Optional[_Path] = None,
         deflection_limit: Optional[str] = None,
         buckling_factor: Optional[str] = None,
+        supports_file: Optional[_Path] = None,
         warnings: List[str] = ...,
         example: Optional[str] = None,
         data: Optional[_Path] = None,

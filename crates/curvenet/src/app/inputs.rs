@@ -4,7 +4,7 @@
 //! end), the groups and per-curve specs the curve files declare, and the warnings a user
 //! should read before a long computation.
 
-use crate::app::AppError;
+use crate::app::{AppError, ends};
 use crate::constraints::Group;
 use crate::io::{self, Polyline, TriMesh};
 use crate::material::CurveSpec;
@@ -46,6 +46,18 @@ pub enum CurveSource {
         /// The seed of the directions.
         seed: u32,
     },
+}
+
+impl CurveSource {
+    /// `count` random geodesics on the built-in surface `surface`, directions drawn from
+    /// `seed`.
+    pub fn geodesics(surface: &str, count: usize, seed: u32) -> Self {
+        CurveSource::Geodesics {
+            surface: surface.to_string(),
+            count,
+            seed,
+        }
+    }
 }
 
 /// Curves a front end read itself, with what their source declared.
@@ -96,6 +108,9 @@ pub struct InputSpec {
     pub merge_joints: Option<f64>,
     /// The supports of open curves (default clamped).
     pub supports: Option<Supports>,
+    /// A supports file: how chosen curve ends are held, overriding `supports` and the curve
+    /// files' own (`crate::io::parse_supports_file`).
+    pub supports_file: Option<PathBuf>,
 }
 
 impl InputSpec {
@@ -108,6 +123,7 @@ impl InputSpec {
             edge_length: None,
             merge_joints: None,
             supports: None,
+            supports_file: None,
         }
     }
 }
@@ -166,13 +182,13 @@ pub fn read_inputs(spec: &InputSpec) -> Result<Inputs, AppError> {
     }
     let mut inputs = match &spec.curves {
         CurveSource::Example { name, data } => {
-            return example_inputs(spec, name, data.as_deref());
+            return with_file_ends(spec, example_inputs(spec, name, data.as_deref())?);
         }
         CurveSource::Geodesics {
             surface,
             count,
             seed,
-        } => return geodesic_inputs(spec, surface, *count, *seed),
+        } => return with_file_ends(spec, geodesic_inputs(spec, surface, *count, *seed)?),
         CurveSource::Files(paths) => read_files(paths)?,
         CurveSource::Given(given) => given_inputs(given),
     };
@@ -222,7 +238,9 @@ pub fn read_inputs(spec: &InputSpec) -> Result<Inputs, AppError> {
             .warnings
             .extend(checks::far_from_mesh_warning(&far, &name).map(Message::from));
     }
-    let build = build_params(spec, h)?;
+    let mut build = build_params(spec, h)?;
+    let file = spec.supports_file.as_deref();
+    build.ends = ends::curve_ends(&inputs.curves, &inputs.specs, file, spec.scale)?;
     inputs.description.mesh = mesh_name;
     inputs.description.scale = spec.scale;
     Ok(Inputs {
@@ -230,6 +248,15 @@ pub fn read_inputs(spec: &InputSpec) -> Result<Inputs, AppError> {
         mesh,
         ..inputs
     })
+}
+
+/// `inputs` (an example's or generated curves, which have no curve file) with the end
+/// supports of `spec`'s supports file.
+fn with_file_ends(spec: &InputSpec, mut inputs: Inputs) -> Result<Inputs, AppError> {
+    let file = spec.supports_file.as_deref();
+    let scale = inputs.description.scale;
+    inputs.build.ends = ends::curve_ends(&inputs.curves, &[], file, scale)?;
+    Ok(inputs)
 }
 
 /// The curve files `paths` read in order (unscaled), their groups, specs and units.

@@ -71,7 +71,7 @@ struct Document {
 #[derive(Deserialize)]
 #[serde(
     deny_unknown_fields,
-    expecting = "a curve object with \"points\" and optional \"label\", \"closed\", \"group\", \"material\", \"section\" and \"rest\""
+    expecting = "a curve object with \"points\" and optional \"label\", \"closed\", \"group\", \"material\", \"section\", \"rest\" and \"supports\""
 )]
 struct JsonCurve {
     #[serde(default)]
@@ -85,6 +85,8 @@ struct JsonCurve {
     section: Option<serde_json::Value>,
     #[serde(default)]
     rest: Option<serde_json::Value>,
+    #[serde(default)]
+    supports: Option<serde_json::Value>,
     #[serde(default)]
     group: Option<GroupTag>,
 }
@@ -210,6 +212,7 @@ pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError
             curve.material.as_ref(),
             curve.section.as_ref(),
             curve.rest.as_ref(),
+            curve.supports.as_ref(),
         )
         .map_err(|e| InputError::parse(file, curve_line.max(1), format!("curve {index}: {e}")))?;
         specs.push(spec);

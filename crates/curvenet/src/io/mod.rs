@@ -38,6 +38,7 @@ mod obj_lexer;
 mod obj_mesh;
 mod points;
 mod reference;
+mod supports_file;
 
 pub use atomic::{Unwritable, check_writable, exit_removing_temp_files, write_atomic};
 pub use background::{BackgroundWriter, WriteError};
@@ -47,6 +48,7 @@ pub use obj_curves::{curves_to_obj, parse_obj_polylines};
 pub use obj_mesh::{mesh_to_obj, parse_obj_mesh};
 pub use points::{PointCurve, curves_from_points};
 pub use reference::{curves_to_reference_text, parse_reference_curves};
+pub use supports_file::{EndPlace, SUPPORTS_FORMAT, SupportEntry, parse_supports_file};
 
 use crate::geom::Vec3;
 use crate::material::CurveSpec;
@@ -351,6 +353,17 @@ fn read_with<T>(path: &Path, parse: Option<Parser<T>>, expected: &str) -> Result
 fn extension(path: &Path) -> Option<String> {
     path.extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
+}
+
+/// Reads the supports file at `path` ([`parse_supports_file`]).
+///
+/// # Errors
+///
+/// The file cannot be read, or what [`parse_supports_file`] finds.
+pub fn read_supports_file(path: &Path) -> Result<Vec<SupportEntry>, InputError> {
+    let file = path.display().to_string();
+    let text = read_text(path, &file)?;
+    parse_supports_file(&text, &file)
 }
 
 /// Reads a whole file as UTF-8; invalid UTF-8 is a parse error at the line where it occurs.

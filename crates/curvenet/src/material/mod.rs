@@ -16,9 +16,11 @@
 pub mod presets;
 pub mod section;
 pub mod spec;
+pub mod support;
 
 pub use section::Section;
 pub use spec::{CurveSpec, MaterialSpec, SectionSpec};
+pub use support::EndSupport;
 
 use crate::units::{LengthUnit, STANDARD_GRAVITY};
 use crate::words::Message;
@@ -391,6 +393,7 @@ mod tests {
                     wall: spec::Length::Metres(0.004),
                 }),
                 rest: None,
+                supports: [None; 2],
             },
             CurveSpec {
                 material: Some(MaterialSpec {

@@ -16,6 +16,7 @@
 //! Moduli, densities and strengths need their unit (`"210GPa"`); Poisson's ratio is a plain
 //! number; lengths are scene units unless they carry one.
 
+use super::support::{EndSupport, ends_from_json};
 use super::{PhysicalMaterial, RestShape, Section, presets};
 use crate::units::{LengthUnit, Quantity, parse_quantity};
 use crate::words::{Message, Piece, message};
@@ -174,6 +175,8 @@ pub struct CurveSpec {
     pub section: Option<SectionSpec>,
     /// Its rest shape.
     pub rest: Option<RestShape>,
+    /// The supports of its start and its end (`None`: the run's supports).
+    pub supports: [Option<EndSupport>; 2],
 }
 
 impl CurveSpec {
@@ -187,7 +190,8 @@ impl CurveSpec {
         *self == CurveSpec::default()
     }
 
-    /// The spec of a JSON curve's `material`, `section` and `rest` fields (each optional).
+    /// The spec of a JSON curve's `material`, `section`, `rest` and `supports` fields (each
+    /// optional).
     ///
     /// # Errors
     ///
@@ -197,6 +201,7 @@ impl CurveSpec {
         material: Option<&Value>,
         section: Option<&Value>,
         rest: Option<&Value>,
+        supports: Option<&Value>,
     ) -> Result<CurveSpec, Message> {
         Ok(CurveSpec {
             material: material.map(material_from_json).transpose()?,
@@ -211,6 +216,10 @@ impl CurveSpec {
                     )),
                 })
                 .transpose()?,
+            supports: match supports {
+                Some(v) => ends_from_json(v).map_err(|e| format!("\"supports\": {e}"))?,
+                None => [None; 2],
+            },
         })
     }
 }
@@ -337,7 +346,7 @@ mod tests {
         let m = json(r#"{"preset": "steel", "strength": "460MPa"}"#);
         let s = json(r#"{"outer_diameter": "60mm", "wall": 4}"#);
         let r = json(r#""pre-bent""#);
-        let spec = CurveSpec::from_json(Some(&m), Some(&s), Some(&r)).unwrap();
+        let spec = CurveSpec::from_json(Some(&m), Some(&s), Some(&r), None).unwrap();
         assert_eq!(spec.rest, Some(RestShape::PreBent));
         assert_eq!(spec.material.as_ref().unwrap().strength_pa, Some(460e6));
         assert_eq!(
@@ -348,9 +357,9 @@ mod tests {
             })
         );
         assert!(spec.is_physical());
-        let only_rest = CurveSpec::from_json(None, None, Some(&r)).unwrap();
+        let only_rest = CurveSpec::from_json(None, None, Some(&r), None).unwrap();
         assert!(!only_rest.is_physical() && !only_rest.is_empty());
-        let name = CurveSpec::from_json(Some(&json(r#""timber""#)), None, None).unwrap();
+        let name = CurveSpec::from_json(Some(&json(r#""timber""#)), None, None, None).unwrap();
         assert_eq!(name.material.unwrap().preset.as_deref(), Some("timber"));
     }
 
@@ -366,7 +375,7 @@ mod tests {
         ];
         for (text, needle) in cases {
             let v = json(text);
-            match CurveSpec::from_json(Some(&v), None, None) {
+            match CurveSpec::from_json(Some(&v), None, None, None) {
                 Err(e) => assert!(e.to_string().contains(needle), "{text}: {e}"),
                 // A negative density parses; it is rejected when the material is resolved.
                 Ok(spec) => {
@@ -388,16 +397,16 @@ mod tests {
             (r#"{"diameter": 3}"#, "unknown field"),
             (r#"[1, 2]"#, "must be an object"),
         ] {
-            let e = CurveSpec::from_json(None, Some(&json(text)), None)
+            let e = CurveSpec::from_json(None, Some(&json(text)), None, None)
                 .unwrap_err()
                 .to_string();
             assert!(e.contains(needle), "{text}: {e}");
         }
-        let e = CurveSpec::from_json(None, None, Some(&json("3")))
+        let e = CurveSpec::from_json(None, None, Some(&json("3")), None)
             .unwrap_err()
             .to_string();
         assert!(e.contains("rest"), "{e}");
-        let e = CurveSpec::from_json(None, None, Some(&json(r#""wavy""#)))
+        let e = CurveSpec::from_json(None, None, Some(&json(r#""wavy""#)), None)
             .unwrap_err()
             .to_string();
         assert!(e.contains("unknown rest shape"), "{e}");

@@ -10,6 +10,7 @@ use super::joints::cluster_joints;
 use super::resample::resample;
 use super::{EdgeLengthStats, Network};
 use crate::io::Polyline;
+use crate::material::EndSupport;
 use crate::rod::Supports;
 use crate::words::{Message, Opt, message};
 use serde::{Deserialize, Serialize};
@@ -22,6 +23,10 @@ pub struct BuildParams {
     pub edge_length: f64,
     /// Supports of open curves.
     pub supports: Supports,
+    /// Per-curve end supports that differ from `supports` (curve `i`'s start and end; `None`
+    /// keeps `supports`), from the curve file or a supports file. Empty when there are none.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub ends: Vec<[Option<EndSupport>; 2]>,
     /// Relative crossing tolerance: two curves cross where they come closer than
     /// `tolerance · ℓ`, `ℓ` the larger of their median segment lengths (the paper's `1e-3`).
     pub tolerance: f64,
@@ -36,6 +41,7 @@ impl Default for BuildParams {
         BuildParams {
             edge_length: 1.0,
             supports: Supports::Clamped,
+            ends: Vec::new(),
             tolerance: 1e-3,
             merge_joints_below: None,
         }

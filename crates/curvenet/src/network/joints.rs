@@ -121,7 +121,14 @@ fn union_in_space(crossings: &[Crossing], tol_of: &impl Fn(usize) -> f64, uf: &m
         for dx in -1..=1 {
             for dy in -1..=1 {
                 for dz in -1..=1 {
-                    let Some(list) = grid.get(&(x + dx, y + dy, z + dz)) else {
+                    // Cells saturate at the ends of i64 (a tolerance far below the scene's
+                    // coordinates); a saturated neighbour is the cell itself.
+                    let cell = (
+                        x.saturating_add(dx),
+                        y.saturating_add(dy),
+                        z.saturating_add(dz),
+                    );
+                    let Some(list) = grid.get(&cell) else {
                         continue;
                     };
                     for &j in list {

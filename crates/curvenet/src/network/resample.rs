@@ -9,6 +9,8 @@ use super::joints::{JointSeed, Pass};
 use super::{BuildInfo, BuildParams, Joint, Network, Rod};
 use crate::geom::Vec3;
 use crate::io::Polyline;
+use crate::material::EndSupport;
+use crate::rod::Supports;
 
 /// Turns closer to 180° than this (`1 + cos φ` below it) make a rod's bending term blow up: the
 /// discrete curvature `2 tan(φ/2)` passes `1e5`, and at exactly 180° it is undefined.
@@ -50,7 +52,8 @@ pub(super) fn resample(
                 None => add(g.point_at(s), &mut positions),
             })
             .collect();
-        let rod = lock(&positions, verts, g, params)
+        let ends = params.ends.get(ci).copied().unwrap_or([None; 2]);
+        let rod = lock(&positions, verts, g, params, ends)
             .map_err(|message| BuildError::degenerate(curves, ci, message.into()))?;
         rods.push(rod);
     }
@@ -131,6 +134,7 @@ fn lock(
     verts: Vec<u32>,
     g: &CurveGeometry,
     params: &BuildParams,
+    ends: [Option<EndSupport>; 2],
 ) -> Result<Rod, String> {
     let m = verts.len();
     let ne = if g.closed { m } else { m - 1 };
@@ -162,15 +166,31 @@ fn lock(
             p.x, p.y, p.z
         ));
     }
+    // Each end's support: the curve's own where it has one, else the run's.
+    let default = match params.supports {
+        Supports::Clamped => EndSupport::CLAMPED,
+        Supports::Pinned => EndSupport::PINNED,
+    };
+    let own = ends.iter().any(Option::is_some) && !g.closed;
+    let end_supports = [ends[0].unwrap_or(default), ends[1].unwrap_or(default)];
     let anchors = if g.closed {
         Vec::new()
     } else {
-        let mut a: Vec<u32> = params
-            .supports
-            .anchored_indices(m)
-            .into_iter()
-            .map(|i| verts[i])
-            .collect();
+        // An end is anchored when it is held at all; a held rotation anchors its neighbour
+        // too (the paper's clamp, as the network records it).
+        let mut idx = Vec::new();
+        for (s, (end, next)) in end_supports
+            .iter()
+            .zip([(0, 1.min(m - 1)), (m - 1, m.saturating_sub(2))])
+        {
+            if s.is_support() {
+                idx.push(end);
+            }
+            if s.rotation_held {
+                idx.push(next);
+            }
+        }
+        let mut a: Vec<u32> = idx.into_iter().map(|i| verts[i]).collect();
         a.sort_unstable();
         a.dedup();
         a
@@ -180,6 +200,7 @@ fn lock(
         closed: g.closed,
         rest_lengths,
         anchors,
+        ends: own.then_some(end_supports),
     })
 }
 

@@ -27,6 +27,7 @@ impl Network {
                     closed: r.closed,
                     rest_lengths: r.rest_lengths.clone(),
                     anchors: r.anchors.iter().map(|&v| map(v, &mut old_of)).collect(),
+                    ends: r.ends,
                 }
             })
             .collect();

@@ -72,8 +72,7 @@ pub struct PhysicalParams {
 /// A load case's deflection limit: a fraction of the span or a length.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum DeflectionLimit {
-    /// The span over this number (`span/250`): the span is the largest distance between two
-    /// supported vertices of the structure (its largest extent when it has fewer than two).
+    /// The span over this number (`span/250`): see [`span`].
     SpanOver(f64),
     /// A length, scene units.
     Length(f64),
@@ -89,29 +88,52 @@ impl DeflectionLimit {
     }
 }
 
-/// The largest distance between two supported vertices of the structure (its largest
-/// extent when it has fewer than two).
+/// The span of the structure `active`: the largest distance between two of its supported
+/// curve ends; a structure held at one point only is a cantilever, whose span is twice its
+/// reach from that point (the usual convention for a cantilever's limit); one held nowhere
+/// has its largest extent.
 pub fn span(network: &Network, active: &ActiveSet) -> f64 {
-    let mut supported: Vec<u32> = (network.rods.iter().enumerate())
-        .filter(|(c, _)| active.contains(*c))
-        .flat_map(|(_, r)| r.anchors.iter().copied())
-        .collect();
-    if supported.len() < 2 {
-        supported = (network.rods.iter().enumerate())
+    let rods = || {
+        (network.rods.iter().enumerate())
             .filter(|(c, _)| active.contains(*c))
-            .flat_map(|(_, r)| r.vertices.iter().copied())
-            .collect();
-    }
-    supported.sort_unstable();
-    supported.dedup();
+            .map(|(_, r)| r)
+    };
     let p = |v: u32| network.positions[v as usize];
-    let mut best = 0.0_f64;
-    for (i, &a) in supported.iter().enumerate() {
-        for &b in &supported[i + 1..] {
-            best = best.max((p(a) - p(b)).norm());
+    let mut held: Vec<u32> = rods()
+        .flat_map(|r| {
+            let ends = match (r.vertices.first(), r.vertices.last()) {
+                (Some(&a), Some(&b)) if !r.closed => vec![a, b],
+                _ => Vec::new(),
+            };
+            ends.into_iter().filter(|v| r.anchors.contains(v))
+        })
+        .collect();
+    held.sort_unstable();
+    held.dedup();
+    let all = || rods().flat_map(|r| r.vertices.iter().copied());
+    let widest = |points: &[u32]| {
+        let mut best = 0.0_f64;
+        for (i, &a) in points.iter().enumerate() {
+            for &b in &points[i + 1..] {
+                best = best.max((p(a) - p(b)).norm());
+            }
         }
+        best
+    };
+    match held.len() {
+        0 => {
+            let mut v: Vec<u32> = all().collect();
+            v.sort_unstable();
+            v.dedup();
+            widest(&v)
+        }
+        1 => {
+            2.0 * all()
+                .map(|v| (p(v) - p(held[0])).norm())
+                .fold(0.0, f64::max)
+        }
+        _ => widest(&held),
     }
-    best
 }
 
 impl PhysicalParams {
@@ -274,6 +296,10 @@ pub struct PhysicalSummary {
     pub max_utilisation: Option<f64>,
     /// The curves whose assembly stress exceeds their strength, ascending.
     pub overstressed_curves: Vec<usize>,
+    /// Its load cases (a run given a loads file records them for the networks it offers to
+    /// build: the answer and the alternatives).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub load_cases: Vec<super::loaded::LoadCaseReport>,
 }
 
 impl PhysicalReport {
@@ -297,6 +323,7 @@ impl PhysicalReport {
                 .filter(|c| c.utilisation() > 1.0)
                 .map(|c| c.curve)
                 .collect(),
+            load_cases: self.load_cases.clone(),
         }
     }
 }

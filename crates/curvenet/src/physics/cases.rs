@@ -5,7 +5,8 @@
 //!   "cases": [
 //!     {"name": "G", "self_weight": true},
 //!     {"name": "S", "line": {"intensity": "0.8kN/m", "direction": [0, 0, -1], "per": "projected"}},
-//!     {"name": "P", "points": [{"at": [500, 0, 300], "force": [0, 0, -2000]}]}
+//!     {"name": "P", "points": [{"at": [500, 0, 300], "force": [0, 0, -2000]}]},
+//!     {"name": "W", "pressure": {"intensity": "1kN/m", "axis": [0, 1, 0], "toward": "inside"}}
 //!   ],
 //!   "combinations": [{"name": "ULS", "factors": {"G": 1.35, "S": 1.5}}]
 //! }
@@ -16,12 +17,21 @@
 //! `per` `length` of curve (the default) or `projected` length across the direction, as snow
 //! is given), and point loads in newtons at points of the network, each snapped to the
 //! structure's nearest vertex (the snap distance is reported; a point farther than twice the
-//! longest edge from the structure is refused, saying how far). A combination sums cases
-//! with factors. Forces are dead loads: they keep their direction as the structure deflects.
+//! longest edge from the structure is refused, saying how far), and a pressure: a load per
+//! length of curve normal to each curve in the plane perpendicular to `axis`, pushing
+//! `toward` the `inside` of each curve (its concave side as drawn, seen along the axis) or the
+//! `outside`; a straight curve's inside is to the right of its drawn direction seen from the
+//! axis's tip. A combination sums cases with factors. Self-weight, line and point loads are
+//! dead loads: they keep their direction as the structure deflects. A pressure is a follower
+//! load: it stays normal to the curves as they deflect, a conservative load through the
+//! area the curves sweep ([`crate::rod::Pressure`]), exact where each loaded curve's ends are
+//! held in the plane; an end that moves in the plane also feels the pressure on the short
+//! segment from its drawn position to where it is. A curve that leaves the plane is loaded by
+//! the pressure on its projection onto the plane.
 
 use super::loads::{held_vertices, self_weight};
 use crate::material::Physical;
-use crate::rod::{ActiveSet, Network};
+use crate::rod::{ActiveSet, Network, PressurePart};
 use crate::units::parse_quantity;
 use crate::words::Message;
 use serde::{Deserialize, Serialize};
@@ -51,6 +61,42 @@ pub struct LineSpec {
     pub per: Per,
 }
 
+/// The side of each curve a pressure pushes toward.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Toward {
+    /// The concave side of each curve as drawn.
+    #[default]
+    Inside,
+    /// The convex side.
+    Outside,
+}
+
+/// A pressure as the file gives it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PressureSpec {
+    /// Intensity with a force-per-length unit, per length of curve (`1kN/m`).
+    pub intensity: String,
+    /// The axis (any length): the pressure acts in the plane perpendicular to it.
+    pub axis: [f64; 3],
+    /// The side it pushes toward.
+    #[serde(default)]
+    pub toward: Toward,
+}
+
+impl PressureSpec {
+    /// The intensity in N/m.
+    pub fn intensity_n_per_m(&self) -> Result<f64, Message> {
+        parse_quantity(
+            &self.intensity,
+            crate::units::Quantity::LineLoad,
+            "the pressure's \"intensity\"",
+            None,
+        )
+    }
+}
+
 /// A point load as the file gives it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -76,6 +122,9 @@ pub struct CaseSpec {
     /// Point loads.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub points: Vec<PointSpec>,
+    /// A pressure normal to the curves.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pressure: Option<PressureSpec>,
 }
 
 /// A combination as the file gives it.
@@ -144,12 +193,12 @@ impl Loads {
                 return Err(at(&quoted, format!("two load cases are named {}", c.name)));
             }
             names.push(&c.name);
-            if !c.self_weight && c.line.is_none() && c.points.is_empty() {
+            if !c.self_weight && c.line.is_none() && c.points.is_empty() && c.pressure.is_none() {
                 return Err(at(
                     &quoted,
                     format!(
-                        "load case {} holds no load (give \"self_weight\": true, a \"line\" or \
-                         \"points\")",
+                        "load case {} holds no load (give \"self_weight\": true, a \"line\", \
+                         \"points\" or a \"pressure\")",
                         c.name
                     ),
                 ));
@@ -162,6 +211,19 @@ impl Loads {
                         &quoted,
                         format!(
                             "load case {}: the line load's direction must be finite and not zero",
+                            c.name
+                        ),
+                    ));
+                }
+            }
+            if let Some(p) = &c.pressure {
+                p.intensity_n_per_m()
+                    .map_err(|e| at(&p.intensity, format!("load case {}: {e}", c.name)))?;
+                if !direction_ok(p.axis) {
+                    return Err(at(
+                        &quoted,
+                        format!(
+                            "load case {}: the pressure's axis must be finite and not zero",
                             c.name
                         ),
                     ));
@@ -239,6 +301,7 @@ impl Loads {
         for k in &self.combinations {
             let mut f = vec![0.0; 3 * network.vertex_count()];
             let mut snaps = Vec::new();
+            let mut pressure = Vec::new();
             for (name, factor) in &k.factors {
                 let case = out[..self.cases.len()]
                     .iter()
@@ -248,12 +311,17 @@ impl Loads {
                     *a += factor * b;
                 }
                 snaps.extend(case.snaps.iter().cloned());
+                pressure.extend(case.pressure.iter().map(|p| PressurePart {
+                    axis: p.axis,
+                    curves: p.curves.iter().map(|q| factor * q).collect(),
+                }));
             }
             out.push(CaseForces {
                 name: k.name.clone(),
                 factors: k.factors.clone(),
                 forces: f,
                 snaps,
+                pressure,
             });
         }
         Ok(out)
@@ -287,6 +355,9 @@ pub struct CaseForces {
     pub forces: Vec<f64>,
     /// Where its point loads act.
     pub snaps: Vec<Snap>,
+    /// Its pressures (a follower load, scaled with the forces), per curve in the model's
+    /// force per length.
+    pub pressure: Vec<PressurePart>,
 }
 
 fn case_forces(
@@ -360,10 +431,43 @@ fn case_forces(
             distance,
         });
     }
+    let mut pressure = Vec::new();
+    if let Some(p) = &c.pressure {
+        let q = physical.units.line_load_to_scene(
+            p.intensity_n_per_m()
+                .map_err(|e| Message::from(format!("load case {}: {e}", c.name)))?,
+        );
+        let axis = crate::geom::Vec3::from(p.axis).normalized();
+        let curves = (network.rods.iter().enumerate())
+            .map(|(k, rod)| {
+                if !active.contains(k) {
+                    return 0.0;
+                }
+                // The curve's turning seen from the axis's tip: positive turns left, whose
+                // concave side is its left (pushed by a negative value).
+                let edges: Vec<crate::geom::Vec3> = (0..rod.edge_count())
+                    .map(|j| {
+                        let (a, b) = rod.edge(j);
+                        network.positions[b as usize] - network.positions[a as usize]
+                    })
+                    .collect();
+                let turning: f64 = (edges.windows(2))
+                    .map(|w| axis.dot(w[0].cross(w[1])).atan2(w[0].dot(w[1])))
+                    .sum();
+                let right = if turning > 1e-9 { -1.0 } else { 1.0 };
+                match p.toward {
+                    Toward::Inside => right * q,
+                    Toward::Outside => -right * q,
+                }
+            })
+            .collect();
+        pressure.push(PressurePart { axis, curves });
+    }
     Ok(CaseForces {
         name: c.name.clone(),
         factors: BTreeMap::new(),
         forces: f,
         snaps,
+        pressure,
     })
 }

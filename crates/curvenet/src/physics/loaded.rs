@@ -23,12 +23,18 @@
 //!   Hessian along the linear response `H₀⁻¹ f` (by central differences), found by the same
 //!   halving on factorizations. Where the structure deflects much before it buckles, the two
 //!   differ, and the nonlinear one is the structure's.
+//! - **A pressure** (a follower load, [`crate::rod::Pressure`]) grows with the same factor as
+//!   the case's dead forces; the load is then the forces at the state (the pressure turns
+//!   with the curves): the tangent's prediction and the work share use the forces where the
+//!   structure is, and the linearised estimate adds the pressure's own stiffness (its
+//!   constant Hessian) to `D`.
 
 use super::cases::{CaseForces, Snap};
 use super::loads::max_displacement;
 use super::stress::assembly_stresses;
+use crate::geom::Vec3;
 use crate::material::{Physical, RestShape};
-use crate::rod::{ActiveSet, EnergyModel, Network};
+use crate::rod::{ActiveSet, EnergyModel, Network, Pressure};
 use crate::solve::{Cholesky, Equilibrium, NewtonParams, SolverTuning, SymbolicFactor};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -149,6 +155,40 @@ pub struct LoadedStructure<'a> {
     pub required_factor: f64,
 }
 
+/// A case's load at unit factor: dead forces and follower pressures.
+struct Load {
+    dead: Vec<f64>,
+    pressure: Option<Pressure>,
+}
+
+/// Every vertex's rest position about the network's centroid (a pressure's potential is the
+/// same about any point; one near the curves keeps its rounding small).
+fn rest_about_centroid(network: &Network) -> Vec<Vec3> {
+    let n = network.positions.len().max(1) as f64;
+    let c = network.positions.iter().fold(Vec3::ZERO, |s, &p| s + p) * (1.0 / n);
+    network.positions.iter().map(|&p| p - c).collect()
+}
+
+/// The forces `case` puts on the coordinates of `active`'s vertices in the drawn state: its
+/// dead forces and its pressures' as they act at rest (what a linear model of the structure
+/// carries: the pressure's turning with the curves is of the next order).
+pub fn forces_at_rest(network: &Network, case: &CaseForces, active: &ActiveSet) -> Vec<f64> {
+    let mut f = case.forces.clone();
+    f.resize(network.dofs(), 0.0);
+    if !case.pressure.is_empty() {
+        let model = EnergyModel::new(network, &crate::rod::Material::default());
+        let pressure = Pressure {
+            parts: case.pressure.clone(),
+            rest: rest_about_centroid(network),
+        };
+        let at_rest = model.pressure_forces(&pressure, &vec![0.0; model.dofs()], active);
+        for (a, b) in f.iter_mut().zip(at_rest) {
+            *a += b;
+        }
+    }
+    f
+}
+
 /// A stable equilibrium at a load factor.
 struct Stable {
     alpha: f64,
@@ -163,6 +203,14 @@ impl LoadedStructure<'_> {
         let n = model.dofs();
         let mut f = case.forces.clone();
         f.resize(n, 0.0);
+        let load = Load {
+            dead: f,
+            pressure: (!case.pressure.is_empty()).then(|| Pressure {
+                parts: case.pressure.clone(),
+                rest: rest_about_centroid(self.network),
+            }),
+        };
+        let f = &load;
         let mut last = Stable {
             alpha: 0.0,
             u: self.u0.to_vec(),
@@ -179,7 +227,7 @@ impl LoadedStructure<'_> {
                 MAX_LOAD_FACTOR
             };
             let next = (last.alpha + step).min(stop);
-            match self.step(model, &f, &last, next) {
+            match self.step(model, f, &last, next) {
                 Some(s) => {
                     if s.alpha == 1.0 {
                         at_one = Some(Stable {
@@ -202,7 +250,7 @@ impl LoadedStructure<'_> {
         if let Some(mut high) = failed {
             while high - last.alpha > FACTOR_TOLERANCE * last.alpha.max(FACTOR_TOLERANCE) {
                 let mid = 0.5 * (last.alpha + high);
-                match self.step(model, &f, &last, mid) {
+                match self.step(model, f, &last, mid) {
                     Some(s) => {
                         if s.alpha >= 1.0 && at_one.is_none() {
                             at_one = Some(Stable {
@@ -216,32 +264,47 @@ impl LoadedStructure<'_> {
                     None => high = mid,
                 }
             }
-            buckling = Some((last.alpha, self.kind(model, &f, &last.hess)));
+            buckling = Some((last.alpha, self.kind(model, f, &last)));
         }
         model.set_load(Vec::new());
-        let linear = self.linear_factor(model, &f);
+        model.set_pressure(None);
+        let linear = self.linear_factor(model, f);
         self.report(case, at_one, buckling, linear)
     }
 
+    /// The forces of `load` at unit factor at displacements `u`.
+    fn forces_at(&self, model: &EnergyModel, load: &Load, u: &[f64]) -> Vec<f64> {
+        let mut f = load.dead.clone();
+        if let Some(p) = &load.pressure {
+            let fp = model.pressure_forces(p, u, self.active);
+            for (a, b) in f.iter_mut().zip(&fp) {
+                *a += b;
+            }
+        }
+        f
+    }
+
     /// The stable equilibrium at factor `alpha` on the path through `from`, if Newton reaches
-    /// one: it starts from the tangent's prediction `u + Δα H⁻¹ f` and must end within half
+    /// one: it starts from the tangent's prediction `u + Δα H⁻¹ f` (`f` the load's forces
+    /// at `u`) and must end within half
     /// the predicted change of it (a step that lands farther has jumped to another branch,
     /// e.g. past a snap, and is refused).
     fn step(
         &self,
         model: &mut EnergyModel,
-        f: &[f64],
+        load: &Load,
         from: &Stable,
         alpha: f64,
     ) -> Option<Stable> {
         let factor = Cholesky::factorize(self.symbolic, model.pattern(), &from.hess, 0.0, None);
-        let mut tangent = f.to_vec();
+        let mut tangent = self.forces_at(model, load, &from.u);
         factor.ok()?.solve_vec(&mut tangent);
         let da = alpha - from.alpha;
         let predicted: Vec<f64> = (from.u.iter().zip(&tangent))
             .map(|(u, t)| u + da * t)
             .collect();
-        model.set_load(f.iter().map(|x| alpha * x).collect());
+        model.set_load(load.dead.iter().map(|x| alpha * x).collect());
+        model.set_pressure(load.pressure.as_ref().map(|p| p.scaled(alpha)));
         let mut u = predicted.clone();
         let relaxed = Equilibrium {
             model,
@@ -266,9 +329,11 @@ impl LoadedStructure<'_> {
         })
     }
 
-    /// How the structure loses stability at the Hessian `hess`: its lowest mode, loaded by
-    /// `f` or not.
-    fn kind(&self, model: &EnergyModel, f: &[f64], hess: &[f64]) -> String {
+    /// How the structure loses stability at the equilibrium `at`: its lowest mode, loaded by
+    /// the load's forces there or not.
+    fn kind(&self, model: &EnergyModel, load: &Load, at: &Stable) -> String {
+        let f = &self.forces_at(model, load, &at.u);
+        let hess = &at.hess;
         let keep = model.coordinate_mask(self.active);
         let ones = vec![1.0; model.dofs()];
         let Some(v) = lowest_vector(self.symbolic, model, hess, &keep, &ones) else {
@@ -285,10 +350,20 @@ impl LoadedStructure<'_> {
     }
 
     /// The linearised critical factor from the unloaded state (see the module's docs).
-    fn linear_factor(&self, model: &EnergyModel, f: &[f64]) -> Option<f64> {
+    fn linear_factor(&self, model: &mut EnergyModel, load: &Load) -> Option<f64> {
+        // The pressure's own stiffness at unit factor (constant).
+        let stiffness = load.pressure.as_ref().map(|p| {
+            model.set_pressure(Some(p.clone()));
+            let with = model.assemble(self.u0, self.active, true).hess;
+            model.set_pressure(None);
+            let without = model.assemble(self.u0, self.active, true).hess;
+            let k: Vec<f64> = with.iter().zip(&without).map(|(a, b)| a - b).collect();
+            k
+        });
+        let model = &*model;
         let pattern = model.pattern();
         let h0 = Cholesky::factorize(self.symbolic, pattern, self.h0, 0.0, None).ok()?;
-        let mut du = f.to_vec();
+        let mut du = self.forces_at(model, load, self.u0);
         h0.solve_vec(&mut du);
         let largest = du.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
         if largest == 0.0 {
@@ -300,11 +375,16 @@ impl LoadedStructure<'_> {
             model.assemble(&u, self.active, true).hess
         };
         let (plus, minus) = (at(eps), at(-eps));
-        let d: Vec<f64> = plus
+        let mut d: Vec<f64> = plus
             .iter()
             .zip(&minus)
             .map(|(p, m)| (p - m) / (2.0 * eps))
             .collect();
+        if let Some(k) = &stiffness {
+            for (a, b) in d.iter_mut().zip(k) {
+                *a += b;
+            }
+        }
         let positive = |alpha: f64| {
             let h: Vec<f64> = self.h0.iter().zip(&d).map(|(h, d)| h + alpha * d).collect();
             Cholesky::factorize(self.symbolic, pattern, &h, 0.0, None).is_ok()

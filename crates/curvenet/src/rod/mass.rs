@@ -111,12 +111,14 @@ mod tests {
                     closed: false,
                     rest_lengths: vec![1.0, 1.0, 2.0],
                     anchors: vec![0, 3],
+                    ends: None,
                 },
                 Rod {
                     vertices: vec![4, 2, 5],
                     closed: false,
                     rest_lengths: vec![3.0, 3.0],
                     anchors: vec![4, 5],
+                    ends: None,
                 },
             ],
             joints: vec![Joint {

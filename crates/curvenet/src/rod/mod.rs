@@ -25,7 +25,7 @@ mod prebent;
 pub mod terms;
 
 pub use active::ActiveSet;
-pub use model::{Assembly, EnergyModel};
+pub use model::{Assembly, EnergyModel, Pressure, PressurePart};
 pub use network::{Joint, Network, Rod};
 
 use crate::material::RestShape;

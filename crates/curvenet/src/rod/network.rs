@@ -4,6 +4,7 @@
 
 use super::Supports;
 use crate::geom::Vec3;
+use crate::material::EndSupport;
 use serde::{Deserialize, Serialize};
 
 /// How far from its chord (relative to the chord's length) every vertex of a rod may lie for
@@ -23,6 +24,11 @@ pub struct Rod {
     pub rest_lengths: Vec<f64>,
     /// Supported (anchored) vertices; their anchor targets are their rest positions.
     pub anchors: Vec<u32>,
+    /// The supports of its start and end when they are not the network's `supports` (given
+    /// per end): which translations an end's anchors fix, and (through `anchors`) whether its
+    /// rotation is held.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ends: Option<[EndSupport; 2]>,
 }
 
 impl Rod {
@@ -49,6 +55,40 @@ impl Rod {
             (self.vertices[m - 1], self.vertices[m - 2])
         };
         self.anchors.contains(&end) && self.anchors.contains(&next)
+    }
+
+    /// The translations (x, y, z) the anchor of vertex `v` fixes: those of the end it belongs
+    /// to (the end vertex, or the neighbour a held rotation anchors), all three without per-end
+    /// supports.
+    pub fn anchor_axes(&self, v: u32) -> [bool; 3] {
+        let Some(ends) = self.ends else {
+            return [true; 3];
+        };
+        let m = self.vertices.len();
+        let mut axes = [false; 3];
+        for (s, near) in ends.iter().zip([[0, 1], [m - 1, m.saturating_sub(2)]]) {
+            if near.iter().any(|&i| self.vertices.get(i) == Some(&v)) {
+                for (a, f) in axes.iter_mut().zip(s.fixed) {
+                    *a |= f;
+                }
+            }
+        }
+        axes
+    }
+
+    /// The support of its first (`at_start`) or last end (`None` when closed), given the
+    /// network's default `supports`.
+    pub fn end_support(&self, at_start: bool, supports: Supports) -> Option<EndSupport> {
+        if self.closed {
+            return None;
+        }
+        Some(match self.ends {
+            Some(e) => e[usize::from(!at_start)],
+            None => match supports {
+                Supports::Clamped => EndSupport::CLAMPED,
+                Supports::Pinned => EndSupport::PINNED,
+            },
+        })
     }
 
     /// Whether the rod is straight as drawn in `positions`: open, and every vertex within

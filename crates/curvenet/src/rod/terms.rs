@@ -299,20 +299,22 @@ pub(crate) fn symmetrize<const D: usize>(h: &mut [[f64; D]; D]) {
     }
 }
 
-/// Anchor spring energy `E = µ |x − x̄|²` pulling a supported vertex to its target.
+/// Anchor spring energy `E = µ Σ_a w_a (x − x̄)_a²` pulling a supported vertex to its target
+/// along the axes it fixes (`w_a` 1 for a fixed axis, 0 for a free one).
 #[inline]
-pub fn anchor_energy(x: Vec3, target: Vec3, mu: f64) -> f64 {
-    mu * (x - target).norm2()
+pub fn anchor_energy(x: Vec3, target: Vec3, mu: f64, w: [f64; 3]) -> f64 {
+    let d = x - target;
+    mu * (0..3).map(|a| w[a] * d[a] * d[a]).sum::<f64>()
 }
 
-/// [`anchor_energy`] with its gradient and Hessian (`2µ I`).
-pub fn anchor(x: Vec3, target: Vec3, mu: f64) -> Local<3> {
+/// [`anchor_energy`] with its gradient and Hessian (`2µ diag(w)`).
+pub fn anchor(x: Vec3, target: Vec3, mu: f64, w: [f64; 3]) -> Local<3> {
     let d = x - target;
     let mut out = Local::<3>::zero();
-    out.energy = mu * d.norm2();
+    out.energy = anchor_energy(x, target, mu, w);
     for a in 0..3 {
-        out.grad[a] = 2.0 * mu * d[a];
-        out.hess[a][a] = 2.0 * mu;
+        out.grad[a] = 2.0 * mu * w[a] * d[a];
+        out.hess[a][a] = 2.0 * mu * w[a];
     }
     out
 }
@@ -572,11 +574,13 @@ mod tests {
         let mut rng = SplitMix64::new(3);
         let t = rng.vec3();
         let a = rng.vec3();
-        check_fd(
-            [a.x, a.y, a.z],
-            |x| anchor(split(x, 0), t, 500.0),
-            |x| anchor_energy(split(x, 0), t, 500.0),
-        );
+        for w in [[1.0; 3], [0.0, 1.0, 1.0], [1.0, 0.0, 0.0]] {
+            check_fd(
+                [a.x, a.y, a.z],
+                |x| anchor(split(x, 0), t, 500.0, w),
+                |x| anchor_energy(split(x, 0), t, 500.0, w),
+            );
+        }
     }
 
     #[test]

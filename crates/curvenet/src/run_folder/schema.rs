@@ -77,6 +77,10 @@ pub struct PhysicalModel {
     /// The curves pre-bent at rest, ascending (the others are straight at rest).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub pre_bent: Vec<usize>,
+    /// The load cases and combinations the run was given (its loads file, checked): the
+    /// structural exports carry them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub loads: Option<crate::physics::cases::Loads>,
 }
 
 impl PhysicalModel {
@@ -89,6 +93,7 @@ impl PhysicalModel {
                 .filter(|(_, r)| **r == crate::material::RestShape::PreBent)
                 .map(|(c, _)| c)
                 .collect(),
+            loads: params.loads.clone(),
         }
     }
 

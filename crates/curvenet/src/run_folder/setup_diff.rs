@@ -53,10 +53,12 @@ const OPTIONS: &[(&str, Named, &str)] = &[
     ("physical.tube", Named::Opt(Opt::Tube), NOT_GIVEN),
     ("physical.load", Named::Opt(Opt::Load), NOT_GIVEN),
     ("physical.gravity", Named::Opt(Opt::Gravity), NOT_GIVEN),
+    ("physical_model.loads", Named::Opt(Opt::Loads), NOT_GIVEN),
     ("stability.objective", Named::Opt(Opt::Objective), "lambda"),
     ("input.scale", Named::Opt(Opt::Scale), NOT_GIVEN),
     ("build.edge_length", Named::Opt(Opt::EdgeLength), NOT_GIVEN),
     ("build.supports", Named::Opt(Opt::Supports), NOT_GIVEN),
+    ("build.ends", Named::Opt(Opt::SupportsFile), NOT_GIVEN),
     (
         "build.merge_joints_below",
         Named::Opt(Opt::MergeJoints),

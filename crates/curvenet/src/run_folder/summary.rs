@@ -257,6 +257,9 @@ fn physical_line(p: &PhysicalSummary, what: &str, unit: Option<&str>) -> String 
             ids.join(", ")
         );
     }
+    for case in &p.load_cases {
+        let _ = write!(line, "\n  {}", case.to_text(unit));
+    }
     line
 }
 

@@ -29,6 +29,8 @@ pub struct Analyzer {
     pub(super) parts: Mutex<HashMap<Vec<usize>, (f64, f64)>>,
     /// The physical mode's parameters ([`Self::with_physical`]); `None` in the paper's mode.
     physical: Option<PhysicalParams>,
+    /// The physical mode's load cases as given ([`Self::load_cases`]; `None`: none given).
+    loaded: Option<PhysicalParams>,
     /// The physical mode's largest-deviation model, built when first asked for
     /// ([`Self::part_deviation`]).
     pub(super) deviation_model: OnceLock<DeviationModel>,
@@ -86,6 +88,7 @@ impl Analyzer {
             params,
             parts: Mutex::default(),
             physical: None,
+            loaded: None,
             deviation_model: OnceLock::new(),
             physical_deviations: Mutex::default(),
             metric,
@@ -104,7 +107,9 @@ impl Analyzer {
     pub fn with_physical(mut self, mut physical: PhysicalParams) -> Result<Self, StabilityError> {
         physical.validate().map_err(StabilityError::Params)?;
         // The searches record each structure's own figures, not its load cases' (each case
-        // follows its load in steps: `analyze` gives them).
+        // follows its load in steps): those of the networks offered to build are asked for
+        // apart ([`Self::load_cases`]).
+        self.loaded = physical.loads.is_some().then(|| physical.clone());
         physical.loads = None;
         if self.metric.is_some() {
             let n = self.network.rods.len();
@@ -223,6 +228,33 @@ impl Analyzer {
         };
         match analyze_physical(&self.network, p, active) {
             Ok(r) => Ok(Some(r.summary())),
+            Err(PhysicsError::Eigen(e)) => Err(StabilityError::Eigen(e)),
+            Err(e) => Err(StabilityError::Params(e.to_string().into())),
+        }
+    }
+
+    /// The physical mode's parameters with the load cases given (the server's full analysis
+    /// of its current structure); `None` in the paper's mode.
+    pub fn physical_with_loads(&self) -> Option<&PhysicalParams> {
+        self.loaded.as_ref().or(self.physical.as_ref())
+    }
+
+    /// The structure `active`'s load cases, when the physical mode was given some (empty
+    /// otherwise): each followed as a nonlinear equilibrium, with its verdict and critical
+    /// load factor ([`crate::physics::loaded`]).
+    ///
+    /// # Errors
+    ///
+    /// The physical analysis failed.
+    pub fn load_cases(
+        &self,
+        active: &ActiveSet,
+    ) -> Result<Vec<crate::physics::loaded::LoadCaseReport>, StabilityError> {
+        let Some(p) = &self.loaded else {
+            return Ok(Vec::new());
+        };
+        match analyze_physical(&self.network, p, active) {
+            Ok(r) => Ok(r.load_cases),
             Err(PhysicsError::Eigen(e)) => Err(StabilityError::Eigen(e)),
             Err(e) => Err(StabilityError::Params(e.to_string().into())),
         }

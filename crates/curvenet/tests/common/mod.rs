@@ -546,6 +546,7 @@ pub fn sub_network(net: &Network, keep: &[usize]) -> (Network, Vec<usize>) {
                 closed: r.closed,
                 rest_lengths: r.rest_lengths.clone(),
                 anchors: map(&r.anchors),
+                ends: r.ends,
             }
         })
         .collect();

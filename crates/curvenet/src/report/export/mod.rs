@@ -149,13 +149,8 @@ pub fn structural_model(
     let model = (run.result.setup.physical_model.as_ref()).ok_or(ReportError::NotPhysical)?;
     let rec = run.network_of(which)?;
     let source = format!("{} {}", run.dir.display(), rec.what);
-    Ok(StructuralModel::new(
-        &run.network,
-        &rec.curves,
-        model,
-        source,
-        rec.unstable,
-    ))
+    StructuralModel::new(&run.network, &rec.curves, model, source, rec.unstable)
+        .map_err(|e| ReportError::Invalid(e.to_string()))
 }
 
 /// Writes the files of `format` for iteration `k` (any [`Which`]) into the folder `out`

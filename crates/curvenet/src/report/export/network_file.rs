@@ -8,6 +8,7 @@
 //! each with its original `id`.
 
 use crate::geom::Vec3;
+use crate::material::EndSupport;
 use crate::network::{Joint, Network, Rod};
 use crate::report::ReportError;
 use crate::rod::{Material, Supports};
@@ -35,6 +36,10 @@ pub struct NetworkFileRod {
     pub rest_lengths: Vec<f64>,
     /// Anchored vertices (their targets are their rest positions).
     pub anchors: Vec<u32>,
+    /// The supports of its start and end when given per end (which translations its anchors
+    /// fix; a held rotation anchors the end's neighbour too).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ends: Option<[EndSupport; 2]>,
 }
 
 /// A network file (`"format": "curvenet-network"`): a structure at network resolution.
@@ -111,6 +116,7 @@ impl NetworkFile {
                     vertices: r.vertices.iter().map(|&v| new_index[v as usize]).collect(),
                     rest_lengths: r.rest_lengths.clone(),
                     anchors: r.anchors.iter().map(|&v| new_index[v as usize]).collect(),
+                    ends: r.ends,
                 }
             })
             .collect();
@@ -198,6 +204,7 @@ impl NetworkFile {
                 closed: r.closed,
                 rest_lengths: r.rest_lengths.clone(),
                 anchors: r.anchors.clone(),
+                ends: r.ends,
             })
             .collect();
         let mut net = Network {

@@ -1,7 +1,8 @@
 
 # Run as it is (`python THIS_FILE`, with `pip install openseespy`): builds the model in
-# OpenSees, computes its lowest natural frequencies and its linear self-weight deflection,
-# and prints them as one JSON line in the model's units. MODEL is curvenet's neutral
+# OpenSees, computes its lowest natural frequencies, its linear self-weight deflection and
+# the largest deflection under each of the run's load cases (linear), and prints them as one
+# JSON line in the model's units. MODEL is curvenet's neutral
 # structural JSON (`curvenet export DIR --format structural`): nodes, ties (joints: shared
 # translations, free relative rotations), elastic beams per rod edge, supports, spin holds of
 # straight rods, lumped masses and load cases.
@@ -87,10 +88,13 @@ def static(model, case):
 def main():
     build(MODEL)
     result = {"units": MODEL["units"]["length"], "frequencies_hz": frequencies(MODEL)}
+    cases = []
     for case in MODEL["load_cases"]:
         build(MODEL)
-        key = case["name"].replace("-", "_") + "_max_deflection"
-        result[key] = static(MODEL, case)
+        cases.append({"name": case["name"], "max_deflection": static(MODEL, case)})
+    # The structure's own weight first; then the run's load cases and combinations.
+    result["self_weight_max_deflection"] = cases[0]["max_deflection"]
+    result["load_cases"] = cases[1:]
     print(json.dumps(result))
 
 

@@ -17,12 +17,17 @@ pub fn arc_lengths(rod: &Rod) -> Vec<f64> {
     s
 }
 
-/// Support of one end of an open rod: `clamped` when the end vertex and its neighbour are
-/// anchored, `pinned` when only the end vertex is, `none` otherwise (and for closed rods).
-pub fn end_support(rod: &Rod, at_start: bool) -> &'static str {
+/// Support of one end of an open rod: its own when given per end (`clamped`, `pinned`,
+/// `free`, or e.g. `yz fixed; rotation held`), else `clamped` when the end vertex and its
+/// neighbour are anchored, `pinned` when only the end vertex is, `none` otherwise (and for
+/// closed rods).
+pub fn end_support(rod: &Rod, at_start: bool) -> String {
     let m = rod.vertices.len();
     if rod.closed || m < 2 {
-        return "none";
+        return "none".into();
+    }
+    if let Some(ends) = rod.ends {
+        return ends[usize::from(!at_start)].name();
     }
     let end = if at_start {
         rod.vertices[0]
@@ -30,22 +35,18 @@ pub fn end_support(rod: &Rod, at_start: bool) -> &'static str {
         rod.vertices[m - 1]
     };
     if rod.is_clamped_at(at_start) {
-        "clamped"
+        "clamped".into()
     } else if rod.anchors.contains(&end) {
-        "pinned"
+        "pinned".into()
     } else {
-        "none"
+        "none".into()
     }
 }
 
 /// A rod's supports as one word: the end supports if both ends agree, else `start/end`.
 pub fn rod_supports(rod: &Rod) -> String {
     let (a, b) = (end_support(rod, true), end_support(rod, false));
-    if a == b {
-        a.to_string()
-    } else {
-        format!("{a}/{b}")
-    }
+    if a == b { a } else { format!("{a}/{b}") }
 }
 
 /// A joint along a rod in the kept structure.

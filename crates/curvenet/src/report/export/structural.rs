@@ -11,8 +11,9 @@
 //! - **elements**: one elastic beam per rod edge, with its rod's material (`E`, `G`) and
 //!   section (`A`, `I`, `J`) and a vector in its local x–z plane (`vecxz`, any: the sections
 //!   are round);
-//! - **supports**: an anchored vertex's nodes have their translations fixed; a clamped end's
-//!   node also its rotations (the physical mode's clamp holds the end vertex and its
+//! - **supports**: an anchored vertex's nodes have the translations its supports fix fixed
+//!   (some only, given per end: on the vertex's first node, the others tied to it); a
+//!   clamped end's node also its rotations (the physical mode's clamp holds the end vertex and its
 //!   tangent, and a pre-bent rod's twist);
 //! - **spin holds**: a rod drawn straight spins about its own axis without moving a point;
 //!   curvenet carries no twist for it, and a beam model would have a zero-stiffness spin:
@@ -32,8 +33,9 @@
 //! their torsion couples with bending where curvenet's straight rods carry none.
 
 use crate::material::{Physical, PhysicalMaterial, RestShape, Section};
-use crate::rod::Network;
+use crate::rod::{ActiveSet, Network};
 use crate::run_folder::schema::PhysicalModel;
+use crate::words::Message;
 use serde::{Deserialize, Serialize};
 
 /// The `format` of a structural JSON file.
@@ -231,6 +233,9 @@ fn id_of<T: PartialEq>(list: &mut Vec<T>, item: T) -> usize {
     }
 }
 
+/// The name of the load case every model carries: the structure's own weight.
+pub const SELF_WEIGHT: &str = "self-weight";
+
 /// A unit vector among the axes least along `d`, for an element's local x–z plane.
 fn across(d: [f64; 3]) -> [f64; 3] {
     let i = (0..3)
@@ -250,7 +255,7 @@ impl StructuralModel {
         model: &PhysicalModel,
         source: String,
         unstable: Option<String>,
-    ) -> StructuralModel {
+    ) -> Result<StructuralModel, Message> {
         let physical = &model.physical;
         let rest = model.rest(network.rods.len());
         let p = &network.positions;
@@ -264,7 +269,7 @@ impl StructuralModel {
         let (mut elements, mut masses) = (Vec::new(), Vec::new());
         let mut spin_holds = Vec::new();
         let mut clamped = Vec::new();
-        let mut anchored = vec![false; network.vertex_count()];
+        let mut anchored = vec![[false; 3]; network.vertex_count()];
         let mut gravity_forces = Vec::new();
         let g = physical.gravity_scene();
         for &c in &curves {
@@ -329,7 +334,9 @@ impl StructuralModel {
                 .filter(|v| !ends.contains(v))
                 .collect();
             for &v in rod.anchors.iter().filter(|v| !released.contains(v)) {
-                anchored[v as usize] = true;
+                for (held, axis) in anchored[v as usize].iter_mut().zip(rod.anchor_axes(v)) {
+                    *held |= axis;
+                }
             }
             let mut held = false;
             for (at_start, i) in [(true, 0), (false, m.saturating_sub(1))] {
@@ -351,15 +358,20 @@ impl StructuralModel {
         let mut supports = Vec::new();
         let mut ties = Vec::new();
         for (v, ids) in at_vertex.iter().enumerate() {
-            if anchored[v] {
-                for &n in ids {
-                    let all = clamped.contains(&n);
+            // All three translations fixed: every node at the vertex is fixed, no tie needed.
+            // Some only: the first node carries them and the others follow it by a tie.
+            let whole = anchored[v].iter().all(|&a| a);
+            for (k, &n) in ids.iter().enumerate() {
+                let all = clamped.contains(&n);
+                let [x, y, z] = anchored[v].map(|a| a && (whole || k == 0));
+                if x || y || z || all {
                     supports.push(Support {
                         node: n,
-                        fixed: [true, true, true, all, all, all],
+                        fixed: [x, y, z, all, all, all],
                     });
                 }
-            } else if ids.len() > 1 {
+            }
+            if !whole && ids.len() > 1 {
                 ties.push(Tie {
                     vertex: v,
                     nodes: ids.clone(),
@@ -368,7 +380,30 @@ impl StructuralModel {
         }
         supports.sort_by_key(|s| s.node);
         let symbol = u.symbol();
-        StructuralModel {
+        let mut load_cases = vec![LoadCase {
+            name: SELF_WEIGHT.into(),
+            nodal: gravity_forces,
+        }];
+        // The run's load cases, each force on the first node at its vertex (the others share
+        // its translations).
+        if let Some(loads) = &model.loads {
+            let active = ActiveSet::from_curves(network.rods.len(), &curves);
+            for case in loads.forces(network, physical, &active)? {
+                let forces = crate::physics::loaded::forces_at_rest(network, &case, &active);
+                let nodal = (0..network.vertex_count())
+                    .filter_map(|v| {
+                        let f = [0, 1, 2].map(|a| forces[3 * v + a]);
+                        let node = *at_vertex[v].first()?;
+                        (f != [0.0; 3]).then_some(NodalLoad { node, force: f })
+                    })
+                    .collect();
+                load_cases.push(LoadCase {
+                    name: case.name,
+                    nodal,
+                });
+            }
+        }
+        Ok(StructuralModel {
             format: STRUCTURE_FORMAT.into(),
             version: STRUCTURE_VERSION,
             source,
@@ -397,11 +432,8 @@ impl StructuralModel {
             supports,
             spin_holds,
             masses,
-            load_cases: vec![LoadCase {
-                name: "self-weight".into(),
-                nodal: gravity_forces,
-            }],
-        }
+            load_cases,
+        })
     }
 
     /// The model as JSON text (numbers in their shortest round-trip form).

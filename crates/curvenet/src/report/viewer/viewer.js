@@ -256,7 +256,7 @@
   const hex = (h) => [parseInt(h.slice(1, 3), 16) / 255, parseInt(h.slice(3, 5), 16) / 255, parseInt(h.slice(5, 7), 16) / 255, 1];
   const C = {
     bg: hex('#f4f5f7'), kept: hex('#1c56aa'), removed: hex('#e39a8a'), overlay: hex('#9aa0a8'),
-    selected: hex('#f09a00'), support: hex('#202028'), joint: hex('#f09a00'), mesh: [0.80, 0.77, 0.70, 0.38],
+    selected: hex('#f09a00'), support: hex('#202028'), partial: hex('#2a6fdb'), joint: hex('#f09a00'), mesh: [0.80, 0.77, 0.70, 0.38],
   };
   const STOPS = [[48, 18, 110], [33, 120, 180], [60, 180, 120], [235, 200, 40], [200, 30, 30]];
   function colormap(t) {
@@ -355,7 +355,16 @@
     // Points: supports of kept curves, joints of the selected curve.
     const pts = [];
     if (ui.supports) {
-      for (const c of f.kept) for (const v of rods[c].anchors) pts.push([pos(v, eq), dispOf(v), C.support, 6]);
+      // Each end as held: a clamp large, a pin small, a partial support (some translations
+      // or the rotation only) in its own colour; a free end not at all.
+      const look = { clamped: [C.support, 10], pinned: [C.support, 6], partial: [C.partial, 8] };
+      for (const c of f.kept) {
+        const r = rods[c];
+        (r.ends || []).forEach((kind, i) => {
+          const v = i === 0 ? r.v[0] : r.v[r.v.length - 1];
+          if (look[kind]) pts.push([pos(v, eq), dispOf(v), look[kind][0], look[kind][1]]);
+        });
+      }
     }
     if (state.selected !== null) {
       const sk = f.kept.has(state.selected);
@@ -584,6 +593,21 @@
     if (p.mass_kg !== undefined) lines.push(`mass ${sci(p.mass_kg, 4)} kg`);
     if (p.overstressed_curves && p.overstressed_curves.length) {
       lines.push(`would break when bent: curves ${p.overstressed_curves.join(' ')}`);
+    }
+    // Each load case as the summary words it: deflection, utilisation, buckling, verdict.
+    for (const c of (p.load_cases || [])) {
+      const parts = [];
+      if (c.max_deflection !== null && c.max_deflection !== undefined) {
+        parts.push(`max deflection ${sci(c.max_deflection, 4)}${unit} at vertex ${c.max_deflection_vertex}`);
+      }
+      if (c.max_utilisation !== null && c.max_utilisation !== undefined) {
+        parts.push(`utilisation ${sci(c.max_utilisation, 3)}`);
+      }
+      parts.push(c.buckling_factor !== null && c.buckling_factor !== undefined
+        ? `buckles at ${sci(c.buckling_factor, 3)} × the load (${c.buckling})`
+        : 'stands 100 × the load without buckling');
+      const verdict = c.passes ? 'passes' : `FAILS: ${(c.failures || []).join('; ')}`;
+      lines.push(`load case ${c.name}: ${parts.join(', ')}; ${verdict}`);
     }
     for (const w of (p.warnings || [])) lines.push(`warning: ${w}`);
     return lines.join('\n');

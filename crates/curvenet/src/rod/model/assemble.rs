@@ -24,8 +24,12 @@ impl EnergyModel {
             }
             e += self.twist_terms_energy(r, u);
             for t in &self.anchor[r.anchor.clone()] {
-                e += terms::anchor_energy(vec3(u, t.v), t.offset, self.mu);
+                e += terms::anchor_energy(vec3(u, t.v), t.offset, self.mu, t.axes);
             }
+        }
+        if self.pressure.is_some() {
+            let mut grad = vec![0.0; self.dofs()];
+            self.assemble_pressure(u, active, &mut e, &mut grad, None);
         }
         e - self.load.iter().zip(u).map(|(f, x)| f * x).sum::<f64>()
     }
@@ -104,7 +108,7 @@ impl EnergyModel {
                 hessian.then_some(&mut out.hess[..]),
             );
             for t in &self.anchor[r.anchor.clone()] {
-                let l = terms::anchor(vec3(u, t.v), t.offset, self.mu);
+                let l = terms::anchor(vec3(u, t.v), t.offset, self.mu, t.axes);
                 out.energy += l.energy;
                 scatter_grad(&mut out.grad, &[t.v], &l.grad);
                 if hessian {
@@ -115,6 +119,13 @@ impl EnergyModel {
                 }
             }
         }
+        self.assemble_pressure(
+            u,
+            active,
+            &mut out.energy,
+            &mut out.grad,
+            hessian.then_some(&mut out.hess[..]),
+        );
         for (g, f) in out.grad.iter_mut().zip(&self.load) {
             *g -= f;
         }
@@ -283,7 +294,7 @@ impl EnergyModel {
                     for a in 0..3 {
                         let i = self.pattern.diag[3 * t.v as usize + a];
                         if hit(i) {
-                            out[i] += 2.0 * self.mu;
+                            out[i] += 2.0 * self.mu * t.axes[a];
                         }
                     }
                 }

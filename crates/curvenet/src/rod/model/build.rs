@@ -122,6 +122,7 @@ impl EnergyModel {
             clamp_pos,
             loose_diagonal,
             load: Vec::new(),
+            pressure: None,
         }
     }
 }
@@ -224,6 +225,7 @@ fn collect_terms(network: &Network, stiffness: &[RodStiffness], rules: ModelRule
                 t.anchor.push(AnchorTerm {
                     v,
                     offset: Vec3::ZERO,
+                    axes: rod.anchor_axes(v).map(f64::from),
                 });
             }
         }

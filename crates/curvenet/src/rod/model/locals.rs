@@ -151,7 +151,7 @@ impl EnergyModel {
             for t in &self.anchor[r.anchor.clone()] {
                 let v = t.v as usize;
                 for a in 0..3 {
-                    hess[self.pattern.diag[3 * v + a]] += 2.0 * self.mu;
+                    hess[self.pattern.diag[3 * v + a]] += 2.0 * self.mu * t.axes[a];
                 }
             }
         }
@@ -221,7 +221,7 @@ impl EnergyModel {
             for t in &self.anchor[r.anchor.clone()] {
                 let v = t.v as usize;
                 for a in 0..3 {
-                    hess[self.pattern.diag[3 * v + a]] += w * (2.0 * self.mu);
+                    hess[self.pattern.diag[3 * v + a]] += w * (2.0 * self.mu * t.axes[a]);
                 }
             }
         }
@@ -278,7 +278,9 @@ impl EnergyModel {
         }
         let two_mu = 2.0 * self.mu;
         for t in &self.anchor[r.anchor.clone()] {
-            add(&[t.v], &|i, j| if i == j { two_mu } else { 0.0 });
+            add(&[t.v], &|i, j| {
+                if i == j { two_mu * t.axes[i] } else { 0.0 }
+            });
         }
         out
     }

@@ -21,9 +21,11 @@
 mod assemble;
 mod build;
 mod locals;
+mod pressure;
 mod twist;
 
 pub use locals::{LocalHessians, Terms};
+pub use pressure::{Pressure, PressurePart};
 pub use twist::TwistDof;
 use twist::{ClampTwistTerm, FrameTerm};
 
@@ -92,11 +94,13 @@ impl ClampTerm {
 }
 
 /// An anchor spring on a supported vertex; `offset` is its target minus its rest position
-/// (zero when the anchor holds the vertex where it was drawn).
+/// (zero when the anchor holds the vertex where it was drawn); `axes` weighs each axis (1
+/// fixed, 0 free: a support given per end that fixes some translations only).
 #[derive(Clone, Copy, Debug)]
 struct AnchorTerm {
     v: u32,
     offset: Vec3,
+    axes: [f64; 3],
 }
 
 impl StretchTerm {
@@ -183,6 +187,8 @@ pub struct EnergyModel {
     /// External forces on the coordinates (empty: none): the energy is the rods' minus
     /// `load · u` ([`Self::set_load`]).
     load: Vec<f64>,
+    /// Follower pressures on the curves ([`Self::set_pressure`]).
+    pressure: Option<Pressure>,
 }
 
 impl EnergyModel {
@@ -311,11 +317,15 @@ impl EnergyModel {
             .filter(move |(c, _)| active.contains(*c))
     }
 
-    /// For each vertex, whether an anchor holds it (in the model's rules: a clamp of the
-    /// physical mode anchors the end vertex only).
+    /// For each vertex, whether an anchor holds it along some axis (in the model's rules: a
+    /// clamp of the physical mode anchors the end vertex only).
     pub fn anchored_vertices(&self) -> Vec<bool> {
         let mut a = vec![false; self.n_vertices];
-        for t in &self.anchor {
+        for t in self
+            .anchor
+            .iter()
+            .filter(|t| t.axes.iter().any(|&w| w > 0.0))
+        {
             a[t.v as usize] = true;
         }
         a
