@@ -69,7 +69,7 @@ fn a_column_held_per_end_buckles_where_euler_says() {
     // Clamped at the start, free at the end, from the curve file.
     dir.write(
         "column.json",
-        &column(Some(r#"{"start": "clamped", "end": "free"}"#)),
+        column(Some(r#"{"start": "clamped", "end": "free"}"#)),
     );
     let got = buckling_factor(&analyze(&dir, &[]));
     assert!(
@@ -78,7 +78,7 @@ fn a_column_held_per_end_buckles_where_euler_says() {
         euler(2.0)
     );
     // The same column held by a supports file instead: by point and by curve end.
-    dir.write("column.json", &column(None));
+    dir.write("column.json", column(None));
     dir.write(
         "ends.json",
         r#"{"format": "curvenet-supports", "version": 1, "supports": [
@@ -98,7 +98,7 @@ fn a_column_held_per_end_buckles_where_euler_says() {
 fn a_supports_file_naming_no_curve_end_is_refused() {
     let dir = TempDir::new("supports-bad");
     dir.write("loads.json", LOADS);
-    dir.write("column.json", &column(None));
+    dir.write("column.json", column(None));
     dir.write(
         "ends.json",
         r#"{"format": "curvenet-supports", "version": 1, "supports": [
@@ -115,7 +115,7 @@ fn a_supports_file_naming_no_curve_end_is_refused() {
             && err.contains("500.0 away"),
         "{err}"
     );
-    dir.write("column.json", &column(Some(r#"{"start": "hinged"}"#)));
+    dir.write("column.json", column(Some(r#"{"start": "hinged"}"#)));
     let out = analyze(&dir, &[]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");

@@ -26,7 +26,7 @@ use std::path::{Path, PathBuf};
 pub enum Source {
     /// Inputs the application layer reads (curve files and a surface, a paper's example,
     /// curves given as arrays).
-    Inputs(InputSpec),
+    Inputs(Box<InputSpec>),
     /// A run folder: its network and material, its answer to start on, its greedy's
     /// iterations to step through, its surface.
     Run(PathBuf),

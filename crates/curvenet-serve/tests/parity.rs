@@ -66,7 +66,7 @@ struct Case {
 /// A server of `case`'s inputs and model, with `remove` removed at the start.
 fn serve(case: &Case, remove: &[usize]) -> SocketAddr {
     let spec = ServeSpec {
-        source: Source::Inputs(case.input.clone()),
+        source: Source::Inputs(Box::new(case.input.clone())),
         model: case.model.clone(),
         remove: remove.to_vec(),
     };

@@ -66,6 +66,9 @@ fn figures(h: f64) -> (Vec<f64>, f64, usize) {
     (f, d, net.vertex_count())
 }
 
+/// One figure of a level, by level index.
+type Series<'a> = Box<dyn Fn(usize) -> f64 + 'a>;
+
 /// `log₂` of the ratio of successive differences.
 fn order(a: f64, b: f64, c: f64) -> f64 {
     ((a - b).abs() / (b - c).abs()).log2()
@@ -90,7 +93,7 @@ fn study_the_pre_bent_vault_as_h_halves() {
         let (a, b) = (x(levels.len() - 2), x(levels.len() - 1));
         b + (b - a) / 3.0
     };
-    let series: [(&str, Box<dyn Fn(usize) -> f64>); 4] = [
+    let series: [(&str, Series<'_>); 4] = [
         ("f₁ (Hz)", Box::new(|k| levels[k].0[0])),
         ("f₂ (Hz)", Box::new(|k| levels[k].0[1])),
         ("f₃ (Hz)", Box::new(|k| levels[k].0[2])),

@@ -25,10 +25,12 @@ pub fn run(a: ServeArgs) -> anyhow::Result<()> {
     };
     let source = match (&a.run, &a.example) {
         (Some(dir), _) => Source::Run(dir.clone()),
-        (None, Some(name)) => {
-            Source::Inputs(super::example_spec(name, a.data.as_deref(), &a.physics))
-        }
-        (None, None) => Source::Inputs(super::input_spec(&a.input, &a.physics)),
+        (None, Some(name)) => Source::Inputs(Box::new(super::example_spec(
+            name,
+            a.data.as_deref(),
+            &a.physics,
+        ))),
+        (None, None) => Source::Inputs(Box::new(super::input_spec(&a.input, &a.physics))),
     };
     let spec = ServeSpec {
         source,
