@@ -309,26 +309,13 @@ fn rods_json(net: &Network) -> Vec<Value> {
 /// How the viewer draws each end of `rod`: `clamped`, `pinned`, `partial` (some translations
 /// fixed, or only the rotation held) or `free` (also a closed rod's).
 fn end_kinds(rod: &crate::network::Rod) -> [&'static str; 2] {
-    let kind = |at_start: bool| {
-        let end = if at_start {
-            rod.vertices.first()
-        } else {
-            rod.vertices.last()
-        };
-        match (rod.ends, end) {
-            _ if rod.closed => "free",
-            (Some(e), _) => match e[usize::from(!at_start)] {
-                crate::material::EndSupport::CLAMPED => "clamped",
-                crate::material::EndSupport::PINNED => "pinned",
-                s if s.is_support() => "partial",
-                _ => "free",
-            },
-            _ if rod.is_clamped_at(at_start) => "clamped",
-            (None, Some(v)) if rod.anchors.contains(v) => "pinned",
-            _ => "free",
-        }
-    };
-    [kind(true), kind(false)]
+    use crate::material::EndSupport;
+    [true, false].map(|at_start| match rod.end_support(at_start) {
+        Some(EndSupport::CLAMPED) => "clamped",
+        Some(EndSupport::PINNED) => "pinned",
+        Some(s) if s.is_support() => "partial",
+        _ => "free",
+    })
 }
 
 /// The answer and the alternatives for the viewer's list: label, where each comes from, its

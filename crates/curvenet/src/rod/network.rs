@@ -76,18 +76,24 @@ impl Rod {
         axes
     }
 
-    /// The support of its first (`at_start`) or last end (`None` when closed), given the
-    /// network's default `supports`.
-    pub fn end_support(&self, at_start: bool, supports: Supports) -> Option<EndSupport> {
-        if self.closed {
+    /// The support of its first (`at_start`) or last end (`None` when closed or a single
+    /// vertex): its own when given per end, else as its anchors hold it (clamped when the end
+    /// vertex and its neighbour are anchored, pinned when the end vertex alone is, free).
+    pub fn end_support(&self, at_start: bool) -> Option<EndSupport> {
+        let m = self.vertices.len();
+        if self.closed || m < 2 {
             return None;
         }
-        Some(match self.ends {
-            Some(e) => e[usize::from(!at_start)],
-            None => match supports {
-                Supports::Clamped => EndSupport::CLAMPED,
-                Supports::Pinned => EndSupport::PINNED,
-            },
+        if let Some(e) = self.ends {
+            return Some(e[usize::from(!at_start)]);
+        }
+        let end = self.vertices[if at_start { 0 } else { m - 1 }];
+        Some(if self.is_clamped_at(at_start) {
+            EndSupport::CLAMPED
+        } else if self.anchors.contains(&end) {
+            EndSupport::PINNED
+        } else {
+            EndSupport::FREE
         })
     }
 

@@ -17,29 +17,13 @@ pub fn arc_lengths(rod: &Rod) -> Vec<f64> {
     s
 }
 
-/// Support of one end of an open rod: its own when given per end (`clamped`, `pinned`,
-/// `free`, or e.g. `yz fixed; rotation held`), else `clamped` when the end vertex and its
-/// neighbour are anchored, `pinned` when only the end vertex is, `none` otherwise (and for
-/// closed rods).
+/// Support of one end of an open rod ([`Rod::end_support`]): `clamped`, `pinned`, a support
+/// given per end by its name (`free`, or e.g. `yz fixed; rotation held`), `none` for an end
+/// nothing holds without per-end supports (and for closed rods).
 pub fn end_support(rod: &Rod, at_start: bool) -> String {
-    let m = rod.vertices.len();
-    if rod.closed || m < 2 {
-        return "none".into();
-    }
-    if let Some(ends) = rod.ends {
-        return ends[usize::from(!at_start)].name();
-    }
-    let end = if at_start {
-        rod.vertices[0]
-    } else {
-        rod.vertices[m - 1]
-    };
-    if rod.is_clamped_at(at_start) {
-        "clamped".into()
-    } else if rod.anchors.contains(&end) {
-        "pinned".into()
-    } else {
-        "none".into()
+    match rod.end_support(at_start) {
+        Some(s) if s.is_support() || rod.ends.is_some() => s.name(),
+        _ => "none".into(),
     }
 }
 
