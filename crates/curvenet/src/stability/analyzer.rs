@@ -223,14 +223,37 @@ impl Analyzer {
         &self,
         active: &ActiveSet,
     ) -> Result<Option<PhysicalSummary>, StabilityError> {
-        let Some(p) = &self.physical else {
-            return Ok(None);
-        };
-        match analyze_physical(&self.network, p, active) {
-            Ok(r) => Ok(Some(r.summary())),
-            Err(PhysicsError::Eigen(e)) => Err(StabilityError::Eigen(e)),
-            Err(e) => Err(StabilityError::Params(e.to_string().into())),
-        }
+        self.physical
+            .as_ref()
+            .map(|p| self.analyze_physical(p, active).map(|r| r.summary()))
+            .transpose()
+    }
+
+    /// [`Self::physical_summary`] of a network offered to build, with its load cases when
+    /// the physical mode was given some: one analysis gives both.
+    ///
+    /// # Errors
+    ///
+    /// The physical analysis failed.
+    pub fn offered_physical_summary(
+        &self,
+        active: &ActiveSet,
+    ) -> Result<Option<PhysicalSummary>, StabilityError> {
+        self.physical_with_loads()
+            .map(|p| self.analyze_physical(p, active).map(|r| r.summary()))
+            .transpose()
+    }
+
+    /// The physical analysis of `active` with `params`, its errors the analyzer's.
+    fn analyze_physical(
+        &self,
+        params: &PhysicalParams,
+        active: &ActiveSet,
+    ) -> Result<crate::physics::PhysicalReport, StabilityError> {
+        analyze_physical(&self.network, params, active).map_err(|e| match e {
+            PhysicsError::Eigen(e) => StabilityError::Eigen(e),
+            e => StabilityError::Params(e.to_string().into()),
+        })
     }
 
     /// The physical mode's parameters with the load cases given (the server's full analysis
@@ -250,13 +273,9 @@ impl Analyzer {
         &self,
         active: &ActiveSet,
     ) -> Result<Vec<crate::physics::loaded::LoadCaseReport>, StabilityError> {
-        let Some(p) = &self.loaded else {
-            return Ok(Vec::new());
-        };
-        match analyze_physical(&self.network, p, active) {
-            Ok(r) => Ok(r.load_cases),
-            Err(PhysicsError::Eigen(e)) => Err(StabilityError::Eigen(e)),
-            Err(e) => Err(StabilityError::Params(e.to_string().into())),
+        match &self.loaded {
+            Some(p) => Ok(self.analyze_physical(p, active)?.load_cases),
+            None => Ok(Vec::new()),
         }
     }
 

@@ -224,9 +224,24 @@ fn answer_of(
             let n = analyzer.network().rods.len();
             let active = ActiveSet::from_curves(n, &a.found.curves);
             a.physical = match a.found.iteration {
-                Some(k) => outcome.iterations.get(k).and_then(|r| r.physical.clone()),
+                // A greedy iteration's figures as recorded, with its load cases.
+                Some(k) => outcome
+                    .iterations
+                    .get(k)
+                    .and_then(|r| r.physical.clone())
+                    .map(|mut p| {
+                        match analyzer.load_cases(&active) {
+                            Ok(cases) => p.load_cases = cases,
+                            Err(e) => observer.warning(&Message::from(format!(
+                                "the load cases of the network of {} curves could not be \
+                                 computed: {e}",
+                                a.found.curves.len()
+                            ))),
+                        }
+                        p
+                    }),
                 None => analyzer
-                    .physical_summary(&active)
+                    .offered_physical_summary(&active)
                     .map_err(|e| {
                         observer.warning(&Message::from(format!(
                             "the physical figures of the network of {} curves could not \
@@ -237,16 +252,6 @@ fn answer_of(
                     .ok()
                     .flatten(),
             };
-            // The load cases of a network offered to build, when the run was given some.
-            if let Some(p) = a.physical.as_mut() {
-                match analyzer.load_cases(&active) {
-                    Ok(cases) => p.load_cases = cases,
-                    Err(e) => observer.warning(&Message::from(format!(
-                        "the load cases of the network of {} curves could not be computed: {e}",
-                        a.found.curves.len()
-                    ))),
-                }
-            }
         }
     }
     let state_of = |a: &Answer| {
