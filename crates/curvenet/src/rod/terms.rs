@@ -299,22 +299,28 @@ pub(crate) fn symmetrize<const D: usize>(h: &mut [[f64; D]; D]) {
     }
 }
 
-/// Anchor spring energy `E = µ Σ_a w_a (x − x̄)_a²` pulling a supported vertex to its target
-/// along the axes it fixes (`w_a` 1 for a fixed axis, 0 for a free one).
+/// Anchor spring energy `E = µ (x − x̄)ᵀ W (x − x̄)` pulling a supported vertex to its target
+/// along the directions it fixes: `W = Σ d dᵀ` over their unit vectors (diagonal, 1 for a fixed
+/// world axis and 0 for a free one, when only world axes are fixed; a support along the
+/// surface's directions adds their outer products).
 #[inline]
-pub fn anchor_energy(x: Vec3, target: Vec3, mu: f64, w: [f64; 3]) -> f64 {
+pub fn anchor_energy(x: Vec3, target: Vec3, mu: f64, w: &[[f64; 3]; 3]) -> f64 {
     let d = x - target;
-    mu * (0..3).map(|a| w[a] * d[a] * d[a]).sum::<f64>()
+    mu * (0..3)
+        .map(|a| (0..3).map(|b| w[a][b] * d[b]).sum::<f64>() * d[a])
+        .sum::<f64>()
 }
 
-/// [`anchor_energy`] with its gradient and Hessian (`2µ diag(w)`).
-pub fn anchor(x: Vec3, target: Vec3, mu: f64, w: [f64; 3]) -> Local<3> {
+/// [`anchor_energy`] with its gradient `2µ W (x − x̄)` and Hessian `2µ W`.
+pub fn anchor(x: Vec3, target: Vec3, mu: f64, w: &[[f64; 3]; 3]) -> Local<3> {
     let d = x - target;
     let mut out = Local::<3>::zero();
     out.energy = anchor_energy(x, target, mu, w);
     for a in 0..3 {
-        out.grad[a] = 2.0 * mu * w[a] * d[a];
-        out.hess[a][a] = 2.0 * mu * w[a];
+        out.grad[a] = (0..3).map(|b| 2.0 * mu * w[a][b] * d[b]).sum::<f64>();
+        for b in 0..3 {
+            out.hess[a][b] = 2.0 * mu * w[a][b];
+        }
     }
     out
 }
