@@ -246,3 +246,105 @@ fn bad_surface_supports_are_named_with_their_line() {
     println!("{e}");
     assert!(e.contains("not on the surface") && e.contains("50.00 away"), "{e}");
 }
+
+/// Two bars crossing on the plate (moved by `m`), each end held across the plate's edge and
+/// normal to the plate, sliding along the edge.
+fn cross(m: Motion) -> Network {
+    let h = L / 2.0;
+    let ends = [
+        (Vec3::new(0.0, 0.0, 0.0), Vec3::new(L, 0.0, 0.0)),
+        (Vec3::new(L / 2.0, -h, 0.0), Vec3::new(L / 2.0, h, 0.0)),
+    ];
+    let slide = EndSupport {
+        surface: [false, true, true],
+        ..EndSupport::FREE
+    };
+    let mesh = plate(m);
+    let curves: Vec<_> = ends
+        .iter()
+        .map(|&(a, b)| {
+            let pts = (0..=8).map(|i| m.apply(a.lerp(b, i as f64 / 8.0))).collect();
+            polyline(pts, false)
+        })
+        .collect();
+    let frames = curves
+        .iter()
+        .map(|c| {
+            let at = [c.points[0], c.points[8]];
+            at.map(|p| Some(end_frame(Some(&mesh), p, &slide, "an end").expect("on the edge")))
+        })
+        .collect();
+    let params = BuildParams {
+        edge_length: L / 8.0,
+        supports: Supports::Pinned,
+        ends: vec![[Some(slide); 2]; 2],
+        end_frames: frames,
+        ..BuildParams::default()
+    };
+    build_network(&curves, &params).expect("the cross builds").0
+}
+
+#[test]
+fn the_energy_with_skew_supports_has_exact_derivatives() {
+    use common::dense_hessian;
+    use curvenet::rod::model::Terms;
+    use curvenet::rod::{EnergyModel, ModelRules, RodStiffness};
+    let m = Motion {
+        axis: Vec3::new(-0.4, 0.7, 0.2).normalized(),
+        angle: 0.6,
+        shift: Vec3::new(3.0, 1.0, -2.0),
+    };
+    let net = cross(m);
+    assert!(net.rods.iter().all(|r| r.frames.is_some()));
+    let rods = vec![
+        RodStiffness {
+            ks: 1e3,
+            kb: 1e5,
+            gj: 7e4,
+            arm: 10.0,
+            rest: RestShape::Straight,
+        };
+        2
+    ];
+    let model = EnergyModel::with_rules(&net, &rods, 50.0, ModelRules::PHYSICAL);
+    let all = ActiveSet::all(2);
+    let u: Vec<f64> = (0..model.dofs())
+        .map(|i| 2.0 * ((i as f64) * 0.7).sin())
+        .collect();
+    let a = model.assemble(&u, &all, true);
+    let hess = dense_hessian(&model, &u, &all);
+    let step = 1e-4;
+    let mut worst = (0.0f64, 0.0f64);
+    for k in 0..model.dofs() {
+        let (mut up, mut um) = (u.clone(), u.clone());
+        up[k] += step;
+        um[k] -= step;
+        let fd = (model.energy(&up, &all) - model.energy(&um, &all)) / (2.0 * step);
+        worst.0 = worst.0.max((fd - a.grad[k]).abs());
+        let (gp, gm) = (
+            model.assemble(&up, &all, false).grad,
+            model.assemble(&um, &all, false).grad,
+        );
+        for j in 0..model.dofs() {
+            worst.1 = worst.1.max(((gp[j] - gm[j]) / (2.0 * step) - hess[(j, k)]).abs());
+        }
+    }
+    let gscale = a.grad.iter().fold(0.0f64, |s, g| s.max(g.abs()));
+    let hscale = (0..model.dofs()).fold(0.0f64, |s, i| s.max(hess[(i, i)].abs()));
+    println!("gradient error {:.2e} of {gscale:.2e}, Hessian {:.2e} of {hscale:.2e}", worst.0, worst.1);
+    assert!(worst.0 <= 1e-6 * gscale, "gradient");
+    assert!(worst.1 <= 1e-6 * hscale, "Hessian");
+    // The Hessian from local Hessians, and without a curve, are the whole assembly's.
+    let bits = |h: &[f64]| h.iter().map(|v| v.to_bits()).collect::<Vec<u64>>();
+    let locals = model.local_hessians(&u, Terms::All);
+    let mut h = Vec::new();
+    model.hessian_from_locals(&locals, &all, &mut h);
+    assert_eq!(bits(&h), bits(&a.hess));
+    for c in 0..2 {
+        let mut whole = Vec::new();
+        model.hessian_from_locals(&locals, &all.without(c), &mut whole);
+        let mut fast = Vec::new();
+        model.hessian_without(&locals, &all, &h, c, &mut fast);
+        assert_eq!(bits(&fast), bits(&whole), "without curve {c}");
+    }
+}
