@@ -170,7 +170,10 @@ fn the_objective_of_pre_bent_rods_is_the_physical_first_frequency() {
         .unwrap()
         .with_physical(physical.clone())
         .unwrap();
-    assert!(an.model().twist_count() > 0, "the searches' model has twists");
+    assert!(
+        an.model().twist_count() > 0,
+        "the searches' model has twists"
+    );
     let g = run_greedy(&an, Budget::Fraction(0.5));
     assert!(g.iterations.len() > 2);
     for it in &g.iterations {
@@ -180,7 +183,12 @@ fn the_objective_of_pre_bent_rods_is_the_physical_first_frequency() {
             "{:?}: μ {:.9e} (physics {:.9e}, stable {}), f₁ {:?} Hz",
             it.curves, it.lambda, report.mu_min, report.stable, report.first_frequency_hz
         );
-        assert!(rel_diff(it.lambda, report.mu_min) < SAME, "{} vs {}", it.lambda, report.mu_min);
+        assert!(
+            rel_diff(it.lambda, report.mu_min) < SAME,
+            "{} vs {}",
+            it.lambda,
+            report.mu_min
+        );
         if let Some(f) = report.first_frequency_hz {
             assert!(rel_diff(it.first_frequency.expect("recorded"), f) < SAME);
         }
@@ -221,7 +229,10 @@ fn the_objective_of_pre_bent_rods_is_the_physical_first_frequency() {
         a.spectrum.zero_modes, report.zero_modes, report.stable
     );
     assert!(!report.stable);
-    assert!(a.spectrum.zero_modes + a.spectrum.negative_modes > 0, "a mechanism");
+    assert!(
+        a.spectrum.zero_modes + a.spectrum.negative_modes > 0,
+        "a mechanism"
+    );
 }
 
 #[test]

@@ -101,7 +101,10 @@ fn bar(end: EndSupport, m: Motion) -> Network {
 
 /// The bar's analysis with 1 kN pressing on its end along it (turned by `m`).
 fn analyze(net: &Network, m: Motion) -> PhysicalReport {
-    let (at, f) = (m.apply(Vec3::new(L, 0.0, 0.0)), m.turn(Vec3::new(-1000.0, 0.0, 0.0)));
+    let (at, f) = (
+        m.apply(Vec3::new(L, 0.0, 0.0)),
+        m.turn(Vec3::new(-1000.0, 0.0, 0.0)),
+    );
     let loads = format!(
         r#"{{"cases": [{{"name": "P", "points": [{{"at": [{}, {}, {}], "force": [{}, {}, {}]}}]}}]}}"#,
         at.x, at.y, at.z, f.x, f.y, f.z
@@ -117,7 +120,10 @@ fn analyze(net: &Network, m: Motion) -> PhysicalReport {
 }
 
 fn frequencies(r: &PhysicalReport) -> Vec<f64> {
-    r.frequencies_hz.iter().map(|f| f.expect("stable")).collect()
+    r.frequencies_hz
+        .iter()
+        .map(|f| f.expect("stable"))
+        .collect()
 }
 
 #[test]
@@ -180,7 +186,10 @@ fn a_rigid_motion_of_network_surface_and_load_changes_nothing() {
         ),
         m,
     );
-    assert!(!skew.stable, "held along z alone, the moved bar swings about its pin");
+    assert!(
+        !skew.stable,
+        "held along z alone, the moved bar swings about its pin"
+    );
 }
 
 /// The set-up of the bar drawn in `bar.json` at line 7, its end held by `end`, on `mesh`.
@@ -215,8 +224,14 @@ fn the_set_up_finds_the_boundary_directions() {
     let setup = set_up(along_the_edge(), L, Some(plate(Motion::NONE))).expect("set-up");
     let frames = setup.inputs.build.end_frames[0][1].expect("the end's frame");
     let [t, _, n] = frames.0;
-    assert!((t[1].abs() - 1.0).abs() < 1e-12, "along the edge x = L: {t:?}");
-    assert!((n[2].abs() - 1.0).abs() < 1e-12, "normal to the plate: {n:?}");
+    assert!(
+        (t[1].abs() - 1.0).abs() < 1e-12,
+        "along the edge x = L: {t:?}"
+    );
+    assert!(
+        (n[2].abs() - 1.0).abs() < 1e-12,
+        "normal to the plate: {n:?}"
+    );
 }
 
 #[test]
@@ -242,9 +257,14 @@ fn bad_surface_supports_are_named_with_their_line() {
     assert!(set_up(normal, L - 100.0, Some(plate(Motion::NONE))).is_ok());
     let mut lifted = plate(Motion::NONE);
     lifted.vertices.iter_mut().for_each(|v| v.z += 50.0);
-    let e = set_up(normal, L, Some(lifted)).err().expect("off the surface");
+    let e = set_up(normal, L, Some(lifted))
+        .err()
+        .expect("off the surface");
     println!("{e}");
-    assert!(e.contains("not on the surface") && e.contains("50.00 away"), "{e}");
+    assert!(
+        e.contains("not on the surface") && e.contains("50.00 away"),
+        "{e}"
+    );
 }
 
 /// Two bars crossing on the plate (moved by `m`), each end held across the plate's edge and
@@ -263,7 +283,9 @@ fn cross(m: Motion) -> Network {
     let curves: Vec<_> = ends
         .iter()
         .map(|&(a, b)| {
-            let pts = (0..=8).map(|i| m.apply(a.lerp(b, i as f64 / 8.0))).collect();
+            let pts = (0..=8)
+                .map(|i| m.apply(a.lerp(b, i as f64 / 8.0)))
+                .collect();
             polyline(pts, false)
         })
         .collect();
@@ -326,12 +348,17 @@ fn the_energy_with_skew_supports_has_exact_derivatives() {
             model.assemble(&um, &all, false).grad,
         );
         for j in 0..model.dofs() {
-            worst.1 = worst.1.max(((gp[j] - gm[j]) / (2.0 * step) - hess[(j, k)]).abs());
+            worst.1 = worst
+                .1
+                .max(((gp[j] - gm[j]) / (2.0 * step) - hess[(j, k)]).abs());
         }
     }
     let gscale = a.grad.iter().fold(0.0f64, |s, g| s.max(g.abs()));
     let hscale = (0..model.dofs()).fold(0.0f64, |s, i| s.max(hess[(i, i)].abs()));
-    println!("gradient error {:.2e} of {gscale:.2e}, Hessian {:.2e} of {hscale:.2e}", worst.0, worst.1);
+    println!(
+        "gradient error {:.2e} of {gscale:.2e}, Hessian {:.2e} of {hscale:.2e}",
+        worst.0, worst.1
+    );
     assert!(worst.0 <= 1e-6 * gscale, "gradient");
     assert!(worst.1 <= 1e-6 * hscale, "Hessian");
     // The Hessian from local Hessians, and without a curve, are the whole assembly's.

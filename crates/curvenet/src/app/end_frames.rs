@@ -66,7 +66,12 @@ pub fn end_frame(
         let nearest = triangles
             .iter()
             .enumerate()
-            .map(|(f, t)| (closest::closest_point_on_triangle(at, t[0], t[1], t[2]).dist(at), f))
+            .map(|(f, t)| {
+                (
+                    closest::closest_point_on_triangle(at, t[0], t[1], t[2]).dist(at),
+                    f,
+                )
+            })
             .min_by(|x, y| x.0.total_cmp(&y.0));
         let Some((d, f)) = nearest else {
             return Err(FrameError(format!(

@@ -6,9 +6,9 @@
 //! fixes a direction of the surface gets that direction from the mesh (`end_frames`); an error
 //! there names the line that gave the support.
 
+use super::end_frames::end_frame;
 use crate::app::AppError;
 use crate::geom::{Aabb, Vec3};
-use super::end_frames::end_frame;
 use crate::io::{EndPlace, InputError, Polyline, SupportEntry, TriMesh};
 use crate::material::{CurveSpec, EndFrame, EndSupport};
 use std::path::Path;
@@ -37,7 +37,12 @@ pub(super) fn curve_ends(
     // Where each end's support was given: its curve's record, or the supports file's line.
     let mut given: Vec<[(String, usize); 2]> = curves
         .iter()
-        .map(|c| [(c.origin.file.clone(), c.origin.line), (c.origin.file.clone(), c.origin.line)])
+        .map(|c| {
+            [
+                (c.origin.file.clone(), c.origin.line),
+                (c.origin.file.clone(), c.origin.line),
+            ]
+        })
         .collect();
     if let Some(path) = file {
         let name = path.display().to_string();
@@ -51,7 +56,10 @@ pub(super) fn curve_ends(
     }
     let mut frames = vec![[None; 2]; curves.len()];
     for (c, curve) in curves.iter().enumerate() {
-        for (i, at) in [curve.points.first(), curve.points.last()].into_iter().enumerate() {
+        for (i, at) in [curve.points.first(), curve.points.last()]
+            .into_iter()
+            .enumerate()
+        {
             let (Some(s), Some(&at)) = (ends[c][i].filter(EndSupport::uses_surface), at) else {
                 continue;
             };

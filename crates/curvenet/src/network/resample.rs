@@ -55,7 +55,10 @@ pub(super) fn resample(
         let ends = params.ends.get(ci).copied().unwrap_or([None; 2]);
         let mut rod = lock(&positions, verts, g, params, ends)
             .map_err(|message| BuildError::degenerate(curves, ci, message.into()))?;
-        if let Some(frames) = params.end_frames.get(ci).filter(|f| f.iter().any(Option::is_some))
+        if let Some(frames) = params
+            .end_frames
+            .get(ci)
+            .filter(|f| f.iter().any(Option::is_some))
         {
             rod.frames = rod
                 .ends

@@ -596,7 +596,12 @@ mod tests {
         let a = rng.vec3();
         let diag = |v: [f64; 3]| [[v[0], 0.0, 0.0], [0.0, v[1], 0.0], [0.0, 0.0, v[2]]];
         let skew = weights(&[rng.vec3(), rng.vec3()]);
-        for w in [diag([1.0; 3]), diag([0.0, 1.0, 1.0]), diag([1.0, 0.0, 0.0]), skew] {
+        for w in [
+            diag([1.0; 3]),
+            diag([0.0, 1.0, 1.0]),
+            diag([1.0, 0.0, 0.0]),
+            skew,
+        ] {
             check_fd(
                 [a.x, a.y, a.z],
                 |x| anchor(split(x, 0), t, 500.0, &w),

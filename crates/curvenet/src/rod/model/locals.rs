@@ -276,9 +276,7 @@ impl EnergyModel {
         }
         let two_mu = 2.0 * self.mu;
         for t in &self.anchor[r.anchor.clone()] {
-            add(&[t.v], &|i, j| {
-                two_mu * t.axes[i][j]
-            });
+            add(&[t.v], &|i, j| two_mu * t.axes[i][j]);
         }
         out
     }

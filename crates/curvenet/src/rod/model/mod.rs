@@ -331,7 +331,8 @@ impl EnergyModel {
             .filter(move |&(a, b)| w[a][b] != 0.0)
             .filter_map(move |(a, b)| {
                 let (i, j) = (base + a, base + b);
-                let col = &self.pattern.row_idx[self.pattern.col_ptr[j]..self.pattern.col_ptr[j + 1]];
+                let col =
+                    &self.pattern.row_idx[self.pattern.col_ptr[j]..self.pattern.col_ptr[j + 1]];
                 let k = col.binary_search(&i).ok()?;
                 Some((self.pattern.col_ptr[j] + k, two_mu * w[a][b]))
             });
