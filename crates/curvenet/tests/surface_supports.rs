@@ -236,13 +236,15 @@ fn the_set_up_finds_the_boundary_directions() {
 
 #[test]
 fn bad_surface_supports_are_named_with_their_line() {
-    let e = set_up(along_the_edge(), L, None).err().expect("no surface");
+    let Err(e) = set_up(along_the_edge(), L, None) else {
+        panic!("no surface")
+    };
     println!("{e}");
     assert!(e.contains("bar.json") && e.contains('7'), "{e}");
     assert!(e.contains("there is no surface"), "{e}");
-    let e = set_up(along_the_edge(), L - 100.0, Some(plate(Motion::NONE)))
-        .err()
-        .expect("off the boundary");
+    let Err(e) = set_up(along_the_edge(), L - 100.0, Some(plate(Motion::NONE))) else {
+        panic!("off the boundary")
+    };
     println!("{e}");
     assert!(e.contains("bar.json"), "{e}");
     assert!(
@@ -257,9 +259,9 @@ fn bad_surface_supports_are_named_with_their_line() {
     assert!(set_up(normal, L - 100.0, Some(plate(Motion::NONE))).is_ok());
     let mut lifted = plate(Motion::NONE);
     lifted.vertices.iter_mut().for_each(|v| v.z += 50.0);
-    let e = set_up(normal, L, Some(lifted))
-        .err()
-        .expect("off the surface");
+    let Err(e) = set_up(normal, L, Some(lifted)) else {
+        panic!("off the surface")
+    };
     println!("{e}");
     assert!(
         e.contains("not on the surface") && e.contains("50.00 away"),
