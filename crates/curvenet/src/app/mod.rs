@@ -16,6 +16,7 @@
 //!   ([`crate::words`]), which each front end spells its own way.
 
 mod analyze;
+pub mod end_frames;
 mod ends;
 mod error;
 pub mod inputs;
