@@ -1,7 +1,8 @@
 //! Sliding curves on the surface (`curvenet::slide`, `app::slide`) on a small curved network:
 //! the search against a fine scan of a one-parameter family; the slid run's exported curves
 //! analysed cold give the recorded objective; every exported point on the surface and within
-//! the largest move of its drawn curve; the budget holds; the same result on one thread and
+//! the largest move of its drawn curve; a symmetric run stays symmetric and a group shares its
+//! coefficients; the budget holds; the same result on one thread and
 //! two; clear errors for a missing surface, a curve off it, a bad largest move and pinned
 //! curves out of range.
 
@@ -92,6 +93,7 @@ fn problem(curves: Vec<Polyline>, budget: f64) -> SlideProblem {
         stability: StabilityParams::default(),
         budget,
         fixed: Vec::new(),
+        ties: Vec::new(),
         constraints: Default::default(),
     }
 }
@@ -373,4 +375,97 @@ fn a_cancelled_slide_keeps_the_best_so_far_and_constraints_hold() {
             .map(|j| j.curves.iter().map(|&c| c as usize).collect::<Vec<_>>()),
     );
     assert_eq!(parts.len(), 1, "{parts:?}");
+}
+
+#[test]
+fn a_symmetric_run_slides_its_orbits_together_and_stays_symmetric() {
+    use curvenet::constraints::{ConstraintParams, SymmetryOption, symmetry};
+    let dir = TempDir::new("slide-symmetric");
+    let mesh = bump(40);
+    // A square of four curves on the bump, one orbit of its quarter turns.
+    let curves = vec![
+        lifted((2.0, 0.0), (2.0, SIZE), 1),
+        lifted((0.0, 2.0), (SIZE, 2.0), 2),
+        lifted((8.0, 0.0), (8.0, SIZE), 3),
+        lifted((0.0, 8.0), (SIZE, 8.0), 4),
+        lifted((0.0, 5.0), (SIZE, 5.0), 5),
+        lifted((5.0, 0.0), (5.0, SIZE), 6),
+    ];
+    let spec = InputSpec {
+        mesh: Some(MeshSource::Given {
+            mesh: mesh.clone(),
+            name: "bump".into(),
+        }),
+        edge_length: Some(0.5),
+        ..InputSpec::new(CurveSource::Given(GivenCurves {
+            curves,
+            ..GivenCurves::default()
+        }))
+    };
+    let mut setup = Setup::new(&spec, &ModelOptions::default()).expect("set-up");
+    let from = dir.path().join("run");
+    let run = RunSpec {
+        budget: Some(Budget::Fraction(0.7)),
+        constraints: ConstraintParams {
+            symmetry: SymmetryOption::Rotate(4),
+            ..ConstraintParams::default()
+        },
+        pictures: false,
+        ..RunSpec::new(&from)
+    };
+    curvenet::app::execute(&mut setup, &run, &Silent, &Cancel::never()).expect("runs");
+    let out = dir.path().join("slid");
+    let slide = SlideSpec {
+        max_move: MaxMove::Fraction(0.05),
+        pictures: false,
+        ..SlideSpec::new(&from, &out)
+    };
+    let done = curvenet::app::slide(&slide, &Silent, &Cancel::never()).expect("slides");
+    let record = &done.record;
+    // Every curve of the orbit moves, with its leader's coefficients.
+    let orbit: Vec<_> = record.curves.iter().filter(|c| c.from < 4).collect();
+    assert_eq!(orbit.len(), 4, "{record:?}");
+    assert!(orbit.iter().all(|c| c.free));
+    assert!(
+        orbit
+            .iter()
+            .all(|c| c.coefficients == orbit[0].coefficients)
+    );
+    assert!(record.lambda_after > record.lambda_before, "{record:?}");
+    // The slid network, built cold from its exported curves: the same λ_eq, and the symmetry.
+    let slid = RunFolder::open(&out).expect("a run folder");
+    let text = curvenet::report::export::curves_json(&slid, Which::Answer, true).expect("json");
+    let read = parse_json_curves(&text, "answer.json").expect("reads back");
+    let (net, _) = build_network(&read.curves, &slid.result.setup.build).expect("builds");
+    let found = symmetry::find(&net, SymmetryOption::Rotate(4), symmetry::DEFAULT_TOLERANCE)
+        .expect("the slid network keeps its quarter turns");
+    assert!(found[0].orbits.iter().any(|o| o.len() == 4), "{found:?}");
+    let an = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
+    let lambda = an.analyze(&an.all(), None).expect("analyses").lambda();
+    let rel = (lambda - record.lambda_after).abs() / record.lambda_after.abs();
+    assert!(rel < 1e-6, "{lambda} vs {}", record.lambda_after);
+}
+
+#[test]
+fn a_group_moves_with_one_set_of_coefficients() {
+    use curvenet::slide::{Tie, TieMap};
+    let p = SlideProblem {
+        ties: vec![Tie {
+            curve: 1,
+            leader: 0,
+            map: TieMap::Shared,
+        }],
+        ..problem(four_curves(), 1e9)
+    };
+    let params = SlideParams {
+        pinned: vec![2, 3],
+        max_evaluations: 30,
+        ..SlideParams::default()
+    };
+    let slider = Slider::new(p, Some(&bump(40)), params).expect("slider");
+    assert_eq!(slider.dimension(), 3, "the group's one family");
+    assert!(slider.moving(1));
+    let out = slider.run(&Cancel::never(), &|_| {}).expect("slides");
+    assert_eq!(out.coefficients[0], out.coefficients[1]);
+    assert!(out.coefficients[2].is_empty() && out.coefficients[3].is_empty());
 }

@@ -123,29 +123,33 @@ pub fn slide(
     let curves = &curves;
     let setup = &run.result.setup;
     let budget = run.result.budget;
-    // Curves that stay: the keep list, and the curves of groups and symmetry orbits.
-    let mut stay: Vec<usize> = setup.greedy.keep.clone();
-    let c = &setup.constraints;
-    if c.groups.iter().any(|g| g.curves.len() > 1) || c.symmetry != SymmetryOption::None {
-        let bound = Constraints::new(&run.network, run.mesh.as_ref(), c, budget, &stay)
-            .map_err(|e| AppError::Usage(e.message()))?;
-        for unit in bound.units().iter().filter(|u| u.len() > 1) {
-            stay.extend(unit);
-        }
-    }
+    // Curves that stay: the keep list; groups and symmetry orbits move together (ties).
     let position = |ids: &[usize]| -> Vec<usize> {
         (curves.iter().enumerate())
             .filter(|(_, c)| ids.contains(c))
             .map(|(i, _)| i)
             .collect()
     };
+    let drawn = network_polylines(&run.network, curves, None);
+    let mut fixed = position(&setup.greedy.keep);
+    let mut ties = Vec::new();
+    let c = &setup.constraints;
+    if c.groups.iter().any(|g| g.curves.len() > 1) || c.symmetry != SymmetryOption::None {
+        let keep = &setup.greedy.keep;
+        let bound = Constraints::new(&run.network, run.mesh.as_ref(), c, budget, keep)
+            .map_err(|e| AppError::Usage(e.message()))?;
+        let (tied, stay) = crate::slide::ties::ties_of(&bound, curves, &drawn);
+        ties = tied;
+        fixed.extend(stay);
+    }
     let problem = SlideProblem {
-        curves: network_polylines(&run.network, curves, None),
+        curves: drawn,
         ids: curves.clone(),
         build: setup.build.clone(),
         stability: setup.stability.clone(),
         budget,
-        fixed: position(&stay),
+        fixed,
+        ties,
         constraints: ConstraintParams {
             groups: Vec::new(),
             symmetry: SymmetryOption::None,
@@ -183,7 +187,7 @@ pub fn slide(
         curves: (curves.iter().enumerate())
             .map(|(i, &id)| SlideCurve {
                 from: id,
-                free: slider.moves()[i].is_some(),
+                free: slider.moving(i),
                 largest_move: after.moves[i],
                 coefficients: outcome.coefficients[i].clone(),
             })
