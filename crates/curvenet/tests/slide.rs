@@ -469,3 +469,59 @@ fn a_group_moves_with_one_set_of_coefficients() {
     assert_eq!(out.coefficients[0], out.coefficients[1]);
     assert!(out.coefficients[2].is_empty() && out.coefficients[3].is_empty());
 }
+
+#[test]
+fn slide_rounds_alternate_a_local_search_and_a_slide_and_record_each_objective() {
+    let dir = TempDir::new("slide-rounds");
+    let mut curves = four_curves();
+    curves.push(lifted((0.0, 5.0), (SIZE, 5.0), 5));
+    curves.push(lifted((6.0, 0.0), (6.0, SIZE), 6));
+    let spec = InputSpec {
+        mesh: Some(MeshSource::Given {
+            mesh: bump(40),
+            name: "bump".into(),
+        }),
+        edge_length: Some(0.5),
+        ..InputSpec::new(CurveSource::Given(GivenCurves {
+            curves,
+            ..GivenCurves::default()
+        }))
+    };
+    let mut setup = Setup::new(&spec, &ModelOptions::default()).expect("set-up");
+    let from = dir.path().join("run");
+    let run = RunSpec {
+        budget: Some(Budget::Fraction(0.7)),
+        pictures: false,
+        slide: Some(SlideSpec {
+            rounds: 1,
+            ..SlideSpec::new("", "")
+        }),
+        ..RunSpec::new(&from)
+    };
+    let done = curvenet::app::execute(&mut setup, &run, &Silent, &Cancel::never()).expect("runs");
+    let record = done.slide.expect("slid");
+    assert_eq!(record.rounds.len(), 1, "{record:?}");
+    let round = &record.rounds[0];
+    assert_eq!(round.start.to_bits(), record.lambda_after.to_bits());
+    // The local search starts from the slid network (measured among every curve: within a
+    // hair of its own λ_eq), and the slide after it starts from the local search's network.
+    assert!(
+        round.local_search >= round.start * (1.0 - 1e-2),
+        "{round:?}"
+    );
+    assert!(round.slid >= round.local_search * (1.0 - 1e-2), "{round:?}");
+    // The round's record is in the slid run's result.json, its final network cold gives it.
+    let slid = RunFolder::open(&from.join("slide")).expect("the slid run");
+    assert_eq!(slid.result.slide.as_ref(), Some(&record));
+    let last = RunFolder::open(&from.join("slide").join(&round.folder).join("slid")).expect("run");
+    let text = curvenet::report::export::curves_json(&last, Which::Answer, true).expect("json");
+    let read = parse_json_curves(&text, "answer.json").expect("reads back");
+    let (net, _) = build_network(&read.curves, &last.result.setup.build).expect("builds");
+    let an = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
+    let lambda = an.analyze(&an.all(), None).expect("analyses").lambda();
+    assert!(
+        (lambda - round.slid).abs() < 1e-6 * round.slid.abs(),
+        "{lambda} vs {round:?}"
+    );
+    assert!(last.result.answer.expect("answer").found.length <= record.budget * (1.0 + 1e-9));
+}

@@ -24,6 +24,9 @@ use crate::words::{Message, Opt, message};
 use std::path::PathBuf;
 use std::time::Instant;
 
+/// The most rounds of local search and sliding ([`SlideSpec::rounds`]).
+pub const MAX_SLIDE_ROUNDS: usize = 100;
+
 /// What sliding does.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SlideSpec {
@@ -41,6 +44,9 @@ pub struct SlideSpec {
     pub pictures: bool,
     /// Run into a non-empty folder that is not a curvenet run's.
     pub force: bool,
+    /// Rounds of topology and geometry after the slide (0: none): each a local search on the
+    /// slid network's curves, then a slide of its network ([`super::rounds`]).
+    pub rounds: usize,
 }
 
 impl SlideSpec {
@@ -54,6 +60,7 @@ impl SlideSpec {
             pin: Vec::new(),
             pictures: true,
             force: false,
+            rounds: 0,
         }
     }
 }
@@ -70,9 +77,31 @@ pub struct SlideOutcome {
 }
 
 /// Slides the answer of the run in `spec.from` on its surface and records the slid network
-/// as the run in `spec.out`. `observer` hears each step; `cancel` stops the search within a
-/// second, the best network so far recorded ([`AppError::Cancelled`] after it is).
+/// as the run in `spec.out`, then runs the rounds `spec.rounds` asks for. `observer` hears
+/// each step; `cancel` stops the search within a second, the best network so far recorded
+/// ([`AppError::Cancelled`] after it is).
 pub fn slide(
+    spec: &SlideSpec,
+    observer: &dyn Observer,
+    cancel: &Cancel,
+) -> Result<SlideOutcome, AppError> {
+    let start = Instant::now();
+    if spec.rounds > MAX_SLIDE_ROUNDS {
+        return Err(AppError::usage(message![
+            Opt::SlideRounds,
+            format!(" is {}: at most {MAX_SLIDE_ROUNDS} rounds", spec.rounds)
+        ]));
+    }
+    let mut outcome = slide_once(spec, observer, cancel)?;
+    if spec.rounds > 0 {
+        super::rounds::run(spec, &mut outcome, observer, cancel)?;
+    }
+    outcome.wall_seconds = start.elapsed().as_secs_f64();
+    Ok(outcome)
+}
+
+/// One slide: the answer of the run in `spec.from` slid and recorded in `spec.out`.
+pub(super) fn slide_once(
     spec: &SlideSpec,
     observer: &dyn Observer,
     cancel: &Cancel,
@@ -196,40 +225,15 @@ pub fn slide(
         sweeps: outcome.search.sweeps,
         steps: outcome.search.steps.clone(),
         stopped: outcome.search.cancelled,
+        rounds: Vec::new(),
     };
-    // The slid network as a run of its own: every curve kept, the same budget.
-    let mesh = run.mesh.clone();
-    let inputs = Inputs {
-        curves: after.curves.clone(),
-        mesh,
-        build: setup.build.clone(),
-        description: InputDescription {
-            example: setup.input.example.clone(),
-            mesh: Some(spec.from.join("mesh.obj").display().to_string()),
-            curve_files: vec![spec.from.join("network.json").display().to_string()],
-            scale: 1.0,
-        },
-        groups: Vec::new(),
-        specs: Vec::new(),
-        file_units: None,
-        warnings: Vec::new(),
-        example: None,
-    };
-    let model = Model {
-        stability: setup.stability.clone(),
-        physical: None,
-        physical_options: None,
-    };
-    let mut slid = Setup::from_parts(inputs, model);
-    let k = after.curves.len();
-    let run_spec = RunSpec {
-        budget: Some(Budget::Length(budget.max(after.length))),
-        keep: Some((0..k).collect()),
-        pictures: false,
-        force: spec.force,
-        ..RunSpec::new(&spec.out)
-    };
-    let mut recorded = execute(&mut slid, &run_spec, &super::Silent, &Cancel::never())?;
+    let mut recorded = record_network(
+        after.curves.clone(),
+        &run,
+        budget.max(after.length),
+        &spec.out,
+        spec.force,
+    )?;
     let result = &mut recorded.result;
     if let Some(a) = result.answer.as_mut() {
         a.found.source = "slide".into();
@@ -257,8 +261,52 @@ pub fn slide(
     })
 }
 
+/// `curves` recorded as a run of their own in `out`, with the set-up of the run `run` (its
+/// mesh, build and objective), every curve kept, `budget` its budget.
+pub(super) fn record_network(
+    curves: Vec<crate::io::Polyline>,
+    run: &RunFolder,
+    budget: f64,
+    out: &std::path::Path,
+    force: bool,
+) -> Result<RunOutcome, AppError> {
+    let setup = &run.result.setup;
+    let from = &run.dir;
+    let inputs = Inputs {
+        curves,
+        mesh: run.mesh.clone(),
+        build: setup.build.clone(),
+        description: InputDescription {
+            example: setup.input.example.clone(),
+            mesh: Some(from.join("mesh.obj").display().to_string()),
+            curve_files: vec![from.join("network.json").display().to_string()],
+            scale: 1.0,
+        },
+        groups: Vec::new(),
+        specs: Vec::new(),
+        file_units: None,
+        warnings: Vec::new(),
+        example: None,
+    };
+    let model = Model {
+        stability: setup.stability.clone(),
+        physical: None,
+        physical_options: None,
+    };
+    let mut slid = Setup::from_parts(inputs, model);
+    let k = slid.inputs.curves.len();
+    let run_spec = RunSpec {
+        budget: Some(Budget::Length(budget)),
+        keep: Some((0..k).collect()),
+        pictures: false,
+        force,
+        ..RunSpec::new(out)
+    };
+    execute(&mut slid, &run_spec, &super::Silent, &Cancel::never())
+}
+
 /// Rewrites `dir/result.json` (and its summary) with `result`.
-fn write_result(dir: &std::path::Path, result: &ResultFile) -> Result<(), AppError> {
+pub(super) fn write_result(dir: &std::path::Path, result: &ResultFile) -> Result<(), AppError> {
     let mut text =
         serde_json::to_vec_pretty(result).map_err(|e| AppError::Failed(e.to_string()))?;
     text.push(b'\n');
