@@ -94,6 +94,7 @@ fn problem(curves: Vec<Polyline>, budget: f64) -> SlideProblem {
         budget,
         fixed: Vec::new(),
         ties: Vec::new(),
+        physical: None,
         constraints: Default::default(),
     }
 }
@@ -524,4 +525,103 @@ fn slide_rounds_alternate_a_local_search_and_a_slide_and_record_each_objective()
         "{lambda} vs {round:?}"
     );
     assert!(last.result.answer.expect("answer").found.length <= record.budget * (1.0 + 1e-9));
+}
+
+#[test]
+fn a_physical_run_slides_on_its_first_frequency_and_records_its_physical_figures() {
+    use curvenet::physics::PhysicalOptions;
+    use curvenet::stability::Objective;
+    let dir = TempDir::new("slide-physical");
+    let mut curves = four_curves();
+    curves.push(lifted((0.0, 5.0), (SIZE, 5.0), 5));
+    let spec = InputSpec {
+        mesh: Some(MeshSource::Given {
+            mesh: bump(40),
+            name: "bump".into(),
+        }),
+        edge_length: Some(0.5),
+        ..InputSpec::new(CurveSource::Given(GivenCurves {
+            curves,
+            ..GivenCurves::default()
+        }))
+    };
+    let model = ModelOptions {
+        radius: Some(0.05),
+        objective: Objective::Frequency,
+        physical: PhysicalOptions {
+            units: Some("m".into()),
+            material: Some("steel".into()),
+            ..Default::default()
+        },
+        ..ModelOptions::default()
+    };
+    let mut setup = Setup::new(&spec, &model).expect("set-up");
+    let from = dir.path().join("run");
+    let run = RunSpec {
+        budget: Some(Budget::Fraction(0.85)),
+        pictures: false,
+        ..RunSpec::new(&from)
+    };
+    curvenet::app::execute(&mut setup, &run, &Silent, &Cancel::never()).expect("runs");
+    let out = dir.path().join("slid");
+    let slide = SlideSpec {
+        pictures: false,
+        ..SlideSpec::new(&from, &out)
+    };
+    let done = curvenet::app::slide(&slide, &Silent, &Cancel::never()).expect("slides");
+    let record = &done.record;
+    assert_eq!(record.objective, "frequency");
+    assert!(record.lambda_after >= record.lambda_before, "{record:?}");
+    // The slid answer's physical figures, recomputed for it.
+    let slid = RunFolder::open(&out).expect("a run folder");
+    let answer = slid.result.answer.clone().expect("an answer");
+    assert!(answer.physical.is_some(), "{answer:?}");
+    assert!(slid.result.setup.physical_model.is_some());
+    // Its exported curves analysed cold in the physical model: the recorded μ_min.
+    let text = curvenet::report::export::curves_json(&slid, Which::Answer, true).expect("json");
+    let read = parse_json_curves(&text, "answer.json").expect("reads back");
+    let (net, _) = build_network(&read.curves, &slid.result.setup.build).expect("builds");
+    let resolved = model.resolve(None, &[]).expect("model");
+    let mut physical = resolved.physical.expect("physical");
+    physical.rest = vec![Default::default(); net.rods.len()];
+    let an = Analyzer::new(net, slid.result.setup.stability.clone())
+        .and_then(|a| a.with_physical(physical))
+        .expect("analyzer");
+    let mu = an.analyze(&an.all(), None).expect("analyses").lambda();
+    assert!(
+        (mu - record.lambda_after).abs() < 1e-6 * mu.abs(),
+        "{mu} vs {record:?}"
+    );
+    // What a slid network cannot keep is refused by name.
+    let deviation = dir.path().join("deviation");
+    let run = RunSpec {
+        constraints: curvenet::constraints::ConstraintParams {
+            max_deviation: Some(1.0),
+            ..Default::default()
+        },
+        ..RunSpec::new(&deviation)
+    };
+    let mut setup = Setup::new(&spec, &model).expect("set-up");
+    curvenet::app::execute(
+        &mut setup,
+        &RunSpec {
+            budget: Some(Budget::Fraction(0.85)),
+            pictures: false,
+            ..run
+        },
+        &Silent,
+        &Cancel::never(),
+    )
+    .expect("runs");
+    let e = curvenet::app::slide(
+        &SlideSpec::new(&deviation, dir.path().join("no")),
+        &Silent,
+        &Cancel::never(),
+    )
+    .expect_err("refused");
+    let text = e.render(&curvenet::words::Recorded);
+    assert!(
+        text.contains("largest deviation") && text.contains("physical mode"),
+        "{text}"
+    );
 }

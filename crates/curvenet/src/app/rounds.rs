@@ -9,11 +9,10 @@
 //! `slid` folder holds the final network.
 
 use super::inputs::Inputs;
-use super::model::Model;
 use super::observer::{Observer, StageGuard};
 use super::search::Search;
 use super::setup::Setup;
-use super::slide::{SlideOutcome, SlideSpec, record_network, slide_once, write_result};
+use super::slide::{SlideOutcome, SlideSpec, model_of, record_network, slide_once, write_result};
 use super::{AppError, Stage};
 use crate::cancel::Cancel;
 use crate::run_folder::{InputDescription, RunFolder, SlideRound, network_polylines};
@@ -65,11 +64,8 @@ pub(super) fn run(
             warnings: Vec::new(),
             example: None,
         };
-        let model = Model {
-            stability: setup.stability.clone(),
-            physical: None,
-            physical_options: None,
-        };
+        let model = model_of(&source, n)?;
+        let unit = (model.physical.as_ref()).map(|p| p.physical.units.symbol().to_string());
         let mut combined = Setup::from_parts(inputs, model);
         let analyzer = combined.analyzer()?;
         let search = Search::new(
@@ -79,7 +75,7 @@ pub(super) fn run(
             setup.greedy.keep.clone(),
             setup.constraints.clone(),
             false,
-            None,
+            unit.as_deref(),
             &super::Silent,
         )?;
         let mut start = ids.clone();

@@ -14,6 +14,7 @@ use super::{AppError, Stage};
 use crate::cancel::Cancel;
 use crate::constraints::{ConstraintParams, Constraints, SymmetryOption};
 use crate::io::write_atomic;
+use crate::physics::PhysicalParams;
 use crate::run_folder::schema::objective_name;
 use crate::run_folder::{
     InputDescription, ResultFile, RunFolder, SlideCurve, SlideRecord, network_polylines,
@@ -111,13 +112,6 @@ pub(super) fn slide_once(
         true => AppError::Usage(Message::from(e.to_string())),
         false => AppError::Failed(e.to_string()),
     })?;
-    if run.result.setup.physical.is_some() {
-        return Err(AppError::usage(message![
-            "sliding works in the paper's model (either objective); the run in ",
-            spec.from.display().to_string(),
-            " is in the physical mode"
-        ]));
-    }
     // A run without an answer (no stable network within the budget) slides its final
     // network: sliding may make it stable.
     let (curves, lambda_recorded) = match (&run.result.answer, &run.result.final_network) {
@@ -171,7 +165,9 @@ pub(super) fn slide_once(
         ties = tied;
         fixed.extend(stay);
     }
+    let physical = physical_of(&run, drawn.len())?;
     let problem = SlideProblem {
+        physical,
         curves: drawn,
         ids: curves.clone(),
         build: setup.build.clone(),
@@ -288,13 +284,9 @@ pub(super) fn record_network(
         warnings: Vec::new(),
         example: None,
     };
-    let model = Model {
-        stability: setup.stability.clone(),
-        physical: None,
-        physical_options: None,
-    };
+    let k = inputs.curves.len();
+    let model = model_of(run, k)?;
     let mut slid = Setup::from_parts(inputs, model);
-    let k = slid.inputs.curves.len();
     let run_spec = RunSpec {
         budget: Some(Budget::Length(budget)),
         keep: Some((0..k).collect()),
@@ -330,4 +322,66 @@ fn slide_error(e: SlideError) -> AppError {
         SlideError::Failed(m) => AppError::Failed(m),
         e => AppError::Usage(e.message()),
     }
+}
+
+/// The model of the run `run` (its objective; in the physical mode its physical model) for a
+/// network of `n` of its curves.
+pub(super) fn model_of(run: &RunFolder, n: usize) -> Result<Model, AppError> {
+    let setup = &run.result.setup;
+    Ok(Model {
+        stability: setup.stability.clone(),
+        physical: physical_of(run, n)?,
+        physical_options: setup.physical.clone(),
+    })
+}
+
+/// The physical mode's parameters of the run `run` for a network of `n` of its curves
+/// (`None` in the paper's mode). Refused, naming what, when the run's physical model is not
+/// the same on every curve or has load cases: a run records them by its curves' ids and its
+/// drawn vertices, which a slid network does not keep.
+fn physical_of(run: &RunFolder, n: usize) -> Result<Option<PhysicalParams>, AppError> {
+    let setup = &run.result.setup;
+    let (Some(options), Some(model)) = (&setup.physical, &setup.physical_model) else {
+        return Ok(None);
+    };
+    let ids = |c: &mut dyn Iterator<Item = usize>| {
+        c.map(|c| c.to_string()).collect::<Vec<_>>().join(", ")
+    };
+    let mut what = Vec::new();
+    if !model.physical.curves.is_empty() {
+        let c = ids(&mut model.physical.curves.iter().map(|o| o.curve));
+        what.push(format!("a material or section of their own on curves {c}"));
+    }
+    if !model.pre_bent.is_empty() {
+        let c = ids(&mut model.pre_bent.iter().copied());
+        what.push(format!(
+            "curves pre-bent at rest ({c}), whose rest shape is the drawn one"
+        ));
+    }
+    if model.loads.is_some() {
+        what.push("load cases, whose point loads are placed on the drawn network".to_string());
+    }
+    if setup.constraints.max_deviation.is_some() {
+        what.push(
+            "a largest deviation, which the run measures under self-weight and a slide's \
+             analyses do not"
+                .to_string(),
+        );
+    }
+    if !what.is_empty() {
+        return Err(AppError::usage(format!(
+            "sliding in the physical mode needs one material and section on every curve, \
+             straight at rest, no load cases and no largest deviation; the run in {} has {}",
+            run.dir.display(),
+            what.join("; ")
+        )));
+    }
+    let resolved = options.resolve(None, &[]).map_err(AppError::Usage)?;
+    Ok(resolved.map(|mut p| {
+        p.physical = model.physical.clone();
+        p.rest = vec![crate::material::RestShape::Straight; n];
+        p.frequencies = setup.stability.eigen.count;
+        p.loads = None;
+        p
+    }))
 }

@@ -185,6 +185,9 @@ pub struct SlideProblem {
     pub build: BuildParams,
     /// How it is analysed (the objective included).
     pub stability: StabilityParams,
+    /// The physical mode's parameters (`None`: the paper's model): each network is then
+    /// analysed in the structure's own model (its rest shapes one per curve, in order).
+    pub physical: Option<crate::physics::PhysicalParams>,
     /// The budget, a length.
     pub budget: f64,
     /// Curves that do not move (the keep list, and units of the constraints that cannot move
@@ -457,7 +460,10 @@ impl Slider {
         if let Some(c) = &constraints {
             feasible &= c.as_ref().is_ok_and(|c| c.check(&all).is_ok());
         }
-        let analyzer = Analyzer::new(network, self.problem.stability.clone()).ok()?;
+        let mut analyzer = Analyzer::new(network, self.problem.stability.clone()).ok()?;
+        if let Some(p) = &self.problem.physical {
+            analyzer = analyzer.with_physical(p.clone()).ok()?;
+        }
         let analysis = analyzer.analyze(&analyzer.all(), None).ok()?;
         if let Some(Ok(c)) = &constraints {
             let d = max_displacement(analyzer.network(), &all, &analysis.displacement);
