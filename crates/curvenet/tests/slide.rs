@@ -418,11 +418,17 @@ fn a_symmetric_run_slides_its_orbits_together_and_stays_symmetric() {
     let out = dir.path().join("slid");
     let slide = SlideSpec {
         max_move: MaxMove::Fraction(0.05),
-        pictures: false,
         ..SlideSpec::new(&from, &out)
     };
     let done = curvenet::app::slide(&slide, &Silent, &Cancel::never()).expect("slides");
     let record = &done.record;
+    // The before/after picture is written with the slid run's pictures.
+    let png = std::fs::read(out.join("slide.png")).expect("slide.png");
+    assert!(
+        png.starts_with(b"\x89PNG") && png.len() > 10_000,
+        "{}",
+        png.len()
+    );
     // Every curve of the orbit moves, with its leader's coefficients.
     let orbit: Vec<_> = record.curves.iter().filter(|c| c.from < 4).collect();
     assert_eq!(orbit.len(), 4, "{record:?}");
