@@ -347,34 +347,36 @@ fn physical_of(run: &RunFolder, n: usize) -> Result<Option<PhysicalParams>, AppE
     let ids = |c: &mut dyn Iterator<Item = usize>| {
         c.map(|c| c.to_string()).collect::<Vec<_>>().join(", ")
     };
-    let mut what = Vec::new();
+    let mut what: Vec<Message> = Vec::new();
     if !model.physical.curves.is_empty() {
         let c = ids(&mut model.physical.curves.iter().map(|o| o.curve));
-        what.push(format!("a material or section of their own on curves {c}"));
+        what.push(format!("a material or section of their own on curves {c}").into());
     }
     if !model.pre_bent.is_empty() {
         let c = ids(&mut model.pre_bent.iter().copied());
-        what.push(format!(
-            "curves pre-bent at rest ({c}), whose rest shape is the drawn one"
-        ));
-    }
-    if model.loads.is_some() {
-        what.push("load cases, whose point loads are placed on the drawn network".to_string());
-    }
-    if setup.constraints.max_deviation.is_some() {
         what.push(
-            "a largest deviation, which the run measures under self-weight and a slide's \
-             analyses do not"
-                .to_string(),
+            format!("curves pre-bent at rest ({c}), whose rest shape is the drawn one").into(),
         );
     }
+    if model.loads.is_some() {
+        what.push("load cases, whose point loads are placed on the drawn network".into());
+    }
+    if setup.constraints.max_deviation.is_some() {
+        what.push(message![
+            "a largest deviation (",
+            Opt::MaxDeviation,
+            "), which the run measures under self-weight and a slide's analyses do not"
+        ]);
+    }
     if !what.is_empty() {
-        return Err(AppError::usage(format!(
-            "sliding in the physical mode needs one material and section on every curve, \
-             straight at rest, no load cases and no largest deviation; the run in {} has {}",
-            run.dir.display(),
-            what.join("; ")
-        )));
+        return Err(AppError::Usage(
+            Message::join(what, "; ").prefixed([format!(
+                "sliding in the physical mode needs one material and section on every curve, \
+             straight at rest, no load cases and no largest deviation; the run in {} has ",
+                run.dir.display()
+            )
+            .into()]),
+        ));
     }
     let resolved = options.resolve(None, &[]).map_err(AppError::Usage)?;
     Ok(resolved.map(|mut p| {
