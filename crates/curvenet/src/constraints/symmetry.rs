@@ -169,7 +169,7 @@ impl Symmetry {
                     sin: angle.sin(),
                 }
             }
-            Symmetry::Mirror { .. } if k % 2 == 0 => return p,
+            Symmetry::Mirror { .. } if k.is_multiple_of(2) => return p,
             Symmetry::Mirror { point, normal } => Transform::Reflect {
                 point: v(point),
                 normal: v(normal),
