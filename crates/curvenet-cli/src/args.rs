@@ -178,8 +178,7 @@ pub struct SlideCmdArgs {
 /// How far the curves may slide (`docs/model.md`, "Sliding").
 #[derive(Debug, Args, Clone)]
 pub struct SlideArgs {
-    /// How far a point of a curve may move: a length, or a percentage of the surface's
-    /// bounding-box diagonal.
+    /// How far a point of a curve may move: a length, or a percentage of the surface's diagonal.
     #[arg(long = "max-move", value_name = "D", default_value = "5%", value_parser = |s: &str| s.parse::<MaxMove>().map_err(|m| m.to_string()), allow_hyphen_values = true)]
     pub max_move: MaxMove,
     /// Keep every curve end where it is (else ends on the surface's boundary slide along it).
@@ -188,6 +187,9 @@ pub struct SlideArgs {
     /// Curves that do not move (comma-separated ids).
     #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
     pub pin: Vec<usize>,
+    /// Then N rounds of a local search with the slid curves in place and a slide (rounds/K/).
+    #[arg(long = "slide-rounds", value_name = "N", default_value_t = 0, value_parser = count(0, 100), allow_hyphen_values = true)]
+    pub slide_rounds: usize,
 }
 
 /// `curvenet compare`.
@@ -510,8 +512,7 @@ pub struct AfterGreedyArgs {
     /// alternative-N.csv and can be picked in the viewer. 0 (the default): none. At most 100.
     #[arg(long, value_name = "K", default_value_t = 0, value_parser = count(0, 100), allow_hyphen_values = true)]
     pub alternatives: usize,
-    /// Then slide the answer's curves on the surface into the run folder's slide/ (a run
-    /// whose answer is the slid network; see `curvenet slide`).
+    /// Then slide the answer's curves on the surface into the run folder's slide/ (see slide).
     #[arg(long)]
     pub slide: bool,
     #[command(flatten)]

@@ -1465,7 +1465,8 @@ fn reader_warnings_are_printed_once_with_one_prefix() {
 }
 
 /// `curvenet slide` refuses, with exit 2 and the option named, a run without a surface, a
-/// largest move out of range and a pinned curve the network lacks.
+/// largest move out of range, a pinned curve the network lacks, too many rounds and a physical
+/// run's largest deviation.
 #[test]
 fn a_slide_without_a_surface_or_with_bad_options_is_refused() {
     let dir = TempDir::new("cli-errors-slide");
@@ -1493,6 +1494,29 @@ fn a_slide_without_a_surface_or_with_bad_options_is_refused() {
     };
     simplify("bare", false);
     simplify("run", true);
+    // A physical run under a largest deviation, which a slide cannot keep.
+    let (code, stderr) = curvenet(&[
+        "simplify",
+        "--curves",
+        "grid.txt",
+        "--mesh",
+        "square.obj",
+        "--budget",
+        "0.8",
+        "--units",
+        "m",
+        "--material",
+        "steel",
+        "--radius",
+        "0.01",
+        "--max-deviation",
+        "1",
+        "--out",
+        "physical",
+        "--edge-length",
+        "0.25",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
     for (args, part) in [
         (&["slide", "bare", "--out", "s"][..], "--mesh"),
         (
@@ -1509,6 +1533,11 @@ fn a_slide_without_a_surface_or_with_bad_options_is_refused() {
             "--pin names curve 99",
         ),
         (&["slide", "run", "--out", "run"], "--out"),
+        (
+            &["slide", "run", "--out", "s", "--slide-rounds", "101"],
+            "--slide-rounds",
+        ),
+        (&["slide", "physical", "--out", "s"], "--max-deviation"),
     ] {
         let (code, stderr) = curvenet(args);
         assert_eq!(code, 2, "{args:?}: {stderr}");

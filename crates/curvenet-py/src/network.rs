@@ -322,7 +322,7 @@ impl Network {
         min_curves = None, max_gap = None, max_deviation = None, local_search = false,
         alternatives = 0, certify = false, certificate_nodes = None, pictures = true,
         resume = false, force = false, progress = None, slide = false, max_move = None,
-        fixed_ends = false, pin = Vec::new()))]
+        fixed_ends = false, pin = Vec::new(), slide_rounds = 0))]
     fn simplify(
         &self,
         py: Python<'_>,
@@ -349,9 +349,18 @@ impl Network {
         max_move: Option<String>,
         fixed_ends: bool,
         pin: Vec<usize>,
+        slide_rounds: usize,
     ) -> PyResult<Vec<String>> {
         let slide = match slide {
-            true => Some(slide_spec(py, &out, &out, max_move, fixed_ends, pin)?),
+            true => Some(slide_spec(
+                py,
+                &out,
+                &out,
+                max_move,
+                fixed_ends,
+                pin,
+                slide_rounds,
+            )?),
             false => None,
         };
         let budget = match (budget, budget_length) {
@@ -429,6 +438,7 @@ fn slide_spec(
     max_move: Option<String>,
     fixed_ends: bool,
     pin: Vec<usize>,
+    rounds: usize,
 ) -> PyResult<app::SlideSpec> {
     let d = app::SlideSpec::new(from, out);
     let max_move = match max_move {
@@ -441,6 +451,7 @@ fn slide_spec(
         max_move,
         fixed_ends,
         pin,
+        rounds,
         ..d
     })
 }
@@ -449,7 +460,7 @@ fn slide_spec(
 /// `curvenet slide` does). Returns the warnings and notes.
 #[pyfunction]
 #[pyo3(signature = (from, out, max_move = None, fixed_ends = false, pin = Vec::new(),
-    pictures = true, force = false))]
+    pictures = true, force = false, slide_rounds = 0))]
 #[allow(clippy::too_many_arguments)]
 pub fn slide(
     py: Python<'_>,
@@ -460,11 +471,12 @@ pub fn slide(
     pin: Vec<usize>,
     pictures: bool,
     force: bool,
+    slide_rounds: usize,
 ) -> PyResult<Vec<String>> {
     let spec = app::SlideSpec {
         pictures,
         force,
-        ..slide_spec(py, &from, &out, max_move, fixed_ends, pin)?
+        ..slide_spec(py, &from, &out, max_move, fixed_ends, pin, slide_rounds)?
     };
     let ran = interrupt::run(py, None, |cancel, tx| {
         let observer = Forward {

@@ -176,3 +176,36 @@ def test_analyze_agrees_number_for_number(cli, dome, tmp_path, options, kw):
             assert [c["name"] for c in expected["physical"]["load_cases"]] == ["G", "S", "ULS"]
     else:
         assert got.physical is None
+
+
+def _comparable_slide(result: dict) -> dict:
+    """A slid run's result.json without what names paths (its `slide` record's `from`)."""
+    r = _comparable(result)
+    r["slide"].pop("from", None)
+    return r
+
+
+def test_a_slide_gives_the_command_lines_numbers(cli, dome, tmp_path):
+    """The same slide (and a round of local search and slide after it) from the command line
+    and from Python: the same records, number for number."""
+    curves, obj = dome / "curves.json", dome / "dome.obj"
+    cli("simplify", "--curves", curves, "--mesh", obj, *BASE, "--slide", "--max-move", "4%",
+        "--slide-rounds", "1", "--out", tmp_path / "cli")
+    net = curvenet.load([curves], mesh=obj)
+    got = net.simplify(0.4, out=tmp_path / "py", pictures=False, slide=True, max_move="4%",
+                       slide_rounds=1)
+    expected = curvenet.open_run(tmp_path / "cli")
+    assert got.slide is not None and expected.slide is not None
+    assert _comparable_slide(got.slide.run.result) == _comparable_slide(expected.slide.run.result)
+    assert len(got.slide.rounds) == 1
+    for side in (tmp_path / "cli", tmp_path / "py"):
+        assert (side / "slide" / "rounds" / "1" / "slid" / "result.json").is_file()
+    a = curvenet.open_run(tmp_path / "cli" / "slide" / "rounds" / "1" / "slid")
+    b = curvenet.open_run(tmp_path / "py" / "slide" / "rounds" / "1" / "slid")
+    assert _comparable_slide(a.result) == _comparable_slide(b.result)
+    # `curvenet slide` and `curvenet.slide` on the runs they made: the same slid numbers.
+    cli("slide", tmp_path / "cli", "--out", tmp_path / "cli-again", "--pin", "0")
+    again = curvenet.slide(got, tmp_path / "py-again", pin=[0])
+    expected = curvenet.open_run(tmp_path / "cli-again")
+    assert _comparable_slide(again.result) == _comparable_slide(expected.result)
+    assert again.slide.lambda_after == expected.slide.lambda_after

@@ -1,7 +1,8 @@
 //! Sliding curves on the surface (`curvenet::slide`, `app::slide`) on a small curved network:
 //! the search against a fine scan of a one-parameter family; the slid run's exported curves
 //! analysed cold give the recorded objective; every exported point on the surface and within
-//! the largest move of its drawn curve; the budget holds; the same result on one thread and
+//! the largest move of its drawn curve; a symmetric run stays symmetric and a group shares its
+//! coefficients; the budget holds; the same result on one thread and
 //! two; clear errors for a missing surface, a curve off it, a bad largest move and pinned
 //! curves out of range.
 
@@ -92,6 +93,8 @@ fn problem(curves: Vec<Polyline>, budget: f64) -> SlideProblem {
         stability: StabilityParams::default(),
         budget,
         fixed: Vec::new(),
+        ties: Vec::new(),
+        physical: None,
         constraints: Default::default(),
     }
 }
@@ -373,4 +376,258 @@ fn a_cancelled_slide_keeps_the_best_so_far_and_constraints_hold() {
             .map(|j| j.curves.iter().map(|&c| c as usize).collect::<Vec<_>>()),
     );
     assert_eq!(parts.len(), 1, "{parts:?}");
+}
+
+#[test]
+fn a_symmetric_run_slides_its_orbits_together_and_stays_symmetric() {
+    use curvenet::constraints::{ConstraintParams, SymmetryOption, symmetry};
+    let dir = TempDir::new("slide-symmetric");
+    let mesh = bump(40);
+    // A square of four curves on the bump, one orbit of its quarter turns.
+    let curves = vec![
+        lifted((2.0, 0.0), (2.0, SIZE), 1),
+        lifted((0.0, 2.0), (SIZE, 2.0), 2),
+        lifted((8.0, 0.0), (8.0, SIZE), 3),
+        lifted((0.0, 8.0), (SIZE, 8.0), 4),
+        lifted((0.0, 5.0), (SIZE, 5.0), 5),
+        lifted((5.0, 0.0), (5.0, SIZE), 6),
+    ];
+    let spec = InputSpec {
+        mesh: Some(MeshSource::Given {
+            mesh: mesh.clone(),
+            name: "bump".into(),
+        }),
+        edge_length: Some(0.5),
+        ..InputSpec::new(CurveSource::Given(GivenCurves {
+            curves,
+            ..GivenCurves::default()
+        }))
+    };
+    let mut setup = Setup::new(&spec, &ModelOptions::default()).expect("set-up");
+    let from = dir.path().join("run");
+    let run = RunSpec {
+        budget: Some(Budget::Fraction(0.7)),
+        constraints: ConstraintParams {
+            symmetry: SymmetryOption::Rotate(4),
+            ..ConstraintParams::default()
+        },
+        pictures: false,
+        ..RunSpec::new(&from)
+    };
+    curvenet::app::execute(&mut setup, &run, &Silent, &Cancel::never()).expect("runs");
+    let out = dir.path().join("slid");
+    let slide = SlideSpec {
+        max_move: MaxMove::Fraction(0.05),
+        ..SlideSpec::new(&from, &out)
+    };
+    let done = curvenet::app::slide(&slide, &Silent, &Cancel::never()).expect("slides");
+    let record = &done.record;
+    // The before/after picture is written with the slid run's pictures.
+    let png = std::fs::read(out.join("slide.png")).expect("slide.png");
+    assert!(
+        png.starts_with(b"\x89PNG") && png.len() > 10_000,
+        "{}",
+        png.len()
+    );
+    // Every curve of the orbit moves, with its leader's coefficients.
+    let orbit: Vec<_> = record.curves.iter().filter(|c| c.from < 4).collect();
+    assert_eq!(orbit.len(), 4, "{record:?}");
+    assert!(orbit.iter().all(|c| c.free));
+    assert!(
+        orbit
+            .iter()
+            .all(|c| c.coefficients == orbit[0].coefficients)
+    );
+    assert!(record.lambda_after > record.lambda_before, "{record:?}");
+    // The slid network, built cold from its exported curves: the same λ_eq, and the symmetry.
+    let slid = RunFolder::open(&out).expect("a run folder");
+    let text = curvenet::report::export::curves_json(&slid, Which::Answer, true).expect("json");
+    let read = parse_json_curves(&text, "answer.json").expect("reads back");
+    let (net, _) = build_network(&read.curves, &slid.result.setup.build).expect("builds");
+    let found = symmetry::find(&net, SymmetryOption::Rotate(4), symmetry::DEFAULT_TOLERANCE)
+        .expect("the slid network keeps its quarter turns");
+    assert!(found[0].orbits.iter().any(|o| o.len() == 4), "{found:?}");
+    let an = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
+    let lambda = an.analyze(&an.all(), None).expect("analyses").lambda();
+    let rel = (lambda - record.lambda_after).abs() / record.lambda_after.abs();
+    assert!(rel < 1e-6, "{lambda} vs {}", record.lambda_after);
+}
+
+#[test]
+fn a_group_moves_with_one_set_of_coefficients() {
+    use curvenet::slide::{Tie, TieMap};
+    let p = SlideProblem {
+        ties: vec![Tie {
+            curve: 1,
+            leader: 0,
+            map: TieMap::Shared,
+        }],
+        ..problem(four_curves(), 1e9)
+    };
+    let params = SlideParams {
+        pinned: vec![2, 3],
+        max_evaluations: 30,
+        ..SlideParams::default()
+    };
+    let slider = Slider::new(p, Some(&bump(40)), params).expect("slider");
+    assert_eq!(slider.dimension(), 3, "the group's one family");
+    assert!(slider.moving(1));
+    let out = slider.run(&Cancel::never(), &|_| {}).expect("slides");
+    assert_eq!(out.coefficients[0], out.coefficients[1]);
+    assert!(out.coefficients[2].is_empty() && out.coefficients[3].is_empty());
+}
+
+#[test]
+fn slide_rounds_alternate_a_local_search_and_a_slide_and_record_each_objective() {
+    let dir = TempDir::new("slide-rounds");
+    let mut curves = four_curves();
+    curves.push(lifted((0.0, 5.0), (SIZE, 5.0), 5));
+    curves.push(lifted((6.0, 0.0), (6.0, SIZE), 6));
+    let spec = InputSpec {
+        mesh: Some(MeshSource::Given {
+            mesh: bump(40),
+            name: "bump".into(),
+        }),
+        edge_length: Some(0.5),
+        ..InputSpec::new(CurveSource::Given(GivenCurves {
+            curves,
+            ..GivenCurves::default()
+        }))
+    };
+    let mut setup = Setup::new(&spec, &ModelOptions::default()).expect("set-up");
+    let from = dir.path().join("run");
+    let run = RunSpec {
+        budget: Some(Budget::Fraction(0.7)),
+        pictures: false,
+        slide: Some(SlideSpec {
+            rounds: 1,
+            ..SlideSpec::new("", "")
+        }),
+        ..RunSpec::new(&from)
+    };
+    let done = curvenet::app::execute(&mut setup, &run, &Silent, &Cancel::never()).expect("runs");
+    let record = done.slide.expect("slid");
+    assert_eq!(record.rounds.len(), 1, "{record:?}");
+    let round = &record.rounds[0];
+    assert_eq!(round.start.to_bits(), record.lambda_after.to_bits());
+    // The local search starts from the slid network (measured among every curve: within a
+    // hair of its own λ_eq), and the slide after it starts from the local search's network.
+    assert!(
+        round.local_search >= round.start * (1.0 - 1e-2),
+        "{round:?}"
+    );
+    assert!(round.slid >= round.local_search * (1.0 - 1e-2), "{round:?}");
+    // The round's record is in the slid run's result.json, its final network cold gives it.
+    let slid = RunFolder::open(&from.join("slide")).expect("the slid run");
+    assert_eq!(slid.result.slide.as_ref(), Some(&record));
+    let last = RunFolder::open(&from.join("slide").join(&round.folder).join("slid")).expect("run");
+    let text = curvenet::report::export::curves_json(&last, Which::Answer, true).expect("json");
+    let read = parse_json_curves(&text, "answer.json").expect("reads back");
+    let (net, _) = build_network(&read.curves, &last.result.setup.build).expect("builds");
+    let an = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
+    let lambda = an.analyze(&an.all(), None).expect("analyses").lambda();
+    assert!(
+        (lambda - round.slid).abs() < 1e-6 * round.slid.abs(),
+        "{lambda} vs {round:?}"
+    );
+    assert!(last.result.answer.expect("answer").found.length <= record.budget * (1.0 + 1e-9));
+}
+
+#[test]
+fn a_physical_run_slides_on_its_first_frequency_and_records_its_physical_figures() {
+    use curvenet::physics::PhysicalOptions;
+    use curvenet::stability::Objective;
+    let dir = TempDir::new("slide-physical");
+    let mut curves = four_curves();
+    curves.push(lifted((0.0, 5.0), (SIZE, 5.0), 5));
+    let spec = InputSpec {
+        mesh: Some(MeshSource::Given {
+            mesh: bump(40),
+            name: "bump".into(),
+        }),
+        edge_length: Some(0.5),
+        ..InputSpec::new(CurveSource::Given(GivenCurves {
+            curves,
+            ..GivenCurves::default()
+        }))
+    };
+    let model = ModelOptions {
+        radius: Some(0.05),
+        objective: Objective::Frequency,
+        physical: PhysicalOptions {
+            units: Some("m".into()),
+            material: Some("steel".into()),
+            ..Default::default()
+        },
+        ..ModelOptions::default()
+    };
+    let mut setup = Setup::new(&spec, &model).expect("set-up");
+    let from = dir.path().join("run");
+    let run = RunSpec {
+        budget: Some(Budget::Fraction(0.85)),
+        pictures: false,
+        ..RunSpec::new(&from)
+    };
+    curvenet::app::execute(&mut setup, &run, &Silent, &Cancel::never()).expect("runs");
+    let out = dir.path().join("slid");
+    let slide = SlideSpec {
+        pictures: false,
+        ..SlideSpec::new(&from, &out)
+    };
+    let done = curvenet::app::slide(&slide, &Silent, &Cancel::never()).expect("slides");
+    let record = &done.record;
+    assert_eq!(record.objective, "frequency");
+    assert!(record.lambda_after >= record.lambda_before, "{record:?}");
+    // The slid answer's physical figures, recomputed for it.
+    let slid = RunFolder::open(&out).expect("a run folder");
+    let answer = slid.result.answer.clone().expect("an answer");
+    assert!(answer.physical.is_some(), "{answer:?}");
+    assert!(slid.result.setup.physical_model.is_some());
+    // Its exported curves analysed cold in the physical model: the recorded μ_min.
+    let text = curvenet::report::export::curves_json(&slid, Which::Answer, true).expect("json");
+    let read = parse_json_curves(&text, "answer.json").expect("reads back");
+    let (net, _) = build_network(&read.curves, &slid.result.setup.build).expect("builds");
+    let resolved = model.resolve(None, &[]).expect("model");
+    let mut physical = resolved.physical.expect("physical");
+    physical.rest = vec![Default::default(); net.rods.len()];
+    let an = Analyzer::new(net, slid.result.setup.stability.clone())
+        .and_then(|a| a.with_physical(physical))
+        .expect("analyzer");
+    let mu = an.analyze(&an.all(), None).expect("analyses").lambda();
+    assert!(
+        (mu - record.lambda_after).abs() < 1e-6 * mu.abs(),
+        "{mu} vs {record:?}"
+    );
+    // What a slid network cannot keep is refused by name.
+    let deviation = dir.path().join("deviation");
+    let run = RunSpec {
+        constraints: curvenet::constraints::ConstraintParams {
+            max_deviation: Some(1.0),
+            ..Default::default()
+        },
+        ..RunSpec::new(&deviation)
+    };
+    let mut setup = Setup::new(&spec, &model).expect("set-up");
+    curvenet::app::execute(
+        &mut setup,
+        &RunSpec {
+            budget: Some(Budget::Fraction(0.85)),
+            pictures: false,
+            ..run
+        },
+        &Silent,
+        &Cancel::never(),
+    )
+    .expect("runs");
+    let e = curvenet::app::slide(
+        &SlideSpec::new(&deviation, dir.path().join("no")),
+        &Silent,
+        &Cancel::never(),
+    )
+    .expect_err("refused");
+    let text = e.render(&curvenet::words::Recorded);
+    assert!(
+        text.contains("largest deviation") && text.contains("physical mode"),
+        "{text}"
+    );
 }

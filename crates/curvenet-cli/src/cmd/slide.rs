@@ -6,10 +6,8 @@ use curvenet::app::{self, SlideSpec};
 use std::path::Path;
 
 pub fn run(a: SlideCmdArgs) -> anyhow::Result<()> {
-    let spec = SlideSpec {
-        force: a.force,
-        ..spec(&a.dir, &a.out, &a.sliding)
-    };
+    let mut spec = spec(&a.dir, &a.out, &a.sliding);
+    spec.force = a.force;
     let done = app::slide(&spec, &Console::new(), &crate::signals::token()).map_err(fail)?;
     print!("{}", app::slide_summary(&done.record, &spec.out));
     Ok(())
@@ -21,6 +19,7 @@ pub fn spec(from: &Path, out: &Path, a: &SlideArgs) -> SlideSpec {
         max_move: a.max_move,
         fixed_ends: a.fixed_ends,
         pin: a.pin.clone(),
+        rounds: a.slide_rounds,
         ..SlideSpec::new(from, out)
     }
 }

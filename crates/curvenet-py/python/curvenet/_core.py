@@ -542,6 +542,7 @@ class Network:
         max_move: Union[float, str, None] = None,
         fixed_ends: bool = False,
         pin: Optional[Iterable[int]] = None,
+        slide_rounds: int = 0,
     ) -> "Result":
         """Simplifies the network to a budget (``curvenet simplify``): the greedy down to
         ``budget`` (a fraction of the total rest length) or ``budget_length`` (a length),
@@ -557,8 +558,8 @@ class Network:
         (up to K further distinct networks; runs the local search), ``certify`` (an upper
         bound on λ_fix within the budget; ``certificate_nodes`` of branch and bound).
         ``slide=True`` then slides the answer's curves on the surface into the run folder's
-        ``slide/`` (:func:`slide`: ``max_move``, ``fixed_ends``, ``pin``), read back as
-        :attr:`Result.slide`.
+        ``slide/`` (:func:`slide`: ``max_move``, ``fixed_ends``, ``pin``, ``slide_rounds``),
+        read back as :attr:`Result.slide`.
 
         The run is written to the folder ``out`` exactly as the command line writes it
         (default: a new temporary folder), so :func:`open_run` reads it again and
@@ -612,6 +613,7 @@ class Network:
             max_move=None if max_move is None else str(max_move),
             fixed_ends=bool(fixed_ends),
             pin=_ids("pin", pin) or [],
+            slide_rounds=int(slide_rounds),
         )
         result = open_run(out)
         result.warnings = list(warnings) + result.warnings
@@ -799,7 +801,9 @@ class Slide(Record):
     """A slid run's record (``result.json``'s ``slide``): ``lambda_before``,
     ``lambda_after``, ``max_move``, ``largest_move``, ``joints_added``, ``joints_removed``,
     ``length_before``, ``length_after``, ``budget``, ``curves`` (each curve's id in the run
-    it came from, ``largest_move`` and move ``coefficients``), ``evaluations``, ``steps``."""
+    it came from, ``largest_move`` and move ``coefficients``), ``evaluations``, ``steps``,
+    ``rounds`` (with ``slide_rounds``: each round's ``start``, ``local_search`` and ``slid``
+    objectives, its ``curves`` and ``folder``)."""
 
     def __init__(self, record: Dict[str, Any], run: "Result"):
         super().__init__(record)
@@ -817,6 +821,13 @@ class Slide(Record):
         """The slid network (None when it is not stable within the budget)."""
         return self.run.answer
 
+    @property
+    def rounds(self) -> List[Record]:
+        """The rounds after the slide (``slide_rounds``), each a :class:`Record` with
+        ``round``, ``start``, ``local_search``, ``slid``, ``curves`` and ``folder``; empty
+        without."""
+        return [Record(r) for r in self.get("rounds", [])]
+
 
 def slide(
     run: Union["Result", PathLike],
@@ -827,14 +838,18 @@ def slide(
     pin: Optional[Iterable[int]] = None,
     pictures: Optional[bool] = None,
     force: bool = False,
+    slide_rounds: int = 0,
 ) -> Result:
     """Slides the answer of a run (a :class:`Result` or its folder) on its surface to raise
     the objective (``curvenet slide``), into the run folder ``out`` (default: a new temporary
     folder), and returns the slid run (its :attr:`Result.slide` says how the curves moved).
     ``max_move``: how far a point may move, a length or ``"5%"`` of the surface's
     bounding-box diagonal (the default); ``fixed_ends`` keeps every end where it is (else
-    ends on the surface's boundary slide along it); ``pin``: curves that do not move. Ctrl-C
-    stops the search within a second, the best network so far recorded."""
+    ends on the surface's boundary slide along it); ``pin``: curves that do not move;
+    ``slide_rounds``: then that many rounds, each a local search over the run's curves with
+    the slid ones in place, then a slide of its network (``Slide.rounds`` lists each round's
+    objectives; the last round's run is in ``out/rounds/K/slid``). Ctrl-C stops the search
+    within a second, the best network so far recorded."""
     folder = run.folder if isinstance(run, Result) else Path(os.fspath(run))
     if out is None:
         out = tempfile.mkdtemp(prefix="curvenet-slide-")
@@ -848,6 +863,7 @@ def slide(
         pin=_ids("pin", pin) or [],
         pictures=True if pictures is None else bool(pictures),
         force=bool(force),
+        slide_rounds=int(slide_rounds),
     )
     result = open_run(out)
     result.warnings = list(warnings) + result.warnings

@@ -14,6 +14,7 @@ use super::{AppError, Stage};
 use crate::cancel::Cancel;
 use crate::constraints::{ConstraintParams, Constraints, SymmetryOption};
 use crate::io::write_atomic;
+use crate::physics::PhysicalParams;
 use crate::run_folder::schema::objective_name;
 use crate::run_folder::{
     InputDescription, ResultFile, RunFolder, SlideCurve, SlideRecord, network_polylines,
@@ -23,6 +24,9 @@ use crate::slide::{MaxMove, SlideError, SlideParams, SlideProblem, Slider};
 use crate::words::{Message, Opt, message};
 use std::path::PathBuf;
 use std::time::Instant;
+
+/// The most rounds of local search and sliding ([`SlideSpec::rounds`]).
+pub const MAX_SLIDE_ROUNDS: usize = 100;
 
 /// What sliding does.
 #[derive(Clone, Debug, PartialEq)]
@@ -41,6 +45,9 @@ pub struct SlideSpec {
     pub pictures: bool,
     /// Run into a non-empty folder that is not a curvenet run's.
     pub force: bool,
+    /// Rounds of topology and geometry after the slide (0: none): each a local search on the
+    /// slid network's curves, then a slide of its network ([`super::rounds`]).
+    pub rounds: usize,
 }
 
 impl SlideSpec {
@@ -54,6 +61,7 @@ impl SlideSpec {
             pin: Vec::new(),
             pictures: true,
             force: false,
+            rounds: 0,
         }
     }
 }
@@ -70,9 +78,31 @@ pub struct SlideOutcome {
 }
 
 /// Slides the answer of the run in `spec.from` on its surface and records the slid network
-/// as the run in `spec.out`. `observer` hears each step; `cancel` stops the search within a
-/// second, the best network so far recorded ([`AppError::Cancelled`] after it is).
+/// as the run in `spec.out`, then runs the rounds `spec.rounds` asks for. `observer` hears
+/// each step; `cancel` stops the search within a second, the best network so far recorded
+/// ([`AppError::Cancelled`] after it is).
 pub fn slide(
+    spec: &SlideSpec,
+    observer: &dyn Observer,
+    cancel: &Cancel,
+) -> Result<SlideOutcome, AppError> {
+    let start = Instant::now();
+    if spec.rounds > MAX_SLIDE_ROUNDS {
+        return Err(AppError::usage(message![
+            Opt::SlideRounds,
+            format!(" is {}: at most {MAX_SLIDE_ROUNDS} rounds", spec.rounds)
+        ]));
+    }
+    let mut outcome = slide_once(spec, observer, cancel)?;
+    if spec.rounds > 0 {
+        super::rounds::run(spec, &mut outcome, observer, cancel)?;
+    }
+    outcome.wall_seconds = start.elapsed().as_secs_f64();
+    Ok(outcome)
+}
+
+/// One slide: the answer of the run in `spec.from` slid and recorded in `spec.out`.
+pub(super) fn slide_once(
     spec: &SlideSpec,
     observer: &dyn Observer,
     cancel: &Cancel,
@@ -82,13 +112,6 @@ pub fn slide(
         true => AppError::Usage(Message::from(e.to_string())),
         false => AppError::Failed(e.to_string()),
     })?;
-    if run.result.setup.physical.is_some() {
-        return Err(AppError::usage(message![
-            "sliding works in the paper's model (either objective); the run in ",
-            spec.from.display().to_string(),
-            " is in the physical mode"
-        ]));
-    }
     // A run without an answer (no stable network within the budget) slides its final
     // network: sliding may make it stable.
     let (curves, lambda_recorded) = match (&run.result.answer, &run.result.final_network) {
@@ -123,29 +146,35 @@ pub fn slide(
     let curves = &curves;
     let setup = &run.result.setup;
     let budget = run.result.budget;
-    // Curves that stay: the keep list, and the curves of groups and symmetry orbits.
-    let mut stay: Vec<usize> = setup.greedy.keep.clone();
-    let c = &setup.constraints;
-    if c.groups.iter().any(|g| g.curves.len() > 1) || c.symmetry != SymmetryOption::None {
-        let bound = Constraints::new(&run.network, run.mesh.as_ref(), c, budget, &stay)
-            .map_err(|e| AppError::Usage(e.message()))?;
-        for unit in bound.units().iter().filter(|u| u.len() > 1) {
-            stay.extend(unit);
-        }
-    }
+    // Curves that stay: the keep list; groups and symmetry orbits move together (ties).
     let position = |ids: &[usize]| -> Vec<usize> {
         (curves.iter().enumerate())
             .filter(|(_, c)| ids.contains(c))
             .map(|(i, _)| i)
             .collect()
     };
+    let drawn = network_polylines(&run.network, curves, None);
+    let mut fixed = position(&setup.greedy.keep);
+    let mut ties = Vec::new();
+    let c = &setup.constraints;
+    if c.groups.iter().any(|g| g.curves.len() > 1) || c.symmetry != SymmetryOption::None {
+        let keep = &setup.greedy.keep;
+        let bound = Constraints::new(&run.network, run.mesh.as_ref(), c, budget, keep)
+            .map_err(|e| AppError::Usage(e.message()))?;
+        let (tied, stay) = crate::slide::ties::ties_of(&bound, curves, &drawn);
+        ties = tied;
+        fixed.extend(stay);
+    }
+    let physical = physical_of(&run, drawn.len())?;
     let problem = SlideProblem {
-        curves: network_polylines(&run.network, curves, None),
+        physical,
+        curves: drawn,
         ids: curves.clone(),
         build: setup.build.clone(),
         stability: setup.stability.clone(),
         budget,
-        fixed: position(&stay),
+        fixed,
+        ties,
         constraints: ConstraintParams {
             groups: Vec::new(),
             symmetry: SymmetryOption::None,
@@ -183,7 +212,7 @@ pub fn slide(
         curves: (curves.iter().enumerate())
             .map(|(i, &id)| SlideCurve {
                 from: id,
-                free: slider.moves()[i].is_some(),
+                free: slider.moving(i),
                 largest_move: after.moves[i],
                 coefficients: outcome.coefficients[i].clone(),
             })
@@ -192,40 +221,15 @@ pub fn slide(
         sweeps: outcome.search.sweeps,
         steps: outcome.search.steps.clone(),
         stopped: outcome.search.cancelled,
+        rounds: Vec::new(),
     };
-    // The slid network as a run of its own: every curve kept, the same budget.
-    let mesh = run.mesh.clone();
-    let inputs = Inputs {
-        curves: after.curves.clone(),
-        mesh,
-        build: setup.build.clone(),
-        description: InputDescription {
-            example: setup.input.example.clone(),
-            mesh: Some(spec.from.join("mesh.obj").display().to_string()),
-            curve_files: vec![spec.from.join("network.json").display().to_string()],
-            scale: 1.0,
-        },
-        groups: Vec::new(),
-        specs: Vec::new(),
-        file_units: None,
-        warnings: Vec::new(),
-        example: None,
-    };
-    let model = Model {
-        stability: setup.stability.clone(),
-        physical: None,
-        physical_options: None,
-    };
-    let mut slid = Setup::from_parts(inputs, model);
-    let k = after.curves.len();
-    let run_spec = RunSpec {
-        budget: Some(Budget::Length(budget.max(after.length))),
-        keep: Some((0..k).collect()),
-        pictures: false,
-        force: spec.force,
-        ..RunSpec::new(&spec.out)
-    };
-    let mut recorded = execute(&mut slid, &run_spec, &super::Silent, &Cancel::never())?;
+    let mut recorded = record_network(
+        after.curves.clone(),
+        &run,
+        budget.max(after.length),
+        &spec.out,
+        spec.force,
+    )?;
     let result = &mut recorded.result;
     if let Some(a) = result.answer.as_mut() {
         a.found.source = "slide".into();
@@ -253,8 +257,48 @@ pub fn slide(
     })
 }
 
+/// `curves` recorded as a run of their own in `out`, with the set-up of the run `run` (its
+/// mesh, build and objective), every curve kept, `budget` its budget.
+pub(super) fn record_network(
+    curves: Vec<crate::io::Polyline>,
+    run: &RunFolder,
+    budget: f64,
+    out: &std::path::Path,
+    force: bool,
+) -> Result<RunOutcome, AppError> {
+    let setup = &run.result.setup;
+    let from = &run.dir;
+    let inputs = Inputs {
+        curves,
+        mesh: run.mesh.clone(),
+        build: setup.build.clone(),
+        description: InputDescription {
+            example: setup.input.example.clone(),
+            mesh: Some(from.join("mesh.obj").display().to_string()),
+            curve_files: vec![from.join("network.json").display().to_string()],
+            scale: 1.0,
+        },
+        groups: Vec::new(),
+        specs: Vec::new(),
+        file_units: None,
+        warnings: Vec::new(),
+        example: None,
+    };
+    let k = inputs.curves.len();
+    let model = model_of(run, k)?;
+    let mut slid = Setup::from_parts(inputs, model);
+    let run_spec = RunSpec {
+        budget: Some(Budget::Length(budget)),
+        keep: Some((0..k).collect()),
+        pictures: false,
+        force,
+        ..RunSpec::new(out)
+    };
+    execute(&mut slid, &run_spec, &super::Silent, &Cancel::never())
+}
+
 /// Rewrites `dir/result.json` (and its summary) with `result`.
-fn write_result(dir: &std::path::Path, result: &ResultFile) -> Result<(), AppError> {
+pub(super) fn write_result(dir: &std::path::Path, result: &ResultFile) -> Result<(), AppError> {
     let mut text =
         serde_json::to_vec_pretty(result).map_err(|e| AppError::Failed(e.to_string()))?;
     text.push(b'\n');
@@ -278,4 +322,68 @@ fn slide_error(e: SlideError) -> AppError {
         SlideError::Failed(m) => AppError::Failed(m),
         e => AppError::Usage(e.message()),
     }
+}
+
+/// The model of the run `run` (its objective; in the physical mode its physical model) for a
+/// network of `n` of its curves.
+pub(super) fn model_of(run: &RunFolder, n: usize) -> Result<Model, AppError> {
+    let setup = &run.result.setup;
+    Ok(Model {
+        stability: setup.stability.clone(),
+        physical: physical_of(run, n)?,
+        physical_options: setup.physical.clone(),
+    })
+}
+
+/// The physical mode's parameters of the run `run` for a network of `n` of its curves
+/// (`None` in the paper's mode). Refused, naming what, when the run's physical model is not
+/// the same on every curve or has load cases: a run records them by its curves' ids and its
+/// drawn vertices, which a slid network does not keep.
+fn physical_of(run: &RunFolder, n: usize) -> Result<Option<PhysicalParams>, AppError> {
+    let setup = &run.result.setup;
+    let (Some(options), Some(model)) = (&setup.physical, &setup.physical_model) else {
+        return Ok(None);
+    };
+    let ids = |c: &mut dyn Iterator<Item = usize>| {
+        c.map(|c| c.to_string()).collect::<Vec<_>>().join(", ")
+    };
+    let mut what: Vec<Message> = Vec::new();
+    if !model.physical.curves.is_empty() {
+        let c = ids(&mut model.physical.curves.iter().map(|o| o.curve));
+        what.push(format!("a material or section of their own on curves {c}").into());
+    }
+    if !model.pre_bent.is_empty() {
+        let c = ids(&mut model.pre_bent.iter().copied());
+        what.push(
+            format!("curves pre-bent at rest ({c}), whose rest shape is the drawn one").into(),
+        );
+    }
+    if model.loads.is_some() {
+        what.push("load cases, whose point loads are placed on the drawn network".into());
+    }
+    if setup.constraints.max_deviation.is_some() {
+        what.push(message![
+            "a largest deviation (",
+            Opt::MaxDeviation,
+            "), which the run measures under self-weight and a slide's analyses do not"
+        ]);
+    }
+    if !what.is_empty() {
+        return Err(AppError::Usage(
+            Message::join(what, "; ").prefixed([format!(
+                "sliding in the physical mode needs one material and section on every curve, \
+             straight at rest, no load cases and no largest deviation; the run in {} has ",
+                run.dir.display()
+            )
+            .into()]),
+        ));
+    }
+    let resolved = options.resolve(None, &[]).map_err(AppError::Usage)?;
+    Ok(resolved.map(|mut p| {
+        p.physical = model.physical.clone();
+        p.rest = vec![crate::material::RestShape::Straight; n];
+        p.frequencies = setup.stability.eigen.count;
+        p.loads = None;
+        p
+    }))
 }

@@ -44,10 +44,22 @@ pub fn slide_summary(r: &crate::run_folder::SlideRecord, folder: &std::path::Pat
     let moved = (r.curves.iter())
         .filter(|c| c.coefficients.iter().any(|&a| a != 0.0))
         .count();
+    let mut rounds = String::new();
+    for k in &r.rounds {
+        rounds += &format!(
+            "round {}: {:.6e} → local search {:.6e} ({} curves) → slid {:.6e}; in {}\n",
+            k.round,
+            k.start,
+            k.local_search,
+            k.curves.len(),
+            k.slid,
+            folder.join(&k.folder).join("slid").display()
+        );
+    }
     format!(
         "slid: {} {:.6e} → {:.6e}{gain}; {moved} of {} curves moved, the largest move {} (at \
          most {}); joints added {}, removed {}; length {} (budget {}); {} networks \
-         evaluated{}\nslid run in {}\n",
+         evaluated{}\nslid run in {}\n{rounds}",
         if r.objective == "frequency" {
             "μ_min"
         } else {

@@ -151,6 +151,34 @@ pub struct SymmetryFound {
     pub scene_size: f64,
 }
 
+impl Symmetry {
+    /// `p` mapped by the symmetry applied `k` times (a mirror's every odd power is itself).
+    pub fn apply(&self, p: Vec3, k: u32) -> Vec3 {
+        let v = |a: &[f64; 3]| Vec3::new(a[0], a[1], a[2]);
+        let t = match self {
+            Symmetry::Rotation {
+                order,
+                center,
+                axis,
+            } => {
+                let angle = std::f64::consts::TAU * f64::from(k % order) / f64::from(*order);
+                Transform::Rotate {
+                    center: v(center),
+                    axis: v(axis),
+                    cos: angle.cos(),
+                    sin: angle.sin(),
+                }
+            }
+            Symmetry::Mirror { .. } if k.is_multiple_of(2) => return p,
+            Symmetry::Mirror { point, normal } => Transform::Reflect {
+                point: v(point),
+                normal: v(normal),
+            },
+        };
+        t.apply(p)
+    }
+}
+
 impl SymmetryFound {
     /// The number of elements of the symmetry group (the rotation's order, 2 for a mirror).
     pub fn group_order(&self) -> u32 {

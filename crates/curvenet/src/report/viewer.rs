@@ -509,8 +509,8 @@ pub fn write_viewer(
 }
 
 /// Writes `final.png`, `mode.png` (the answer, wherever it comes from; without one, or
-/// without its state, the iteration of [`RunFolder::shown_index`]) and `lambda.png` into the
-/// run folder.
+/// without its state, the iteration of [`RunFolder::shown_index`]), `lambda.png` and, for a
+/// slid run, `slide.png` (before and after it slid) into the run folder.
 pub fn write_pictures(run: &RunFolder) -> Result<Vec<PathBuf>, ReportError> {
     let which = if run.result.answer.is_some() && run.displacement_of(Which::Answer).is_ok() {
         Which::Answer
@@ -530,6 +530,11 @@ pub fn write_pictures(run: &RunFolder) -> Result<Vec<PathBuf>, ReportError> {
     ] {
         let p = run.dir.join(name);
         image.write_png(&p)?;
+        out.push(p);
+    }
+    if let Some(img) = super::render::slide_picture(run)? {
+        let p = run.dir.join("slide.png");
+        img.write_png(&p)?;
         out.push(p);
     }
     Ok(out)

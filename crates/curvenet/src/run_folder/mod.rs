@@ -59,7 +59,7 @@ pub use files::{Access, RunFileError, RunFiles, RunsRoot};
 pub use reader::{Chosen, InvalidNetwork, RunFolder, Which, check_network};
 pub use schema::{
     FinalRecord, InputDescription, LocalSearchRecord, ResultFile, RunSetup, SlideCurve,
-    SlideRecord, VERSION,
+    SlideRecord, SlideRound, VERSION,
 };
 pub use summary::{instability, record_instability, summary, unrelaxed, unstable};
 pub use writer::OutputWriter;

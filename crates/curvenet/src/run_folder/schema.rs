@@ -331,6 +331,30 @@ pub struct SlideRecord {
     pub steps: Vec<crate::slide::Step>,
     /// The search was stopped before it finished (the best network so far is the answer).
     pub stopped: bool,
+    /// The rounds of topology and geometry after this slide (a run's slide rounds): each a
+    /// local search on the slid curves, then a slide of its network.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub rounds: Vec<SlideRound>,
+}
+
+/// One round after a slide ([`SlideRecord::rounds`]): a local search over the network's
+/// curves with the slid ones in place of their drawn shapes, from the slid network, then its
+/// network slid again.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SlideRound {
+    /// The round, from 1.
+    pub round: usize,
+    /// The objective of the network the round started from (the last slide's).
+    pub start: f64,
+    /// The objective of the local search's network.
+    pub local_search: f64,
+    /// The objective once that network slid.
+    pub slid: f64,
+    /// The local search's curves (ids of the network the first slide started from).
+    pub curves: Vec<usize>,
+    /// The run folder of the local search's network (`local`) and of its slide (`slid`),
+    /// relative to the slid run's folder.
+    pub folder: String,
 }
 
 /// One curve of a slid run ([`SlideRecord::curves`]).

@@ -21,10 +21,12 @@ pub mod moves;
 pub mod search;
 pub mod snap;
 pub mod surface;
+pub mod ties;
 
 pub use moves::{Basis, CurveMove};
 pub use search::{PatternOutcome, PatternParams, Step, pattern_search};
 pub use surface::Surface;
+pub use ties::{Tie, TieMap};
 
 use crate::cancel::Cancel;
 use crate::constraints::{ConstraintParams, Constraints, SymmetryOption, max_displacement};
@@ -183,12 +185,18 @@ pub struct SlideProblem {
     pub build: BuildParams,
     /// How it is analysed (the objective included).
     pub stability: StabilityParams,
+    /// The physical mode's parameters (`None`: the paper's model): each network is then
+    /// analysed in the structure's own model (its rest shapes one per curve, in order).
+    pub physical: Option<crate::physics::PhysicalParams>,
     /// The budget, a length.
     pub budget: f64,
-    /// Curves that do not move (the keep list, groups and symmetry orbits), by position.
+    /// Curves that do not move (the keep list, and units of the constraints that cannot move
+    /// as one: [`ties`]), by position.
     pub fixed: Vec<usize>,
+    /// Curves that move with another ([`ties`]: the groups and symmetry orbits).
+    pub ties: Vec<Tie>,
     /// The design constraints the moved network must meet (groups and symmetry are held by
-    /// not moving their curves, so they are not checked again).
+    /// the ties, so they are not checked again).
     pub constraints: ConstraintParams,
 }
 
@@ -235,7 +243,11 @@ pub struct Slider {
     surface: Surface,
     mesh: TriMesh,
     moves: Vec<Option<CurveMove>>,
-    offsets: Vec<usize>,
+    /// Each curve's coefficients in the search's vector (empty for a curve that stays; a
+    /// tied curve's are its leader's).
+    slices: Vec<std::ops::Range<usize>>,
+    /// Each tied curve's tie, and its ends' sliding.
+    tied: Vec<Option<(Tie, [bool; 2])>>,
     dimension: usize,
     max_move: f64,
     params: SlideParams,
@@ -310,31 +322,46 @@ impl Slider {
                 && p.and_then(|&p| surface.closest_on_boundary(p))
                     .is_some_and(|(_, d)| d <= ON_BOUNDARY * diagonal)
         };
-        let mut offsets = Vec::with_capacity(n + 1);
-        let mut dimension = 0;
-        let moves: Vec<Option<CurveMove>> = (0..n)
-            .map(|c| {
-                offsets.push(dimension);
-                if problem.fixed.contains(&c) || params.pinned.contains(&c) {
-                    return None;
-                }
-                let curve = &problem.curves[c];
-                let slides = [
-                    on_boundary(curve.points.first()),
-                    on_boundary(curve.points.last()),
-                ];
-                let m = CurveMove::new(curve, &surface, spacing, slides, params.functions);
-                dimension += m.dimension();
-                Some(m)
-            })
+        let slides: Vec<[bool; 2]> = (problem.curves.iter())
+            .map(|c| [on_boundary(c.points.first()), on_boundary(c.points.last())])
             .collect();
-        offsets.push(dimension);
+        let stays = stays(&problem, &params.pinned, &slides, params.functions);
+        let mut tied: Vec<Option<(Tie, [bool; 2])>> = vec![None; n];
+        for t in problem.ties.iter().filter(|t| !stays[t.curve]) {
+            tied[t.curve] = Some((t.clone(), slides[t.curve]));
+        }
+        let mut slices = vec![0..0; n];
+        let mut dimension = 0;
+        let mut moves: Vec<Option<CurveMove>> = vec![None; n];
+        for c in 0..n {
+            if stays[c] {
+                continue;
+            }
+            let curve = &problem.curves[c];
+            let shared = tied[c]
+                .as_ref()
+                .is_none_or(|(t, _)| t.map == TieMap::Shared);
+            if shared {
+                let m = CurveMove::new(curve, &surface, spacing, slides[c], params.functions);
+                if tied[c].is_none() {
+                    slices[c] = dimension..dimension + m.dimension();
+                    dimension += m.dimension();
+                }
+                moves[c] = Some(m);
+            }
+        }
+        for c in 0..n {
+            if let Some((t, _)) = &tied[c] {
+                slices[c] = slices[t.leader].clone();
+            }
+        }
         Ok(Slider {
             problem,
             surface,
             mesh: mesh.clone(),
             moves,
-            offsets,
+            slices,
+            tied,
             dimension,
             max_move,
             params,
@@ -356,9 +383,23 @@ impl Slider {
         &self.surface
     }
 
-    /// Each curve's family (`None` for a curve that does not move).
+    /// Each curve's family (`None` for a curve that does not move, or one that follows its
+    /// orbit's leader by the symmetry).
     pub fn moves(&self) -> &[Option<CurveMove>] {
         &self.moves
+    }
+
+    /// Whether curve `c` moves (by its own coefficients or with its leader's).
+    pub fn moving(&self, c: usize) -> bool {
+        !self.slices[c].is_empty()
+    }
+
+    /// Each curve's coefficients in a point `x` of the search (empty for a curve that stays;
+    /// a tied curve's are its leader's).
+    pub fn coefficients(&self, x: &[f64]) -> Vec<Vec<f64>> {
+        (self.slices.iter())
+            .map(|r| x[r.clone()].to_vec())
+            .collect()
     }
 
     /// The network moved by coefficients `x` ([`Self::dimension`] of them), rebuilt and
@@ -368,15 +409,34 @@ impl Slider {
         let mut moved = Vec::with_capacity(self.moves.len());
         let mut changed = vec![false; self.moves.len()];
         for (c, m) in self.moves.iter().enumerate() {
+            let a = &x[self.slices[c].clone()];
+            changed[c] = a.iter().any(|&v| v != 0.0);
             let curve = match m {
-                Some(m) => {
-                    let a = &x[self.offsets[c]..self.offsets[c + 1]];
-                    changed[c] = a.iter().any(|&v| v != 0.0);
-                    m.apply(a, &self.surface, self.max_move)?
-                }
+                Some(m) => m.apply(a, &self.surface, self.max_move)?,
                 None => self.problem.curves[c].clone(),
             };
             moved.push(curve);
+        }
+        // An orbit's curves: the leader's moved curve mapped by the symmetry.
+        for (c, t) in self.tied.iter().enumerate() {
+            if let Some((t, slides)) = t
+                && changed[c]
+                && let TieMap::Symmetry {
+                    symmetry,
+                    power,
+                    reversed,
+                } = &t.map
+            {
+                moved[c] = ties::mapped(
+                    &moved[t.leader],
+                    &self.problem.curves[c],
+                    symmetry,
+                    *power,
+                    *reversed,
+                    *slides,
+                    &self.surface,
+                )?;
+            }
         }
         snap::snap_crossings(&mut moved, &changed, self.problem.build.edge_length);
         let (curves, network) = self.settle(moved)?;
@@ -400,7 +460,10 @@ impl Slider {
         if let Some(c) = &constraints {
             feasible &= c.as_ref().is_ok_and(|c| c.check(&all).is_ok());
         }
-        let analyzer = Analyzer::new(network, self.problem.stability.clone()).ok()?;
+        let mut analyzer = Analyzer::new(network, self.problem.stability.clone()).ok()?;
+        if let Some(p) = &self.problem.physical {
+            analyzer = analyzer.with_physical(p.clone()).ok()?;
+        }
         let analysis = analyzer.analyze(&analyzer.all(), None).ok()?;
         if let Some(Ok(c)) = &constraints {
             let d = max_displacement(analyzer.network(), &all, &analysis.displacement);
@@ -495,9 +558,7 @@ impl Slider {
         } else {
             vec![0.0; self.dimension]
         };
-        let coefficients = (0..self.moves.len())
-            .map(|c| x[self.offsets[c]..self.offsets[c + 1]].to_vec())
-            .collect();
+        let coefficients = self.coefficients(&x);
         let (joints_added, joints_removed) = joint_changes(&before.network, &after.network);
         Ok(SlideOutcome {
             before,
@@ -560,4 +621,36 @@ pub fn joint_changes(before: &Network, after: &Network) -> (usize, usize) {
         }
     }
     (b.len() - common, a.len() - common)
+}
+
+/// Which curves stay: the fixed and the pinned, a tied curve's whole unit when one of it
+/// stays, and a group whose members' families differ ([`ties`]).
+fn stays(
+    problem: &SlideProblem,
+    pinned: &[usize],
+    slides: &[[bool; 2]],
+    functions: usize,
+) -> Vec<bool> {
+    let n = problem.curves.len();
+    let mut stays: Vec<bool> = (0..n)
+        .map(|c| problem.fixed.contains(&c) || pinned.contains(&c))
+        .collect();
+    let family = |c: usize| moves::Basis::of(problem.curves[c].closed, slides[c], functions);
+    let mut leaders: Vec<usize> = problem.ties.iter().map(|t| t.leader).collect();
+    leaders.sort_unstable();
+    leaders.dedup();
+    for l in leaders {
+        let unit: Vec<&Tie> = problem.ties.iter().filter(|t| t.leader == l).collect();
+        let held = stays[l]
+            || unit.iter().any(|t| {
+                stays[t.curve] || (t.map == TieMap::Shared && family(t.curve) != family(l))
+            });
+        if held {
+            stays[l] = true;
+            for t in unit {
+                stays[t.curve] = true;
+            }
+        }
+    }
+    stays
 }

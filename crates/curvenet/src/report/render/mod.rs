@@ -6,7 +6,8 @@
 //! - [`font`]: text in a built-in 5×7 bitmap font;
 //! - [`scene`]: [`View`], an orthographic camera looking at a bounding box from an azimuth and
 //!   elevation (z up), fitted to a rectangle of the image; meshes and strokes drawn through it;
-//! - [`pictures`]: [`network_picture`] and [`mode_picture`], the two pictures of a run.
+//! - [`pictures`]: [`network_picture`] and [`mode_picture`], the two pictures of a run;
+//! - [`slide`]: [`slide_picture`], a slid run's curves before and after they slid.
 //!
 //! Hand-written rather than taken from a plotting library: a few hundred lines give
 //! byte-identical PNGs from run to run with no system fonts or GPU.
@@ -19,11 +20,13 @@ pub mod font;
 pub mod pictures;
 pub mod raster;
 pub mod scene;
+pub mod slide;
 
 pub use font::{ADVANCE, LINE_HEIGHT, descent, glyph, text_width};
 pub use pictures::{PICTURE_SIZE, mode_picture, network_picture};
 pub use raster::Image;
 pub use scene::{Stroke, View, colormap, draw_mesh, draw_strokes};
+pub use slide::slide_picture;
 
 /// An RGB colour with components in `[0, 1]`.
 pub type Rgb = [f64; 3];

@@ -18,7 +18,7 @@ const CAMERA: (f64, f64) = (-60.0, 28.0);
 
 /// A blank picture with a view that fits `fit` and the run's surface into the picture less a
 /// margin (`right` pixels on the right), the surface drawn.
-fn canvas(run: &RunFolder, mut fit: Vec<Vec3>, right: f64) -> (Image, View) {
+pub(super) fn canvas(run: &RunFolder, mut fit: Vec<Vec3>, right: f64) -> (Image, View) {
     let (w, h) = PICTURE_SIZE;
     let mut img = Image::new(w, h);
     if let Some(m) = &run.mesh {
@@ -32,14 +32,14 @@ fn canvas(run: &RunFolder, mut fit: Vec<Vec3>, right: f64) -> (Image, View) {
     (img, view)
 }
 
-fn title(img: &mut Image, lines: &[String]) {
+pub(super) fn title(img: &mut Image, lines: &[String]) {
     for (i, l) in lines.iter().enumerate() {
         let color = if i == 0 { INK } else { rgb8(90, 90, 100) };
         img.text(16, 14 + i as i64 * 24, l, 2, color);
     }
 }
 
-fn legend(img: &mut Image, y: i64, items: &[(Rgb, &str)]) {
+pub(super) fn legend(img: &mut Image, y: i64, items: &[(Rgb, &str)]) {
     let mut x = 16;
     for (c, label) in items {
         img.fill_rect(x, y + 5, 28, 4, *c, 1.0);
