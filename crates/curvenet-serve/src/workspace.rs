@@ -7,6 +7,7 @@ use crate::constraints::SessionConstraints;
 use crate::design::{Design, DesignError};
 use crate::greedy::Runner;
 use crate::local::LocalRunner;
+use curvenet::app::Drawing;
 use curvenet::io::TriMesh;
 use curvenet::physics::PhysicalParams;
 use curvenet::run_folder::{RunFiles, RunFolder, RunFolderError};
@@ -26,6 +27,9 @@ pub struct Workspace {
     pub name: Arc<str>,
     /// The surface, when known (drawn by the page; `max_gap` needs it).
     pub mesh: Option<Arc<TriMesh>>,
+    /// The design's curves as drawn, when they can be edited (served from curve files or an
+    /// example with its surface; a run folder's network cannot).
+    pub drawing: Option<Arc<Drawing>>,
     constraints: Mutex<SessionConstraints>,
 }
 
@@ -38,6 +42,7 @@ impl Workspace {
             local: Arc::new(LocalRunner::default()),
             name: name.into(),
             mesh: None,
+            drawing: None,
             constraints: Mutex::new(SessionConstraints::default()),
         }
         .in_its_units()
@@ -65,6 +70,30 @@ impl Workspace {
     pub fn with_mesh(mut self, mesh: Option<TriMesh>) -> Self {
         self.mesh = mesh.map(Arc::new);
         self
+    }
+
+    /// With the design's curves as drawn.
+    pub fn with_drawing(mut self, drawing: Option<Drawing>) -> Self {
+        self.drawing = drawing.map(Arc::new);
+        self
+    }
+
+    /// The workspace of `design`, the network of `drawing` (this one's curves edited): the
+    /// same name and surface, the design constraints in force kept when they still apply to
+    /// the new network, no greedy run.
+    pub fn redrawn(&self, design: Design, drawing: Drawing) -> Workspace {
+        let next = Workspace {
+            mesh: self.mesh.clone(),
+            ..Workspace::new(design, &self.name)
+        };
+        let params = self.constraints().params().clone();
+        let net = next.design.analyzer().network();
+        // Constraints that no longer apply (a group of deleted curves) are dropped.
+        let _ = next.constraints().set(net, next.mesh.as_deref(), params);
+        Workspace {
+            drawing: Some(Arc::new(drawing)),
+            ..next
+        }
     }
 
     /// The session's design constraints (a panic elsewhere leaves the last whole state).

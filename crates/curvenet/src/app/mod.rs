@@ -16,6 +16,7 @@
 //!   ([`crate::words`]), which each front end spells its own way.
 
 mod analyze;
+pub mod draw;
 mod ends;
 mod error;
 pub mod inputs;
@@ -28,6 +29,7 @@ mod slide;
 mod summary;
 
 pub use analyze::{AnalyzeOutcome, analyze};
+pub use draw::{DrawEdit, DrawError, DrawParams, Drawing, Drawn, NewCurve};
 pub use error::{AppError, Stage};
 pub use inputs::{CurveSource, ExampleDefaults, GivenCurves, InputSpec, Inputs, MeshSource};
 pub use model::{MAX_EIGEN_COUNT, Model, ModelOptions};
