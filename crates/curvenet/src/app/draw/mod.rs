@@ -134,6 +134,22 @@ pub enum DrawError {
     /// normal to it, a runaway path).
     #[error("the geodesic cannot be traced: {0}")]
     Trace(TraceError),
+    /// The new curve is shorter than the network's edge length (a geodesic that leaves the
+    /// surface at once, points all but on top of each other).
+    #[error(
+        "the curve is {} long, shorter than the edge length {}{}",
+        crate::fmt::length(*length),
+        crate::fmt::length(*edge_length),
+        if *geodesic { ": from this point, in this direction, it leaves the surface at once" } else { ": spread the points wider" }
+    )]
+    TooShort {
+        /// Its length.
+        length: f64,
+        /// The network's edge length.
+        edge_length: f64,
+        /// Whether it is a geodesic.
+        geodesic: bool,
+    },
     /// A curve through points needs at least two distinct points.
     #[error(
         "a curve through points needs at least two distinct points on the surface, got {count}"
@@ -334,8 +350,17 @@ impl Drawing {
         let mut next = self.clone();
         let count = self.inputs.curves.len();
         let curve = match edit {
-            DrawEdit::Add(_) => {
+            DrawEdit::Add(new) => {
                 let c = self.preview(edit)?;
+                let (length, edge_length) = (c.length(), self.edge_length());
+                if !(length >= edge_length) {
+                    let geodesic = matches!(new, NewCurve::Geodesic { .. });
+                    return Err(DrawError::TooShort {
+                        length,
+                        edge_length,
+                        geodesic,
+                    });
+                }
                 next.push(c);
                 Some(count)
             }
