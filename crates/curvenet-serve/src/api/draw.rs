@@ -3,7 +3,7 @@
 //! the workspaces these edits replaced.
 //!
 //! - `GET /api/curves`: the design's curves as drawn, each one's number of move coefficients,
-//!   the edge length and the largest move;
+//!   the edge length, the largest move, and how many drawing edits undo and redo can walk;
 //! - `POST /api/curves` `{"geodesic": {"point": [x,y,z], "direction": [dx,dy,dz]}}` or
 //!   `{"through": [[x,y,z], ...]}`: adds a curve;
 //! - `DELETE /api/curves/ID`: deletes one;
@@ -206,9 +206,13 @@ async fn draw(app: AppState, edit: DrawEdit) -> ApiResult<DrawAnswer> {
 /// `GET /api/curves`.
 pub(super) async fn list(State(app): State<AppState>) -> ApiResult<serde_json::Value> {
     let ws = app.workspace();
+    let (undo, redo) = {
+        let h = app.history();
+        (h.past.len(), h.future.len())
+    };
     let v = off_runtime(move || {
         let Some(d) = &ws.drawing else {
-            return Ok(serde_json::json!({ "editable": false, "curves": [] }));
+            return Ok(serde_json::json!({ "editable": false, "curves": [], "undo": 0, "redo": 0 }));
         };
         let curves: Vec<serde_json::Value> = d
             .curves()
@@ -227,6 +231,8 @@ pub(super) async fn list(State(app): State<AppState>) -> ApiResult<serde_json::V
             "curves": curves,
             "edge_length": d.edge_length(),
             "max_move": d.max_move(),
+            "undo": undo,
+            "redo": redo,
         }))
     })
     .await?;
