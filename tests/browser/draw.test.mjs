@@ -29,14 +29,15 @@ function serve(args) {
 async function ready(page) {
   for (let i = 0; i < 600; i++) {
     try {
-      const s = await page.evaluate(() => {
+      const s = await page.evaluate(async () => {
         const cv = window.curvenet;
         if (!cv || cv.error) return cv ? { error: cv.error } : null;
         const a = cv.app;
         if (!a || !a.ready || !a.drawReady || a.busy || cv.frames < 2) return null;
+        const state = await (await fetch('api/state')).json();
         return {
           error: a.error, curves: a.drawing.curves.length, undo: a.drawing.undo,
-          lambda: document.getElementById('stat-lambda').textContent,
+          lambda: state.lambda, shown: document.getElementById('stat-lambda').textContent,
           message: document.getElementById('app-msg').textContent,
         };
       });
@@ -104,8 +105,10 @@ test('drawing on the page of curvenet serve', { timeout: 900_000 }, async () => 
     assert.ok(a, 'the surface is on screen');
     await page.mouse.move(a[0], a[1]);
     await page.mouse.down();
-    await page.mouse.move(a[0] + 40, a[1] + 8, { steps: 8 });
-    await page.waitForFunction(() => (window.curvenet.app.previews || 0) > 0 && window.curvenet.previewLine, null, { timeout: 60_000 });
+    // Down the tower: a geodesic heading round it would not reach the boundary.
+    await page.mouse.move(a[0] + 10, a[1] + 60, { steps: 8 });
+    await page.waitForFunction(() => (window.curvenet.app.previews || 0) > 0 && window.curvenet.previewLine, null, { timeout: 60_000 })
+      .catch(async (e) => { throw new Error(`${e.message}: ${await page.textContent('#draw-note')}`); });
     await shot(page, '1-geodesic-preview');
     const s1 = await reloadedAfter(page, () => page.mouse.up());
     assert.equal(s1.curves, n0 + 1, s1.message);
@@ -115,11 +118,12 @@ test('drawing on the page of curvenet serve', { timeout: 900_000 }, async () => 
 
     // Drag the new curve along the surface.
     await page.check('input[name=deform][value=none]');
+    await page.check('input[name=tool][value=drag]');
     const c = await page.evaluate((n) => window.curvenet.screenPointOf(n, 0.5), n0);
     assert.ok(c, 'the new curve is on screen');
     await page.mouse.move(c[0], c[1]);
     await page.mouse.down();
-    await page.mouse.move(c[0] + 12, c[1] - 20, { steps: 6 });
+    await page.mouse.move(c[0] + 15, c[1], { steps: 6 });
     await page.waitForFunction(() => (window.curvenet.app.previews || 0) > 0, null, { timeout: 60_000 });
     await shot(page, '3-drag-preview');
     const s2 = await reloadedAfter(page, () => page.mouse.up());
@@ -135,6 +139,7 @@ test('drawing on the page of curvenet serve', { timeout: 900_000 }, async () => 
     await shot(page, '5-undone');
 
     // A curve through three points, a double-click ending it.
+    await page.check('input[name=deform][value=none]');
     await page.check('input[name=tool][value=through]');
     const pts = [];
     for (const [fx, fy] of [[0.35, 0.4], [0.5, 0.5], [0.65, 0.45]]) pts.push(await surfacePixel(page, fx, fy));

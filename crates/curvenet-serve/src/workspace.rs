@@ -7,7 +7,7 @@ use crate::constraints::SessionConstraints;
 use crate::design::{Design, DesignError};
 use crate::greedy::Runner;
 use crate::local::LocalRunner;
-use curvenet::app::Drawing;
+use curvenet::app::{DrawEdit, DrawError, Drawing};
 use curvenet::io::TriMesh;
 use curvenet::physics::PhysicalParams;
 use curvenet::run_folder::{RunFiles, RunFolder, RunFolderError};
@@ -96,6 +96,26 @@ impl Workspace {
         }
     }
 
+    /// The workspace after the drawing edit `edit` of this one's curves (the network rebuilt
+    /// and its structure analysed: the curves kept now, and a new curve) and the curve the
+    /// edit drew or moved. This workspace is unchanged.
+    ///
+    /// # Errors
+    ///
+    /// Its curves cannot be drawn on (a run folder's network), the edit is refused, or the
+    /// new network cannot be built or analysed.
+    pub fn draw(&self, edit: &DrawEdit) -> Result<(Workspace, Option<usize>), Redraw> {
+        let drawing = self.drawing.as_ref().ok_or(Redraw::NotEditable)?;
+        let drawn = drawing.apply(edit)?;
+        let (analyzer, _) = drawn.drawing.analyzer()?;
+        let kept = edit.carry(
+            &self.design.current().summary.curves,
+            drawing.curves().len(),
+        );
+        let design = Design::new(analyzer, &kept)?;
+        Ok((self.redrawn(design, drawn.drawing), drawn.curve))
+    }
+
     /// The session's design constraints (a panic elsewhere leaves the last whole state).
     pub fn constraints(&self) -> MutexGuard<'_, SessionConstraints> {
         self.constraints.lock().unwrap_or_else(|e| e.into_inner())
@@ -106,6 +126,23 @@ impl Workspace {
         self.greedy.stop();
         self.local.stop();
     }
+}
+
+/// Why a drawing edit was refused or failed.
+#[derive(Debug, thiserror::Error)]
+pub enum Redraw {
+    /// The served network's curves cannot be drawn on.
+    #[error(
+        "this network's curves cannot be edited: drawing needs the curves and their surface \
+         (serve with --curves and --mesh, or a paper's example), not a run folder"
+    )]
+    NotEditable,
+    /// The edit itself was refused, or the network could not be built.
+    #[error(transparent)]
+    Draw(#[from] DrawError),
+    /// The new structure could not be analysed.
+    #[error(transparent)]
+    Design(#[from] DesignError),
 }
 
 /// A run folder read for serving.

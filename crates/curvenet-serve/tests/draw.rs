@@ -8,10 +8,10 @@ mod common;
 
 use common::{assert_refused, ok, request, scratch};
 use curvenet::app::{self, CurveSource, InputSpec, MeshSource, ModelOptions, Setup, Silent};
+use curvenet::run_folder::RunsRoot;
 use curvenet::words::Neutral;
 use curvenet_serve::start::{ServeSpec, Source, open};
 use curvenet_serve::{AppState, Server};
-use curvenet::run_folder::RunsRoot;
 use serde_json::{Value, json};
 use std::net::SocketAddr;
 use std::path::Path;
@@ -49,7 +49,10 @@ fn lambda(v: &Value) -> f64 {
 
 fn close(a: f64, b: f64, what: &str) {
     let rel = (a - b).abs() / b.abs().max(f64::MIN_POSITIVE);
-    assert!(rel <= 1e-6, "{what}: {a:e} against {b:e} (relative {rel:e})");
+    assert!(
+        rel <= 1e-6,
+        "{what}: {a:e} against {b:e} (relative {rel:e})"
+    );
 }
 
 /// A point in the middle of curve `c` of the design and the unit tangent there.
@@ -82,7 +85,10 @@ fn analyzed_saved(addr: SocketAddr, dir: &Path) -> f64 {
         ..InputSpec::new(CurveSource::Files(vec![c]))
     };
     let mut setup = Setup::new(&input, &ModelOptions::default()).expect("the saved design reads");
-    app::analyze(&mut setup, &[], &Neutral).expect("analysed").report.lambda
+    app::analyze(&mut setup, &[], &Neutral)
+        .expect("analysed")
+        .report
+        .lambda
 }
 
 #[test]
@@ -117,7 +123,11 @@ fn drawn_curves_rebuild_the_network_as_analyze_reads_the_saved_design() {
         "a curve drawn from a curve meets it: {added}"
     );
     assert_ne!(lambda(&added), lambda(&before), "λ follows the new curve");
-    close(lambda(&added), analyzed_saved(addr, &dir), "the added geodesic");
+    close(
+        lambda(&added),
+        analyzed_saved(addr, &dir),
+        "the added geodesic",
+    );
 
     // A curve through three points of curves 1, 2 and 3.
     let curves = ok(addr, "GET", "/api/curves", "");
@@ -129,7 +139,11 @@ fn drawn_curves_rebuild_the_network_as_analyze_reads_the_saved_design() {
         &json!({ "through": points }).to_string(),
     );
     assert_eq!(through["curve"], 7);
-    close(lambda(&through), analyzed_saved(addr, &dir), "the curve through points");
+    close(
+        lambda(&through),
+        analyzed_saved(addr, &dir),
+        "the curve through points",
+    );
 
     // Moved by its family of moves (a drag's coefficients), then deleted: λ comes back.
     let drag = ok(
@@ -140,7 +154,14 @@ fn drawn_curves_rebuild_the_network_as_analyze_reads_the_saved_design() {
             .to_string(),
     );
     let params = drag["params"].clone();
-    assert!(params.as_array().unwrap().iter().any(|a| a.as_f64() != Some(0.0)), "{drag}");
+    assert!(
+        params
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|a| a.as_f64() != Some(0.0)),
+        "{drag}"
+    );
     let moved = ok(
         addr,
         "POST",
@@ -148,17 +169,29 @@ fn drawn_curves_rebuild_the_network_as_analyze_reads_the_saved_design() {
         &json!({ "params": params }).to_string(),
     );
     assert_eq!(moved["curve"], 7);
-    close(lambda(&moved), analyzed_saved(addr, &dir), "the moved curve");
+    close(
+        lambda(&moved),
+        analyzed_saved(addr, &dir),
+        "the moved curve",
+    );
     let deleted = ok(addr, "DELETE", "/api/curves/7", "");
     assert_eq!(deleted["curve_count"], 7);
-    close(lambda(&deleted), lambda(&added), "deleting the curve through points");
+    close(
+        lambda(&deleted),
+        lambda(&added),
+        "deleting the curve through points",
+    );
     let deleted = ok(addr, "DELETE", "/api/curves/6", "");
     close(lambda(&deleted), lambda(&before), "deleting the geodesic");
 
     // Undo walks back through the edits, redo forward again.
     let u = ok(addr, "POST", "/api/curves/undo", "");
     assert_eq!(u["curve_count"], 7);
-    close(lambda(&u), lambda(&added), "undoing the geodesic's deletion");
+    close(
+        lambda(&u),
+        lambda(&added),
+        "undoing the geodesic's deletion",
+    );
     let u = ok(addr, "POST", "/api/curves/undo", "");
     close(lambda(&u), lambda(&moved), "undoing the deletion");
     let r = ok(addr, "POST", "/api/curves/redo", "");
@@ -183,14 +216,14 @@ fn every_bad_drawing_request_gets_a_4xx_with_a_message() {
         422,
         "from the surface",
     );
-    add(
-        json!({"through": [p, far]}),
-        422,
-        "point 1 lies",
-    );
+    add(json!({"through": [p, far]}), 422, "point 1 lies");
     add(json!({"through": [p]}), 422, "at least two distinct points");
     add(json!({"through": []}), 422, "at least two distinct points");
-    add(json!({"through": [p, p]}), 422, "at least two distinct points");
+    add(
+        json!({"through": [p, p]}),
+        422,
+        "at least two distinct points",
+    );
     add(
         json!({"geodesic": {"point": p, "direction": [0.0, 0.0, 0.0]}}),
         422,
@@ -217,7 +250,14 @@ fn every_bad_drawing_request_gets_a_4xx_with_a_message() {
     add(json!({ "through": many }), 422, "at most 1000 points");
     let huge = format!("{{\"through\": [{}]}}", vec!["[1,2,3]"; 200_000].join(","));
     assert_refused(addr, "POST", "/api/curves", &huge, 413, "");
-    assert_refused(addr, "DELETE", "/api/curves/99", "", 422, "unknown curve 99");
+    assert_refused(
+        addr,
+        "DELETE",
+        "/api/curves/99",
+        "",
+        422,
+        "unknown curve 99",
+    );
     assert_refused(addr, "DELETE", "/api/curves/x", "", 400, "not a curve id");
     assert_refused(
         addr,

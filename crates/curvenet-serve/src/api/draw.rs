@@ -17,9 +17,8 @@
 //! its `joints` (each one's point and the curves through it) and `curve_count`.
 
 use super::{ApiError, ApiResult, AppState, StateAnswer, off_runtime, parse};
-use crate::design::Design;
 use crate::words::say;
-use crate::workspace::Workspace;
+use crate::workspace::{Redraw, Workspace};
 use axum::body::Bytes;
 use axum::extract::rejection::BytesRejection;
 use axum::extract::{Path, State};
@@ -173,13 +172,17 @@ impl DrawAnswer {
 
 /// The drawing of `ws`, or why its curves cannot be edited.
 fn drawing_of(ws: &Workspace) -> Result<Arc<Drawing>, ApiError> {
-    ws.drawing.clone().ok_or_else(|| {
-        ApiError::new(
-            StatusCode::CONFLICT,
-            "this network's curves cannot be edited: drawing needs the curves and their \
-             surface (serve with --curves and --mesh, or a paper's example), not a run folder",
-        )
-    })
+    ws.drawing.clone().ok_or_else(|| Redraw::NotEditable.into())
+}
+
+impl From<Redraw> for ApiError {
+    fn from(e: Redraw) -> Self {
+        match e {
+            Redraw::NotEditable => ApiError::new(StatusCode::CONFLICT, e.to_string()),
+            Redraw::Draw(e) => e.into(),
+            Redraw::Design(e) => e.into(),
+        }
+    }
 }
 
 /// Applies `edit` to the current workspace's drawing: the new network built and analysed
@@ -187,18 +190,13 @@ fn drawing_of(ws: &Workspace) -> Result<Arc<Drawing>, ApiError> {
 async fn draw(app: AppState, edit: DrawEdit) -> ApiResult<DrawAnswer> {
     let _one = app.shared.drawing.lock().await;
     let old = app.workspace();
-    let drawing = drawing_of(&old)?;
     let start = Instant::now();
-    let old2 = Arc::clone(&old);
-    let (ws, curve) = off_runtime(move || {
-        let drawn = drawing.apply(&edit)?;
-        let (analyzer, _) = drawn.drawing.analyzer()?;
-        let kept = edit.carry(&old2.design.current().summary.curves, drawing.curves().len());
-        let design = Design::new(analyzer, &kept).map_err(ApiError::from)?;
-        Ok((old2.redrawn(design, drawn.drawing), drawn.curve))
+    let (ws, answer) = off_runtime(move || {
+        let (ws, curve) = old.draw(&edit)?;
+        let answer = DrawAnswer::of(&ws, curve, start);
+        Ok((ws, answer))
     })
     .await?;
-    let answer = DrawAnswer::of(&ws, curve, start);
     app.push_drawn(ws);
     Ok(axum::Json(answer))
 }
@@ -212,7 +210,9 @@ pub(super) async fn list(State(app): State<AppState>) -> ApiResult<serde_json::V
     };
     let v = off_runtime(move || {
         let Some(d) = &ws.drawing else {
-            return Ok(serde_json::json!({ "editable": false, "curves": [], "undo": 0, "redo": 0 }));
+            return Ok(
+                serde_json::json!({ "editable": false, "curves": [], "undo": 0, "redo": 0 }),
+            );
         };
         let curves: Vec<serde_json::Value> = d
             .curves()
@@ -355,7 +355,10 @@ async fn step(app: AppState, back: bool) -> ApiResult<DrawAnswer> {
         let what = if back { "undo" } else { "redo" };
         ApiError::new(
             StatusCode::CONFLICT,
-            format!("nothing to {what}: no drawing edit to walk {}", if back { "back" } else { "forward" }),
+            format!(
+                "nothing to {what}: no drawing edit to walk {}",
+                if back { "back" } else { "forward" }
+            ),
         )
     })?;
     let answer = off_runtime(move || Ok(DrawAnswer::of(&ws, None, start))).await?;

@@ -54,10 +54,8 @@ pub fn trace_geodesic_from(
     if !(direction.is_finite() && direction.norm() > 0.0) {
         return Err(bad_direction());
     }
-    let (face, start, distance) =
-        start_face(topo, point, direction).ok_or_else(|| TraceError::InvalidMesh(
-            "no usable triangle".into(),
-        ))?;
+    let (face, start, distance) = start_face(topo, point, direction)
+        .ok_or_else(|| TraceError::InvalidMesh("no usable triangle".into()))?;
     let dir = in_plane(topo, face, direction);
     if !(dir.is_finite() && dir.norm() > 0.5) {
         return Err(bad_direction());

@@ -33,8 +33,8 @@ mod walk;
 mod tests;
 
 pub use field::{DirectionField, FieldOptions, smooth_field};
-pub use generate::{CurveRecord, GeneratedCurves, Generator, generate};
 pub use from_point::{PointGeodesic, trace_geodesic_from};
+pub use generate::{CurveRecord, GeneratedCurves, Generator, generate};
 pub use geodesic::{GeodesicEnd, GeodesicPath, TraceOptions, trace_geodesic};
 pub use streamline::{StreamlineOptions, StreamlineRecord, Streamlines, trace_streamlines};
 pub use surfaces::{

@@ -8,7 +8,9 @@
 //! ([`crate::trace::trace_geodesic_from`]) or a smooth curve through points ([`through`]) —
 //! deletes one, or moves one by the coefficients of the slide feature's family of moves
 //! ([`crate::slide::CurveMove`]: the same functions and limits, ends on the boundary sliding
-//! along it). [`Drawing::apply`] answers the new drawing, never changing the old one, so a
+//! along it). A drawn or moved curve is made to pass through the curves it crosses
+//! ([`crate::slide::snap::snap_crossings`]: the design's curves lie near the mesh, not on it),
+//! so each crossing becomes a joint. [`Drawing::apply`] answers the new drawing, never changing the old one, so a
 //! front end keeps the old one for undo; [`Drawing::analyzer`] builds the new network's
 //! analyzer. Every front end (the server's page, a script) draws through this module.
 
@@ -16,14 +18,15 @@ mod through;
 
 pub use through::{MAX_POINTS, smooth_through};
 
+use super::AppError;
 use super::inputs::Inputs;
 use super::model::ModelOptions;
 use super::setup::Setup;
-use super::AppError;
 use crate::geom::Vec3;
 use crate::io::{Origin, Polyline, TriMesh, curves_to_json};
 use crate::network::Network;
 use crate::network::checks::surface::FAR_FROM_MESH;
+use crate::slide::snap::snap_crossings;
 use crate::slide::{CurveMove, MaxMove, ON_BOUNDARY, SlideParams, Surface};
 use crate::stability::Analyzer;
 use crate::trace::{MeshTopology, TraceError, TraceOptions, trace_geodesic_from};
@@ -267,7 +270,8 @@ impl Drawing {
         };
         let mut inputs = setup.inputs.clone();
         let mesh = inputs.mesh.take().ok_or_else(|| no_surface(""))?;
-        let surface = Surface::new(&mesh).ok_or_else(|| no_surface(" (it has no usable triangle)"))?;
+        let surface =
+            Surface::new(&mesh).ok_or_else(|| no_surface(" (it has no usable triangle)"))?;
         let topology = MeshTopology::new(&mesh)
             .map_err(|e| no_surface(&format!(" (this one cannot be traced on: {e})")))?;
         inputs.warnings.clear();
@@ -378,6 +382,13 @@ impl Drawing {
                 None
             }
         };
+        // The drawn or moved curve passes through the curves it crosses (the others lie near
+        // the mesh, not on it), so that each crossing becomes a joint.
+        if let Some(c) = curve {
+            let mut moved = vec![false; next.inputs.curves.len()];
+            moved[c] = true;
+            snap_crossings(&mut next.inputs.curves, &moved, self.edge_length());
+        }
         Ok(Drawn {
             drawing: next,
             curve,
@@ -501,9 +512,7 @@ impl Drawing {
         if params.iter().any(|a| !a.is_finite()) {
             return Err(beyond);
         }
-        family
-            .apply(params, &self.surface, max_move)
-            .ok_or(beyond)
+        family.apply(params, &self.surface, max_move).ok_or(beyond)
     }
 
     /// The point of the surface closest to `p`, refused when farther than allowed.

@@ -83,7 +83,9 @@ pub fn smooth_through(
 /// The uniform Catmull–Rom spline of `p0 … p3` between `p1` (`t = 0`) and `p2` (`t = 1`).
 fn catmull_rom(p0: Vec3, p1: Vec3, p2: Vec3, p3: Vec3, t: f64) -> Vec3 {
     let (t2, t3) = (t * t, t * t * t);
-    (p1 * 2.0 + (p2 - p0) * t + (p0 * 2.0 - p1 * 5.0 + p2 * 4.0 - p3) * t2
+    (p1 * 2.0
+        + (p2 - p0) * t
+        + (p0 * 2.0 - p1 * 5.0 + p2 * 4.0 - p3) * t2
         + (p1 * 3.0 - p0 - p2 * 3.0 + p3) * t3)
         * 0.5
 }

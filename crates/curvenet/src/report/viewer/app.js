@@ -423,6 +423,7 @@
         press = { p, c, x, y, params: null };
         return true;
       }
+      if (tool === 'through' ? !p : cv.pick(x, y) === null) return false;
       press = { p, x, y };
       return true;
     },
