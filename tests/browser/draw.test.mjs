@@ -82,6 +82,15 @@ async function surfacePixel(page, fx, fy) {
   }, [fx, fy]);
 }
 
+// Waits for the page to show a preview (or says what the page said instead).
+async function previewed(page) {
+  await page.waitForFunction(() => (window.curvenet.app.previews || 0) > 0 && window.curvenet.previewLine, null, { timeout: 60_000 })
+    .catch(async (e) => {
+      const said = await page.evaluate(() => [window.curvenet.app.tool, document.getElementById('draw-note').textContent]);
+      throw new Error(`${e.message}: ${said.join(': ')}`);
+    });
+}
+
 const shot = (page, name) => page.screenshot({ path: path.join(outDir, `draw-${name}.png`) });
 
 test('drawing on the page of curvenet serve', { timeout: 900_000 }, async () => {
@@ -107,8 +116,7 @@ test('drawing on the page of curvenet serve', { timeout: 900_000 }, async () => 
     await page.mouse.down();
     // Down the tower: a geodesic heading round it would not reach the boundary.
     await page.mouse.move(a[0] + 10, a[1] + 60, { steps: 8 });
-    await page.waitForFunction(() => (window.curvenet.app.previews || 0) > 0 && window.curvenet.previewLine, null, { timeout: 60_000 })
-      .catch(async (e) => { throw new Error(`${e.message}: ${await page.textContent('#draw-note')}`); });
+    await previewed(page);
     await shot(page, '1-geodesic-preview');
     const s1 = await reloadedAfter(page, () => page.mouse.up());
     assert.equal(s1.curves, n0 + 1, s1.message);
@@ -119,12 +127,20 @@ test('drawing on the page of curvenet serve', { timeout: 900_000 }, async () => 
     // Drag the new curve along the surface.
     await page.check('input[name=deform][value=none]');
     await page.check('input[name=tool][value=drag]');
-    const c = await page.evaluate((n) => window.curvenet.screenPointOf(n, 0.5), n0);
+    // A point of the new curve, on the surface, where a press picks it.
+    const c = await page.evaluate((n) => {
+      const cv = window.curvenet;
+      for (const t of [0.5, 0.4, 0.6, 0.3, 0.7, 0.2, 0.8, 0.15, 0.85, 0.1, 0.9]) {
+        const q = cv.screenPointOf(n, t);
+        if (q && cv.surfaceAt(q[0], q[1]) && cv.pick(q[0], q[1]) === n) return q;
+      }
+      return null;
+    }, n0);
     assert.ok(c, 'the new curve is on screen');
     await page.mouse.move(c[0], c[1]);
     await page.mouse.down();
     await page.mouse.move(c[0] + 15, c[1], { steps: 6 });
-    await page.waitForFunction(() => (window.curvenet.app.previews || 0) > 0, null, { timeout: 60_000 });
+    await previewed(page);
     await shot(page, '3-drag-preview');
     const s2 = await reloadedAfter(page, () => page.mouse.up());
     assert.match(s2.message, /moved curve/);
@@ -146,7 +162,7 @@ test('drawing on the page of curvenet serve', { timeout: 900_000 }, async () => 
     assert.ok(pts.every(Boolean));
     await page.mouse.click(pts[0][0], pts[0][1]);
     await page.mouse.click(pts[1][0], pts[1][1]);
-    await page.waitForFunction(() => (window.curvenet.app.previews || 0) > 0, null, { timeout: 60_000 });
+    await previewed(page);
     const s4 = await reloadedAfter(page, () => page.mouse.dblclick(pts[2][0], pts[2][1]));
     assert.equal(s4.curves, n0 + 1, s4.message);
     await shot(page, '6-through-points');
