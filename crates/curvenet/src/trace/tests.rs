@@ -1052,7 +1052,7 @@ fn geodesic_from_a_point_is_a_straight_line_to_the_side_it_heads_for() {
         let pts = &path.polyline.points;
         assert!(pts[0].dist(on) < 1e-12);
         assert!(line_deviation(pts, on, flat) < 1e-12, "not straight");
-        let exit = pts.last().unwrap();
+        let exit = *pts.last().unwrap();
         let side = |v: f64| v.abs() < 1e-12 || (v - 1.0).abs() < 1e-12;
         assert!(
             side(exit.x) || side(exit.y),
