@@ -2,9 +2,11 @@
 `curvenet export DIR --format opensees` writes (elastic beams per rod edge, joints sharing
 translations, curvenet's supports and lumped masses) is run in OpenSees, and its natural
 frequencies, self-weight deflection and deflections under the run's load cases are compared
-with `curvenet analyze --json`'s, on two
-networks of pre-bent rods with joints: a flat grid of straight rods (pinned, steel bars) and
-curved rods on a cylindrical vault (clamped, aluminium tubes). CI installs openseespy (pinned
+with `curvenet analyze --json`'s, on three
+networks of pre-bent rods with joints: a flat grid of straight rods (pinned, steel bars),
+curved rods on a cylindrical vault (clamped, aluminium tubes), and a grid on a tilted plate
+whose ends slide along the plate's boundary (held across it and normal to the plate: skew
+supports, springs along directions that are no world axes in OpenSees). CI installs openseespy (pinned
 in requirements-ci.txt) and sets CURVENET_REQUIRE_OPENSEES=1, so the test cannot be skipped
 there."""
 
@@ -78,6 +80,49 @@ def test_opensees_agrees_with_the_physical_mode(cli, tmp_path, name):
     loads = tmp_path / "loads.json"
     loads.write_text(json.dumps(LOADS[name]))
     common = ["--curves", curves, "--edge-length", "0.025", *options, "--loads", loads]
+    compare(cli, tmp_path, name, common)
+
+
+def tilt(p):
+    """`p` turned by 30° about the axis (1, 1, 0) / √2."""
+    a, (c, s) = 1 / math.sqrt(2), (math.cos(math.pi / 6), math.sin(math.pi / 6))
+    k = [a, a, 0.0]
+    dot = sum(ki * pi for ki, pi in zip(k, p))
+    cross = [k[1] * p[2] - k[2] * p[1], k[2] * p[0] - k[0] * p[2], k[0] * p[1] - k[1] * p[0]]
+    return [p[i] * c + cross[i] * s + k[i] * dot * (1 - c) for i in range(3)]
+
+
+def test_opensees_agrees_with_supports_sliding_along_a_tilted_boundary(cli, tmp_path):
+    # The grid on the unit square, tilted by 30°: every end held across the square's edge and
+    # normal to it, free to slide along the edge.
+    slide = {"fixed": ["boundary-normal", "surface-normal"]}
+    curves = tmp_path / "tilted.json"
+    curves.write_text(json.dumps({
+        "format": "curvenet-curves", "version": 1, "units": "m",
+        "curves": [{"rest": "pre-bent", "points": [tilt(p) for p in c], "supports": slide}
+                   for c in grid()],
+    }))
+    mesh = tmp_path / "square.obj"
+    corners = [tilt(p) for p in ([0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0])]
+    mesh.write_text("".join(f"v {x} {y} {z}\n" for x, y, z in corners) + "f 1 2 3\nf 1 3 4\n")
+    loads = tmp_path / "loads.json"
+    loads.write_text(json.dumps({
+        "cases": [{"name": "P", "points": [{"at": tilt([0.5, 0.5, 0]), "force": [0, 0, -5]}]},
+                  {"name": "G", "self_weight": True}]}))
+    common = ["--curves", curves, "--mesh", mesh, "--edge-length", "0.025", "--material",
+              "steel", "--radius", "0.01", "--loads", loads]
+    theirs = compare(cli, tmp_path, "tilted", common)
+    structure = tmp_path / "structure.json"
+    cli("export", tmp_path / "run", "--iteration", "0", "--format", "structural", "--out",
+        structure)
+    model = json.loads(structure.read_text())
+    assert len(model["skew_supports"]) == 2 * 2 * 6, "two directions at each of 12 ends"
+    assert theirs["frequencies_hz"][0] > 0
+
+
+def compare(cli, tmp_path, name, common):
+    """Runs curvenet's analysis and the exported OpenSees model of `common`'s inputs and
+    compares them; returns OpenSees' numbers."""
     analysis = json.loads(cli("analyze", *common, "--eigen-count", "6", "--json").stdout)
     ours = analysis["physical"]
     assert ours["stable"], ours
@@ -106,6 +151,7 @@ def test_opensees_agrees_with_the_physical_mode(cli, tmp_path, name):
     for c in theirs["load_cases"]:
         print(name, c["name"], "curvenet", cases[c["name"]], "OpenSees", c["max_deflection"])
         assert abs(c["max_deflection"] - cases[c["name"]]) <= TOLERANCE * cases[c["name"]], c
+    return theirs
 
 
 def test_a_run_in_the_papers_model_has_no_structural_export(cli, tmp_path):

@@ -282,6 +282,7 @@ fn params_of(scene: &Scene, curves: &[Polyline]) -> BuildParams {
         edge_length: h,
         supports: scene.supports,
         ends: Vec::new(),
+        end_frames: Vec::new(),
         tolerance: scene.tolerance,
         merge_joints_below: scene.merge,
     }

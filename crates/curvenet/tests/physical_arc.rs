@@ -231,6 +231,7 @@ fn arc_network(r: f64, alpha: f64, n: usize) -> Network {
                 .map(|i| i as u32)
                 .collect(),
             ends: None,
+            frames: None,
         }],
         positions,
         joints: Vec::new(),

@@ -54,6 +54,7 @@ fn sliding(rotation_held: bool) -> EndSupport {
     EndSupport {
         fixed: [false, true, true],
         rotation_held,
+        ..EndSupport::FREE
     }
 }
 
@@ -134,7 +135,7 @@ fn von_mises_truss() -> Network {
     };
     let apex = EndSupport {
         fixed: [false, true, false],
-        rotation_held: false,
+        ..EndSupport::FREE
     };
     let params = BuildParams {
         edge_length: 10.0,

@@ -78,6 +78,7 @@ fn rod_network(points: &[Vec3], held: Held) -> Network {
             rest_lengths,
             anchors,
             ends: None,
+            frames: None,
         }],
         joints: Vec::new(),
         supports,

@@ -440,6 +440,7 @@ fn compressed_rod(len: f64, n: usize, shift: f64) -> Network {
             rest_lengths: vec![h; n],
             anchors: vec![0, n as u32],
             ends: None,
+            frames: None,
         }],
         joints: Vec::new(),
         supports: Supports::Pinned,

@@ -240,7 +240,13 @@ pub fn read_inputs(spec: &InputSpec) -> Result<Inputs, AppError> {
     }
     let mut build = build_params(spec, h)?;
     let file = spec.supports_file.as_deref();
-    build.ends = ends::curve_ends(&inputs.curves, &inputs.specs, file, spec.scale)?;
+    (build.ends, build.end_frames) = ends::curve_ends(
+        &inputs.curves,
+        &inputs.specs,
+        file,
+        spec.scale,
+        mesh.as_ref(),
+    )?;
     inputs.description.mesh = mesh_name;
     inputs.description.scale = spec.scale;
     Ok(Inputs {
@@ -255,7 +261,8 @@ pub fn read_inputs(spec: &InputSpec) -> Result<Inputs, AppError> {
 fn with_file_ends(spec: &InputSpec, mut inputs: Inputs) -> Result<Inputs, AppError> {
     let file = spec.supports_file.as_deref();
     let scale = inputs.description.scale;
-    inputs.build.ends = ends::curve_ends(&inputs.curves, &[], file, scale)?;
+    (inputs.build.ends, inputs.build.end_frames) =
+        ends::curve_ends(&inputs.curves, &[], file, scale, inputs.mesh.as_ref())?;
     Ok(inputs)
 }
 

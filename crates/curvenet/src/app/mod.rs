@@ -17,6 +17,7 @@
 
 mod analyze;
 pub mod draw;
+pub mod end_frames;
 mod ends;
 mod error;
 pub mod inputs;

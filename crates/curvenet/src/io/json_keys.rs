@@ -154,7 +154,9 @@ impl Walker<'_> {
             if self.peek() != Some(b'"') {
                 return Err(None);
             }
-            let (line, column) = (self.line, self.column());
+            // The column is counted only for a duplicate: counting it for every key would
+            // cost the length of the line each time (a compact file is one line).
+            let (line, line_start, at) = (self.line, self.line_start, self.i);
             let (a, b) = self.string()?;
             let raw = &self.text[a..b];
             let key = if raw.contains('\\') {
@@ -167,7 +169,7 @@ impl Walker<'_> {
                     key,
                     path: self.path_text(),
                     line,
-                    column,
+                    column: 1 + self.text[line_start..at].chars().count(),
                     first_line,
                 }));
             }
@@ -217,11 +219,6 @@ impl Walker<'_> {
                 _ => return Err(None),
             }
         }
-    }
-
-    /// The 1-based column of the current position, in characters.
-    fn column(&self) -> usize {
-        1 + self.text[self.line_start..self.i].chars().count()
     }
 
     fn path_text(&self) -> String {

@@ -20,7 +20,7 @@ pub mod support;
 
 pub use section::Section;
 pub use spec::{CurveSpec, MaterialSpec, SectionSpec};
-pub use support::EndSupport;
+pub use support::{EndFrame, EndSupport, SurfaceDirection};
 
 use crate::units::{LengthUnit, STANDARD_GRAVITY};
 use crate::words::Message;

@@ -10,7 +10,7 @@ use super::joints::cluster_joints;
 use super::resample::resample;
 use super::{EdgeLengthStats, Network};
 use crate::io::Polyline;
-use crate::material::EndSupport;
+use crate::material::{EndFrame, EndSupport};
 use crate::rod::Supports;
 use crate::words::{Message, Opt, message};
 use serde::{Deserialize, Serialize};
@@ -27,6 +27,10 @@ pub struct BuildParams {
     /// keeps `supports`), from the curve file or a supports file. Empty when there are none.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub ends: Vec<[Option<EndSupport>; 2]>,
+    /// The surface's directions at each curve end whose support fixes one
+    /// ([`EndSupport::surface`]), resolved against the mesh; empty when no support does.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub end_frames: Vec<[Option<EndFrame>; 2]>,
     /// Relative crossing tolerance: two curves cross where they come closer than
     /// `tolerance · ℓ`, `ℓ` the larger of their median segment lengths (the paper's `1e-3`).
     pub tolerance: f64,
@@ -42,6 +46,7 @@ impl Default for BuildParams {
             edge_length: 1.0,
             supports: Supports::Clamped,
             ends: Vec::new(),
+            end_frames: Vec::new(),
             tolerance: 1e-3,
             merge_joints_below: None,
         }

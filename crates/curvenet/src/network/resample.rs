@@ -53,8 +53,18 @@ pub(super) fn resample(
             })
             .collect();
         let ends = params.ends.get(ci).copied().unwrap_or([None; 2]);
-        let rod = lock(&positions, verts, g, params, ends)
+        let mut rod = lock(&positions, verts, g, params, ends)
             .map_err(|message| BuildError::degenerate(curves, ci, message.into()))?;
+        if let Some(frames) = params
+            .end_frames
+            .get(ci)
+            .filter(|f| f.iter().any(Option::is_some))
+        {
+            rod.frames = rod
+                .ends
+                .is_some()
+                .then(|| frames.map(Option::unwrap_or_default));
+        }
         rods.push(rod);
     }
     let mut network = Network {
@@ -201,6 +211,7 @@ fn lock(
         rest_lengths,
         anchors,
         ends: own.then_some(end_supports),
+        frames: None,
     })
 }
 

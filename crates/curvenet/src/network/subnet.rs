@@ -28,6 +28,7 @@ impl Network {
                     rest_lengths: r.rest_lengths.clone(),
                     anchors: r.anchors.iter().map(|&v| map(v, &mut old_of)).collect(),
                     ends: r.ends,
+                    frames: r.frames,
                 }
             })
             .collect();

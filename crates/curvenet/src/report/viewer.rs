@@ -156,10 +156,15 @@ pub fn viewer_data(run: &RunFolder, options: &ViewerOptions) -> Result<Value, Re
     let net = &run.network;
     let r = &run.result;
     let n = run.iteration_count();
+    // Each iteration's files are read and parsed on a thread of their own.
     let states: Vec<Vec<f64>> = (0..n)
+        .into_par_iter()
         .map(|k| run.displacement(k))
         .collect::<Result<_, _>>()?;
-    let modes: Vec<Vec<f64>> = (0..n).map(|k| run.mode(k)).collect::<Result<_, _>>()?;
+    let modes: Vec<Vec<f64>> = (0..n)
+        .into_par_iter()
+        .map(|k| run.mode(k))
+        .collect::<Result<_, _>>()?;
     let gravity: Vec<Option<Vec<f64>>> = if options.gravity {
         let analyzer = analyzer_of(run)?;
         (0..n)
@@ -512,16 +517,21 @@ pub fn write_pictures(run: &RunFolder) -> Result<Vec<PathBuf>, ReportError> {
     } else {
         Which::Iteration(run.shown_index())
     };
+    // The three pictures are drawn side by side (each on a thread of its own).
+    let ((network, mode), lambda) = rayon::join(
+        || rayon::join(|| network_picture(run, which), || mode_picture(run, which)),
+        || lambda_plot(&run.result),
+    );
     let mut out = Vec::new();
-    let p = run.dir.join("final.png");
-    network_picture(run, which)?.write_png(&p)?;
-    out.push(p);
-    let p = run.dir.join("mode.png");
-    mode_picture(run, which)?.write_png(&p)?;
-    out.push(p);
-    let p = run.dir.join("lambda.png");
-    lambda_plot(&run.result).write_png(&p)?;
-    out.push(p);
+    for (name, image) in [
+        ("final.png", network?),
+        ("mode.png", mode?),
+        ("lambda.png", lambda),
+    ] {
+        let p = run.dir.join(name);
+        image.write_png(&p)?;
+        out.push(p);
+    }
     Ok(out)
 }
 
@@ -544,9 +554,27 @@ pub fn write_run_outputs(dir: &Path) -> Result<RunOutputs, ReportError> {
         warnings: run.warnings.clone(),
         ..Default::default()
     };
-    out.files.extend(write_pictures(&run)?);
+    // The viewer page's data (every iteration's files read back, the gravity deflections)
+    // is made while the pictures and tables are drawn; the page is written last.
+    let (tables, html) = rayon::join(
+        || write_pictures_and_tables(&run, &mut out),
+        || viewer_html(&run, &ViewerOptions::default()),
+    );
+    tables?;
+    // Last: a run folder with its viewer page has every file of this stage (a run stopped
+    // before it draws them again when resumed).
+    let p = dir.join("viewer.html");
+    crate::io::write_atomic(&p, html?.as_bytes()).map_err(|e| ReportError::io(&p, e))?;
+    out.files.push(p);
+    Ok(out)
+}
+
+/// The pictures, `fabrication.csv` and each `alternative-N.csv` of [`write_run_outputs`].
+fn write_pictures_and_tables(run: &RunFolder, out: &mut RunOutputs) -> Result<(), ReportError> {
+    let dir = &run.dir;
+    out.files.extend(write_pictures(run)?);
     let p = dir.join("fabrication.csv");
-    match fabrication_csv(&run, Which::Answer).ok() {
+    match fabrication_csv(run, Which::Answer).ok() {
         Some(csv) => {
             crate::io::write_atomic(&p, csv.as_bytes()).map_err(|e| ReportError::io(&p, e))?;
             out.files.push(p);
@@ -565,16 +593,11 @@ pub fn write_run_outputs(dir: &Path) -> Result<RunOutputs, ReportError> {
     }
     for n in 1..=run.result.alternatives.len() {
         let p = dir.join(format!("alternative-{n}.csv"));
-        let csv = fabrication_csv(&run, Which::Alternative(n))?;
+        let csv = fabrication_csv(run, Which::Alternative(n))?;
         crate::io::write_atomic(&p, csv.as_bytes()).map_err(|e| ReportError::io(&p, e))?;
         out.files.push(p);
     }
-    // Last: a run folder with its viewer page has every file of this stage (a run stopped
-    // before it draws them again when resumed).
-    let p = dir.join("viewer.html");
-    write_viewer(&run, &p, &ViewerOptions::default())?;
-    out.files.push(p);
-    Ok(out)
+    Ok(())
 }
 
 #[cfg(test)]

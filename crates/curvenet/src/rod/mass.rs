@@ -112,6 +112,7 @@ mod tests {
                     rest_lengths: vec![1.0, 1.0, 2.0],
                     anchors: vec![0, 3],
                     ends: None,
+                    frames: None,
                 },
                 Rod {
                     vertices: vec![4, 2, 5],
@@ -119,6 +120,7 @@ mod tests {
                     rest_lengths: vec![3.0, 3.0],
                     anchors: vec![4, 5],
                     ends: None,
+                    frames: None,
                 },
             ],
             joints: vec![Joint {

@@ -185,9 +185,10 @@ impl ModelRules {
         clamp: ClampRule::EndTangent,
         twist: true,
     };
-    /// The physical mode's model as the searches' frequency objective uses it: its clamps,
-    /// without twist unknowns (the searches' machinery works on the `3·V` vertex coordinates
-    /// alone; each recorded structure's physical numbers come from [`Self::PHYSICAL`]).
+    /// The physical mode's clamps without twist unknowns: pre-bent rods bend by the twist-free
+    /// term (`rod::terms::bend_rest`), which resists a rigid rotation. No analysis uses it
+    /// (the physical analysis and the searches' frequency objective use [`Self::PHYSICAL`]);
+    /// the tests show what it got wrong.
     pub const PHYSICAL_WITHOUT_TWIST: ModelRules = ModelRules {
         clamp: ClampRule::EndTangent,
         twist: false,

@@ -4,7 +4,7 @@
 
 use super::Supports;
 use crate::geom::Vec3;
-use crate::material::EndSupport;
+use crate::material::{EndFrame, EndSupport};
 use serde::{Deserialize, Serialize};
 
 /// How far from its chord (relative to the chord's length) every vertex of a rod may lie for
@@ -29,6 +29,10 @@ pub struct Rod {
     /// rotation is held.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ends: Option<[EndSupport; 2]>,
+    /// The surface's directions at its start and end, where a support given per end fixes a
+    /// translation along one of them ([`EndSupport::surface`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frames: Option<[EndFrame; 2]>,
 }
 
 impl Rod {
@@ -74,6 +78,48 @@ impl Rod {
             }
         }
         axes
+    }
+
+    /// The weight matrix of the anchor of vertex `v`: `Σ d dᵀ` over the unit directions its
+    /// end's support fixes — the world axes of [`Self::anchor_axes`] and the surface's
+    /// directions ([`Self::anchor_skew`]) — so the anchor's energy `µ Δxᵀ W Δx` penalises the
+    /// displacement along each fixed direction.
+    pub fn anchor_weights(&self, v: u32) -> [[f64; 3]; 3] {
+        let mut w = [[0.0; 3]; 3];
+        for (a, fixed) in self.anchor_axes(v).into_iter().enumerate() {
+            if fixed {
+                w[a][a] = 1.0;
+            }
+        }
+        for d in self.anchor_skew(v) {
+            for (a, row) in w.iter_mut().enumerate() {
+                for (b, x) in row.iter_mut().enumerate() {
+                    *x += d[a] * d[b];
+                }
+            }
+        }
+        w
+    }
+
+    /// The surface's unit directions (along the boundary, across it, normal to the surface)
+    /// along which the anchor of vertex `v` is fixed: those of the end it belongs to (the end
+    /// vertex, or the neighbour a held rotation anchors).
+    pub fn anchor_skew(&self, v: u32) -> Vec<[f64; 3]> {
+        let (Some(ends), Some(frames)) = (self.ends, self.frames) else {
+            return Vec::new();
+        };
+        let m = self.vertices.len();
+        let mut out = Vec::new();
+        for ((s, f), near) in ends
+            .iter()
+            .zip(&frames)
+            .zip([[0, 1], [m - 1, m.saturating_sub(2)]])
+        {
+            if near.iter().any(|&i| self.vertices.get(i) == Some(&v)) {
+                out.extend(f.fixed_directions(s));
+            }
+        }
+        out
     }
 
     /// The support of its first (`at_start`) or last end (`None` when closed or a single

@@ -4,9 +4,9 @@
 //!
 //! It holds each cross-section's spin about the rod's axis in the world, so a rigid rotation
 //! of the rod costs energy: the physical analysis uses the material frame and twist
-//! unknowns of `rod::frame` instead ([`crate::rod::ModelRules::PHYSICAL`]); this term
-//! serves models without twist unknowns (the searches' frequency objective,
-//! [`crate::rod::ModelRules::PHYSICAL_WITHOUT_TWIST`]).
+//! unknowns of `rod::frame` instead ([`crate::rod::ModelRules::PHYSICAL`]), and so do the
+//! searches' frequency objective; this term remains for models without twist unknowns
+//! ([`crate::rod::ModelRules::PHYSICAL_WITHOUT_TWIST`], which the tests compare against).
 
 use super::jet::{self, Jet, JetVec};
 use super::terms::Local;

@@ -299,22 +299,28 @@ pub(crate) fn symmetrize<const D: usize>(h: &mut [[f64; D]; D]) {
     }
 }
 
-/// Anchor spring energy `E = µ Σ_a w_a (x − x̄)_a²` pulling a supported vertex to its target
-/// along the axes it fixes (`w_a` 1 for a fixed axis, 0 for a free one).
+/// Anchor spring energy `E = µ (x − x̄)ᵀ W (x − x̄)` pulling a supported vertex to its target
+/// along the directions it fixes: `W = Σ d dᵀ` over their unit vectors (diagonal, 1 for a fixed
+/// world axis and 0 for a free one, when only world axes are fixed; a support along the
+/// surface's directions adds their outer products).
 #[inline]
-pub fn anchor_energy(x: Vec3, target: Vec3, mu: f64, w: [f64; 3]) -> f64 {
+pub fn anchor_energy(x: Vec3, target: Vec3, mu: f64, w: &[[f64; 3]; 3]) -> f64 {
     let d = x - target;
-    mu * (0..3).map(|a| w[a] * d[a] * d[a]).sum::<f64>()
+    mu * (0..3)
+        .map(|a| (0..3).map(|b| w[a][b] * d[b]).sum::<f64>() * d[a])
+        .sum::<f64>()
 }
 
-/// [`anchor_energy`] with its gradient and Hessian (`2µ diag(w)`).
-pub fn anchor(x: Vec3, target: Vec3, mu: f64, w: [f64; 3]) -> Local<3> {
+/// [`anchor_energy`] with its gradient `2µ W (x − x̄)` and Hessian `2µ W`.
+pub fn anchor(x: Vec3, target: Vec3, mu: f64, w: &[[f64; 3]; 3]) -> Local<3> {
     let d = x - target;
     let mut out = Local::<3>::zero();
     out.energy = anchor_energy(x, target, mu, w);
     for a in 0..3 {
-        out.grad[a] = 2.0 * mu * w[a] * d[a];
-        out.hess[a][a] = 2.0 * mu * w[a];
+        out.grad[a] = (0..3).map(|b| 2.0 * mu * w[a][b] * d[b]).sum::<f64>();
+        for b in 0..3 {
+            out.hess[a][b] = 2.0 * mu * w[a][b];
+        }
     }
     out
 }
@@ -569,17 +575,67 @@ mod tests {
         }
     }
 
+    /// `Σ d dᵀ` over `dirs` (each normalised).
+    fn weights(dirs: &[Vec3]) -> [[f64; 3]; 3] {
+        let mut w = [[0.0; 3]; 3];
+        for d in dirs {
+            let d = d.normalized();
+            for a in 0..3 {
+                for b in 0..3 {
+                    w[a][b] += d[a] * d[b];
+                }
+            }
+        }
+        w
+    }
+
     #[test]
     fn anchor_derivatives_match_finite_differences() {
         let mut rng = SplitMix64::new(3);
         let t = rng.vec3();
         let a = rng.vec3();
-        for w in [[1.0; 3], [0.0, 1.0, 1.0], [1.0, 0.0, 0.0]] {
+        let diag = |v: [f64; 3]| [[v[0], 0.0, 0.0], [0.0, v[1], 0.0], [0.0, 0.0, v[2]]];
+        let skew = weights(&[rng.vec3(), rng.vec3()]);
+        for w in [
+            diag([1.0; 3]),
+            diag([0.0, 1.0, 1.0]),
+            diag([1.0, 0.0, 0.0]),
+            skew,
+        ] {
             check_fd(
                 [a.x, a.y, a.z],
-                |x| anchor(split(x, 0), t, 500.0, w),
-                |x| anchor_energy(split(x, 0), t, 500.0, w),
+                |x| anchor(split(x, 0), t, 500.0, &w),
+                |x| anchor_energy(split(x, 0), t, 500.0, &w),
             );
+        }
+    }
+
+    #[test]
+    fn a_skew_anchor_penalises_only_its_directions_and_turns_with_them() {
+        let mut rng = SplitMix64::new(11);
+        let (d1, d2) = (rng.vec3().normalized(), rng.vec3());
+        let d2 = (d2 - d1 * d1.dot(d2)).normalized();
+        let free = d1.cross(d2);
+        let w = weights(&[d1, d2]);
+        let t = rng.vec3();
+        // Sliding along the free direction costs nothing; along a held one, µ s².
+        assert!(anchor_energy(t + free * 3.0, t, 7.0, &w).abs() < 1e-12);
+        assert!((anchor_energy(t + d2 * 3.0, t, 7.0, &w) - 63.0).abs() < 1e-10);
+        // A rigid motion of the vertex, its target and the directions keeps the energy and
+        // turns the gradient.
+        let (axis, angle) = (rng.vec3().normalized(), 1.234_f64);
+        let rot = |v: Vec3| {
+            v * angle.cos() + axis.cross(v) * angle.sin() + axis * axis.dot(v) * (1.0 - angle.cos())
+        };
+        let shift = rng.vec3() * 10.0;
+        let x = rng.vec3();
+        let moved = weights(&[rot(d1), rot(d2)]);
+        let l0 = anchor(x, t, 7.0, &w);
+        let l1 = anchor(rot(x) + shift, rot(t) + shift, 7.0, &moved);
+        assert!((l0.energy - l1.energy).abs() <= 1e-12 * l0.energy.abs());
+        let g0 = rot(Vec3::new(l0.grad[0], l0.grad[1], l0.grad[2]));
+        for a in 0..3 {
+            assert!((g0[a] - l1.grad[a]).abs() <= 1e-12 * l0.energy.abs().max(1.0));
         }
     }
 

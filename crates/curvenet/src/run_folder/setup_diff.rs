@@ -59,6 +59,7 @@ const OPTIONS: &[(&str, Named, &str)] = &[
     ("build.edge_length", Named::Opt(Opt::EdgeLength), NOT_GIVEN),
     ("build.supports", Named::Opt(Opt::Supports), NOT_GIVEN),
     ("build.ends", Named::Opt(Opt::SupportsFile), NOT_GIVEN),
+    ("build.end_frames", Named::Opt(Opt::Mesh), NOT_GIVEN),
     (
         "build.merge_joints_below",
         Named::Opt(Opt::MergeJoints),

@@ -26,7 +26,8 @@
 //! held fixed: Cauchy interlacing; one more eigen solve, [`ExactParams::clamped`]). A child's
 //! bound is computed from its parent's certificates *before* its own structure is evaluated,
 //! so most children are cut without an eigen solve (the measurements, and those of relaxing
-//! nodes as well, are in `docs/benchmarks.md`, *Exact search*). A node is cut when its bound is at most the incumbent plus a
+//! nodes as well, are in `docs/compare.md`, *How far the exact solver goes* and *Certificates on
+//! the paper's examples*). A node is cut when its bound is at most the incumbent plus a
 //! relative [`ExactParams::tolerance`]; the answer is then optimal within that tolerance.
 //!
 //! # Order and determinism

@@ -7,8 +7,12 @@ use crate::physics::inertia::classify;
 use crate::physics::{
     DeviationModel, PhysicalParams, PhysicalSummary, PhysicsError, analyze_physical,
 };
-use crate::rod::mass::{inverse_sqrt_coordinates, lumped_masses, scale_hessian};
-use crate::rod::physical::{masses_per_length, physical_rods, rigid_anchor_weight};
+use crate::rod::mass::{
+    inverse_sqrt_coordinates, inverse_sqrt_with_twists, lumped_masses, scale_hessian, twist_masses,
+};
+use crate::rod::physical::{
+    masses_per_length, physical_rods, rigid_anchor_weight, twist_masses_per_length,
+};
 use crate::rod::{ActiveSet, EnergyModel, ModelRules, RodStiffness};
 use crate::solve::eigen::Spectrum;
 use crate::solve::{Cholesky, Equilibrium, NewtonInfo, SymbolicFactor};
@@ -47,6 +51,9 @@ pub struct Analyzer {
 #[derive(Clone, Debug)]
 struct Metric {
     mass_per_length: Vec<f64>,
+    /// The twist unknowns' mass per unit length of every rod, `ρ J / r²` (the physical mode's
+    /// pre-bent rods carry their twist; empty: no twists).
+    twist_mass_per_length: Vec<f64>,
     /// Per-rod stiffnesses and the anchor weight (the physical mode).
     rods: Option<(Vec<RodStiffness>, f64)>,
 }
@@ -68,6 +75,7 @@ impl Analyzer {
                 std::f64::consts::PI * params.material.radius.powi(2);
                 network.rods.len()
             ],
+            twist_mass_per_length: Vec::new(),
             rods: None,
         });
         Ok(Self::build(network, params, metric))
@@ -76,7 +84,7 @@ impl Analyzer {
     fn build(network: Network, params: StabilityParams, metric: Option<Metric>) -> Self {
         let model = match metric.as_ref().and_then(|m| m.rods.as_ref()) {
             Some((rods, anchor)) => {
-                EnergyModel::with_rules(&network, rods, *anchor, ModelRules::PHYSICAL_WITHOUT_TWIST)
+                EnergyModel::with_rules(&network, rods, *anchor, ModelRules::PHYSICAL)
             }
             None => EnergyModel::new(&network, &params.material),
         };
@@ -117,6 +125,7 @@ impl Analyzer {
             let anchor = rigid_anchor_weight(&self.network, &rods);
             let metric = Metric {
                 mass_per_length: masses_per_length(&physical.physical, n),
+                twist_mass_per_length: twist_masses_per_length(&physical.physical, n),
                 rods: Some((rods, anchor)),
             };
             self = Self::build(self.network, self.params, Some(metric));
@@ -147,6 +156,10 @@ impl Analyzer {
         params.validate()?;
         let metric = self.metric.as_ref().map(|m| Metric {
             mass_per_length: curves.iter().map(|&c| m.mass_per_length[c]).collect(),
+            twist_mass_per_length: curves
+                .iter()
+                .filter_map(|&c| m.twist_mass_per_length.get(c).copied())
+                .collect(),
             rods: m
                 .rods
                 .as_ref()
@@ -156,11 +169,17 @@ impl Analyzer {
     }
 
     /// The objective's metric for structure `active`: `1/√m` per coordinate, `m` the lumped
-    /// masses ([`crate::rod::mass`]); `None` for `λ_eq` (the identity metric).
+    /// masses ([`crate::rod::mass`]), and a pre-bent rod's twists their rotational inertia,
+    /// as the physical analysis has them; `None` for `λ_eq` (the identity metric).
     pub(super) fn metric_scale(&self, active: &ActiveSet) -> Option<Vec<f64>> {
         let m = self.metric.as_ref()?;
         let masses = lumped_masses(&self.network, &m.mass_per_length, active);
-        Some(inverse_sqrt_coordinates(&masses))
+        let twists = self.model.twist_dofs();
+        if twists.is_empty() {
+            return Some(inverse_sqrt_coordinates(&masses));
+        }
+        let inertia = twist_masses(&self.network, twists, &m.twist_mass_per_length);
+        Some(inverse_sqrt_with_twists(&masses, &inertia))
     }
 
     /// Hessian values `h` of structure `active` in the objective's metric, in place
@@ -189,12 +208,7 @@ impl Analyzer {
         let mut scaled = h.to_vec();
         scale_hessian(self.model.pattern(), &mut scaled, &s);
         let (mut spectrum, extra) = compute(&scaled)?;
-        let keep: Vec<bool> = self
-            .model
-            .vertex_mask(active)
-            .iter()
-            .flat_map(|&m| [m; 3])
-            .collect();
+        let keep = self.model.coordinate_mask(active);
         let signs = classify(
             &spectrum,
             self.model.pattern(),
@@ -352,7 +366,7 @@ impl Analyzer {
         if held as f64 > self.params.tuning.restrict_share * mask.len() as f64 {
             return self.symbolic.clone();
         }
-        let keep: Vec<bool> = mask.iter().flat_map(|&m| [m; 3]).collect();
+        let keep = self.model.coordinate_mask(active);
         SymbolicFactor::restricted(&self.symbolic, self.model.pattern(), &keep)
     }
 

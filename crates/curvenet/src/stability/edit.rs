@@ -83,7 +83,8 @@ impl Analyzer {
         let model = self.model();
         let mask = model.vertex_mask(active);
         let mut u = self.edit_displacement(from, active, &mask);
-        let start_block = edit_start_block(from.modes, &mask, &self.params().eigen);
+        let keep = model.coordinate_mask(active);
+        let start_block = edit_start_block(from.modes, &keep, &self.params().eigen);
         let symbolic = self.symbolic_for(active);
         let (newton, h) = self.relax_near(active, &mut u, &symbolic);
         // `relax_near` stops at a saddle: converged means it never passed one.
@@ -139,33 +140,40 @@ impl Analyzer {
                 extend_along(rod, &before, from.displacement, &mut u);
             }
         }
+        // A pre-bent rod's twists (the physical mode): kept where both structures hold its
+        // rod, untwisted where it comes back.
+        let first = 3 * mask.len();
+        for (k, t) in model.twist_dofs().iter().enumerate() {
+            let c = t.curve as usize;
+            if active.contains(c) && from.active.contains(c) {
+                u[first + k] = from.displacement[first + k];
+            }
+        }
         u
     }
 }
 
 /// The eigen solver's start block for an edit: the previous structure's lowest modes
 /// restricted to the new one, all but one column of a block, and one random column over the
-/// held vertices. The previous modes alone can miss the new structure's lowest mode
+/// held coordinates (`keep`: `EnergyModel::coordinate_mask`). The previous modes alone can miss the new structure's lowest mode
 /// entirely: a symmetric network's modes are symmetric or antisymmetric, and a Krylov space
 /// grown from vectors orthogonal to the new lowest mode never holds it (a 3 × 3 grid of arcs
 /// reported its second-lowest eigenvalue as `λ`). The random column gives every mode a part
 /// of the start, and the inverted operator brings the lowest to the front at once.
 fn edit_start_block(
     modes: MatRef<'_, f64>,
-    mask: &[bool],
+    keep: &[bool],
     eigen: &crate::solve::eigen::EigenParams,
 ) -> faer::Mat<f64> {
     let warm = modes.ncols().min(eigen.block_size.saturating_sub(1));
-    let restricted = super::evaluate::restrict(modes.subcols(0, warm), mask);
+    let restricted = super::evaluate::restrict(modes.subcols(0, warm), keep);
     let mut block = faer::Mat::<f64>::zeros(modes.nrows(), warm + 1);
     block.subcols_mut(0, warm).copy_from(&restricted);
     let mut rng = crate::rng::SplitMix64::new(eigen.seed);
-    for (v, &held) in mask.iter().enumerate() {
-        for a in 0..3 {
-            let x = rng.uniform(-1.0, 1.0);
-            if held {
-                block[(3 * v + a, warm)] = x;
-            }
+    for (i, &held) in keep.iter().enumerate() {
+        let x = rng.uniform(-1.0, 1.0);
+        if held {
+            block[(i, warm)] = x;
         }
     }
     block

@@ -151,7 +151,7 @@ impl Analyzer {
         };
         let modes = warm
             .modes
-            .map(|w| restrict(w.as_ref(), &model.vertex_mask(active)));
+            .map(|w| restrict(w.as_ref(), &model.coordinate_mask(active)));
         let params = preset.params(&self.params().eigen);
         let spectrum = || {
             self.in_metric(active, &h, |h| {
@@ -199,15 +199,14 @@ impl Analyzer {
     }
 }
 
-/// Zeroes the rows of loose vertices (`mask[v] == false`) in a copy of `v`.
-pub(super) fn restrict(v: MatRef<'_, f64>, mask: &[bool]) -> Mat<f64> {
+/// Zeroes the rows of the coordinates a structure leaves loose (`keep[i] == false`: its
+/// `EnergyModel::coordinate_mask`, vertices' and twists') in a copy of `v`.
+pub(super) fn restrict(v: MatRef<'_, f64>, keep: &[bool]) -> Mat<f64> {
     let mut out = v.to_owned();
-    for (vert, &on) in mask.iter().enumerate() {
-        if !on {
+    for (i, &on) in keep.iter().enumerate() {
+        if !on && i < out.nrows() {
             for j in 0..out.ncols() {
-                for a in 0..3 {
-                    out[(3 * vert + a, j)] = 0.0;
-                }
+                out[(i, j)] = 0.0;
             }
         }
     }

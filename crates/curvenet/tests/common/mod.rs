@@ -547,6 +547,7 @@ pub fn sub_network(net: &Network, keep: &[usize]) -> (Network, Vec<usize>) {
                 rest_lengths: r.rest_lengths.clone(),
                 anchors: map(&r.anchors),
                 ends: r.ends,
+                frames: r.frames,
             }
         })
         .collect();

@@ -40,6 +40,9 @@ pub struct NetworkFileRod {
     /// fix; a held rotation anchors the end's neighbour too).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ends: Option<[EndSupport; 2]>,
+    /// The surface's directions at its ends where a support fixes a translation along one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frames: Option<[crate::material::EndFrame; 2]>,
 }
 
 /// A network file (`"format": "curvenet-network"`): a structure at network resolution.
@@ -117,6 +120,7 @@ impl NetworkFile {
                     rest_lengths: r.rest_lengths.clone(),
                     anchors: r.anchors.iter().map(|&v| new_index[v as usize]).collect(),
                     ends: r.ends,
+                    frames: r.frames,
                 }
             })
             .collect();
@@ -205,6 +209,7 @@ impl NetworkFile {
                 rest_lengths: r.rest_lengths.clone(),
                 anchors: r.anchors.clone(),
                 ends: r.ends,
+                frames: r.frames,
             })
             .collect();
         let mut net = Network {

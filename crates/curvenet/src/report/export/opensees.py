@@ -5,7 +5,8 @@
 # JSON line in the model's units. MODEL is curvenet's neutral
 # structural JSON (`curvenet export DIR --format structural`): nodes, ties (joints: shared
 # translations, free relative rotations), elastic beams per rod edge, supports, spin holds of
-# straight rods, lumped masses and load cases.
+# straight rods, supports along directions that are not world axes (skew: stiff springs),
+# lumped masses and load cases.
 import json
 import math
 import sys
@@ -48,6 +49,20 @@ def build(model):
         yp[min(range(3), key=lambda k: abs(ax[k]))] = 1.0
         ops.element("zeroLength", tag + i, ground + i, h["node"], "-mat", i, "-dir", 4,
                     "-orient", *ax, *yp)
+    # A skew support: a zeroLength element from a fixed ground node, its local x along the
+    # held direction, a spring of curvenet's anchor stiffness in that direction only.
+    ground += len(model["spin_holds"])
+    tag += len(model["spin_holds"])
+    mat = len(model["spin_holds"])
+    for i, s in enumerate(model.get("skew_supports", []), start=1):
+        ops.node(ground + i, *ops.nodeCoord(s["node"]))
+        ops.fix(ground + i, 1, 1, 1, 1, 1, 1)
+        ops.uniaxialMaterial("Elastic", mat + i, s["stiffness"])
+        d = s["direction"]
+        yp = [0.0, 0.0, 0.0]
+        yp[min(range(3), key=lambda k: abs(d[k]))] = 1.0
+        ops.element("zeroLength", tag + i, ground + i, s["node"], "-mat", mat + i, "-dir", 1,
+                    "-orient", *d, *yp)
     for m in model["masses"]:
         t, r = m["translational"], m["rotational"]
         ops.mass(m["node"], t, t, t, r, r, r)

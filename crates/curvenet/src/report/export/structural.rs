@@ -15,6 +15,10 @@
 //!   (some only, given per end: on the vertex's first node, the others tied to it); a
 //!   clamped end's node also its rotations (the physical mode's clamp holds the end vertex and its
 //!   tangent, and a pre-bent rod's twist);
+//! - **skew supports**: an end held along a direction of the surface (along or across its
+//!   boundary, normal to it) has a translational spring to the ground along that direction,
+//!   of curvenet's own anchor stiffness (`2µ`, rigid next to the rods): the same penalty
+//!   curvenet's energy carries, so the exported model is curvenet's;
 //! - **spin holds**: a rod drawn straight spins about its own axis without moving a point;
 //!   curvenet carries no twist for it, and a beam model would have a zero-stiffness spin:
 //!   unless a clamp holds it, a rotational spring about the rod's axis at its first node
@@ -144,6 +148,19 @@ pub struct Support {
     pub fixed: [bool; 6],
 }
 
+/// A support along one direction that is not a world axis (a curve end held along or across
+/// the surface's boundary, or normal to the surface): a translational spring from the node to
+/// the ground along `direction`, with curvenet's own anchor stiffness (rigid next to the rods).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SkewSupport {
+    /// The node.
+    pub node: usize,
+    /// The direction it holds (unit).
+    pub direction: [f64; 3],
+    /// Force per length along it.
+    pub stiffness: f64,
+}
+
 /// A rotational spring about a straight rod's axis, from a node to the ground.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SpinHold {
@@ -214,6 +231,9 @@ pub struct StructuralModel {
     pub elements: Vec<Element>,
     /// Supports.
     pub supports: Vec<Support>,
+    /// Supports along directions that are not world axes (springs to the ground).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub skew_supports: Vec<SkewSupport>,
     /// Spin holds of rods drawn straight.
     pub spin_holds: Vec<SpinHold>,
     /// Lumped masses.
@@ -270,6 +290,12 @@ impl StructuralModel {
         let mut spin_holds = Vec::new();
         let mut clamped = Vec::new();
         let mut anchored = vec![[false; 3]; network.vertex_count()];
+        let mut skew: Vec<(usize, [f64; 3])> = Vec::new();
+        let anchor_stiffness = 2.0
+            * crate::rod::physical::rigid_anchor_weight(
+                network,
+                &crate::rod::physical::physical_rods(physical, network.rods.len(), &rest),
+            );
         let mut gravity_forces = Vec::new();
         let g = physical.gravity_scene();
         for &c in &curves {
@@ -337,6 +363,7 @@ impl StructuralModel {
                 for (held, axis) in anchored[v as usize].iter_mut().zip(rod.anchor_axes(v)) {
                     *held |= axis;
                 }
+                skew.extend(rod.anchor_skew(v).into_iter().map(|d| (v as usize, d)));
             }
             let mut held = false;
             for (at_start, i) in [(true, 0), (false, m.saturating_sub(1))] {
@@ -379,6 +406,18 @@ impl StructuralModel {
             }
         }
         supports.sort_by_key(|s| s.node);
+        // A skew support on the vertex's first node; the others share its translations (a
+        // vertex with some translations free has its nodes tied above).
+        let skew_supports = skew
+            .into_iter()
+            .filter_map(|(v, direction)| {
+                Some(SkewSupport {
+                    node: *at_vertex[v].first()?,
+                    direction,
+                    stiffness: anchor_stiffness,
+                })
+            })
+            .collect();
         let symbol = u.symbol();
         let mut load_cases = vec![LoadCase {
             name: SELF_WEIGHT.into(),
@@ -430,6 +469,7 @@ impl StructuralModel {
                 .collect(),
             elements,
             supports,
+            skew_supports,
             spin_holds,
             masses,
             load_cases,

@@ -178,7 +178,9 @@ impl Image {
             let mut enc = png::Encoder::new(&mut out, self.width as u32, self.height as u32);
             enc.set_color(png::ColorType::Rgb);
             enc.set_depth(png::BitDepth::Eight);
-            enc.set_compression(png::Compression::High);
+            // Fast: the pictures are written at the end of every run, where the user waits;
+            // a smaller file is not worth the time (`docs/benchmarks.md`).
+            enc.set_compression(png::Compression::Fast);
             let mut w = enc.write_header().map_err(|e| e.to_string())?;
             w.write_image_data(&self.rgb_bytes())
                 .map_err(|e| e.to_string())?;

@@ -24,7 +24,7 @@ impl EnergyModel {
             }
             e += self.twist_terms_energy(r, u);
             for t in &self.anchor[r.anchor.clone()] {
-                e += terms::anchor_energy(vec3(u, t.v), t.offset, self.mu, t.axes);
+                e += terms::anchor_energy(vec3(u, t.v), t.offset, self.mu, &t.axes);
             }
         }
         if self.pressure.is_some() {
@@ -108,13 +108,12 @@ impl EnergyModel {
                 hessian.then_some(&mut out.hess[..]),
             );
             for t in &self.anchor[r.anchor.clone()] {
-                let l = terms::anchor(vec3(u, t.v), t.offset, self.mu, t.axes);
+                let l = terms::anchor(vec3(u, t.v), t.offset, self.mu, &t.axes);
                 out.energy += l.energy;
                 scatter_grad(&mut out.grad, &[t.v], &l.grad);
                 if hessian {
-                    let v = t.v as usize;
-                    for a in 0..3 {
-                        out.hess[self.pattern.diag[3 * v + a]] += l.hess[a][a];
+                    for (i, h) in self.anchor_entries(t) {
+                        out.hess[i] += h;
                     }
                 }
             }
@@ -229,7 +228,7 @@ impl EnergyModel {
         }
         self.twist_entries(r, locals, |i, _| touched.push(i));
         for t in &self.anchor[r.anchor.clone()] {
-            touched.extend((0..3).map(|a| self.pattern.diag[3 * t.v as usize + a]));
+            touched.extend(self.anchor_entries(t).map(|(i, _)| i));
         }
         touched.sort_unstable();
         touched.dedup();
@@ -291,10 +290,9 @@ impl EnergyModel {
             }
             for t in &self.anchor[ro.anchor.clone()] {
                 if on_c(t.v) {
-                    for a in 0..3 {
-                        let i = self.pattern.diag[3 * t.v as usize + a];
+                    for (i, h) in self.anchor_entries(t) {
                         if hit(i) {
-                            out[i] += 2.0 * self.mu * t.axes[a];
+                            out[i] += h;
                         }
                     }
                 }

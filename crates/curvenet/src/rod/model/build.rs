@@ -225,7 +225,7 @@ fn collect_terms(network: &Network, stiffness: &[RodStiffness], rules: ModelRule
                 t.anchor.push(AnchorTerm {
                     v,
                     offset: Vec3::ZERO,
-                    axes: rod.anchor_axes(v).map(f64::from),
+                    axes: rod.anchor_weights(v),
                 });
             }
         }

@@ -149,9 +149,8 @@ impl EnergyModel {
             }
             self.scatter_twist_locals(hess, r, locals, 1.0);
             for t in &self.anchor[r.anchor.clone()] {
-                let v = t.v as usize;
-                for a in 0..3 {
-                    hess[self.pattern.diag[3 * v + a]] += 2.0 * self.mu * t.axes[a];
+                for (i, h) in self.anchor_entries(t) {
+                    hess[i] += h;
                 }
             }
         }
@@ -219,9 +218,8 @@ impl EnergyModel {
             }
             self.scatter_twist_locals(hess, r, locals, w);
             for t in &self.anchor[r.anchor.clone()] {
-                let v = t.v as usize;
-                for a in 0..3 {
-                    hess[self.pattern.diag[3 * v + a]] += w * (2.0 * self.mu * t.axes[a]);
+                for (i, h) in self.anchor_entries(t) {
+                    hess[i] += w * h;
                 }
             }
         }
@@ -278,9 +276,7 @@ impl EnergyModel {
         }
         let two_mu = 2.0 * self.mu;
         for t in &self.anchor[r.anchor.clone()] {
-            add(&[t.v], &|i, j| {
-                if i == j { two_mu * t.axes[i] } else { 0.0 }
-            });
+            add(&[t.v], &|i, j| two_mu * t.axes[i][j]);
         }
         out
     }
@@ -311,6 +307,10 @@ impl EnergyModel {
                     .map(|l| frob(&mut l.iter().flatten())),
             )
             .sum();
-        stretch + bend + clamp + frame + r.anchor.len() as f64 * 2.0 * self.mu * 3f64.sqrt()
+        let anchor: f64 = self.anchor[r.anchor.clone()]
+            .iter()
+            .map(|t| 2.0 * self.mu * frob(&mut t.axes.iter().flatten()))
+            .sum();
+        stretch + bend + clamp + frame + anchor
     }
 }

@@ -94,13 +94,15 @@ impl ClampTerm {
 }
 
 /// An anchor spring on a supported vertex; `offset` is its target minus its rest position
-/// (zero when the anchor holds the vertex where it was drawn); `axes` weighs each axis (1
-/// fixed, 0 free: a support given per end that fixes some translations only).
+/// (zero when the anchor holds the vertex where it was drawn); `axes` is the weight matrix
+/// `W = Σ d dᵀ` over the unit directions it fixes (the identity when it fixes x, y and z;
+/// diagonal with zeros for a support given per end that fixes some world axes only; full for
+/// directions taken from the surface: `Rod::anchor_weights`).
 #[derive(Clone, Copy, Debug)]
 struct AnchorTerm {
     v: u32,
     offset: Vec3,
-    axes: [f64; 3],
+    axes: [[f64; 3]; 3],
 }
 
 impl StretchTerm {
@@ -317,6 +319,26 @@ impl EnergyModel {
             .filter(move |(c, _)| active.contains(*c))
     }
 
+    /// The Hessian's stored entries of anchor `t` (the upper triangle of its vertex's block,
+    /// `2µ W`, nonzero entries only; the diagonal first, in axis order) as (slot, value).
+    fn anchor_entries(&self, t: &AnchorTerm) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let base = 3 * t.v as usize;
+        let w = t.axes;
+        let two_mu = 2.0 * self.mu;
+        let diag = (0..3).map(move |a| (self.pattern.diag[base + a], two_mu * w[a][a]));
+        let off = [(0, 1), (0, 2), (1, 2)]
+            .into_iter()
+            .filter(move |&(a, b)| w[a][b] != 0.0)
+            .filter_map(move |(a, b)| {
+                let (i, j) = (base + a, base + b);
+                let col =
+                    &self.pattern.row_idx[self.pattern.col_ptr[j]..self.pattern.col_ptr[j + 1]];
+                let k = col.binary_search(&i).ok()?;
+                Some((self.pattern.col_ptr[j] + k, two_mu * w[a][b]))
+            });
+        diag.chain(off)
+    }
+
     /// For each vertex, whether an anchor holds it along some axis (in the model's rules: a
     /// clamp of the physical mode anchors the end vertex only).
     pub fn anchored_vertices(&self) -> Vec<bool> {
@@ -324,7 +346,7 @@ impl EnergyModel {
         for t in self
             .anchor
             .iter()
-            .filter(|t| t.axes.iter().any(|&w| w > 0.0))
+            .filter(|t| (0..3).any(|a| t.axes[a][a] > 0.0))
         {
             a[t.v as usize] = true;
         }

@@ -289,8 +289,14 @@ impl Candidates<'_> {
         }
     }
 
-    /// Warm start for candidate `c`: its two lowest Ritz vectors (loose rows zeroed).
+    /// Warm start for candidate `c`: its two lowest Ritz vectors (loose rows zeroed); `None`
+    /// when the model carries twist unknowns (pre-bent rods under the frequency objective),
+    /// whose terms the curve products behind the Ritz vectors leave out: the iteration's
+    /// modes start the solve instead.
     pub(super) fn ritz_vectors(&self, c: usize) -> Option<Mat<f64>> {
+        if self.analyzer.model().twist_count() > 0 {
+            return None;
+        }
         self.best_ritz_vectors(c).map(|(x, _)| x)
     }
 

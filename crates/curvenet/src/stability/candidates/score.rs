@@ -189,7 +189,7 @@ impl Candidates<'_> {
         let mut h = Vec::new();
         model.hessian_from_locals(&self.locals, active, &mut h);
         self.analyzer.to_metric(active, &mut h);
-        let warm = restrict(warm, &model.vertex_mask(active));
+        let warm = restrict(warm, &model.coordinate_mask(active));
         super::super::numerics::factored(
             model.pattern(),
             &h,
@@ -217,7 +217,7 @@ impl Candidates<'_> {
         // The warm start only once the factorization about `σ` succeeds.
         let warm = || {
             let w = self.ritz_vectors(c).unwrap_or_else(|| self.modes.clone());
-            Some(restrict(w.as_ref(), &model.vertex_mask(&active)))
+            Some(restrict(w.as_ref(), &model.coordinate_mask(&active)))
         };
         let changed = reference.map(|_| self.curve_coordinates(c));
         let reuse = reference.zip(changed.as_deref()).map(|(f, changed)| Reuse {
