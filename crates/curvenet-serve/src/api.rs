@@ -1,12 +1,14 @@
 //! The HTTP API: routes, handlers and the JSON errors every bad request gets. The greedy's
 //! routes are in [`greedy`], the local search's in [`local`], the design constraints' in
-//! [`constraints`], loading a run folder in [`run`], the export's in [`export`].
+//! [`constraints`], loading a run folder in [`run`], the export's in [`export`], drawing
+//! (the design's curves added, deleted, moved; undo and redo of these) in [`draw`].
 //!
 //! Every handler works on the workspace current when its request arrives ([`AppState`]):
 //! loading a run folder replaces it whole, and a request already answering finishes on the
 //! workspace it started with.
 
 mod constraints;
+mod draw;
 mod export;
 mod greedy;
 mod local;
@@ -48,6 +50,12 @@ const ENDPOINTS: &[(&str, &str)] = &[
     ("/api/constraints", "GET, POST"),
     ("/api/run", "POST"),
     ("/api/export", "GET"),
+    ("/api/curves", "GET, POST"),
+    ("/api/curves/ID", "DELETE"),
+    ("/api/curves/ID/move", "POST"),
+    ("/api/curves/preview", "POST"),
+    ("/api/curves/undo", "POST"),
+    ("/api/curves/redo", "POST"),
 ];
 
 /// What a server is configured with beyond its first workspace.
@@ -75,6 +83,11 @@ struct Shared {
     config: ServeConfig,
     /// A run folder is being loaded (one at a time).
     loading: AtomicBool,
+    /// The workspaces drawing edits replaced, for undo and redo.
+    history: std::sync::Mutex<draw::History>,
+    /// Held by a drawing edit, an undo or a redo (one at a time, each on the workspace the
+    /// last one left).
+    drawing: tokio::sync::Mutex<()>,
 }
 
 impl AppState {
@@ -85,6 +98,8 @@ impl AppState {
                 current: RwLock::new(Arc::new(workspace)),
                 config,
                 loading: AtomicBool::new(false),
+                history: Default::default(),
+                drawing: tokio::sync::Mutex::new(()),
             }),
         }
     }
@@ -99,9 +114,10 @@ impl AppState {
         Arc::clone(&w)
     }
 
-    /// Serves `workspace` from now on; the one it replaces is handed back (its searches asked
-    /// to stop).
+    /// Serves `workspace` from now on (another network: the drawing's undo history is
+    /// forgotten); the one it replaces is handed back (its searches asked to stop).
     pub fn replace(&self, workspace: Workspace) -> Arc<Workspace> {
+        self.forget_drawn();
         let mut w = self
             .shared
             .current
@@ -146,6 +162,12 @@ pub fn router(app: AppState) -> Router {
         )
         .route("/api/run", post(run::load))
         .route("/api/export", get(export::export))
+        .route("/api/curves", get(draw::list).post(draw::add))
+        .route("/api/curves/preview", post(draw::preview))
+        .route("/api/curves/undo", post(draw::undo))
+        .route("/api/curves/redo", post(draw::redo))
+        .route("/api/curves/{id}", axum::routing::delete(draw::delete))
+        .route("/api/curves/{id}/move", post(draw::move_curve))
         .fallback(not_found)
         .method_not_allowed_fallback(method_not_allowed)
         .layer(DefaultBodyLimit::max(BODY_LIMIT))

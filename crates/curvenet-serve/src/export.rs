@@ -1,7 +1,7 @@
 //! `GET /api/export`: the current structure as a file to save, in the formats of
 //! `curvenet export` (its writers, [`curvenet::report::export`]).
 
-use crate::design::Design;
+use crate::workspace::Workspace;
 use curvenet::run_folder::instability;
 
 /// A format of `GET /api/export?format=…`.
@@ -11,8 +11,11 @@ pub enum Format {
     Obj,
     /// The fabrication table (CSV): one row per kept rod, its cut length and joints.
     Csv,
-    /// curvenet-curves JSON at rest (reloadable as `--curves`).
+    /// curvenet-curves JSON at rest (reloadable as `--curves`): the curves as drawn when the
+    /// design's curves can be edited, else the network's rods.
     Json,
+    /// The surface as an OBJ mesh (reloadable as `--mesh`), in the scene's units.
+    Surface,
 }
 
 impl Format {
@@ -26,8 +29,9 @@ impl Format {
             "obj" => Ok(Format::Obj),
             "csv" => Ok(Format::Csv),
             "json" => Ok(Format::Json),
+            "surface" => Ok(Format::Surface),
             _ => Err(format!(
-                "unknown export format '{name}' (expected obj, csv or json)"
+                "unknown export format '{name}' (expected obj, csv, json or surface)"
             )),
         }
     }
@@ -35,17 +39,20 @@ impl Format {
     /// The MIME type of the file.
     pub fn content_type(self) -> &'static str {
         match self {
-            Format::Obj => "text/plain; charset=utf-8",
+            Format::Obj | Format::Surface => "text/plain; charset=utf-8",
             Format::Csv => "text/csv; charset=utf-8",
             Format::Json => "application/json",
         }
     }
 }
 
-/// The file of the current structure of `design` in `format`: its name and its content. The
+/// The file of the current structure of `ws` in `format`: its name and its content. The
 /// OBJ and the fabrication table of an unstable structure carry the warning of
-/// `curvenet export` on their second line.
-pub fn export(design: &Design, format: Format) -> (String, String) {
+/// `curvenet export` on their second line. The JSON of a design whose curves can be edited
+/// holds the kept curves as drawn (what `--curves` reads back into the same network, at the
+/// same edge length); `surface` is the surface (`None` when the server has none).
+pub fn export(ws: &Workspace, format: Format) -> Option<(String, String)> {
+    let design = &ws.design;
     let current = design.current();
     let net = design.analyzer().network();
     let curves = &current.summary.curves;
@@ -66,7 +73,7 @@ pub fn export(design: &Design, format: Format) -> (String, String) {
         }
         None => text,
     };
-    match format {
+    Some(match format {
         Format::Obj => (
             format!("{stem}.obj"),
             warn(structure_obj(
@@ -80,6 +87,13 @@ pub fn export(design: &Design, format: Format) -> (String, String) {
             format!("{stem}_fabrication.csv"),
             warn(fabrication_table(net, &what, curves, s.length)),
         ),
-        Format::Json => (format!("{stem}.json"), structure_json(net, curves, None)),
-    }
+        Format::Json => match &ws.drawing {
+            Some(d) => (format!("{stem}.json"), d.curves_json(Some(curves))),
+            None => (format!("{stem}.json"), structure_json(net, curves, None)),
+        },
+        Format::Surface => {
+            let mesh = ws.mesh.as_deref()?;
+            ("surface.obj".to_string(), curvenet::io::mesh_to_obj(mesh))
+        }
+    })
 }

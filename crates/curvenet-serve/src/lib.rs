@@ -15,13 +15,14 @@
 //! analysis off the async runtime; [`Server`] binds a socket and serves the router on a tokio
 //! runtime of its own; [`start`] is how a front end starts one (the socket, then what is
 //! served, read by the application layer); [`bench`] measures edit latencies against cold
-//! analyses. The core
+//! analyses, [`bench_draw`] the time of adding a curve. The core
 //! library stays free of tokio: only this crate (and the command line's `serve` feature)
 //! depends on it.
 
 pub mod api;
 pub mod app;
 pub mod bench;
+pub mod bench_draw;
 pub mod cache;
 pub mod constraints;
 pub mod design;

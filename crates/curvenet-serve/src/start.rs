@@ -11,7 +11,7 @@ use crate::design::{Design, DesignError};
 use crate::greedy::Runner;
 use crate::workspace::{Workspace, open_run};
 use curvenet::app::{
-    AppError, CurveSource, InputSpec, ModelOptions, Observer, Setup, check_curve_ids,
+    AppError, CurveSource, Drawing, InputSpec, ModelOptions, Observer, Setup, check_curve_ids,
 };
 use curvenet::io::TriMesh;
 use curvenet::physics::PhysicalParams;
@@ -114,19 +114,20 @@ pub fn open(spec: &ServeSpec, observer: &dyn Observer) -> Result<Opened, AppErro
         Err(e) if matches!(spec.source, Source::Run(_)) => return Err(e),
         Err(_) => None,
     };
-    let (analyzer, kept, greedy, mesh) = match &spec.source {
+    let (analyzer, kept, greedy, mesh, drawing) = match &spec.source {
         Source::Run(dir) => {
             let run = open_run(RunFiles::unconfined(dir), physical.as_ref())
                 .map_err(|e| AppError::usage(e.to_string()))?;
             for w in run.warnings {
                 observer.warning(&Message::from(w));
             }
-            (run.analyzer, run.kept, run.greedy, run.mesh)
+            (run.analyzer, run.kept, run.greedy, run.mesh, None)
         }
         Source::Inputs(input) => {
-            let (analyzer, mesh) = from_inputs(input, &spec.model, &spec.remove, observer)?;
+            let (analyzer, mesh, drawing) =
+                from_inputs(input, &spec.model, &spec.remove, observer)?;
             let all = (0..analyzer.curve_count()).collect();
-            (analyzer, all, Runner::default(), mesh)
+            (analyzer, all, Runner::default(), mesh, drawing)
         }
     };
     check_curve_ids(Opt::Remove, &spec.remove, analyzer.curve_count())?;
@@ -143,21 +144,23 @@ pub fn open(spec: &ServeSpec, observer: &dyn Observer) -> Result<Opened, AppErro
     })?;
     let workspace = Workspace::new(design, &name_of(&spec.source))
         .with_greedy(greedy)
-        .with_mesh(mesh);
+        .with_mesh(mesh)
+        .with_drawing(drawing);
     Ok(Opened {
         workspace,
         physical,
     })
 }
 
-/// The analyzer of `input` in `model` and the surface, read and built by the application
-/// layer (its warnings told `observer`); `remove` is checked before the network is built.
+/// The analyzer of `input` in `model`, the surface and the design's curves as drawn (when
+/// there is a surface to draw on), read and built by the application layer (its warnings
+/// told `observer`); `remove` is checked before the network is built.
 fn from_inputs(
     input: &InputSpec,
     model: &ModelOptions,
     remove: &[usize],
     observer: &dyn Observer,
-) -> Result<(Analyzer, Option<TriMesh>), AppError> {
+) -> Result<(Analyzer, Option<TriMesh>, Option<Drawing>), AppError> {
     let mut setup = Setup::new(input, model)?;
     for w in &setup.inputs.warnings {
         observer.warning(w);
@@ -167,7 +170,8 @@ fn from_inputs(
     for w in setup.build_warnings() {
         observer.warning(&w);
     }
-    Ok((analyzer, setup.inputs.mesh))
+    let drawing = Drawing::new(&setup, model).ok();
+    Ok((analyzer, setup.inputs.mesh, drawing))
 }
 
 /// What is served, for the page's title and the benchmark's report: an example's name, the

@@ -7,6 +7,7 @@ use crate::constraints::SessionConstraints;
 use crate::design::{Design, DesignError};
 use crate::greedy::Runner;
 use crate::local::LocalRunner;
+use curvenet::app::{DrawEdit, DrawError, Drawing};
 use curvenet::io::TriMesh;
 use curvenet::physics::PhysicalParams;
 use curvenet::run_folder::{RunFiles, RunFolder, RunFolderError};
@@ -26,6 +27,9 @@ pub struct Workspace {
     pub name: Arc<str>,
     /// The surface, when known (drawn by the page; `max_gap` needs it).
     pub mesh: Option<Arc<TriMesh>>,
+    /// The design's curves as drawn, when they can be edited (served from curve files or an
+    /// example with its surface; a run folder's network cannot).
+    pub drawing: Option<Arc<Drawing>>,
     constraints: Mutex<SessionConstraints>,
 }
 
@@ -38,6 +42,7 @@ impl Workspace {
             local: Arc::new(LocalRunner::default()),
             name: name.into(),
             mesh: None,
+            drawing: None,
             constraints: Mutex::new(SessionConstraints::default()),
         }
         .in_its_units()
@@ -67,6 +72,50 @@ impl Workspace {
         self
     }
 
+    /// With the design's curves as drawn.
+    pub fn with_drawing(mut self, drawing: Option<Drawing>) -> Self {
+        self.drawing = drawing.map(Arc::new);
+        self
+    }
+
+    /// The workspace of `design`, the network of `drawing` (this one's curves edited): the
+    /// same name and surface, the design constraints in force kept when they still apply to
+    /// the new network, no greedy run.
+    pub fn redrawn(&self, design: Design, drawing: Drawing) -> Workspace {
+        let next = Workspace {
+            mesh: self.mesh.clone(),
+            ..Workspace::new(design, &self.name)
+        };
+        let params = self.constraints().params().clone();
+        let net = next.design.analyzer().network();
+        // Constraints that no longer apply (a group of deleted curves) are dropped.
+        let _ = next.constraints().set(net, next.mesh.as_deref(), params);
+        Workspace {
+            drawing: Some(Arc::new(drawing)),
+            ..next
+        }
+    }
+
+    /// The workspace after the drawing edit `edit` of this one's curves (the network rebuilt
+    /// and its structure analysed: the curves kept now, and a new curve) and the curve the
+    /// edit drew or moved. This workspace is unchanged.
+    ///
+    /// # Errors
+    ///
+    /// Its curves cannot be drawn on (a run folder's network), the edit is refused, or the
+    /// new network cannot be built or analysed.
+    pub fn draw(&self, edit: &DrawEdit) -> Result<(Workspace, Option<usize>), Redraw> {
+        let drawing = self.drawing.as_ref().ok_or(Redraw::NotEditable)?;
+        let drawn = drawing.apply(edit)?;
+        let (analyzer, _) = drawn.drawing.analyzer()?;
+        let kept = edit.carry(
+            &self.design.current().summary.curves,
+            drawing.curves().len(),
+        );
+        let design = Design::new(analyzer, &kept)?;
+        Ok((self.redrawn(design, drawn.drawing), drawn.curve))
+    }
+
     /// The session's design constraints (a panic elsewhere leaves the last whole state).
     pub fn constraints(&self) -> MutexGuard<'_, SessionConstraints> {
         self.constraints.lock().unwrap_or_else(|e| e.into_inner())
@@ -77,6 +126,23 @@ impl Workspace {
         self.greedy.stop();
         self.local.stop();
     }
+}
+
+/// Why a drawing edit was refused or failed.
+#[derive(Debug, thiserror::Error)]
+pub enum Redraw {
+    /// The served network's curves cannot be drawn on.
+    #[error(
+        "this network's curves cannot be edited: drawing needs the curves and their surface \
+         (serve with --curves and --mesh, or a paper's example), not a run folder"
+    )]
+    NotEditable,
+    /// The edit itself was refused, or the network could not be built.
+    #[error(transparent)]
+    Draw(#[from] DrawError),
+    /// The new structure could not be analysed.
+    #[error(transparent)]
+    Design(#[from] DesignError),
 }
 
 /// A run folder read for serving.

@@ -44,7 +44,9 @@ pub fn run(a: ServeArgs) -> anyhow::Result<()> {
             ..BenchParams::default()
         };
         let report = curvenet_serve::bench::run(&opened.workspace.design, params)?;
-        print!("{}", report.text(&opened.workspace.name));
+        let draw = curvenet_serve::bench_draw::run(&opened.workspace, 8, params.seed);
+        let draw = draw.map_or_else(String::new, |d| d.text());
+        print!("{}{draw}", report.text(&opened.workspace.name));
         return Ok(());
     };
     let url = curvenet_serve::url(server.local_addr()?);

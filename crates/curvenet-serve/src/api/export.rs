@@ -25,13 +25,21 @@ pub(super) async fn export(
         ApiError::new(
             StatusCode::BAD_REQUEST,
             format!(
-                "{}; use /api/export?format=obj (or csv, json)",
+                "{}; use /api/export?format=obj (or csv, json, surface)",
                 e.body_text()
             ),
         )
     })?;
     let format = Format::parse(&q.format).map_err(|e| ApiError::new(StatusCode::BAD_REQUEST, e))?;
-    let (name, text) = off_runtime(move || Ok(export_file(&ws.design, format))).await?;
+    let (name, text) = off_runtime(move || {
+        export_file(&ws, format).ok_or_else(|| {
+            ApiError::new(
+                StatusCode::NOT_FOUND,
+                "this server has no surface to save (serve with --mesh)",
+            )
+        })
+    })
+    .await?;
     Ok((
         [
             (header::CONTENT_TYPE, format.content_type().to_string()),

@@ -16,6 +16,7 @@
 //!   ([`crate::words`]), which each front end spells its own way.
 
 mod analyze;
+pub mod draw;
 pub mod end_frames;
 mod ends;
 mod error;
@@ -30,6 +31,7 @@ mod slide;
 mod summary;
 
 pub use analyze::{AnalyzeOutcome, analyze};
+pub use draw::{DrawEdit, DrawError, DrawParams, Drawing, Drawn, NewCurve};
 pub use error::{AppError, Stage};
 pub use inputs::{CurveSource, ExampleDefaults, GivenCurves, InputSpec, Inputs, MeshSource};
 pub use model::{MAX_EIGEN_COUNT, Model, ModelOptions};

@@ -145,8 +145,19 @@ pub fn trace_geodesic(
     let dir = (ehat * theta.cos() + inward * theta.sin()).normalized();
 
     let cap = options.length_cap(topo);
-    let max_steps = options.step_cap(topo);
     let mut walker = Walker::new(face, start.point, dir, start.edge, cap);
+    let (end, vertex_passes) = walk_to_boundary(topo, &mut walker, options)?;
+    finish(walker, start, theta, end, vertex_passes)
+}
+
+/// Walks `walker` straight across the mesh until it reaches the boundary: how it ended and
+/// how many interior vertices it passed through.
+pub(crate) fn walk_to_boundary(
+    topo: &MeshTopology,
+    walker: &mut Walker,
+    options: &TraceOptions,
+) -> Result<(GeodesicEnd, usize), TraceError> {
+    let max_steps = options.step_cap(topo);
     let mut vertex_passes = 0;
     for _ in 0..max_steps {
         if topo.is_degenerate(walker.face) {
@@ -157,18 +168,14 @@ pub fn trace_geodesic(
             Exit::Edge { edge, point } => {
                 walker.advance(point)?;
                 match topo.across(edge, walker.face)? {
-                    None => {
-                        let end = GeodesicEnd::BoundaryEdge(edge);
-                        return finish(walker, start, theta, end, vertex_passes);
-                    }
+                    None => return Ok((GeodesicEnd::BoundaryEdge(edge), vertex_passes)),
                     Some(next) => walker.cross(topo, edge, next),
                 }
             }
             Exit::Vertex(v) => {
                 walker.advance(topo.position(v))?;
                 let Some(fan) = vertex_fan(topo, v, walker.face)? else {
-                    let end = GeodesicEnd::BoundaryVertex(v);
-                    return finish(walker, start, theta, end, vertex_passes);
+                    return Ok((GeodesicEnd::BoundaryVertex(v), vertex_passes));
                 };
                 vertex_passes += 1;
                 let (k, dir) = straightest(topo, v, &fan, walker.dir);

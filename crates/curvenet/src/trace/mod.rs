@@ -7,6 +7,7 @@
 //! |---|---|
 //! | [`topology`] | edge–face adjacency, boundary loops (the reference's order), vertex fans |
 //! | [`geodesic`] | straightest geodesics: edge unfolding, equal angles through vertices |
+//! | [`from_point`] | a straightest geodesic from a point of the surface in a direction (drawing on the page) |
 //! | [`field`] | smooth N-direction fields (N-RoSy, `z = e^{iNφ}` per face) aligned to the boundary |
 //! | [`streamline`] | streamlines of such a field seeded along the boundary |
 //! | [`generate`](mod@generate) | the paper's generators (hill, bunny, stadium, tent, command-line scenes) |
@@ -20,6 +21,7 @@
 //! reference's meshes as the examples use them (hill, bunny and tent traced in file units).
 
 pub mod field;
+pub mod from_point;
 pub mod generate;
 pub mod geodesic;
 pub mod streamline;
@@ -31,6 +33,7 @@ mod walk;
 mod tests;
 
 pub use field::{DirectionField, FieldOptions, smooth_field};
+pub use from_point::{PointGeodesic, trace_geodesic_from};
 pub use generate::{CurveRecord, GeneratedCurves, Generator, generate};
 pub use geodesic::{GeodesicEnd, GeodesicPath, TraceOptions, trace_geodesic};
 pub use streamline::{StreamlineOptions, StreamlineRecord, Streamlines, trace_streamlines};

@@ -1027,3 +1027,72 @@ fn generators_and_options_round_trip_through_json() {
     assert!(serde_json::from_str::<TraceOptions>(r#"{"cap": 5.0}"#).is_err());
     assert!(Generator::paper("roof").is_none());
 }
+
+// ---------------------------------------------------------------------------------------------
+// Geodesics from a point of the surface.
+
+#[test]
+fn geodesic_from_a_point_is_a_straight_line_to_the_side_it_heads_for() {
+    let mesh = square(10, 0.3);
+    let topo = MeshTopology::new(&mesh).unwrap();
+    let opts = TraceOptions::default();
+    for (start, d) in [
+        (Vec3::new(0.31, 0.47, 0.0), Vec3::new(1.0, 0.2, 0.0)),
+        (Vec3::new(0.5, 0.5, 0.0), Vec3::new(-0.3, -1.0, 0.0)),
+        // Above the surface and heading partly out of its plane: the closest point, the
+        // direction projected.
+        (Vec3::new(0.2, 0.8, 0.05), Vec3::new(1.0, -1.0, 0.5)),
+        // On a grid line.
+        (Vec3::new(0.4, 0.3, 0.0), Vec3::new(0.0, 1.0, 0.0)),
+    ] {
+        let path = trace_geodesic_from(&topo, start, d, &opts).unwrap();
+        let on = Vec3::new(start.x, start.y, 0.0);
+        assert!((path.distance - start.z).abs() < 1e-12);
+        let flat = Vec3::new(d.x, d.y, 0.0).normalized();
+        let pts = &path.polyline.points;
+        assert!(pts[0].dist(on) < 1e-12);
+        assert!(line_deviation(pts, on, flat) < 1e-12, "not straight");
+        let exit = *pts.last().unwrap();
+        let side = |v: f64| v.abs() < 1e-12 || (v - 1.0).abs() < 1e-12;
+        assert!(
+            side(exit.x) || side(exit.y),
+            "ends on the boundary: {exit:?}"
+        );
+        assert!((exit - on).dot(flat) > 0.0, "heads the way it was sent");
+        assert!((path.length - exit.dist(on)).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn geodesic_from_a_point_refuses_what_cannot_be_traced() {
+    let mesh = square(6, 0.0);
+    let topo = MeshTopology::new(&mesh).unwrap();
+    let opts = TraceOptions::default();
+    let p = Vec3::new(0.5, 0.5, 0.0);
+    for d in [
+        Vec3::new(0.0, 0.0, 0.0),
+        Vec3::new(0.0, 0.0, 1.0),
+        Vec3::new(f64::NAN, 0.0, 0.0),
+    ] {
+        let e = trace_geodesic_from(&topo, p, d, &opts).unwrap_err();
+        assert!(e.to_string().contains("direction"), "{e}");
+    }
+    // From the boundary, heading out: it leaves at once.
+    let e = trace_geodesic_from(
+        &topo,
+        Vec3::new(0.0, 0.5, 0.0),
+        Vec3::new(-1.0, 0.1, 0.0),
+        &opts,
+    )
+    .unwrap_err();
+    assert!(e.to_string().contains("leaves the surface at once"), "{e}");
+    // From the boundary, heading in: across the square.
+    let path = trace_geodesic_from(
+        &topo,
+        Vec3::new(0.0, 0.5, 0.0),
+        Vec3::new(1.0, 0.0, 0.0),
+        &opts,
+    )
+    .unwrap();
+    assert!((path.length - 1.0).abs() < 1e-12);
+}

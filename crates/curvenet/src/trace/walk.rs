@@ -21,6 +21,8 @@ pub(crate) enum Entry {
     Edge(usize),
     /// From this vertex (mesh vertex index).
     Vertex(usize),
+    /// From a point inside the face (a walk started on the surface, not on its boundary).
+    Inside,
 }
 
 /// Where the walk leaves the current face.
@@ -63,6 +65,14 @@ impl Walker {
             faces: Vec::new(),
             length: 0.0,
             cap,
+        }
+    }
+
+    /// A walk from `pos` inside `face`, heading along `dir`.
+    pub fn inside(face: usize, pos: Vec3, dir: Vec3, cap: f64) -> Self {
+        Walker {
+            entry: Entry::Inside,
+            ..Walker::new(face, pos, dir, 0, cap)
         }
     }
 
@@ -192,6 +202,31 @@ pub(crate) fn exit_face(
                 return Exit::Vertex(if sj.abs() <= sk.abs() { tri[j] } else { tri[k] });
             }
             cut(j, sj, k, sk)
+        }
+        Entry::Inside => {
+            let s = [side(0), side(1), side(2)];
+            let ahead = |m: usize| (p[m] - pos).dot(dir) > 0.0;
+            // A corner on the line ahead is hit.
+            if let Some(m) = (0..3).find(|&m| s[m].abs() <= tol && ahead(m)) {
+                return Exit::Vertex(tri[m]);
+            }
+            // The line crosses the two edges whose corners lie on either side of it; the walk
+            // leaves through the one ahead.
+            let mut best: Option<(f64, Exit)> = None;
+            for i in 0..3 {
+                let j = (i + 1) % 3;
+                if (s[i] > 0.0) == (s[j] > 0.0) {
+                    continue;
+                }
+                let exit = cut(i, s[i], j, s[j]);
+                if let Exit::Edge { point, .. } = exit {
+                    let t = (point - pos).dot(dir);
+                    if best.as_ref().is_none_or(|(b, _)| t > *b) {
+                        best = Some((t, exit));
+                    }
+                }
+            }
+            best.map_or(Exit::Vertex(tri[0]), |(_, e)| e)
         }
     }
 }

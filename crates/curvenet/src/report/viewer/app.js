@@ -4,7 +4,9 @@
 // (progress, cancel, then a slider over its iterations), the local search from the current
 // structure (progress, cancel, adopt its best network), the design constraints (set for the
 // session, the current structure's margins shown), loading a run folder, and saving the
-// current structure.
+// current structure; and drawing: a geodesic (press on the surface, drag a direction), a curve
+// through points (click them, double-click to end), deleting a curve, dragging one along the
+// surface; each drawing edit rebuilds the network on the server and the page loads it again.
 (function () {
   'use strict';
   const cv = window.curvenet;
@@ -27,6 +29,13 @@
       <span id="app-busy" class="note"></span></div>
     <div class="note">click a curve to remove it, a removed one to restore it</div>
     <div id="app-msg" class="note"></div>
+    <div class="row" id="draw-tools" role="radiogroup" aria-label="drawing tool">draw
+      <label><input type="radio" name="tool" value="none" checked> view</label>
+      <label><input type="radio" name="tool" value="geodesic"> geodesic</label>
+      <label><input type="radio" name="tool" value="through"> through points</label>
+      <label><input type="radio" name="tool" value="drag"> drag</label>
+      <label><input type="radio" name="tool" value="delete"> delete</label></div>
+    <div id="draw-note" class="note"></div>
     <div class="row"><label for="budget">budget</label>
       <input type="range" id="budget" min="0.05" max="1" step="0.05" value="0.5" aria-label="greedy budget">
       <span id="budget-text">50%</span></div>
@@ -57,7 +66,8 @@
     <div class="row">save
       <a id="save-obj" href="api/export?format=obj" download>OBJ</a>
       <a id="save-csv" href="api/export?format=csv" download>CSV</a>
-      <a id="save-json" href="api/export?format=json" download>JSON</a></div>
+      <a id="save-json" href="api/export?format=json" download>JSON</a>
+      <a id="save-surface" href="api/export?format=surface" download>surface</a></div>
     <div class="row"><input type="text" id="run-path" placeholder="run folder on the server" aria-label="run folder" style="flex:1">
       <button id="load-run" type="button">Load run</button></div>`;
   const panel = $('panel');
@@ -125,8 +135,8 @@
   // History of structures for undo and redo (curve lists).
   const past = [], future = [];
   function buttons() {
-    $('undo').disabled = app.busy || !past.length;
-    $('redo').disabled = app.busy || !future.length;
+    $('undo').disabled = app.busy || !(past.length || drawing.undo);
+    $('redo').disabled = app.busy || !(future.length || drawing.redo);
     app.past = past.length; app.future = future.length;
   }
   async function edit(request, done) {
@@ -150,12 +160,12 @@
   }
   cv.onPick = (c) => edit(() => api('POST', 'api/toggle', { curve: c }));
   function undo() {
-    if (!past.length) return;
+    if (!past.length) { if (drawing.undo) redrawn(api('POST', 'api/curves/undo'), 'undone'); return; }
     const to = past[past.length - 1];
     edit(() => api('POST', 'api/set', { curves: to }), (before) => { past.pop(); future.push(before); });
   }
   function redo() {
-    if (!future.length) return;
+    if (!future.length) { if (drawing.redo) redrawn(api('POST', 'api/curves/redo'), 'redone'); return; }
     const to = future[future.length - 1];
     edit(() => api('POST', 'api/set', { curves: to }), (before) => { future.pop(); past.push(before); });
   }
@@ -328,7 +338,163 @@
     }
   });
 
+  // ---------- drawing ----------
+  // The design's curves and the drawing's undo history on the server (GET /api/curves).
+  const drawing = { editable: false, undo: 0, redo: 0, curves: [] };
+  app.drawing = drawing;
+  const note = (t) => { $('draw-note').textContent = t; };
+  const tools = {
+    none: '',
+    geodesic: 'press on the surface and drag a direction: the geodesic runs from there to the boundary',
+    through: 'click points on the surface; double-click to end the curve',
+    drag: 'press on a curve and drag it along the surface; it is rebuilt when you let go',
+    delete: 'click a curve to delete it from the design',
+  };
+  let tool = 'none';
+  for (const el of document.querySelectorAll('input[name=tool]')) {
+    el.addEventListener('change', () => setTool(el.value));
+  }
+  function setTool(t) {
+    tool = t;
+    app.tool = t;
+    points.length = 0;
+    cv.setPreview(null);
+    note(tools[t] || '');
+    const el = document.querySelector(`input[name=tool][value=${t}]`);
+    if (el) el.checked = true;
+  }
+  app.setTool = setTool;
+  // A drawing edit: the server rebuilds the network, and the page is loaded again to draw it
+  // (the message and the tool kept for the new page).
+  async function redrawn(request, what) {
+    if (app.busy) return;
+    app.busy = true;
+    $('app-busy').textContent = 'rebuilding…';
+    buttons();
+    try {
+      const s = await request;
+      const joints = s.joints ? `, ${s.joints.length} joints` : '';
+      const text = `${what}${s.curve !== undefined ? ` curve ${s.curve}` : ''}: ${s.curve_count} curves${joints}, `
+        + `${goalValue} ${sci(s.lambda, 5)} (${s.status}), computed in ${sci(s.elapsed_ms, 3)} ms`;
+      sessionStorage.setItem('curvenet-drawn', JSON.stringify({ text, tool }));
+      location.reload();
+    } catch (e) {
+      msg(e.message, true);
+      app.busy = false;
+      $('app-busy').textContent = '';
+      cv.setPreview(null);
+      buttons();
+    }
+  }
+  // One preview request at a time; the latest asked is sent when the last one answers.
+  let previewing = false, nextPreview = null;
+  async function preview(body, then) {
+    nextPreview = [body, then];
+    if (previewing) return;
+    previewing = true;
+    while (nextPreview) {
+      const [b, t] = nextPreview;
+      nextPreview = null;
+      try {
+        const r = await api('POST', 'api/curves/preview', b);
+        if (tool !== 'none') cv.setPreview(r.points);
+        if (t) t(r);
+        app.previews = (app.previews || 0) + 1;
+      } catch (e) {
+        note(e.message);
+      }
+    }
+    previewing = false;
+  }
+  const points = [];
+  let press = null;
+  cv.tool = {
+    down(x, y) {
+      if (tool === 'none' || app.busy || !drawing.editable) return false;
+      const p = cv.surfaceAt(x, y);
+      if (tool === 'geodesic') {
+        if (!p) return false;
+        press = { p, x, y };
+        return true;
+      }
+      if (tool === 'drag') {
+        const c = cv.pick(x, y);
+        if (c === null || !p) return false;
+        press = { p, c, x, y, params: null };
+        return true;
+      }
+      if (tool === 'through' ? !p : cv.pick(x, y) === null) return false;
+      press = { p, x, y };
+      return true;
+    },
+    move(x, y) {
+      if (!press) return;
+      const q = cv.surfaceAt(x, y);
+      if (!q) return;
+      if (tool === 'geodesic') {
+        const d = [0, 1, 2].map((k) => q[k] - press.p[k]);
+        if (Math.hypot(...d) > 0) { press.d = d; preview({ geodesic: { point: press.p, direction: d } }); }
+      } else if (tool === 'drag') {
+        const pr = press;
+        preview({ drag: { curve: pr.c, from: pr.p, to: q } }, (r) => { pr.params = r.params; });
+      }
+    },
+    up(x, y) {
+      const pr = press;
+      press = null;
+      if (!pr) return;
+      const clicked = Math.hypot(x - pr.x, y - pr.y) < 5;
+      if (tool === 'geodesic') {
+        if (pr.d && !clicked) redrawn(api('POST', 'api/curves', { geodesic: { point: pr.p, direction: pr.d } }), 'drew geodesic');
+        else cv.setPreview(null);
+      } else if (tool === 'drag') {
+        const wait = async () => {
+          while (previewing) await new Promise((r) => setTimeout(r, 20));
+          if (pr.params && pr.params.some((a) => a !== 0)) redrawn(api('POST', `api/curves/${pr.c}/move`, { params: pr.params }), 'moved');
+          else cv.setPreview(null);
+        };
+        wait();
+      } else if (tool === 'through' && clicked && pr.p) {
+        points.push(pr.p);
+        if (points.length > 1) preview({ through: points.slice() });
+        else cv.setPreview([pr.p, pr.p]);
+        note(`${points.length} point${points.length > 1 ? 's' : ''}; double-click to end the curve`);
+      } else if (tool === 'delete' && clicked) {
+        const c = cv.pick(x, y);
+        if (c !== null) redrawn(api('DELETE', `api/curves/${c}`), 'deleted');
+      }
+    },
+    dblclick() {
+      if (tool !== 'through' || points.length < 2) return;
+      const pts = points.slice();
+      points.length = 0;
+      redrawn(api('POST', 'api/curves', { through: pts }), 'drew');
+    },
+  };
+  // While a tool is chosen, a click on a curve does not remove it.
+  const pickCurve = cv.onPick;
+  cv.onPick = (c) => { if (tool === 'none') pickCurve(c); };
+  async function loadDrawing() {
+    try {
+      Object.assign(drawing, await api('GET', 'api/curves'));
+    } catch (e) {
+      msg(e.message, true);
+    }
+    $('draw-tools').hidden = !drawing.editable;
+    buttons();
+  }
+  const kept = sessionStorage.getItem('curvenet-drawn');
+  if (kept) {
+    sessionStorage.removeItem('curvenet-drawn');
+    try {
+      const k = JSON.parse(kept);
+      msg(k.text);
+      setTool(k.tool || 'none');
+    } catch (e) { /* a stale entry: ignored */ }
+  }
+
   buttons();
+  loadDrawing().then(() => { app.drawReady = true; });
   poll();
   pollLocal();
   api('GET', 'api/constraints').then(showConstraints).catch((e) => msg(e.message, true));

@@ -339,6 +339,11 @@
         for (let j = 0; j < m; j++) segs.push([at(j), zero, at((j + 1) % n), zero, 1.5, C.overlay]);
       }
     }
+    // App mode: a curve being drawn or dragged (world coordinates), drawn over the rest.
+    if (state.previewLine && state.previewLine.length > 1) {
+      const q = state.previewLine.map((p) => [p[0] - center[0], p[1] - center[1], p[2] - center[2]]);
+      for (let j = 0; j + 1 < q.length; j++) segs.push([q[j], zero, q[j + 1], zero, 4, C.selected]);
+    }
     const data = new Float32Array(segs.length * 6 * 19);
     const corners = [[-1, 0], [1, 0], [1, 1], [-1, 0], [1, 1], [-1, 1]];
     let o = 0;
@@ -662,6 +667,47 @@
   }
 
   // ---------- picking ----------
+  // The inverse of a column-major 4×4 matrix, or null when it is singular.
+  function invert4(m) {
+    const a = Array.from(m, Number);
+    const inv = new Array(16).fill(0);
+    for (let i = 0; i < 4; i++) inv[5 * i] = 1;
+    for (let c = 0; c < 4; c++) {
+      let p = c;
+      for (let r = c + 1; r < 4; r++) if (Math.abs(a[c * 4 + r]) > Math.abs(a[c * 4 + p])) p = r;
+      if (Math.abs(a[c * 4 + p]) < 1e-300) return null;
+      for (let k = 0; k < 4; k++) {
+        [a[k * 4 + c], a[k * 4 + p]] = [a[k * 4 + p], a[k * 4 + c]];
+        [inv[k * 4 + c], inv[k * 4 + p]] = [inv[k * 4 + p], inv[k * 4 + c]];
+      }
+      const d = a[c * 4 + c];
+      for (let k = 0; k < 4; k++) { a[k * 4 + c] /= d; inv[k * 4 + c] /= d; }
+      for (let r = 0; r < 4; r++) {
+        if (r === c) continue;
+        const f = a[c * 4 + r];
+        if (f === 0) continue;
+        for (let k = 0; k < 4; k++) { a[k * 4 + r] -= f * a[k * 4 + c]; inv[k * 4 + r] -= f * inv[k * 4 + c]; }
+      }
+    }
+    return inv;
+  }
+  // The ray parameter at which o + t d meets triangle abc (Möller–Trumbore), or null.
+  function rayTriangle(o, d, a, b, c) {
+    const e1 = [b[0] - a[0], b[1] - a[1], b[2] - a[2]], e2 = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+    const cross = (u, v) => [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+    const dot = (u, v) => u[0] * v[0] + u[1] * v[1] + u[2] * v[2];
+    const p = cross(d, e2);
+    const det = dot(e1, p);
+    if (Math.abs(det) < 1e-300) return null;
+    const s = [o[0] - a[0], o[1] - a[1], o[2] - a[2]];
+    const u = dot(s, p) / det;
+    if (u < 0 || u > 1) return null;
+    const q = cross(s, e1);
+    const v = dot(d, q) / det;
+    if (v < 0 || u + v > 1) return null;
+    const t = dot(e2, q) / det;
+    return t > 0 ? t : null;
+  }
   function pick(px, py) {
     const { m } = mvp();
     const w = canvas.clientWidth, h = canvas.clientHeight;
@@ -709,6 +755,43 @@
     return [(cx * 0.5 + 0.5) * canvas.clientWidth, (0.5 - cy * 0.5) * canvas.clientHeight];
   };
   state.keptCurves = () => shown().curves.slice();
+  // App mode: the curve being drawn or dragged (world points; null: none).
+  state.previewLine = null;
+  state.setPreview = (points) => { state.previewLine = points; build(); };
+  // The point of the surface drawn at (px, py) (CSS pixels in the canvas), in world
+  // coordinates, or null: the nearest triangle the eye's ray through the pixel hits.
+  state.surfaceAt = (px, py) => {
+    if (!meshPos || !meshFaces) return null;
+    const { m } = mvp();
+    const inv = invert4(m);
+    if (!inv) return null;
+    const nx = 2 * px / canvas.clientWidth - 1, ny = 1 - 2 * py / canvas.clientHeight;
+    const un = (z) => {
+      const v = [0, 1, 2, 3].map((i) => inv[i] * nx + inv[4 + i] * ny + inv[8 + i] * z + inv[12 + i]);
+      return [v[0] / v[3], v[1] / v[3], v[2] / v[3]];
+    };
+    const o = un(-1), far = un(1);
+    const d = [far[0] - o[0], far[1] - o[1], far[2] - o[2]];
+    let best = Infinity;
+    const nf = meshFaces.length / 3;
+    const P = (i) => [meshPos[3 * i] - center[0], meshPos[3 * i + 1] - center[1], meshPos[3 * i + 2] - center[2]];
+    for (let f = 0; f < nf; f++) {
+      const a = P(meshFaces[3 * f]), b = P(meshFaces[3 * f + 1]), c = P(meshFaces[3 * f + 2]);
+      const t = rayTriangle(o, d, a, b, c);
+      if (t !== null && t < best) best = t;
+    }
+    if (!isFinite(best)) return null;
+    return [0, 1, 2].map((k) => o[k] + best * d[k] + center[k]);
+  };
+  // Where the world point p is drawn (CSS pixels in the canvas), undeformed, or null.
+  state.screenOf = (p) => {
+    const { m } = mvp();
+    const x = p[0] - center[0], y = p[1] - center[1], z = p[2] - center[2];
+    const cw = m[3] * x + m[7] * y + m[11] * z + m[15];
+    if (!(cw > 0)) return null;
+    const cx = (m[0] * x + m[4] * y + m[8] * z + m[12]) / cw, cy = (m[1] * x + m[5] * y + m[9] * z + m[13]) / cw;
+    return [(cx * 0.5 + 0.5) * canvas.clientWidth, (0.5 - cy * 0.5) * canvas.clientHeight];
+  };
   // How curve c is drawn: 'kept', 'removed', or null when it is not drawn.
   state.drawnAs = (c) => drawn.get(c) || null;
   // App mode: the live structure replaced (fields as an iteration's, with full-length `u` and
@@ -785,11 +868,22 @@
 
   let drag = null;
   canvas.addEventListener('contextmenu', (ev) => ev.preventDefault());
+  // App mode: a drawing tool (state.tool, set by app.js) takes the pointer when its `down`
+  // accepts the press; the view orbits otherwise.
+  let toolDrag = false;
+  const at = (ev) => { const r = canvas.getBoundingClientRect(); return [ev.clientX - r.left, ev.clientY - r.top]; };
+  canvas.addEventListener('dblclick', (ev) => { if (state.tool && state.tool.dblclick) state.tool.dblclick(...at(ev)); });
   canvas.addEventListener('pointerdown', (ev) => {
+    if (ev.button === 0 && !ev.shiftKey && state.tool && state.tool.down(...at(ev))) {
+      toolDrag = true;
+      canvas.setPointerCapture(ev.pointerId);
+      return;
+    }
     drag = { x: ev.clientX, y: ev.clientY, x0: ev.clientX, y0: ev.clientY, pan: ev.button === 2 || ev.shiftKey };
     canvas.setPointerCapture(ev.pointerId);
   });
   canvas.addEventListener('pointermove', (ev) => {
+    if (toolDrag) { state.tool.move(...at(ev)); return; }
     if (!drag) return;
     const dx = ev.clientX - drag.x, dy = ev.clientY - drag.y;
     drag.x = ev.clientX; drag.y = ev.clientY;
@@ -804,6 +898,7 @@
     requestDraw();
   });
   canvas.addEventListener('pointerup', (ev) => {
+    if (toolDrag) { toolDrag = false; state.tool.up(...at(ev)); return; }
     if (drag && Math.hypot(ev.clientX - drag.x0, ev.clientY - drag.y0) < 5 && ev.button === 0) {
       const r = canvas.getBoundingClientRect();
       const c = state.pick(ev.clientX - r.left, ev.clientY - r.top);
