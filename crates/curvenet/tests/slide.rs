@@ -334,6 +334,72 @@ fn a_slid_run_is_recorded_and_its_exported_curves_give_its_objective_cold() {
 }
 
 #[test]
+fn each_slid_curve_keeps_its_own_end_supports() {
+    // Curve 4 is pinned at both ends by a supports file, the others clamped: the slid run,
+    // a network of the answer's curves only, holds each curve's ends as the run did.
+    let dir = TempDir::new("slide-ends");
+    let mut curves = four_curves();
+    curves.push(lifted((0.0, 5.0), (SIZE, 5.0), 5));
+    std::fs::create_dir_all(dir.path()).expect("a folder");
+    let file = dir.path().join("ends.json");
+    std::fs::write(
+        &file,
+        r#"{"format": "curvenet-supports", "version": 1, "supports": [
+            {"curve": 4, "end": "start", "support": "pinned"},
+            {"curve": 4, "end": "end", "support": "pinned"}]}"#,
+    )
+    .expect("writes");
+    let spec = InputSpec {
+        mesh: Some(MeshSource::Given {
+            mesh: bump(40),
+            name: "bump".into(),
+        }),
+        edge_length: Some(0.5),
+        supports_file: Some(file),
+        ..InputSpec::new(CurveSource::Given(GivenCurves {
+            curves,
+            ..GivenCurves::default()
+        }))
+    };
+    let mut setup = Setup::new(&spec, &ModelOptions::default()).expect("set-up");
+    let from = dir.path().join("run");
+    let run = RunSpec {
+        budget: Some(Budget::Fraction(0.85)),
+        pictures: false,
+        ..RunSpec::new(&from)
+    };
+    curvenet::app::execute(&mut setup, &run, &Silent, &Cancel::never()).expect("runs");
+    let out = dir.path().join("slid");
+    let slide = SlideSpec {
+        max_move: MaxMove::Fraction(0.05),
+        pictures: false,
+        ..SlideSpec::new(&from, &out)
+    };
+    let done = curvenet::app::slide(&slide, &Silent, &Cancel::never()).expect("slides");
+    let source = RunFolder::open(&from).expect("the run");
+    let slid = RunFolder::open(&out).expect("the slid run");
+    let (all, own) = (
+        &source.result.setup.build.ends,
+        &slid.result.setup.build.ends,
+    );
+    assert_eq!(all.len(), 5, "the run holds curve 4's ends: {all:?}");
+    assert!(all[4].iter().all(|e| e.is_some()));
+    assert_eq!(own.len(), done.record.curves.len());
+    for (i, c) in done.record.curves.iter().enumerate() {
+        assert_eq!(
+            own[i], all[c.from],
+            "slid curve {i} (curve {} of the run)",
+            c.from
+        );
+    }
+    for (i, rod) in slid.network.rods.iter().enumerate() {
+        let from = done.record.curves[i].from;
+        let held = source.network.rods[from].end_support(true);
+        assert_eq!(rod.end_support(true), held, "slid curve {i}'s start");
+    }
+}
+
+#[test]
 fn a_cancelled_slide_keeps_the_best_so_far_and_constraints_hold() {
     let mesh = bump(40);
     let cancel = Cancel::new();

@@ -104,6 +104,7 @@ pub(super) fn run(
         let chosen: Vec<_> = found.curves.iter().map(|&c| curves[c].clone()).collect();
         record_network(
             chosen,
+            &found.curves,
             &source,
             source.result.budget.max(found.length),
             &local_dir,

@@ -14,6 +14,7 @@ use super::{AppError, Stage};
 use crate::cancel::Cancel;
 use crate::constraints::{ConstraintParams, Constraints, SymmetryOption};
 use crate::io::write_atomic;
+use crate::network::BuildParams;
 use crate::physics::PhysicalParams;
 use crate::run_folder::schema::objective_name;
 use crate::run_folder::{
@@ -170,7 +171,7 @@ pub(super) fn slide_once(
         physical,
         curves: drawn,
         ids: curves.clone(),
-        build: setup.build.clone(),
+        build: build_for(&setup.build, curves),
         stability: setup.stability.clone(),
         budget,
         fixed,
@@ -225,6 +226,7 @@ pub(super) fn slide_once(
     };
     let mut recorded = record_network(
         after.curves.clone(),
+        curves,
         &run,
         budget.max(after.length),
         &spec.out,
@@ -257,10 +259,30 @@ pub(super) fn slide_once(
     })
 }
 
-/// `curves` recorded as a run of their own in `out`, with the set-up of the run `run` (its
-/// mesh, build and objective), every curve kept, `budget` its budget.
+/// The build parameters of the curves `ids` of a network built with `build`, as a network of
+/// their own: each curve keeps its ends' supports and the surface's directions at its ends.
+pub(super) fn build_for(build: &BuildParams, ids: &[usize]) -> BuildParams {
+    fn pick<T: Clone>(all: &[[Option<T>; 2]], ids: &[usize]) -> Vec<[Option<T>; 2]> {
+        match all.is_empty() {
+            true => Vec::new(),
+            false => (ids.iter())
+                .map(|&c| all.get(c).cloned().unwrap_or([None, None]))
+                .collect(),
+        }
+    }
+    BuildParams {
+        ends: pick(&build.ends, ids),
+        end_frames: pick(&build.end_frames, ids),
+        ..build.clone()
+    }
+}
+
+/// `curves` (the curves `ids` of the run `run`, moved) recorded as a run of their own in
+/// `out`, with the set-up of `run` (its mesh, build and objective; each curve's end supports
+/// its own), every curve kept, `budget` its budget.
 pub(super) fn record_network(
     curves: Vec<crate::io::Polyline>,
+    ids: &[usize],
     run: &RunFolder,
     budget: f64,
     out: &std::path::Path,
@@ -271,7 +293,7 @@ pub(super) fn record_network(
     let inputs = Inputs {
         curves,
         mesh: run.mesh.clone(),
-        build: setup.build.clone(),
+        build: build_for(&setup.build, ids),
         description: InputDescription {
             example: setup.input.example.clone(),
             mesh: Some(from.join("mesh.obj").display().to_string()),
