@@ -179,7 +179,8 @@ impl Image {
             enc.set_color(png::ColorType::Rgb);
             enc.set_depth(png::BitDepth::Eight);
             // Fast: the pictures are written at the end of every run, where the user waits;
-            // a smaller file is not worth the time (`docs/benchmarks.md`).
+            // a smaller file is not worth the time (`docs/benchmarks.md`, *Figures behind the
+            // code's rules*).
             enc.set_compression(png::Compression::Fast);
             let mut w = enc.write_header().map_err(|e| e.to_string())?;
             w.write_image_data(&self.rgb_bytes())
