@@ -285,6 +285,56 @@ fn sighup_during_the_greedy_keeps_its_iterations_and_resume_matches_an_uninterru
     greedy_interrupted_by("HUP");
 }
 
+/// The processes whose parent is `pid` (Linux: `/proc/PID/task/PID/children`).
+fn children_of(pid: u32) -> Vec<u32> {
+    let path = format!("/proc/{pid}/task/{pid}/children");
+    let text = std::fs::read_to_string(path).unwrap_or_default();
+    text.split_whitespace()
+        .filter_map(|s| s.parse().ok())
+        .collect()
+}
+
+#[test]
+fn sigterm_to_a_bench_ends_its_worker_too() {
+    if !Path::new("/proc/self/task").is_dir() {
+        return; // no /proc to find the worker by
+    }
+    let mut child = start(&["bench", "--examples", "tower"].map(String::from));
+    let parent = child.id();
+    let start = Instant::now();
+    let worker = loop {
+        if let Some(&w) = children_of(parent).first() {
+            break w;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "no worker started"
+        );
+        assert!(child.try_wait().expect("wait").is_none(), "the bench ended");
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    std::thread::sleep(Duration::from_millis(300));
+    let (out, _) = interrupt(child, "TERM");
+    assert_eq!(out.status.code(), Some(130));
+    // The worker ends with the bench (it is nobody's child now: watch its /proc entry).
+    let sent = Instant::now();
+    let alive = || {
+        std::fs::read_to_string(format!("/proc/{worker}/stat")).is_ok_and(|s| {
+            !s.rsplit(')')
+                .next()
+                .unwrap_or("")
+                .trim_start()
+                .starts_with('Z')
+        })
+    };
+    while alive() {
+        assert!(sent.elapsed() < STOP_WITHIN, "the worker still runs");
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
 #[test]
 fn sigterm_during_a_comparison_stops_it_at_once_and_writes_no_report() {
     let tmp = TempDir::new("int-compare");

@@ -23,11 +23,11 @@
 use crate::args::BenchArgs;
 use crate::exit::usage;
 use curvenet::experiments::bench::{
-    BenchParams, BenchRow, References, Rounds, format_row, header, run_example,
+    BenchParams, References, Rounds, format_row, header, run_example,
 };
+use curvenet::experiments::worker::run_worker;
 use curvenet::paper;
 use indicatif::{ProgressBar, ProgressStyle};
-use std::process::{Command, Stdio};
 
 pub fn run(a: BenchArgs) -> anyhow::Result<()> {
     let data = curvenet::app::inputs::data_source(a.data.as_deref()).map_err(crate::front::fail)?;
@@ -36,6 +36,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
         let [name] = a.examples.as_slice() else {
             return Err(usage("--worker runs exactly one example"));
         };
+        curvenet::experiments::worker::exit_with_parent();
         let ex = paper::load_from(name, &data, Default::default())?;
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -108,25 +109,4 @@ fn worker_args(argv: Vec<String>) -> anyhow::Result<Vec<String>> {
     let valued = ["--examples", "--repeat", "--reference"];
     curvenet::experiments::bench::worker_args(&argv, "bench", &valued, &["--json"], "--worker")
         .ok_or_else(|| anyhow::anyhow!("`bench` not found in the command line"))
-}
-
-/// Runs example `name` once in a fresh process of this executable and reads its row.
-fn run_worker(forwarded: &[String], name: &str) -> anyhow::Result<BenchRow> {
-    let exe = std::env::current_exe()?;
-    let out = Command::new(exe)
-        .args(forwarded)
-        .args(["--examples", name])
-        .stdin(Stdio::null())
-        .stderr(Stdio::inherit())
-        .output()?;
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    if !out.status.success() {
-        anyhow::bail!("{name}: the bench's run failed ({}): {stdout}", out.status);
-    }
-    let line = stdout
-        .lines()
-        .rev()
-        .find(|l| l.starts_with('{'))
-        .ok_or_else(|| anyhow::anyhow!("{name}: the bench's run printed no row: {stdout}"))?;
-    Ok(serde_json::from_str(line)?)
 }

@@ -3,7 +3,9 @@
 //!
 //! - [`compare`]: the paper's Fig. 10, greedy against exhaustive and random search on random
 //!   networks (`curvenet compare`);
-//! - [`bench`]: the greedy on the paper's examples, timed phase by phase (`curvenet bench`).
+//! - [`bench`]: the greedy on the paper's examples, timed phase by phase (`curvenet bench`);
+//! - [`worker`]: the bench's worker processes, one per run, ending with the bench.
 
 pub mod bench;
 pub mod compare;
+pub mod worker;
