@@ -50,7 +50,7 @@ pub struct SlideProgress {
     /// The structure that slides (the current one when it started).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub from: Option<Vec<usize>>,
-    /// Networks evaluated so far.
+    /// Networks evaluated when the search last improved (all of them once it ended).
     pub evaluations: usize,
     /// The best objective reached so far.
     #[serde(skip_serializing_if = "Option::is_none")]

@@ -301,7 +301,7 @@
       + `largest move ${sci(r.largest_move, 3)}${lenUnit}, ${r.evaluations} network${r.evaluations === 1 ? '' : 's'} evaluated` : '';
     switch (p.status) {
       case 'idle': return '';
-      case 'running': return `slide running… ${p.evaluations} networks evaluated${best}, ${sci(p.elapsed_ms / 1000, 3)} s`;
+      case 'running': return `slide running… ${p.evaluations} networks evaluated at the last gain${best}, ${sci(p.elapsed_ms / 1000, 3)} s`;
       case 'done': return `slide done: ${found}`;
       case 'cancelled': return `slide cancelled: ${found || 'nothing found'}`;
       default: return `slide failed: ${p.error}`;
