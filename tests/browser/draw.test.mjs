@@ -1,7 +1,7 @@
 // Drawing on the page of `curvenet serve` in headless Chromium, on the tower: a geodesic drawn
 // with the mouse (press on the surface, drag a direction: a preview while dragging) gives a new
 // curve and a changed λ; the curve dragged along the surface; both undone (λ back to the
-// tower's); a curve through three points (clicks, a double-click to end); the design saved
+// tower's); the Slide button (cancelled after a moment), its result adopted and undone; a curve through three points (clicks, a double-click to end); the design saved
 // (its curves and its surface) and served again from the saved files, with the same curves and
 // λ. A screenshot of each step is kept in target/browser-demo/draw-*.png.
 //
@@ -153,6 +153,22 @@ test('drawing on the page of curvenet serve', { timeout: 900_000 }, async () => 
     assert.equal(s3.curves, n0);
     assert.equal(s3.lambda, s0.lambda, 'λ is the tower\'s again');
     await shot(page, '5-undone');
+
+    // Slide the tower's curves (cancelled after a moment, keeping the best so far), adopt the
+    // slid curves as one edit, and undo it: the tower's λ again.
+    await page.click('#run-slide');
+    await page.waitForFunction(() => window.curvenet.app.slide && window.curvenet.app.slide.status === 'running', null, { timeout: 60_000 })
+      .catch(() => { /* it may have ended already */ });
+    await page.waitForTimeout(1000);
+    await page.evaluate(() => fetch('api/slide/cancel', { method: 'POST' }));
+    await page.waitForFunction(() => !document.getElementById('adopt-slide').disabled, null, { timeout: 300_000 });
+    assert.match(await page.textContent('#slide-progress'), /slide (done|cancelled): /);
+    await shot(page, '5b-slid');
+    const sSlid = await reloadedAfter(page, () => page.click('#adopt-slide'));
+    assert.match(sSlid.message, /^slid: /);
+    assert.equal(sSlid.curves, n0);
+    const sBack = await reloadedAfter(page, () => page.click('#undo'));
+    assert.equal(sBack.lambda, s0.lambda, 'undo of the slide gives the tower\'s λ');
 
     // A curve through three points, a double-click ending it.
     await page.check('input[name=deform][value=none]');

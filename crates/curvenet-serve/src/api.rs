@@ -1,5 +1,5 @@
 //! The HTTP API: routes, handlers and the JSON errors every bad request gets. The greedy's
-//! routes are in [`greedy`], the local search's in [`local`], the design constraints' in
+//! routes are in [`greedy`], the local search's in [`local`], the slide's in [`slide`], the design constraints' in
 //! [`constraints`], loading a run folder in [`run`], the export's in [`export`], drawing
 //! (the design's curves added, deleted, moved; undo and redo of these) in [`draw`].
 //!
@@ -13,6 +13,7 @@ mod export;
 mod greedy;
 mod local;
 mod run;
+mod slide;
 
 use crate::design::{DesignError, Edited, Evaluated, Summary};
 use crate::workspace::Workspace;
@@ -47,6 +48,9 @@ const ENDPOINTS: &[(&str, &str)] = &[
     ("/api/local", "GET, POST"),
     ("/api/local/cancel", "POST"),
     ("/api/local/adopt", "POST"),
+    ("/api/slide", "GET, POST"),
+    ("/api/slide/cancel", "POST"),
+    ("/api/slide/adopt", "POST"),
     ("/api/constraints", "GET, POST"),
     ("/api/run", "POST"),
     ("/api/export", "GET"),
@@ -156,6 +160,9 @@ pub fn router(app: AppState) -> Router {
         .route("/api/local", get(local::progress).post(local::start))
         .route("/api/local/cancel", post(local::cancel))
         .route("/api/local/adopt", post(local::adopt))
+        .route("/api/slide", get(slide::progress).post(slide::start))
+        .route("/api/slide/cancel", post(slide::cancel))
+        .route("/api/slide/adopt", post(slide::adopt))
         .route(
             "/api/constraints",
             get(constraints::get).post(constraints::set),

@@ -30,6 +30,7 @@ pub mod export;
 pub mod greedy;
 mod job;
 pub mod local;
+pub mod slide;
 pub mod start;
 pub mod words;
 pub mod workspace;

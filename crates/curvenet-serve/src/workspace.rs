@@ -7,6 +7,7 @@ use crate::constraints::SessionConstraints;
 use crate::design::{Design, DesignError};
 use crate::greedy::Runner;
 use crate::local::LocalRunner;
+use crate::slide::SlideRunner;
 use curvenet::app::{DrawEdit, DrawError, Drawing};
 use curvenet::io::TriMesh;
 use curvenet::physics::PhysicalParams;
@@ -23,6 +24,8 @@ pub struct Workspace {
     pub greedy: Arc<Runner>,
     /// The local searches on it.
     pub local: Arc<LocalRunner>,
+    /// The slides of its structure.
+    pub slide: Arc<SlideRunner>,
     /// What is served, for the page's title: an example's name, the curve files, a run folder.
     pub name: Arc<str>,
     /// The surface, when known (drawn by the page; `max_gap` needs it).
@@ -40,6 +43,7 @@ impl Workspace {
             design: Arc::new(design),
             greedy: Arc::new(Runner::default()),
             local: Arc::new(LocalRunner::default()),
+            slide: Arc::new(SlideRunner::default()),
             name: name.into(),
             mesh: None,
             drawing: None,
@@ -125,6 +129,7 @@ impl Workspace {
     pub fn stop(&self) {
         self.greedy.stop();
         self.local.stop();
+        self.slide.stop();
     }
 }
 

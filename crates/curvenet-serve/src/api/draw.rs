@@ -187,7 +187,7 @@ impl From<Redraw> for ApiError {
 
 /// Applies `edit` to the current workspace's drawing: the new network built and analysed
 /// (off the async runtime) and served, the old workspace kept for undo.
-async fn draw(app: AppState, edit: DrawEdit) -> ApiResult<DrawAnswer> {
+pub(super) async fn draw(app: AppState, edit: DrawEdit) -> ApiResult<DrawAnswer> {
     let _one = app.shared.drawing.lock().await;
     let old = app.workspace();
     let start = Instant::now();

@@ -14,6 +14,7 @@
 //! front end keeps the old one for undo; [`Drawing::analyzer`] builds the new network's
 //! analyzer. Every front end (the server's page, a script) draws through this module.
 
+mod slide;
 mod through;
 
 pub use through::{MAX_POINTS, smooth_through};
@@ -84,6 +85,10 @@ pub enum DrawEdit {
         /// One coefficient per function of its family ([`Drawing::move_dimension`]).
         params: Vec<f64>,
     },
+    /// Puts each curve (an id) in place of the drawn one, as one edit: a slide's curves
+    /// adopted ([`Drawing::slider`]). The curves are taken as they are (a slide's already
+    /// pass through the curves they cross).
+    Replace(Vec<(usize, Polyline)>),
 }
 
 impl DrawEdit {
@@ -98,7 +103,7 @@ impl DrawEdit {
                 .map(|&c| if c > *d { c - 1 } else { c })
                 .collect(),
             DrawEdit::Add(_) => kept.iter().copied().chain([count]).collect(),
-            DrawEdit::Move { .. } => kept.to_vec(),
+            DrawEdit::Move { .. } | DrawEdit::Replace(_) => kept.to_vec(),
         };
         out.sort_unstable();
         out.dedup();
@@ -200,6 +205,9 @@ pub enum DrawError {
         /// The largest move.
         max_move: f64,
     },
+    /// The structure cannot be slid (no curve kept, the physical mode, a bad largest move).
+    #[error("{0}")]
+    Slide(Message),
     /// The new network could not be built or its model resolved (the user's to fix).
     #[error("{0}")]
     Build(Message),
@@ -217,7 +225,7 @@ impl DrawError {
     /// The error as a message naming options for a front end to spell.
     pub fn message(&self) -> Message {
         match self {
-            DrawError::NoSurface(m) | DrawError::Build(m) => m.clone(),
+            DrawError::NoSurface(m) | DrawError::Build(m) | DrawError::Slide(m) => m.clone(),
             e => Message::from(e.to_string()),
         }
     }
@@ -331,6 +339,17 @@ impl Drawing {
             }
             DrawEdit::Add(NewCurve::Through(points)) => self.through(points),
             DrawEdit::Move { curve, params } => self.moved(*curve, params),
+            DrawEdit::Replace(curves) => {
+                for (c, _) in curves {
+                    self.check_id(*c)?;
+                }
+                Ok(curves.first().map(|(_, p)| p.clone()).unwrap_or(Polyline {
+                    points: Vec::new(),
+                    closed: false,
+                    origin: Origin::new("<replaced>", 0),
+                    label: None,
+                }))
+            }
             DrawEdit::Delete(c) => {
                 self.check_id(*c)?;
                 Ok(Polyline {
@@ -372,6 +391,13 @@ impl Drawing {
                 let c = self.preview(edit)?;
                 next.inputs.curves[*curve] = c;
                 Some(*curve)
+            }
+            DrawEdit::Replace(curves) => {
+                self.preview(edit)?;
+                for (c, p) in curves {
+                    next.inputs.curves[*c] = p.clone();
+                }
+                None
             }
             DrawEdit::Delete(d) => {
                 self.check_id(*d)?;

@@ -6,7 +6,9 @@
 // session, the current structure's margins shown), loading a run folder, and saving the
 // current structure; and drawing: a geodesic (press on the surface, drag a direction), a curve
 // through points (click them, double-click to end), deleting a curve, dragging one along the
-// surface; each drawing edit rebuilds the network on the server and the page loads it again.
+// surface; the slide of the current structure's curves on the surface (progress, cancel, adopt
+// as one drawing edit); each drawing edit rebuilds the network on the server and the page
+// loads it again.
 (function () {
   'use strict';
   const cv = window.curvenet;
@@ -49,6 +51,10 @@
       <button id="cancel-local" type="button" disabled>Cancel</button>
       <button id="adopt-local" type="button" disabled title="make the local search's best network current">Adopt</button></div>
     <div id="local-progress" class="note"></div>
+    <div class="row" id="slide-row" hidden><button id="run-slide" type="button" title="slide the current structure's curves on the surface within its length and the constraints">Slide</button>
+      <button id="cancel-slide" type="button" disabled>Cancel</button>
+      <button id="adopt-slide" type="button" disabled title="put the slid curves in place of the drawn ones (one edit: undo takes it back)">Adopt</button></div>
+    <div id="slide-progress" class="note"></div>
     <details id="constraints-box"><summary>constraints</summary>
       <div class="row"><label><input type="checkbox" id="c-connected"> connected</label>
         <label for="c-min-curves">min curves</label> <input type="number" id="c-min-curves" min="1" step="1" style="width:4em"></div>
@@ -287,6 +293,52 @@
   $('cancel-local').addEventListener('click', () => api('POST', 'api/local/cancel').catch((e) => msg(e.message, true)));
   $('adopt-local').addEventListener('click', () => edit(() => api('POST', 'api/local/adopt')));
 
+  // The slide of the current structure's curves on the surface (within its length).
+  function slideText(p) {
+    const best = p.best !== undefined ? `, best ${goalValue} ${sci(p.best, 5)}` : '';
+    const r = p.result;
+    const found = r ? `${goalValue} ${sci(r.lambda_before, 5)} → ${sci(r.lambda_after, 5)}, `
+      + `largest move ${sci(r.largest_move, 3)}${lenUnit}, ${r.evaluations} network${r.evaluations === 1 ? '' : 's'} evaluated` : '';
+    switch (p.status) {
+      case 'idle': return '';
+      case 'running': return `slide running… ${p.evaluations} networks evaluated at the last gain${best}, ${sci(p.elapsed_ms / 1000, 3)} s`;
+      case 'done': return `slide done: ${found}`;
+      case 'cancelled': return `slide cancelled: ${found || 'nothing found'}`;
+      default: return `slide failed: ${p.error}`;
+    }
+  }
+  let slidePolling = false;
+  async function pollSlide() {
+    if (slidePolling) return;
+    slidePolling = true;
+    try {
+      for (;;) {
+        const p = await api('GET', 'api/slide');
+        app.slide = p;
+        $('slide-progress').textContent = slideText(p);
+        const running = p.status === 'running';
+        $('run-slide').disabled = running;
+        $('cancel-slide').disabled = !running;
+        $('adopt-slide').disabled = running || !p.result;
+        if (!running) break;
+        await new Promise((r) => setTimeout(r, 200));
+      }
+    } catch (e) {
+      msg(e.message, true);
+    }
+    slidePolling = false;
+  }
+  $('run-slide').addEventListener('click', async () => {
+    try {
+      await api('POST', 'api/slide', {});
+      pollSlide();
+    } catch (e) {
+      msg(e.message, true);
+    }
+  });
+  $('cancel-slide').addEventListener('click', () => api('POST', 'api/slide/cancel').catch((e) => msg(e.message, true)));
+  $('adopt-slide').addEventListener('click', () => redrawn(api('POST', 'api/slide/adopt'), 'slid'));
+
   // The design constraints of the session.
   function constraintsBody() {
     const num = (id) => ($(id).value.trim() === '' ? undefined : Number($(id).value));
@@ -481,6 +533,7 @@
       msg(e.message, true);
     }
     $('draw-tools').hidden = !drawing.editable;
+    $('slide-row').hidden = !drawing.editable;
     buttons();
   }
   const kept = sessionStorage.getItem('curvenet-drawn');
@@ -497,6 +550,7 @@
   loadDrawing().then(() => { app.drawReady = true; });
   poll();
   pollLocal();
+  pollSlide();
   api('GET', 'api/constraints').then(showConstraints).catch((e) => msg(e.message, true));
   app.ready = true;
 })();

@@ -1,0 +1,171 @@
+//! The slide over HTTP: the current structure's curves slid on the surface (streamed
+//! progress, cancel), the slid curves adopted as one drawing edit whose `λ` is the slide's and
+//! the one `curvenet analyze` finds for the saved design; undo takes it back; every bad
+//! request gets a 4xx with a message.
+
+mod common;
+
+use common::{assert_refused, ok, request, scratch};
+use curvenet::app::{self, CurveSource, InputSpec, MeshSource, ModelOptions, Setup, Silent};
+use curvenet::run_folder::RunsRoot;
+use curvenet::words::Neutral;
+use curvenet_serve::start::{ServeSpec, Source, open};
+use curvenet_serve::{AppState, Server};
+use serde_json::Value;
+use std::net::SocketAddr;
+use std::path::Path;
+use std::time::Duration;
+
+/// The edge length the tests build with.
+const H: f64 = 200.0;
+
+/// A server of `count` random geodesics on the built-in dome, at edge length [`H`].
+fn serve(count: usize, seed: u32) -> SocketAddr {
+    let input = InputSpec {
+        edge_length: Some(H),
+        ..InputSpec::new(CurveSource::Geodesics {
+            surface: "dome".into(),
+            count,
+            seed,
+        })
+    };
+    let spec = ServeSpec {
+        source: Source::Inputs(Box::new(input)),
+        model: ModelOptions::default(),
+        remove: Vec::new(),
+    };
+    let opened = open(&spec, &Silent).expect("served");
+    let server = Server::bind("127.0.0.1:0".parse().unwrap()).unwrap();
+    let addr = server.local_addr().unwrap();
+    let config = opened.config(RunsRoot::new(&std::env::temp_dir()).unwrap());
+    std::thread::spawn(move || server.serve(AppState::new(opened.workspace, config)));
+    addr
+}
+
+fn lambda(v: &Value) -> f64 {
+    v["lambda"].as_f64().expect("a λ")
+}
+
+fn close(a: f64, b: f64, what: &str) {
+    let rel = (a - b).abs() / b.abs().max(f64::MIN_POSITIVE);
+    assert!(
+        rel <= 1e-6,
+        "{what}: {a:e} against {b:e} (relative {rel:e})"
+    );
+}
+
+/// The slide's progress once it is no longer running.
+fn wait(addr: SocketAddr) -> Value {
+    loop {
+        let p = ok(addr, "GET", "/api/slide", "");
+        if p["status"] != "running" {
+            return p;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+/// The `λ_eq` that `curvenet analyze --curves saved.json --mesh surface.obj --edge-length H`
+/// finds for the design the server saves now.
+fn analyzed_saved(addr: SocketAddr, dir: &Path) -> f64 {
+    let (status, curves) = request(addr, "GET", "/api/export?format=json", b"");
+    assert_eq!(status, 200, "{curves}");
+    let (status, surface) = request(addr, "GET", "/api/export?format=surface", b"");
+    assert_eq!(status, 200, "{surface}");
+    let (c, m) = (dir.join("saved.json"), dir.join("surface.obj"));
+    std::fs::write(&c, curves).unwrap();
+    std::fs::write(&m, surface).unwrap();
+    let input = InputSpec {
+        edge_length: Some(H),
+        mesh: Some(MeshSource::Path(m)),
+        ..InputSpec::new(CurveSource::Files(vec![c]))
+    };
+    let mut setup = Setup::new(&input, &ModelOptions::default()).expect("the saved design reads");
+    app::analyze(&mut setup, &[], &Neutral)
+        .expect("analysed")
+        .report
+        .lambda
+}
+
+#[test]
+fn a_slide_adopted_is_one_edit_with_the_slides_lambda() {
+    let addr = serve(8, 3);
+    let dir = scratch("slide");
+    let before = ok(addr, "GET", "/api/state", "");
+    assert_refused(addr, "POST", "/api/slide/adopt", "", 409, "no slide result");
+
+    let started = ok(addr, "POST", "/api/slide", r#"{"max_evaluations": 12}"#);
+    assert!(started["status"] == "running" || started["status"] == "done");
+    let done = wait(addr);
+    assert_eq!(done["status"], "done", "{done}");
+    let result = &done["result"];
+    let after = result["lambda_after"].as_f64().unwrap();
+    assert!(result["evaluations"].as_u64().unwrap() > 0, "{done}");
+    assert_eq!(
+        before["status"], "stable",
+        "a stable structure slides: {before}"
+    );
+    assert!(after >= result["lambda_before"].as_f64().unwrap(), "{done}");
+    assert_eq!(done["best"].as_f64(), Some(after));
+    assert_eq!(result["moved"], true, "the slide moves curves: {done}");
+    assert!(after > lambda(&before), "the slide stiffens: {done}");
+
+    let adopted = ok(addr, "POST", "/api/slide/adopt", "");
+    close(
+        lambda(&adopted),
+        after,
+        "the adopted slide against the slide",
+    );
+    close(
+        lambda(&adopted),
+        analyzed_saved(addr, &dir),
+        "the adopted slide against analyze of the saved design",
+    );
+    // The adopted slide belongs to the workspace it replaced: nothing left to adopt.
+    assert_refused(addr, "POST", "/api/slide/adopt", "", 409, "no slide result");
+
+    let undone = ok(addr, "POST", "/api/curves/undo", "");
+    close(
+        lambda(&undone),
+        lambda(&before),
+        "undo of the adopted slide",
+    );
+}
+
+#[test]
+fn a_slide_cancelled_keeps_its_best_and_bad_requests_get_a_4xx() {
+    let addr = serve(4, 3);
+    for (body, status, says) in [
+        (r#"{"max_move": "far"}"#, 400, "max_move"),
+        (r#"{"max_move": -1}"#, 422, "must be positive"),
+        (r#"{"max_move": 1e9}"#, 422, "at most"),
+        (r#"{"budget": 2}"#, 422, "budget"),
+        (r#"{"max_evaluations": 0}"#, 400, "max_evaluations"),
+        (r#"{"speed": 1}"#, 400, "speed"),
+        ("not json", 400, ""),
+    ] {
+        assert_refused(addr, "POST", "/api/slide", body, status, says);
+    }
+    assert_refused(addr, "POST", "/api/slide/cancel", "", 409, "no slide");
+
+    let started = ok(addr, "POST", "/api/slide", r#"{"max_evaluations": 100000}"#);
+    assert_eq!(started["status"], "running");
+    assert_refused(addr, "POST", "/api/slide", "", 409, "already computing");
+    let cancelled = ok(addr, "POST", "/api/slide/cancel", "");
+    assert_eq!(cancelled["status"], "running", "asked to stop: {cancelled}");
+    let ended = wait(addr);
+    assert_eq!(ended["status"], "cancelled", "{ended}");
+    assert_eq!(ended["result"]["cancelled"], true);
+    // The best network reached by then is adopted like a finished slide's.
+    let adopted = ok(addr, "POST", "/api/slide/adopt", "");
+    close(
+        lambda(&adopted),
+        ended["result"]["lambda_after"].as_f64().unwrap(),
+        "the cancelled slide adopted",
+    );
+
+    // A network served without its surface cannot slide.
+    let (curves, build) = common::dome();
+    let bare = common::serve(&curves, &build);
+    assert_refused(bare, "POST", "/api/slide", "", 409, "surface");
+}
