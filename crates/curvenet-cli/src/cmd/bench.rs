@@ -82,7 +82,8 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
     for round in 0..repeat {
         for (i, name) in a.examples.iter().enumerate() {
             bar.set_message(format!("({name}, round {}/{repeat})", round + 1));
-            let row = run_worker(&forwarded, name)?;
+            let args = [&forwarded[..], &["--examples".into(), name.clone()]].concat();
+            let row = run_worker(&args, name)?;
             bar.inc(1);
             if repeat > 1 {
                 bar.suspend(|| {

@@ -34,21 +34,20 @@ pub enum WorkerError {
     },
 }
 
-/// Runs example `name` once in a fresh process of this executable, with the arguments
-/// `forwarded` then `--examples NAME`, and reads its row.
+/// Runs example `name` once in a fresh process of this executable, with the arguments `args`
+/// (the front end's, selecting that example), and reads its row.
 ///
 /// # Errors
 ///
 /// The worker could not start, failed, or printed no row.
-pub fn run_worker(forwarded: &[String], name: &str) -> Result<BenchRow, WorkerError> {
+pub fn run_worker(args: &[String], name: &str) -> Result<BenchRow, WorkerError> {
     let start = |source| WorkerError::Start {
         example: name.to_string(),
         source,
     };
     let exe = std::env::current_exe().map_err(start)?;
     let mut child = Command::new(exe)
-        .args(forwarded)
-        .args(["--examples", name])
+        .args(args)
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::inherit())
