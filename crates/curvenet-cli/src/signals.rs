@@ -13,8 +13,14 @@
 //!   the writes in flight are removed before the exit, so nothing half-written is left, under
 //!   its final name or any other.
 //!
-//! SIGTERM and SIGHUP behave exactly like SIGINT (ctrlc's `termination` feature routes all
-//! three to the handler).
+//! How signals arrive (Unix): [`install`] blocks the three signals in the main thread before
+//! any other thread exists, so every thread inherits the block, and one thread takes them with
+//! `sigwait`. No signal handler runs at all, so a library that installs its own handlers for a
+//! while cannot catch one: METIS's nested dissection points SIGTERM at a `longjmp` into its own
+//! error path during every ordering (a SIGTERM then crashed the process with SIGSEGV, and
+//! concurrent orderings could leave that handler in place). Child processes start with an
+//! empty signal mask (the standard library resets it). Elsewhere, ctrlc's handler does the
+//! same job.
 
 use curvenet::cancel::Cancel;
 use std::sync::LazyLock;
@@ -29,7 +35,35 @@ static POLLING: AtomicUsize = AtomicUsize::new(0);
 /// The exit code of a cancelled command (128 + SIGINT, what shells report for Ctrl-C).
 pub const CANCELLED: i32 = 130;
 
-/// Installs the handler. Call once, first thing in `main`.
+/// Starts receiving the signals. Call once, first thing in `main`, before any thread is
+/// started: threads inherit the signal mask of the thread that starts them.
+#[cfg(unix)]
+pub fn install() {
+    use nix::sys::signal::{SigSet, Signal};
+    let mut set = SigSet::empty();
+    for s in [Signal::SIGINT, Signal::SIGTERM, Signal::SIGHUP] {
+        set.add(s);
+    }
+    // Fails only for an invalid signal set (never, here): signals then keep their default
+    // action, which also ends the process.
+    if set.thread_block().is_err() {
+        return;
+    }
+    let waiter = std::thread::Builder::new()
+        .name("signals".into())
+        .spawn(move || {
+            while set.wait().is_ok() {
+                on_signal();
+            }
+        });
+    if waiter.is_err() {
+        // No thread to take them: give the signals their default action back.
+        let _ = set.thread_unblock();
+    }
+}
+
+/// Starts receiving the signals. Call once, first thing in `main`.
+#[cfg(not(unix))]
 pub fn install() {
     // Fails only when a handler is already installed (never, here): signals then keep their
     // default action, which also ends the process.
