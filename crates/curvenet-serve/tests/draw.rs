@@ -6,54 +6,12 @@
 
 mod common;
 
-use common::{assert_refused, ok, request, scratch};
-use curvenet::app::{self, CurveSource, InputSpec, MeshSource, ModelOptions, Setup, Silent};
-use curvenet::run_folder::RunsRoot;
-use curvenet::words::Neutral;
-use curvenet_serve::start::{ServeSpec, Source, open};
-use curvenet_serve::{AppState, Server};
+use common::design::{
+    analyzed_saved, close, close_to, lambda, save, saved_inputs, serve, serve_inputs,
+};
+use common::{assert_refused, ok, scratch};
+use curvenet::app::ModelOptions;
 use serde_json::{Value, json};
-use std::net::SocketAddr;
-use std::path::Path;
-
-/// The edge length the tests build with.
-const H: f64 = 200.0;
-
-/// A server of `count` random geodesics on the built-in dome (as `curvenet serve --demo`
-/// starts one), at edge length [`H`].
-fn serve(count: usize, seed: u32) -> SocketAddr {
-    let input = InputSpec {
-        edge_length: Some(H),
-        ..InputSpec::new(CurveSource::Geodesics {
-            surface: "dome".into(),
-            count,
-            seed,
-        })
-    };
-    let spec = ServeSpec {
-        source: Source::Inputs(Box::new(input)),
-        model: ModelOptions::default(),
-        remove: Vec::new(),
-    };
-    let opened = open(&spec, &Silent).expect("served");
-    let server = Server::bind("127.0.0.1:0".parse().unwrap()).unwrap();
-    let addr = server.local_addr().unwrap();
-    let config = opened.config(RunsRoot::new(&std::env::temp_dir()).unwrap());
-    std::thread::spawn(move || server.serve(AppState::new(opened.workspace, config)));
-    addr
-}
-
-fn lambda(v: &Value) -> f64 {
-    v["lambda"].as_f64().expect("a λ")
-}
-
-fn close(a: f64, b: f64, what: &str) {
-    let rel = (a - b).abs() / b.abs().max(f64::MIN_POSITIVE);
-    assert!(
-        rel <= 1e-6,
-        "{what}: {a:e} against {b:e} (relative {rel:e})"
-    );
-}
 
 /// A point in the middle of curve `c` of the design and the unit tangent there.
 fn middle(curves: &Value, c: usize) -> ([f64; 3], [f64; 3]) {
@@ -69,27 +27,6 @@ fn middle(curves: &Value, c: usize) -> ([f64; 3], [f64; 3]) {
     (a, d.map(|x| x / n))
 }
 
-/// The `λ_eq` that `curvenet analyze --curves saved.json --mesh surface.obj --edge-length H`
-/// finds for the design the server saves now.
-fn analyzed_saved(addr: SocketAddr, dir: &Path) -> f64 {
-    let (status, curves) = request(addr, "GET", "/api/export?format=json", b"");
-    assert_eq!(status, 200, "{curves}");
-    let (status, surface) = request(addr, "GET", "/api/export?format=surface", b"");
-    assert_eq!(status, 200, "{surface}");
-    let (c, m) = (dir.join("saved.json"), dir.join("surface.obj"));
-    std::fs::write(&c, curves).unwrap();
-    std::fs::write(&m, surface).unwrap();
-    let input = InputSpec {
-        edge_length: Some(H),
-        mesh: Some(MeshSource::Path(m)),
-        ..InputSpec::new(CurveSource::Files(vec![c]))
-    };
-    let mut setup = Setup::new(&input, &ModelOptions::default()).expect("the saved design reads");
-    app::analyze(&mut setup, &[], &Neutral)
-        .expect("analysed")
-        .report
-        .lambda
-}
 
 #[test]
 fn drawn_curves_rebuild_the_network_as_analyze_reads_the_saved_design() {
@@ -282,4 +219,67 @@ fn every_bad_drawing_request_gets_a_4xx_with_a_message() {
     // Nothing refused changed the design.
     let after = ok(addr, "GET", "/api/curves", "");
     assert_eq!(after["curves"], curves["curves"]);
+}
+
+/// A design in the physical mode, its curves with their own materials, sections, rest shapes
+/// and end supports, drawn on, saved and opened by a second server (`curvenet serve --curves
+/// saved.json --mesh surface.obj`, no other option): the same `λ_eq` and physical numbers.
+#[test]
+fn a_saved_design_reloads_to_the_same_analysis() {
+    let dir = scratch("reload");
+    // The dome's curves, given units and per-curve specs.
+    let (c, m) = save(serve(6, 3), &dir);
+    let mut file: Value = serde_json::from_str(&std::fs::read_to_string(&c).unwrap()).unwrap();
+    file["units"] = json!("mm");
+    let curves = file["curves"].as_array_mut().unwrap();
+    curves[0]["material"] = json!("aluminium");
+    curves[1]["rest"] = json!("pre-bent");
+    curves[2]["supports"] = json!({"start": "pinned"});
+    curves[3]["section"] = json!({"outer_diameter": "60mm", "wall": "4mm"});
+    curves[4]["material"] = json!({"preset": "timber", "young": "9GPa", "poisson": 0.3});
+    let design = dir.join("design.json");
+    std::fs::write(&design, file.to_string()).unwrap();
+
+    let first = serve_inputs(saved_inputs(design, m), ModelOptions::default());
+    let state = ok(first, "GET", "/api/state", "");
+    assert!(state["physical"].is_object(), "the physical mode: {state}");
+    let drawn = ok(first, "GET", "/api/curves", "");
+    let (p, t) = middle(&drawn, 0);
+    let added = ok(
+        first,
+        "POST",
+        "/api/curves",
+        &json!({"geodesic": {"point": p, "direction": [-t[1], t[0], 0.0]}}).to_string(),
+    );
+    assert_eq!(added["curve_count"], 7);
+    let before = ok(first, "GET", "/api/state", "");
+
+    let saved = dir.join("again");
+    std::fs::create_dir_all(&saved).unwrap();
+    let (c, m) = save(first, &saved);
+    let text = std::fs::read_to_string(&c).unwrap();
+    for says in [
+        "\"units\": \"mm\"",
+        "\"edge_length\": 200",
+        "\"aluminium\"",
+        "\"pre-bent\"",
+        "\"pinned\"",
+        "\"wall\":\"0.004m\"",
+        "\"young\":\"9000000000Pa\"",
+    ] {
+        assert!(text.contains(says), "the saved design says {says}: {text}");
+    }
+    let second = serve_inputs(saved_inputs(c, m), ModelOptions::default());
+    let after = ok(second, "GET", "/api/state", "");
+    assert_eq!(after["curves"], before["curves"]);
+    close_to(lambda(&after), lambda(&before), 1e-9, "λ_eq reloaded");
+    for key in ["mass_kg", "mu_min", "first_frequency_hz", "self_weight_max_deflection"] {
+        let (a, b) = (&after["physical"][key], &before["physical"][key]);
+        close_to(
+            a.as_f64().unwrap_or_else(|| panic!("{key}: {a}")),
+            b.as_f64().unwrap(),
+            1e-9,
+            key,
+        );
+    }
 }

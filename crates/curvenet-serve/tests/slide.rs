@@ -5,54 +5,11 @@
 
 mod common;
 
-use common::{assert_refused, ok, request, scratch};
-use curvenet::app::{self, CurveSource, InputSpec, MeshSource, ModelOptions, Setup, Silent};
-use curvenet::run_folder::RunsRoot;
-use curvenet::words::Neutral;
-use curvenet_serve::start::{ServeSpec, Source, open};
-use curvenet_serve::{AppState, Server};
+use common::design::{analyzed_saved, close, lambda, serve};
+use common::{assert_refused, ok, scratch};
 use serde_json::Value;
 use std::net::SocketAddr;
-use std::path::Path;
 use std::time::Duration;
-
-/// The edge length the tests build with.
-const H: f64 = 200.0;
-
-/// A server of `count` random geodesics on the built-in dome, at edge length [`H`].
-fn serve(count: usize, seed: u32) -> SocketAddr {
-    let input = InputSpec {
-        edge_length: Some(H),
-        ..InputSpec::new(CurveSource::Geodesics {
-            surface: "dome".into(),
-            count,
-            seed,
-        })
-    };
-    let spec = ServeSpec {
-        source: Source::Inputs(Box::new(input)),
-        model: ModelOptions::default(),
-        remove: Vec::new(),
-    };
-    let opened = open(&spec, &Silent).expect("served");
-    let server = Server::bind("127.0.0.1:0".parse().unwrap()).unwrap();
-    let addr = server.local_addr().unwrap();
-    let config = opened.config(RunsRoot::new(&std::env::temp_dir()).unwrap());
-    std::thread::spawn(move || server.serve(AppState::new(opened.workspace, config)));
-    addr
-}
-
-fn lambda(v: &Value) -> f64 {
-    v["lambda"].as_f64().expect("a λ")
-}
-
-fn close(a: f64, b: f64, what: &str) {
-    let rel = (a - b).abs() / b.abs().max(f64::MIN_POSITIVE);
-    assert!(
-        rel <= 1e-6,
-        "{what}: {a:e} against {b:e} (relative {rel:e})"
-    );
-}
 
 /// The slide's progress once it is no longer running.
 fn wait(addr: SocketAddr) -> Value {
@@ -65,27 +22,6 @@ fn wait(addr: SocketAddr) -> Value {
     }
 }
 
-/// The `λ_eq` that `curvenet analyze --curves saved.json --mesh surface.obj --edge-length H`
-/// finds for the design the server saves now.
-fn analyzed_saved(addr: SocketAddr, dir: &Path) -> f64 {
-    let (status, curves) = request(addr, "GET", "/api/export?format=json", b"");
-    assert_eq!(status, 200, "{curves}");
-    let (status, surface) = request(addr, "GET", "/api/export?format=surface", b"");
-    assert_eq!(status, 200, "{surface}");
-    let (c, m) = (dir.join("saved.json"), dir.join("surface.obj"));
-    std::fs::write(&c, curves).unwrap();
-    std::fs::write(&m, surface).unwrap();
-    let input = InputSpec {
-        edge_length: Some(H),
-        mesh: Some(MeshSource::Path(m)),
-        ..InputSpec::new(CurveSource::Files(vec![c]))
-    };
-    let mut setup = Setup::new(&input, &ModelOptions::default()).expect("the saved design reads");
-    app::analyze(&mut setup, &[], &Neutral)
-        .expect("analysed")
-        .report
-        .lambda
-}
 
 #[test]
 fn a_slide_adopted_is_one_edit_with_the_slides_lambda() {

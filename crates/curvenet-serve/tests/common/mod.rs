@@ -2,6 +2,8 @@
 //! and the `λ` of `curvenet analyze --remove` to compare with, small run folders.
 #![allow(dead_code)]
 
+pub mod design;
+
 use curvenet::geom::Vec3;
 use curvenet::io::{Origin, Polyline, TriMesh};
 use curvenet::network::{BuildParams, build_network};

@@ -71,6 +71,9 @@ pub struct GivenCurves {
     pub specs: Vec<CurveSpec>,
     /// The length unit the source declares.
     pub units: Option<String>,
+    /// The edge length the source declares (unscaled): the network's when no edge length is
+    /// given.
+    pub edge_length: Option<f64>,
     /// The files they came from, as recorded in a run folder.
     pub files: Vec<String>,
     /// What reading them found.
@@ -180,6 +183,8 @@ pub fn read_inputs(spec: &InputSpec) -> Result<Inputs, AppError> {
             ": must be a positive number (scene units)"
         ]));
     }
+    // The edge length a curve file declares (a saved design's), scaled below.
+    let file_edge_length;
     let mut inputs = match &spec.curves {
         CurveSource::Example { name, data } => {
             return with_file_ends(spec, example_inputs(spec, name, data.as_deref())?);
@@ -189,8 +194,15 @@ pub fn read_inputs(spec: &InputSpec) -> Result<Inputs, AppError> {
             count,
             seed,
         } => return with_file_ends(spec, geodesic_inputs(spec, surface, *count, *seed)?),
-        CurveSource::Files(paths) => read_files(paths)?,
-        CurveSource::Given(given) => given_inputs(given),
+        CurveSource::Files(paths) => {
+            let given = read_files(paths)?;
+            file_edge_length = given.edge_length;
+            given_inputs(&given)
+        }
+        CurveSource::Given(given) => {
+            file_edge_length = given.edge_length;
+            given_inputs(given)
+        }
     };
     let mut mesh = None;
     let mut mesh_name = None;
@@ -209,7 +221,10 @@ pub fn read_inputs(spec: &InputSpec) -> Result<Inputs, AppError> {
         spec.scale,
         mesh_name.as_deref(),
     )?;
-    let h = match spec.edge_length {
+    let given_h = spec
+        .edge_length
+        .or(file_edge_length.map(|h| h * spec.scale));
+    let h = match given_h {
         Some(h) => h,
         None => pipeline::default_edge_length(&inputs.curves).ok_or_else(|| {
             AppError::usage(message![
@@ -223,7 +238,7 @@ pub fn read_inputs(spec: &InputSpec) -> Result<Inputs, AppError> {
     inputs.warnings.extend(network_size_warning(
         &inputs.curves,
         h,
-        spec.edge_length.is_some(),
+        given_h.is_some(),
         spec.scale,
     ));
     if let Some(m) = &mesh {
@@ -266,8 +281,9 @@ fn with_file_ends(spec: &InputSpec, mut inputs: Inputs) -> Result<Inputs, AppErr
     Ok(inputs)
 }
 
-/// The curve files `paths` read in order (unscaled), their groups, specs and units.
-fn read_files(paths: &[PathBuf]) -> Result<Inputs, AppError> {
+/// The curve files `paths` read in order (unscaled), their groups, specs, units and edge
+/// length.
+fn read_files(paths: &[PathBuf]) -> Result<GivenCurves, AppError> {
     if paths.is_empty() {
         return Err(AppError::usage(message![
             "no curves given: give ",
@@ -278,7 +294,7 @@ fn read_files(paths: &[PathBuf]) -> Result<Inputs, AppError> {
     for path in paths {
         given.read_file(path)?;
     }
-    Ok(given_inputs(&given))
+    Ok(given)
 }
 
 impl GivenCurves {
@@ -301,6 +317,7 @@ impl GivenCurves {
             self.specs.extend(f.specs);
         }
         self.units = self.units.clone().or(f.units);
+        self.edge_length = self.edge_length.or(f.edge_length);
         self.curves.extend(f.curves);
         self.files.push(path.display().to_string());
         Ok(())

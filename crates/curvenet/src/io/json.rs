@@ -64,6 +64,8 @@ struct Document {
     _version: IgnoredAny,
     #[serde(default)]
     units: Option<String>,
+    #[serde(default)]
+    edge_length: Option<f64>,
     curves: Vec<JsonCurve>,
 }
 
@@ -197,6 +199,14 @@ pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError
     if document.curves.is_empty() {
         return fail(located.curves_line, "no curves: \"curves\" is empty".into());
     }
+    if let Some(h) = document.edge_length
+        && !(h.is_finite() && h > 0.0)
+    {
+        return fail(
+            1,
+            format!("\"edge_length\" must be a positive length (scene units), got {h}"),
+        );
+    }
 
     let mut warnings = Vec::new();
     let mut curves = Vec::with_capacity(document.curves.len());
@@ -245,6 +255,7 @@ pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError
         specs,
         groups,
         units: document.units,
+        edge_length: document.edge_length,
     })
 }
 
@@ -253,7 +264,26 @@ pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError
 /// round-trip form; a non-finite coordinate (which no reader produces) is written as `null`,
 /// which the reader rejects.
 pub fn curves_to_json(curves: &[Polyline]) -> String {
-    let curves = curves.iter().map(|curve| {
+    curves_to_json_with(curves, &FileExtras::default())
+}
+
+/// What a curve file may say beside the curves' points: the scene's unit, the edge length,
+/// and per curve its other fields (`material`, `section`, `rest`, `supports`, `group`).
+#[derive(Clone, Debug, Default)]
+pub struct FileExtras {
+    /// `"units"`.
+    pub units: Option<String>,
+    /// `"edge_length"` (scene units).
+    pub edge_length: Option<f64>,
+    /// Each curve's further fields, in the order written (aligned with the curves, or
+    /// shorter: the curves past its end have none).
+    pub fields: Vec<Vec<(&'static str, serde_json::Value)>>,
+}
+
+/// [`curves_to_json`] with the file's `units` and `edge_length` and each curve's further
+/// fields (what [`parse_json_curves`] reads back).
+pub fn curves_to_json_with(curves: &[Polyline], extras: &FileExtras) -> String {
+    let curves = curves.iter().enumerate().map(|(i, curve)| {
         let points = curve.points.iter().map(|p| {
             let number = |v: f64| {
                 let mut out = String::new();
@@ -269,14 +299,27 @@ pub fn curves_to_json(curves: &[Polyline]) -> String {
         let label = curve.label.as_deref().map_or_else(String::new, |l| {
             format!("      \"label\": {},\n", json_string(l))
         });
+        let mut more = String::new();
+        for (key, value) in extras.fields.get(i).into_iter().flatten() {
+            let _ = writeln!(more, "      \"{key}\": {value},");
+        }
         format!(
-            "{{\n{label}      \"closed\": {},\n      \"points\": {}\n    }}",
+            "{{\n{label}{more}      \"closed\": {},\n      \"points\": {}\n    }}",
             curve.closed,
             json_list(points, "      ")
         )
     });
+    let mut head = String::new();
+    if let Some(u) = &extras.units {
+        let _ = write!(head, "\n  \"units\": {},", json_string(u));
+    }
+    if let Some(h) = extras.edge_length {
+        let mut n = String::new();
+        push_number(&mut n, h);
+        let _ = write!(head, "\n  \"edge_length\": {n},");
+    }
     format!(
-        "{{\n  \"format\": {},\n  \"version\": {VERSION},\n  \"curves\": {}\n}}\n",
+        "{{\n  \"format\": {},\n  \"version\": {VERSION},{head}\n  \"curves\": {}\n}}\n",
         json_string(FORMAT),
         json_list(curves, "  ")
     )

@@ -42,7 +42,7 @@ mod supports_file;
 
 pub use atomic::{Unwritable, check_writable, exit_removing_temp_files, write_atomic};
 pub use background::{BackgroundWriter, WriteError};
-pub use json::{curves_to_json, parse_json_curves};
+pub use json::{FileExtras, curves_to_json, curves_to_json_with, parse_json_curves};
 pub use json_keys::{DuplicateKey, duplicate_key};
 pub use obj_curves::{curves_to_obj, parse_obj_polylines};
 pub use obj_mesh::{mesh_to_obj, parse_obj_mesh};
@@ -261,6 +261,9 @@ pub struct CurveFile {
     /// Each curve's group (the JSON format's `"group"`; `None` for every curve of the other
     /// formats): curves of one group are kept or removed together. Aligned with `curves`.
     pub groups: Vec<Option<String>>,
+    /// The edge length the file declares (JSON `"edge_length"`, in the file's coordinates):
+    /// what the network is built with when the command line gives none.
+    pub edge_length: Option<f64>,
 }
 
 impl CurveFile {
@@ -273,6 +276,7 @@ impl CurveFile {
             specs: Vec::new(),
             units: None,
             groups,
+            edge_length: None,
         }
     }
 }

@@ -190,6 +190,55 @@ impl CurveSpec {
         *self == CurveSpec::default()
     }
 
+    /// The JSON curve fields that say this spec (`material`, `section`, `rest`, `supports`,
+    /// those set), as [`Self::from_json`] reads them back: a saved design's curves.
+    pub fn to_json_fields(&self) -> Vec<(&'static str, Value)> {
+        let mut out = Vec::new();
+        if let Some(m) = &self.material {
+            out.push(("material", material_to_json(m)));
+        }
+        if let Some(s) = &self.section {
+            let length = |l: Length| match l {
+                Length::Scene(v) => serde_json::json!(v),
+                Length::Metres(v) => Value::String(format!("{v}m")),
+            };
+            out.push((
+                "section",
+                match *s {
+                    SectionSpec::Solid { radius } => serde_json::json!({"radius": length(radius)}),
+                    SectionSpec::Tube {
+                        outer_diameter,
+                        wall,
+                    } => serde_json::json!({
+                        "outer_diameter": length(outer_diameter),
+                        "wall": length(wall)
+                    }),
+                },
+            ));
+        }
+        if let Some(r) = self.rest {
+            let word = match r {
+                RestShape::Straight => "straight",
+                RestShape::PreBent => "pre-bent",
+            };
+            out.push(("rest", Value::String(word.into())));
+        }
+        match self.supports {
+            [None, None] => {}
+            [a, b] if a == b => out.push(("supports", a.map(|e| e.to_json()).unwrap_or_default())),
+            [a, b] => {
+                let mut map = serde_json::Map::new();
+                for (key, end) in [("start", a), ("end", b)] {
+                    if let Some(e) = end {
+                        map.insert(key.into(), e.to_json());
+                    }
+                }
+                out.push(("supports", Value::Object(map)));
+            }
+        }
+        out
+    }
+
     /// The spec of a JSON curve's `material`, `section`, `rest` and `supports` fields (each
     /// optional).
     ///
@@ -222,6 +271,35 @@ impl CurveSpec {
             },
         })
     }
+}
+
+/// `m` as a `material` field: its preset's name alone, or an object of the preset and the
+/// overrides, each with its unit.
+fn material_to_json(m: &MaterialSpec) -> Value {
+    let only_preset = MaterialSpec {
+        preset: m.preset.clone(),
+        ..MaterialSpec::default()
+    };
+    if let (Some(p), true) = (&m.preset, *m == only_preset) {
+        return Value::String(p.clone());
+    }
+    let mut map = serde_json::Map::new();
+    if let Some(p) = &m.preset {
+        map.insert("preset".into(), Value::String(p.clone()));
+    }
+    for (key, v, unit) in [
+        ("young", m.young_pa, "Pa"),
+        ("density", m.density_kg_m3, "kg/m3"),
+        ("strength", m.strength_pa, "Pa"),
+    ] {
+        if let Some(v) = v {
+            map.insert(key.into(), Value::String(format!("{v}{unit}")));
+        }
+    }
+    if let Some(nu) = m.poisson {
+        map.insert("poisson".into(), serde_json::json!(nu));
+    }
+    Value::Object(map)
 }
 
 /// A `material` field: a preset name, or an object of `preset`, `young`, `density`,

@@ -24,7 +24,9 @@ use super::inputs::Inputs;
 use super::model::ModelOptions;
 use super::setup::Setup;
 use crate::geom::Vec3;
-use crate::io::{Origin, Polyline, TriMesh, curves_to_json};
+use crate::io::{FileExtras, Origin, Polyline, TriMesh, curves_to_json_with};
+use crate::material::EndSupport;
+use crate::rod::Supports;
 use crate::network::Network;
 use crate::network::checks::surface::FAR_FROM_MESH;
 use crate::slide::snap::snap_crossings;
@@ -314,16 +316,55 @@ impl Drawing {
         self.inputs.build.edge_length
     }
 
-    /// The curves as a curve file (curvenet's JSON format), `only` of them when given.
+    /// The curves as a curve file (curvenet's JSON format), `only` of them when given: what
+    /// `--curves` reads back into the same network and analysis with the same surface. The
+    /// file carries the scene's unit, the edge length, and each curve's material, section,
+    /// rest shape, group and end supports (those of the curve files and of a supports file,
+    /// and the run's pinned supports when the run's supports are pinned). The model's other
+    /// options (the run's material, radius, loads) are the command line's to give again.
     pub fn curves_json(&self, only: Option<&[usize]>) -> String {
-        let curves: Vec<Polyline> = match only {
+        let i = &self.inputs;
+        let ids: Vec<usize> = match only {
             Some(ids) => ids
                 .iter()
-                .filter_map(|&c| self.inputs.curves.get(c).cloned())
+                .copied()
+                .filter(|&c| c < i.curves.len())
                 .collect(),
-            None => self.inputs.curves.clone(),
+            None => (0..i.curves.len()).collect(),
         };
-        curves_to_json(&curves)
+        let curves: Vec<Polyline> = ids.iter().map(|&c| i.curves[c].clone()).collect();
+        let run_end = match i.build.supports {
+            Supports::Pinned => Some(EndSupport::PINNED),
+            Supports::Clamped => None,
+        };
+        let fields = ids
+            .iter()
+            .map(|&c| {
+                let mut spec = i.specs.get(c).cloned().unwrap_or_default();
+                spec.supports = if i.curves[c].closed {
+                    [None, None]
+                } else {
+                    let ends = i.build.ends.get(c).copied().unwrap_or([None, None]);
+                    ends.map(|e| e.or(run_end))
+                };
+                let mut fields = spec.to_json_fields();
+                if let Some(g) = i.groups.iter().find(|g| g.curves.contains(&c)) {
+                    fields.push(("group", serde_json::Value::String(g.name.clone())));
+                }
+                fields
+            })
+            .collect();
+        let extras = FileExtras {
+            units: self
+                .options
+                .physical
+                .units
+                .clone()
+                .or_else(|| i.file_units.clone()),
+            edge_length: Some(self.edge_length()),
+            fields,
+        };
+        curves_to_json_with(&curves, &extras)
     }
 
     /// The curve `edit` would add, or the moved curve (a preview: nothing is built).
