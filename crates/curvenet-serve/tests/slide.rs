@@ -5,9 +5,10 @@
 
 mod common;
 
-use common::design::{analyzed_saved, close, lambda, serve};
+use common::design::{analyzed_saved, close, lambda, save, saved_inputs, serve, serve_inputs};
+use curvenet::app::ModelOptions;
 use common::{assert_refused, ok, scratch};
-use serde_json::Value;
+use serde_json::{Value, json};
 use std::net::SocketAddr;
 use std::time::Duration;
 
@@ -21,7 +22,6 @@ fn wait(addr: SocketAddr) -> Value {
         std::thread::sleep(Duration::from_millis(50));
     }
 }
-
 
 #[test]
 fn a_slide_adopted_is_one_edit_with_the_slides_lambda() {
@@ -104,4 +104,37 @@ fn a_slide_cancelled_keeps_its_best_and_bad_requests_get_a_4xx() {
     let (curves, build) = common::dome();
     let bare = common::serve(&curves, &build);
     assert_refused(bare, "POST", "/api/slide", "", 409, "surface");
+}
+
+/// In the physical mode the page slides with the page's model (each curve its own material
+/// and rest shape): the adopted slide's `λ` is the slide's, its physical analysis follows.
+#[test]
+fn a_slide_in_the_physical_mode_uses_the_pages_model() {
+    let dir = scratch("slide-physical");
+    let (c, m) = save(serve(8, 3), &dir);
+    let mut file: Value = serde_json::from_str(&std::fs::read_to_string(&c).unwrap()).unwrap();
+    file["units"] = json!("mm");
+    let curves = file["curves"].as_array_mut().unwrap();
+    curves[0]["material"] = json!("aluminium");
+    curves[1]["rest"] = json!("pre-bent");
+    curves[2]["section"] = json!({"outer_diameter": "60mm", "wall": "4mm"});
+    let design = dir.join("design.json");
+    std::fs::write(&design, file.to_string()).unwrap();
+    let addr = serve_inputs(saved_inputs(design, m), ModelOptions::default());
+    let before = ok(addr, "GET", "/api/state", "");
+    assert!(before["physical"].is_object(), "the physical mode: {before}");
+
+    ok(addr, "POST", "/api/slide", r#"{"max_evaluations": 12}"#);
+    let done = wait(addr);
+    assert_eq!(done["status"], "done", "{done}");
+    let result = &done["result"];
+    let after = result["lambda_after"].as_f64().unwrap();
+    assert!(
+        after >= result["lambda_before"].as_f64().unwrap(),
+        "{done}"
+    );
+    let adopted = ok(addr, "POST", "/api/slide/adopt", "");
+    close(lambda(&adopted), after, "the adopted slide against the slide");
+    let state = ok(addr, "GET", "/api/state", "");
+    assert!(state["physical"]["mass_kg"].as_f64().unwrap() > 0.0, "{state}");
 }

@@ -5,6 +5,8 @@
 use super::{DrawEdit, DrawError, Drawing};
 use crate::constraints::{Constraints, SymmetryOption};
 use crate::io::Polyline;
+use crate::material::CurveOverride;
+use crate::physics::PhysicalParams;
 use crate::slide::{SlideParams, SlideProblem, Slider};
 
 impl Drawing {
@@ -15,8 +17,11 @@ impl Drawing {
     ///
     /// # Errors
     ///
-    /// An unknown curve, no curve kept, the physical mode (its model is the whole
-    /// network's), or a model that cannot be resolved.
+    /// An unknown curve, no curve kept, or a model that cannot be resolved.
+    ///
+    /// In the physical mode each network is analysed as the page analyses the design (each
+    /// curve its own material, section and rest shape), without the load cases (the
+    /// objective does not use them; the adopted design's analysis has them again).
     pub fn slider(
         &self,
         kept: &[usize],
@@ -34,13 +39,6 @@ impl Drawing {
         }
         let i = &self.inputs;
         let model = self.options.resolve(i.file_units.as_deref(), &i.specs)?;
-        if model.physical.is_some() {
-            return Err(DrawError::Slide(
-                "sliding on the page works in the paper's model; in the physical mode slide a \
-                 run's answer with the slide command"
-                    .into(),
-            ));
-        }
         let curves: Vec<Polyline> = kept.iter().map(|&c| i.curves[c].clone()).collect();
         let position = |ids: &[usize]| -> Vec<usize> {
             (kept.iter().enumerate())
@@ -61,7 +59,7 @@ impl Drawing {
         fixed.sort_unstable();
         fixed.dedup();
         let problem = SlideProblem {
-            physical: None,
+            physical: model.physical.map(|p| physical_for(p, kept)),
             curves,
             ids: kept.to_vec(),
             build: super::super::slide::build_for(&i.build, kept),
@@ -86,4 +84,25 @@ impl Drawing {
     pub fn slid_edit(kept: &[usize], curves: &[Polyline]) -> DrawEdit {
         DrawEdit::Replace(kept.iter().copied().zip(curves.iter().cloned()).collect())
     }
+}
+
+/// The drawing's physical parameters `p` (by the drawing's curve ids) for the network of its
+/// curves `kept`, in that order: each curve's own material, section and rest shape carried to
+/// its position; no load cases.
+fn physical_for(mut p: PhysicalParams, kept: &[usize]) -> PhysicalParams {
+    p.physical.curves = (kept.iter().enumerate())
+        .filter_map(|(i, &id)| {
+            let own = p.physical.curves.iter().find(|o| o.curve == id)?;
+            Some(CurveOverride {
+                curve: i,
+                ..own.clone()
+            })
+        })
+        .collect();
+    p.rest = kept
+        .iter()
+        .map(|&id| p.rest.get(id).copied().unwrap_or_default())
+        .collect();
+    p.loads = None;
+    p
 }
