@@ -34,8 +34,11 @@ use std::sync::{Arc, RwLock};
 /// The largest request body accepted (a list of every curve id of a large network fits).
 pub const BODY_LIMIT: usize = 1 << 20;
 
-/// The endpoints and their methods, as the 404 and 405 answers list them.
-const ENDPOINTS: &[(&str, &str)] = &[
+/// The endpoints and their methods, as the 404 and 405 answers list them (a `{id}` segment
+/// matches any one segment). Every route of [`router`] is here (a test asks each for the
+/// methods it lacks).
+pub const ENDPOINTS: &[(&str, &str)] = &[
+    ("/", "GET"),
     ("/api/state", "GET"),
     ("/api/set", "POST"),
     ("/api/toggle", "POST"),
@@ -55,8 +58,8 @@ const ENDPOINTS: &[(&str, &str)] = &[
     ("/api/run", "POST"),
     ("/api/export", "GET"),
     ("/api/curves", "GET, POST"),
-    ("/api/curves/ID", "DELETE"),
-    ("/api/curves/ID/move", "POST"),
+    ("/api/curves/{id}", "DELETE"),
+    ("/api/curves/{id}/move", "POST"),
     ("/api/curves/preview", "POST"),
     ("/api/curves/undo", "POST"),
     ("/api/curves/redo", "POST"),
@@ -460,11 +463,24 @@ async fn not_found(method: Method, uri: Uri) -> ApiError {
     )
 }
 
+/// The methods the route of `path` allows: a route without a `{id}` segment first (as the
+/// router matches them), `None` for a path no route has.
+pub fn allowed_methods(path: &str) -> Option<&'static str> {
+    let matches = |route: &str| {
+        let (a, b): (Vec<&str>, Vec<&str>) = (route.split('/').collect(), path.split('/').collect());
+        a.len() == b.len()
+            && a.iter()
+                .zip(&b)
+                .all(|(r, p)| r == p || (*r == "{id}" && !p.is_empty()))
+    };
+    let exact = ENDPOINTS.iter().find(|(route, _)| *route == path);
+    exact
+        .or_else(|| ENDPOINTS.iter().find(|(route, _)| matches(route)))
+        .map(|e| e.1)
+}
+
 async fn method_not_allowed(method: Method, uri: Uri) -> Response {
-    let allowed = ENDPOINTS
-        .iter()
-        .find(|(path, _)| *path == uri.path())
-        .map_or("GET", |e| e.1);
+    let allowed = allowed_methods(uri.path()).unwrap_or("GET");
     let mut r = ApiError::new(
         StatusCode::METHOD_NOT_ALLOWED,
         format!("{method} {}: use {allowed}", uri.path()),

@@ -254,3 +254,36 @@ fn the_page_is_the_viewer_in_app_mode_and_loads_nothing_from_outside() {
             .len()
     );
 }
+
+/// Every route answers a method it lacks with 405, naming the methods it allows (in the
+/// message and the `Allow` header), and does not answer 405 to those (a malformed body then
+/// gets a 4xx of its own).
+#[test]
+fn every_route_names_the_methods_it_allows() {
+    let (curves, build) = dome();
+    let addr = serve(&curves, &build);
+    for &(route, allowed) in curvenet_serve::api::ENDPOINTS {
+        let path = route.replace("{id}", "0");
+        let methods: Vec<&str> = allowed.split(", ").collect();
+        for method in ["GET", "POST", "PUT", "DELETE", "PATCH"] {
+            let (status, head, body) = common::request_full(addr, method, &path, b"[");
+            if methods.contains(&method) {
+                assert_ne!(status, 405, "{method} {path}: {body}");
+                continue;
+            }
+            assert_eq!(status, 405, "{method} {path}: {body}");
+            assert!(
+                body.contains(&format!("use {allowed}\"")),
+                "{method} {path}: {body}"
+            );
+            let allow = head
+                .lines()
+                .find_map(|l| l.to_ascii_lowercase().strip_prefix("allow: ").map(str::to_owned));
+            assert_eq!(
+                allow.as_deref(),
+                Some(allowed.to_ascii_lowercase().as_str()),
+                "{method} {path}: {head}"
+            );
+        }
+    }
+}

@@ -6,8 +6,8 @@
 //!   the edge length, the largest move, and how many drawing edits undo and redo can walk;
 //! - `POST /api/curves` `{"geodesic": {"point": [x,y,z], "direction": [dx,dy,dz]}}` or
 //!   `{"through": [[x,y,z], ...]}`: adds a curve;
-//! - `DELETE /api/curves/ID`: deletes one;
-//! - `POST /api/curves/ID/move` `{"params": [a0, a1, ...]}`: moves one;
+//! - `DELETE /api/curves/{id}`: deletes one;
+//! - `POST /api/curves/{id}/move` `{"params": [a0, a1, ...]}`: moves one;
 //! - `POST /api/curves/preview`: the curve an addition or a move would draw, nothing built
 //!   (`{"geodesic": …}`, `{"through": …}`, `{"move": {"curve", "params"}}`, or
 //!   `{"drag": {"curve", "from", "to"}}`, which also answers the move's coefficients);
@@ -94,7 +94,7 @@ struct PreviewBody {
     drag: Option<DragBody>,
 }
 
-/// The body of `POST /api/curves/ID/move`.
+/// The body of `POST /api/curves/{id}/move`.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct MoveBody {
@@ -249,7 +249,7 @@ pub(super) async fn add(
     draw(app, DrawEdit::Add(curve)).await
 }
 
-/// `DELETE /api/curves/ID`.
+/// `DELETE /api/curves/{id}`.
 pub(super) async fn delete(
     State(app): State<AppState>,
     Path(id): Path<String>,
@@ -257,7 +257,7 @@ pub(super) async fn delete(
     draw(app, DrawEdit::Delete(curve_id(&id)?)).await
 }
 
-/// `POST /api/curves/ID/move`.
+/// `POST /api/curves/{id}/move`.
 pub(super) async fn move_curve(
     State(app): State<AppState>,
     Path(id): Path<String>,
@@ -282,7 +282,7 @@ fn curve_id(id: &str) -> Result<usize, ApiError> {
 #[derive(Serialize)]
 pub(super) struct PreviewAnswer {
     points: Vec<[f64; 3]>,
-    /// A drag's move coefficients (what `POST /api/curves/ID/move` takes).
+    /// A drag's move coefficients (what `POST /api/curves/{id}/move` takes).
     #[serde(skip_serializing_if = "Option::is_none")]
     params: Option<Vec<f64>>,
 }
