@@ -330,6 +330,26 @@ struct NetworkAnswer {
     closed: Vec<bool>,
     /// Each curve's rest length.
     lengths: Vec<f64>,
+    /// When the network is a slid run's: how it slid and the curves before.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    slid: Option<SlidAnswer>,
+}
+
+/// A slid run's slide, as `GET /api/network` answers it.
+#[derive(Serialize)]
+struct SlidAnswer {
+    /// The slide's record (`result.json`'s `slide`: `lambda_before`, `lambda_after`,
+    /// `largest_move`, `max_move`, `joints_added`, ...).
+    record: curvenet::run_folder::schema::SlideRecord,
+    /// The curves before they slid: each its points (`[x, y, z]`) and whether it is closed.
+    before: Vec<BeforeCurve>,
+}
+
+/// One curve before it slid.
+#[derive(Serialize)]
+struct BeforeCurve {
+    points: Vec<[f64; 3]>,
+    closed: bool,
 }
 
 /// The JSON of `body`, or a 400 naming what is wrong with it (a 413 when it is too large).
@@ -442,6 +462,15 @@ async fn network(State(ws): State<Arc<Workspace>>) -> ApiResult<NetworkAnswer> {
             curves: net.rods.iter().map(|r| r.vertices.clone()).collect(),
             closed: net.rods.iter().map(|r| r.closed).collect(),
             lengths: net.rest_lengths(),
+            slid: w.slid.as_ref().map(|s| SlidAnswer {
+                record: s.record.clone(),
+                before: (s.before.iter())
+                    .map(|c| BeforeCurve {
+                        points: c.points.iter().map(|p| p.to_array()).collect(),
+                        closed: c.closed,
+                    })
+                    .collect(),
+            }),
         })
     })
     .await?;

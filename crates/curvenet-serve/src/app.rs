@@ -42,8 +42,17 @@ pub fn page(ws: &Workspace) -> Result<String, String> {
         "score": objective.score_symbol(),
     });
     let title = format!("curvenet serve: {}", ws.name);
-    curvenet::report::viewer::app_html(net, &title, setup, live(ws), ws.mesh.as_deref(), objective)
-        .map_err(|e| e.to_string())
+    let before = ws.slid.as_ref().map(|s| s.before.as_slice());
+    curvenet::report::viewer::app_html(
+        net,
+        &title,
+        setup,
+        live(ws),
+        ws.mesh.as_deref(),
+        objective,
+        before,
+    )
+    .map_err(|e| e.to_string())
 }
 
 /// The current structure as the viewer's live structure: the summary's numbers (an unstable

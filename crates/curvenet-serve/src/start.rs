@@ -114,20 +114,20 @@ pub fn open(spec: &ServeSpec, observer: &dyn Observer) -> Result<Opened, AppErro
         Err(e) if matches!(spec.source, Source::Run(_)) => return Err(e),
         Err(_) => None,
     };
-    let (analyzer, kept, greedy, mesh, drawing) = match &spec.source {
+    let (analyzer, kept, greedy, mesh, drawing, slid) = match &spec.source {
         Source::Run(dir) => {
             let run = open_run(RunFiles::unconfined(dir), physical.as_ref())
                 .map_err(|e| AppError::usage(e.to_string()))?;
             for w in run.warnings {
                 observer.warning(&Message::from(w));
             }
-            (run.analyzer, run.kept, run.greedy, run.mesh, None)
+            (run.analyzer, run.kept, run.greedy, run.mesh, None, run.slid)
         }
         Source::Inputs(input) => {
             let (analyzer, mesh, drawing) =
                 from_inputs(input, &spec.model, &spec.remove, observer)?;
             let all = (0..analyzer.curve_count()).collect();
-            (analyzer, all, Runner::default(), mesh, drawing)
+            (analyzer, all, Runner::default(), mesh, drawing, None)
         }
     };
     check_curve_ids(Opt::Remove, &spec.remove, analyzer.curve_count())?;
@@ -145,7 +145,8 @@ pub fn open(spec: &ServeSpec, observer: &dyn Observer) -> Result<Opened, AppErro
     let workspace = Workspace::new(design, &name_of(&spec.source))
         .with_greedy(greedy)
         .with_mesh(mesh)
-        .with_drawing(drawing);
+        .with_drawing(drawing)
+        .with_slid(slid);
     Ok(Opened {
         workspace,
         physical,

@@ -1,7 +1,8 @@
 //! [`Workspace`]: one served network with everything a session does on it — its [`Design`]
 //! (the current structure and the cache), its greedy and local search, its design
 //! constraints, its surface — and [`open_run`], the workspace of a run folder (what
-//! `serve --run DIR` starts on and `POST /api/run` loads).
+//! `serve --run DIR` starts on and `POST /api/run` loads; a run made with `--slide` is served
+//! as its slid network, [`Slid`]).
 
 use crate::constraints::SessionConstraints;
 use crate::design::{Design, DesignError};
@@ -9,8 +10,10 @@ use crate::greedy::Runner;
 use crate::local::LocalRunner;
 use crate::slide::SlideRunner;
 use curvenet::app::{DrawEdit, DrawError, Drawing};
-use curvenet::io::TriMesh;
+use curvenet::io::{Polyline, TriMesh};
+use curvenet::report::viewer::before_curves;
 use curvenet::physics::PhysicalParams;
+use curvenet::run_folder::schema::SlideRecord;
 use curvenet::run_folder::{RunFiles, RunFolder, RunFolderError};
 use curvenet::stability::Analyzer;
 use std::sync::{Arc, Mutex, MutexGuard};
@@ -33,7 +36,21 @@ pub struct Workspace {
     /// The design's curves as drawn, when they can be edited (served from curve files or an
     /// example with its surface; a run folder's network cannot).
     pub drawing: Option<Arc<Drawing>>,
+    /// When the network served is a slid run's (a run made with `--slide`, or `curvenet
+    /// slide`'s): how it slid and its curves before.
+    pub slid: Option<Arc<Slid>>,
     constraints: Mutex<SessionConstraints>,
+}
+
+/// A slid run's network, served: the slide's record (`result.json`'s `slide`) and the curves
+/// it started from.
+#[derive(Clone, Debug)]
+pub struct Slid {
+    /// The slide's record.
+    pub record: SlideRecord,
+    /// The curves before they slid, in the slid run's curve order (empty when the run's
+    /// `before.obj` cannot be read).
+    pub before: Vec<Polyline>,
 }
 
 impl Workspace {
@@ -47,6 +64,7 @@ impl Workspace {
             name: name.into(),
             mesh: None,
             drawing: None,
+            slid: None,
             constraints: Mutex::new(SessionConstraints::default()),
         }
         .in_its_units()
@@ -73,6 +91,12 @@ impl Workspace {
     /// With the surface `mesh`.
     pub fn with_mesh(mut self, mesh: Option<TriMesh>) -> Self {
         self.mesh = mesh.map(Arc::new);
+        self
+    }
+
+    /// With the slide that gave its network (a slid run's).
+    pub fn with_slid(mut self, slid: Option<Slid>) -> Self {
+        self.slid = slid.map(Arc::new);
         self
     }
 
@@ -163,6 +187,8 @@ pub struct ServedRun {
     pub mesh: Option<TriMesh>,
     /// Problems reading it that did not stop the reading.
     pub warnings: Vec<String>,
+    /// The slide, when the network is a slid run's.
+    pub slid: Option<Slid>,
 }
 
 impl ServedRun {
@@ -181,7 +207,8 @@ impl ServedRun {
         let design = Design::new(self.analyzer, &kept)?;
         Ok(Workspace::new(design, name)
             .with_greedy(self.greedy)
-            .with_mesh(self.mesh))
+            .with_mesh(self.mesh)
+            .with_slid(self.slid))
     }
 }
 
@@ -215,6 +242,11 @@ pub fn open_run(
     files: RunFiles,
     physical: Option<&PhysicalParams>,
 ) -> Result<ServedRun, OpenRunError> {
+    // A run made with `--slide` holds its slid network in `slide/`: that is its answer.
+    let files = match files.sub("slide") {
+        Ok(slide) if slide.read("result.json").is_ok() => slide,
+        _ => files,
+    };
     let run = RunFolder::read(files)?;
     let r = &run.result;
     let in_result = |e: curvenet::stability::StabilityError| OpenRunError::Setup {
@@ -237,6 +269,10 @@ pub fn open_run(
         analyzer,
         kept,
         greedy,
+        slid: r.slide.clone().map(|record| Slid {
+            record,
+            before: before_curves(&run).unwrap_or_default(),
+        }),
         mesh: run.mesh,
         warnings: run.warnings,
     })

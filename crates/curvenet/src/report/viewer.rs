@@ -32,7 +32,7 @@
 use super::export::{fabrication_csv, rod_joints, rod_supports};
 use super::plot::lambda_plot;
 use super::render::{mode_picture, network_picture};
-use crate::io::TriMesh;
+use crate::io::{Polyline, TriMesh};
 use crate::network::Network;
 use crate::report::ReportError;
 use crate::rod::ActiveSet;
@@ -250,16 +250,21 @@ pub fn viewer_data(run: &RunFolder, options: &ViewerOptions) -> Result<Value, Re
 /// A slid run's curves before they slid (`before.obj`), each as base64 `f32` points and
 /// whether it is closed; `null` for any other run (or when the file cannot be read).
 fn before_json(run: &RunFolder) -> Value {
-    if run.result.slide.is_none() {
-        return Value::Null;
-    }
-    let Ok(text) = run.files.read_text("before.obj") else {
-        return Value::Null;
-    };
-    let Ok(file) = crate::io::parse_obj_polylines(&text, "before.obj") else {
-        return Value::Null;
-    };
-    let curves: Vec<Value> = (file.curves.iter())
+    before_curves(run).map_or(Value::Null, |c| curves_json(&c))
+}
+
+/// A slid run's curves before they slid (`before.obj`, in the slid run's curve order); `None`
+/// for any other run, or when the file cannot be read.
+pub fn before_curves(run: &RunFolder) -> Option<Vec<Polyline>> {
+    run.result.slide.as_ref()?;
+    let text = run.files.read_text("before.obj").ok()?;
+    let file = crate::io::parse_obj_polylines(&text, "before.obj").ok()?;
+    Some(file.curves)
+}
+
+/// `curves` as the viewer's `before`: each as base64 `f32` points and whether it is closed.
+fn curves_json(curves: &[Polyline]) -> Value {
+    let curves: Vec<Value> = (curves.iter())
         .map(|c| {
             json!({
                 "points": encode_f32(c.points.iter().flat_map(|p| p.to_array())),
@@ -426,7 +431,8 @@ pub fn viewer_html(run: &RunFolder, options: &ViewerOptions) -> Result<String, R
 /// the run page's with one live structure in place of the iterations: `setup` as a run's
 /// (`total_length`, `material`, ...; `budget` null), `live` as an iteration's with `u`, `mode`
 /// and `gravity` given in full (`{"full": [3 numbers per vertex]}`), the surface `mesh` when
-/// known and `objective` as a run's (its name and the symbols of its value and score).
+/// known, `objective` as a run's (its name and the symbols of its value and score) and, for a
+/// slid run's network, `before`: its curves before they slid (the viewer's toggle shows them).
 pub fn app_html(
     net: &Network,
     title: &str,
@@ -434,6 +440,7 @@ pub fn app_html(
     live: Value,
     mesh: Option<&TriMesh>,
     objective: Value,
+    before: Option<&[Polyline]>,
 ) -> Result<String, ReportError> {
     let data = json!({
         "format": "curvenet-viewer",
@@ -449,6 +456,7 @@ pub fn app_html(
         "removed_at": vec![None::<usize>; net.rods.len()],
         "iterations": [live],
         "mesh": mesh_json(mesh),
+        "before": before.map_or(Value::Null, curves_json),
     });
     page(title, &data, &format!("<script>\n{APP_SCRIPT}\n</script>"))
 }

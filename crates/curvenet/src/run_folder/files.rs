@@ -346,6 +346,22 @@ impl RunFiles {
         }
     }
 
+    /// The reader of the folder `name` inside this one (a run's `slide/`), confined as this
+    /// one is.
+    ///
+    /// # Errors
+    ///
+    /// As [`RunsRoot::folder`] (confined); never for an unconfined reader.
+    pub fn sub(&self, name: &str) -> Result<RunFiles, RunFileError> {
+        match &self.confined {
+            None => Ok(RunFiles::unconfined(&self.dir.join(name))),
+            Some(c) => {
+                let at: PathBuf = c.at.iter().collect::<PathBuf>().join(name);
+                c.root.folder(&at)
+            }
+        }
+    }
+
     /// Whether the folder itself is there (a confined reader's always is: it was resolved).
     pub fn folder_exists(&self) -> bool {
         self.confined.is_some() || self.dir.is_dir()
