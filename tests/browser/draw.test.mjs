@@ -10,7 +10,7 @@
 
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { spawn } from 'node:child_process';
+import { execFileSync, spawn } from 'node:child_process';
 import fs from 'node:fs';
 import path from 'node:path';
 import readline from 'node:readline';
@@ -193,7 +193,9 @@ test('drawing on the page of curvenet serve', { timeout: 900_000 }, async () => 
     fs.mkdirSync(dir, { recursive: true });
     fs.writeFileSync(path.join(dir, 'saved.json'), saved.json);
     fs.writeFileSync(path.join(dir, 'surface.obj'), saved.surface);
-    second = await serve(['--curves', path.join(dir, 'saved.json'), '--mesh', path.join(dir, 'surface.obj'), '--edge-length', String(saved.h)]);
+    // The file carries the edge length (and the units, the curves' own specs and supports).
+    assert.match(saved.json, new RegExp(`"edge_length": ${saved.h}`));
+    second = await serve(['--curves', path.join(dir, 'saved.json'), '--mesh', path.join(dir, 'surface.obj')]);
     await page.goto(second.url + '/');
     const s5 = await ready(page);
     assert.equal(s5.curves, n0 + 1);
@@ -204,5 +206,35 @@ test('drawing on the page of curvenet serve', { timeout: 900_000 }, async () => 
     await close();
     proc.kill();
     if (second) second.proc.kill();
+  }
+});
+
+// A run made with --slide served: its slid network, the curves before shown by the toggle.
+test('a slid run on the page of curvenet serve', { timeout: 900_000 }, async () => {
+  const dir = path.join(outDir, 'slid-run');
+  fs.rmSync(dir, { recursive: true, force: true });
+  fs.mkdirSync(dir, { recursive: true });
+  const run = (args) => execFileSync(binary(), args, { cwd: root, stdio: ['ignore', 'ignore', 'inherit'] });
+  run(['trace', '--mesh', 'dome', '--geodesics', '8', '--seed', '3', '--out', path.join(dir, 'curves.json'), '--mesh-out', path.join(dir, 'dome.obj')]);
+  run(['simplify', '--curves', path.join(dir, 'curves.json'), '--mesh', path.join(dir, 'dome.obj'), '--budget', '0.85',
+    '--slide', '--out', path.join(dir, 'run')]);
+  const { proc, url } = await serve(['--run', path.join(dir, 'run')]);
+  const { page, problems, close } = await openBrowser();
+  try {
+    await page.goto(url + '/');
+    await page.waitForFunction(() => window.curvenet && window.curvenet.app && window.curvenet.app.ready && window.curvenet.frames >= 2, null, { timeout: 120_000 });
+    const net = await page.evaluate(async () => (await fetch('api/network')).json());
+    const state = await page.evaluate(async () => (await fetch('api/state')).json());
+    assert.ok(net.slid, 'the API says the network slid');
+    assert.equal(net.slid.before.length, net.curves.length);
+    assert.ok(Math.abs(state.lambda - net.slid.record.lambda_after) <= 1e-6 * Math.abs(state.lambda), 'the slid network is served');
+    assert.equal(await page.isVisible('#row-before'), true, 'the before/after toggle is shown');
+    await page.check('#show-before');
+    await page.waitForTimeout(300);
+    await page.screenshot({ path: path.join(outDir, 'draw-8-slid-run.png') });
+    assert.deepEqual(problems, []);
+  } finally {
+    await close();
+    proc.kill();
   }
 });

@@ -1,9 +1,12 @@
-//! [`Job`]: what the server's greedy and local search share about a run on a thread of its
-//! own — its status, its budget, its time, its cancel token and why it failed.
+//! [`Job`]: what the server's greedy, local search and slide share about a run on a thread of
+//! its own — its status, its budget, its time, its cancel token and why it failed — and
+//! [`Runs`], the one-at-a-time runner of the local search and the slide around it (start on a
+//! thread, record how it ended, cancel, stop).
 
 use crate::greedy::RunStatus;
 use curvenet::cancel::Cancel;
 use curvenet::simplify::SimplifyError;
+use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
 /// One run's status, budget, time, cancel token and error.
@@ -108,5 +111,81 @@ impl Job {
             }
         }
         None
+    }
+}
+
+/// What a run records beside its [`Job`]: the structure it started from and its own data `S`
+/// (progress, result).
+#[derive(Debug, Default)]
+pub(crate) struct RunState<S> {
+    /// Its status, budget, time, cancel token and error.
+    pub(crate) job: Job,
+    /// The structure it started from.
+    pub(crate) from: Option<Vec<usize>>,
+    /// Its own data.
+    pub(crate) data: S,
+}
+
+/// The runs of one kind (the local search, the slide): at most one at a time on a thread of
+/// its own, its state behind one lock — what starting, cancelling and stopping one share.
+#[derive(Debug, Default)]
+pub(crate) struct Runs<S> {
+    state: Mutex<RunState<S>>,
+}
+
+impl<S: Default + Send + 'static> Runs<S> {
+    /// Starts `work` (the run `what`, in messages) on a thread of its own from the structure
+    /// `from` under the budget `(fraction, length)`; `work` polls the cancel token it is given
+    /// and may record progress through the runs it is given; `finish` records the value of a
+    /// run that returned one (its status already done). `false` when a run computes.
+    pub(crate) fn start<T: Send + 'static>(
+        self: &Arc<Self>,
+        budget: (f64, f64),
+        from: Vec<usize>,
+        what: &'static str,
+        work: impl FnOnce(&Cancel, &Self) -> Result<T, SimplifyError> + Send + 'static,
+        finish: impl FnOnce(&mut RunState<S>, T) + Send + 'static,
+    ) -> bool {
+        let mut s = self.lock();
+        if s.job.is_running() {
+            return false;
+        }
+        *s = RunState {
+            job: Job::running(budget),
+            from: Some(from),
+            data: S::default(),
+        };
+        let cancel = s.job.token();
+        drop(s);
+        let runs = Arc::clone(self);
+        std::thread::spawn(move || {
+            let outcome =
+                std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| work(&cancel, &runs)));
+            let mut s = runs.lock();
+            if let Some(value) = s.job.end(outcome, what) {
+                finish(&mut s, value);
+            }
+        });
+        true
+    }
+
+    /// Asks the computing run to stop (it keeps the best it reached); `false` when none
+    /// computes.
+    pub(crate) fn cancel(&self) -> bool {
+        let s = self.lock();
+        s.job.is_running() && {
+            s.job.cancel();
+            true
+        }
+    }
+
+    /// Asks the run to stop if one computes (the design it runs on is being replaced).
+    pub(crate) fn stop(&self) {
+        self.lock().job.cancel();
+    }
+
+    /// The state (a panic elsewhere leaves the last whole state).
+    pub(crate) fn lock(&self) -> MutexGuard<'_, RunState<S>> {
+        self.state.lock().unwrap_or_else(|e| e.into_inner())
     }
 }

@@ -14,14 +14,15 @@
 
 use crate::design::Design;
 use crate::greedy::{GreedyError, Request, RunStatus};
-use crate::job::Job;
+use crate::job::{RunState, Runs};
+use curvenet::cancel::Cancel;
 use curvenet::app::Search;
 use curvenet::constraints::Constraints;
 use curvenet::simplify::SimplifyError;
 use curvenet::simplify::exhaustive::SubsetScore;
 use curvenet::simplify::local::{LocalOutcome, keep_fits, local_search};
 use serde::Serialize;
-use std::sync::{Arc, Mutex, MutexGuard};
+use std::sync::Arc;
 
 /// A network the search evaluated.
 #[derive(Clone, Debug, Serialize)]
@@ -104,18 +105,10 @@ pub struct LocalProgress {
     pub elapsed_ms: Option<f64>,
 }
 
-/// The state shared by the search's thread and the handlers.
-#[derive(Debug, Default)]
-struct Shared {
-    job: Job,
-    from: Option<Vec<usize>>,
-    result: Option<LocalResult>,
-}
-
 /// The server's local search: at most one at a time, its progress and its result.
 #[derive(Debug, Default)]
 pub struct LocalRunner {
-    shared: Mutex<Shared>,
+    runs: Arc<Runs<Option<LocalResult>>>,
 }
 
 impl LocalRunner {
@@ -127,7 +120,7 @@ impl LocalRunner {
     ///
     /// [`GreedyError::LocalBusy`] while a search computes.
     pub fn start(
-        self: &Arc<Self>,
+        &self,
         design: Arc<Design>,
         request: &Request,
         search: Search,
@@ -141,53 +134,43 @@ impl LocalRunner {
             })
         })?;
         let from = design.current().summary.curves.clone();
-        let mut s = self.lock();
-        if s.job.is_running() {
-            return Err(GreedyError::LocalBusy);
-        }
-        *s = Shared {
-            job: Job::running((request.budget, search.budget_length)),
-            from: Some(from.clone()),
-            result: None,
-        };
-        let cancel = s.job.token();
-        let progress = progress_of(&s);
-        drop(s);
-        let runner = Arc::clone(self);
-        std::thread::spawn(move || {
-            let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        let search = Arc::new(search);
+        let work = {
+            let (from, search) = (from.clone(), Arc::clone(&search));
+            move |cancel: &Cancel, _: &Runs<Option<LocalResult>>| {
+                // A search with no start that fits says how to give it one.
+                let how = "; it starts from the current structure (when it fits) and from \
+                           single curves: make a structure that fits current (a greedy \
+                           iteration, for one) and start it again";
                 local_search(
                     design.analyzer(),
                     &params,
                     Some(&search.constraints),
                     &from,
-                    &cancel,
+                    cancel,
                 )
-            }));
-            // A search with no start that fits says how to give it one.
-            let how = "; it starts from the current structure (when it fits) and from single \
-                       curves: make a structure that fits current (a greedy iteration, for one) \
-                       and start it again";
-            let outcome = outcome.map(|r| {
-                r.map_err(|e| match e {
+                .map_err(|e| match e {
                     SimplifyError::Params(m) => SimplifyError::Params(m.then([how.into()])),
                     e => e,
                 })
-            });
-            let mut s = runner.lock();
-            if let Some(o) = s.job.end(outcome, "local search") {
-                if o.cancelled {
-                    s.job.status = RunStatus::Cancelled;
-                }
-                s.result = Some(LocalResult::of(&o, Some(&search.constraints)));
             }
-        });
-        Ok(progress)
+        };
+        let budget = (request.budget, search.budget_length);
+        let finish = move |s: &mut RunState<Option<LocalResult>>, o: LocalOutcome| {
+            if o.cancelled {
+                s.job.status = RunStatus::Cancelled;
+            }
+            s.data = Some(LocalResult::of(&o, Some(&search.constraints)));
+        };
+        if !self.runs.start(budget, from, "local search", work, finish) {
+            return Err(GreedyError::LocalBusy);
+        }
+        Ok(self.progress())
     }
 
     /// The progress of the current (or last) search.
     pub fn progress(&self) -> LocalProgress {
-        progress_of(&self.lock())
+        progress_of(&self.runs.lock())
     }
 
     /// Asks the computing search to stop (it does within one evaluation, keeping the best
@@ -197,17 +180,15 @@ impl LocalRunner {
     ///
     /// [`GreedyError::LocalNotRunning`] when no search computes.
     pub fn cancel(&self) -> Result<LocalProgress, GreedyError> {
-        let s = self.lock();
-        if !s.job.is_running() {
+        if !self.runs.cancel() {
             return Err(GreedyError::LocalNotRunning);
         }
-        s.job.cancel();
-        Ok(progress_of(&s))
+        Ok(self.progress())
     }
 
     /// Asks the search to stop if one computes (the design it runs on is being replaced).
     pub fn stop(&self) {
-        self.lock().job.cancel();
+        self.runs.stop();
     }
 
     /// The curves of the best network found, once a search has ended with one.
@@ -217,26 +198,21 @@ impl LocalRunner {
     /// [`GreedyError::NoLocalResult`] while no search has a result (none ran, one is running, or
     /// it failed).
     pub fn best(&self) -> Result<Vec<usize>, GreedyError> {
-        let s = self.lock();
-        match (&s.job.status, &s.result) {
+        let s = self.runs.lock();
+        match (&s.job.status, &s.data) {
             (RunStatus::Running, _) | (_, None) => Err(GreedyError::NoLocalResult),
             (_, Some(r)) => Ok(r.best.curves.clone()),
         }
     }
-
-    /// The shared state (a panic elsewhere leaves the last whole state).
-    fn lock(&self) -> MutexGuard<'_, Shared> {
-        self.shared.lock().unwrap_or_else(|e| e.into_inner())
-    }
 }
 
-fn progress_of(s: &Shared) -> LocalProgress {
+fn progress_of(s: &RunState<Option<LocalResult>>) -> LocalProgress {
     LocalProgress {
         status: s.job.status,
         budget: s.job.budget(),
         budget_length: s.job.budget_length(),
         from: s.from.clone(),
-        result: s.result.clone(),
+        result: s.data.clone(),
         error: s.job.error.clone(),
         elapsed_ms: s.job.elapsed_ms(),
     }

@@ -1,16 +1,18 @@
 //! The slide over HTTP: one slide at a time of the current structure's curves on the
 //! surface ([`curvenet::app::Drawing::slider`]), on a thread of its own as the local search
-//! runs ([`crate::local`]): its progress (evaluations, the best objective so far), its
+//! runs (both on [`crate::job::Runs`]): its progress (evaluations, the best objective so far), its
 //! cancellation (the best network so far kept) and its slid curves, which a designer adopts
 //! as one drawing edit.
 
 use crate::greedy::RunStatus;
-use crate::job::Job;
+use crate::job::{RunState, Runs};
+use curvenet::cancel::Cancel;
 use curvenet::io::Polyline;
 use curvenet::simplify::SimplifyError;
-use curvenet::slide::Slider;
+use curvenet::slide::search::Step;
+use curvenet::slide::{SlideOutcome, Slider};
 use serde::Serialize;
-use std::sync::{Arc, Mutex, MutexGuard};
+use std::sync::Arc;
 
 /// What a finished (or cancelled) slide found.
 #[derive(Clone, Debug, Serialize)]
@@ -34,6 +36,9 @@ pub struct SlideResult {
     pub cancelled: bool,
     /// Whether it moved anything.
     pub moved: bool,
+    /// Whether it stopped at the most evaluations asked for (checked before each one, within
+    /// a sweep of the search too; the best network so far is kept).
+    pub limited: bool,
 }
 
 /// The progress of the current (or last) slide: what `GET /api/slide` answers.
@@ -83,22 +88,20 @@ pub enum SlideRunError {
     NothingToAdopt,
 }
 
-/// The state shared by the slide's thread and the handlers.
+/// What a slide records beside its job: its progress and, once it ended, what it found and
+/// its slid curves (one per curve of the structure it slid).
 #[derive(Debug, Default)]
-struct Shared {
-    job: Job,
-    from: Option<Vec<usize>>,
+struct Slid {
     evaluations: usize,
     best: Option<f64>,
     result: Option<SlideResult>,
-    /// The slid curves, one per curve of `from`.
     curves: Option<Vec<Polyline>>,
 }
 
 /// The server's slide: at most one at a time, its progress and its slid curves.
 #[derive(Debug, Default)]
 pub struct SlideRunner {
-    shared: Mutex<Shared>,
+    runs: Arc<Runs<Slid>>,
 }
 
 impl SlideRunner {
@@ -109,46 +112,33 @@ impl SlideRunner {
     ///
     /// [`SlideRunError::Busy`] while a slide computes.
     pub fn start(
-        self: &Arc<Self>,
+        &self,
         slider: Slider,
         from: Vec<usize>,
         budget: (f64, f64),
     ) -> Result<SlideProgress, SlideRunError> {
-        let mut s = self.lock();
-        if s.job.is_running() {
-            return Err(SlideRunError::Busy);
-        }
-        *s = Shared {
-            job: Job::running(budget),
-            from: Some(from),
-            ..Shared::default()
-        };
-        let cancel = s.job.token();
-        let progress = progress_of(&s);
-        drop(s);
-        let runner = Arc::clone(self);
-        std::thread::spawn(move || {
-            let step = |st: &curvenet::slide::search::Step| {
-                let mut s = runner.lock();
-                s.evaluations = s.evaluations.max(st.evaluation);
+        let work = move |cancel: &Cancel, runs: &Runs<Slid>| {
+            let step = |st: &Step| {
+                let mut s = runs.lock();
+                let d = &mut s.data;
+                d.evaluations = d.evaluations.max(st.evaluation);
                 if st.value.is_finite() {
-                    s.best = Some(s.best.map_or(st.value, |b| b.max(st.value)));
+                    d.best = Some(d.best.map_or(st.value, |b| b.max(st.value)));
                 }
             };
-            let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                slider
-                    .run(&cancel, &step)
-                    .map_err(|e| SimplifyError::Params(e.message()))
-            }));
-            let mut s = runner.lock();
-            if let Some(o) = s.job.end(outcome, "slide") {
-                let (before, after) = (&o.before, &o.after);
-                if o.search.cancelled {
-                    s.job.status = RunStatus::Cancelled;
-                }
-                s.evaluations = o.search.evaluations;
-                s.best = Some(after.lambda);
-                s.result = Some(SlideResult {
+            slider
+                .run(cancel, &step)
+                .map_err(|e| SimplifyError::Params(e.message()))
+        };
+        let finish = |s: &mut RunState<Slid>, o: SlideOutcome| {
+            let (before, after) = (&o.before, &o.after);
+            if o.search.cancelled {
+                s.job.status = RunStatus::Cancelled;
+            }
+            s.data = Slid {
+                evaluations: o.search.evaluations,
+                best: Some(after.lambda),
+                result: Some(SlideResult {
                     lambda_before: before.lambda,
                     lambda_after: after.lambda,
                     length_before: before.length,
@@ -158,16 +148,20 @@ impl SlideRunner {
                     evaluations: o.search.evaluations,
                     cancelled: o.search.cancelled,
                     moved: o.coefficients.iter().flatten().any(|&a| a != 0.0),
-                });
-                s.curves = Some(after.curves.clone());
-            }
-        });
-        Ok(progress)
+                    limited: o.search.limited,
+                }),
+                curves: Some(after.curves.clone()),
+            };
+        };
+        if !self.runs.start(budget, from, "slide", work, finish) {
+            return Err(SlideRunError::Busy);
+        }
+        Ok(self.progress())
     }
 
     /// The progress of the current (or last) slide.
     pub fn progress(&self) -> SlideProgress {
-        progress_of(&self.lock())
+        progress_of(&self.runs.lock())
     }
 
     /// Asks the computing slide to stop (it does within a second, keeping the best network
@@ -177,17 +171,15 @@ impl SlideRunner {
     ///
     /// [`SlideRunError::NotRunning`] when no slide computes.
     pub fn cancel(&self) -> Result<SlideProgress, SlideRunError> {
-        let s = self.lock();
-        if !s.job.is_running() {
+        if !self.runs.cancel() {
             return Err(SlideRunError::NotRunning);
         }
-        s.job.cancel();
-        Ok(progress_of(&s))
+        Ok(self.progress())
     }
 
     /// Asks the slide to stop if one computes (the design it runs on is being replaced).
     pub fn stop(&self) {
-        self.lock().job.cancel();
+        self.runs.stop();
     }
 
     /// The structure that slid and its slid curves, once a slide has ended with them.
@@ -197,30 +189,25 @@ impl SlideRunner {
     /// [`SlideRunError::NothingToAdopt`] while no slide has them (none ran, one is running,
     /// or it failed).
     pub fn slid(&self) -> Result<(Vec<usize>, Vec<Polyline>), SlideRunError> {
-        let s = self.lock();
-        match (&s.job.status, &s.from, &s.curves) {
+        let s = self.runs.lock();
+        match (&s.job.status, &s.from, &s.data.curves) {
             (RunStatus::Done | RunStatus::Cancelled, Some(f), Some(c)) => {
                 Ok((f.clone(), c.clone()))
             }
             _ => Err(SlideRunError::NothingToAdopt),
         }
     }
-
-    /// The shared state (a panic elsewhere leaves the last whole state).
-    fn lock(&self) -> MutexGuard<'_, Shared> {
-        self.shared.lock().unwrap_or_else(|e| e.into_inner())
-    }
 }
 
-fn progress_of(s: &Shared) -> SlideProgress {
+fn progress_of(s: &RunState<Slid>) -> SlideProgress {
     SlideProgress {
         status: s.job.status,
         budget: s.job.budget(),
         budget_length: s.job.budget_length(),
         from: s.from.clone(),
-        evaluations: s.evaluations,
-        best: s.best,
-        result: s.result.clone(),
+        evaluations: s.data.evaluations,
+        best: s.data.best,
+        result: s.data.result.clone(),
         error: s.job.error.clone(),
         elapsed_ms: s.job.elapsed_ms(),
     }

@@ -30,13 +30,17 @@ fn a_slide_adopted_is_one_edit_with_the_slides_lambda() {
     let before = ok(addr, "GET", "/api/state", "");
     assert_refused(addr, "POST", "/api/slide/adopt", "", 409, "no slide result");
 
-    let started = ok(addr, "POST", "/api/slide", r#"{"max_evaluations": 12}"#);
+    let started = ok(addr, "POST", "/api/slide", r#"{"max_evaluations": 120}"#);
     assert!(started["status"] == "running" || started["status"] == "done");
     let done = wait(addr);
     assert_eq!(done["status"], "done", "{done}");
     let result = &done["result"];
     let after = result["lambda_after"].as_f64().unwrap();
     assert!(result["evaluations"].as_u64().unwrap() > 0, "{done}");
+    // The limit holds within a sweep of the search: it stops there, keeping the best so far,
+    // and says so.
+    assert!(result["evaluations"].as_u64().unwrap() <= 120, "{done}");
+    assert_eq!(result["limited"], true, "{done}");
     assert_eq!(
         before["status"], "stable",
         "a stable structure slides: {before}"
@@ -124,7 +128,7 @@ fn a_slide_in_the_physical_mode_uses_the_pages_model() {
     let before = ok(addr, "GET", "/api/state", "");
     assert!(before["physical"].is_object(), "the physical mode: {before}");
 
-    ok(addr, "POST", "/api/slide", r#"{"max_evaluations": 12}"#);
+    ok(addr, "POST", "/api/slide", r#"{"max_evaluations": 120}"#);
     let done = wait(addr);
     assert_eq!(done["status"], "done", "{done}");
     let result = &done["result"];
@@ -133,6 +137,7 @@ fn a_slide_in_the_physical_mode_uses_the_pages_model() {
         after >= result["lambda_before"].as_f64().unwrap(),
         "{done}"
     );
+    assert_eq!(result["moved"], true, "the slide moves curves: {done}");
     let adopted = ok(addr, "POST", "/api/slide/adopt", "");
     close(lambda(&adopted), after, "the adopted slide against the slide");
     let state = ok(addr, "GET", "/api/state", "");

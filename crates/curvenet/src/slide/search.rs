@@ -56,6 +56,9 @@ pub struct PatternOutcome {
     pub steps: Vec<Step>,
     /// The search was cancelled.
     pub cancelled: bool,
+    /// The search stopped at its most evaluations (checked before each evaluation, so within a
+    /// sweep too: the points of a sweep past it are not evaluated).
+    pub limited: bool,
 }
 
 /// Maximises `f` (a value, `-∞` for a point not allowed) from the origin of `dimension`
@@ -79,7 +82,9 @@ pub fn pattern_search(
         sweeps: 0,
         steps: Vec::new(),
         cancelled: false,
+        limited: false,
     };
+    let limit = params.max_evaluations;
     let mut step = params.step;
     if params.probe > 0 && dimension > 0 {
         let levels = params.probe;
@@ -93,7 +98,7 @@ pub fn pattern_search(
                 }
             }
         }
-        let values = evaluate_all(&candidates, f, &mut memo, cancel, &key);
+        let values = evaluate_all(&candidates, f, &mut memo, cancel, &key, limit);
         let mut pattern = x.clone();
         let mut best: Option<(usize, f64)> = None;
         let mut per: Vec<Option<(usize, f64)>> = vec![None; dimension];
@@ -114,7 +119,7 @@ pub fn pattern_search(
         if let Some((k, v)) = best {
             let (mut nx, mut nv) = (candidates[k].1.clone(), v);
             if improving > 1 && !cancel.is_cancelled() {
-                let pv = evaluate_all(&[(0, pattern.clone())], f, &mut memo, cancel, &key)[0];
+                let pv = evaluate_all(&[(0, pattern.clone())], f, &mut memo, cancel, &key, limit)[0];
                 if pv > nv {
                     (nx, nv) = (pattern, pv);
                 }
@@ -149,7 +154,7 @@ pub fn pattern_search(
                 }
             }
         }
-        let values = evaluate_all(&candidates, f, &mut memo, cancel, &key);
+        let values = evaluate_all(&candidates, f, &mut memo, cancel, &key, limit);
         if cancel.is_cancelled() {
             out.cancelled = true;
         }
@@ -183,7 +188,7 @@ pub fn pattern_search(
         };
         let (mut nx, mut nv) = (candidates[k].1.clone(), v);
         if improving > 1 && !out.cancelled {
-            let pv = evaluate_all(&[(0, pattern.clone())], f, &mut memo, cancel, &key)[0];
+            let pv = evaluate_all(&[(0, pattern.clone())], f, &mut memo, cancel, &key, limit)[0];
             if pv > nv {
                 (nx, nv) = (pattern, pv);
             }
@@ -204,35 +209,55 @@ pub fn pattern_search(
     out.x = x;
     out.value = value;
     out.evaluations = memo.len();
+    out.limited = memo.len() >= limit;
     out
 }
 
 /// The values of `points` (memoised), evaluated in parallel; `-∞` for a point skipped once
-/// `cancel` is set.
+/// `cancel` is set, and for the points past the first ones not yet known that bring the
+/// points evaluated to `limit` (in the order given, so the same ones whatever the threads).
 fn evaluate_all(
     points: &[(usize, Vec<f64>)],
     f: &(dyn Fn(&[f64]) -> f64 + Sync),
     memo: &mut HashMap<Vec<u64>, f64>,
     cancel: &Cancel,
     key: &dyn Fn(&[f64]) -> Vec<u64>,
+    limit: usize,
 ) -> Vec<f64> {
+    let mut room = limit.saturating_sub(memo.len());
+    let mut seen = std::collections::HashSet::new();
     let known: Vec<Option<f64>> = points
         .iter()
         .map(|(_, y)| memo.get(&key(y)).copied())
         .collect();
+    // Which unknown points fit within the limit.
+    let allowed: Vec<bool> = (points.iter().zip(&known))
+        .map(|((_, y), k)| {
+            if k.is_some() || seen.contains(&key(y)) {
+                return true;
+            }
+            let fits = room > 0;
+            if fits {
+                room -= 1;
+                seen.insert(key(y));
+            }
+            fits
+        })
+        .collect();
     let fresh: Vec<Option<f64>> = points
         .par_iter()
         .zip(&known)
-        .map(|((_, y), k)| match k {
+        .zip(&allowed)
+        .map(|(((_, y), k), &allowed)| match k {
             Some(_) => None,
-            None if cancel.is_cancelled() => Some(f64::NEG_INFINITY),
+            None if !allowed || cancel.is_cancelled() => Some(f64::NEG_INFINITY),
             None => Some(f(y)),
         })
         .collect();
     let mut values = Vec::with_capacity(points.len());
-    for (((_, y), k), v) in points.iter().zip(known).zip(fresh) {
+    for ((((_, y), k), v), allowed) in points.iter().zip(known).zip(fresh).zip(allowed) {
         let v = k.or(v).unwrap_or(f64::NEG_INFINITY);
-        if !cancel.is_cancelled() {
+        if allowed && !cancel.is_cancelled() {
             memo.insert(key(y), v);
         }
         values.push(v);

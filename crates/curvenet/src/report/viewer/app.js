@@ -298,7 +298,8 @@
     const best = p.best !== undefined ? `, best ${goalValue} ${sci(p.best, 5)}` : '';
     const r = p.result;
     const found = r ? `${goalValue} ${sci(r.lambda_before, 5)} → ${sci(r.lambda_after, 5)}, `
-      + `largest move ${sci(r.largest_move, 3)}${lenUnit}, ${r.evaluations} network${r.evaluations === 1 ? '' : 's'} evaluated` : '';
+      + `largest move ${sci(r.largest_move, 3)}${lenUnit}, ${r.evaluations} network${r.evaluations === 1 ? '' : 's'} evaluated`
+      + (r.limited ? ' (stopped at the most evaluations asked for: the best so far is kept)' : '') : '';
     switch (p.status) {
       case 'idle': return '';
       case 'running': return `slide running… ${p.evaluations} networks evaluated at the last gain${best}, ${sci(p.elapsed_ms / 1000, 3)} s`;
