@@ -93,6 +93,24 @@ async function previewed(page) {
 
 const shot = (page, name) => page.screenshot({ path: path.join(outDir, `draw-${name}.png`) });
 
+// The page as a 640x400 picture for docs/serve.md (docs/tools/serve_pictures.sh copies it
+// there): the screenshot scaled down in the page's own canvas.
+async function picture(page, name) {
+  const png = (await page.screenshot()).toString('base64');
+  const small = await page.evaluate(async (png) => {
+    const img = new Image();
+    img.src = `data:image/png;base64,${png}`;
+    await img.decode();
+    const c = document.createElement('canvas');
+    c.width = 640; c.height = 400;
+    const g = c.getContext('2d');
+    g.imageSmoothingQuality = 'high';
+    g.drawImage(img, 0, 0, 640, 400);
+    return c.toDataURL('image/png').split(',')[1];
+  }, png);
+  fs.writeFileSync(path.join(outDir, `serve-${name}.png`), Buffer.from(small, 'base64'));
+}
+
 test('drawing on the page of curvenet serve', { timeout: 900_000 }, async () => {
   fs.mkdirSync(outDir, { recursive: true });
   const { proc, url } = await serve(['--example', 'tower']);
@@ -164,6 +182,7 @@ test('drawing on the page of curvenet serve', { timeout: 900_000 }, async () => 
     await page.waitForFunction(() => !document.getElementById('adopt-slide').disabled, null, { timeout: 300_000 });
     assert.match(await page.textContent('#slide-progress'), /slide (done|cancelled): /);
     await shot(page, '5b-slid');
+    await picture(page, 'slide');
     const sSlid = await reloadedAfter(page, () => page.click('#adopt-slide'));
     assert.match(sSlid.message, /^slid: /);
     assert.equal(sSlid.curves, n0);
@@ -231,7 +250,8 @@ test('a slid run on the page of curvenet serve', { timeout: 900_000 }, async () 
     assert.equal(await page.isVisible('#row-before'), true, 'the before/after toggle is shown');
     await page.check('#show-before');
     await page.waitForTimeout(300);
-    await page.screenshot({ path: path.join(outDir, 'draw-8-slid-run.png') });
+    await shot(page, '8-slid-run');
+    await picture(page, 'slid-run');
     assert.deepEqual(problems, []);
   } finally {
     await close();

@@ -157,14 +157,23 @@ impl Workspace {
     }
 }
 
+/// Why a run folder's network cannot be drawn on or slid (`doing`), and what to do instead.
+pub fn not_editable(doing: &str) -> String {
+    format!(
+        "{doing} edits the curves as drawn on their surface, which a run folder does not hold \
+         (it holds the network's rods): export the run's curves (curvenet export RUNDIR \
+         --format json --out curves.json) and serve them on the run's surface with the run's \
+         edge length (curvenet serve --curves curves.json --mesh RUNDIR/mesh.obj --edge-length \
+         H, H as result.json's setup.build.edge_length), or serve the curve files or the \
+         paper's example the run was made from"
+    )
+}
+
 /// Why a drawing edit was refused or failed.
 #[derive(Debug, thiserror::Error)]
 pub enum Redraw {
     /// The served network's curves cannot be drawn on.
-    #[error(
-        "this network's curves cannot be edited: drawing needs the curves and their surface \
-         (serve with --curves and --mesh, or a paper's example), not a run folder"
-    )]
+    #[error("{}", not_editable("drawing"))]
     NotEditable,
     /// The edit itself was refused, or the network could not be built.
     #[error(transparent)]

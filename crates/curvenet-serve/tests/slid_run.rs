@@ -5,7 +5,7 @@
 mod common;
 
 use common::design::{H, close};
-use common::{ok, request, scratch};
+use common::{assert_refused, ok, request, scratch};
 use curvenet::app::{
     CurveSource, InputSpec, ModelOptions, RunSpec, Setup, SlideSpec, Silent, execute, slide,
 };
@@ -73,6 +73,12 @@ fn a_run_made_with_slide_is_served_as_its_slid_network() {
     let (status, page) = request(addr, "GET", "/", b"");
     assert_eq!(status, 200);
     assert!(page.contains("\"before\":[{"), "the page's data has the curves before");
+
+    // A run folder holds no curves as drawn: drawing and sliding say how to serve them.
+    let geodesic = r#"{"geodesic": {"point": [0, 0, 0], "direction": [1, 0, 0]}}"#;
+    for (path, body) in [("/api/curves", geodesic), ("/api/slide", "{}")] {
+        assert_refused(addr, "POST", path, body, 409, "curvenet export RUNDIR --format json");
+    }
 
     // A run without a slide: no `slid`.
     let (status, _) = request(addr, "POST", "/api/run", br#"{"path": "run/slide"}"#);

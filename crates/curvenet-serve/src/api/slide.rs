@@ -90,8 +90,7 @@ pub(super) async fn start(
         let drawing = ws.drawing.clone().ok_or_else(|| {
             ApiError::new(
                 StatusCode::CONFLICT,
-                "sliding moves the curves on their surface: serve the curves with the surface \
-                 they lie on (--curves and --mesh, or a paper's example), not a run folder",
+                crate::workspace::not_editable("sliding"),
             )
         })?;
         let current = ws.design.current();
