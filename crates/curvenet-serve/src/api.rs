@@ -496,7 +496,8 @@ async fn not_found(method: Method, uri: Uri) -> ApiError {
 /// router matches them), `None` for a path no route has.
 pub fn allowed_methods(path: &str) -> Option<&'static str> {
     let matches = |route: &str| {
-        let (a, b): (Vec<&str>, Vec<&str>) = (route.split('/').collect(), path.split('/').collect());
+        let (a, b): (Vec<&str>, Vec<&str>) =
+            (route.split('/').collect(), path.split('/').collect());
         a.len() == b.len()
             && a.iter()
                 .zip(&b)

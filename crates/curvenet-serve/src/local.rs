@@ -15,8 +15,8 @@
 use crate::design::Design;
 use crate::greedy::{GreedyError, Request, RunStatus};
 use crate::job::{RunState, Runs};
-use curvenet::cancel::Cancel;
 use curvenet::app::Search;
+use curvenet::cancel::Cancel;
 use curvenet::constraints::Constraints;
 use curvenet::simplify::SimplifyError;
 use curvenet::simplify::exhaustive::SubsetScore;

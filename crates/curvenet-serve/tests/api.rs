@@ -276,9 +276,11 @@ fn every_route_names_the_methods_it_allows() {
                 body.contains(&format!("use {allowed}\"")),
                 "{method} {path}: {body}"
             );
-            let allow = head
-                .lines()
-                .find_map(|l| l.to_ascii_lowercase().strip_prefix("allow: ").map(str::to_owned));
+            let allow = head.lines().find_map(|l| {
+                l.to_ascii_lowercase()
+                    .strip_prefix("allow: ")
+                    .map(str::to_owned)
+            });
             assert_eq!(
                 allow.as_deref(),
                 Some(allowed.to_ascii_lowercase().as_str()),

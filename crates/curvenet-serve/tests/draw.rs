@@ -27,7 +27,6 @@ fn middle(curves: &Value, c: usize) -> ([f64; 3], [f64; 3]) {
     (a, d.map(|x| x / n))
 }
 
-
 #[test]
 fn drawn_curves_rebuild_the_network_as_analyze_reads_the_saved_design() {
     let addr = serve(6, 3);
@@ -273,7 +272,12 @@ fn a_saved_design_reloads_to_the_same_analysis() {
     let after = ok(second, "GET", "/api/state", "");
     assert_eq!(after["curves"], before["curves"]);
     close_to(lambda(&after), lambda(&before), 1e-9, "λ_eq reloaded");
-    for key in ["mass_kg", "mu_min", "first_frequency_hz", "self_weight_max_deflection"] {
+    for key in [
+        "mass_kg",
+        "mu_min",
+        "first_frequency_hz",
+        "self_weight_max_deflection",
+    ] {
         let (a, b) = (&after["physical"][key], &before["physical"][key]);
         close_to(
             a.as_f64().unwrap_or_else(|| panic!("{key}: {a}")),

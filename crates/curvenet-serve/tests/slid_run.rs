@@ -7,7 +7,7 @@ mod common;
 use common::design::{H, close};
 use common::{assert_refused, ok, request, scratch};
 use curvenet::app::{
-    CurveSource, InputSpec, ModelOptions, RunSpec, Setup, SlideSpec, Silent, execute, slide,
+    CurveSource, InputSpec, ModelOptions, RunSpec, Setup, Silent, SlideSpec, execute, slide,
 };
 use curvenet::cancel::Cancel;
 use curvenet::run_folder::RunsRoot;
@@ -64,20 +64,40 @@ fn a_run_made_with_slide_is_served_as_its_slid_network() {
     );
     let network = ok(addr, "GET", "/api/network", "");
     let s = &network["slid"];
-    assert_eq!(s["record"]["lambda_after"].as_f64(), Some(record.lambda_after));
-    assert_eq!(s["record"]["lambda_before"].as_f64(), Some(record.lambda_before));
+    assert_eq!(
+        s["record"]["lambda_after"].as_f64(),
+        Some(record.lambda_after)
+    );
+    assert_eq!(
+        s["record"]["lambda_before"].as_f64(),
+        Some(record.lambda_before)
+    );
     let before = s["before"].as_array().expect("the curves before");
     assert_eq!(before.len(), network["curves"].as_array().unwrap().len());
-    assert!(before.iter().all(|c| c["points"].as_array().unwrap().len() >= 2));
+    assert!(
+        before
+            .iter()
+            .all(|c| c["points"].as_array().unwrap().len() >= 2)
+    );
     // The page carries them (its "before" toggle).
     let (status, page) = request(addr, "GET", "/", b"");
     assert_eq!(status, 200);
-    assert!(page.contains("\"before\":[{"), "the page's data has the curves before");
+    assert!(
+        page.contains("\"before\":[{"),
+        "the page's data has the curves before"
+    );
 
     // A run folder holds no curves as drawn: drawing and sliding say how to serve them.
     let geodesic = r#"{"geodesic": {"point": [0, 0, 0], "direction": [1, 0, 0]}}"#;
     for (path, body) in [("/api/curves", geodesic), ("/api/slide", "{}")] {
-        assert_refused(addr, "POST", path, body, 409, "curvenet export RUNDIR --format json");
+        assert_refused(
+            addr,
+            "POST",
+            path,
+            body,
+            409,
+            "curvenet export RUNDIR --format json",
+        );
     }
 
     // A run without a slide: no `slid`.

@@ -6,8 +6,8 @@
 mod common;
 
 use common::design::{analyzed_saved, close, lambda, save, saved_inputs, serve, serve_inputs};
-use curvenet::app::ModelOptions;
 use common::{assert_refused, ok, scratch};
+use curvenet::app::ModelOptions;
 use serde_json::{Value, json};
 use std::net::SocketAddr;
 use std::time::Duration;
@@ -126,20 +126,27 @@ fn a_slide_in_the_physical_mode_uses_the_pages_model() {
     std::fs::write(&design, file.to_string()).unwrap();
     let addr = serve_inputs(saved_inputs(design, m), ModelOptions::default());
     let before = ok(addr, "GET", "/api/state", "");
-    assert!(before["physical"].is_object(), "the physical mode: {before}");
+    assert!(
+        before["physical"].is_object(),
+        "the physical mode: {before}"
+    );
 
     ok(addr, "POST", "/api/slide", r#"{"max_evaluations": 120}"#);
     let done = wait(addr);
     assert_eq!(done["status"], "done", "{done}");
     let result = &done["result"];
     let after = result["lambda_after"].as_f64().unwrap();
-    assert!(
-        after >= result["lambda_before"].as_f64().unwrap(),
-        "{done}"
-    );
+    assert!(after >= result["lambda_before"].as_f64().unwrap(), "{done}");
     assert_eq!(result["moved"], true, "the slide moves curves: {done}");
     let adopted = ok(addr, "POST", "/api/slide/adopt", "");
-    close(lambda(&adopted), after, "the adopted slide against the slide");
+    close(
+        lambda(&adopted),
+        after,
+        "the adopted slide against the slide",
+    );
     let state = ok(addr, "GET", "/api/state", "");
-    assert!(state["physical"]["mass_kg"].as_f64().unwrap() > 0.0, "{state}");
+    assert!(
+        state["physical"]["mass_kg"].as_f64().unwrap() > 0.0,
+        "{state}"
+    );
 }

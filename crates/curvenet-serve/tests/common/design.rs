@@ -52,10 +52,7 @@ pub fn lambda(v: &Value) -> f64 {
 /// Asserts `a` is `b` to `tol` relative.
 pub fn close_to(a: f64, b: f64, tol: f64, what: &str) {
     let rel = (a - b).abs() / b.abs().max(f64::MIN_POSITIVE);
-    assert!(
-        rel <= tol,
-        "{what}: {a:e} against {b:e} (relative {rel:e})"
-    );
+    assert!(rel <= tol, "{what}: {a:e} against {b:e} (relative {rel:e})");
 }
 
 /// Asserts `a` is `b` to 1e-6 relative.
@@ -89,8 +86,8 @@ pub fn saved_inputs(curves: PathBuf, mesh: PathBuf) -> InputSpec {
 /// design the server saves now.
 pub fn analyzed_saved(addr: SocketAddr, dir: &Path) -> f64 {
     let (c, m) = save(addr, dir);
-    let mut setup = Setup::new(&saved_inputs(c, m), &ModelOptions::default())
-        .expect("the saved design reads");
+    let mut setup =
+        Setup::new(&saved_inputs(c, m), &ModelOptions::default()).expect("the saved design reads");
     app::analyze(&mut setup, &[], &Neutral)
         .expect("analysed")
         .report

@@ -119,7 +119,8 @@ pub fn pattern_search(
         if let Some((k, v)) = best {
             let (mut nx, mut nv) = (candidates[k].1.clone(), v);
             if improving > 1 && !cancel.is_cancelled() {
-                let pv = evaluate_all(&[(0, pattern.clone())], f, &mut memo, cancel, &key, limit)[0];
+                let pv =
+                    evaluate_all(&[(0, pattern.clone())], f, &mut memo, cancel, &key, limit)[0];
                 if pv > nv {
                     (nx, nv) = (pattern, pv);
                 }
