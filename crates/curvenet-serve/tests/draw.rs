@@ -287,3 +287,31 @@ fn a_saved_design_reloads_to_the_same_analysis() {
         );
     }
 }
+
+/// A design served with pinned supports (`--supports pinned`) saves each open end pinned: the
+/// saved design reloads to the same `λ_eq` without the option.
+#[test]
+fn a_design_with_pinned_supports_reloads_to_the_same_lambda() {
+    use curvenet::app::{CurveSource, InputSpec};
+    let dir = scratch("reload-pinned");
+    let input = InputSpec {
+        edge_length: Some(common::design::H),
+        supports: Some(curvenet::rod::Supports::Pinned),
+        ..InputSpec::new(CurveSource::Geodesics {
+            surface: "dome".into(),
+            count: 6,
+            seed: 3,
+        })
+    };
+    let first = serve_inputs(input, ModelOptions::default());
+    let before = ok(first, "GET", "/api/state", "");
+    let (c, m) = save(first, &dir);
+    assert!(
+        std::fs::read_to_string(&c)
+            .unwrap()
+            .contains("\"supports\": \"pinned\"")
+    );
+    let second = serve_inputs(saved_inputs(c, m), ModelOptions::default());
+    let after = ok(second, "GET", "/api/state", "");
+    close_to(lambda(&after), lambda(&before), 1e-9, "λ_eq reloaded");
+}
