@@ -243,7 +243,7 @@ pub(super) fn slide_once(
     write_atomic(&path, before_obj.as_bytes())
         .map_err(|e| AppError::Failed(format!("{}: {e}", path.display())))?;
     if spec.pictures {
-        write_pictures(&spec.out, observer);
+        write_pictures(&spec.out, observer, &Default::default());
     }
     if record.stopped {
         return Err(AppError::Cancelled {
