@@ -8,14 +8,15 @@
 //! ([`super::viewer::write_run_outputs_with`]) uses what it finished and solves the rest.
 //!
 //! The deflections are those the viewer solves from the run folder alone: the analyzer is
-//! built the same way from the folder's `network.json` and `result.json` (read once, when the
-//! greedy starts), and the displacements are the ones written to `states/`, so the page is
-//! the same byte for byte whichever solved them.
+//! built from the network and stability settings the run writes to `network.json` and
+//! `result.json` (their JSON round-trips every number exactly), and the displacements are the
+//! ones written to `states/`, so the page is the same byte for byte whichever solved them
+//! (a test compares them).
 
-use super::viewer::{analyzer_of, gravity_deflection};
-use crate::run_folder::RunFolder;
+use super::viewer::gravity_deflection;
+use crate::network::Network;
+use crate::stability::{Analyzer, StabilityParams};
 use std::collections::BTreeMap;
-use std::path::Path;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
@@ -58,17 +59,16 @@ pub struct GravityAhead {
 }
 
 impl GravityAhead {
-    /// Starts the thread for the run folder `dir`, whose `network.json` and `result.json`
-    /// are written. A folder that cannot be read, or a thread that cannot start, solves
-    /// nothing ahead (the viewer then solves every deflection itself).
-    pub fn start(dir: &Path) -> Self {
+    /// Starts the thread for a run of `network` with the stability settings `stability`
+    /// (what the run records). A thread that cannot start solves nothing ahead (the viewer
+    /// then solves every deflection itself).
+    pub fn start(network: Network, stability: StabilityParams) -> Self {
         let (tx, rx) = mpsc::channel::<Job>();
         let stop = Arc::new(AtomicBool::new(false));
         let flag = Arc::clone(&stop);
-        let dir = dir.to_path_buf();
         let worker = std::thread::Builder::new()
             .name("gravity-ahead".into())
-            .spawn(move || solve_as_they_come(&dir, &rx, &flag))
+            .spawn(move || solve_as_they_come(network, stability, &rx, &flag))
             .ok();
         GravityAhead {
             jobs: Some(tx),
@@ -101,13 +101,15 @@ impl Drop for GravityAhead {
     }
 }
 
-/// The thread's work: the analyzer of the folder, then each queued iteration in turn.
-fn solve_as_they_come(dir: &Path, jobs: &mpsc::Receiver<Job>, stop: &AtomicBool) -> Deflections {
+/// The thread's work: the run's analyzer, then each queued iteration in turn.
+fn solve_as_they_come(
+    network: Network,
+    stability: StabilityParams,
+    jobs: &mpsc::Receiver<Job>,
+    stop: &AtomicBool,
+) -> Deflections {
     let mut solved = Deflections::default();
-    let Ok(run) = RunFolder::open(dir) else {
-        return solved;
-    };
-    let Ok(analyzer) = analyzer_of(&run) else {
+    let Ok(analyzer) = Analyzer::new(network, stability) else {
         return solved;
     };
     // Its own pool: the factorization's parallel parts stay off the greedy's threads.

@@ -388,7 +388,7 @@ fn chosen_data(run: &RunFolder, options: &ViewerOptions) -> Result<Vec<Value>, R
 }
 
 /// An analyzer of the run's network with its stability settings.
-pub(crate) fn analyzer_of(run: &RunFolder) -> Result<Analyzer, ReportError> {
+fn analyzer_of(run: &RunFolder) -> Result<Analyzer, ReportError> {
     Analyzer::new(run.network.clone(), run.result.setup.stability.clone())
         .map_err(|e| format!("{}: {e}", run.dir.join("result.json").display()).into())
 }

@@ -224,7 +224,8 @@ pub fn execute(
     }
     // The viewer's gravity deflections are solved on a thread of their own as the
     // iterations come.
-    let ahead = spec.pictures.then(|| GravityAhead::start(&spec.out));
+    let ahead = (spec.pictures)
+        .then(|| GravityAhead::start(network.clone(), setup.model.stability.clone()));
     let progress = |k: usize, r: &crate::simplify::greedy::IterationRecord, u: &[f64]| {
         observer.iteration(r, total, budget_length);
         if let Some(a) = &ahead {
