@@ -88,6 +88,7 @@ fn build_params() -> BuildParams {
 fn problem(curves: Vec<Polyline>, budget: f64) -> SlideProblem {
     SlideProblem {
         ids: (0..curves.len()).collect(),
+        drawn: Vec::new(),
         curves,
         build: build_params(),
         stability: StabilityParams::default(),
@@ -97,6 +98,54 @@ fn problem(curves: Vec<Polyline>, budget: f64) -> SlideProblem {
         physical: None,
         constraints: Default::default(),
     }
+}
+
+/// The curves on the bump, at edge length 0.5; `supports`, a supports file.
+fn on_bump(curves: Vec<Polyline>, supports: Option<std::path::PathBuf>) -> InputSpec {
+    InputSpec {
+        mesh: Some(MeshSource::Given {
+            mesh: bump(40),
+            name: "bump".into(),
+        }),
+        edge_length: Some(0.5),
+        supports_file: supports,
+        ..InputSpec::new(CurveSource::Given(GivenCurves {
+            curves,
+            ..GivenCurves::default()
+        }))
+    }
+}
+
+/// `four_curves` and one more along x at y = 5.
+fn five_curves() -> Vec<Polyline> {
+    let mut curves = four_curves();
+    curves.push(lifted((0.0, 5.0), (SIZE, 5.0), 5));
+    curves
+}
+
+/// The run `run` (its folder `run.out`; no pictures) of `input` in the model `model`,
+/// recorded; returns its folder.
+fn recorded_run(
+    input: &InputSpec,
+    model: &ModelOptions,
+    run: RunSpec,
+) -> std::path::PathBuf {
+    let mut setup = Setup::new(input, model).expect("set-up");
+    let run = RunSpec {
+        pictures: false,
+        ..run
+    };
+    curvenet::app::execute(&mut setup, &run, &Silent, &Cancel::never()).expect("runs");
+    run.out
+}
+
+/// A run of `input` to `budget` (a fraction) in `dir/run`, in the paper's model.
+fn run_to(dir: &TempDir, input: &InputSpec, budget: f64) -> std::path::PathBuf {
+    let run = RunSpec {
+        budget: Some(Budget::Fraction(budget)),
+        ..RunSpec::new(dir.path().join("run"))
+    };
+    recorded_run(input, &ModelOptions::default(), run)
 }
 
 /// Curve 3 alone moves, along one function (a translation across itself, its ends sliding
@@ -242,27 +291,7 @@ fn bad_inputs_are_refused_clearly() {
 fn a_slid_run_is_recorded_and_its_exported_curves_give_its_objective_cold() {
     let dir = TempDir::new("slide-run");
     let mesh = bump(40);
-    let mut curves = four_curves();
-    curves.push(lifted((0.0, 5.0), (SIZE, 5.0), 5));
-    let spec = InputSpec {
-        mesh: Some(MeshSource::Given {
-            mesh: mesh.clone(),
-            name: "bump".into(),
-        }),
-        edge_length: Some(0.5),
-        ..InputSpec::new(CurveSource::Given(GivenCurves {
-            curves,
-            ..GivenCurves::default()
-        }))
-    };
-    let mut setup = Setup::new(&spec, &ModelOptions::default()).expect("set-up");
-    let from = dir.path().join("run");
-    let run = RunSpec {
-        budget: Some(Budget::Fraction(0.85)),
-        pictures: false,
-        ..RunSpec::new(&from)
-    };
-    curvenet::app::execute(&mut setup, &run, &Silent, &Cancel::never()).expect("runs");
+    let from = run_to(&dir, &on_bump(five_curves(), None), 0.85);
     let out = dir.path().join("slid");
     let slide = SlideSpec {
         max_move: MaxMove::Fraction(0.05),
@@ -338,8 +367,6 @@ fn each_slid_curve_keeps_its_own_end_supports() {
     // Curve 4 is pinned at both ends by a supports file, the others clamped: the slid run,
     // a network of the answer's curves only, holds each curve's ends as the run did.
     let dir = TempDir::new("slide-ends");
-    let mut curves = four_curves();
-    curves.push(lifted((0.0, 5.0), (SIZE, 5.0), 5));
     std::fs::create_dir_all(dir.path()).expect("a folder");
     let file = dir.path().join("ends.json");
     std::fs::write(
@@ -349,26 +376,7 @@ fn each_slid_curve_keeps_its_own_end_supports() {
             {"curve": 4, "end": "end", "support": "pinned"}]}"#,
     )
     .expect("writes");
-    let spec = InputSpec {
-        mesh: Some(MeshSource::Given {
-            mesh: bump(40),
-            name: "bump".into(),
-        }),
-        edge_length: Some(0.5),
-        supports_file: Some(file),
-        ..InputSpec::new(CurveSource::Given(GivenCurves {
-            curves,
-            ..GivenCurves::default()
-        }))
-    };
-    let mut setup = Setup::new(&spec, &ModelOptions::default()).expect("set-up");
-    let from = dir.path().join("run");
-    let run = RunSpec {
-        budget: Some(Budget::Fraction(0.85)),
-        pictures: false,
-        ..RunSpec::new(&from)
-    };
-    curvenet::app::execute(&mut setup, &run, &Silent, &Cancel::never()).expect("runs");
+    let from = run_to(&dir, &on_bump(five_curves(), Some(file)), 0.85);
     let out = dir.path().join("slid");
     let slide = SlideSpec {
         max_move: MaxMove::Fraction(0.05),
@@ -448,7 +456,6 @@ fn a_cancelled_slide_keeps_the_best_so_far_and_constraints_hold() {
 fn a_symmetric_run_slides_its_orbits_together_and_stays_symmetric() {
     use curvenet::constraints::{ConstraintParams, SymmetryOption, symmetry};
     let dir = TempDir::new("slide-symmetric");
-    let mesh = bump(40);
     // A square of four curves on the bump, one orbit of its quarter turns.
     let curves = vec![
         lifted((2.0, 0.0), (2.0, SIZE), 1),
@@ -458,29 +465,15 @@ fn a_symmetric_run_slides_its_orbits_together_and_stays_symmetric() {
         lifted((0.0, 5.0), (SIZE, 5.0), 5),
         lifted((5.0, 0.0), (5.0, SIZE), 6),
     ];
-    let spec = InputSpec {
-        mesh: Some(MeshSource::Given {
-            mesh: mesh.clone(),
-            name: "bump".into(),
-        }),
-        edge_length: Some(0.5),
-        ..InputSpec::new(CurveSource::Given(GivenCurves {
-            curves,
-            ..GivenCurves::default()
-        }))
-    };
-    let mut setup = Setup::new(&spec, &ModelOptions::default()).expect("set-up");
-    let from = dir.path().join("run");
     let run = RunSpec {
         budget: Some(Budget::Fraction(0.7)),
         constraints: ConstraintParams {
             symmetry: SymmetryOption::Rotate(4),
             ..ConstraintParams::default()
         },
-        pictures: false,
-        ..RunSpec::new(&from)
+        ..RunSpec::new(dir.path().join("run"))
     };
-    curvenet::app::execute(&mut setup, &run, &Silent, &Cancel::never()).expect("runs");
+    let from = recorded_run(&on_bump(curves, None), &ModelOptions::default(), run);
     let out = dir.path().join("slid");
     let slide = SlideSpec {
         max_move: MaxMove::Fraction(0.05),
@@ -544,59 +537,74 @@ fn a_group_moves_with_one_set_of_coefficients() {
 }
 
 #[test]
-fn slide_rounds_alternate_a_local_search_and_a_slide_and_record_each_objective() {
+fn slide_rounds_alternate_a_local_search_and_a_slide_and_the_best_slide_is_the_answer() {
     let dir = TempDir::new("slide-rounds");
-    let mut curves = four_curves();
-    curves.push(lifted((0.0, 5.0), (SIZE, 5.0), 5));
+    let mut curves = five_curves();
     curves.push(lifted((6.0, 0.0), (6.0, SIZE), 6));
-    let spec = InputSpec {
-        mesh: Some(MeshSource::Given {
-            mesh: bump(40),
-            name: "bump".into(),
-        }),
-        edge_length: Some(0.5),
-        ..InputSpec::new(CurveSource::Given(GivenCurves {
-            curves,
-            ..GivenCurves::default()
-        }))
-    };
-    let mut setup = Setup::new(&spec, &ModelOptions::default()).expect("set-up");
-    let from = dir.path().join("run");
     let run = RunSpec {
         budget: Some(Budget::Fraction(0.7)),
-        pictures: false,
         slide: Some(SlideSpec {
-            rounds: 1,
+            rounds: 2,
             ..SlideSpec::new("", "")
         }),
-        ..RunSpec::new(&from)
+        ..RunSpec::new(dir.path().join("run"))
     };
-    let done = curvenet::app::execute(&mut setup, &run, &Silent, &Cancel::never()).expect("runs");
-    let record = done.slide.expect("slid");
-    assert_eq!(record.rounds.len(), 1, "{record:?}");
-    let round = &record.rounds[0];
-    assert_eq!(round.start.to_bits(), record.lambda_after.to_bits());
-    // The local search starts from the slid network (measured among every curve: within a
-    // hair of its own λ_eq), and the slide after it starts from the local search's network.
-    assert!(
-        round.local_search >= round.start * (1.0 - 1e-2),
-        "{round:?}"
-    );
-    assert!(round.slid >= round.local_search * (1.0 - 1e-2), "{round:?}");
-    // The round's record is in the slid run's result.json, its final network cold gives it.
+    let from = recorded_run(&on_bump(curves, None), &ModelOptions::default(), run);
     let slid = RunFolder::open(&from.join("slide")).expect("the slid run");
-    assert_eq!(slid.result.slide.as_ref(), Some(&record));
-    let last = RunFolder::open(&from.join("slide").join(&round.folder).join("slid")).expect("run");
-    let text = curvenet::report::export::curves_json(&last, Which::Answer, true).expect("json");
+    let record = slid.result.slide.clone().expect("a slide record");
+    let rounds = &record.rounds;
+    assert_eq!(rounds.len(), 2, "{record:?}");
+    // Each round starts from the last slide; the local search starts from the slid network
+    // (measured among every curve: within a hair of its own objective), the slide after it
+    // from the local search's network.
+    assert_eq!(rounds[1].start.to_bits(), rounds[0].slid.to_bits());
+    for r in rounds {
+        assert!(r.local_search >= r.start * (1.0 - 1e-2), "{r:?}");
+        assert!(r.slid >= r.local_search * (1.0 - 1e-2), "{r:?}");
+    }
+    // The answer is the best of every slide (the first slide's is round 0), the earliest of
+    // equals, and says which.
+    let values = [rounds[0].start, rounds[0].slid, rounds[1].slid];
+    let best = (1..3).fold(0, |b, k| if values[k] > values[b] { k } else { b });
+    eprintln!("VALUES {values:?} best {best}");
+    assert_eq!(record.answer_round, Some(best), "{values:?}");
+    assert_eq!(record.lambda_after.to_bits(), values[best].to_bits());
+    let answer = slid.result.answer.clone().expect("an answer");
+    assert_eq!(answer.found.source, "slide");
+    assert!(answer.found.length <= record.budget * (1.0 + 1e-9));
+    // The others are kept: each round's slid run, and the first slide's when a round won.
+    for k in 1..=2 {
+        let r = RunFolder::open(&from.join("slide").join(format!("rounds/{k}/slid"))).expect("run");
+        let own = r.result.slide.expect("its record");
+        assert_eq!(own.lambda_after.to_bits(), values[k].to_bits());
+    }
+    if best > 0 {
+        let first = RunFolder::open(&from.join("slide/rounds/0/slid")).expect("the first slide");
+        let own = first.result.slide.expect("its record");
+        assert_eq!(own.lambda_after.to_bits(), values[0].to_bits());
+        assert!(own.rounds.is_empty());
+    }
+    // The answer's exported curves analysed cold give its objective; every point within the
+    // largest move of the curve as drawn in the run (the moves of the rounds do not add up).
+    let text = curvenet::report::export::curves_json(&slid, Which::Answer, true).expect("json");
     let read = parse_json_curves(&text, "answer.json").expect("reads back");
-    let (net, _) = build_network(&read.curves, &last.result.setup.build).expect("builds");
+    let (net, _) = build_network(&read.curves, &slid.result.setup.build).expect("builds");
     let an = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
     let lambda = an.analyze(&an.all(), None).expect("analyses").lambda();
     assert!(
-        (lambda - round.slid).abs() < 1e-6 * round.slid.abs(),
-        "{lambda} vs {round:?}"
+        (lambda - record.lambda_after).abs() < 1e-6 * record.lambda_after.abs(),
+        "{lambda} vs {record:?}"
     );
-    assert!(last.result.answer.expect("answer").found.length <= record.budget * (1.0 + 1e-9));
+    let source = RunFolder::open(&from).expect("the run");
+    for (i, curve) in read.curves.iter().enumerate() {
+        let id = match best {
+            0 => record.curves[i].from,
+            k => rounds[k - 1].curves[record.curves[i].from],
+        };
+        let drawn = &network_polylines(&source.network, &[id], None)[0];
+        let moved = curvenet::slide::moves::largest_distance(&curve.points, drawn);
+        assert!(moved <= record.max_move * (1.0 + 1e-3), "curve {id}: {moved}");
+    }
 }
 
 #[test]

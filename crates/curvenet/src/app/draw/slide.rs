@@ -64,6 +64,7 @@ impl Drawing {
             physical: None,
             curves,
             ids: kept.to_vec(),
+            drawn: Vec::new(),
             build: super::super::slide::build_for(&i.build, kept),
             stability: model.stability,
             budget,
