@@ -18,7 +18,7 @@ use curvenet::network::checks::surface::MeshDistance;
 use curvenet::network::{BuildParams, build_network};
 use curvenet::run_folder::{RunFolder, Which, network_polylines};
 use curvenet::simplify::Budget;
-use curvenet::slide::{MaxMove, SlideError, SlideParams, SlideProblem, Slider};
+use curvenet::slide::{MaxMove, SlideError, SlideParams, SlideProblem, Slider, is_gain};
 use curvenet::stability::{Analyzer, StabilityParams};
 
 const SIZE: f64 = 10.0;
@@ -125,11 +125,7 @@ fn five_curves() -> Vec<Polyline> {
 
 /// The run `run` (its folder `run.out`; no pictures) of `input` in the model `model`,
 /// recorded; returns its folder.
-fn recorded_run(
-    input: &InputSpec,
-    model: &ModelOptions,
-    run: RunSpec,
-) -> std::path::PathBuf {
+fn recorded_run(input: &InputSpec, model: &ModelOptions, run: RunSpec) -> std::path::PathBuf {
     let mut setup = Setup::new(input, model).expect("set-up");
     let run = RunSpec {
         pictures: false,
@@ -562,11 +558,15 @@ fn slide_rounds_alternate_a_local_search_and_a_slide_and_the_best_slide_is_the_a
         assert!(r.local_search >= r.start * (1.0 - 1e-2), "{r:?}");
         assert!(r.slid >= r.local_search * (1.0 - 1e-2), "{r:?}");
     }
-    // The answer is the best of every slide (the first slide's is round 0), the earliest of
-    // equals, and says which.
+    // The answer is the best of every slide (the first slide's is round 0), a later one only
+    // for a gain (more than 1e-6 relative: here round 2 slides back to round 1's network, a
+    // hair above it), and says which.
     let values = [rounds[0].start, rounds[0].slid, rounds[1].slid];
-    let best = (1..3).fold(0, |b, k| if values[k] > values[b] { k } else { b });
-    eprintln!("VALUES {values:?} best {best}");
+    let best = (1..3).fold(0, |b, k| match is_gain(values[k], values[b]) {
+        true => k,
+        false => b,
+    });
+    assert!(best > 0, "here a round's slide is a gain: {values:?}");
     assert_eq!(record.answer_round, Some(best), "{values:?}");
     assert_eq!(record.lambda_after.to_bits(), values[best].to_bits());
     let answer = slid.result.answer.clone().expect("an answer");
@@ -603,46 +603,44 @@ fn slide_rounds_alternate_a_local_search_and_a_slide_and_the_best_slide_is_the_a
         };
         let drawn = &network_polylines(&source.network, &[id], None)[0];
         let moved = curvenet::slide::moves::largest_distance(&curve.points, drawn);
-        assert!(moved <= record.max_move * (1.0 + 1e-3), "curve {id}: {moved}");
+        assert!(
+            moved <= record.max_move * (1.0 + 1e-3),
+            "curve {id}: {moved}"
+        );
+    }
+}
+
+/// The physical model of the physical tests: steel tubes of radius 0.05 m on the bump in
+/// metres, on their first frequency; `loads` a loads file.
+fn steel(loads: Option<&std::path::Path>) -> ModelOptions {
+    use curvenet::physics::PhysicalOptions;
+    ModelOptions {
+        radius: Some(0.05),
+        objective: curvenet::stability::Objective::Frequency,
+        physical: PhysicalOptions {
+            units: Some("m".into()),
+            material: Some("steel".into()),
+            loads: loads.map(|l| l.display().to_string()),
+            ..Default::default()
+        },
+        ..ModelOptions::default()
     }
 }
 
 #[test]
-fn a_physical_run_slides_on_its_first_frequency_and_records_its_physical_figures() {
-    use curvenet::physics::PhysicalOptions;
-    use curvenet::stability::Objective;
+fn a_physical_run_slides_on_its_first_frequency_under_its_largest_deviation() {
     let dir = TempDir::new("slide-physical");
-    let mut curves = four_curves();
-    curves.push(lifted((0.0, 5.0), (SIZE, 5.0), 5));
-    let spec = InputSpec {
-        mesh: Some(MeshSource::Given {
-            mesh: bump(40),
-            name: "bump".into(),
-        }),
-        edge_length: Some(0.5),
-        ..InputSpec::new(CurveSource::Given(GivenCurves {
-            curves,
-            ..GivenCurves::default()
-        }))
-    };
-    let model = ModelOptions {
-        radius: Some(0.05),
-        objective: Objective::Frequency,
-        physical: PhysicalOptions {
-            units: Some("m".into()),
-            material: Some("steel".into()),
-            ..Default::default()
-        },
-        ..ModelOptions::default()
-    };
-    let mut setup = Setup::new(&spec, &model).expect("set-up");
-    let from = dir.path().join("run");
+    let model = steel(None);
+    let limit = 1.0;
     let run = RunSpec {
         budget: Some(Budget::Fraction(0.85)),
-        pictures: false,
-        ..RunSpec::new(&from)
+        constraints: curvenet::constraints::ConstraintParams {
+            max_deviation: Some(limit),
+            ..Default::default()
+        },
+        ..RunSpec::new(dir.path().join("run"))
     };
-    curvenet::app::execute(&mut setup, &run, &Silent, &Cancel::never()).expect("runs");
+    let from = recorded_run(&on_bump(five_curves(), None), &model, run);
     let out = dir.path().join("slid");
     let slide = SlideSpec {
         pictures: false,
@@ -657,7 +655,8 @@ fn a_physical_run_slides_on_its_first_frequency_and_records_its_physical_figures
     let answer = slid.result.answer.clone().expect("an answer");
     assert!(answer.physical.is_some(), "{answer:?}");
     assert!(slid.result.setup.physical_model.is_some());
-    // Its exported curves analysed cold in the physical model: the recorded μ_min.
+    // Its exported curves analysed cold in the physical model: the recorded μ_min, and the
+    // largest deviation under self-weight, measured as the run measures it, within the limit.
     let text = curvenet::report::export::curves_json(&slid, Which::Answer, true).expect("json");
     let read = parse_json_curves(&text, "answer.json").expect("reads back");
     let (net, _) = build_network(&read.curves, &slid.result.setup.build).expect("builds");
@@ -667,41 +666,134 @@ fn a_physical_run_slides_on_its_first_frequency_and_records_its_physical_figures
     let an = Analyzer::new(net, slid.result.setup.stability.clone())
         .and_then(|a| a.with_physical(physical))
         .expect("analyzer");
-    let mu = an.analyze(&an.all(), None).expect("analyses").lambda();
+    let analysis = an.analyze(&an.all(), None).expect("analyses");
+    let mu = analysis.lambda();
     assert!(
         (mu - record.lambda_after).abs() < 1e-6 * mu.abs(),
         "{mu} vs {record:?}"
     );
-    // What a slid network cannot keep is refused by name.
-    let deviation = dir.path().join("deviation");
-    let run = RunSpec {
-        constraints: curvenet::constraints::ConstraintParams {
-            max_deviation: Some(1.0),
-            ..Default::default()
-        },
-        ..RunSpec::new(&deviation)
-    };
-    let mut setup = Setup::new(&spec, &model).expect("set-up");
-    curvenet::app::execute(
-        &mut setup,
-        &RunSpec {
-            budget: Some(Budget::Fraction(0.85)),
-            pictures: false,
-            ..run
-        },
-        &Silent,
-        &Cancel::never(),
-    )
-    .expect("runs");
-    let e = curvenet::app::slide(
-        &SlideSpec::new(&deviation, dir.path().join("no")),
-        &Silent,
-        &Cancel::never(),
-    )
-    .expect_err("refused");
-    let text = e.render(&curvenet::words::Recorded);
+    let all: Vec<usize> = (0..an.network().rods.len()).collect();
+    let deviation = an
+        .structure_deviation(&all, &analysis.displacement)
+        .expect("a deviation");
+    let recorded = record.deviation.expect("the slid network's deviation");
+    assert!(recorded <= limit, "{recorded}");
     assert!(
-        text.contains("largest deviation") && text.contains("physical mode"),
-        "{text}"
+        (deviation - recorded).abs() <= 1e-6 * recorded,
+        "{deviation} vs {recorded}"
+    );
+}
+
+#[test]
+fn a_physical_run_with_its_own_materials_pre_bent_curves_and_point_loads_slides() {
+    let dir = TempDir::new("slide-physical-own");
+    std::fs::create_dir_all(dir.path()).expect("a folder");
+    // Curve 1 of aluminium, curve 3 pre-bent at rest; a point load at curve 3's middle.
+    let curves = five_curves();
+    let spec = |c: usize| match c {
+        1 => r#", "material": "aluminium""#,
+        3 => r#", "rest": "pre-bent""#,
+        _ => "",
+    };
+    let json = |curves: &[Polyline], spec: &dyn Fn(usize) -> &'static str| {
+        let items: Vec<String> = (curves.iter().enumerate())
+            .map(|(c, p)| {
+                let pts: Vec<String> = (p.points.iter())
+                    .map(|q| format!("[{:e}, {:e}, {:e}]", q.x, q.y, q.z))
+                    .collect();
+                format!(r#"{{"points": [{}]{}}}"#, pts.join(", "), spec(c))
+            })
+            .collect();
+        format!(
+            r#"{{"format": "curvenet-curves", "version": 1, "curves": [{}]}}"#,
+            items.join(",\n")
+        )
+    };
+    let file = dir.path().join("curves.json");
+    std::fs::write(&file, json(&curves, &spec)).expect("writes");
+    let at = [3.0, 5.0, height(3.0, 5.0)];
+    let loads = dir.path().join("loads.json");
+    std::fs::write(
+        &loads,
+        format!(
+            r#"{{"cases": [{{"name": "G", "self_weight": true}},
+                {{"name": "P", "points": [{{"at": [{}, {}, {}], "force": [0, 0, -1000]}}]}}]}}"#,
+            at[0], at[1], at[2]
+        ),
+    )
+    .expect("writes");
+    let input = InputSpec {
+        mesh: Some(MeshSource::Given {
+            mesh: bump(40),
+            name: "bump".into(),
+        }),
+        edge_length: Some(0.5),
+        ..InputSpec::new(CurveSource::Files(vec![file]))
+    };
+    let model = steel(Some(&loads));
+    // Every curve kept; the pre-bent curve alone moves.
+    let run = RunSpec {
+        budget: Some(Budget::Length(100.0)),
+        ..RunSpec::new(dir.path().join("run"))
+    };
+    let from = recorded_run(&input, &model, run);
+    let out = dir.path().join("slid");
+    let slide = SlideSpec {
+        pictures: false,
+        max_move: MaxMove::Fraction(0.05),
+        pin: vec![0, 1, 2, 4],
+        ..SlideSpec::new(&from, &out)
+    };
+    let done = curvenet::app::slide(&slide, &Silent, &Cancel::never()).expect("slides");
+    let record = &done.record;
+    let slid = RunFolder::open(&out).expect("a run folder");
+    let position = |id: usize| {
+        record
+            .curves
+            .iter()
+            .position(|c| c.from == id)
+            .expect("kept")
+    };
+    let (aluminium, bent) = (position(1), position(3));
+    assert!(record.lambda_after > record.lambda_before, "{record:?}");
+    assert!(record.curves[bent].largest_move > 0.01, "{record:?}");
+    // Each curve keeps its own material and rest shape, by its place in the slid network.
+    let own = slid.result.setup.physical_model.clone().expect("physical");
+    assert_eq!(own.pre_bent, vec![bent]);
+    assert_eq!(
+        own.physical
+            .curves
+            .iter()
+            .map(|o| o.curve)
+            .collect::<Vec<_>>(),
+        vec![aluminium]
+    );
+    // The point load went with curve 3: on the slid curve, where it was along it.
+    let slid_curves = network_polylines(&slid.network, &[bent], None);
+    let moved = own.loads.as_ref().expect("loads").cases[1].points[0].at;
+    let off = curvenet::slide::moves::largest_distance(&[moved.into()], &slid_curves[0]);
+    assert!(off < 1e-9 * SIZE, "{moved:?} is {off} off the slid curve");
+    // `curvenet analyze` of the exported curves with the same per-curve material and rest
+    // shapes and the moved loads: the recorded objective, to 1e-6.
+    let text = curvenet::report::export::curves_json(&slid, Which::Answer, true).expect("json");
+    let read = parse_json_curves(&text, "answer.json").expect("reads back");
+    let exported = dir.path().join("answer.json");
+    let own_spec = |c: usize| match c {
+        c if c == aluminium => spec(1),
+        c if c == bent => spec(3),
+        _ => "",
+    };
+    std::fs::write(&exported, json(&read.curves, &own_spec)).expect("writes");
+    let cold = InputSpec {
+        curves: CurveSource::Files(vec![exported]),
+        ..input.clone()
+    };
+    let mut setup = Setup::new(&cold, &model).expect("set-up");
+    let analysed =
+        curvenet::app::analyze(&mut setup, &[], &curvenet::words::Recorded).expect("analyses");
+    let mu = analysed.analysis.lambda();
+    assert!(
+        (mu - record.lambda_after).abs() < 1e-6 * mu.abs(),
+        "{mu} vs {record:?}"
     );
 }

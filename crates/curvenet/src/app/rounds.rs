@@ -34,10 +34,10 @@ pub(super) fn run(
 ) -> Result<(), AppError> {
     let mut rounds = Vec::new();
     let done = run_rounds(spec, first, &mut rounds, observer, cancel);
-    // The best of every slide (the first slide's is round 0), the earliest of equals.
+    // The best of every slide (the first slide's is round 0): a later one only for a gain.
     let mut best = (0, first.record.lambda_after);
     for r in &rounds {
-        if r.slid > best.1 {
+        if crate::slide::is_gain(r.slid, best.1) {
             best = (r.round, r.slid);
         }
     }
@@ -57,9 +57,8 @@ pub(super) fn run(
 fn adopt_round(spec: &SlideSpec, round: usize, first: &mut SlideOutcome) -> Result<(), AppError> {
     let kept = spec.out.join("rounds").join("0").join("slid");
     let from = spec.out.join("rounds").join(round.to_string()).join("slid");
-    let failed = |p: &std::path::Path, e: std::io::Error| {
-        AppError::Failed(format!("{}: {e}", p.display()))
-    };
+    let failed =
+        |p: &std::path::Path, e: std::io::Error| AppError::Failed(format!("{}: {e}", p.display()));
     std::fs::create_dir_all(&kept).map_err(|e| failed(&kept, e))?;
     for (dir, to, keep) in [(&spec.out, &kept, false), (&from, &spec.out, true)] {
         let entries = std::fs::read_dir(dir).map_err(|e| failed(dir, e))?;

@@ -175,7 +175,8 @@ pub(super) fn slide_once(
     let physical = physical_of(&run, curves)?;
     let problem = SlideProblem {
         physical,
-        drawn: drawn_before.map_or_else(Vec::new, |d| curves.iter().map(|&c| d[c].clone()).collect()),
+        drawn: drawn_before
+            .map_or_else(Vec::new, |d| curves.iter().map(|&c| d[c].clone()).collect()),
         curves: drawn,
         ids: curves.clone(),
         build: build_for(&setup.build, curves),
@@ -385,6 +386,11 @@ fn physical_of(run: &RunFolder, ids: &[usize]) -> Result<Option<PhysicalParams>,
     let setup = &run.result.setup;
     let (Some(options), Some(model)) = (&setup.physical, &setup.physical_model) else {
         return Ok(None);
+    };
+    // The load cases are the run's record's (its loads file is not read again).
+    let options = crate::physics::PhysicalOptions {
+        loads: None,
+        ..options.clone()
     };
     let resolved = options.resolve(None, &[]).map_err(AppError::Usage)?;
     Ok(resolved.map(|mut p| {

@@ -51,6 +51,16 @@ pub const SETTLED: f64 = 1e-11;
 /// The most builds of one network while it settles.
 pub const MAX_REBUILDS: usize = 8;
 
+/// A gain: more than this fraction of the objective's magnitude (smaller differences are
+/// within what a rebuild reproduces; the search's steps and the choice among a run's slides
+/// both count only gains).
+pub const RELATIVE_GAIN: f64 = 1e-6;
+
+/// Whether the objective `a` is a gain over `b` ([`RELATIVE_GAIN`]).
+pub fn is_gain(a: f64, b: f64) -> bool {
+    a > b + RELATIVE_GAIN * b.abs().max(f64::MIN_POSITIVE)
+}
+
 /// A curve end within this fraction of the surface's diagonal of the boundary lies on it.
 pub const ON_BOUNDARY: f64 = 0.005;
 
@@ -562,7 +572,7 @@ impl Slider {
             step: self.max_move / 2.0,
             min_step: self.max_move * self.params.min_step,
             max_evaluations: self.params.max_evaluations,
-            relative_gain: 1e-6,
+            relative_gain: RELATIVE_GAIN,
             probe: self.params.probe,
         };
         let search = pattern_search(self.dimension, &value, &params, cancel, progress);
