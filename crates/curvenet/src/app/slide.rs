@@ -48,7 +48,8 @@ pub struct SlideSpec {
     /// Run into a non-empty folder that is not a curvenet run's.
     pub force: bool,
     /// Rounds of topology and geometry after the slide (0: none): each a local search on the
-    /// slid network's curves, then a slide of its network ([`super::rounds`]).
+    /// slid network's curves, then a slide of its network; the best slide of all is the
+    /// answer ([`super::rounds`]).
     pub rounds: usize,
 }
 
