@@ -1465,8 +1465,8 @@ fn reader_warnings_are_printed_once_with_one_prefix() {
 }
 
 /// `curvenet slide` refuses, with exit 2 and the option named, a run without a surface, a
-/// largest move out of range, a pinned curve the network lacks, too many rounds and a physical
-/// run's largest deviation.
+/// largest move out of range, a pinned curve the network lacks and too many rounds; a physical
+/// run under a largest deviation slides, the slid network's deviation recorded.
 #[test]
 fn a_slide_without_a_surface_or_with_bad_options_is_refused() {
     let dir = TempDir::new("cli-errors-slide");
@@ -1494,7 +1494,7 @@ fn a_slide_without_a_surface_or_with_bad_options_is_refused() {
     };
     simplify("bare", false);
     simplify("run", true);
-    // A physical run under a largest deviation, which a slide cannot keep.
+    // A physical run under a largest deviation: a slide keeps it.
     let (code, stderr) = curvenet(&[
         "simplify",
         "--curves",
@@ -1537,7 +1537,6 @@ fn a_slide_without_a_surface_or_with_bad_options_is_refused() {
             &["slide", "run", "--out", "s", "--slide-rounds", "101"],
             "--slide-rounds",
         ),
-        (&["slide", "physical", "--out", "s"], "--max-deviation"),
     ] {
         let (code, stderr) = curvenet(args);
         assert_eq!(code, 2, "{args:?}: {stderr}");
@@ -1547,4 +1546,8 @@ fn a_slide_without_a_surface_or_with_bad_options_is_refused() {
     let (code, stderr) = curvenet(&["slide", "run", "--out", "s"]);
     assert_eq!(code, 0, "{stderr}");
     assert!(dir.0.join("s/result.json").is_file());
+    let (code, stderr) = curvenet(&["slide", "physical", "--out", "sp"]);
+    assert_eq!(code, 0, "{stderr}");
+    let result = std::fs::read_to_string(dir.0.join("sp/result.json")).expect("result.json");
+    assert!(result.contains("\"deviation\""), "{result}");
 }

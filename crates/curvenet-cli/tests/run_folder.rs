@@ -473,3 +473,36 @@ fn view_and_export_of_a_damaged_run_folder_exit_2_naming_the_file() {
         }
     }
 }
+
+/// The viewer page a run writes (its gravity deflections solved while the greedy ran) is the
+/// page `view` makes from the folder alone, byte for byte.
+#[test]
+fn the_runs_viewer_page_is_the_one_view_makes_from_the_folder() {
+    let tmp = TempDir::new("viewer-ahead");
+    let curves = dome_curves(&tmp.0, "curves.json");
+    let o = run_in(
+        &tmp.0,
+        &[
+            "simplify",
+            "--mesh",
+            "dome",
+            "--curves",
+            curves.to_str().unwrap(),
+            "--edge-length",
+            "100",
+            "--budget",
+            "0.3",
+            "--out",
+            "out",
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let o = run_in(
+        &tmp.0,
+        &["view", "out", "--output", "again.html", "--no-pictures"],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let page = std::fs::read_to_string(tmp.0.join("out/viewer.html")).unwrap();
+    assert!(page.contains("\"max_displacement\""), "gravity embedded");
+    assert!(page == std::fs::read_to_string(tmp.0.join("again.html")).unwrap());
+}

@@ -203,6 +203,16 @@ def test_a_slide_gives_the_command_lines_numbers(cli, dome, tmp_path):
     a = curvenet.open_run(tmp_path / "cli" / "slide" / "rounds" / "1" / "slid")
     b = curvenet.open_run(tmp_path / "py" / "slide" / "rounds" / "1" / "slid")
     assert _comparable_slide(a.result) == _comparable_slide(b.result)
+    # The answer is the best slide of every round, on both sides the same one.
+    s = got.slide
+    start, slid = s.rounds[0].start, s.rounds[0].slid
+    assert s.answer_round == expected.slide.answer_round
+    assert s.answer_round == (1 if slid > start + 1e-6 * abs(start) else 0)
+    assert s.lambda_after == (slid if s.answer_round == 1 else start)
+    assert s.answer.lambda_eq == expected.slide.answer.lambda_eq
+    if s.answer_round == 1:
+        for side in (tmp_path / "cli", tmp_path / "py"):
+            assert (side / "slide" / "rounds" / "0" / "slid" / "result.json").is_file()
     # `curvenet slide` and `curvenet.slide` on the runs they made: the same slid numbers.
     cli("slide", tmp_path / "cli", "--out", tmp_path / "cli-again", "--pin", "0")
     again = curvenet.slide(got, tmp_path / "py-again", pin=[0])

@@ -20,7 +20,7 @@
 
 mod common;
 
-use common::fuzz_config;
+use common::{TempDir, fuzz_config};
 use curvenet::geom::Vec3;
 use curvenet::io::{
     self, CurveFile, InputError, MeshFile, Origin, Polyline, TriMesh, curves_to_json,
@@ -491,15 +491,13 @@ proptest! {
         bytes in prop::collection::vec(any::<u8>(), 0..300),
         ext in prop::sample::select(&["txt", "obj", "json", "OBJ", "csv"][..]),
     ) {
-        let dir = std::env::temp_dir().join(format!("curvenet-fuzz-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        let path = dir.join(format!("in.{ext}"));
+        let dir = TempDir::create("bytes");
+        let path = dir.path().join(format!("in.{ext}"));
         std::fs::write(&path, &bytes).unwrap();
         let name = path.display().to_string();
         for result in [io::read_curves(&path).err(), io::read_mesh(&path).err()].into_iter().flatten() {
             prop_assert!(result.to_string().starts_with(&format!("{name}:")), "{result}");
         }
-        let _ = std::fs::remove_file(&path);
     }
 }
 

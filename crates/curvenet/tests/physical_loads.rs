@@ -159,3 +159,24 @@ fn a_flat_arch_stands_where_the_linearised_estimate_says_it_buckles() {
     assert_eq!(c.buckling_factor, None);
     assert!(c.linear_buckling_factor.is_some_and(|a| a < 10.0));
 }
+
+/// Every export carries the structure's own weight as a load case named `self-weight`: a
+/// case or combination of a loads file may not take the name (at its line).
+#[test]
+fn the_self_weights_name_is_refused_for_a_case_or_a_combination() {
+    let case = "{\"cases\": [\n  {\"name\": \"Self-Weight\", \"self_weight\": true}\n]}";
+    let e = Loads::parse(case, "loads.json").unwrap_err().to_string();
+    assert!(
+        e.starts_with("loads.json:2:") && e.contains("own weight"),
+        "{e}"
+    );
+    let combination = "{\"cases\": [{\"name\": \"G\", \"self_weight\": true}],\n\
+                       \"combinations\": [\n  {\"name\": \"self-weight\", \"factors\": {\"G\": 1}}\n]}";
+    let e = Loads::parse(combination, "loads.json")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("loads.json:3:") && e.contains("own weight"),
+        "{e}"
+    );
+}

@@ -6,26 +6,16 @@
 
 mod common;
 
-use common::{Rng, build, polyline, random_curves, rel_diff};
+use common::{
+    Rng, arch_with_links, build, drawn_rest_shapes, polyline, random_curves, rel_diff,
+    steel_bars_under,
+};
 use curvenet::geom::Vec3;
-use curvenet::material::{Physical, RestShape, Section, presets};
+use curvenet::material::RestShape;
 use curvenet::network::Network;
 use curvenet::physics::cases::Loads;
-use curvenet::physics::{PhysicalParams, PhysicalReport, analyze_physical};
 use curvenet::rod::{ActiveSet, EnergyModel, Material, Pressure, PressurePart, Supports};
-use curvenet::units::LengthUnit;
 use std::f64::consts::PI;
-
-fn analyze(net: &Network, loads: &str, rest: Vec<RestShape>) -> PhysicalReport {
-    let mut params = PhysicalParams::new(Physical::uniform(
-        LengthUnit::Millimetre,
-        presets::preset("steel").unwrap(),
-        Section::Solid { radius: 10.0 },
-    ));
-    params.rest = rest;
-    params.loads = Some(Loads::parse(loads, "loads.json").expect("loads"));
-    analyze_physical(net, &params, &ActiveSet::all(net.rods.len())).expect("analysis")
-}
 
 /// `E I` of a steel bar of radius 10 mm, N·mm².
 fn ei() -> f64 {
@@ -126,36 +116,18 @@ fn the_pressure_potential_has_exact_derivatives() {
 /// arch by pins (they resist the arch leaving its plane by their axial stiffness and nothing
 /// in the plane: a pinned link turns freely about its far end).
 fn arch(radius: f64, half: f64, edges: usize, links: usize) -> (Network, Vec<RestShape>) {
-    let drawn = 12 * edges;
     let at = |t: f64| {
         let a = -half + 2.0 * half * t;
         Vec3::new(radius * a.sin(), 0.0, radius * a.cos())
     };
-    let mut curves = vec![polyline(
-        (0..=drawn).map(|i| at(i as f64 / drawn as f64)).collect(),
-        false,
-    )];
     let h = 2.0 * half * radius / edges as f64;
-    for k in 1..=links {
-        // On a drawn point of the arch, so the link meets it there.
-        let p = at((k * drawn / (links + 1)) as f64 / drawn as f64);
-        curves.push(polyline(vec![p, p + Vec3::new(0.0, 2.0 * h, 0.0)], false));
-    }
-    let mut net = build(&curves, h, Supports::Pinned);
+    let mut net = build(&arch_with_links(at, edges, h, links), h, Supports::Pinned);
     // A link's end on the arch is a joint, not a support.
     for r in &mut net.rods[1..] {
         let joint = r.vertices[0];
         r.anchors.retain(|&v| v != joint);
     }
-    let rest = (0..net.rods.len())
-        .map(|k| {
-            if net.rods[k].is_drawn_straight(&net.positions) {
-                RestShape::Straight
-            } else {
-                RestShape::PreBent
-            }
-        })
-        .collect();
+    let rest = drawn_rest_shapes(&net);
     (net, rest)
 }
 
@@ -175,7 +147,7 @@ fn a_pinned_arch_under_pressure_buckles_where_timoshenko_says() {
     ]}"#;
     let (net, rest) = arch(radius, half, 60, 11);
     assert_eq!(net.rods.len(), 12);
-    let r = analyze(&net, loads, rest);
+    let r = steel_bars_under(&net, loads, rest);
     let c = &r.load_cases[0];
     let got = c.buckling_factor.expect("buckles") * 10.0;
     println!(
@@ -190,7 +162,7 @@ fn a_pinned_arch_under_pressure_buckles_where_timoshenko_says() {
     assert!(c.holds);
     // Free to leave its plane, it swings out of it at once.
     let (net, rest) = arch(radius, half, 60, 0);
-    let c = analyze(&net, loads, rest).load_cases[0].clone();
+    let c = steel_bars_under(&net, loads, rest).load_cases[0].clone();
     let free = c.buckling_factor.expect("buckles") * 10.0;
     println!(
         "free to leave its plane: q_cr {free:.4} N/mm, {:?}",
@@ -225,7 +197,7 @@ fn a_straight_bar_under_pressure_bends_as_under_the_same_line_load() {
         {"name": "D", "factors": {"W": 1, "Q": -1}}
       ]
     }"#;
-    let r = analyze(&bar(), loads, vec![RestShape::Straight]);
+    let r = steel_bars_under(&bar(), loads, vec![RestShape::Straight]);
     let d: Vec<f64> = (r.load_cases.iter())
         .map(|c| c.max_deflection.unwrap())
         .collect();

@@ -10,14 +10,12 @@
 
 mod common;
 
-use common::{polyline, rel_diff};
+use common::{arch_with_links, drawn_rest_shapes, rel_diff, steel_bars_under};
 use curvenet::geom::Vec3;
-use curvenet::material::{EndSupport, Physical, RestShape, Section, presets};
+use curvenet::material::{EndSupport, RestShape};
 use curvenet::network::{BuildParams, Network, build_network};
-use curvenet::physics::cases::Loads;
-use curvenet::physics::{PhysicalParams, PhysicalReport, analyze_physical};
-use curvenet::rod::{ActiveSet, Supports};
-use curvenet::units::LengthUnit;
+use curvenet::physics::PhysicalReport;
+use curvenet::rod::Supports;
 
 /// Half the span, mm.
 const HALF_SPAN: f64 = 500.0;
@@ -34,20 +32,12 @@ const CONVERGED: f64 = 3252.0;
 fn arch(edges: usize) -> (Network, Vec<RestShape>) {
     let radius = (HALF_SPAN * HALF_SPAN + RISE * RISE) / (2.0 * RISE);
     let half = (HALF_SPAN / radius).asin();
-    let drawn = 12 * edges;
     let at = |t: f64| {
         let a = -half + 2.0 * half * t;
         Vec3::new(radius * a.sin(), 0.0, radius * a.cos() - (radius - RISE))
     };
-    let mut curves = vec![polyline(
-        (0..=drawn).map(|i| at(i as f64 / drawn as f64)).collect(),
-        false,
-    )];
     let h = 2.0 * half * radius / edges as f64;
-    for k in 1..=LINKS {
-        let p = at((k * drawn / (LINKS + 1)) as f64 / drawn as f64);
-        curves.push(polyline(vec![p, p + Vec3::new(0.0, 2.0 * h, 0.0)], false));
-    }
+    let curves = arch_with_links(at, edges, h, LINKS);
     // A link's end on the arch is a joint, not a support; its far end a guide along y.
     let guide = EndSupport {
         fixed: [false, true, false],
@@ -63,15 +53,7 @@ fn arch(edges: usize) -> (Network, Vec<RestShape>) {
         ..BuildParams::default()
     };
     let net = build_network(&curves, &params).expect("the arch builds").0;
-    let rest = (0..net.rods.len())
-        .map(|k| {
-            if net.rods[k].is_drawn_straight(&net.positions) {
-                RestShape::Straight
-            } else {
-                RestShape::PreBent
-            }
-        })
-        .collect();
+    let rest = drawn_rest_shapes(&net);
     (net, rest)
 }
 
@@ -82,17 +64,10 @@ const LOAD: f64 = 50.0;
 /// The arch's analysis under `LOAD` down on its crown.
 fn snap(edges: usize) -> PhysicalReport {
     let (net, rest) = arch(edges);
-    let mut params = PhysicalParams::new(Physical::uniform(
-        LengthUnit::Millimetre,
-        presets::preset("steel").unwrap(),
-        Section::Solid { radius: 10.0 },
-    ));
-    params.rest = rest;
     let loads = format!(
         r#"{{"cases": [{{"name": "P", "points": [{{"at": [0, 0, {RISE}], "force": [0, 0, -{LOAD}]}}]}}]}}"#
     );
-    params.loads = Some(Loads::parse(&loads, "loads.json").expect("loads"));
-    analyze_physical(&net, &params, &ActiveSet::all(net.rods.len())).expect("analysis")
+    steel_bars_under(&net, &loads, rest)
 }
 
 #[test]

@@ -803,7 +803,9 @@ class Slide(Record):
     ``length_before``, ``length_after``, ``budget``, ``curves`` (each curve's id in the run
     it came from, ``largest_move`` and move ``coefficients``), ``evaluations``, ``steps``,
     ``rounds`` (with ``slide_rounds``: each round's ``start``, ``local_search`` and ``slid``
-    objectives, its ``curves`` and ``folder``)."""
+    objectives, its ``curves`` and ``folder``), ``answer_round`` (with ``slide_rounds``: the
+    slide whose network is the answer, the best of every slide; 0 the first) and ``deviation``
+    (the slid network's largest deviation, when a largest deviation is in force)."""
 
     def __init__(self, record: Dict[str, Any], run: "Result"):
         super().__init__(record)
@@ -827,6 +829,14 @@ class Slide(Record):
         ``round``, ``start``, ``local_search``, ``slid``, ``curves`` and ``folder``; empty
         without."""
         return [Record(r) for r in self.get("rounds", [])]
+
+    @property
+    def answer_round(self) -> Optional[int]:
+        """With ``slide_rounds``: the slide whose network is the answer, the best of every
+        slide by the objective (a later one only for a gain of more than 1e-6 relative): 0 the
+        first slide, ``K`` round ``K``'s (the record is then that slide's own, and the first
+        slide's run is kept in ``rounds/0/slid``); None without rounds."""
+        return self.get("answer_round")
 
 
 def slide(

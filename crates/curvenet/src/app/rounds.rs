@@ -4,9 +4,13 @@
 //! of the run the first slide started from, the slid curves in place of their drawn shapes
 //! (so it may add curves that were not chosen, drop or swap slid ones), from the slid network,
 //! under the run's budget, keep list and design constraints; its best network is recorded as
-//! a run (`rounds/K/local` in the slid run's folder) and slid again (`rounds/K/slid`). Each
-//! round's objectives go into the first slide's record ([`SlideRound`]); the last round's
-//! `slid` folder holds the final network.
+//! a run (`rounds/K/local` in the slid run's folder) and slid again (`rounds/K/slid`), every
+//! move still measured from the curve as drawn. Each round's objectives go into the record
+//! ([`SlideRound`]). The answer is the best network of every slide, by the objective, the
+//! earliest of equals: when a round's is better than the first slide's, the slid run's folder
+//! takes that round's slid run (its record the round's slide's own, with every round and
+//! `answer_round`) and the first slide is kept in `rounds/0/slid`; a cancelled round leaves the
+//! best so far as the answer.
 
 use super::inputs::Inputs;
 use super::observer::{Observer, StageGuard};
@@ -20,10 +24,79 @@ use crate::simplify::Budget;
 use crate::simplify::local::local_search;
 
 /// Runs `spec.rounds` rounds after the slide `first` (recorded in `spec.out`), adding each
-/// round to its record and to `spec.out`'s `result.json`.
+/// round to its record and to `spec.out`'s `result.json`, then makes the best slide's network
+/// the answer (module docs); `first` then describes the folder's run.
 pub(super) fn run(
     spec: &SlideSpec,
     first: &mut SlideOutcome,
+    observer: &dyn Observer,
+    cancel: &Cancel,
+) -> Result<(), AppError> {
+    let mut rounds = Vec::new();
+    let done = run_rounds(spec, first, &mut rounds, observer, cancel);
+    // The best of every slide (the first slide's is round 0): a later one only for a gain.
+    let mut best = (0, first.record.lambda_after);
+    for r in &rounds {
+        if crate::slide::is_gain(r.slid, best.1) {
+            best = (r.round, r.slid);
+        }
+    }
+    if best.0 > 0 {
+        adopt_round(spec, best.0, first)?;
+    }
+    first.record.rounds = rounds;
+    first.record.answer_round = Some(best.0);
+    let result = &mut first.run.result;
+    result.slide = Some(first.record.clone());
+    write_result(&spec.out, result)?;
+    done
+}
+
+/// The slid run of round `round` made the run in `spec.out`: the first slide's files moved to
+/// `rounds/0/slid`, the round's copied in, and `first` read back from them.
+fn adopt_round(spec: &SlideSpec, round: usize, first: &mut SlideOutcome) -> Result<(), AppError> {
+    let kept = spec.out.join("rounds").join("0").join("slid");
+    let from = spec.out.join("rounds").join(round.to_string()).join("slid");
+    let failed =
+        |p: &std::path::Path, e: std::io::Error| AppError::Failed(format!("{}: {e}", p.display()));
+    std::fs::create_dir_all(&kept).map_err(|e| failed(&kept, e))?;
+    for (dir, to, keep) in [(&spec.out, &kept, false), (&from, &spec.out, true)] {
+        let entries = std::fs::read_dir(dir).map_err(|e| failed(dir, e))?;
+        for entry in entries {
+            let entry = entry.map_err(|e| failed(dir, e))?;
+            let name = entry.file_name();
+            let path = entry.path();
+            if !path.is_file() || name == std::ffi::OsStr::new(crate::run_folder::folder::LOCK_FILE)
+            {
+                continue;
+            }
+            let target = to.join(&name);
+            match keep {
+                true => std::fs::copy(&path, &target).map(|_| ()),
+                false => std::fs::rename(&path, &target),
+            }
+            .map_err(|e| failed(&target, e))?;
+        }
+    }
+    // The first slide's own record, without the rounds that came after it.
+    let mut moved = RunFolder::open(&kept).map_err(|e| AppError::Failed(e.to_string()))?;
+    if let Some(r) = moved.result.slide.as_mut() {
+        r.rounds.clear();
+    }
+    write_result(&kept, &moved.result)?;
+    let open = RunFolder::open(&spec.out).map_err(|e| AppError::Failed(e.to_string()))?;
+    let record = (open.result.slide.clone())
+        .ok_or_else(|| AppError::Failed(format!("{}: no slide record", from.display())))?;
+    first.record = record;
+    first.run.result = open.result;
+    Ok(())
+}
+
+/// The rounds themselves, each pushed to `rounds` as it ends (a cancelled round is not).
+fn run_rounds(
+    spec: &SlideSpec,
+    first: &mut SlideOutcome,
+    rounds: &mut Vec<SlideRound>,
     observer: &dyn Observer,
     cancel: &Cancel,
 ) -> Result<(), AppError> {
@@ -37,7 +110,6 @@ pub(super) fn run(
     let mut ids: Vec<usize> = first.record.curves.iter().map(|c| c.from).collect();
     let mut last = spec.out.clone();
     let mut value = first.record.lambda_after;
-    let mut rounds = Vec::new();
     for round in 1..=spec.rounds {
         let slid = open(&last)?;
         let k = slid.network.rods.len();
@@ -64,7 +136,7 @@ pub(super) fn run(
             warnings: Vec::new(),
             example: None,
         };
-        let model = model_of(&source, n)?;
+        let model = model_of(&source, &(0..n).collect::<Vec<_>>())?;
         let unit = (model.physical.as_ref()).map(|p| p.physical.units.symbol().to_string());
         let mut combined = Setup::from_parts(inputs, model);
         let analyzer = combined.analyzer()?;
@@ -102,11 +174,15 @@ pub(super) fn run(
         let folder = format!("rounds/{round}");
         let local_dir = spec.out.join(&folder).join("local");
         let chosen: Vec<_> = found.curves.iter().map(|&c| curves[c].clone()).collect();
+        // The last slid run's load cases, placed on its curves, which the local search's
+        // network holds as they are.
+        let loads = (slid.result.setup.physical_model.as_ref()).and_then(|m| m.loads.clone());
         record_network(
             chosen,
             &found.curves,
             &source,
             source.result.budget.max(found.length),
+            loads,
             &local_dir,
             true,
         )?;
@@ -117,7 +193,8 @@ pub(super) fn run(
             rounds: 0,
             ..spec.clone()
         };
-        let done = slide_once(&again, observer, cancel)?;
+        let origin: Vec<_> = found.curves.iter().map(|&c| drawn[c].clone()).collect();
+        let done = slide_once(&again, Some(&origin), observer, cancel)?;
         rounds.push(SlideRound {
             round,
             start: value,

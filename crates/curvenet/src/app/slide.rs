@@ -13,7 +13,8 @@ use super::setup::{Setup, check_curve_ids};
 use super::{AppError, Stage};
 use crate::cancel::Cancel;
 use crate::constraints::{ConstraintParams, Constraints, SymmetryOption};
-use crate::io::write_atomic;
+use crate::io::{Polyline, write_atomic};
+use crate::material::{CurveOverride, RestShape};
 use crate::network::BuildParams;
 use crate::physics::PhysicalParams;
 use crate::run_folder::schema::objective_name;
@@ -47,7 +48,8 @@ pub struct SlideSpec {
     /// Run into a non-empty folder that is not a curvenet run's.
     pub force: bool,
     /// Rounds of topology and geometry after the slide (0: none): each a local search on the
-    /// slid network's curves, then a slide of its network ([`super::rounds`]).
+    /// slid network's curves, then a slide of its network; the best slide of all is the
+    /// answer ([`super::rounds`]).
     pub rounds: usize,
 }
 
@@ -94,7 +96,7 @@ pub fn slide(
             format!(" is {}: at most {MAX_SLIDE_ROUNDS} rounds", spec.rounds)
         ]));
     }
-    let mut outcome = slide_once(spec, observer, cancel)?;
+    let mut outcome = slide_once(spec, None, observer, cancel)?;
     if spec.rounds > 0 {
         super::rounds::run(spec, &mut outcome, observer, cancel)?;
     }
@@ -102,9 +104,13 @@ pub fn slide(
     Ok(outcome)
 }
 
-/// One slide: the answer of the run in `spec.from` slid and recorded in `spec.out`.
+/// One slide: the answer of the run in `spec.from` slid and recorded in `spec.out`. `drawn`,
+/// when given, holds each curve of that run as the designer drew it (by its id), which the
+/// largest move is measured from (the round's network slid again: [`super::rounds`]); else the
+/// run's own curves are.
 pub(super) fn slide_once(
     spec: &SlideSpec,
+    drawn: Option<&[Polyline]>,
     observer: &dyn Observer,
     cancel: &Cancel,
 ) -> Result<SlideOutcome, AppError> {
@@ -154,6 +160,7 @@ pub(super) fn slide_once(
             .map(|(i, _)| i)
             .collect()
     };
+    let drawn_before = drawn;
     let drawn = network_polylines(&run.network, curves, None);
     let mut fixed = position(&setup.greedy.keep);
     let mut ties = Vec::new();
@@ -166,9 +173,11 @@ pub(super) fn slide_once(
         ties = tied;
         fixed.extend(stay);
     }
-    let physical = physical_of(&run, drawn.len())?;
+    let physical = physical_of(&run, curves)?;
     let problem = SlideProblem {
         physical,
+        drawn: drawn_before
+            .map_or_else(Vec::new, |d| curves.iter().map(|&c| d[c].clone()).collect()),
         curves: drawn,
         ids: curves.clone(),
         build: build_for(&setup.build, curves),
@@ -223,12 +232,19 @@ pub(super) fn slide_once(
         steps: outcome.search.steps.clone(),
         stopped: outcome.search.cancelled,
         rounds: Vec::new(),
+        answer_round: None,
+        deviation: after.deviation,
     };
+    // Point loads go with the curves they act on.
+    let loads = (run.result.setup.physical_model.as_ref())
+        .and_then(|m| m.loads.as_ref())
+        .map(|l| crate::slide::loads::follow(l, &before.curves, &after.curves));
     let mut recorded = record_network(
         after.curves.clone(),
         curves,
         &run,
         budget.max(after.length),
+        loads,
         &spec.out,
         spec.force,
     )?;
@@ -243,7 +259,7 @@ pub(super) fn slide_once(
     write_atomic(&path, before_obj.as_bytes())
         .map_err(|e| AppError::Failed(format!("{}: {e}", path.display())))?;
     if spec.pictures {
-        write_pictures(&spec.out, observer);
+        write_pictures(&spec.out, observer, &Default::default());
     }
     if record.stopped {
         return Err(AppError::Cancelled {
@@ -278,13 +294,15 @@ pub(super) fn build_for(build: &BuildParams, ids: &[usize]) -> BuildParams {
 }
 
 /// `curves` (the curves `ids` of the run `run`, moved) recorded as a run of their own in
-/// `out`, with the set-up of `run` (its mesh, build and objective; each curve's end supports
-/// its own), every curve kept, `budget` its budget.
+/// `out`, with the set-up of `run` (its mesh, build and objective; each curve's end supports,
+/// material, section and rest shape its own; in the physical mode `loads` its load cases),
+/// every curve kept, `budget` its budget.
 pub(super) fn record_network(
-    curves: Vec<crate::io::Polyline>,
+    curves: Vec<Polyline>,
     ids: &[usize],
     run: &RunFolder,
     budget: f64,
+    loads: Option<crate::physics::cases::Loads>,
     out: &std::path::Path,
     force: bool,
 ) -> Result<RunOutcome, AppError> {
@@ -307,7 +325,10 @@ pub(super) fn record_network(
         example: None,
     };
     let k = inputs.curves.len();
-    let model = model_of(run, k)?;
+    let mut model = model_of(run, ids)?;
+    if let Some(p) = model.physical.as_mut() {
+        p.loads = loads;
+    }
     let mut slid = Setup::from_parts(inputs, model);
     let run_spec = RunSpec {
         budget: Some(Budget::Length(budget)),
@@ -347,63 +368,49 @@ fn slide_error(e: SlideError) -> AppError {
 }
 
 /// The model of the run `run` (its objective; in the physical mode its physical model) for a
-/// network of `n` of its curves.
-pub(super) fn model_of(run: &RunFolder, n: usize) -> Result<Model, AppError> {
+/// network of its curves `ids` (in that order), without load cases.
+pub(super) fn model_of(run: &RunFolder, ids: &[usize]) -> Result<Model, AppError> {
     let setup = &run.result.setup;
     Ok(Model {
         stability: setup.stability.clone(),
-        physical: physical_of(run, n)?,
+        physical: physical_of(run, ids)?,
         physical_options: setup.physical.clone(),
     })
 }
 
-/// The physical mode's parameters of the run `run` for a network of `n` of its curves
-/// (`None` in the paper's mode). Refused, naming what, when the run's physical model is not
-/// the same on every curve or has load cases: a run records them by its curves' ids and its
-/// drawn vertices, which a slid network does not keep.
-fn physical_of(run: &RunFolder, n: usize) -> Result<Option<PhysicalParams>, AppError> {
+/// The physical mode's parameters of the run `run` for a network of its curves `ids`, in
+/// that order (`None` in the paper's mode): a curve keeps its own material and section and
+/// its rest shape (a pre-bent curve is pre-bent as it now lies), by its id. Without load
+/// cases: the searches' analyses carry none, and a slid run's are placed by
+/// [`crate::slide::loads::follow`].
+fn physical_of(run: &RunFolder, ids: &[usize]) -> Result<Option<PhysicalParams>, AppError> {
     let setup = &run.result.setup;
     let (Some(options), Some(model)) = (&setup.physical, &setup.physical_model) else {
         return Ok(None);
     };
-    let ids = |c: &mut dyn Iterator<Item = usize>| {
-        c.map(|c| c.to_string()).collect::<Vec<_>>().join(", ")
+    // The load cases are the run's record's (its loads file is not read again).
+    let options = crate::physics::PhysicalOptions {
+        loads: None,
+        ..options.clone()
     };
-    let mut what: Vec<Message> = Vec::new();
-    if !model.physical.curves.is_empty() {
-        let c = ids(&mut model.physical.curves.iter().map(|o| o.curve));
-        what.push(format!("a material or section of their own on curves {c}").into());
-    }
-    if !model.pre_bent.is_empty() {
-        let c = ids(&mut model.pre_bent.iter().copied());
-        what.push(
-            format!("curves pre-bent at rest ({c}), whose rest shape is the drawn one").into(),
-        );
-    }
-    if model.loads.is_some() {
-        what.push("load cases, whose point loads are placed on the drawn network".into());
-    }
-    if setup.constraints.max_deviation.is_some() {
-        what.push(message![
-            "a largest deviation (",
-            Opt::MaxDeviation,
-            "), which the run measures under self-weight and a slide's analyses do not"
-        ]);
-    }
-    if !what.is_empty() {
-        return Err(AppError::Usage(
-            Message::join(what, "; ").prefixed([format!(
-                "sliding in the physical mode needs one material and section on every curve, \
-             straight at rest, no load cases and no largest deviation; the run in {} has ",
-                run.dir.display()
-            )
-            .into()]),
-        ));
-    }
     let resolved = options.resolve(None, &[]).map_err(AppError::Usage)?;
     Ok(resolved.map(|mut p| {
         p.physical = model.physical.clone();
-        p.rest = vec![crate::material::RestShape::Straight; n];
+        p.physical.curves = (ids.iter().enumerate())
+            .filter_map(|(i, &id)| {
+                let own = model.physical.curves.iter().find(|o| o.curve == id)?;
+                Some(CurveOverride {
+                    curve: i,
+                    ..own.clone()
+                })
+            })
+            .collect();
+        p.rest = (ids.iter())
+            .map(|id| match model.pre_bent.contains(id) {
+                true => RestShape::PreBent,
+                false => RestShape::Straight,
+            })
+            .collect();
         p.frequencies = setup.stability.eigen.count;
         p.loads = None;
         p

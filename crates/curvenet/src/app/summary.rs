@@ -56,6 +56,13 @@ pub fn slide_summary(r: &crate::run_folder::SlideRecord, folder: &std::path::Pat
             folder.join(&k.folder).join("slid").display()
         );
     }
+    if let Some(k) = r.answer_round.filter(|&k| k > 0) {
+        rounds += &format!(
+            "the answer is round {k}'s slid network (the slide above is its own; the first \
+             slide is kept in {})\n",
+            folder.join("rounds").join("0").join("slid").display()
+        );
+    }
     format!(
         "slid: {} {:.6e} → {:.6e}{gain}; {moved} of {} curves moved, the largest move {} (at \
          most {}); joints added {}, removed {}; length {} (budget {}); {} networks \

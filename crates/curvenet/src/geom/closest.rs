@@ -59,7 +59,7 @@ pub fn point_segment_distance(p: Vec3, a: Vec3, b: Vec3) -> f64 {
 }
 
 /// The point of the segment `[a, b]` closest to `p` (`a` when `a = b`).
-fn closest_point_on_segment(p: Vec3, a: Vec3, b: Vec3) -> Vec3 {
+pub fn closest_point_on_segment(p: Vec3, a: Vec3, b: Vec3) -> Vec3 {
     let d = b - a;
     let len2 = d.norm2();
     let t = if len2 > 0.0 {

@@ -9,7 +9,10 @@ pub mod bvh;
 pub mod closest;
 
 pub use bvh::Bvh;
-pub use closest::{closest_point_on_triangle, point_segment_distance, segment_closest_points};
+pub use closest::{
+    closest_point_on_segment, closest_point_on_triangle, point_segment_distance,
+    segment_closest_points,
+};
 
 use serde::{Deserialize, Serialize};
 use std::ops::{Add, AddAssign, Div, Index, IndexMut, Mul, Neg, Sub};

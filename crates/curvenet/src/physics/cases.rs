@@ -37,6 +37,19 @@ use crate::words::Message;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 
+/// The name of the structure's own weight as a load case of its own, which every structural
+/// export carries: no case or combination of a loads file may take it.
+pub const SELF_WEIGHT: &str = "self-weight";
+
+/// Why a case or combination may not be named `name`, if it may not.
+fn reserved(name: &str) -> Option<String> {
+    name.trim().eq_ignore_ascii_case(SELF_WEIGHT).then(|| {
+        format!(
+            "the name {name} is the structure's own weight, a load case of its own in every              export; name it otherwise (a case with \"self_weight\": true is that load)"
+        )
+    })
+}
+
 /// How a line load's intensity is measured.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -192,6 +205,9 @@ impl Loads {
             if names.contains(&c.name.as_str()) {
                 return Err(at(&quoted, format!("two load cases are named {}", c.name)));
             }
+            if let Some(why) = reserved(&c.name) {
+                return Err(at(&quoted, why));
+            }
             names.push(&c.name);
             if !c.self_weight && c.line.is_none() && c.points.is_empty() && c.pressure.is_none() {
                 return Err(at(
@@ -249,6 +265,9 @@ impl Loads {
                     &quoted,
                     format!("the combination {} has the name of another case", k.name),
                 ));
+            }
+            if let Some(why) = reserved(&k.name) {
+                return Err(at(&quoted, why));
             }
             combined.push(&k.name);
             if k.factors.is_empty() {

@@ -7,8 +7,10 @@
 //! - [`render`], [`plot`]: software-rasterised pictures (`final.png`, `mode.png`, `lambda.png`).
 //! - [`viewer`]: the self-contained WebGL viewer page (`curvenet view`) and
 //!   [`viewer::write_run_outputs`], called after every greedy run.
+//! - [`gravity_ahead`]: the viewer's gravity deflections, solved while the greedy runs.
 
 pub mod export;
+pub mod gravity_ahead;
 pub mod plot;
 pub mod render;
 pub mod viewer;

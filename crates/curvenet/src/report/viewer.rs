@@ -14,7 +14,8 @@
 //! The gravity deflection is computed here, per iteration: `H u = f` with `H` the Hessian of
 //! the iteration's structure at its recorded equilibrium and `f` the run's gravity load
 //! (`setup.stability.gravity`: a weight per unit rest length, half of each edge's weight on
-//! each of its ends), solved by the stability facade ([`Analyzer::gravity_at`]).
+//! each of its ends), solved by the stability facade ([`Analyzer::gravity_at`]); after a
+//! greedy run, most are solved already, while the greedy ran ([`super::gravity_ahead`]).
 //! Structures that are not positive definite have none.
 //!
 //! Embedded arrays are compact: rest positions and mesh vertices as base64 little-endian
@@ -30,6 +31,7 @@
 //! and `fabrication.csv` (the final network, [`super::export::fabrication_csv`]).
 
 use super::export::{fabrication_csv, rod_joints, rod_supports};
+use super::gravity_ahead::Deflections;
 use super::plot::lambda_plot;
 use super::render::{mode_picture, network_picture};
 use crate::io::{Polyline, TriMesh};
@@ -153,6 +155,16 @@ impl Default for ViewerOptions {
 
 /// The data embedded in the viewer page.
 pub fn viewer_data(run: &RunFolder, options: &ViewerOptions) -> Result<Value, ReportError> {
+    viewer_data_with(run, options, &Deflections::default())
+}
+
+/// [`viewer_data`] with the gravity deflections already solved in `ahead` (those of other
+/// curves, or missing, are solved here).
+fn viewer_data_with(
+    run: &RunFolder,
+    options: &ViewerOptions,
+    ahead: &Deflections,
+) -> Result<Value, ReportError> {
     let net = &run.network;
     let r = &run.result;
     let n = run.iteration_count();
@@ -166,10 +178,18 @@ pub fn viewer_data(run: &RunFolder, options: &ViewerOptions) -> Result<Value, Re
         .map(|k| run.mode(k))
         .collect::<Result<_, _>>()?;
     let gravity: Vec<Option<Vec<f64>>> = if options.gravity {
-        let analyzer = analyzer_of(run)?;
+        let missing = (0..n).any(|k| ahead.get(k, &r.iterations[k].curves).is_none());
+        let analyzer = missing.then(|| analyzer_of(run)).transpose()?;
         (0..n)
             .into_par_iter()
-            .map(|k| gravity_deflection(&analyzer, &r.iterations[k].curves, &states[k]))
+            .map(|k| {
+                let curves = &r.iterations[k].curves;
+                match (ahead.get(k, curves), &analyzer) {
+                    (Some(d), _) => d.clone(),
+                    (None, Some(an)) => gravity_deflection(an, curves, &states[k]),
+                    (None, None) => None,
+                }
+            })
             .collect()
     } else {
         vec![None; n]
@@ -562,6 +582,12 @@ pub struct RunOutputs {
 /// without an answer gets no fabrication table (a warning says why): its networks within the
 /// budget are not something to build.
 pub fn write_run_outputs(dir: &Path) -> Result<RunOutputs, ReportError> {
+    write_run_outputs_with(dir, &Deflections::default())
+}
+
+/// [`write_run_outputs`] with the gravity deflections solved while the greedy ran
+/// ([`super::gravity_ahead`]): the same files, sooner.
+pub fn write_run_outputs_with(dir: &Path, ahead: &Deflections) -> Result<RunOutputs, ReportError> {
     let run = RunFolder::open(dir)?;
     let mut out = RunOutputs {
         warnings: run.warnings.clone(),
@@ -571,7 +597,10 @@ pub fn write_run_outputs(dir: &Path) -> Result<RunOutputs, ReportError> {
     // is made while the pictures and tables are drawn; the page is written last.
     let (tables, html) = rayon::join(
         || write_pictures_and_tables(&run, &mut out),
-        || viewer_html(&run, &ViewerOptions::default()),
+        || {
+            let data = viewer_data_with(&run, &ViewerOptions::default(), ahead)?;
+            page(&title_of(&run), &data, "")
+        },
     );
     tables?;
     // Last: a run folder with its viewer page has every file of this stage (a run stopped

@@ -335,6 +335,17 @@ pub struct SlideRecord {
     /// local search on the slid curves, then a slide of its network.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub rounds: Vec<SlideRound>,
+    /// With rounds: the slide whose network is the answer, the best of every slide by the
+    /// objective (the earliest of equals): 0 the first slide, `K` round `K`'s. When it is a
+    /// round's, this record is that round's slide's own (its `from` the round's local search,
+    /// `rounds/K/local`), the first slide kept in `rounds/0/slid`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub answer_round: Option<usize>,
+    /// The slid network's largest deviation from its designed place (scene units), measured
+    /// as the run's largest-deviation constraint measures it (in the physical mode under
+    /// self-weight); present when that constraint is in force.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub deviation: Option<f64>,
 }
 
 /// One round after a slide ([`SlideRecord::rounds`]): a local search over the network's

@@ -35,6 +35,10 @@ fn io_err(path: &Path, e: std::io::Error) -> RunFolderError {
 /// not one of the greedy's iterations).
 type GivenAnswer = (Result<Answer, NoAnswer>, Option<NetworkState>);
 
+/// What [`OutputWriter::with_progress`] calls after each iteration is recorded: the
+/// iteration's index, its record and its equilibrium displacement.
+pub type Progress<'a> = dyn Fn(usize, &IterationRecord, &[f64]) + Sync + 'a;
+
 /// Writes a run's folder as the greedy goes (a [`GreedyHooks`]).
 ///
 /// The files are written on a background thread ([`io::BackgroundWriter`]), in the order the
@@ -49,8 +53,8 @@ pub struct OutputWriter<'a> {
     /// What a resume found that the run can go on without ([`Self::warnings`]).
     warnings: Vec<String>,
     cancel: crate::cancel::Cancel,
-    /// Called after each iteration (e.g. to move a progress bar).
-    progress: Option<&'a (dyn Fn(&IterationRecord) + Sync)>,
+    /// Called after each iteration is recorded (e.g. to move a progress bar).
+    progress: Option<&'a Progress<'a>>,
     /// The answer given by [`Self::set_answer`], with its equilibrium when it is not one of
     /// the greedy's iterations.
     answer: Option<GivenAnswer>,
@@ -200,8 +204,8 @@ impl<'a> OutputWriter<'a> {
         self
     }
 
-    /// Calls `f` after each iteration.
-    pub fn with_progress(mut self, f: &'a (dyn Fn(&IterationRecord) + Sync)) -> Self {
+    /// Calls `f` after each iteration is recorded.
+    pub fn with_progress(mut self, f: &'a Progress<'a>) -> Self {
         self.progress = Some(f);
         self
     }
@@ -457,7 +461,7 @@ impl OutputWriter<'_> {
         self.result.iterations.push(record.clone());
         self.write_result()?;
         if let Some(p) = self.progress {
-            p(record);
+            p(k, record, &eval.displacement);
         }
         Ok(())
     }

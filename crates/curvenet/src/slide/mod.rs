@@ -17,6 +17,7 @@
 //! start's), and the design constraints in force (connected, fewest curves, largest gap,
 //! largest deviation) met by the rebuilt network.
 
+pub mod loads;
 pub mod moves;
 pub mod search;
 pub mod snap;
@@ -29,7 +30,7 @@ pub use surface::Surface;
 pub use ties::{Tie, TieMap};
 
 use crate::cancel::Cancel;
-use crate::constraints::{ConstraintParams, Constraints, SymmetryOption, max_displacement};
+use crate::constraints::{ConstraintParams, Constraints, SymmetryOption};
 use crate::io::{Origin, Polyline, TriMesh};
 use crate::network::checks::surface::FAR_FROM_MESH;
 use crate::network::{BuildParams, Network, build_network};
@@ -49,6 +50,16 @@ pub const SETTLED: f64 = 1e-11;
 
 /// The most builds of one network while it settles.
 pub const MAX_REBUILDS: usize = 8;
+
+/// A gain: more than this fraction of the objective's magnitude (smaller differences are
+/// within what a rebuild reproduces; the search's steps and the choice among a run's slides
+/// both count only gains).
+pub const RELATIVE_GAIN: f64 = 1e-6;
+
+/// Whether the objective `a` is a gain over `b` ([`RELATIVE_GAIN`]).
+pub fn is_gain(a: f64, b: f64) -> bool {
+    a > b + RELATIVE_GAIN * b.abs().max(f64::MIN_POSITIVE)
+}
 
 /// A curve end within this fraction of the surface's diagonal of the boundary lies on it.
 pub const ON_BOUNDARY: f64 = 0.005;
@@ -181,6 +192,10 @@ pub struct SlideProblem {
     pub curves: Vec<Polyline>,
     /// The id each curve had where it came from (for messages; positions when empty).
     pub ids: Vec<usize>,
+    /// Each curve as the designer drew it, which the largest move is measured from (empty:
+    /// [`Self::curves`]; a network slid again after a local search gives the shapes its
+    /// curves had before any slide, so moves do not add up beyond the largest move).
+    pub drawn: Vec<Polyline>,
     /// How the network is built.
     pub build: BuildParams,
     /// How it is analysed (the objective included).
@@ -213,6 +228,9 @@ pub struct Evaluated {
     pub length: f64,
     /// Each curve's largest distance from where it was drawn.
     pub moves: Vec<f64>,
+    /// Its largest deviation from its designed place, as the largest-deviation constraint
+    /// measures it (`None` when that constraint is not in force).
+    pub deviation: Option<f64>,
     /// It meets the budget and every constraint.
     pub feasible: bool,
 }
@@ -448,10 +466,13 @@ impl Slider {
                     .iter()
                     .map(|&v| network.positions[v as usize])
                     .collect();
-                moves::largest_distance(&pts, &self.problem.curves[c])
+                let drawn = self.problem.drawn.get(c);
+                moves::largest_distance(&pts, drawn.unwrap_or(&self.problem.curves[c]))
             })
             .collect();
-        if moves.iter().any(|&d| d > self.max_move) {
+        // A curve this slide does not move keeps its polyline (one moved by an earlier slide
+        // was checked then; its rebuilt vertices can shift by a hair where joints move).
+        if (moves.iter().zip(&changed)).any(|(&d, &moved)| moved && d > self.max_move) {
             return None;
         }
         let length = network.total_length(&all);
@@ -465,8 +486,14 @@ impl Slider {
             analyzer = analyzer.with_physical(p.clone()).ok()?;
         }
         let analysis = analyzer.analyze(&analyzer.all(), None).ok()?;
-        if let Some(Ok(c)) = &constraints {
-            let d = max_displacement(analyzer.network(), &all, &analysis.displacement);
+        // The largest deviation as the run's constraint measures it: the equilibrium's in
+        // the paper's mode, under self-weight in the physical model in the physical mode.
+        let deviation = self.problem.constraints.max_deviation.map(|_| {
+            analyzer
+                .structure_deviation(&all, &analysis.displacement)
+                .unwrap_or(f64::INFINITY)
+        });
+        if let (Some(Ok(c)), Some(d)) = (&constraints, deviation) {
             feasible &= c.deviation_ok(d);
         }
         Some(Evaluated {
@@ -475,6 +502,7 @@ impl Slider {
             lambda: analysis.lambda(),
             length,
             moves,
+            deviation,
             feasible,
         })
     }
@@ -544,7 +572,7 @@ impl Slider {
             step: self.max_move / 2.0,
             min_step: self.max_move * self.params.min_step,
             max_evaluations: self.params.max_evaluations,
-            relative_gain: 1e-6,
+            relative_gain: RELATIVE_GAIN,
             probe: self.params.probe,
         };
         let search = pattern_search(self.dimension, &value, &params, cancel, progress);

@@ -580,3 +580,57 @@ pub fn sub_network(net: &Network, keep: &[usize]) -> (Network, Vec<usize>) {
         old_of,
     )
 }
+
+/// A plane arch drawn through `at(t)` (`t` from 0 to 1, finely: 12 drawn points per edge of
+/// length `h`, `edges` edges), then `links` short straight bars along y, 2h long, starting at
+/// evenly spaced drawn points of the arch (so each meets it there): the arch first.
+pub fn arch_with_links(
+    at: impl Fn(f64) -> Vec3,
+    edges: usize,
+    h: f64,
+    links: usize,
+) -> Vec<Polyline> {
+    let drawn = 12 * edges;
+    let mut curves = vec![polyline(
+        (0..=drawn).map(|i| at(i as f64 / drawn as f64)).collect(),
+        false,
+    )];
+    for k in 1..=links {
+        let p = at((k * drawn / (links + 1)) as f64 / drawn as f64);
+        curves.push(polyline(vec![p, p + Vec3::new(0.0, 2.0 * h, 0.0)], false));
+    }
+    curves
+}
+
+/// Each rod's rest shape as drawn: straight when drawn straight, pre-bent otherwise.
+pub fn drawn_rest_shapes(net: &Network) -> Vec<curvenet::material::RestShape> {
+    use curvenet::material::RestShape;
+    (net.rods.iter())
+        .map(|r| {
+            if r.is_drawn_straight(&net.positions) {
+                RestShape::Straight
+            } else {
+                RestShape::PreBent
+            }
+        })
+        .collect()
+}
+
+/// The physical analysis (mm) of `net` as steel bars of radius 10 mm with rest shapes `rest`,
+/// under the load cases of the loads file `loads`.
+pub fn steel_bars_under(
+    net: &Network,
+    loads: &str,
+    rest: Vec<curvenet::material::RestShape>,
+) -> curvenet::physics::PhysicalReport {
+    use curvenet::material::{Physical, Section, presets};
+    use curvenet::physics::{PhysicalParams, analyze_physical, cases::Loads};
+    let mut params = PhysicalParams::new(Physical::uniform(
+        curvenet::units::LengthUnit::Millimetre,
+        presets::preset("steel").unwrap(),
+        Section::Solid { radius: 10.0 },
+    ));
+    params.rest = rest;
+    params.loads = Some(Loads::parse(loads, "loads.json").expect("loads"));
+    analyze_physical(net, &params, &ActiveSet::all(net.rods.len())).expect("analysis")
+}

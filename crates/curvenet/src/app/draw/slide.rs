@@ -62,6 +62,7 @@ impl Drawing {
             physical: model.physical.map(|p| physical_for(p, kept)),
             curves,
             ids: kept.to_vec(),
+            drawn: Vec::new(),
             build: super::super::slide::build_for(&i.build, kept),
             stability: model.stability,
             budget,

@@ -15,6 +15,7 @@ use super::{AppError, Stage};
 use crate::cancel::Cancel;
 use crate::constraints::{ConstraintParams, read_groups};
 use crate::network::Network;
+use crate::report::gravity_ahead::{Deflections, GravityAhead};
 use crate::run_folder::schema::PhysicalModel;
 use crate::run_folder::{OutputWriter, ResultFile, RunFolderError, RunSetup};
 use crate::simplify::greedy::ResumePoint;
@@ -206,7 +207,7 @@ pub fn execute(
         let result = ResultFile::read(&spec.out)?;
         // A run stopped while its pictures were drawn is complete without them.
         if spec.pictures && !spec.out.join("viewer.html").is_file() {
-            write_pictures(&spec.out, observer);
+            write_pictures(&spec.out, observer, &Deflections::default());
         }
         let slide = slide_after(spec, observer, cancel)?;
         return Ok(RunOutcome {
@@ -221,8 +222,15 @@ pub fn execute(
     if let Some(mesh) = mesh {
         writer.write_mesh(mesh)?;
     }
-    let progress = |r: &crate::simplify::greedy::IterationRecord| {
+    // The viewer's gravity deflections are solved on a thread of their own as the
+    // iterations come.
+    let ahead = (spec.pictures)
+        .then(|| GravityAhead::start(network.clone(), setup.model.stability.clone()));
+    let progress = |k: usize, r: &crate::simplify::greedy::IterationRecord, u: &[f64]| {
         observer.iteration(r, total, budget_length);
+        if let Some(a) = &ahead {
+            a.submit(k, &r.curves, u);
+        }
     };
     let mut writer = writer.with_cancel(cancel.clone()).with_progress(&progress);
     let outcome = {
@@ -281,8 +289,8 @@ pub fn execute(
     writer.finish(&outcome, &timings)?;
     let result = writer.result().clone();
     drop(writer);
-    if spec.pictures {
-        write_pictures(&spec.out, observer);
+    if let Some(a) = ahead {
+        write_pictures(&spec.out, observer, &a.finish());
     }
     let slide = slide_after(spec, observer, cancel)?;
     Ok(RunOutcome {
@@ -403,10 +411,11 @@ fn open_writer<'a>(
     Ok(Some((writer, point)))
 }
 
-/// Writes the pictures, viewer page (last) and fabrication table of the finished run in `out`.
-/// A failure leaves the run's results intact, so it is a warning.
-pub(crate) fn write_pictures(out: &Path, observer: &dyn Observer) {
-    match crate::report::viewer::write_run_outputs(out) {
+/// Writes the pictures, viewer page (last) and fabrication table of the finished run in `out`,
+/// with the gravity deflections solved `ahead`. A failure leaves the run's results intact, so
+/// it is a warning.
+pub(crate) fn write_pictures(out: &Path, observer: &dyn Observer, ahead: &Deflections) {
+    match crate::report::viewer::write_run_outputs_with(out, ahead) {
         Ok(o) => {
             for w in o.warnings {
                 observer.warning(&Message::from(w));

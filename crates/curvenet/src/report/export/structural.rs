@@ -254,7 +254,7 @@ fn id_of<T: PartialEq>(list: &mut Vec<T>, item: T) -> usize {
 }
 
 /// The name of the load case every model carries: the structure's own weight.
-pub const SELF_WEIGHT: &str = "self-weight";
+pub use crate::physics::cases::SELF_WEIGHT;
 
 /// A unit vector among the axes least along `d`, for an element's local x–z plane.
 fn across(d: [f64; 3]) -> [f64; 3] {

@@ -1,0 +1,131 @@
+//! The viewer's gravity deflections, solved while the greedy runs.
+//!
+//! The viewer page embeds the gravity deflection of every greedy iteration: one factorization
+//! each, which after the search was the largest part of the wait between the search's end and
+//! the finished run folder. The greedy keeps a two-core machine's second core idle much of the
+//! time, so [`GravityAhead`] solves each iteration's deflection on a thread of its own, with a
+//! one-thread pool for its parallel parts, as soon as the iteration is recorded; the viewer
+//! ([`super::viewer::write_run_outputs_with`]) uses what it finished and solves the rest.
+//!
+//! The deflections are those the viewer solves from the run folder alone: the analyzer is
+//! built from the network and stability settings the run writes to `network.json` and
+//! `result.json` (their JSON round-trips every number exactly), and the displacements are the
+//! ones written to `states/`, so the page is the same byte for byte whichever solved them
+//! (a test compares them).
+
+use super::viewer::gravity_deflection;
+use crate::network::Network;
+use crate::stability::{Analyzer, StabilityParams};
+use std::collections::BTreeMap;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+use std::thread::JoinHandle;
+
+/// One recorded iteration to solve: its index, curves and equilibrium displacement.
+type Job = (usize, Vec<usize>, Vec<f64>);
+
+/// Gravity deflections solved ahead, by iteration: its curves and the deflection (`None`
+/// when its structure is not positive definite).
+#[derive(Clone, Debug, Default)]
+pub struct Deflections(BTreeMap<usize, (Vec<usize>, Option<Vec<f64>>)>);
+
+impl Deflections {
+    /// The deflection solved for iteration `k` when it was solved for these `curves`.
+    pub fn get(&self, k: usize, curves: &[usize]) -> Option<&Option<Vec<f64>>> {
+        self.0
+            .get(&k)
+            .filter(|(c, _)| c.as_slice() == curves)
+            .map(|(_, d)| d)
+    }
+
+    /// How many iterations were solved.
+    pub fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    /// Whether none was.
+    pub fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+}
+
+/// A thread solving the gravity deflections of a run's iterations as they are recorded.
+/// Dropped without [`Self::finish`], it stops after the deflection it is solving.
+pub struct GravityAhead {
+    jobs: Option<mpsc::Sender<Job>>,
+    worker: Option<JoinHandle<Deflections>>,
+    stop: Arc<AtomicBool>,
+}
+
+impl GravityAhead {
+    /// Starts the thread for a run of `network` with the stability settings `stability`
+    /// (what the run records). A thread that cannot start solves nothing ahead (the viewer
+    /// then solves every deflection itself).
+    pub fn start(network: Network, stability: StabilityParams) -> Self {
+        let (tx, rx) = mpsc::channel::<Job>();
+        let stop = Arc::new(AtomicBool::new(false));
+        let flag = Arc::clone(&stop);
+        let worker = std::thread::Builder::new()
+            .name("gravity-ahead".into())
+            .spawn(move || solve_as_they_come(network, stability, &rx, &flag))
+            .ok();
+        GravityAhead {
+            jobs: Some(tx),
+            worker,
+            stop,
+        }
+    }
+
+    /// Queues iteration `k` (its curves and equilibrium displacement `u`).
+    pub fn submit(&self, k: usize, curves: &[usize], u: &[f64]) {
+        if let Some(tx) = &self.jobs {
+            // The thread may have ended (the folder unreadable): nothing is solved ahead.
+            let _ = tx.send((k, curves.to_vec(), u.to_vec()));
+        }
+    }
+
+    /// Waits for the queued iterations and gives what was solved.
+    pub fn finish(mut self) -> Deflections {
+        self.jobs = None;
+        self.worker
+            .take()
+            .and_then(|w| w.join().ok())
+            .unwrap_or_default()
+    }
+}
+
+impl Drop for GravityAhead {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Relaxed);
+    }
+}
+
+/// The thread's work: the run's analyzer, then each queued iteration in turn.
+fn solve_as_they_come(
+    network: Network,
+    stability: StabilityParams,
+    jobs: &mpsc::Receiver<Job>,
+    stop: &AtomicBool,
+) -> Deflections {
+    let mut solved = Deflections::default();
+    let Ok(analyzer) = Analyzer::new(network, stability) else {
+        return solved;
+    };
+    // Its own pool: the factorization's parallel parts stay off the greedy's threads.
+    let Ok(pool) = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .thread_name(|_| "gravity-ahead-pool".into())
+        .build()
+    else {
+        return solved;
+    };
+    while let Ok((k, curves, u)) = jobs.recv() {
+        if stop.load(Ordering::Relaxed) {
+            break;
+        }
+        let d = pool.install(|| gravity_deflection(&analyzer, &curves, &u));
+        solved.0.insert(k, (curves, d));
+    }
+    solved
+}
