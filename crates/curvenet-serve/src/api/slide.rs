@@ -55,7 +55,11 @@ fn bad(message: impl Into<String>) -> ApiError {
 
 /// The slide's parameters of `b`.
 fn params_of(b: &StartBody) -> Result<SlideParams, ApiError> {
-    let mut params = SlideParams::default();
+    // The page's limit holds within a sweep of the search too.
+    let mut params = SlideParams {
+        strict_limit: true,
+        ..SlideParams::default()
+    };
     match &b.max_move {
         None => {}
         Some(MaxMoveBody::Length(v)) => params.max_move = MaxMove::Length(*v),

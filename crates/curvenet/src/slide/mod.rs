@@ -122,6 +122,9 @@ pub struct SlideParams {
     pub min_step: f64,
     /// The most networks evaluated.
     pub max_evaluations: usize,
+    /// `max_evaluations` holds within a sweep of the search too (the page's slide); else it is
+    /// checked between sweeps, the sweep under way finished (the command line's).
+    pub strict_limit: bool,
     /// Levels each side at which the first sweep probes each coefficient alone
     /// ([`PatternParams::probe`]).
     pub probe: usize,
@@ -136,6 +139,7 @@ impl Default for SlideParams {
             functions: 3,
             min_step: 1.0 / 16.0,
             max_evaluations: 400,
+            strict_limit: false,
             probe: 2,
         }
     }
@@ -572,6 +576,7 @@ impl Slider {
             step: self.max_move / 2.0,
             min_step: self.max_move * self.params.min_step,
             max_evaluations: self.params.max_evaluations,
+            strict: self.params.strict_limit,
             relative_gain: RELATIVE_GAIN,
             probe: self.params.probe,
         };

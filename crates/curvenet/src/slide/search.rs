@@ -21,8 +21,11 @@ pub struct PatternParams {
     pub step: f64,
     /// The search ends once the step is below this.
     pub min_step: f64,
-    /// The most evaluations.
+    /// The most evaluations, checked before each sweep (the sweep under way is finished).
     pub max_evaluations: usize,
+    /// `max_evaluations` holds within a sweep too: the points of a sweep past it are not
+    /// evaluated (the best so far is kept).
+    pub strict: bool,
     /// An improvement must exceed this fraction of the current value's magnitude.
     pub relative_gain: f64,
     /// Levels each side of the first sweep's probe of each coordinate (0: none; the first
@@ -56,8 +59,7 @@ pub struct PatternOutcome {
     pub steps: Vec<Step>,
     /// The search was cancelled.
     pub cancelled: bool,
-    /// The search stopped at its most evaluations (checked before each evaluation, so within a
-    /// sweep too: the points of a sweep past it are not evaluated).
+    /// The search stopped at its most evaluations.
     pub limited: bool,
 }
 
@@ -84,7 +86,10 @@ pub fn pattern_search(
         cancelled: false,
         limited: false,
     };
-    let limit = params.max_evaluations;
+    let limit = match params.strict {
+        true => params.max_evaluations,
+        false => usize::MAX,
+    };
     let mut step = params.step;
     if params.probe > 0 && dimension > 0 {
         let levels = params.probe;
@@ -210,7 +215,7 @@ pub fn pattern_search(
     out.x = x;
     out.value = value;
     out.evaluations = memo.len();
-    out.limited = memo.len() >= limit;
+    out.limited = memo.len() >= params.max_evaluations;
     out
 }
 
