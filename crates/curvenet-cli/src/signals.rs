@@ -1,26 +1,17 @@
-//! Ctrl-C (SIGINT), SIGTERM and SIGHUP: one handler for every subcommand, installed before any
-//! work.
+//! Ctrl-C (SIGINT), SIGTERM and SIGHUP: one handler for every subcommand, installed first.
 //!
-//! The rule: a signal stops the command with exit code 130 and keeps what it has recorded.
+//! A signal stops the command with exit code 130 and keeps what it has recorded. During a
+//! stage that polls the process's token ([`token`]: the greedy, the local search, the
+//! certificate) it cancels the token: the stage stops at its next poll (within a second) and
+//! the command says what is kept and how to continue. Anywhere else, and on a second signal,
+//! the process exits at once, first removing the temporary files of the atomic writes in
+//! flight, so nothing half-written is left.
 //!
-//! - During a stage that polls the process's cancellation token ([`token`]: the greedy, the
-//!   local search, the certificate), a signal cancels the token; the stage stops at its next
-//!   poll (within a second), keeps what it recorded, and the command exits 130 saying what is
-//!   kept and how to continue.
-//! - Anywhere else (reading inputs, building the network, the pictures, the comparison's
-//!   searches, a benchmark, the exports), and on a second signal, the process exits 130 at
-//!   once. Every output is written to a temporary file and renamed, and the temporary files of
-//!   the writes in flight are removed before the exit, so nothing half-written is left, under
-//!   its final name or any other.
-//!
-//! How signals arrive (Unix): [`install`] blocks the three signals in the main thread before
-//! any other thread exists, so every thread inherits the block, and one thread takes them with
-//! `sigwait`. No signal handler runs at all, so a library that installs its own handlers for a
-//! while cannot catch one: METIS's nested dissection points SIGTERM at a `longjmp` into its own
-//! error path during every ordering (a SIGTERM then crashed the process with SIGSEGV, and
-//! concurrent orderings could leave that handler in place). Child processes start with an
-//! empty signal mask (the standard library resets it). Elsewhere, ctrlc's handler does the
-//! same job.
+//! On Unix no signal handler runs: [`install`] blocks the three signals before any other
+//! thread exists (threads inherit the mask; child processes start with an empty one) and one
+//! thread takes them with `sigwait`. So no library that installs handlers for a while can
+//! catch one: METIS points SIGTERM at a `longjmp` into its error path during every ordering,
+//! which crashed a run stopped then. Elsewhere ctrlc's handler does the same job.
 
 use curvenet::cancel::Cancel;
 use std::sync::LazyLock;
@@ -35,29 +26,25 @@ static POLLING: AtomicUsize = AtomicUsize::new(0);
 /// The exit code of a cancelled command (128 + SIGINT, what shells report for Ctrl-C).
 pub const CANCELLED: i32 = 130;
 
-/// Starts receiving the signals. Call once, first thing in `main`, before any thread is
-/// started: threads inherit the signal mask of the thread that starts them.
+/// Starts receiving the signals: call once, first in `main`, before any thread starts.
 #[cfg(unix)]
 pub fn install() {
-    use nix::sys::signal::{SigSet, Signal};
-    let mut set = SigSet::empty();
-    for s in [Signal::SIGINT, Signal::SIGTERM, Signal::SIGHUP] {
-        set.add(s);
-    }
-    // Fails only for an invalid signal set (never, here): signals then keep their default
-    // action, which also ends the process.
+    use nix::sys::signal::{SigSet, Signal::*};
+    let set: SigSet = [SIGINT, SIGTERM, SIGHUP].into_iter().collect();
+    // Fails only for an invalid set (never, here): signals then keep their default action.
     if set.thread_block().is_err() {
         return;
     }
-    let waiter = std::thread::Builder::new()
+    let waiter = move || {
+        while set.wait().is_ok() {
+            on_signal();
+        }
+    };
+    let spawned = std::thread::Builder::new()
         .name("signals".into())
-        .spawn(move || {
-            while set.wait().is_ok() {
-                on_signal();
-            }
-        });
-    if waiter.is_err() {
-        // No thread to take them: give the signals their default action back.
+        .spawn(waiter);
+    if spawned.is_err() {
+        // No thread to take them: the signals get their default action back.
         let _ = set.thread_unblock();
     }
 }
@@ -65,9 +52,7 @@ pub fn install() {
 /// Starts receiving the signals. Call once, first thing in `main`.
 #[cfg(not(unix))]
 pub fn install() {
-    // Fails only when a handler is already installed (never, here): signals then keep their
-    // default action, which also ends the process.
-    let _ = ctrlc::set_handler(on_signal);
+    let _ = ctrlc::set_handler(on_signal); // fails only if one is installed (never, here)
 }
 
 fn on_signal() {
