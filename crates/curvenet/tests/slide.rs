@@ -580,9 +580,15 @@ fn slide_rounds_alternate_a_local_search_and_a_slide_and_the_best_slide_is_the_a
     }
     if best > 0 {
         let first = RunFolder::open(&from.join("slide/rounds/0/slid")).expect("the first slide");
-        let own = first.result.slide.expect("its record");
+        let own = first.result.slide.clone().expect("its record");
         assert_eq!(own.lambda_after.to_bits(), values[0].to_bits());
         assert!(own.rounds.is_empty());
+        // Each folder is a whole run: the answer's equilibrium is the winning round's, and
+        // the first slide's went with it.
+        let won = RunFolder::open(&from.join(format!("slide/rounds/{best}/slid"))).expect("run");
+        let u = |r: &RunFolder| r.displacement_of(Which::Answer).expect("its equilibrium");
+        assert_eq!(u(&slid), u(&won));
+        assert_eq!(u(&first).len(), first.network.dofs());
     }
     // The answer's exported curves analysed cold give its objective; every point within the
     // largest move of the curve as drawn in the run (the moves of the rounds do not add up).

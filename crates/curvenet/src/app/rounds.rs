@@ -60,20 +60,22 @@ fn adopt_round(spec: &SlideSpec, round: usize, first: &mut SlideOutcome) -> Resu
     let failed =
         |p: &std::path::Path, e: std::io::Error| AppError::Failed(format!("{}: {e}", p.display()));
     std::fs::create_dir_all(&kept).map_err(|e| failed(&kept, e))?;
-    for (dir, to, keep) in [(&spec.out, &kept, false), (&from, &spec.out, true)] {
+    // Every file and folder of the run (its states, modes and iterations too), but the
+    // rounds and the lock: the first slide's moved out, the round's copied in.
+    for (dir, to, copy) in [(&spec.out, &kept, false), (&from, &spec.out, true)] {
         let entries = std::fs::read_dir(dir).map_err(|e| failed(dir, e))?;
         for entry in entries {
             let entry = entry.map_err(|e| failed(dir, e))?;
             let name = entry.file_name();
-            let path = entry.path();
-            if !path.is_file() || name == std::ffi::OsStr::new(crate::run_folder::folder::LOCK_FILE)
+            if name == std::ffi::OsStr::new(crate::run_folder::folder::LOCK_FILE)
+                || name == std::ffi::OsStr::new("rounds")
             {
                 continue;
             }
             let target = to.join(&name);
-            match keep {
-                true => std::fs::copy(&path, &target).map(|_| ()),
-                false => std::fs::rename(&path, &target),
+            match copy {
+                true => copy_tree(&entry.path(), &target),
+                false => std::fs::rename(entry.path(), &target),
             }
             .map_err(|e| failed(&target, e))?;
         }
@@ -89,6 +91,19 @@ fn adopt_round(spec: &SlideSpec, round: usize, first: &mut SlideOutcome) -> Resu
         .ok_or_else(|| AppError::Failed(format!("{}: no slide record", from.display())))?;
     first.record = record;
     first.run.result = open.result;
+    Ok(())
+}
+
+/// Copies the file or folder `from` (with everything in it) to `to`.
+fn copy_tree(from: &std::path::Path, to: &std::path::Path) -> std::io::Result<()> {
+    if !from.is_dir() {
+        return std::fs::copy(from, to).map(|_| ());
+    }
+    std::fs::create_dir_all(to)?;
+    for entry in std::fs::read_dir(from)? {
+        let entry = entry?;
+        copy_tree(&entry.path(), &to.join(entry.file_name()))?;
+    }
     Ok(())
 }
 
