@@ -202,8 +202,10 @@ pub fn parse_json_curves(text: &str, file: &str) -> Result<CurveFile, InputError
     if let Some(h) = document.edge_length
         && !(h.is_finite() && h > 0.0)
     {
+        let line =
+            (text.find("\"edge_length\"")).map_or(1, |i| text[..i].matches('\n').count() + 1);
         return fail(
-            1,
+            line,
             format!("\"edge_length\" must be a positive length (scene units), got {h}"),
         );
     }
@@ -454,6 +456,27 @@ mod tests {
         assert_eq!(f.curves[2].points.len(), 4);
         assert_eq!(f.curves[3].points[1], Vec3::new(1e-3, 250.0, 0.0));
         assert_eq!(f.curves[3].origin.line, 8);
+    }
+
+    #[test]
+    fn an_edge_length_is_read_and_a_bad_one_refused_at_its_line() {
+        let text = doc(&[GOOD]).replacen(
+            "\"version\": 1,",
+            "\"version\": 1,\n  \"edge_length\": 2.5,",
+            1,
+        );
+        assert_eq!(
+            parse_json_curves(&text, "c.json").unwrap().edge_length,
+            Some(2.5)
+        );
+        for bad in ["0", "-1"] {
+            let text = text.replace("2.5", bad);
+            let e = parse_json_curves(&text, "c.json").unwrap_err().to_string();
+            assert!(
+                e.starts_with("c.json:4:") && e.contains("edge_length"),
+                "{e}"
+            );
+        }
     }
 
     #[test]
