@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::{BIN, TempDir, dome_curves};
+use common::{BIN, TempDir, dome_curves, dome_run};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -18,23 +18,9 @@ const STOP_WITHIN: Duration = Duration::from_secs(3);
 
 /// The arguments of one `simplify` run of `curves` into `out`, then `extra`.
 fn simplify_args(curves: &Path, out: &Path, extra: &[&str]) -> Vec<String> {
-    [
-        "simplify",
-        "--mesh",
-        "dome",
-        "--curves",
-        curves.to_str().unwrap(),
-        "--edge-length",
-        "100",
-        "--budget",
-        "0.3",
-        "--out",
-        out.to_str().unwrap(),
-    ]
-    .iter()
-    .chain(extra)
-    .map(|s| s.to_string())
-    .collect()
+    let mut args = dome_run(curves.to_str().unwrap(), out.to_str().unwrap());
+    args.extend(extra.iter().map(|s| s.to_string()));
+    args
 }
 
 /// Runs the binary to its end, asserting exit 0.

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{BIN, GRID, TempDir, dome_curves};
+use common::{BIN, GRID, TempDir, dome_curves, dome_run};
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -242,21 +242,10 @@ fn a_folder_another_run_holds_is_refused() {
     let tmp = TempDir::new("runf");
     // A run long enough to overlap: 24 geodesics on the built-in dome.
     dome_curves(&tmp.0, "dome.json");
-    let args = [
-        "simplify",
-        "--mesh",
-        "dome",
-        "--curves",
-        "dome.json",
-        "--edge-length",
-        "100",
-        "--budget",
-        "0.3",
-        "--out",
-        "out",
-    ];
+    let owned = dome_run("dome.json", "out");
+    let args: Vec<&str> = owned.iter().map(String::as_str).collect();
     let mut first = Command::new(BIN)
-        .args(args)
+        .args(&args)
         .current_dir(&tmp.0)
         .stdout(Stdio::null())
         .stderr(Stdio::null())
@@ -479,23 +468,9 @@ fn view_and_export_of_a_damaged_run_folder_exit_2_naming_the_file() {
 #[test]
 fn the_runs_viewer_page_is_the_one_view_makes_from_the_folder() {
     let tmp = TempDir::new("viewer-ahead");
-    let curves = dome_curves(&tmp.0, "curves.json");
-    let o = run_in(
-        &tmp.0,
-        &[
-            "simplify",
-            "--mesh",
-            "dome",
-            "--curves",
-            curves.to_str().unwrap(),
-            "--edge-length",
-            "100",
-            "--budget",
-            "0.3",
-            "--out",
-            "out",
-        ],
-    );
+    dome_curves(&tmp.0, "dome.json");
+    let args = dome_run("dome.json", "out");
+    let o = run_in(&tmp.0, &args.iter().map(String::as_str).collect::<Vec<_>>());
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let o = run_in(
         &tmp.0,

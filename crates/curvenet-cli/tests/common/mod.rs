@@ -79,3 +79,23 @@ pub fn dome_curves(dir: &Path, name: &str) -> PathBuf {
     assert!(status.success(), "trace failed");
     curves
 }
+
+/// The arguments of a `simplify` run of the dome's curves `curves` into `out` (edge length
+/// 100, budget 0.3): a run long enough to interrupt or to overlap another.
+pub fn dome_run(curves: &str, out: &str) -> Vec<String> {
+    [
+        "simplify",
+        "--mesh",
+        "dome",
+        "--curves",
+        curves,
+        "--edge-length",
+        "100",
+        "--budget",
+        "0.3",
+        "--out",
+        out,
+    ]
+    .map(String::from)
+    .to_vec()
+}
