@@ -14,7 +14,7 @@ use super::{AppError, Stage};
 use crate::cancel::Cancel;
 use crate::constraints::{ConstraintParams, Constraints, SymmetryOption};
 use crate::io::{Polyline, write_atomic};
-use crate::material::{CurveOverride, RestShape};
+use crate::material::RestShape;
 use crate::network::BuildParams;
 use crate::physics::PhysicalParams;
 use crate::run_folder::schema::objective_name;
@@ -396,15 +396,7 @@ fn physical_of(run: &RunFolder, ids: &[usize]) -> Result<Option<PhysicalParams>,
     let resolved = options.resolve(None, &[]).map_err(AppError::Usage)?;
     Ok(resolved.map(|mut p| {
         p.physical = model.physical.clone();
-        p.physical.curves = (ids.iter().enumerate())
-            .filter_map(|(i, &id)| {
-                let own = model.physical.curves.iter().find(|o| o.curve == id)?;
-                Some(CurveOverride {
-                    curve: i,
-                    ..own.clone()
-                })
-            })
-            .collect();
+        p.physical.curves = model.physical.overrides_for(ids);
         p.rest = (ids.iter())
             .map(|id| match model.pre_bent.contains(id) {
                 true => RestShape::PreBent,

@@ -267,6 +267,20 @@ impl Physical {
             .map(|i| &self.curves[i])
     }
 
+    /// The overrides of the network made of the curves `ids`, in that order: curve `i` of
+    /// the new network takes curve `ids[i]`'s material and section.
+    pub fn overrides_for(&self, ids: &[usize]) -> Vec<CurveOverride> {
+        (ids.iter().enumerate())
+            .filter_map(|(i, &id)| {
+                let own = self.curves.iter().find(|o| o.curve == id)?;
+                Some(CurveOverride {
+                    curve: i,
+                    ..own.clone()
+                })
+            })
+            .collect()
+    }
+
     /// Curve `curve`'s material.
     pub fn curve_material(&self, curve: usize) -> &PhysicalMaterial {
         self.override_of(curve)

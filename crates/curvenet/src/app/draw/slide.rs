@@ -5,7 +5,6 @@
 use super::{DrawEdit, DrawError, Drawing};
 use crate::constraints::{Constraints, SymmetryOption};
 use crate::io::Polyline;
-use crate::material::CurveOverride;
 use crate::physics::PhysicalParams;
 use crate::slide::{SlideParams, SlideProblem, Slider};
 
@@ -91,15 +90,7 @@ impl Drawing {
 /// curves `kept`, in that order: each curve's own material, section and rest shape carried to
 /// its position; no load cases.
 fn physical_for(mut p: PhysicalParams, kept: &[usize]) -> PhysicalParams {
-    p.physical.curves = (kept.iter().enumerate())
-        .filter_map(|(i, &id)| {
-            let own = p.physical.curves.iter().find(|o| o.curve == id)?;
-            Some(CurveOverride {
-                curve: i,
-                ..own.clone()
-            })
-        })
-        .collect();
+    p.physical.curves = p.physical.overrides_for(kept);
     p.rest = kept
         .iter()
         .map(|&id| p.rest.get(id).copied().unwrap_or_default())
