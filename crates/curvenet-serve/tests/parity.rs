@@ -27,6 +27,7 @@
 
 mod common;
 
+use common::design::serve_inputs_without;
 use common::{curves_of, ok, scratch};
 use curvenet::app::{
     self, AnalyzeOutcome, CurveSource, InputSpec, MeshSource, ModelOptions, RunSpec, Setup, Silent,
@@ -34,12 +35,10 @@ use curvenet::app::{
 use curvenet::cancel::Cancel;
 use curvenet::constraints::{ConstraintParams, Group};
 use curvenet::physics::PhysicalOptions;
-use curvenet::run_folder::{ResultFile, RunsRoot};
+use curvenet::run_folder::ResultFile;
 use curvenet::simplify::Budget;
 use curvenet::stability::Objective;
 use curvenet::words::Neutral;
-use curvenet_serve::start::{ServeSpec, Source, open};
-use curvenet_serve::{AppState, Server};
 use serde_json::{Value, json};
 use std::net::SocketAddr;
 use std::path::Path;
@@ -65,17 +64,7 @@ struct Case {
 
 /// A server of `case`'s inputs and model, with `remove` removed at the start.
 fn serve(case: &Case, remove: &[usize]) -> SocketAddr {
-    let spec = ServeSpec {
-        source: Source::Inputs(Box::new(case.input.clone())),
-        model: case.model.clone(),
-        remove: remove.to_vec(),
-    };
-    let opened = open(&spec, &Silent).expect("served");
-    let server = Server::bind("127.0.0.1:0".parse().unwrap()).unwrap();
-    let addr = server.local_addr().unwrap();
-    let config = opened.config(RunsRoot::new(&std::env::temp_dir()).unwrap());
-    std::thread::spawn(move || server.serve(AppState::new(opened.workspace, config)));
-    addr
+    serve_inputs_without(case.input.clone(), case.model.clone(), remove.to_vec())
 }
 
 /// `app::analyze` of `case`'s inputs without `remove`: `curvenet analyze --remove`'s numbers.

@@ -17,10 +17,19 @@ pub const H: f64 = 200.0;
 
 /// A server of `input` in the model of `model`, as `curvenet serve` opens it, on a free port.
 pub fn serve_inputs(input: InputSpec, model: ModelOptions) -> SocketAddr {
+    serve_inputs_without(input, model, Vec::new())
+}
+
+/// [`serve_inputs`] with the curves `remove` removed at the start (`serve --remove`).
+pub fn serve_inputs_without(
+    input: InputSpec,
+    model: ModelOptions,
+    remove: Vec<usize>,
+) -> SocketAddr {
     let spec = ServeSpec {
         source: Source::Inputs(Box::new(input)),
         model,
-        remove: Vec::new(),
+        remove,
     };
     let opened = open(&spec, &Silent).expect("served");
     let server = Server::bind("127.0.0.1:0".parse().unwrap()).unwrap();
