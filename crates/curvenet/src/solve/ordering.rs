@@ -67,8 +67,16 @@ pub fn expand(vertex_perm: &[usize]) -> (Vec<usize>, Vec<usize>) {
     (fwd, inv)
 }
 
+/// Held while METIS orders a graph: one ordering at a time in the process. METIS keeps its
+/// random number generator (seeded afresh by every call) and its signal handlers in global
+/// state, so two orderings at once interleave one generator and give orderings that depend on
+/// the timing (seen: the same structure analysed on two threads at once factored with
+/// different fill-reducing orderings, run to run).
+#[cfg(feature = "metis")]
+static METIS: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 /// A nested-dissection vertex ordering (`perm[new] = old`) from METIS, or `None` when METIS
-/// is not built in or fails.
+/// is not built in or fails. The same pattern gives the same ordering, whatever else runs.
 #[cfg(feature = "metis")]
 pub fn nested_dissection(pattern: &Pattern) -> Option<Vec<usize>> {
     use metis_sys::idx_t;
@@ -87,11 +95,15 @@ pub fn nested_dissection(pattern: &Pattern) -> Option<Vec<usize>> {
     let mut options = [0 as idx_t; metis_sys::METIS_NOPTIONS as usize];
     let mut perm = vec![0 as idx_t; nv];
     let mut iperm = vec![0 as idx_t; nv];
+    let _one_at_a_time = METIS
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
     #[allow(unsafe_code)]
     // SAFETY: every pointer refers to a live, correctly sized buffer: `options` has
     // METIS_NOPTIONS entries, `xadj` nv + 1, `adjncy` xadj[nv], `perm` and `iperm` nv; the
     // graph is symmetric without self loops, as METIS requires; the vertex weights are null
     // (unweighted), which METIS accepts. METIS does not keep the pointers after returning.
+    // The lock keeps every other METIS call of the process out meanwhile.
     let status = unsafe {
         metis_sys::METIS_SetDefaultOptions(options.as_mut_ptr());
         metis_sys::METIS_NodeND(
@@ -216,21 +228,29 @@ mod tests {
 
     /// A path 0 – 1 – … – 9 plus a few chords, as a symmetric pattern (upper triangle).
     fn small_pattern() -> Pattern {
-        let n = 10;
+        pattern_of(
+            10,
+            &[
+                (0, 1),
+                (1, 2),
+                (2, 3),
+                (3, 4),
+                (4, 5),
+                (5, 6),
+                (6, 7),
+                (7, 8),
+                (8, 9),
+                (0, 5),
+                (2, 7),
+            ],
+        )
+    }
+
+    /// The pattern (upper triangle) of an `n × n` symmetric matrix with a diagonal and the
+    /// entries `(i, j)`, `i < j`.
+    fn pattern_of(n: usize, entries: &[(usize, usize)]) -> Pattern {
         let mut cols: Vec<Vec<usize>> = (0..n).map(|j| vec![j]).collect();
-        for (i, j) in [
-            (0, 1),
-            (1, 2),
-            (2, 3),
-            (3, 4),
-            (4, 5),
-            (5, 6),
-            (6, 7),
-            (7, 8),
-            (8, 9),
-            (0, 5),
-            (2, 7),
-        ] {
+        for &(i, j) in entries {
             cols[j].push(i);
         }
         let mut col_ptr = vec![0];
@@ -287,6 +307,60 @@ mod tests {
             assert_eq!(fill(&p, &post), fill(&p, &fwd), "same fill");
             // Postordered: renumbering again changes nothing.
             assert_eq!(postorder(&p, &post), post);
+        }
+    }
+
+    /// The pattern of a network of `side × side` vertices in a grid (three coordinates each,
+    /// coupled within a vertex and with its grid neighbours).
+    #[cfg(feature = "metis")]
+    fn grid_pattern(side: usize) -> Pattern {
+        let mut entries = Vec::new();
+        let mut couple = |a: usize, b: usize| {
+            for k in 0..3 {
+                for l in 0..3 {
+                    let (i, j) = (3 * a + k, 3 * b + l);
+                    if i < j {
+                        entries.push((i, j));
+                    }
+                }
+            }
+        };
+        for r in 0..side {
+            for c in 0..side {
+                let v = r * side + c;
+                couple(v, v);
+                if c + 1 < side {
+                    couple(v, v + 1);
+                }
+                if r + 1 < side {
+                    couple(v, v + side);
+                }
+            }
+        }
+        pattern_of(3 * side * side, &entries)
+    }
+
+    #[cfg(feature = "metis")]
+    #[test]
+    fn orderings_made_at_once_on_several_threads_are_the_ordering_made_alone() {
+        let pattern = grid_pattern(60);
+        let alone = nested_dissection(&pattern).expect("METIS orders a grid");
+        let at_once: Vec<Vec<usize>> = std::thread::scope(|s| {
+            let runs: Vec<_> = (0..4)
+                .map(|_| {
+                    s.spawn(|| {
+                        (0..4)
+                            .map(|_| nested_dissection(&pattern).expect("ordered"))
+                            .collect::<Vec<_>>()
+                    })
+                })
+                .collect();
+            runs.into_iter()
+                .flat_map(|r| r.join().expect("no panic"))
+                .collect()
+        });
+        for (k, o) in at_once.iter().enumerate() {
+            assert!(o == &alone, "ordering {k} made beside others differs");
         }
     }
 }
