@@ -6,18 +6,22 @@
 //! (its CPU time is about 1.5× its wall time on the paper's examples), so [`GravityAhead`]
 //! solves each iteration's deflection as soon as it is recorded, on a thread of its own (with
 //! a one-thread pool for its parallel parts) in Linux's idle scheduling class: it runs only
-//! when a core has nothing else to do, so it never slows the greedy. When the greedy ends,
+//! when a core has nothing else to do. Each deflection is factored with the structure's own
+//! symbolic analysis, handed over by the greedy (a structure holding a small part of the
+//! network is factored on its own vertices, without analysing it again). When the greedy ends,
 //! [`GravityAhead::finish`] takes what is solved, and the viewer
 //! ([`super::viewer::write_run_outputs_with`]) solves the rest beside the pictures.
 //!
 //! The deflections are those the viewer solves from the run folder alone: the analyzer is
 //! built from the network and stability settings the run writes to `network.json` and
 //! `result.json` (their JSON round-trips every number exactly), and the displacements are the
-//! ones written to `states/`, so the page is the same byte for byte whichever solved them
-//! (a test compares them).
+//! ones written to `states/`, and the symbolic analysis is the one the viewer's analyzer
+//! gives the same structure ([`Analyzer::symbolic_for`] is a pure function of it), so the page
+//! is the same byte for byte whichever solved them (a test compares them).
 
-use super::viewer::gravity_deflection;
 use crate::network::Network;
+use crate::rod::ActiveSet;
+use crate::solve::SymbolicFactor;
 use crate::stability::{Analyzer, StabilityParams};
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -25,8 +29,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 use std::thread::JoinHandle;
 
-/// One recorded iteration to solve: its index, curves and equilibrium displacement.
-type Job = (usize, Vec<usize>, Vec<f64>);
+/// One recorded iteration to solve: its index, curves, equilibrium displacement and the
+/// structure's symbolic analysis (the greedy's, which the viewer's own would repeat).
+type Job = (usize, Vec<usize>, Vec<f64>, Arc<SymbolicFactor>);
 
 /// Gravity deflections solved ahead, by iteration: its curves and the deflection (`None`
 /// when its structure is not positive definite).
@@ -80,11 +85,12 @@ impl GravityAhead {
         }
     }
 
-    /// Queues iteration `k` (its curves and equilibrium displacement `u`).
-    pub fn submit(&self, k: usize, curves: &[usize], u: &[f64]) {
+    /// Queues iteration `k`: its curves, equilibrium displacement `u` and the structure's
+    /// symbolic analysis (what [`Analyzer::symbolic_for`] gives it).
+    pub fn submit(&self, k: usize, curves: &[usize], u: &[f64], symbolic: &Arc<SymbolicFactor>) {
         if let Some(tx) = &self.jobs {
             // The thread may have ended (the folder unreadable): nothing is solved ahead.
-            let _ = tx.send((k, curves.to_vec(), u.to_vec()));
+            let _ = tx.send((k, curves.to_vec(), u.to_vec(), symbolic.clone()));
         }
     }
 
@@ -126,11 +132,16 @@ fn solve_as_they_come(
     else {
         return solved;
     };
-    while let Ok((k, curves, u)) = jobs.recv() {
+    while let Ok((k, curves, u, symbolic)) = jobs.recv() {
         if stop.load(Ordering::Relaxed) {
             break;
         }
-        let d = pool.install(|| gravity_deflection(&analyzer, &curves, &u));
+        let active = ActiveSet::from_curves(analyzer.curve_count(), &curves);
+        let d = pool.install(|| {
+            analyzer
+                .gravity_at_with(&active, &u, &symbolic)
+                .map(|(d, _)| d)
+        });
         solved.0.insert(k, (curves, d));
     }
     solved

@@ -36,8 +36,9 @@ fn io_err(path: &Path, e: std::io::Error) -> RunFolderError {
 type GivenAnswer = (Result<Answer, NoAnswer>, Option<NetworkState>);
 
 /// What [`OutputWriter::with_progress`] calls after each iteration is recorded: the
-/// iteration's index, its record and its equilibrium displacement.
-pub type Progress<'a> = dyn Fn(usize, &IterationRecord, &[f64]) + Sync + 'a;
+/// iteration's index, its record and its evaluation (the equilibrium, the spectrum and the
+/// structure's symbolic analysis).
+pub type Progress<'a> = dyn Fn(usize, &IterationRecord, &Evaluation) + Sync + 'a;
 
 /// Writes a run's folder as the greedy goes (a [`GreedyHooks`]).
 ///
@@ -461,7 +462,7 @@ impl OutputWriter<'_> {
         self.result.iterations.push(record.clone());
         self.write_result()?;
         if let Some(p) = self.progress {
-            p(k, record, &eval.displacement);
+            p(k, record, eval);
         }
         Ok(())
     }

@@ -3,10 +3,10 @@
 
 use super::{Analyzer, StabilityError};
 use crate::rod::ActiveSet;
-use crate::solve::Cholesky;
-use crate::solve::NewtonInfo;
 use crate::solve::eigen::Spectrum;
+use crate::solve::{Cholesky, NewtonInfo, SymbolicFactor};
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 
 /// Share of the worst-case mode carried by one curve.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -78,7 +78,9 @@ impl Analyzer {
             Ok((s, ()))
         })?;
         let mode_curves = self.mode_curves(active, spectrum.vectors.col(0).iter().copied());
-        let gravity = self.gravity(active, &h);
+        let gravity = self
+            .gravity_solve(active, &h, &symbolic)
+            .map(|(_, summary)| summary);
         Ok(Analysis {
             newton,
             displacement: u,
@@ -146,7 +148,8 @@ impl Analyzer {
     /// Deflection under the gravity load with Hessian values `h` (None if not positive
     /// definite).
     pub fn gravity(&self, active: &ActiveSet, h: &[f64]) -> Option<GravityDeflection> {
-        self.gravity_solve(active, h).map(|(_, summary)| summary)
+        self.gravity_solve(active, h, &self.symbolic_for(active))
+            .map(|(_, summary)| summary)
     }
 
     /// The displacement field under the gravity load of the structure `active` at the
@@ -157,19 +160,34 @@ impl Analyzer {
         active: &ActiveSet,
         u0: &[f64],
     ) -> Option<(Vec<f64>, GravityDeflection)> {
-        let h = self.model().assemble(u0, active, true).hess;
-        self.gravity_solve(active, &h)
+        self.gravity_at_with(active, u0, &self.symbolic_for(active))
     }
 
+    /// [`Self::gravity_at`] factoring with `symbolic`, the analysis
+    /// [`Self::symbolic_for`] gives `active` (e.g. [`super::Evaluation::symbolic`] of the
+    /// structure, computed already): the same numbers, without analysing the structure again.
+    pub fn gravity_at_with(
+        &self,
+        active: &ActiveSet,
+        u0: &[f64],
+        symbolic: &Arc<SymbolicFactor>,
+    ) -> Option<(Vec<f64>, GravityDeflection)> {
+        let h = self.model().assemble(u0, active, true).hess;
+        self.gravity_solve(active, &h, symbolic)
+    }
+
+    /// `H u = f` under the gravity load, factored with `symbolic` (the structure's own
+    /// analysis: a structure holding a small part of the network is factored on its own
+    /// vertices).
     fn gravity_solve(
         &self,
         active: &ActiveSet,
         h: &[f64],
+        symbolic: &Arc<SymbolicFactor>,
     ) -> Option<(Vec<f64>, GravityDeflection)> {
         let n = self.model().dofs();
         let f = self.gravity_load(active);
-        let factor =
-            Cholesky::factorize(self.symbolic(), self.model().pattern(), h, 0.0, None).ok()?;
+        let factor = Cholesky::factorize(symbolic, self.model().pattern(), h, 0.0, None).ok()?;
         let mut u = f.clone();
         factor.solve_vec(&mut u);
         if !u.iter().all(|x| x.is_finite()) {

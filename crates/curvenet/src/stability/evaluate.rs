@@ -39,6 +39,12 @@ pub struct Evaluation {
 }
 
 impl Evaluation {
+    /// The symbolic analysis of its structure ([`Analyzer::symbolic_for`] it), which
+    /// factorizations of the structure's matrices can reuse.
+    pub fn symbolic(&self) -> &Arc<SymbolicFactor> {
+        &self.symbolic
+    }
+
     /// `λ_eq` (`μ_min` under the frequency objective: the objective's value).
     pub fn lambda(&self) -> f64 {
         self.spectrum.lambda()

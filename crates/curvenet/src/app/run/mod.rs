@@ -20,7 +20,7 @@ use crate::run_folder::schema::PhysicalModel;
 use crate::run_folder::{OutputWriter, ResultFile, RunFolderError, RunSetup};
 use crate::simplify::greedy::ResumePoint;
 use crate::simplify::{Budget, SimplifyError, greedy};
-use crate::stability::Objective;
+use crate::stability::{Evaluation, Objective};
 use crate::words::{Message, Opt, given, message};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -226,22 +226,26 @@ pub fn execute(
     // iterations come.
     let ahead = (spec.pictures)
         .then(|| GravityAhead::start(network.clone(), setup.model.stability.clone()));
-    let progress = |k: usize, r: &crate::simplify::greedy::IterationRecord, u: &[f64]| {
+    let progress = |k: usize, r: &crate::simplify::greedy::IterationRecord, e: &Evaluation| {
         observer.iteration(r, total, budget_length);
         if let Some(a) = &ahead {
-            a.submit(k, &r.curves, u);
+            a.submit(k, &r.curves, &e.displacement, e.symbolic());
         }
     };
     let mut writer = writer.with_cancel(cancel.clone()).with_progress(&progress);
     let outcome = {
         let _stage = StageGuard::start(observer, Stage::Greedy);
-        greedy(
-            &analyzer,
-            params,
-            Some(&search.constraints),
-            resume_point,
-            &mut writer,
-        )
+        // Run on a worker of the pool, as the benchmark does: its parallel parts then split
+        // among the workers without handing each one over from a thread outside the pool.
+        rayon::scope(|_| {
+            greedy(
+                &analyzer,
+                params,
+                Some(&search.constraints),
+                resume_point,
+                &mut writer,
+            )
+        })
     };
     let outcome = outcome.map_err(|e| match e {
         SimplifyError::Cancelled => AppError::Cancelled {
