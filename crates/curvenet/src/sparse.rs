@@ -5,7 +5,7 @@
 //! one pattern serves every matrix of a network.
 
 /// The upper-triangular sparsity pattern of a symmetric matrix, in compressed columns.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Pattern {
     /// Number of rows and columns.
     pub n: usize,

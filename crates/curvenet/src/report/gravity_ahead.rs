@@ -22,6 +22,7 @@
 use crate::network::Network;
 use crate::rod::ActiveSet;
 use crate::solve::SymbolicFactor;
+use crate::sparse::Pattern;
 use crate::stability::{Analyzer, StabilityParams};
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -68,15 +69,16 @@ pub struct GravityAhead {
 
 impl GravityAhead {
     /// Starts the thread for a run of `network` with the stability settings `stability`
-    /// (what the run records). A thread that cannot start solves nothing ahead (the viewer
-    /// then solves every deflection itself).
-    pub fn start(network: Network, stability: StabilityParams) -> Self {
+    /// (what the run records), whose analyzer assembles its matrices on `pattern`. A thread
+    /// that cannot start solves nothing ahead (the viewer then solves every deflection
+    /// itself).
+    pub fn start(network: Network, stability: StabilityParams, pattern: Pattern) -> Self {
         let (tx, rx) = mpsc::channel::<Job>();
         let stop = Arc::new(AtomicBool::new(false));
         let flag = Arc::clone(&stop);
         let worker = std::thread::Builder::new()
             .name("gravity-ahead".into())
-            .spawn(move || solve_as_they_come(network, stability, &rx, &flag))
+            .spawn(move || solve_as_they_come(network, stability, &pattern, &rx, &flag))
             .ok();
         GravityAhead {
             jobs: Some(tx),
@@ -115,6 +117,7 @@ impl Drop for GravityAhead {
 fn solve_as_they_come(
     network: Network,
     stability: StabilityParams,
+    run_pattern: &Pattern,
     jobs: &mpsc::Receiver<Job>,
     stop: &AtomicBool,
 ) -> Deflections {
@@ -122,6 +125,9 @@ fn solve_as_they_come(
     let Ok(analyzer) = Analyzer::new(network, stability) else {
         return solved;
     };
+    // The run's symbolic analyses fit these matrices only when the run's model has their
+    // pattern (the physical mode's own model may not): else each structure is analysed here.
+    let handed_fit = analyzer.model().pattern() == run_pattern;
     // Its own pool: the factorization's parallel parts stay off the greedy's threads.
     idle_priority();
     let Ok(pool) = rayon::ThreadPoolBuilder::new()
@@ -138,9 +144,12 @@ fn solve_as_they_come(
         }
         let active = ActiveSet::from_curves(analyzer.curve_count(), &curves);
         let d = pool.install(|| {
-            analyzer
-                .gravity_at_with(&active, &u, &symbolic)
-                .map(|(d, _)| d)
+            let solved = if handed_fit {
+                analyzer.gravity_at_with(&active, &u, &symbolic)
+            } else {
+                analyzer.gravity_at(&active, &u)
+            };
+            solved.map(|(d, _)| d)
         });
         solved.0.insert(k, (curves, d));
     }

@@ -224,8 +224,13 @@ pub fn execute(
     }
     // The viewer's gravity deflections are solved on a thread of their own as the
     // iterations come.
-    let ahead = (spec.pictures)
-        .then(|| GravityAhead::start(network.clone(), setup.model.stability.clone()));
+    let ahead = (spec.pictures).then(|| {
+        GravityAhead::start(
+            network.clone(),
+            setup.model.stability.clone(),
+            analyzer.model().pattern().clone(),
+        )
+    });
     let progress = |k: usize, r: &crate::simplify::greedy::IterationRecord, e: &Evaluation| {
         observer.iteration(r, total, budget_length);
         if let Some(a) = &ahead {
