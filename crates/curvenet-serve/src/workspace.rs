@@ -271,7 +271,9 @@ pub fn open_run(
         Some(a) => a.found.curves.clone(),
         None => r.iterations[run.last_index()].curves.clone(),
     };
-    let fraction = r.budget / r.setup.total_length;
+    // A slid run's network is its answer alone, shorter than the budget it was chosen under:
+    // the whole of it is within that budget.
+    let fraction = (r.budget / r.setup.total_length).min(1.0);
     let stop = r.stop.map(|s| s.to_string());
     let greedy = Runner::finished(&r.iterations, (fraction, r.budget), stop);
     Ok(ServedRun {

@@ -79,6 +79,10 @@ fn a_run_made_with_slide_is_served_as_its_slid_network() {
             .iter()
             .all(|c| c["points"].as_array().unwrap().len() >= 2)
     );
+    // Its greedy panel: the slid network holds less than the budget it was chosen under.
+    let greedy = ok(addr, "GET", "/api/greedy", "");
+    let fraction = greedy["budget"].as_f64().expect("the budget's fraction");
+    assert!(fraction > 0.0 && fraction <= 1.0, "{greedy}");
     // The page carries them (its "before" toggle).
     let (status, page) = request(addr, "GET", "/", b"");
     assert_eq!(status, 200);
