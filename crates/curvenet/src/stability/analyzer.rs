@@ -26,7 +26,10 @@ use std::sync::{Arc, Mutex, OnceLock};
 pub struct Analyzer {
     network: Network,
     model: EnergyModel,
-    symbolic: Arc<SymbolicFactor>,
+    /// The whole pattern's symbolic analysis, made when first needed ([`Self::symbolic`]): an
+    /// analyzer whose factorizations all use analyses made elsewhere (the viewer's gravity
+    /// thread's) never makes it.
+    symbolic: OnceLock<Arc<SymbolicFactor>>,
     params: StabilityParams,
     /// `λ_eq` of connected sets already evaluated, with their equilibrium's largest
     /// displacement ([`Self::lambda_eq`], [`Self::parts_of`]).
@@ -59,7 +62,8 @@ struct Metric {
 }
 
 impl Analyzer {
-    /// Builds the energy model and the symbolic factorization of `network`.
+    /// Builds the energy model of `network` (its symbolic analysis is made when first
+    /// needed: [`Self::symbolic`]).
     ///
     /// With [`Objective::Frequency`] the spectra are those of the mass metric with unit
     /// density (`ρ A = π r²` per unit length: the paper's model has no material), until
@@ -88,11 +92,10 @@ impl Analyzer {
             }
             None => EnergyModel::new(&network, &params.material),
         };
-        let symbolic = SymbolicFactor::new(model.pattern(), params.tuning.solver.backend);
         Analyzer {
             network,
             model,
-            symbolic,
+            symbolic: OnceLock::new(),
             params,
             parts: Mutex::default(),
             physical: None,
@@ -305,7 +308,9 @@ impl Analyzer {
 
     /// The shared symbolic factorization of the whole pattern.
     pub fn symbolic(&self) -> &Arc<SymbolicFactor> {
-        &self.symbolic
+        self.symbolic.get_or_init(|| {
+            SymbolicFactor::new(self.model.pattern(), self.params.tuning.solver.backend)
+        })
     }
 
     /// The parameters.
@@ -364,10 +369,10 @@ impl Analyzer {
         let mask = self.model.vertex_mask(active);
         let held = mask.iter().filter(|&&m| m).count();
         if held as f64 > self.params.tuning.restrict_share * mask.len() as f64 {
-            return self.symbolic.clone();
+            return self.symbolic().clone();
         }
         let keep = self.model.coordinate_mask(active);
-        SymbolicFactor::restricted(&self.symbolic, self.model.pattern(), &keep)
+        SymbolicFactor::restricted(self.symbolic(), self.model.pattern(), &keep)
     }
 
     /// Relaxes `active` from displacements `u` (updated in place). The relative tolerance is
