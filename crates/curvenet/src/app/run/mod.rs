@@ -240,17 +240,13 @@ pub fn execute(
     let mut writer = writer.with_cancel(cancel.clone()).with_progress(&progress);
     let outcome = {
         let _stage = StageGuard::start(observer, Stage::Greedy);
-        // Run on a worker of the pool, as the benchmark does: its parallel parts then split
-        // among the workers without handing each one over from a thread outside the pool.
-        rayon::scope(|_| {
-            greedy(
-                &analyzer,
-                params,
-                Some(&search.constraints),
-                resume_point,
-                &mut writer,
-            )
-        })
+        greedy(
+            &analyzer,
+            params,
+            Some(&search.constraints),
+            resume_point,
+            &mut writer,
+        )
     };
     let outcome = outcome.map_err(|e| match e {
         SimplifyError::Cancelled => AppError::Cancelled {

@@ -233,7 +233,7 @@ fn carried_pays(scores: &[CandidateScore], after: usize) -> bool {
 }
 
 /// Callbacks of a greedy run: saving progress, cancelling.
-pub trait GreedyHooks: Sync {
+pub trait GreedyHooks: Send + Sync {
     /// Called once per iteration with its record, its evaluation (mode, equilibrium), and
     /// the number of iterations done; an error stops the run.
     fn iteration(&mut self, record: &IterationRecord, eval: &Evaluation) -> Result<(), String>;
@@ -289,11 +289,26 @@ pub struct ResumePoint {
 /// `None`, give the paper's run exactly. Returns once `hooks` have flushed
 /// ([`GreedyHooks::flush`]), also when the run stopped early.
 ///
+/// It runs on a worker of the current thread pool (the calling thread waits): its parallel
+/// parts then split among the workers without each being handed over from a thread outside
+/// the pool.
+///
 /// # Errors
 ///
 /// [`SimplifyError::Params`] for bad parameters or constraints bound to another network,
 /// budget or keep list; the run's own failures and cancellation.
 pub fn greedy(
+    analyzer: &Analyzer,
+    params: &GreedyParams,
+    constraints: Option<&Constraints>,
+    resume: Option<ResumePoint>,
+    hooks: &mut dyn GreedyHooks,
+) -> Result<GreedyOutcome, SimplifyError> {
+    rayon::scope(|_| greedy_in_pool(analyzer, params, constraints, resume, hooks))
+}
+
+/// [`greedy`], on a worker of the pool.
+fn greedy_in_pool(
     analyzer: &Analyzer,
     params: &GreedyParams,
     constraints: Option<&Constraints>,
