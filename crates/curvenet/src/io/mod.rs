@@ -103,6 +103,21 @@ pub struct Polyline {
     pub label: Option<String>,
 }
 
+#[cfg(test)]
+impl Polyline {
+    /// The open straight polyline from `a` to `b` in `segments` equal segments, made in a test.
+    pub(crate) fn straight(a: Vec3, b: Vec3, segments: usize) -> Self {
+        Polyline {
+            points: (0..=segments)
+                .map(|k| a.lerp(b, k as f64 / segments as f64))
+                .collect(),
+            closed: false,
+            origin: Origin::new("<test>", 0),
+            label: None,
+        }
+    }
+}
+
 impl Polyline {
     /// Total length of the polyline, including the closing segment when the curve is closed.
     pub fn length(&self) -> f64 {

@@ -109,16 +109,11 @@ where
 #[cfg(test)]
 mod tests {
     use crate::geom::Vec3;
-    use crate::io::{Origin, Polyline};
+    use crate::io::Polyline;
     use crate::network::{BuildParams, build_network};
 
     fn line(a: Vec3, b: Vec3) -> Polyline {
-        Polyline {
-            points: (0..=20).map(|i| a.lerp(b, i as f64 / 20.0)).collect(),
-            closed: false,
-            origin: Origin::new("test", 0),
-            label: None,
-        }
+        Polyline::straight(a, b, 20)
     }
 
     #[test]

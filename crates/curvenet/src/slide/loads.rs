@@ -81,15 +81,9 @@ pub fn at_fraction(curve: &Polyline, fraction: f64) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::io::Origin;
 
     fn line(a: Vec3, b: Vec3) -> Polyline {
-        Polyline {
-            points: (0..=10).map(|k| a.lerp(b, k as f64 / 10.0)).collect(),
-            closed: false,
-            origin: Origin::new("<test>", 1),
-            label: None,
-        }
+        Polyline::straight(a, b, 10)
     }
 
     #[test]
