@@ -7,7 +7,8 @@
 mod common;
 
 use common::design::{
-    analyzed_saved, close, close_to, lambda, save, saved_inputs, serve, serve_inputs,
+    analyzed_saved, close, close_to, lambda, physical_design, save, saved_inputs, serve,
+    serve_inputs,
 };
 use common::{assert_refused, ok, scratch};
 use curvenet::app::ModelOptions;
@@ -227,17 +228,13 @@ fn every_bad_drawing_request_gets_a_4xx_with_a_message() {
 fn a_saved_design_reloads_to_the_same_analysis() {
     let dir = scratch("reload");
     // The dome's curves, given units and per-curve specs.
-    let (c, m) = save(serve(6, 3), &dir);
-    let mut file: Value = serde_json::from_str(&std::fs::read_to_string(&c).unwrap()).unwrap();
-    file["units"] = json!("mm");
-    let curves = file["curves"].as_array_mut().unwrap();
-    curves[0]["material"] = json!("aluminium");
-    curves[1]["rest"] = json!("pre-bent");
-    curves[2]["supports"] = json!({"start": "pinned"});
-    curves[3]["section"] = json!({"outer_diameter": "60mm", "wall": "4mm"});
-    curves[4]["material"] = json!({"preset": "timber", "young": "9GPa", "poisson": 0.3});
-    let design = dir.join("design.json");
-    std::fs::write(&design, file.to_string()).unwrap();
+    let (design, m) = physical_design(serve(6, 3), &dir, |curves| {
+        curves[0]["material"] = json!("aluminium");
+        curves[1]["rest"] = json!("pre-bent");
+        curves[2]["supports"] = json!({"start": "pinned"});
+        curves[3]["section"] = json!({"outer_diameter": "60mm", "wall": "4mm"});
+        curves[4]["material"] = json!({"preset": "timber", "young": "9GPa", "poisson": 0.3});
+    });
 
     let first = serve_inputs(saved_inputs(design, m), ModelOptions::default());
     let state = ok(first, "GET", "/api/state", "");

@@ -5,7 +5,9 @@
 
 mod common;
 
-use common::design::{analyzed_saved, close, lambda, save, saved_inputs, serve, serve_inputs};
+use common::design::{
+    analyzed_saved, close, lambda, physical_design, saved_inputs, serve, serve_inputs,
+};
 use common::{assert_refused, ok, scratch};
 use curvenet::app::ModelOptions;
 use serde_json::{Value, json};
@@ -115,15 +117,11 @@ fn a_slide_cancelled_keeps_its_best_and_bad_requests_get_a_4xx() {
 #[test]
 fn a_slide_in_the_physical_mode_uses_the_pages_model() {
     let dir = scratch("slide-physical");
-    let (c, m) = save(serve(8, 3), &dir);
-    let mut file: Value = serde_json::from_str(&std::fs::read_to_string(&c).unwrap()).unwrap();
-    file["units"] = json!("mm");
-    let curves = file["curves"].as_array_mut().unwrap();
-    curves[0]["material"] = json!("aluminium");
-    curves[1]["rest"] = json!("pre-bent");
-    curves[2]["section"] = json!({"outer_diameter": "60mm", "wall": "4mm"});
-    let design = dir.join("design.json");
-    std::fs::write(&design, file.to_string()).unwrap();
+    let (design, m) = physical_design(serve(8, 3), &dir, |curves| {
+        curves[0]["material"] = json!("aluminium");
+        curves[1]["rest"] = json!("pre-bent");
+        curves[2]["section"] = json!({"outer_diameter": "60mm", "wall": "4mm"});
+    });
     let addr = serve_inputs(saved_inputs(design, m), ModelOptions::default());
     let before = ok(addr, "GET", "/api/state", "");
     assert!(

@@ -82,6 +82,23 @@ pub fn save(addr: SocketAddr, dir: &Path) -> (PathBuf, PathBuf) {
     (c, m)
 }
 
+/// Saves the server's design into `dir` as a design in millimetres whose curves `specs` gives
+/// their own specs (materials, sections, rest shapes, supports: each curve's JSON object):
+/// the design file (`design.json`) and the mesh.
+pub fn physical_design(
+    addr: SocketAddr,
+    dir: &Path,
+    specs: impl FnOnce(&mut [Value]),
+) -> (PathBuf, PathBuf) {
+    let (c, m) = save(addr, dir);
+    let mut file: Value = serde_json::from_str(&std::fs::read_to_string(&c).unwrap()).unwrap();
+    file["units"] = Value::from("mm");
+    specs(file["curves"].as_array_mut().expect("the saved curves"));
+    let design = dir.join("design.json");
+    std::fs::write(&design, file.to_string()).unwrap();
+    (design, m)
+}
+
 /// The inputs of a saved design, as `--curves saved.json --mesh surface.obj` reads them
 /// (no edge length: the file's).
 pub fn saved_inputs(curves: PathBuf, mesh: PathBuf) -> InputSpec {
