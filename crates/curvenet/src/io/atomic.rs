@@ -21,6 +21,7 @@ fn in_flight() -> MutexGuard<'static, Vec<PathBuf>> {
 }
 
 /// A temporary file, listed in [`IN_FLIGHT`] while this is alive.
+#[derive(Debug)]
 struct InFlight(PathBuf);
 
 impl InFlight {
@@ -68,6 +69,28 @@ static TEMP_COUNTER: AtomicU64 = AtomicU64::new(0);
 /// Any I/O error of creating, writing, syncing or renaming the temporary file, and
 /// [`std::io::ErrorKind::InvalidInput`] when `path` has no file name (such as `/` or `..`).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    stage_atomic(path, bytes)?.commit()
+}
+
+/// A file written and synced under its temporary name next to its target, not yet in place:
+/// [`Staged::commit`] renames it over the target. Dropped uncommitted, its temporary file is
+/// removed and the target keeps what it had. It lets a slow write overlap other work while
+/// the file still takes its place after them (e.g. a page that marks a stage complete).
+#[derive(Debug)]
+pub struct Staged {
+    temp: InFlight,
+    path: PathBuf,
+    dir: PathBuf,
+    committed: bool,
+}
+
+/// The first half of [`write_atomic`]: `bytes` written and synced to a temporary file next to
+/// `path`, which [`Staged::commit`] puts in place.
+///
+/// # Errors
+///
+/// As [`write_atomic`], but for the rename.
+pub fn stage_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<Staged> {
     let name = path.file_name().ok_or_else(|| {
         std::io::Error::new(
             std::io::ErrorKind::InvalidInput,
@@ -81,24 +104,41 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     // A long target name is cut so that the temporary name stays within file-name limits.
     let stem: String = name.to_string_lossy().chars().take(100).collect();
     let (temp, mut tmp) = create_temp(&dir, &stem)?;
-    let tmp_path = temp.0.clone();
-    let result = (|| {
-        tmp.write_all(bytes)?;
-        if let Ok(meta) = fs::metadata(path) {
-            tmp.set_permissions(meta.permissions())?;
-        }
-        tmp.sync_all()?;
-        drop(tmp);
-        fs::rename(&tmp_path, path)
-    })();
-    if result.is_err() {
-        // Best effort: the original error is the one worth reporting.
-        let _ = fs::remove_file(&tmp_path);
-        return result;
+    let staged = Staged {
+        temp,
+        path: path.to_path_buf(),
+        dir,
+        committed: false,
+    };
+    tmp.write_all(bytes)?;
+    if let Ok(meta) = fs::metadata(path) {
+        tmp.set_permissions(meta.permissions())?;
     }
-    drop(temp);
-    sync_dir(&dir);
-    Ok(())
+    tmp.sync_all()?;
+    Ok(staged)
+}
+
+impl Staged {
+    /// Renames the temporary file over the target and syncs its folder's entry.
+    ///
+    /// # Errors
+    ///
+    /// The rename fails (the temporary file is then removed).
+    pub fn commit(mut self) -> std::io::Result<()> {
+        fs::rename(&self.temp.0, &self.path)?;
+        self.committed = true;
+        sync_dir(&self.dir);
+        Ok(())
+    }
+}
+
+impl Drop for Staged {
+    fn drop(&mut self) {
+        if !self.committed {
+            // Best effort: the error that stopped the write is the one worth reporting.
+            let _ = fs::remove_file(&self.temp.0);
+        }
+    }
 }
 
 /// Creates a fresh temporary file next to the target, listed as in flight, retrying on name
@@ -166,6 +206,39 @@ mod tests {
                 .iter()
                 .any(|p| p.to_string_lossy().starts_with(&*prefix.to_string_lossy()))
         );
+        let _ = fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn a_staged_file_takes_its_place_only_when_committed() {
+        let dir = std::env::temp_dir().join(format!("curvenet-staged-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let target = dir.join("page.html");
+        fs::write(&target, "old").unwrap();
+        let temps = || {
+            fs::read_dir(&dir)
+                .unwrap()
+                .filter(|e| {
+                    e.as_ref()
+                        .unwrap()
+                        .file_name()
+                        .to_string_lossy()
+                        .contains(".tmp.")
+                })
+                .count()
+        };
+        // Dropped uncommitted: the target keeps what it had, and no temporary file is left.
+        let staged = stage_atomic(&target, b"new").unwrap();
+        assert_eq!(temps(), 1);
+        assert_eq!(fs::read_to_string(&target).unwrap(), "old");
+        drop(staged);
+        assert_eq!(temps(), 0);
+        assert_eq!(fs::read_to_string(&target).unwrap(), "old");
+        // Committed: the new content is in place.
+        stage_atomic(&target, b"new").unwrap().commit().unwrap();
+        assert_eq!(temps(), 0);
+        assert_eq!(fs::read_to_string(&target).unwrap(), "new");
+        assert!(in_flight().iter().all(|p| !p.starts_with(&dir)));
         let _ = fs::remove_dir_all(&dir);
     }
 }

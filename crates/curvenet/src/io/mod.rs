@@ -40,7 +40,9 @@ mod points;
 mod reference;
 mod supports_file;
 
-pub use atomic::{Unwritable, check_writable, exit_removing_temp_files, write_atomic};
+pub use atomic::{
+    Staged, Unwritable, check_writable, exit_removing_temp_files, stage_atomic, write_atomic,
+};
 pub use background::{BackgroundWriter, WriteError};
 pub use json::{FileExtras, curves_to_json, curves_to_json_with, parse_json_curves};
 pub use json_keys::{DuplicateKey, duplicate_key};

@@ -33,7 +33,7 @@
 use super::export::{fabrication_csv, rod_joints, rod_supports};
 use super::gravity_ahead::Deflections;
 use super::plot::lambda_plot;
-use super::render::{mode_picture, network_picture};
+use super::render::{Image, mode_picture, network_picture};
 use crate::io::{Polyline, TriMesh};
 use crate::network::Network;
 use crate::report::ReportError;
@@ -545,21 +545,22 @@ pub fn write_pictures(run: &RunFolder) -> Result<Vec<PathBuf>, ReportError> {
     } else {
         Which::Iteration(run.shown_index())
     };
-    // The three pictures are drawn side by side (each on a thread of its own).
-    let ((network, mode), lambda) = rayon::join(
-        || rayon::join(|| network_picture(run, which), || mode_picture(run, which)),
-        || lambda_plot(&run.result),
-    );
-    let mut out = Vec::new();
-    for (name, image) in [
-        ("final.png", network?),
-        ("mode.png", mode?),
-        ("lambda.png", lambda),
-    ] {
+    // The three pictures are drawn and written side by side (each on a thread of its own).
+    let save = |name: &str, image: Result<Image, ReportError>| -> Result<PathBuf, ReportError> {
         let p = run.dir.join(name);
-        image.write_png(&p)?;
-        out.push(p);
-    }
+        image?.write_png(&p)?;
+        Ok(p)
+    };
+    let ((network, mode), lambda) = rayon::join(
+        || {
+            rayon::join(
+                || save("final.png", network_picture(run, which)),
+                || save("mode.png", mode_picture(run, which)),
+            )
+        },
+        || save("lambda.png", Ok(lambda_plot(&run.result))),
+    );
+    let mut out = vec![network?, mode?, lambda?];
     if let Some(img) = super::render::slide_picture(run)? {
         let p = run.dir.join("slide.png");
         img.write_png(&p)?;
@@ -593,20 +594,21 @@ pub fn write_run_outputs_with(dir: &Path, ahead: &Deflections) -> Result<RunOutp
         warnings: run.warnings.clone(),
         ..Default::default()
     };
-    // The viewer page's data (every iteration's files read back, the gravity deflections)
-    // is made while the pictures and tables are drawn; the page is written last.
-    let (tables, html) = rayon::join(
+    // The viewer page (every iteration's files read back, the gravity deflections) is made
+    // and written under a temporary name while the pictures and tables are drawn; it takes
+    // its place last: a run folder with its viewer page has every file of this stage (a run
+    // stopped before it draws them again when resumed).
+    let p = dir.join("viewer.html");
+    let (tables, staged) = rayon::join(
         || write_pictures_and_tables(&run, &mut out),
-        || {
+        || -> Result<_, ReportError> {
             let data = viewer_data_with(&run, &ViewerOptions::default(), ahead)?;
-            page(&title_of(&run), &data, "")
+            let html = page(&title_of(&run), &data, "")?;
+            crate::io::stage_atomic(&p, html.as_bytes()).map_err(|e| ReportError::io(&p, e))
         },
     );
     tables?;
-    // Last: a run folder with its viewer page has every file of this stage (a run stopped
-    // before it draws them again when resumed).
-    let p = dir.join("viewer.html");
-    crate::io::write_atomic(&p, html?.as_bytes()).map_err(|e| ReportError::io(&p, e))?;
+    staged?.commit().map_err(|e| ReportError::io(&p, e))?;
     out.files.push(p);
     Ok(out)
 }
