@@ -13,9 +13,12 @@ pub struct Image {
     pub width: usize,
     /// Height in pixels.
     pub height: usize,
-    /// Pixels, row after row from the top.
-    pub pixels: Vec<Rgb>,
-    /// Depth of the nearest surface drawn at each pixel (`-inf` where none).
+    /// Pixels, row after row from the top, in single precision (an 8-bit picture needs no
+    /// more, and a picture's buffers are made fresh at the end of every run, where the user
+    /// waits).
+    pub pixels: Vec<[f32; 3]>,
+    /// Depth of the nearest surface drawn at each pixel (`-inf` where none); empty until the
+    /// first triangle is drawn (a picture of lines alone never needs it).
     pub depth: Vec<f64>,
 }
 
@@ -25,9 +28,14 @@ impl Image {
         Image {
             width,
             height,
-            pixels: vec![BACKGROUND; width * height],
-            depth: vec![f64::NEG_INFINITY; width * height],
+            pixels: vec![BACKGROUND.map(|c| c as f32); width * height],
+            depth: Vec::new(),
         }
+    }
+
+    /// The depth of the nearest surface drawn at pixel `i` (`-inf` where none).
+    fn depth_at(&self, i: usize) -> f64 {
+        self.depth.get(i).copied().unwrap_or(f64::NEG_INFINITY)
     }
 
     /// Blends `color` over pixel `(x, y)` with opacity `alpha` (ignored outside the image).
@@ -38,7 +46,7 @@ impl Image {
         let a = alpha.min(1.0);
         let p = &mut self.pixels[y as usize * self.width + x as usize];
         for k in 0..3 {
-            p[k] = p[k] * (1.0 - a) + color[k] * a;
+            p[k] = (f64::from(p[k]) * (1.0 - a) + color[k] * a) as f32;
         }
     }
 
@@ -78,6 +86,9 @@ impl Image {
         let Some((cols, rows)) = self.pixels_in((lo(xs), lo(ys)), (hi(xs), hi(ys))) else {
             return;
         };
+        if self.depth.is_empty() {
+            self.depth = vec![f64::NEG_INFINITY; self.width * self.height];
+        }
         for y in rows {
             for x in cols.clone() {
                 let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
@@ -91,7 +102,7 @@ impl Image {
                 let i = y * self.width + x;
                 if d > self.depth[i] {
                     self.depth[i] = d;
-                    self.pixels[i] = color;
+                    self.pixels[i] = color.map(|c| c as f32);
                 }
             }
         }
@@ -135,7 +146,7 @@ impl Image {
                 }
                 let d = a[2] + t * (b[2] - a[2]);
                 let i = y * self.width + x;
-                let alpha = if self.depth[i] > d + bias {
+                let alpha = if self.depth_at(i) > d + bias {
                     hidden_alpha
                 } else {
                     1.0
@@ -167,7 +178,7 @@ impl Image {
     pub fn rgb_bytes(&self) -> Vec<u8> {
         self.pixels
             .iter()
-            .flat_map(|p| p.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8))
+            .flat_map(|p| p.map(|c| (f64::from(c).clamp(0.0, 1.0) * 255.0).round() as u8))
             .collect()
     }
 
@@ -209,7 +220,7 @@ mod tests {
             [0.0; 3],
         );
         assert_eq!(img.pixels[5 * 40 + 5], [0.0; 3]);
-        assert_eq!(img.pixels[28 * 40 + 38], BACKGROUND);
+        assert_eq!(img.pixels[28 * 40 + 38], BACKGROUND.map(|c| c as f32));
         img.line2d((0.0, 28.0), (39.0, 28.0), 2.0, [1.0, 0.0, 0.0]);
         assert!(img.pixels[28 * 40 + 20][1] < 0.1);
         let png = img.to_png().expect("encodes");
