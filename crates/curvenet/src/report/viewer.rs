@@ -562,9 +562,7 @@ pub fn write_pictures(run: &RunFolder) -> Result<Vec<PathBuf>, ReportError> {
     );
     let mut out = vec![network?, mode?, lambda?];
     if let Some(img) = super::render::slide_picture(run)? {
-        let p = run.dir.join("slide.png");
-        img.write_png(&p)?;
-        out.push(p);
+        out.push(save("slide.png", Ok(img))?);
     }
     Ok(out)
 }
