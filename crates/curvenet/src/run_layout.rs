@@ -7,7 +7,11 @@
 //!   (its low modes, for a resume), `modes/NNNN.bin` (its worst-case mode);
 //! - `states/TAG.bin`, `modes/TAG.bin` for a recorded network that is not an iteration
 //!   (`answer`, `alternative-N`); `states/carried.{0,1}.bin`, the carried test vectors;
-//! - `iterations/NNNN.obj`: iteration `NNNN`'s network at equilibrium.
+//! - `iterations/NNNN.obj`: iteration `NNNN`'s network at equilibrium;
+//! - `rounds/K/local`, `rounds/K/slid`: a slid run's rounds, each a run folder.
+
+/// The folder of a slid run's rounds (`rounds/K/local`, `rounds/K/slid`).
+pub const ROUNDS: &str = "rounds";
 
 /// The folder of the equilibria (and of the low modes and carried vectors a resume reads).
 pub const STATES: &str = "states";

@@ -589,6 +589,12 @@ fn slide_rounds_alternate_a_local_search_and_a_slide_and_the_best_slide_is_the_a
         let u = |r: &RunFolder| r.displacement_of(Which::Answer).expect("its equilibrium");
         assert_eq!(u(&slid), u(&won));
         assert_eq!(u(&first).len(), first.network.dofs());
+        // The swap leaves no file under a temporary name.
+        let names = std::fs::read_dir(from.join("slide/rounds/0/slid")).expect("lists");
+        for n in names {
+            let n = n.expect("an entry").file_name();
+            assert!(!n.to_string_lossy().contains(".tmp."), "{n:?}");
+        }
     }
     // The answer's exported curves analysed cold give its objective; every point within the
     // largest move of the curve as drawn in the run (the moves of the rounds do not add up).
@@ -614,6 +620,13 @@ fn slide_rounds_alternate_a_local_search_and_a_slide_and_the_best_slide_is_the_a
             "curve {id}: {moved}"
         );
     }
+    // Sliding again into the same folder starts afresh: the earlier slide's rounds go with
+    // its other files.
+    let again = SlideSpec::new(&from, from.join("slide"));
+    curvenet::app::slide(&again, &Silent, &Cancel::never()).expect("slides into it again");
+    assert!(!from.join("slide/rounds").exists());
+    let slid = RunFolder::open(&from.join("slide")).expect("the slid run");
+    assert!(slid.result.slide.expect("a record").rounds.is_empty());
 }
 
 /// The physical model of the physical tests: steel tubes of radius 0.05 m on the bump in

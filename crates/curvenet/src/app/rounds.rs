@@ -41,6 +41,9 @@ pub(super) fn run(
             best = (r.round, r.slid);
         }
     }
+    // A signal that comes during the swap of folders and the record after it ends the process
+    // once they are done, so that the folder is whole.
+    let _whole = (best.0 > 0).then(crate::io::hold_exit);
     if best.0 > 0 {
         adopt_round(spec, best.0, first)?;
     }
@@ -54,39 +57,56 @@ pub(super) fn run(
 
 /// The slid run of round `round` made the run in `spec.out`: the first slide's files moved to
 /// `rounds/0/slid`, the round's copied in, and `first` read back from them.
+///
+/// Neither folder ever holds a mix of two runs under a `result.json`: the first slide's
+/// `result.json` leaves first (to a temporary name beside its new place) and takes its place
+/// last, the round's is put in place last, each atomically. A process killed in between leaves
+/// folders that open as incomplete runs, and every file of both runs is still on disk. (A
+/// signal waits for the whole swap: [`run`] holds the exit.)
 fn adopt_round(spec: &SlideSpec, round: usize, first: &mut SlideOutcome) -> Result<(), AppError> {
-    let kept = spec.out.join("rounds").join("0").join("slid");
-    let from = spec.out.join("rounds").join(round.to_string()).join("slid");
-    let failed =
-        |p: &std::path::Path, e: std::io::Error| AppError::Failed(format!("{}: {e}", p.display()));
-    std::fs::create_dir_all(&kept).map_err(|e| failed(&kept, e))?;
-    // Every file and folder of the run (its states, modes and iterations too), but the
-    // rounds and the lock: the first slide's moved out, the round's copied in.
-    for (dir, to, copy) in [(&spec.out, &kept, false), (&from, &spec.out, true)] {
-        let entries = std::fs::read_dir(dir).map_err(|e| failed(dir, e))?;
-        for entry in entries {
-            let entry = entry.map_err(|e| failed(dir, e))?;
-            let name = entry.file_name();
-            if name == std::ffi::OsStr::new(crate::run_folder::folder::LOCK_FILE)
-                || name == std::ffi::OsStr::new("rounds")
-            {
-                continue;
+    use crate::run_layout::ROUNDS;
+    use std::path::Path;
+    const RESULT_FILE: &str = "result.json";
+    let kept = spec.out.join(ROUNDS).join("0").join("slid");
+    let from = spec.out.join(ROUNDS).join(round.to_string()).join("slid");
+    let failed = |p: &Path, e: std::io::Error| AppError::Failed(format!("{}: {e}", p.display()));
+    let open = |dir: &Path| RunFolder::open(dir).map_err(|e| AppError::Failed(e.to_string()));
+    // Every file and folder of a run (its states, modes and iterations too), but the rounds,
+    // the lock and `result.json`.
+    let entries = |dir: &Path| -> Result<Vec<std::ffi::OsString>, AppError> {
+        let mut names = Vec::new();
+        for entry in std::fs::read_dir(dir).map_err(|e| failed(dir, e))? {
+            let name = entry.map_err(|e| failed(dir, e))?.file_name();
+            let skipped = [crate::run_folder::folder::LOCK_FILE, ROUNDS, RESULT_FILE];
+            if !skipped.iter().any(|s| name == *s) {
+                names.push(name);
             }
-            let target = to.join(&name);
-            match copy {
-                true => copy_tree(&entry.path(), &target),
-                false => std::fs::rename(entry.path(), &target),
-            }
-            .map_err(|e| failed(&target, e))?;
         }
-    }
+        Ok(names)
+    };
     // The first slide's own record, without the rounds that came after it.
-    let mut moved = RunFolder::open(&kept).map_err(|e| AppError::Failed(e.to_string()))?;
-    if let Some(r) = moved.result.slide.as_mut() {
+    let mut own = open(&spec.out)?.result;
+    if let Some(r) = own.slide.as_mut() {
         r.rounds.clear();
     }
-    write_result(&kept, &moved.result)?;
-    let open = RunFolder::open(&spec.out).map_err(|e| AppError::Failed(e.to_string()))?;
+    std::fs::create_dir_all(&kept).map_err(|e| failed(&kept, e))?;
+    let parked = kept.join(format!(".{RESULT_FILE}.tmp.adopted"));
+    std::fs::rename(spec.out.join(RESULT_FILE), &parked).map_err(|e| failed(&parked, e))?;
+    for name in entries(&spec.out)? {
+        let target = kept.join(&name);
+        std::fs::rename(spec.out.join(&name), &target).map_err(|e| failed(&target, e))?;
+    }
+    write_result(&kept, &own)?;
+    std::fs::remove_file(&parked).map_err(|e| failed(&parked, e))?;
+    for name in entries(&from)? {
+        let target = spec.out.join(&name);
+        copy_tree(&from.join(&name), &target).map_err(|e| failed(&target, e))?;
+    }
+    let result = from.join(RESULT_FILE);
+    let bytes = std::fs::read(&result).map_err(|e| failed(&result, e))?;
+    let target = spec.out.join(RESULT_FILE);
+    crate::io::write_atomic(&target, &bytes).map_err(|e| failed(&target, e))?;
+    let open = open(&spec.out)?;
     let record = (open.result.slide.clone())
         .ok_or_else(|| AppError::Failed(format!("{}: no slide record", from.display())))?;
     first.record = record;
@@ -186,7 +206,7 @@ fn run_rounds(
             return Err(stopped());
         }
         let found = found.map_err(|e| AppError::Failed(e.to_string()))?.best;
-        let folder = format!("rounds/{round}");
+        let folder = format!("{}/{round}", crate::run_layout::ROUNDS);
         let local_dir = spec.out.join(&folder).join("local");
         let chosen: Vec<_> = found.curves.iter().map(|&c| curves[c].clone()).collect();
         // The last slid run's load cases, placed on its curves, which the local search's

@@ -60,7 +60,11 @@ pub fn slide_summary(r: &crate::run_folder::SlideRecord, folder: &std::path::Pat
         rounds += &format!(
             "the answer is round {k}'s slid network (the slide above is its own; the first \
              slide is kept in {})\n",
-            folder.join("rounds").join("0").join("slid").display()
+            folder
+                .join(crate::run_layout::ROUNDS)
+                .join("0")
+                .join("slid")
+                .display()
         );
     }
     format!(

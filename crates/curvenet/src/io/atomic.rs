@@ -10,7 +10,7 @@ use std::fs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::{Mutex, MutexGuard, PoisonError};
+use std::sync::{Mutex, MutexGuard, PoisonError, RwLock, RwLockReadGuard};
 
 /// The temporary files of the atomic writes in flight.
 static IN_FLIGHT: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
@@ -40,10 +40,33 @@ impl Drop for InFlight {
     }
 }
 
-/// Ends the process with `code` once the temporary files of the atomic writes in flight are
-/// removed. A write that starts or ends meanwhile waits for the end, so none is left behind
-/// (its target keeps what it had).
+/// Held by the steps that must not be cut in two ([`hold_exit`]).
+static EXIT_HOLDS: RwLock<()> = RwLock::new(());
+
+/// While alive, [`exit_removing_temp_files`] waits: the process ends after the step it covers,
+/// not inside it.
+#[must_use = "the exit waits only while the hold is alive"]
+#[derive(Debug)]
+pub struct ExitHold {
+    _read: RwLockReadGuard<'static, ()>,
+}
+
+/// Holds [`exit_removing_temp_files`] off until the returned guard drops: for a step of
+/// several file operations that leaves a folder whole only once it is complete (such as
+/// swapping one run's files for another's). Holds may overlap; one started after the exit has
+/// begun waits for ever (the process ends first).
+pub fn hold_exit() -> ExitHold {
+    ExitHold {
+        _read: EXIT_HOLDS.read().unwrap_or_else(PoisonError::into_inner),
+    }
+}
+
+/// Ends the process with `code` once the steps under [`hold_exit`] have ended and the
+/// temporary files of the atomic writes in flight are removed. A write that starts or ends
+/// meanwhile waits for the end, so none is left behind (its target keeps what it had).
 pub fn exit_removing_temp_files(code: i32) -> ! {
+    // Kept locked until the process ends, like the list below.
+    let _holds = EXIT_HOLDS.write().unwrap_or_else(PoisonError::into_inner);
     let list = in_flight();
     for p in list.iter() {
         // Best effort: a file already renamed into place is gone under this name.
@@ -205,6 +228,42 @@ mod tests {
             !in_flight()
                 .iter()
                 .any(|p| p.to_string_lossy().starts_with(&*prefix.to_string_lossy()))
+        );
+        let _ = fs::remove_dir_all(&dir);
+    }
+
+    /// Run twice: by the test harness, and as a child process of that run (this test binary
+    /// again, with the marker's path in the environment), which holds the exit, asks for it
+    /// from another thread, and writes the marker before it lets go.
+    #[test]
+    fn the_exit_waits_for_the_steps_that_hold_it() {
+        const CHILD: &str = "CURVENET_TEST_EXIT_HOLD_MARKER";
+        const NAME: &str = "io::atomic::tests::the_exit_waits_for_the_steps_that_hold_it";
+        if let Some(marker) = std::env::var_os(CHILD) {
+            let hold = hold_exit();
+            std::thread::spawn(|| {
+                exit_removing_temp_files(3);
+            });
+            std::thread::sleep(std::time::Duration::from_millis(300));
+            fs::write(marker, "written under the hold").unwrap();
+            drop(hold);
+            loop {
+                std::thread::park();
+            }
+        }
+        let dir = std::env::temp_dir().join(format!("curvenet-exit-hold-{}", std::process::id()));
+        fs::create_dir_all(&dir).unwrap();
+        let marker = dir.join("marker");
+        let status = std::process::Command::new(std::env::current_exe().unwrap())
+            .args(["--exact", NAME, "--test-threads=1"])
+            .env(CHILD, &marker)
+            .stdout(std::process::Stdio::null())
+            .status()
+            .unwrap();
+        assert_eq!(status.code(), Some(3));
+        assert_eq!(
+            fs::read_to_string(&marker).unwrap(),
+            "written under the hold"
         );
         let _ = fs::remove_dir_all(&dir);
     }

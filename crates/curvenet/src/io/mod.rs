@@ -41,7 +41,8 @@ mod reference;
 mod supports_file;
 
 pub use atomic::{
-    Staged, Unwritable, check_writable, exit_removing_temp_files, stage_atomic, write_atomic,
+    ExitHold, Staged, Unwritable, check_writable, exit_removing_temp_files, hold_exit,
+    stage_atomic, write_atomic,
 };
 pub use background::{BackgroundWriter, WriteError};
 pub use json::{FileExtras, curves_to_json, curves_to_json_with, parse_json_curves};

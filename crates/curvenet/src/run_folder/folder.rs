@@ -42,6 +42,7 @@ pub const RUN_FOLDERS: &[&str] = &[
     crate::run_layout::ITERATIONS,
     "export",
     "slide",
+    crate::run_layout::ROUNDS,
 ];
 
 /// Why a folder cannot take a run.
