@@ -621,10 +621,12 @@ fn slide_rounds_alternate_a_local_search_and_a_slide_and_the_best_slide_is_the_a
         );
     }
     // Sliding again into the same folder starts afresh: the earlier slide's rounds go with
-    // its other files.
+    // its other files (and the next time, its pictures).
     let again = SlideSpec::new(&from, from.join("slide"));
     curvenet::app::slide(&again, &Silent, &Cancel::never()).expect("slides into it again");
     assert!(!from.join("slide/rounds").exists());
+    assert!(from.join("slide/slide.png").is_file());
+    curvenet::app::slide(&again, &Silent, &Cancel::never()).expect("and again");
     let slid = RunFolder::open(&from.join("slide")).expect("the slid run");
     assert!(slid.result.slide.expect("a record").rounds.is_empty());
 }

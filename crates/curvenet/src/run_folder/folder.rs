@@ -33,6 +33,7 @@ pub const RUN_FILES: &[&str] = &[
     "lambda.png",
     "fabrication.csv",
     "before.obj",
+    "slide.png",
 ];
 
 /// The folders a run writes (with `export/`, what `curvenet export` writes by default).
