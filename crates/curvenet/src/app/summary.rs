@@ -34,8 +34,14 @@ pub fn run_summary(outcome: &RunOutcome) -> String {
 }
 
 /// A slid run's summary: the objective before and after, the moves, the joints changed and
-/// where the slid run is (several lines, each ending in a newline).
+/// where the slid run is (several lines, each ending in a newline). A value that is not
+/// positive is named unstable; when the run recorded another value for the start (its curves
+/// within the full network), both are shown.
 pub fn slide_summary(r: &crate::run_folder::SlideRecord, folder: &std::path::Path) -> String {
+    let value = |v: f64| match v > 0.0 {
+        true => format!("{v:.6e}"),
+        false => format!("{v:.6e} (unstable)"),
+    };
     let gain = if r.lambda_before > 0.0 {
         format!(" ({:.3}×)", r.lambda_after / r.lambda_before)
     } else {
@@ -44,20 +50,35 @@ pub fn slide_summary(r: &crate::run_folder::SlideRecord, folder: &std::path::Pat
     let moved = (r.curves.iter())
         .filter(|c| c.coefficients.iter().any(|&a| a != 0.0))
         .count();
-    let mut rounds = String::new();
+    let name = match r.objective.as_str() {
+        "frequency" => "μ_min",
+        _ => "λ_eq",
+    };
+    let mut notes = String::new();
+    let scale = r.lambda_before.abs().max(r.lambda_recorded.abs());
+    if (r.lambda_before - r.lambda_recorded).abs() > 1e-6 * scale {
+        notes += &format!(
+            "before and after are of the curves rebuilt as a network of their own (what an \
+             analysis of the exported curves gives); the run recorded {name} {} for the start's \
+             curves within its whole network, whose rods also have vertices where the removed \
+             curves crossed them\n",
+            value(r.lambda_recorded)
+        );
+    }
     for k in &r.rounds {
-        rounds += &format!(
-            "round {}: {:.6e} → local search {:.6e} ({} curves) → slid {:.6e}; in {}\n",
+        notes += &format!(
+            "round {}: {} → local search {} ({} curves, measured within the network of every \
+             curve) → slid {}; in {}\n",
             k.round,
-            k.start,
-            k.local_search,
+            value(k.start),
+            value(k.local_search),
             k.curves.len(),
-            k.slid,
+            value(k.slid),
             folder.join(&k.folder).join("slid").display()
         );
     }
     if let Some(k) = r.answer_round.filter(|&k| k > 0) {
-        rounds += &format!(
+        notes += &format!(
             "the answer is round {k}'s slid network (the slide above is its own; the first \
              slide is kept in {})\n",
             folder
@@ -68,16 +89,11 @@ pub fn slide_summary(r: &crate::run_folder::SlideRecord, folder: &std::path::Pat
         );
     }
     format!(
-        "slid: {} {:.6e} → {:.6e}{gain}; {moved} of {} curves moved, the largest move {} (at \
-         most {}); joints added {}, removed {}; length {} (budget {}); {} networks \
-         evaluated{}\nslid run in {}\n{rounds}",
-        if r.objective == "frequency" {
-            "μ_min"
-        } else {
-            "λ_eq"
-        },
-        r.lambda_before,
-        r.lambda_after,
+        "slid: {name} {} → {}{gain}; {moved} of {} curves moved, the largest move {} (at most \
+         {}); joints added {}, removed {}; length {} (budget {}); {} networks evaluated{}\nslid \
+         run in {}\n{notes}",
+        value(r.lambda_before),
+        value(r.lambda_after),
         r.curves.len(),
         crate::fmt::length(r.largest_move),
         crate::fmt::length(r.max_move),
@@ -89,4 +105,44 @@ pub fn slide_summary(r: &crate::run_folder::SlideRecord, folder: &std::path::Pat
         if r.stopped { " (stopped early)" } else { "" },
         folder.display()
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::slide_summary;
+    use crate::run_folder::SlideRecord;
+
+    fn record(before: f64, after: f64, recorded: f64) -> SlideRecord {
+        serde_json::from_value(serde_json::json!({
+            "from": "run", "objective": "lambda_eq", "lambda_before": before,
+            "lambda_after": after, "lambda_recorded": recorded, "max_move": 1.0,
+            "largest_move": 0.5, "joints_added": 0, "joints_removed": 0, "length_before": 10.0,
+            "length_after": 10.0, "budget": 12.0, "fixed_ends": false, "curves": [],
+            "evaluations": 3, "sweeps": 1, "steps": [], "stopped": false
+        }))
+        .expect("a slide record")
+    }
+
+    #[test]
+    fn a_slide_names_unstable_values_and_the_runs_own_value_of_its_start() {
+        let dir = std::path::Path::new("out/slide");
+        let same = slide_summary(&record(2e-8, 3e-8, 2e-8), dir);
+        assert!(
+            same.starts_with("slid: λ_eq 2.000000e-8 → 3.000000e-8 (1.500×);"),
+            "{same}"
+        );
+        assert!(
+            !same.contains("unstable") && !same.contains("recorded"),
+            "{same}"
+        );
+        let text = slide_summary(&record(-1e-9, 3e-8, 8e-9), dir);
+        assert!(
+            text.starts_with("slid: λ_eq -1.000000e-9 (unstable) → 3.000000e-8;"),
+            "{text}"
+        );
+        assert!(
+            text.contains("the run recorded λ_eq 8.000000e-9 for"),
+            "{text}"
+        );
+    }
 }
