@@ -51,3 +51,27 @@ def test_a_bad_array_curve_names_its_position():
         curvenet.load([good, bad])
     assert e.value.file == "<arrays>" and e.value.line == 2
     assert "curve 1" in str(e.value)
+
+
+def test_counts_and_indices_are_whole_numbers_and_negative_iterations_count_from_the_end(
+        grid, tmp_path):
+    net = curvenet.load(grid)
+    for bad in (-1, 2.5, True):
+        with pytest.raises(curvenet.InputError, match="alternatives"):
+            net.simplify(0.5, out=tmp_path / "a", alternatives=bad)
+        with pytest.raises(curvenet.InputError, match="slide_rounds"):
+            net.simplify(0.5, out=tmp_path / "a", slide_rounds=bad)
+        with pytest.raises(curvenet.InputError, match="eigen_count"):
+            curvenet.load(grid, eigen_count=bad)
+    with pytest.raises(curvenet.InputError, match="min_curves"):
+        net.simplify(0.5, out=tmp_path / "a", min_curves=-2)
+    run = net.simplify(0.5, out=tmp_path / "run", pictures=False)
+    last = len(run.iterations) - 1
+    assert (run.displacement(-1) == run.displacement(last)).all()
+    assert (run.mode(-len(run.iterations)) == run.mode(0)).all()
+    for bad, what in ((last + 1, "no iteration"), (-last - 2, "iteration is"),
+                      (1.5, "whole number")):
+        with pytest.raises(curvenet.InputError, match=what):
+            run.displacement(bad)
+    with pytest.raises(curvenet.InputError, match="curve ids are 0 or more"):
+        run.polylines([-1])

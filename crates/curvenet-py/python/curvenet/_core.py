@@ -143,6 +143,16 @@ def _ids(option: str, ids: Optional[Iterable[Any]]) -> Optional[List[int]]:
     return out
 
 
+def _whole(option: str, value: Any, least: int = 0) -> int:
+    """A whole-number option as the command line takes it (``2.5`` and ``True`` are refused,
+    not rounded), ``least`` or more."""
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise InputError(f"{option}: expected a whole number, got {value!r}")
+    if value < least:
+        raise InputError(f"{option} is {value}: it must be {least} or more")
+    return int(value)
+
+
 def _text(x: Any) -> Optional[str]:
     """An option given as a number or as text with its unit (``210e9`` or ``"210GPa"``)."""
     return None if x is None else str(x)
@@ -187,7 +197,7 @@ def _model_kwargs(supports, merge_joints, radius, young, anchor_weight, eigen_co
         radius=radius,
         young=_text(young),
         anchor_weight=anchor_weight,
-        eigen_count=int(eigen_count),
+        eigen_count=_whole("eigen_count", eigen_count),
         objective=objective,
         units=units,
         material=material,
@@ -598,13 +608,14 @@ class Network:
             groups=group_lists,
             symmetry=symmetry,
             connected=bool(connected),
-            min_curves=min_curves,
+            min_curves=None if min_curves is None else _whole("min_curves", min_curves),
             max_gap=max_gap,
             max_deviation=max_deviation,
             local_search=bool(local_search),
-            alternatives=int(alternatives),
+            alternatives=_whole("alternatives", alternatives),
             certify=bool(certify),
-            certificate_nodes=certificate_nodes,
+            certificate_nodes=(None if certificate_nodes is None
+                               else _whole("certificate_nodes", certificate_nodes)),
             pictures=pictures,
             resume=resume,
             force=force,
@@ -613,7 +624,7 @@ class Network:
             max_move=None if max_move is None else str(max_move),
             fixed_ends=bool(fixed_ends),
             pin=_ids("pin", pin) or [],
-            slide_rounds=int(slide_rounds),
+            slide_rounds=_whole("slide_rounds", slide_rounds),
         )
         result = open_run(out)
         result.warnings = list(warnings) + result.warnings
@@ -746,7 +757,16 @@ class Result:
         return self._native.curve_count
 
     def _k(self, iteration: Optional[int]) -> int:
-        return len(self.iterations) - 1 if iteration is None else int(iteration)
+        """An iteration by its number; None the last, and from the end when negative (-1 the
+        last), as Python's indices."""
+        n = len(self.iterations)
+        if iteration is None:
+            return n - 1
+        k = _whole("iteration", iteration, least=-n)
+        if k >= n:
+            raise InputError(f"{self.folder}: no iteration {k} (the run recorded iterations 0 "
+                             f"to {n - 1})")
+        return k + n if k < 0 else k
 
     def displacement(self, iteration: Optional[int] = None) -> np.ndarray:
         """Equilibrium displacements of an iteration (default: the last), ``(V, 3)``."""
@@ -764,7 +784,7 @@ class Result:
                   iteration: Optional[int] = None) -> List[Tuple[np.ndarray, bool]]:
         """``(points, closed)`` of ``curves``: at rest (``state="rest"``) or at the
         iteration's equilibrium (``"equilibrium"``)."""
-        curves = [int(c) for c in curves]
+        curves = _ids("curves", curves) or []
         if state == "rest":
             return self._native.polylines(curves, None)
         if state == "equilibrium":
@@ -873,7 +893,7 @@ def slide(
         pin=_ids("pin", pin) or [],
         pictures=True if pictures is None else bool(pictures),
         force=bool(force),
-        slide_rounds=int(slide_rounds),
+        slide_rounds=_whole("slide_rounds", slide_rounds),
     )
     result = open_run(out)
     result.warnings = list(warnings) + result.warnings

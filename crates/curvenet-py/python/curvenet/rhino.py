@@ -237,7 +237,7 @@ def result_layers(result: Any, iteration: Optional[int] = None,
     equilibrium), ``worst-case mode`` (the kept curves displaced along the worst-case mode,
     the largest displacement ``mode_scale``, default 5% of the network's bounding-box
     diagonal). Object names are ``curve ID``."""
-    k = len(result.iterations) - 1 if iteration is None else int(iteration)
+    k = result._k(iteration)
     kept = list(result.iterations[k]["curves"])
     kept_set = set(kept)
     removed = [c for c in range(result.curve_count) if c not in kept_set]
