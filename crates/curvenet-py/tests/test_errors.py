@@ -75,3 +75,8 @@ def test_counts_and_indices_are_whole_numbers_and_negative_iterations_count_from
             run.displacement(bad)
     with pytest.raises(curvenet.InputError, match="curve ids are 0 or more"):
         run.polylines([-1])
+    pytest.importorskip("rhino3dm")
+    with pytest.raises(curvenet.InputError, match="no iteration"):
+        run.write_3dm(tmp_path / "past.3dm", iteration=last + 1)
+    run.write_3dm(tmp_path / "last.3dm", iteration=-1)
+    assert (tmp_path / "last.3dm").stat().st_size > 0

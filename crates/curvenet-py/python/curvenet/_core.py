@@ -758,14 +758,11 @@ class Result:
 
     def _k(self, iteration: Optional[int]) -> int:
         """An iteration by its number; None the last, and from the end when negative (-1 the
-        last), as Python's indices."""
+        last), as Python's indices. The native calls refuse one past the end."""
         n = len(self.iterations)
         if iteration is None:
             return n - 1
         k = _whole("iteration", iteration, least=-n)
-        if k >= n:
-            raise InputError(f"{self.folder}: no iteration {k} (the run recorded iterations 0 "
-                             f"to {n - 1})")
         return k + n if k < 0 else k
 
     def displacement(self, iteration: Optional[int] = None) -> np.ndarray:

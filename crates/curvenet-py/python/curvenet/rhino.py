@@ -238,13 +238,14 @@ def result_layers(result: Any, iteration: Optional[int] = None,
     the largest displacement ``mode_scale``, default 5% of the network's bounding-box
     diagonal). Object names are ``curve ID``."""
     k = result._k(iteration)
+    # The native read first: it refuses an iteration past the end with the run's own message.
+    mode = result.mode(k)
     kept = list(result.iterations[k]["curves"])
     kept_set = set(kept)
     removed = [c for c in range(result.curve_count) if c not in kept_set]
     pos = result.positions
     if mode_scale is None:
         mode_scale = 0.05 * _diagonal(pos)
-    mode = result.mode(k)
     peak = float(np.max(np.linalg.norm(mode, axis=1))) if len(mode) else 0.0
     u_mode = result.displacement(k) + (mode * (mode_scale / peak) if peak > 0 else 0.0)
 

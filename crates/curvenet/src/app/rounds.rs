@@ -70,7 +70,6 @@ fn adopt_round(spec: &SlideSpec, round: usize, first: &mut SlideOutcome) -> Resu
     let kept = spec.out.join(ROUNDS).join("0").join("slid");
     let from = spec.out.join(ROUNDS).join(round.to_string()).join("slid");
     let failed = |p: &Path, e: std::io::Error| AppError::Failed(format!("{}: {e}", p.display()));
-    let open = |dir: &Path| RunFolder::open(dir).map_err(|e| AppError::Failed(e.to_string()));
     // Every file and folder of a run (its states, modes and iterations too), but the rounds,
     // the lock and `result.json`.
     let entries = |dir: &Path| -> Result<Vec<std::ffi::OsString>, AppError> {
@@ -114,6 +113,11 @@ fn adopt_round(spec: &SlideSpec, round: usize, first: &mut SlideOutcome) -> Resu
     Ok(())
 }
 
+/// The run in `dir`, which this slide wrote (so a failure to read it is no input's fault).
+fn open(dir: &std::path::Path) -> Result<RunFolder, AppError> {
+    RunFolder::open(dir).map_err(|e| AppError::Failed(e.to_string()))
+}
+
 /// Copies the file or folder `from` (with everything in it) to `to`.
 fn copy_tree(from: &std::path::Path, to: &std::path::Path) -> std::io::Result<()> {
     if !from.is_dir() {
@@ -135,8 +139,6 @@ fn run_rounds(
     observer: &dyn Observer,
     cancel: &Cancel,
 ) -> Result<(), AppError> {
-    let open =
-        |dir: &std::path::Path| RunFolder::open(dir).map_err(|e| AppError::Failed(e.to_string()));
     let source = open(&spec.from)?;
     let setup = &source.result.setup;
     let n = source.network.rods.len();
