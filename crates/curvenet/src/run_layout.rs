@@ -13,6 +13,12 @@
 /// The folder of a slid run's rounds (`rounds/K/local`, `rounds/K/slid`).
 pub const ROUNDS: &str = "rounds";
 
+/// Round `k`'s folder in a slid run (`rounds/K`; round 0 holds the first slide when a later
+/// round's is the answer).
+pub fn round_folder(k: usize) -> String {
+    format!("{ROUNDS}/{k}")
+}
+
 /// The folder of the equilibria (and of the low modes and carried vectors a resume reads).
 pub const STATES: &str = "states";
 

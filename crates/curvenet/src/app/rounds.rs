@@ -64,11 +64,11 @@ pub(super) fn run(
 /// folders that open as incomplete runs, and every file of both runs is still on disk. (A
 /// signal waits for the whole swap: [`run`] holds the exit.)
 fn adopt_round(spec: &SlideSpec, round: usize, first: &mut SlideOutcome) -> Result<(), AppError> {
-    use crate::run_layout::ROUNDS;
+    use crate::run_layout::{ROUNDS, round_folder};
     use std::path::Path;
     const RESULT_FILE: &str = "result.json";
-    let kept = spec.out.join(ROUNDS).join("0").join("slid");
-    let from = spec.out.join(ROUNDS).join(round.to_string()).join("slid");
+    let kept = spec.out.join(round_folder(0)).join("slid");
+    let from = spec.out.join(round_folder(round)).join("slid");
     let failed = |p: &Path, e: std::io::Error| AppError::Failed(format!("{}: {e}", p.display()));
     // Every file and folder of a run (its states, modes and iterations too), but the rounds,
     // the lock and `result.json`.
@@ -83,8 +83,9 @@ fn adopt_round(spec: &SlideSpec, round: usize, first: &mut SlideOutcome) -> Resu
         }
         Ok(names)
     };
-    // The first slide's own record, without the rounds that came after it.
-    let mut own = open(&spec.out)?.result;
+    // The first slide's own record (as `run_rounds` last wrote it), without the rounds that
+    // came after it.
+    let mut own = first.run.result.clone();
     if let Some(r) = own.slide.as_mut() {
         r.rounds.clear();
     }
@@ -208,7 +209,7 @@ fn run_rounds(
             return Err(stopped());
         }
         let found = found.map_err(|e| AppError::Failed(e.to_string()))?.best;
-        let folder = format!("{}/{round}", crate::run_layout::ROUNDS);
+        let folder = crate::run_layout::round_folder(round);
         let local_dir = spec.out.join(&folder).join("local");
         let chosen: Vec<_> = found.curves.iter().map(|&c| curves[c].clone()).collect();
         // The last slid run's load cases, placed on its curves, which the local search's

@@ -38,9 +38,9 @@ pub fn run_summary(outcome: &RunOutcome) -> String {
 /// positive is named unstable; when the run recorded another value for the start (its curves
 /// within the full network), both are shown.
 pub fn slide_summary(r: &crate::run_folder::SlideRecord, folder: &std::path::Path) -> String {
-    let value = |v: f64| match v > 0.0 {
-        true => format!("{v:.6e}"),
-        false => format!("{v:.6e} (unstable)"),
+    let value = |v: f64| match crate::run_folder::instability(v, 0, 0) {
+        None => format!("{v:.6e}"),
+        Some(_) => format!("{v:.6e} (unstable)"),
     };
     let gain = if r.lambda_before > 0.0 {
         format!(" ({:.3}×)", r.lambda_after / r.lambda_before)
@@ -82,8 +82,7 @@ pub fn slide_summary(r: &crate::run_folder::SlideRecord, folder: &std::path::Pat
             "the answer is round {k}'s slid network (the slide above is its own; the first \
              slide is kept in {})\n",
             folder
-                .join(crate::run_layout::ROUNDS)
-                .join("0")
+                .join(crate::run_layout::round_folder(0))
                 .join("slid")
                 .display()
         );
