@@ -23,10 +23,16 @@ use std::thread::JoinHandle;
 /// submits five or six).
 const QUEUE: usize = 16;
 
+/// Bytes to be made on the writer thread (such as a file's text, formatted there rather than
+/// on the computing thread), or why they could not be.
+pub type MakeBytes = Box<dyn FnOnce() -> Result<Vec<u8>, String> + Send>;
+
 /// What the writer thread is asked to do.
 enum Job {
     /// Write these bytes to this path (atomically).
     Write(PathBuf, Vec<u8>),
+    /// Make the bytes, then write them to this path (atomically).
+    Make(PathBuf, MakeBytes),
     /// Signal back once every earlier job is done.
     Flush(SyncSender<()>),
 }
@@ -81,6 +87,18 @@ impl BackgroundWriter {
         self.send(Job::Write(path, bytes))
     }
 
+    /// [`Self::submit`] of the bytes `make` returns, called on the writer thread (after the
+    /// writes submitted before): the work of making them stays off the submitting thread. An
+    /// error from `make` stops the writer as a failed write does.
+    pub fn submit_with(
+        &self,
+        path: PathBuf,
+        make: impl FnOnce() -> Result<Vec<u8>, String> + Send + 'static,
+    ) -> Result<(), WriteError> {
+        self.check()?;
+        self.send(Job::Make(path, Box::new(make)))
+    }
+
     /// Waits until everything submitted so far is on disk; an error if any write failed.
     pub fn flush(&self) -> Result<(), WriteError> {
         let (done, wait) = sync_channel(1);
@@ -120,21 +138,23 @@ impl Drop for BackgroundWriter {
 fn run(queue: Receiver<Job>, failed: Failure) {
     let mut ok = true;
     for job in queue {
-        match job {
-            Job::Write(path, bytes) if ok => {
-                if let Err(e) = write_atomic(&path, &bytes) {
-                    ok = false;
-                    if let Ok(mut f) = failed.lock() {
-                        *f = Some(WriteError::Failed {
-                            reason: e.to_string(),
-                            path,
-                        });
-                    }
-                }
-            }
-            Job::Write(..) => {}
+        let (path, bytes) = match job {
             Job::Flush(done) => {
                 let _ = done.send(());
+                continue;
+            }
+            _ if !ok => continue,
+            Job::Write(path, bytes) => (path, Ok(bytes)),
+            Job::Make(path, make) => {
+                let bytes = make();
+                (path, bytes)
+            }
+        };
+        let written = bytes.and_then(|b| write_atomic(&path, &b).map_err(|e| e.to_string()));
+        if let Err(reason) = written {
+            ok = false;
+            if let Ok(mut f) = failed.lock() {
+                *f = Some(WriteError::Failed { reason, path });
             }
         }
     }

@@ -307,6 +307,41 @@ fn a_failed_background_write_is_reported_and_stops_later_ones() {
 }
 
 #[test]
+fn bytes_made_on_the_writer_thread_keep_the_order_and_report_failures() {
+    let dir = temp_dir("background-make");
+    let w = BackgroundWriter::new().unwrap();
+    let main = std::thread::current().id();
+    // Made on the writer thread, between the plain writes submitted around it.
+    w.submit(dir.join("f.txt"), b"1".to_vec()).unwrap();
+    w.submit_with(dir.join("f.txt"), move || {
+        assert_ne!(
+            std::thread::current().id(),
+            main,
+            "made on the submitting thread"
+        );
+        Ok(b"2".to_vec())
+    })
+    .unwrap();
+    w.flush().unwrap();
+    assert_eq!(fs::read(dir.join("f.txt")).unwrap(), b"2");
+    w.submit(dir.join("f.txt"), b"3".to_vec()).unwrap();
+    w.flush().unwrap();
+    assert_eq!(fs::read(dir.join("f.txt")).unwrap(), b"3");
+    // Bytes that cannot be made fail like a write: reported with the file, and nothing after.
+    w.submit_with(dir.join("g.txt"), || Err("no bytes".into()))
+        .unwrap();
+    w.submit(dir.join("h.txt"), b"4".to_vec()).unwrap();
+    let err = w.flush().unwrap_err();
+    assert!(
+        err.to_string().contains("g.txt") && err.to_string().contains("no bytes"),
+        "{err}"
+    );
+    drop(w);
+    assert!(!dir.join("g.txt").exists() && !dir.join("h.txt").exists());
+    let _ = fs::remove_dir_all(&dir);
+}
+
+#[test]
 fn write_atomic_failures_leave_nothing_behind() {
     let dir = temp_dir("atomic-fail");
     // The target is a non-empty directory: the rename fails.

@@ -154,7 +154,11 @@ impl From<String> for RunFolderError {
 
 /// Writes a vector of f64 as little-endian bytes.
 pub fn f64_bytes(v: &[f64]) -> Vec<u8> {
-    v.iter().flat_map(|x| x.to_le_bytes()).collect()
+    let mut out = Vec::with_capacity(8 * v.len());
+    for x in v {
+        out.extend_from_slice(&x.to_le_bytes());
+    }
+    out
 }
 
 /// Reads a file of little-endian f64.

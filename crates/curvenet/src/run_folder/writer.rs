@@ -18,12 +18,21 @@ use crate::words::{Opt, message};
 use std::path::{Path, PathBuf};
 
 /// The OBJ of a recorded network at displacements `u`, with a comment line first naming it
-/// unstable when it is.
-fn record_obj(network: &Network, record: &IterationRecord, u: &[f64]) -> String {
-    let obj = io::curves_to_obj(&network_polylines(network, &record.curves, Some(u)));
-    match super::summary::record_instability(record) {
-        Some(w) => format!("# WARNING: this network is {w}; it cannot stand as built\n{obj}"),
-        None => obj,
+/// unstable when it is: what to format, and the formatting (left to the writer thread).
+fn record_obj(
+    network: &Network,
+    record: &IterationRecord,
+    u: &[f64],
+) -> impl FnOnce() -> Result<Vec<u8>, String> + Send + 'static {
+    let lines = network_polylines(network, &record.curves, Some(u));
+    let warning = super::summary::record_instability(record);
+    move || {
+        let obj = io::curves_to_obj(&lines);
+        Ok(match warning {
+            Some(w) => format!("# WARNING: this network is {w}; it cannot stand as built\n{obj}"),
+            None => obj,
+        }
+        .into_bytes())
     }
 }
 
@@ -222,15 +231,29 @@ impl<'a> OutputWriter<'a> {
         &self.result
     }
 
+    /// Queues `result.json` as the result stands now (serialized on the writer thread).
     fn write_result(&self) -> Result<(), RunFolderError> {
-        let mut text = serde_json::to_vec_pretty(&self.result).map_err(|e| e.to_string())?;
-        text.push(b'\n');
-        self.write("result.json", text)
+        let result = self.result.clone();
+        self.write_with("result.json", move || {
+            let mut text = serde_json::to_vec_pretty(&result).map_err(|e| e.to_string())?;
+            text.push(b'\n');
+            Ok(text)
+        })
     }
 
     /// Queues `bytes` for the file `rel` of the folder (written atomically, in order).
     fn write(&self, rel: &str, bytes: impl Into<Vec<u8>>) -> Result<(), RunFolderError> {
         Ok(self.files.submit(self.dir.join(rel), bytes.into())?)
+    }
+
+    /// [`Self::write`] of the bytes `make` gives on the writer thread (formatting kept off the
+    /// computing thread).
+    fn write_with(
+        &self,
+        rel: &str,
+        make: impl FnOnce() -> Result<Vec<u8>, String> + Send + 'static,
+    ) -> Result<(), RunFolderError> {
+        Ok(self.files.submit_with(self.dir.join(rel), make)?)
     }
 
     /// Waits until every file submitted so far is written; an error names the first file
@@ -383,7 +406,7 @@ impl<'a> OutputWriter<'a> {
         self.flush()?;
         let k = outcome.iterations.len() - 1;
         let u = read_f64_file(&self.dir.join(crate::run_layout::state_file(k)))?;
-        self.write("final.obj", record_obj(self.network, last, &u))?;
+        self.write_with("final.obj", record_obj(self.network, last, &u))?;
         let answer_path = self.dir.join("answer.obj");
         self.remove_stale(answer_state.is_some(), self.alternatives.len())?;
         for (i, (a, state)) in self.alternatives.iter().enumerate() {
@@ -444,9 +467,10 @@ impl OutputWriter<'_> {
     ) -> Result<(), RunFolderError> {
         let k = self.result.iterations.len();
         let v = &eval.spectrum.vectors;
-        let all: Vec<f64> = (0..v.ncols())
-            .flat_map(|j| v.col(j).iter().copied().collect::<Vec<_>>())
-            .collect();
+        let mut all = Vec::with_capacity(v.nrows() * v.ncols());
+        for j in 0..v.ncols() {
+            all.extend(v.col(j).iter().copied());
+        }
         // The worst-case mode is the first column.
         self.write(
             &crate::run_layout::mode_file(k),
@@ -457,8 +481,10 @@ impl OutputWriter<'_> {
             f64_bytes(&eval.displacement),
         )?;
         self.write(&crate::run_layout::state_modes_file(k), f64_bytes(&all))?;
-        let obj = record_obj(self.network, record, &eval.displacement);
-        self.write(&run_layout::iteration_obj_file(k), obj)?;
+        self.write_with(
+            &run_layout::iteration_obj_file(k),
+            record_obj(self.network, record, &eval.displacement),
+        )?;
         self.result.iterations.push(record.clone());
         self.write_result()?;
         if let Some(p) = self.progress {
