@@ -25,7 +25,7 @@ const QUEUE: usize = 16;
 
 /// Bytes to be made on the writer thread (such as a file's text, formatted there rather than
 /// on the computing thread), or why they could not be.
-pub type MakeBytes = Box<dyn FnOnce() -> Result<Vec<u8>, String> + Send>;
+type MakeBytes = Box<dyn FnOnce() -> Result<Vec<u8>, String> + Send>;
 
 /// What the writer thread is asked to do.
 enum Job {

@@ -44,7 +44,7 @@ pub use atomic::{
     ExitHold, Staged, Unwritable, check_writable, exit_removing_temp_files, hold_exit,
     stage_atomic, write_atomic,
 };
-pub use background::{BackgroundWriter, MakeBytes, WriteError};
+pub use background::{BackgroundWriter, WriteError};
 pub use json::{FileExtras, curves_to_json, curves_to_json_with, parse_json_curves};
 pub use json_keys::{DuplicateKey, duplicate_key};
 pub use obj_curves::{curves_to_obj, parse_obj_polylines};
