@@ -80,3 +80,81 @@ def test_counts_and_indices_are_whole_numbers_and_negative_iterations_count_from
         run.write_3dm(tmp_path / "past.3dm", iteration=last + 1)
     run.write_3dm(tmp_path / "last.3dm", iteration=-1)
     assert (tmp_path / "last.3dm").stat().st_size > 0
+
+
+# Each keyword argument given a value of the wrong type, and the name the error must carry.
+WRONG_TYPES = [
+    ("load", dict(scale="2"), "scale"),
+    ("load", dict(edge_length=[0.1]), "edge_length"),
+    ("load", dict(radius="2"), "radius"),
+    ("load", dict(merge_joints=True), "merge_joints"),
+    ("load", dict(anchor_weight="heavy"), "anchor_weight"),
+    ("load", dict(supports=1), "supports"),
+    ("load", dict(objective=0), "objective"),
+    ("load", dict(units=1000), "units"),
+    ("load", dict(material=1), "material"),
+    ("load", dict(loads=3), "loads"),
+    ("load", dict(supports_file=3), "supports_file"),
+    ("load", dict(tolerance="fine"), "tolerance"),
+    ("load", dict(layer=2), "layer"),
+    ("simplify", dict(budget="half"), "budget"),
+    ("simplify", dict(budget=True), "budget"),
+    ("simplify", dict(budget_length="12m"), "budget_length"),
+    ("simplify", dict(max_gap="wide"), "max_gap"),
+    ("simplify", dict(max_deviation=[1]), "max_deviation"),
+    ("simplify", dict(symmetry=4), "symmetry"),
+    ("simplify", dict(connected="no"), "connected"),
+    ("simplify", dict(local_search=1), "local_search"),
+    ("simplify", dict(certify="yes"), "certify"),
+    ("simplify", dict(pictures="no"), "pictures"),
+    ("simplify", dict(resume=0), "resume"),
+    ("simplify", dict(force="yes"), "force"),
+    ("simplify", dict(slide="yes"), "slide"),
+    ("simplify", dict(fixed_ends=1), "fixed_ends"),
+    ("simplify", dict(out=5), "out"),
+    ("simplify", dict(groups=5), "groups"),
+    ("simplify", dict(progress="print"), "progress"),
+]
+
+
+@pytest.mark.parametrize("call,kwargs,option", WRONG_TYPES,
+                         ids=[f"{c}-{o}-{list(k.values())[0]!r}" for c, k, o in WRONG_TYPES])
+def test_an_argument_of_the_wrong_type_is_an_input_error_naming_it(grid, tmp_path, call, kwargs,
+                                                                    option):
+    with pytest.raises(curvenet.InputError, match=f"^{option}: expected"):
+        if call == "load":
+            curvenet.load(grid, **kwargs)
+        else:
+            curvenet.load(grid).simplify(**{"budget": 0.5, "out": tmp_path / "run", **kwargs})
+    # Nothing was written.
+    assert not (tmp_path / "run").exists()
+
+
+def test_the_other_calls_name_a_wrong_argument_too(grid, tmp_path):
+    with pytest.raises(curvenet.InputError, match="^curves: expected"):
+        curvenet.load(123)
+    with pytest.raises(curvenet.InputError, match="^curve 1: expected a curve file"):
+        curvenet.load([grid[0], {"x": 1}])
+    with pytest.raises(curvenet.InputError, match="^name: expected text"):
+        curvenet.example(3)
+    with pytest.raises(curvenet.InputError, match="^data: expected a file or folder path"):
+        curvenet.example("roof", data=1)
+    with pytest.raises(curvenet.InputError, match="^folder: expected a file or folder path"):
+        curvenet.open_run(5)
+    with pytest.raises(curvenet.InputError, match="^run: expected a file or folder path"):
+        curvenet.slide(5)
+    run = curvenet.load(grid).simplify(0.5, out=tmp_path / "run", pictures=False)
+    with pytest.raises(curvenet.InputError, match="^out: expected"):
+        curvenet.slide(run, out=7)
+    with pytest.raises(curvenet.InputError, match="^force: expected True or False"):
+        curvenet.slide(run, force="yes")
+    with pytest.raises(curvenet.InputError, match="^state: expected text"):
+        run.polylines([0], state=1)
+    with pytest.raises(curvenet.InputError, match="^format: expected text"):
+        run.export(tmp_path / "e", format=1)
+    with pytest.raises(curvenet.InputError, match="^out: expected"):
+        run.export(out=1)
+    with pytest.raises(curvenet.InputError, match="^path: expected"):
+        run.write_3dm(1)
+    with pytest.raises(curvenet.InputError, match="^mode_scale: expected a number"):
+        run.write_3dm(tmp_path / "r.3dm", mode_scale="big")

@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import json
+import numbers
 import os
+import reprlib
 import tempfile
 from pathlib import Path
 from typing import Any, Callable, Dict, Iterable, List, Optional, Sequence, Tuple, Union
@@ -34,6 +36,49 @@ def _is_path(x: Any) -> bool:
     return isinstance(x, (str, os.PathLike))
 
 
+# Arguments of the wrong type are bad input like any other: an ``InputError`` naming the
+# keyword argument, never the bare ``TypeError`` of a conversion deeper down.
+
+def _shown(value: Any) -> str:
+    """``value`` as an error message shows it (bounded: a long list is cut short)."""
+    return reprlib.repr(value)
+
+
+def _real(option: str, value: Any) -> Optional[float]:
+    """A number option (``None``: its default). ``True`` and text are refused: an option that
+    takes a unit says so and goes through :func:`_text`."""
+    if value is None:
+        return None
+    if isinstance(value, np.ndarray) and value.ndim == 0 and value.dtype.kind in "iuf":
+        value = value[()]
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise InputError(f"{option}: expected a number, got {_shown(value)}")
+    return float(value)
+
+
+def _name(option: str, value: Any) -> Optional[str]:
+    """A word option such as ``supports="pinned"`` (``None``: its default)."""
+    if value is None or isinstance(value, str):
+        return value
+    raise InputError(f"{option}: expected text, got {_shown(value)}")
+
+
+def _path(option: str, value: Any) -> Optional[str]:
+    """A file or folder option (``None``: its default)."""
+    if value is None:
+        return None
+    if not _is_path(value):
+        raise InputError(f"{option}: expected a file or folder path, got {_shown(value)}")
+    return os.fspath(value)
+
+
+def _flag(option: str, value: Any) -> bool:
+    """A yes/no option: ``True`` or ``False`` (``"no"`` is refused, not taken as true)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise InputError(f"{option}: expected True or False, got {_shown(value)}")
+    return bool(value)
+
+
 def _read_curve_sources(
     curves: Union[CurveSource, Iterable[CurveSource]],
     tolerance: Optional[float],
@@ -43,6 +88,11 @@ def _read_curve_sources(
     tuples), a mesh found in a .3dm (or None) and its name, the files, the warnings."""
     if _is_path(curves) or isinstance(curves, np.ndarray):
         curves = [curves]
+    try:
+        curves = list(curves)
+    except TypeError:
+        raise InputError("curves: expected curve files and/or (n, 3) arrays of points, got "
+                         f"{_shown(curves)}") from None
     out: list = []
     warnings: List[str] = []
     files: List[str] = []
@@ -81,7 +131,13 @@ def _read_curve_sources(
                 # declares.
                 out.append(path)
         else:
-            a = np.asarray(src, dtype=np.float64)
+            try:
+                a = np.asarray(src, dtype=np.float64)
+            except (TypeError, ValueError):
+                raise InputError(
+                    f"curve {len(out) + len(arrays)}: expected a curve file or an (n, 3) "
+                    f"array of points, got {_shown(src)}"
+                ) from None
             if a.ndim != 2 or a.shape[1] != 3:
                 raise InputError(
                     f"curve {len(out) + len(arrays)}: expected an (n, 3) array of points, "
@@ -192,24 +248,24 @@ def _model_kwargs(supports, merge_joints, radius, young, anchor_weight, eigen_co
                   deflection_limit=None, buckling_factor=None,
                   supports_file=None) -> Dict[str, Any]:
     return dict(
-        supports=supports,
-        merge_joints=merge_joints,
-        radius=radius,
+        supports=_name("supports", supports),
+        merge_joints=_real("merge_joints", merge_joints),
+        radius=_real("radius", radius),
         young=_text(young),
-        anchor_weight=anchor_weight,
+        anchor_weight=_real("anchor_weight", anchor_weight),
         eigen_count=_whole("eigen_count", eigen_count),
-        objective=objective,
-        units=units,
-        material=material,
+        objective=_name("objective", objective),
+        units=_name("units", units),
+        material=_name("material", material),
         density=_text(density),
         strength=_text(strength),
         tube=_text(tube),
         load=_text(load),
         gravity=_text(gravity),
-        loads=None if loads is None else os.fspath(loads),
+        loads=_path("loads", loads),
         deflection_limit=_text(deflection_limit),
         buckling_factor=_text(buckling_factor),
-        supports_file=None if supports_file is None else os.fspath(supports_file),
+        supports_file=_path("supports_file", supports_file),
     )
 
 
@@ -258,7 +314,14 @@ def load(
     Raises :class:`curvenet.InputError` with the command line's message (file and line, or
     the keyword argument).
     """
-    sources, found_mesh, found_name, files, warnings = _read_curve_sources(curves, tolerance, layer)
+    # The options are checked before any file is read.
+    model = _model_kwargs(supports, merge_joints, radius, young, anchor_weight, eigen_count,
+                          objective, units, material, density, strength, tube, load, gravity,
+                          loads, deflection_limit, buckling_factor, supports_file)
+    scale = 1.0 if scale is None else _real("scale", scale)
+    edge_length = _real("edge_length", edge_length)
+    sources, found_mesh, found_name, files, warnings = _read_curve_sources(
+        curves, _real("tolerance", tolerance), _name("layer", layer))
     m, w = _read_mesh(mesh)
     warnings.extend(w)
     if m is None and found_mesh is not None:
@@ -269,9 +332,7 @@ def load(
         scale=scale,
         edge_length=edge_length,
         warnings=warnings,
-        **_model_kwargs(supports, merge_joints, radius, young, anchor_weight, eigen_count,
-                        objective, units, material, density, strength, tube, load, gravity,
-                        loads, deflection_limit, buckling_factor, supports_file),
+        **model,
     )
     return Network(native)
 
@@ -312,8 +373,8 @@ def example(
     {model}"""
     native = _native.Network(
         [],
-        example=name,
-        data=None if data is None else os.fspath(data),
+        example=_name("name", name),
+        data=_path("data", data),
         **_model_kwargs(supports, merge_joints, radius, young, anchor_weight, eigen_count,
                         objective, units, material, density, strength, tube, load, gravity,
                         loads, deflection_limit, buckling_factor, supports_file),
@@ -582,6 +643,7 @@ class Network:
         (``KeyboardInterrupt``), within a second, keeping what was recorded. The call
         releases the GIL: runs in several threads go on side by side.
         """
+        out = _path("out", out)
         if out is None:
             out = tempfile.mkdtemp(prefix="curvenet-run-")
             if pictures is None:
@@ -594,35 +656,43 @@ class Network:
             if _is_path(groups):
                 groups_file = os.fspath(groups)
             else:
+                try:
+                    groups = list(groups)
+                except TypeError:
+                    raise InputError("groups: expected a groups file or lists of curve ids, "
+                                     f"got {_shown(groups)}") from None
                 group_lists = [_ids(f"groups[{k}]", g) or [] for k, g in enumerate(groups)]
         cb = None
         if progress is not None:
             def cb(text: str) -> None:
                 progress(Iteration(json.loads(text)))
+        if progress is not None and not callable(progress):
+            raise InputError(f"progress: expected a function of one iteration, got "
+                             f"{_shown(progress)}")
         warnings = self._native.simplify(
-            os.fspath(out),
-            budget=budget,
-            budget_length=budget_length,
+            out,
+            budget=_real("budget", budget),
+            budget_length=_real("budget_length", budget_length),
             keep=_ids("keep", keep),
             groups_file=groups_file,
             groups=group_lists,
-            symmetry=symmetry,
-            connected=bool(connected),
+            symmetry=_name("symmetry", symmetry),
+            connected=_flag("connected", connected),
             min_curves=None if min_curves is None else _whole("min_curves", min_curves),
-            max_gap=max_gap,
-            max_deviation=max_deviation,
-            local_search=bool(local_search),
+            max_gap=_real("max_gap", max_gap),
+            max_deviation=_real("max_deviation", max_deviation),
+            local_search=_flag("local_search", local_search),
             alternatives=_whole("alternatives", alternatives),
-            certify=bool(certify),
+            certify=_flag("certify", certify),
             certificate_nodes=(None if certificate_nodes is None
                                else _whole("certificate_nodes", certificate_nodes)),
-            pictures=pictures,
-            resume=resume,
-            force=force,
+            pictures=_flag("pictures", pictures),
+            resume=_flag("resume", resume),
+            force=_flag("force", force),
             progress=cb,
-            slide=bool(slide),
+            slide=_flag("slide", slide),
             max_move=None if max_move is None else str(max_move),
-            fixed_ends=bool(fixed_ends),
+            fixed_ends=_flag("fixed_ends", fixed_ends),
             pin=_ids("pin", pin) or [],
             slide_rounds=_whole("slide_rounds", slide_rounds),
         )
@@ -782,6 +852,7 @@ class Result:
         """``(points, closed)`` of ``curves``: at rest (``state="rest"``) or at the
         iteration's equilibrium (``"equilibrium"``)."""
         curves = _ids("curves", curves) or []
+        state = _name("state", state)
         if state == "rest":
             return self._native.polylines(curves, None)
         if state == "equilibrium":
@@ -794,8 +865,9 @@ class Result:
         ``format`` is ``obj``, ``json``, ``csv``, ``network``, ``structural`` (a physical
         run's neutral structural JSON), ``opensees`` (its OpenSeesPy script) or ``all``; ``out`` a folder
         (default: ``export/`` in the run folder). Returns the paths written."""
-        folder = self.folder / "export" if out is None else Path(out)
-        return [Path(p) for p in self._native.export(os.fspath(folder), format, self._k(iteration))]
+        folder = self.folder / "export" if out is None else Path(_path("out", out))
+        return [Path(p) for p in self._native.export(os.fspath(folder), _name("format", format),
+                                                      self._k(iteration))]
 
     def write_3dm(self, path: PathLike, iteration: Optional[int] = None,
                   mode_scale: Optional[float] = None) -> Path:
@@ -804,7 +876,8 @@ class Result:
         under ``curvenet`` (see :mod:`curvenet.rhino`)."""
         from . import rhino
 
-        return rhino.write_3dm(self, path, iteration=iteration, mode_scale=mode_scale)
+        return rhino.write_3dm(self, _path("path", path), iteration=iteration,
+                               mode_scale=_real("mode_scale", mode_scale))
 
     def __repr__(self) -> str:
         last = self.iterations[-1]
@@ -877,19 +950,20 @@ def slide(
     the slid ones in place, then a slide of its network (``Slide.rounds`` lists each round's
     objectives; the last round's run is in ``out/rounds/K/slid``). Ctrl-C stops the search
     within a second, the best network so far recorded."""
-    folder = run.folder if isinstance(run, Result) else Path(os.fspath(run))
+    folder = run.folder if isinstance(run, Result) else Path(_path("run", run))
+    out = _path("out", out)
     if out is None:
         out = tempfile.mkdtemp(prefix="curvenet-slide-")
         if pictures is None:
             pictures = False
     warnings = _native.slide(
         os.fspath(folder),
-        os.fspath(out),
+        out,
         max_move=None if max_move is None else str(max_move),
-        fixed_ends=bool(fixed_ends),
+        fixed_ends=_flag("fixed_ends", fixed_ends),
         pin=_ids("pin", pin) or [],
-        pictures=True if pictures is None else bool(pictures),
-        force=bool(force),
+        pictures=True if pictures is None else _flag("pictures", pictures),
+        force=_flag("force", force),
         slide_rounds=_whole("slide_rounds", slide_rounds),
     )
     result = open_run(out)
@@ -900,4 +974,4 @@ def slide(
 def open_run(folder: PathLike) -> Result:
     """Reads a run folder written by ``curvenet simplify``/``example`` or
     :meth:`Network.simplify`."""
-    return Result(_native.Run(os.fspath(folder)))
+    return Result(_native.Run(_path("folder", folder)))
