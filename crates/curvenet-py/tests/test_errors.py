@@ -158,3 +158,22 @@ def test_the_other_calls_name_a_wrong_argument_too(grid, tmp_path):
         run.write_3dm(1)
     with pytest.raises(curvenet.InputError, match="^mode_scale: expected a number"):
         run.write_3dm(tmp_path / "r.3dm", mode_scale="big")
+
+
+def test_a_wrong_argument_leaves_no_temporary_folder(grid, tmp_path, monkeypatch):
+    import tempfile
+
+    temp = tmp_path / "temp"
+    temp.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(temp))
+    net = curvenet.load(grid)
+    with pytest.raises(curvenet.InputError, match="^budget: expected a number"):
+        net.simplify("half")
+    with pytest.raises(curvenet.InputError, match="^pictures: expected True or False"):
+        net.simplify(0.5, pictures="yes")
+    run = net.simplify(0.5, out=tmp_path / "run", pictures=False)
+    with pytest.raises(curvenet.InputError, match="^fixed_ends: expected True or False"):
+        curvenet.slide(run, fixed_ends="no")
+    with pytest.raises(curvenet.InputError, match="^pictures: expected True or False"):
+        curvenet.slide(run, pictures=1)
+    assert list(temp.iterdir()) == []

@@ -643,13 +643,7 @@ class Network:
         (``KeyboardInterrupt``), within a second, keeping what was recorded. The call
         releases the GIL: runs in several threads go on side by side.
         """
-        out = _path("out", out)
-        if out is None:
-            out = tempfile.mkdtemp(prefix="curvenet-run-")
-            if pictures is None:
-                pictures = False
-        if pictures is None:
-            pictures = True
+        # Every option is checked before anything is written (the temporary folder too).
         groups_file = None
         group_lists: List[List[int]] = []
         if groups is not None:
@@ -662,15 +656,10 @@ class Network:
                     raise InputError("groups: expected a groups file or lists of curve ids, "
                                      f"got {_shown(groups)}") from None
                 group_lists = [_ids(f"groups[{k}]", g) or [] for k, g in enumerate(groups)]
-        cb = None
-        if progress is not None:
-            def cb(text: str) -> None:
-                progress(Iteration(json.loads(text)))
         if progress is not None and not callable(progress):
             raise InputError(f"progress: expected a function of one iteration, got "
                              f"{_shown(progress)}")
-        warnings = self._native.simplify(
-            out,
+        options = dict(
             budget=_real("budget", budget),
             budget_length=_real("budget_length", budget_length),
             keep=_ids("keep", keep),
@@ -686,16 +675,28 @@ class Network:
             certify=_flag("certify", certify),
             certificate_nodes=(None if certificate_nodes is None
                                else _whole("certificate_nodes", certificate_nodes)),
-            pictures=_flag("pictures", pictures),
             resume=_flag("resume", resume),
             force=_flag("force", force),
-            progress=cb,
             slide=_flag("slide", slide),
             max_move=None if max_move is None else str(max_move),
             fixed_ends=_flag("fixed_ends", fixed_ends),
             pin=_ids("pin", pin) or [],
             slide_rounds=_whole("slide_rounds", slide_rounds),
         )
+        if pictures is not None:
+            pictures = _flag("pictures", pictures)
+        out = _path("out", out)
+        if out is None:
+            out = tempfile.mkdtemp(prefix="curvenet-run-")
+            if pictures is None:
+                pictures = False
+        if pictures is None:
+            pictures = True
+        cb = None
+        if progress is not None:
+            def cb(text: str) -> None:
+                progress(Iteration(json.loads(text)))
+        warnings = self._native.simplify(out, pictures=pictures, progress=cb, **options)
         result = open_run(out)
         result.warnings = list(warnings) + result.warnings
         return result
@@ -951,6 +952,16 @@ def slide(
     objectives; the last round's run is in ``out/rounds/K/slid``). Ctrl-C stops the search
     within a second, the best network so far recorded."""
     folder = run.folder if isinstance(run, Result) else Path(_path("run", run))
+    # Every option is checked before anything is written (the temporary folder too).
+    options = dict(
+        max_move=None if max_move is None else str(max_move),
+        fixed_ends=_flag("fixed_ends", fixed_ends),
+        pin=_ids("pin", pin) or [],
+        force=_flag("force", force),
+        slide_rounds=_whole("slide_rounds", slide_rounds),
+    )
+    if pictures is not None:
+        pictures = _flag("pictures", pictures)
     out = _path("out", out)
     if out is None:
         out = tempfile.mkdtemp(prefix="curvenet-slide-")
@@ -959,12 +970,8 @@ def slide(
     warnings = _native.slide(
         os.fspath(folder),
         out,
-        max_move=None if max_move is None else str(max_move),
-        fixed_ends=_flag("fixed_ends", fixed_ends),
-        pin=_ids("pin", pin) or [],
-        pictures=True if pictures is None else _flag("pictures", pictures),
-        force=_flag("force", force),
-        slide_rounds=_whole("slide_rounds", slide_rounds),
+        pictures=True if pictures is None else pictures,
+        **options,
     )
     result = open_run(out)
     result.warnings = list(warnings) + result.warnings
