@@ -79,6 +79,18 @@ def _flag(option: str, value: Any) -> bool:
     return bool(value)
 
 
+def _out_and_pictures(out: Any, pictures: Any, prefix: str) -> Tuple[str, bool]:
+    """A run's folder and whether to draw its pictures, the last options checked: ``out``, or
+    a new temporary folder named ``prefix…``; ``pictures`` by default only into a folder the
+    caller named."""
+    if pictures is not None:
+        pictures = _flag("pictures", pictures)
+    folder = _path("out", out)
+    if folder is None:
+        folder = tempfile.mkdtemp(prefix=prefix)
+    return folder, (out is not None) if pictures is None else pictures
+
+
 def _read_curve_sources(
     curves: Union[CurveSource, Iterable[CurveSource]],
     tolerance: Optional[float],
@@ -683,15 +695,7 @@ class Network:
             pin=_ids("pin", pin) or [],
             slide_rounds=_whole("slide_rounds", slide_rounds),
         )
-        if pictures is not None:
-            pictures = _flag("pictures", pictures)
-        out = _path("out", out)
-        if out is None:
-            out = tempfile.mkdtemp(prefix="curvenet-run-")
-            if pictures is None:
-                pictures = False
-        if pictures is None:
-            pictures = True
+        out, pictures = _out_and_pictures(out, pictures, "curvenet-run-")
         cb = None
         if progress is not None:
             def cb(text: str) -> None:
@@ -960,19 +964,8 @@ def slide(
         force=_flag("force", force),
         slide_rounds=_whole("slide_rounds", slide_rounds),
     )
-    if pictures is not None:
-        pictures = _flag("pictures", pictures)
-    out = _path("out", out)
-    if out is None:
-        out = tempfile.mkdtemp(prefix="curvenet-slide-")
-        if pictures is None:
-            pictures = False
-    warnings = _native.slide(
-        os.fspath(folder),
-        out,
-        pictures=True if pictures is None else pictures,
-        **options,
-    )
+    out, pictures = _out_and_pictures(out, pictures, "curvenet-slide-")
+    warnings = _native.slide(os.fspath(folder), out, pictures=pictures, **options)
     result = open_run(out)
     result.warnings = list(warnings) + result.warnings
     return result
