@@ -326,31 +326,61 @@ pub fn anchor(x: Vec3, target: Vec3, mu: f64, w: &[[f64; 3]; 3]) -> Local<3> {
 }
 
 /// Projects a symmetric matrix onto the positive semidefinite cone in place: eigenvalues
-/// below zero are set to zero (nalgebra's symmetric eigen-decomposition: Householder
-/// tridiagonalization and implicit QR, about 1.7 µs for a bending term's 6×6 block; far from
-/// equilibrium these decompositions are most of a relaxation's time).
-/// Newton uses projected Hessians for its direction far from equilibrium, where the exact
-/// Hessian is indefinite; the stability analysis always uses the exact one.
+/// below zero are set to zero (cyclic Jacobi eigen-decomposition, written for these small
+/// fixed sizes). Newton uses projected Hessians for its direction far from equilibrium, where
+/// the exact Hessian is indefinite; the stability analysis always uses the exact one.
 pub fn project_psd<const D: usize>(h: &mut [[f64; D]; D]) {
     project_psd_changed(h);
 }
 
-/// The eigen-decomposition's iteration cap: far more than a symmetric matrix of these sizes
-/// needs (it converges in a few sweeps); reaching it leaves the matrix as it was.
-const MAX_EIGEN_ITERATIONS: usize = 1000;
-
-/// [`project_psd`], telling whether the matrix changed (false: it was left as it was, also
-/// when it holds a NaN or an infinity).
+/// [`project_psd`], telling whether the matrix changed (false: it was left as it was).
 fn project_psd_changed<const D: usize>(h: &mut [[f64; D]; D]) -> bool {
-    if !h.iter().flatten().all(|x| x.is_finite()) {
+    let mut a = *h;
+    let mut v = [[0.0f64; D]; D];
+    for (i, row) in v.iter_mut().enumerate() {
+        row[i] = 1.0;
+    }
+    let scale: f64 = a.iter().flatten().map(|x| x * x).sum::<f64>().sqrt();
+    if scale == 0.0 || !scale.is_finite() {
         return false;
     }
-    let m = nalgebra::DMatrix::from_fn(D, D, |i, j| h[i][j]);
-    let Some(eig) = nalgebra::SymmetricEigen::try_new(m, f64::EPSILON, MAX_EIGEN_ITERATIONS) else {
-        return false;
-    };
-    let (l, v) = (&eig.eigenvalues, &eig.eigenvectors);
-    if l.iter().all(|&x| x >= 0.0) {
+    for _sweep in 0..50 {
+        let off: f64 = (0..D)
+            .flat_map(|i| (0..D).filter(move |&j| j != i).map(move |j| (i, j)))
+            .map(|(i, j)| a[i][j] * a[i][j])
+            .sum();
+        if off.sqrt() <= 1e-15 * scale {
+            break;
+        }
+        for p in 0..D {
+            for q in p + 1..D {
+                if a[p][q].abs() <= 1e-300 {
+                    continue;
+                }
+                let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+                let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+                let t = if theta == 0.0 { 1.0 } else { t };
+                let c = 1.0 / (t * t + 1.0).sqrt();
+                let s = t * c;
+                for k in 0..D {
+                    let (akp, akq) = (a[k][p], a[k][q]);
+                    a[k][p] = c * akp - s * akq;
+                    a[k][q] = s * akp + c * akq;
+                }
+                for k in 0..D {
+                    let (apk, aqk) = (a[p][k], a[q][k]);
+                    a[p][k] = c * apk - s * aqk;
+                    a[q][k] = s * apk + c * aqk;
+                }
+                for row in v.iter_mut() {
+                    let (vkp, vkq) = (row[p], row[q]);
+                    row[p] = c * vkp - s * vkq;
+                    row[q] = s * vkp + c * vkq;
+                }
+            }
+        }
+    }
+    if (0..D).all(|i| a[i][i] >= 0.0) {
         return false;
     }
     // H = V diag(max(λ, 0)) Vᵀ.
@@ -358,8 +388,9 @@ fn project_psd_changed<const D: usize>(h: &mut [[f64; D]; D]) -> bool {
         for j in 0..=i {
             let mut sum = 0.0;
             for k in 0..D {
-                if l[k] > 0.0 {
-                    sum += v[(i, k)] * l[k] * v[(j, k)];
+                let l = a[k][k];
+                if l > 0.0 {
+                    sum += v[i][k] * l * v[j][k];
                 }
             }
             h[i][j] = sum;
