@@ -746,18 +746,24 @@ mod tests {
         }
     }
 
+    /// A symmetric matrix with entries uniform in [−1, 1].
+    fn random_symmetric<const D: usize>(rng: &mut SplitMix64) -> [[f64; D]; D] {
+        let mut m = [[0.0; D]; D];
+        for i in 0..D {
+            for j in 0..=i {
+                let v = rng.signed();
+                m[i][j] = v;
+                m[j][i] = v;
+            }
+        }
+        m
+    }
+
     #[test]
     fn psd_projection_clamps_negative_eigenvalues_only() {
         let mut rng = SplitMix64::new(21);
         for _ in 0..50 {
-            let mut m = [[0.0; 9]; 9];
-            for i in 0..9 {
-                for j in 0..=i {
-                    let v = rng.signed();
-                    m[i][j] = v;
-                    m[j][i] = v;
-                }
-            }
+            let mut m = random_symmetric::<9>(&mut rng);
             let orig = m;
             project_psd(&mut m);
             // PSD: xᵀMx ≥ 0 for random x, and the projection is the nearest PSD matrix, so
@@ -856,14 +862,7 @@ mod tests {
         let mut rng = SplitMix64::new(8);
         let mut changed = 0;
         for _ in 0..200 {
-            let mut m = [[0.0; 6]; 6];
-            for i in 0..6 {
-                for j in 0..=i {
-                    let v = rng.signed();
-                    m[i][j] = v;
-                    m[j][i] = v;
-                }
-            }
+            let m = random_symmetric::<6>(&mut rng);
             assert!(coupled(&m));
             let (mut fast, mut jacobi) = (m, m);
             let a = project_psd_coupled6(fast.as_flattened_mut());
