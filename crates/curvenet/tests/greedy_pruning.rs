@@ -248,16 +248,18 @@ fn an_inertia_test_at_the_zero_band_edge_does_not_change_the_choices() {
     let a = Analyzer::new(net, StabilityParams::default()).expect("analyzer");
     let on = GreedyParams::new(Budget::Fraction(0.05));
     let (g_on, g_off) = (run(&a, &on), run(&without(&a, Technique::Prune), &on));
-    // This small network's scores carry about 1e-7 of round-off (the first removal's score
-    // about a shift and about zero differ by 8.6e-8), and its last removal leaves a mechanism
-    // (scores of a few 1e-18): scores are compared to 1e-6 relative plus 1e-14.
+    // The two runs solve some eigenproblems about different shifts, so their scores agree
+    // only to the eigen solver's round-off: about ε‖H‖ (the zero band above is 5ε‖H‖₁, so a
+    // few 1e-9 here), of which they use little (the first removal's scores have differed by
+    // 1.5e-6 relative, 1.4e-13). Its last removal leaves a mechanism (scores of a few
+    // 1e-18). Scores are compared to 1e-5 relative plus 1e-14.
     assert_eq!(removals(&g_on), removals(&g_off));
     assert_eq!(g_on.stop, g_off.stop);
     let mut at_edge = 0;
     for (k, (x, y)) in g_on.iterations.iter().zip(&g_off.iterations).enumerate() {
         if let (Some(s), Some(t)) = (x.score, y.score) {
             assert!(
-                (s - t).abs() <= 1e-6 * s.abs() + 1e-14,
+                (s - t).abs() <= 1e-5 * s.abs() + 1e-14,
                 "iteration {k}: {s:e} vs {t:e}"
             );
         }
