@@ -345,7 +345,10 @@ pub fn project_psd<const D: usize>(h: &mut [[f64; D]; D]) {
 /// when it holds a NaN or an infinity).
 fn project_psd_changed<const D: usize>(h: &mut [[f64; D]; D]) -> bool {
     if D == 6 && coupled(h) {
-        return project_psd_coupled6(h.as_flattened_mut());
+        let (rows, _) = h.as_flattened_mut().as_chunks_mut::<6>();
+        if let Ok(h6) = <&mut [[f64; 6]; 6]>::try_from(rows) {
+            return project_psd_coupled6(h6);
+        }
     }
     project_psd_jacobi(h)
 }
@@ -353,8 +356,8 @@ fn project_psd_changed<const D: usize>(h: &mut [[f64; D]; D]) -> bool {
 /// Whether every coordinate of `h` is linked to every other by a chain of nonzero entries
 /// (the matrix does not fall apart into independent diagonal blocks under any permutation).
 fn coupled<const D: usize>(h: &[[f64; D]; D]) -> bool {
-    debug_assert!(D <= 64);
-    let all = if D == 64 { u64::MAX } else { (1u64 << D) - 1 };
+    debug_assert!(D < 64);
+    let all = (1u64 << D) - 1;
     let (mut reached, mut frontier) = (1u64, 1u64);
     while frontier != 0 {
         let i = frontier.trailing_zeros() as usize;
@@ -373,13 +376,13 @@ fn coupled<const D: usize>(h: &[[f64; D]; D]) -> bool {
 /// leaves the matrix as it was.
 const MAX_EIGEN_ITERATIONS: usize = 1000;
 
-/// [`project_psd_changed`] of a 6×6 matrix stored by rows, by nalgebra's symmetric
-/// eigen-decomposition (Householder tridiagonalization and implicit QR, on the stack).
-fn project_psd_coupled6(h: &mut [f64]) -> bool {
-    if !h.iter().all(|x| x.is_finite()) {
+/// [`project_psd_changed`] of a 6×6 matrix by nalgebra's symmetric eigen-decomposition
+/// (Householder tridiagonalization and implicit QR, on the stack).
+fn project_psd_coupled6(h: &mut [[f64; 6]; 6]) -> bool {
+    if !h.iter().flatten().all(|x| x.is_finite()) {
         return false;
     }
-    let m = nalgebra::Matrix6::from_row_slice(h);
+    let m = nalgebra::Matrix6::from_fn(|i, j| h[i][j]);
     let Some(eig) = nalgebra::SymmetricEigen::try_new(m, f64::EPSILON, MAX_EIGEN_ITERATIONS) else {
         return false;
     };
@@ -387,18 +390,30 @@ fn project_psd_coupled6(h: &mut [f64]) -> bool {
     if l.iter().all(|&x| x >= 0.0) {
         return false;
     }
-    // H = V diag(max(λ, 0)) Vᵀ.
-    for i in 0..6 {
+    keep_positive_part(h, |k| l[k], |i, k| v[(i, k)]);
+    true
+}
+
+/// Sets `h = V diag(max(λ, 0)) Vᵀ` from the eigenvalues `lambda(k)` and the eigenvectors'
+/// components `v(i, k)` (the `i`-th of the `k`-th).
+fn keep_positive_part<const D: usize>(
+    h: &mut [[f64; D]; D],
+    lambda: impl Fn(usize) -> f64,
+    v: impl Fn(usize, usize) -> f64,
+) {
+    for i in 0..D {
         for j in 0..=i {
-            let sum: f64 = (0..6)
-                .filter(|&k| l[k] > 0.0)
-                .map(|k| v[(i, k)] * l[k] * v[(j, k)])
-                .sum();
-            h[i * 6 + j] = sum;
-            h[j * 6 + i] = sum;
+            let mut sum = 0.0;
+            for k in 0..D {
+                let l = lambda(k);
+                if l > 0.0 {
+                    sum += v(i, k) * l * v(j, k);
+                }
+            }
+            h[i][j] = sum;
+            h[j][i] = sum;
         }
     }
-    true
 }
 
 /// [`project_psd_changed`] by cyclic Jacobi sweeps (hand-written: they keep exact zeros,
@@ -452,20 +467,7 @@ fn project_psd_jacobi<const D: usize>(h: &mut [[f64; D]; D]) -> bool {
     if (0..D).all(|i| a[i][i] >= 0.0) {
         return false;
     }
-    // H = V diag(max(λ, 0)) Vᵀ.
-    for i in 0..D {
-        for j in 0..=i {
-            let mut sum = 0.0;
-            for k in 0..D {
-                let l = a[k][k];
-                if l > 0.0 {
-                    sum += v[i][k] * l * v[j][k];
-                }
-            }
-            h[i][j] = sum;
-            h[j][i] = sum;
-        }
-    }
+    keep_positive_part(h, |k| a[k][k], |i, k| v[i][k]);
     true
 }
 
@@ -865,7 +867,7 @@ mod tests {
             let m = random_symmetric::<6>(&mut rng);
             assert!(coupled(&m));
             let (mut fast, mut jacobi) = (m, m);
-            let a = project_psd_coupled6(fast.as_flattened_mut());
+            let a = project_psd_coupled6(&mut fast);
             let b = project_psd_jacobi(&mut jacobi);
             assert_eq!(a, b);
             changed += usize::from(a);
