@@ -36,6 +36,8 @@ enum Rule {
     Seconds,
     /// An integer in the range.
     Count(u64, u64),
+    /// Comma-separated integers, each in the range.
+    Counts(u64, u64),
     /// Any 32-bit unsigned integer (a seed).
     Seed,
     /// Comma-separated curve ids (each below the grid's 4 curves, or the run is refused).
@@ -62,6 +64,9 @@ impl Rule {
             Rule::OpenFraction => float.is_some_and(|v| v > 0.0 && v < 1.0),
             Rule::Seconds => float.is_some_and(|v| v > 0.0 && v <= 1e9),
             Rule::Count(lo, hi) => int.is_some_and(|v| (lo..=hi).contains(&v)),
+            Rule::Counts(lo, hi) => value
+                .split(',')
+                .all(|s| s.parse::<u64>().is_ok_and(|v| (lo..=hi).contains(&v))),
             // Seeds go through clap's own integer parser, which reads "-0" as 0.
             Rule::Seed => value
                 .parse::<i64>()
@@ -234,7 +239,7 @@ fn options() -> Vec<Opt> {
         o("--extent", Extent, TRACE),
         o("--seeds", Count(1, 100_000), STREAMLINES),
         o("--field", Count(2, 3), STREAMLINES),
-        o("--sizes", Count(2, 30), COMPARE),
+        o("--sizes", Counts(2, 30), COMPARE),
         o("--instances", Count(1, 10_000), COMPARE),
         o("--budget", Fraction, COMPARE),
         o("--seed", Seed, COMPARE),
