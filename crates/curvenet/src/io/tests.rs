@@ -285,6 +285,16 @@ fn background_writes_land_in_order_and_flush_waits_for_them() {
     let _ = fs::remove_dir_all(&dir);
 }
 
+/// The failure a writer reports once a submitted job has failed: `path` submitted after it
+/// returns the failure if the writer thread has met it already, else the flush does. Either
+/// is the rule; which one depends on the threads' timing.
+fn failure_after(w: &BackgroundWriter, path: PathBuf, bytes: &[u8]) -> WriteError {
+    match w.submit(path, bytes.to_vec()) {
+        Err(err) => err,
+        Ok(()) => w.flush().unwrap_err(),
+    }
+}
+
 #[test]
 fn a_failed_background_write_is_reported_and_stops_later_ones() {
     let dir = temp_dir("background-fail");
@@ -293,8 +303,7 @@ fn a_failed_background_write_is_reported_and_stops_later_ones() {
     // A folder that does not exist: the temporary file cannot be made.
     w.submit(dir.join("missing/second.txt"), b"2".to_vec())
         .unwrap();
-    w.submit(dir.join("third.txt"), b"3".to_vec()).unwrap();
-    let err = w.flush().unwrap_err();
+    let err = failure_after(&w, dir.join("third.txt"), b"3");
     assert!(err.to_string().contains("missing/second.txt"), "{err}");
     // Reported again by the next submission; nothing after the failure was written.
     let again = w.submit(dir.join("fourth.txt"), b"4".to_vec()).unwrap_err();
@@ -330,8 +339,7 @@ fn bytes_made_on_the_writer_thread_keep_the_order_and_report_failures() {
     // Bytes that cannot be made fail like a write: reported with the file, and nothing after.
     w.submit_with(dir.join("g.txt"), || Err("no bytes".into()))
         .unwrap();
-    w.submit(dir.join("h.txt"), b"4".to_vec()).unwrap();
-    let err = w.flush().unwrap_err();
+    let err = failure_after(&w, dir.join("h.txt"), b"4");
     assert!(
         err.to_string().contains("g.txt") && err.to_string().contains("no bytes"),
         "{err}"
