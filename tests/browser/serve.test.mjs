@@ -1,10 +1,11 @@
 // Opens the app `curvenet serve` answers at / in a real browser (Debian's headless Chromium
 // through playwright-core) and uses it: a click on a curve removes it (λ changes, the curve is
 // drawn as removed), a short greedy from the budget slider runs to its end, a step through its
-// iterations, undo. On a small random network in the physical mode: the physical numbers and
-// the gravity deflection shown, a design constraint set from the form, the local search run
-// from its button and its best network adopted, a run folder loaded from the page. No console
-// errors, and no request but to the server.
+// iterations, undo; a structure short of equilibrium named as such. On a small random network
+// in the physical mode: the physical numbers and the gravity deflection shown, a design
+// constraint set from the form, the local search run from its button and its best network
+// adopted, a run folder loaded from the page. No console errors, and no request but to the
+// server.
 //
 // Run from this folder:  npm ci && npm test
 // Environment: see common.mjs (CURVENET_BIN, CHROMIUM, BROWSER_DEMO).
@@ -117,6 +118,26 @@ test('the app of curvenet serve works in headless Chromium', { timeout: 600_000 
     await page.keyboard.press('Control+y');
     await edited(page, 5);
     assert.deepEqual(await page.evaluate(() => window.curvenet.keptCurves()), afterClick);
+
+    // A structure whose relaxation stopped short of equilibrium (the server's answer to one
+    // undo rewritten to say so): the page names its λ as the unrelaxed state's, beside the
+    // number and in the message, and a relaxed structure again drops the note.
+    await page.route('**/api/set', async (route) => {
+      const answer = await route.fetch();
+      const body = await answer.json();
+      await route.fulfill({ response: answer, json: Object.assign(body, { converged: false }) });
+    }, { times: 1 });
+    await page.keyboard.press('Control+z');
+    await edited(page, 6);
+    assert.deepEqual(await page.evaluate(() => window.curvenet.keptCurves()), all);
+    assert.match(await page.textContent('#stat-lambda'), /no equilibrium reached: λ_eq of the state where the relaxation stopped/);
+    assert.match(await page.textContent('#stat-status'), /not at equilibrium/);
+    assert.match(await page.textContent('#app-msg'), /no equilibrium reached/);
+    await page.keyboard.press('Control+y');
+    await edited(page, 7);
+    assert.deepEqual(await page.evaluate(() => window.curvenet.keptCurves()), afterClick);
+    assert.doesNotMatch(await page.textContent('#stat-lambda'), /equilibrium/);
+    assert.doesNotMatch(await page.textContent('#app-msg'), /equilibrium/);
 
     // The save links answer files.
     const obj = await page.request.get(url + (await page.getAttribute('#save-obj', 'href')).replace(/^/, '/'));

@@ -129,6 +129,8 @@ fn the_page_is_self_contained_and_holds_the_run() {
         assert_eq!(curves, rec.curves);
         assert_eq!(it["lambda"].as_f64(), Some(rec.lambda));
         assert_eq!(it["removed"].as_u64().map(|c| c as usize), rec.removed);
+        // A relaxation short of equilibrium is flagged for the page to name.
+        assert_eq!(it["unrelaxed"].as_bool(), Some(!rec.newton.converged));
         let verts = viewer::active_vertices(&run, &rec.curves);
         for (field, full) in [
             ("u", run.displacement(k).unwrap()),

@@ -217,6 +217,8 @@ fn viewer_data_with(
                 "zero_modes": it.zero_modes,
                 "negative_modes": it.negative_modes,
                 "unstable": crate::run_folder::record_instability(it),
+                // Its relaxation stopped short of equilibrium: the page says so beside `λ`.
+                "unrelaxed": !it.newton.converged,
                 "removed": it.removed,
                 "score": it.score,
                 "newton_iterations": it.newton.iterations,

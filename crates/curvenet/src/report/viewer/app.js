@@ -21,6 +21,9 @@
   cv.app = app;
   // The objective's symbol and the physical mode's scene unit, for the messages.
   const goalValue = (cv.objective && cv.objective.value) || 'λ';
+  // A structure's value and status in a message, named unrelaxed when its relaxation stopped
+  // short of equilibrium.
+  const valueText = (s) => `${goalValue} ${sci(s.lambda, 5)} (${s.status}${cv.unrelaxed(s) ? `; ${cv.unrelaxedText}` : ''})`;
   const lenUnit = cv.units ? ` ${cv.units}` : '';
 
   const box = document.createElement('fieldset');
@@ -155,7 +158,7 @@
       const s = await request();
       await show(s);
       (done || (() => { past.push(before); future.length = 0; }))(before);
-      msg(`${s.curves.length} curves, ${goalValue} ${sci(s.lambda, 5)} (${s.status}), computed in ${sci(s.elapsed_ms, 3)} ms`);
+      msg(`${s.curves.length} curves, ${valueText(s)}, computed in ${sci(s.elapsed_ms, 3)} ms`);
       app.edits++;
     } catch (e) {
       msg(e.message, true);
@@ -428,7 +431,7 @@
       const s = await request;
       const joints = s.joints ? `, ${s.joints.length} joints` : '';
       const text = `${what}${s.curve !== undefined ? ` curve ${s.curve}` : ''}: ${s.curve_count} curves${joints}, `
-        + `${goalValue} ${sci(s.lambda, 5)} (${s.status}), computed in ${sci(s.elapsed_ms, 3)} ms`;
+        + `${valueText(s)}, computed in ${sci(s.elapsed_ms, 3)} ms`;
       sessionStorage.setItem('curvenet-drawn', JSON.stringify({ text, tool }));
       location.reload();
     } catch (e) {

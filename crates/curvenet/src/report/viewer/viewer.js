@@ -41,6 +41,11 @@
   // What the iterations' numbers are: λ_eq (the paper's) or μ_min (the frequency objective).
   const goal = D.objective || { value: 'λ_eq', score: 'λ_fix' };
   state.objective = goal;
+  // A network whose relaxation stopped short of equilibrium (a run's recorded `unrelaxed`, the
+  // server's `converged: false`): its numbers belong to the state where the relaxation stopped,
+  // and every place that shows them says so.
+  state.unrelaxed = (it) => !!(it && (it.unrelaxed || it.converged === false));
+  state.unrelaxedText = `no equilibrium reached: ${goal.value} of the state where the relaxation stopped`;
   if (D.objective && D.objective.name !== 'lambda') {
     $('label-lambda').textContent = goal.value;
     $('chart').title = `${goal.value} along the greedy; click to jump`;
@@ -532,11 +537,15 @@
     }
     $('stat-length').textContent = `${sci(it.length, 6)}${lenUnit} (${(100 * it.length / s.total_length).toFixed(1)}%`
       + (s.budget ? `; budget ${sci(s.budget, 6)}${lenUnit})` : ' of the whole network)');
-    // An unstable network (zero or negative modes) is named as such beside its numbers.
-    $('stat-lambda').textContent = sci(it.lambda, 5) + (it.unstable ? ` — ${it.unstable}` : '');
-    $('stat-lambda').classList.toggle('unstable', !!it.unstable);
-    $('stat-status').textContent = it.status
-      || (it.negative_modes ? 'unstable' : (it.zero_modes ? 'mechanism' : 'stable'));
+    // An unstable network (zero or negative modes) is named as such beside its numbers, and so
+    // is one whose relaxation stopped short of equilibrium.
+    const unrelaxed = state.unrelaxed(it);
+    $('stat-lambda').textContent = sci(it.lambda, 5) + (it.unstable ? ` — ${it.unstable}` : '')
+      + (unrelaxed ? ` — ${state.unrelaxedText}` : '');
+    $('stat-lambda').classList.toggle('unstable', !!it.unstable || unrelaxed);
+    $('stat-status').textContent = (it.status
+      || (it.negative_modes ? 'unstable' : (it.zero_modes ? 'mechanism' : 'stable')))
+      + (unrelaxed ? ' (not at equilibrium)' : '');
     $('stat-eigen').textContent = it.eigenvalues ? it.eigenvalues.map((x) => sci(x, 3)).join(', ') : '–';
     $('row-physical').hidden = !it.physical;
     $('stat-physical').textContent = it.physical ? physicalText(it.physical) : '–';
