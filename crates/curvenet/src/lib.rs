@@ -41,6 +41,7 @@ pub mod network;
 pub mod paper;
 pub mod physics;
 pub mod pipeline;
+pub mod priority;
 pub mod profile;
 pub mod report;
 pub mod rng;

@@ -12,6 +12,10 @@
 //! refer to the missing file) and is reported by the next [`BackgroundWriter::submit`] or
 //! [`BackgroundWriter::flush`]. Dropping the writer writes everything still queued first,
 //! so a run stopped by an error or a cancellation loses nothing it submitted.
+//!
+//! The thread runs in the idle scheduling class ([`crate::priority`]): it writes in the
+//! computation's gaps, and when it falls behind, the bounded queue makes the computation wait
+//! for it.
 
 use super::write_atomic;
 use std::path::PathBuf;
@@ -72,7 +76,11 @@ impl BackgroundWriter {
         let shared = failed.clone();
         let thread = std::thread::Builder::new()
             .name("curvenet-writer".into())
-            .spawn(move || run(queue, shared))?;
+            .spawn(move || {
+                // Files wait; the computation that submits them does not.
+                crate::priority::idle_priority();
+                run(queue, shared)
+            })?;
         Ok(BackgroundWriter {
             jobs: Some(jobs),
             thread: Some(thread),

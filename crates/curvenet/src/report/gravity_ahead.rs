@@ -20,6 +20,7 @@
 //! is the same byte for byte whichever solved them (a test compares them).
 
 use crate::network::Network;
+use crate::priority::idle_priority;
 use crate::rod::ActiveSet;
 use crate::solve::SymbolicFactor;
 use crate::sparse::Pattern;
@@ -155,18 +156,3 @@ fn solve_as_they_come(
     }
     solved
 }
-
-/// Puts the calling thread in Linux's idle scheduling class (`SCHED_IDLE`): it runs only on a
-/// core no other thread wants. Best effort: a refusal leaves it as it was.
-#[cfg(target_os = "linux")]
-fn idle_priority() {
-    let param = libc::sched_param { sched_priority: 0 };
-    #[allow(unsafe_code)]
-    // SAFETY: `param` is a valid `sched_param` that outlives the call (priority 0, as
-    // SCHED_IDLE requires); pid 0 names the calling thread; nothing else is touched.
-    let _ = unsafe { libc::sched_setscheduler(0, libc::SCHED_IDLE, &param) };
-}
-
-/// Elsewhere the thread keeps its priority.
-#[cfg(not(target_os = "linux"))]
-fn idle_priority() {}
