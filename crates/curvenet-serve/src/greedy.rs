@@ -15,6 +15,7 @@ use curvenet::app::Search;
 use curvenet::cancel::Cancel;
 use curvenet::io::TriMesh;
 use curvenet::physics::PhysicalSummary;
+use curvenet::run_folder::instability;
 use curvenet::simplify::greedy::{GreedyHooks, IterationRecord};
 use curvenet::simplify::{Budget, greedy};
 use curvenet::stability::Evaluation;
@@ -54,6 +55,9 @@ pub struct Step {
     pub negative_modes: usize,
     /// The curve removed next (`None` on the last iteration).
     pub removed: Option<usize>,
+    /// Whether its relaxation reached equilibrium (when not, `λ` is measured where it
+    /// stopped).
+    pub converged: bool,
     /// In the physical mode, the structure's physical numbers.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub physical: Option<PhysicalSummary>,
@@ -69,6 +73,7 @@ impl Step {
             zero_modes: r.zero_modes,
             negative_modes: r.negative_modes,
             removed: r.removed,
+            converged: r.newton.converged,
             physical: r.physical.clone(),
         }
     }
@@ -102,7 +107,7 @@ pub struct Progress {
 }
 
 /// The last recorded iteration, in [`Progress`].
-#[derive(Clone, Copy, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize)]
 pub struct Last {
     /// Its index.
     pub iteration: usize,
@@ -112,6 +117,10 @@ pub struct Last {
     pub length: f64,
     /// Curves kept.
     pub curves: usize,
+    /// What makes it unstable, in words (`None`: stable).
+    pub unstable: Option<String>,
+    /// Whether its relaxation reached equilibrium.
+    pub converged: bool,
 }
 
 /// Why a greedy request was refused.
@@ -330,6 +339,8 @@ fn progress_of(s: &Shared) -> Progress {
             lambda: l.lambda,
             length: l.length,
             curves: l.curves.len(),
+            unstable: instability(l.lambda, l.zero_modes, l.negative_modes),
+            converged: l.converged,
         }),
         stop: s.stop.clone(),
         error: s.job.error.clone(),

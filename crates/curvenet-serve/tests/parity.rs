@@ -215,6 +215,14 @@ fn check(case: &Case) {
     ok(addr, "POST", "/api/greedy", &request);
     let done = wait(addr, "/api/greedy");
     assert_eq!(done["status"], "done", "{name}: {done}");
+    // The last iteration as the progress names it: unstable or not, relaxed or not.
+    let last = run.iterations.last().expect("iterations");
+    assert_eq!(
+        done["last"]["unstable"],
+        json!(curvenet::run_folder::record_instability(last)),
+        "{name}"
+    );
+    assert_eq!(done["last"]["converged"], last.newton.converged, "{name}");
     let listed = ok(addr, "GET", "/api/greedy/iterations", "");
     let steps = listed["iterations"].as_array().unwrap();
     assert_eq!(steps.len(), run.iterations.len(), "{name}: iterations");
@@ -227,6 +235,7 @@ fn check(case: &Case) {
         assert_eq!(bits(&s["length"]), r.length.to_bits(), "{what}: length");
         assert_eq!(s["zero_modes"], r.zero_modes, "{what}");
         assert_eq!(s["negative_modes"], r.negative_modes, "{what}");
+        assert_eq!(s["converged"], r.newton.converged, "{what}");
         match &r.physical {
             Some(p) => assert_eq!(s["physical"], json!(p), "{what}: physical figures"),
             None => assert!(s.get("physical").is_none(), "{what}"),

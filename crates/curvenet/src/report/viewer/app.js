@@ -193,7 +193,9 @@
   budget.addEventListener('input', budgetText);
   budgetText();
   function progressText(p) {
-    const last = p.last ? `iteration ${p.last.iteration}: ${p.last.curves} curves, ${goalValue} ${sci(p.last.lambda, 4)}, length ${sci(p.last.length, 5)}${lenUnit}` : '';
+    // The last iteration's value, named unstable or unrelaxed as the panel would name it.
+    const named = (l) => (l.unstable ? ` (${l.unstable})` : '') + (cv.unrelaxed(l) ? ` (${cv.unrelaxedText})` : '');
+    const last = p.last ? `iteration ${p.last.iteration}: ${p.last.curves} curves, ${goalValue} ${sci(p.last.lambda, 4)}${named(p.last)}, length ${sci(p.last.length, 5)}${lenUnit}` : '';
     const pct = p.budget ? ` to ${Math.round(100 * p.budget)}%` : '';
     switch (p.status) {
       case 'idle': return '';
