@@ -2,7 +2,8 @@
 // playwright-core) and checks it works: no console errors, a WebGL canvas that is not blank, the
 // iteration slider changing the displayed curve count and λ, the answer's and the
 // alternatives' buttons showing their networks, a click on a curve showing its details, the
-// deformation and shape toggles. Saves target/browser-demo/screenshot.png.
+// deformation and shape toggles, an iteration short of equilibrium named as such. Saves
+// target/browser-demo/screenshot.png.
 //
 // Run from the repository root or this folder:  npm ci && npm test   (in tests/browser)
 // Environment: see common.mjs (CURVENET_BIN, CHROMIUM, BROWSER_DEMO).
@@ -134,6 +135,26 @@ test('the viewer of a demo run works in headless Chromium', { timeout: 600_000 }
     await page.waitForTimeout(300);
 
     await page.screenshot({ path: path.join(outDir, 'screenshot.png') });
+
+    // An iteration whose relaxation stopped short of equilibrium is named as such: the page
+    // again, with the record of iteration 1 saying so (the demo's all reached it).
+    const flags = html.match(/"unrelaxed":(true|false)/g) || [];
+    assert.equal(flags.length, n, 'each iteration says whether it reached equilibrium');
+    assert.ok(flags.every((f) => f.endsWith('false')), 'the demo relaxed every iteration');
+    let seen = 0;
+    const marked = html.replace(/"unrelaxed":false/g, (f) => (seen++ === 1 ? '"unrelaxed":true' : f));
+    const markedPath = path.join(outDir, 'viewer-unrelaxed.html');
+    fs.writeFileSync(markedPath, marked);
+    await page.goto(pathToFileURL(markedPath).href);
+    await page.waitForFunction(() => window.curvenet && (window.curvenet.ready || window.curvenet.error), null, { timeout: 60_000 });
+    await page.focus('#iter');
+    await page.keyboard.press('Home');
+    assert.doesNotMatch(await page.textContent('#stat-lambda'), /equilibrium/);
+    await page.keyboard.press('ArrowRight');
+    assert.match(await page.textContent('#stat-lambda'), /no equilibrium reached: λ_eq of the state where the relaxation stopped/);
+    assert.match(await page.textContent('#stat-status'), /not at equilibrium/);
+    fs.rmSync(markedPath);
+
     assert.deepEqual(requests, [], 'the page made no network request');
     assert.deepEqual(problems, [], 'no console errors');
   } finally {
