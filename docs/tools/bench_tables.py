@@ -3,7 +3,8 @@
 user's own commands.
 
     python3 docs/tools/bench_tables.py [--curvenet PATH] [--examples A,B] [--repeat N]
-                                      [--reference FILE] [--techniques A,B] [--sections S,T]
+                                      [--reference FILE] [--reference-command CMD]
+                                      [--techniques A,B] [--sections S,T]
                                       [--wait-load L] [--quick] [--stdout] [--check]
 
 Three sections of docs/benchmarks.md are generated, each between the markers
@@ -16,7 +17,11 @@ them is left as it is):
   memory from `os.wait4`), their ratio, and the bench's counts and phase times.
 - `reference`: the same medians beside the reference implementation's times from a file of
   seconds by example (`docs/tools/reference-times.json`, the format `bench --reference`
-  reads).
+  reads). With `--reference-command CMD` the reference is timed side by side instead: in
+  each round, before each example's bench and user's command, `CMD` (a shell command, `{example}`
+  replaced by the example's name) runs as a whole process (wall time and peak memory from
+  `os.wait4`); the section shows the medians of those runs, and the script writes them to
+  the reference file (the times `bench --reference` then shows).
 - `techniques`: `bench --off NAME` for each technique `bench --help` names (and
   `--threads 1`): its wall time divided by the wall time with everything on. A
   configuration whose removals differ from the default's is refused (its cells say so and
@@ -196,6 +201,22 @@ def example(curvenet, name, out):
     }
 
 
+def reference_run(template, name):
+    """The reference implementation's run of example `name` (`template`, a shell command with
+    `{example}` in it) as a whole process: wall s and peak MiB; its output is discarded."""
+    cmd = template.replace("{example}", shlex.quote(name))
+    settle()
+    t0 = time.monotonic()
+    proc = subprocess.Popen(["/bin/sh", "-c", cmd], stdin=subprocess.DEVNULL,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    _, status, usage = os.wait4(proc.pid, 0)
+    wall = time.monotonic() - t0
+    if os.waitstatus_to_exitcode(status) != 0:
+        fail(f"the reference's `{cmd}` failed ({os.waitstatus_to_exitcode(status)})")
+    # ru_maxrss of the shell's children: the largest process it waited for.
+    return {"wall_s": wall, "peak_mib": usage.ru_maxrss / 1024.0}
+
+
 def median_row(rows):
     """The run with the median wall time (the slower middle one for an even count), with the
     range of every run's wall time."""
@@ -318,24 +339,50 @@ def commands_table(names, benches, examples):
     return "\n".join(lines)
 
 
-def reference_table(names, benches, examples, refs, ref_path):
+def reference_table(names, benches, examples, refs, ref_path, measured=None, command=None):
+    """The ratios to the reference's times: `refs` read from `ref_path`, or, with `measured`
+    (its runs by example, timed side by side by `command`), those runs' medians."""
     shown = ref_path.relative_to(ROOT) if ref_path.is_relative_to(ROOT) else ref_path
-    lines = [
-        f"Reference times from `{shown}`.",
-        "",
-        "| example | reference s | `example NAME` wall s | reference ÷ `example` "
-        f"| `bench` greedy wall s | reference ÷ `bench` | {TARGET_RATIO:.0f}× met by `example` |",
-        "|---|---|---|---|---|---|---|",
-    ]
+    if measured:
+        lines = [
+            f"The reference timed side by side with curvenet in the same rounds (`{command}` "
+            "before each example's `bench` and `example` runs); the medians are written to "
+            f"`{shown}`.",
+            "",
+            "| example | reference s | reference peak MiB | `example NAME` wall s | `example` peak MiB "
+            f"| reference ÷ `example` | `bench` greedy wall s | reference ÷ `bench` "
+            f"| {TARGET_RATIO:.0f}× met by `example` |",
+            "|---|---|---|---|---|---|---|---|---|",
+        ]
+    else:
+        lines = [
+            f"Reference times from `{shown}`.",
+            "",
+            "| example | reference s | `example NAME` wall s | reference ÷ `example` "
+            f"| `bench` greedy wall s | reference ÷ `bench` | {TARGET_RATIO:.0f}× met by `example` |",
+            "|---|---|---|---|---|---|---|",
+        ]
+    header = len(lines)
     for name in names:
-        if name not in refs:
+        if measured:
+            ref = median_row(measured[name])
+            r, peak = ref["wall_s"], med([x["peak_mib"] for x in measured[name]])
+        elif name in refs:
+            r = refs[name]
+        else:
             continue
-        r = refs[name]
-        e, b = median_row(examples[name])["wall_s"], median_row(benches[name])["wall_s"]
-        lines.append(
-            f"| {name} | {r:.1f} | {e:.2f} | {r / e:.0f}× | {b:.2f} | {r / b:.0f}× "
-            f"| {'yes' if r / e >= TARGET_RATIO else 'no'} |")
-    if len(lines) == 4:
+        e, b = median_row(examples[name]), median_row(benches[name])["wall_s"]
+        met = "yes" if r / e["wall_s"] >= TARGET_RATIO else "no"
+        if measured:
+            lines.append(
+                f"| {name} | {wall_cell(ref)} | {peak:.0f} | {wall_cell(e)} "
+                f"| {med([x['peak_mib'] for x in examples[name]]):.0f} "
+                f"| {r / e['wall_s']:.0f}× | {b:.2f} | {r / b:.0f}× | {met} |")
+        else:
+            lines.append(
+                f"| {name} | {r:.1f} | {e['wall_s']:.2f} | {r / e['wall_s']:.0f}× | {b:.2f} "
+                f"| {r / b:.0f}× | {met} |")
+    if len(lines) == header:
         lines.append("| (no example of this run has a reference time) |||||||")
     return "\n".join(lines)
 
@@ -375,6 +422,11 @@ def main():
     p.add_argument("--repeat", type=int, default=3, help="rounds (default 3)")
     p.add_argument("--reference", type=Path, default=REFERENCE,
                    help="the reference's seconds by example (default docs/tools/reference-times.json)")
+    p.add_argument("--reference-command", metavar="CMD",
+                   help="time the reference side by side: a shell command running one example "
+                        "of the reference implementation, `{example}` standing for its name "
+                        "(e.g. 'cd /opt/ref && ./build/bin/curvenet {example}'); its medians are "
+                        "written to the reference file")
     p.add_argument("--techniques", help="comma-separated (default: every one `bench --off` takes)")
     p.add_argument("--no-threads-row", action="store_true", help="leave out `--threads 1`")
     p.add_argument("--sections", default=",".join(SECTIONS),
@@ -410,7 +462,10 @@ def main():
         fail(f"{a.curvenet}: no such executable (build it: cargo build --release)")
     if problems := marker_problems(a.doc.read_text(), sections):
         fail("; ".join(problems))
-    refs = read_references(a.reference) if "reference" in sections else {}
+    side_by_side = a.reference_command is not None and "reference" in sections
+    if a.reference_command is not None and "{example}" not in a.reference_command:
+        fail("--reference-command must contain {example}")
+    refs = read_references(a.reference) if "reference" in sections and not side_by_side else {}
 
     configs = {}
     if "techniques" in sections:
@@ -427,11 +482,14 @@ def main():
     examples = {n: [] for n in names}
     config_runs = {label: {n: [] for n in names} for label in configs}
     closing = {n: [] for n in names}
+    reference_runs = {n: [] for n in names}
     out = a.out or Path(tempfile.mkdtemp(prefix="bench-tables-"))
     try:
         for r in range(a.repeat):
             for n in names:
                 print(f"round {r + 1}/{a.repeat}: {n}", file=sys.stderr)
+                if side_by_side:
+                    reference_runs[n].append(reference_run(a.reference_command, n))
                 benches[n].append(bench(curvenet, [n])[n])
                 if timed_commands:
                     examples[n].append(example(curvenet, n, out / n))
@@ -465,12 +523,24 @@ def main():
     if "commands" in sections:
         bodies["commands"] = stamp + "\n\n" + commands_table(names, benches, examples)
     if "reference" in sections:
-        bodies["reference"] = stamp + "\n\n" + reference_table(names, benches, examples, refs,
-                                                               a.reference.resolve())
+        bodies["reference"] = stamp + "\n\n" + reference_table(
+            names, benches, examples, refs, a.reference.resolve(),
+            reference_runs if side_by_side else None, a.reference_command)
     if "techniques" in sections:
         baseline = {n: benches[n] + closing[n] for n in names}
         bodies["techniques"] = stamp + "\n\n" + techniques_table(names, baseline, config_runs,
                                                                  refused)
+    if side_by_side and not a.stdout:
+        # The reference file keeps every example it had; the measured ones take their medians.
+        try:
+            kept = read_references(a.reference)
+        except (OSError, ValueError):
+            kept = {}
+        kept.update({n: round(median_row(reference_runs[n])["wall_s"], 1) for n in names})
+        tmp = a.reference.with_suffix(".json.tmp")
+        tmp.write_text(json.dumps(kept, indent=2) + "\n")
+        os.replace(tmp, a.reference)
+        print(f"bench_tables: wrote the reference's medians to {a.reference}", file=sys.stderr)
     if a.stdout:
         for name, body in bodies.items():
             print(f"{marker(name, 'begin')}\n{body}\n{marker(name, 'end')}\n")
