@@ -21,7 +21,7 @@ them is left as it is):
   each round, before each example's bench and user's command, `CMD` (a shell command, `{example}`
   replaced by the example's name) runs as a whole process (wall time and peak memory from
   `os.wait4`); the section shows the medians of those runs, and the script writes them to
-  the reference file (the times `bench --reference` then shows).
+  the reference file (the times `bench --reference` then shows), unless it ran one round.
 - `techniques`: `bench --off NAME` for each technique `bench --help` names (and
   `--threads 1`): its wall time divided by the wall time with everything on. A
   configuration whose removals differ from the default's is refused (its cells say so and
@@ -347,7 +347,7 @@ def reference_table(names, benches, examples, refs, ref_path, measured=None, com
         lines = [
             f"The reference timed side by side with curvenet in the same rounds (`{command}` "
             "before each example's `bench` and `example` runs); the medians are written to "
-            f"`{shown}`.",
+            f"`{shown}` when there are several rounds.",
             "",
             "| example | reference s | reference peak MiB | `example NAME` wall s | `example` peak MiB "
             f"| reference ÷ `example` | `bench` greedy wall s | reference ÷ `bench` "
@@ -530,8 +530,9 @@ def main():
         baseline = {n: benches[n] + closing[n] for n in names}
         bodies["techniques"] = stamp + "\n\n" + techniques_table(names, baseline, config_runs,
                                                                  refused)
-    if side_by_side and not a.stdout:
-        # The reference file keeps every example it had; the measured ones take their medians.
+    if side_by_side and not a.stdout and a.repeat > 1:
+        # The reference file keeps every example it had; the measured ones take their medians
+        # (never from one round: a quick run is no measurement to quote).
         try:
             kept = read_references(a.reference)
         except (OSError, ValueError):
