@@ -425,8 +425,8 @@ def main():
     p.add_argument("--reference-command", metavar="CMD",
                    help="time the reference side by side: a shell command running one example "
                         "of the reference implementation, `{example}` standing for its name "
-                        "(e.g. 'cd /opt/ref && ./build/bin/curvenet {example}'); its medians are "
-                        "written to the reference file")
+                        "(e.g. 'cd /opt/ref && ./build/bin/curvenet {example}'); the medians of "
+                        "two or more rounds are written to the reference file")
     p.add_argument("--techniques", help="comma-separated (default: every one `bench --off` takes)")
     p.add_argument("--no-threads-row", action="store_true", help="leave out `--threads 1`")
     p.add_argument("--sections", default=",".join(SECTIONS),
@@ -462,9 +462,12 @@ def main():
         fail(f"{a.curvenet}: no such executable (build it: cargo build --release)")
     if problems := marker_problems(a.doc.read_text(), sections):
         fail("; ".join(problems))
-    side_by_side = a.reference_command is not None and "reference" in sections
-    if a.reference_command is not None and "{example}" not in a.reference_command:
+    side_by_side = a.reference_command is not None
+    if side_by_side and "{example}" not in a.reference_command:
         fail("--reference-command must contain {example}")
+    if side_by_side and "reference" not in sections:
+        fail("--reference-command times the reference for the reference section: "
+             "add `reference` to --sections")
     refs = read_references(a.reference) if "reference" in sections and not side_by_side else {}
 
     configs = {}
