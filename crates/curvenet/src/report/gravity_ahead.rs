@@ -122,6 +122,8 @@ fn solve_as_they_come(
     jobs: &mpsc::Receiver<Job>,
     stop: &AtomicBool,
 ) -> Deflections {
+    // All of the thread's work, its analyzer's model included, in the idle class.
+    idle_priority();
     let mut solved = Deflections::default();
     let Ok(analyzer) = Analyzer::new(network, stability) else {
         return solved;
@@ -130,7 +132,6 @@ fn solve_as_they_come(
     // pattern (the physical mode's own model may not): else each structure is analysed here.
     let handed_fit = analyzer.model().pattern() == run_pattern;
     // Its own pool: the factorization's parallel parts stay off the greedy's threads.
-    idle_priority();
     let Ok(pool) = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .thread_name(|_| "gravity-ahead-pool".into())
