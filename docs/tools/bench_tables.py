@@ -172,6 +172,18 @@ def bench(curvenet, examples, off=None, threads=None, reference=None):
     return {r["example"]: r for r in rows}
 
 
+def timed(cmd, stderr=subprocess.DEVNULL):
+    """Runs `cmd` (an argument list) as a whole process once the load has settled: its exit
+    code, wall s and resource usage (the kernel's accounting of it and the children it waited
+    for, `os.wait4`)."""
+    settle()
+    t0 = time.monotonic()
+    proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                            stderr=stderr)
+    _, status, usage = os.wait4(proc.pid, 0)
+    return os.waitstatus_to_exitcode(status), time.monotonic() - t0, usage
+
+
 def example(curvenet, name, out):
     """`curvenet example NAME --out DIR` as a whole process, into an empty folder: wall s, CPU
     s, peak MiB (from the kernel's accounting of the process), the greedy's own seconds from
@@ -179,17 +191,11 @@ def example(curvenet, name, out):
     if out.exists():
         shutil.rmtree(out)
     cmd = [curvenet, "example", name, "--out", str(out)]
-    settle()
     with tempfile.TemporaryFile("w+") as err:
-        t0 = time.monotonic()
-        proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-                                stderr=err)
-        _, status, usage = os.wait4(proc.pid, 0)
-        wall = time.monotonic() - t0
-        proc.returncode = os.waitstatus_to_exitcode(status)
-        if proc.returncode != 0:
+        code, wall, usage = timed(cmd, stderr=err)
+        if code != 0:
             err.seek(0)
-            fail(f"`{shlex.join(cmd)}` failed ({proc.returncode}): {err.read().strip()}")
+            fail(f"`{shlex.join(cmd)}` failed ({code}): {err.read().strip()}")
     timings = json.loads((out / "timings.json").read_text()) if (out / "timings.json").exists() else {}
     result = json.loads((out / "result.json").read_text())
     return {
@@ -205,15 +211,10 @@ def reference_run(template, name):
     """The reference implementation's run of example `name` (`template`, a shell command with
     `{example}` in it) as a whole process: wall s and peak MiB; its output is discarded."""
     cmd = template.replace("{example}", shlex.quote(name))
-    settle()
-    t0 = time.monotonic()
-    proc = subprocess.Popen(["/bin/sh", "-c", cmd], stdin=subprocess.DEVNULL,
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    _, status, usage = os.wait4(proc.pid, 0)
-    wall = time.monotonic() - t0
-    if os.waitstatus_to_exitcode(status) != 0:
-        fail(f"the reference's `{cmd}` failed ({os.waitstatus_to_exitcode(status)})")
-    # ru_maxrss of the shell's children: the largest process it waited for.
+    code, wall, usage = timed(["/bin/sh", "-c", cmd])
+    if code != 0:
+        fail(f"the reference's `{cmd}` failed ({code})")
+    # ru_maxrss covers the shell's children: the largest process it waited for.
     return {"wall_s": wall, "peak_mib": usage.ru_maxrss / 1024.0}
 
 
