@@ -193,8 +193,12 @@
   budget.addEventListener('input', budgetText);
   budgetText();
   function progressText(p) {
-    // The last iteration's value, named unstable or unrelaxed as the panel would name it.
-    const named = (l) => (l.unstable ? ` (${l.unstable})` : '') + (cv.unrelaxed(l) ? ` (${cv.unrelaxedText})` : '');
+    // The last iteration's value, named unstable or unrelaxed as the panel would name it, the
+    // two in one parenthesis as in the messages.
+    const named = (l) => {
+      const caveats = [l.unstable, cv.unrelaxed(l) && cv.unrelaxedText].filter(Boolean);
+      return caveats.length ? ` (${caveats.join('; ')})` : '';
+    };
     const last = p.last ? `iteration ${p.last.iteration}: ${p.last.curves} curves, ${goalValue} ${sci(p.last.lambda, 4)}${named(p.last)}, length ${sci(p.last.length, 5)}${lenUnit}` : '';
     const pct = p.budget ? ` to ${Math.round(100 * p.budget)}%` : '';
     switch (p.status) {
