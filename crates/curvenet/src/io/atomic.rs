@@ -114,6 +114,25 @@ pub struct Staged {
 ///
 /// As [`write_atomic`], but for the rename.
 pub fn stage_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<Staged> {
+    begin_atomic(path)?.write(bytes)
+}
+
+/// A temporary file created next to its target, still empty: [`Begun::write`] fills and syncs
+/// it. Dropped, its temporary file is removed. It lets a writer name its temporary file before
+/// the slow part of a write (`io::background`, whose relief removes a temporary file the
+/// writer it relieves was filling).
+#[derive(Debug)]
+pub(crate) struct Begun {
+    staged: Staged,
+    file: fs::File,
+}
+
+/// The temporary file of an atomic write to `path`, created and listed as in flight.
+///
+/// # Errors
+///
+/// As [`write_atomic`]'s creating the temporary file.
+pub(crate) fn begin_atomic(path: &Path) -> std::io::Result<Begun> {
     let name = path.file_name().ok_or_else(|| {
         std::io::Error::new(
             std::io::ErrorKind::InvalidInput,
@@ -126,19 +145,38 @@ pub fn stage_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<Staged> {
     };
     // A long target name is cut so that the temporary name stays within file-name limits.
     let stem: String = name.to_string_lossy().chars().take(100).collect();
-    let (temp, mut tmp) = create_temp(&dir, &stem)?;
-    let staged = Staged {
-        temp,
-        path: path.to_path_buf(),
-        dir,
-        committed: false,
-    };
-    tmp.write_all(bytes)?;
-    if let Ok(meta) = fs::metadata(path) {
-        tmp.set_permissions(meta.permissions())?;
+    let (temp, file) = create_temp(&dir, &stem)?;
+    Ok(Begun {
+        staged: Staged {
+            temp,
+            path: path.to_path_buf(),
+            dir,
+            committed: false,
+        },
+        file,
+    })
+}
+
+impl Begun {
+    /// The temporary file's path.
+    pub fn temp_path(&self) -> &Path {
+        &self.staged.temp.0
     }
-    tmp.sync_all()?;
-    Ok(staged)
+
+    /// Writes `bytes` to the temporary file (with the target's permissions when it exists) and
+    /// syncs it.
+    ///
+    /// # Errors
+    ///
+    /// Writing, setting the permissions or syncing fails (the temporary file is then removed).
+    pub fn write(mut self, bytes: &[u8]) -> std::io::Result<Staged> {
+        self.file.write_all(bytes)?;
+        if let Ok(meta) = fs::metadata(&self.staged.path) {
+            self.file.set_permissions(meta.permissions())?;
+        }
+        self.file.sync_all()?;
+        Ok(self.staged)
+    }
 }
 
 impl Staged {
@@ -147,11 +185,22 @@ impl Staged {
     /// # Errors
     ///
     /// The rename fails (the temporary file is then removed).
-    pub fn commit(mut self) -> std::io::Result<()> {
+    pub fn commit(self) -> std::io::Result<()> {
+        let dir = self.rename()?;
+        sync_dir(&dir);
+        Ok(())
+    }
+
+    /// [`Self::commit`] without syncing the folder's entry: the folder to pass to
+    /// [`sync_folder`] afterwards (a rename is quick; the sync waits for the disk).
+    ///
+    /// # Errors
+    ///
+    /// The rename fails (the temporary file is then removed).
+    pub(crate) fn rename(mut self) -> std::io::Result<PathBuf> {
         fs::rename(&self.temp.0, &self.path)?;
         self.committed = true;
-        sync_dir(&self.dir);
-        Ok(())
+        Ok(std::mem::take(&mut self.dir))
     }
 }
 
@@ -162,6 +211,12 @@ impl Drop for Staged {
             let _ = fs::remove_file(&self.temp.0);
         }
     }
+}
+
+/// Flushes a folder's entries to disk (after [`Staged::rename`]; best effort, as in
+/// [`Staged::commit`]).
+pub(crate) fn sync_folder(dir: &Path) {
+    sync_dir(dir);
 }
 
 /// Creates a fresh temporary file next to the target, listed as in flight, retrying on name

@@ -316,11 +316,11 @@ fn a_failed_background_write_is_reported_and_stops_later_ones() {
 }
 
 #[test]
-fn bytes_made_on_the_writer_thread_keep_the_order_and_report_failures() {
+fn bytes_made_off_the_submitting_thread_keep_the_order_and_report_failures() {
     let dir = temp_dir("background-make");
     let w = BackgroundWriter::new().unwrap();
     let main = std::thread::current().id();
-    // Made on the writer thread, between the plain writes submitted around it.
+    // Made on a background thread, written between the plain writes submitted around it.
     w.submit(dir.join("f.txt"), b"1".to_vec()).unwrap();
     w.submit_with(dir.join("f.txt"), move || {
         assert_ne!(
@@ -346,6 +346,75 @@ fn bytes_made_on_the_writer_thread_keep_the_order_and_report_failures() {
     );
     drop(w);
     assert!(!dir.join("g.txt").exists() && !dir.join("h.txt").exists());
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// The low-priority writer may get no CPU time at all while other programs keep every core
+/// busy: here it is stuck making a file's bytes. Neither a full queue nor a flush nor the end
+/// waits for it: the relief writes that file again and the rest in order, and nothing the stuck
+/// writer began is left behind or put in place.
+#[test]
+fn the_computation_never_waits_for_the_low_priority_writer() {
+    use std::sync::{Arc, Condvar, Mutex};
+    let dir = temp_dir("background-writer-stuck");
+    let w = BackgroundWriter::new().unwrap();
+    // Whatever calls this on the low-priority writer's thread stays there until released.
+    let gate = Arc::new((Mutex::new(false), Condvar::new()));
+    let stuck = Arc::new(Mutex::new(0usize));
+    let (g, st) = (Arc::clone(&gate), Arc::clone(&stuck));
+    w.submit_with(dir.join("first.txt"), move || {
+        if std::thread::current().name() == Some("curvenet-writer") {
+            *st.lock().unwrap() += 1;
+            let (open, opened) = &*g;
+            let mut o = open.lock().unwrap();
+            while !*o {
+                o = opened.wait(o).unwrap();
+            }
+        }
+        Ok(b"first".to_vec())
+    })
+    .unwrap();
+    while *stuck.lock().unwrap() == 0 {
+        std::thread::sleep(std::time::Duration::from_millis(1));
+    }
+    // More than the queue holds: a submission finds it full and the relief takes over.
+    for i in 0..40 {
+        w.submit(dir.join("counter.txt"), format!("{i}").into_bytes())
+            .unwrap();
+    }
+    w.flush().unwrap();
+    assert_eq!(fs::read(dir.join("first.txt")).unwrap(), b"first");
+    assert_eq!(fs::read(dir.join("counter.txt")).unwrap(), b"39");
+    w.submit(dir.join("last.txt"), b"queued".to_vec()).unwrap();
+    drop(w);
+    assert_eq!(fs::read(dir.join("last.txt")).unwrap(), b"queued");
+    // The stuck writer's temporary file was removed; released, it puts nothing in place.
+    let (open, opened) = &*gate;
+    *open.lock().unwrap() = true;
+    opened.notify_all();
+    std::thread::sleep(std::time::Duration::from_millis(100));
+    let mut names: Vec<String> = fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["counter.txt", "first.txt", "last.txt"]);
+    assert_eq!(*stuck.lock().unwrap(), 1);
+    let _ = fs::remove_dir_all(&dir);
+}
+
+/// A function making a file's bytes that panics fails that file like any failed write (the
+/// writing threads live on, and a flush reports it instead of waiting).
+#[test]
+fn a_panic_making_bytes_fails_the_file() {
+    let dir = temp_dir("background-panic");
+    let w = BackgroundWriter::new().unwrap();
+    w.submit_with(dir.join("p.txt"), || panic!("a bug"))
+        .unwrap();
+    let err = failure_after(&w, dir.join("q.txt"), b"q");
+    assert!(err.to_string().contains("p.txt"), "{err}");
+    drop(w);
+    assert!(!dir.join("p.txt").exists() && !dir.join("q.txt").exists());
     let _ = fs::remove_dir_all(&dir);
 }
 

@@ -5,12 +5,18 @@
 //! the finished run folder. The greedy leaves a two-core machine's cores idle part of the time
 //! (its CPU time is about 1.5× its wall time on the paper's examples), so [`GravityAhead`]
 //! solves each iteration's deflection as soon as it is recorded, on a thread of its own (with
-//! a one-thread pool for its parallel parts) in Linux's idle scheduling class: it runs only
-//! when a core has nothing else to do. Each deflection is factored with the structure's own
+//! a one-thread pool for its parallel parts) at the lowest priority ([`crate::priority`]): it
+//! runs mostly when a core has nothing else to do. Each deflection is factored with the structure's own
 //! symbolic analysis, handed over by the greedy (a structure holding a small part of the
 //! network is factored on its own vertices, without analysing it again). When the greedy ends,
 //! [`GravityAhead::finish`] takes what is solved, and the viewer
 //! ([`super::viewer::write_run_outputs_with`]) solves the rest beside the pictures.
+//!
+//! The run never waits for this thread: while other programs keep every core busy it gets
+//! little CPU time, and waiting for it (even for the one deflection it is solving) could stall
+//! a run on a loaded machine. `finish` takes the deflections solved so far and leaves the
+//! thread to stop after the one in hand, which is thrown away (the viewer solves it again, at
+//! the run's own priority).
 //!
 //! The deflections are those the viewer solves from the run folder alone: the analyzer is
 //! built from the network and stability settings the run writes to `network.json` and
@@ -20,16 +26,15 @@
 //! is the same byte for byte whichever solved them (a test compares them).
 
 use crate::network::Network;
-use crate::priority::idle_priority;
+use crate::priority::background_priority;
 use crate::rod::ActiveSet;
 use crate::solve::SymbolicFactor;
 use crate::sparse::Pattern;
 use crate::stability::{Analyzer, StabilityParams};
 use std::collections::BTreeMap;
-use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
-use std::thread::JoinHandle;
+use std::sync::{Arc, Mutex, PoisonError};
 
 /// One recorded iteration to solve: its index, curves, equilibrium displacement and the
 /// structure's symbolic analysis (the greedy's, which the viewer's own would repeat).
@@ -64,7 +69,7 @@ impl Deflections {
 /// Dropped without [`Self::finish`], it stops after the deflection it is solving.
 pub struct GravityAhead {
     jobs: Option<mpsc::Sender<Job>>,
-    worker: Option<JoinHandle<Deflections>>,
+    solved: Arc<Mutex<Deflections>>,
     stop: Arc<AtomicBool>,
 }
 
@@ -76,14 +81,15 @@ impl GravityAhead {
     pub fn start(network: Network, stability: StabilityParams, pattern: Pattern) -> Self {
         let (tx, rx) = mpsc::channel::<Job>();
         let stop = Arc::new(AtomicBool::new(false));
-        let flag = Arc::clone(&stop);
-        let worker = std::thread::Builder::new()
+        let solved = Arc::new(Mutex::new(Deflections::default()));
+        let (flag, into) = (Arc::clone(&stop), Arc::clone(&solved));
+        // Detached: nothing ever waits for it (module docs).
+        let _ = std::thread::Builder::new()
             .name("gravity-ahead".into())
-            .spawn(move || solve_as_they_come(network, stability, &pattern, &rx, &flag))
-            .ok();
+            .spawn(move || solve_as_they_come(network, stability, &pattern, &rx, &flag, &into));
         GravityAhead {
             jobs: Some(tx),
-            worker,
+            solved,
             stop,
         }
     }
@@ -97,14 +103,12 @@ impl GravityAhead {
         }
     }
 
-    /// Stops the thread after the deflection it is solving and gives what was solved.
+    /// Gives the deflections solved so far, without waiting: the thread stops after the one it
+    /// is solving, whose result is dropped.
     pub fn finish(mut self) -> Deflections {
         self.stop.store(true, Ordering::Relaxed);
         self.jobs = None;
-        self.worker
-            .take()
-            .and_then(|w| w.join().ok())
-            .unwrap_or_default()
+        std::mem::take(&mut *self.solved.lock().unwrap_or_else(PoisonError::into_inner))
     }
 }
 
@@ -121,12 +125,12 @@ fn solve_as_they_come(
     run_pattern: &Pattern,
     jobs: &mpsc::Receiver<Job>,
     stop: &AtomicBool,
-) -> Deflections {
-    // All of the thread's work, its analyzer's model included, in the idle class.
-    idle_priority();
-    let mut solved = Deflections::default();
+    solved: &Mutex<Deflections>,
+) {
+    // All of the thread's work, its analyzer's model included, at the lowest priority.
+    background_priority();
     let Ok(analyzer) = Analyzer::new(network, stability) else {
-        return solved;
+        return;
     };
     // The run's symbolic analyses fit these matrices only when the run's model has their
     // pattern (the physical mode's own model may not): else each structure is analysed here.
@@ -135,10 +139,10 @@ fn solve_as_they_come(
     let Ok(pool) = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .thread_name(|_| "gravity-ahead-pool".into())
-        .start_handler(|_| idle_priority())
+        .start_handler(|_| background_priority())
         .build()
     else {
-        return solved;
+        return;
     };
     while let Ok((k, curves, u, symbolic)) = jobs.recv() {
         if stop.load(Ordering::Relaxed) {
@@ -153,7 +157,7 @@ fn solve_as_they_come(
             };
             solved.map(|(d, _)| d)
         });
+        let mut solved = solved.lock().unwrap_or_else(PoisonError::into_inner);
         solved.0.insert(k, (curves, d));
     }
-    solved
 }

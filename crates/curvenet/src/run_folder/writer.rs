@@ -23,12 +23,12 @@ fn record_obj(
     network: &Network,
     record: &IterationRecord,
     u: &[f64],
-) -> impl FnOnce() -> Result<Vec<u8>, String> + Send + 'static {
+) -> impl Fn() -> Result<Vec<u8>, String> + Send + Sync + 'static {
     let lines = network_polylines(network, &record.curves, Some(u));
     let warning = super::summary::record_instability(record);
     move || {
         let obj = io::curves_to_obj(&lines);
-        Ok(match warning {
+        Ok(match &warning {
             Some(w) => format!("# WARNING: this network is {w}; it cannot stand as built\n{obj}"),
             None => obj,
         }
@@ -246,12 +246,12 @@ impl<'a> OutputWriter<'a> {
         Ok(self.files.submit(self.dir.join(rel), bytes.into())?)
     }
 
-    /// [`Self::write`] of the bytes `make` gives on the writer thread (formatting kept off the
-    /// computing thread).
+    /// [`Self::write`] of the bytes `make` gives on a background thread (formatting kept off
+    /// the computing thread; `make` a pure function of what it captured).
     fn write_with(
         &self,
         rel: &str,
-        make: impl FnOnce() -> Result<Vec<u8>, String> + Send + 'static,
+        make: impl Fn() -> Result<Vec<u8>, String> + Send + Sync + 'static,
     ) -> Result<(), RunFolderError> {
         Ok(self.files.submit_with(self.dir.join(rel), make)?)
     }
