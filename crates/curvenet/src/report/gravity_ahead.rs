@@ -6,10 +6,10 @@
 //! (its CPU time is about 1.5× its wall time on the paper's examples), so [`GravityAhead`]
 //! solves each iteration's deflection as soon as it is recorded, on a thread of its own (with
 //! a one-thread pool for its parallel parts) at the lowest priority ([`crate::priority`]): it
-//! runs mostly when a core has nothing else to do. Each deflection is factored with the structure's own
-//! symbolic analysis, handed over by the greedy (a structure holding a small part of the
-//! network is factored on its own vertices, without analysing it again). When the greedy ends,
-//! [`GravityAhead::finish`] takes what is solved, and the viewer
+//! runs mostly when a core has nothing else to do. Each deflection is factored with the
+//! structure's own symbolic analysis, handed over by the greedy (a structure holding a small
+//! part of the network is factored on its own vertices, without analysing it again). When the
+//! greedy ends, [`GravityAhead::finish`] takes what is solved, and the viewer
 //! ([`super::viewer::write_run_outputs_with`]) solves the rest beside the pictures.
 //!
 //! The run never waits for this thread: while other programs keep every core busy it gets
