@@ -192,7 +192,7 @@ impl Staged {
     }
 
     /// [`Self::commit`] without syncing the folder's entry: the folder to pass to
-    /// [`sync_folder`] afterwards (a rename is quick; the sync waits for the disk).
+    /// [`sync_dir`] afterwards (a rename is quick; the sync waits for the disk).
     ///
     /// # Errors
     ///
@@ -211,12 +211,6 @@ impl Drop for Staged {
             let _ = fs::remove_file(&self.temp.0);
         }
     }
-}
-
-/// Flushes a folder's entries to disk (after [`Staged::rename`]; best effort, as in
-/// [`Staged::commit`]).
-pub(crate) fn sync_folder(dir: &Path) {
-    sync_dir(dir);
 }
 
 /// Creates a fresh temporary file next to the target, listed as in flight, retrying on name
@@ -248,7 +242,7 @@ fn create_temp(dir: &Path, name: &str) -> std::io::Result<(InFlight, fs::File)> 
 
 /// Flushes the directory entry of a rename to disk where the platform allows it (best effort:
 /// some file systems and platforms cannot open or sync directories).
-fn sync_dir(dir: &Path) {
+pub(crate) fn sync_dir(dir: &Path) {
     #[cfg(unix)]
     if let Ok(d) = fs::File::open(dir) {
         let _ = d.sync_all();

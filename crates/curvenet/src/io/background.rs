@@ -28,7 +28,7 @@
 //! takes over with, and its bytes are a pure function of what was submitted, so the two never
 //! both put a file in place and the folder keeps a prefix of the run's files either way.
 
-use super::atomic::{begin_atomic, sync_folder, write_atomic};
+use super::atomic::{begin_atomic, sync_dir, write_atomic};
 use std::collections::VecDeque;
 use std::path::PathBuf;
 use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
@@ -329,7 +329,7 @@ fn write_in_the_gaps(shared: &Shared) {
         shared.changed.notify_all();
         drop(state);
         if let Ok(dir) = placed {
-            sync_folder(&dir);
+            sync_dir(&dir);
         }
     }
 }
